@@ -1,0 +1,56 @@
+// The RGB-D camera interface. Implementations: the simulator (drivers/sim), real devices, test fakes.
+#pragma once
+
+#include <functional>
+#include <memory>
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include "drivers/clock.h"
+
+namespace corridor::drivers {
+
+// Pinhole intrinsics in pixels for an image of width x height.
+struct CameraIntrinsics {
+  int width = 0;
+  int height = 0;
+  double fx = 0.0;
+  double fy = 0.0;
+  double cx = 0.0;
+  double cy = 0.0;
+};
+
+struct CameraInfo {
+  CameraIntrinsics intrinsics;
+  // Pose of the optical frame (x right, y down, z forward) in the robot base frame (x forward, z up, on the floor).
+  Eigen::Isometry3d base_T_camera = Eigen::Isometry3d::Identity();
+  double min_range_m = 0.0;
+  double max_range_m = 0.0;
+};
+
+// One synchronised depth + colour capture. Depth is CV_16UC1 in millimetres along the optical axis, 0 where the
+// camera has no measurement; colour is CV_8UC3 BGR of the same size. Frames are immutable once published.
+struct RgbdFrame {
+  TimeNs stamp_ns = 0;
+  std::uint64_t sequence = 0;
+  cv::Mat depth_mm;
+  cv::Mat color_bgr;
+};
+
+class DepthCamera {
+ public:
+  using FrameHandler = std::function<void(std::shared_ptr<const RgbdFrame>)>;
+
+  DepthCamera() = default;
+  DepthCamera(const DepthCamera&) = delete;
+  DepthCamera& operator=(const DepthCamera&) = delete;
+  virtual ~DepthCamera() = default;
+
+  virtual CameraInfo info() const = 0;
+  // Installs the handler that receives every frame, called on the driver's own thread: it must return quickly
+  // (hand the frame to an executor). Set it before frames start flowing; not thread-safe against delivery.
+  virtual void SetFrameHandler(FrameHandler handler) = 0;
+};
+
+}  // namespace corridor::drivers

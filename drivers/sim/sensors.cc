@@ -1,0 +1,113 @@
+#include "drivers/sim/sensors.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace corridor::drivers::sim {
+namespace {
+
+double Radians(double deg) { return deg * std::numbers::pi / 180.0; }
+
+const Eigen::Vector3f kBackground(0.85f, 0.85f, 0.88f);
+
+}  // namespace
+
+CameraInfo MakeCameraInfo(const SimCameraOptions& o) {
+  CameraInfo info;
+  CameraIntrinsics& k = info.intrinsics;
+  k.width = o.width;
+  k.height = o.height;
+  k.fx = o.width / (2.0 * std::tan(Radians(o.horizontal_fov_deg) / 2.0));
+  k.fy = o.height / (2.0 * std::tan(Radians(o.vertical_fov_deg) / 2.0));
+  k.cx = o.width / 2.0;
+  k.cy = o.height / 2.0;
+  // Optical axes in the base frame: z forward, x right, y down; then pitched down about the base's y axis.
+  Eigen::Matrix3d base_R_optical;
+  base_R_optical.col(0) = Eigen::Vector3d(0, -1, 0);
+  base_R_optical.col(1) = Eigen::Vector3d(0, 0, -1);
+  base_R_optical.col(2) = Eigen::Vector3d(1, 0, 0);
+  info.base_T_camera = Eigen::Isometry3d::Identity();
+  info.base_T_camera.linear() = Eigen::AngleAxisd(Radians(o.tilt_deg), Eigen::Vector3d::UnitY()) * base_R_optical;
+  info.base_T_camera.translation() = Eigen::Vector3d(o.mount_x_m, 0.0, o.mount_height_m);
+  info.min_range_m = o.min_range_m;
+  info.max_range_m = o.max_range_m;
+  return info;
+}
+
+RgbdRenderer::RgbdRenderer(const RayCaster& caster, const TriangleMesh& mesh, const SimCameraOptions& options)
+    : caster_(caster), mesh_(mesh), options_(options), info_(MakeCameraInfo(options)) {
+  const CameraIntrinsics& k = info_.intrinsics;
+  rays_.reserve(static_cast<std::size_t>(k.width) * k.height);
+  for (int v = 0; v < k.height; ++v) {
+    for (int u = 0; u < k.width; ++u) {
+      rays_.emplace_back(static_cast<float>((u + 0.5 - k.cx) / k.fx), static_cast<float>((v + 0.5 - k.cy) / k.fy), 1.0f);
+    }
+  }
+}
+
+void RgbdRenderer::Render(const Eigen::Isometry3d& world_T_camera, std::mt19937& rng, RgbdFrame& frame) const {
+  const CameraIntrinsics& k = info_.intrinsics;
+  const Eigen::Matrix3f rotation = world_T_camera.linear().cast<float>();
+  const Eigen::Vector3f origin = world_T_camera.translation().cast<float>();
+  std::vector<Eigen::Vector3f> directions(rays_.size());
+  for (std::size_t i = 0; i < rays_.size(); ++i) directions[i] = rotation * rays_[i];
+  std::vector<RayHit> hits(rays_.size());
+  // Cast past max range so that colour still sees far walls; depth drops them below.
+  caster_.CastFan(origin, directions, 0.0f, 1e3f, hits);
+
+  frame.depth_mm.create(k.height, k.width, CV_16UC1);
+  frame.color_bgr.create(k.height, k.width, CV_8UC3);
+  std::normal_distribution<float> unit_normal(0.0f, 1.0f);
+  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+  const float cos_cutoff = static_cast<float>(std::cos(Radians(options_.grazing_cutoff_deg)));
+  for (int v = 0; v < k.height; ++v) {
+    auto* depth_row = frame.depth_mm.ptr<std::uint16_t>(v);
+    auto* color_row = frame.color_bgr.ptr<cv::Vec3b>(v);
+    for (int u = 0; u < k.width; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * k.width + u;
+      const RayHit& hit = hits[i];
+      Eigen::Vector3f color = kBackground;
+      std::uint16_t depth = 0;
+      if (hit.triangle >= 0) {
+        const float cos_incidence = std::abs(hit.normal.dot(directions[i].normalized()));
+        color = mesh_.colors[hit.triangle] * (0.3f + 0.7f * cos_incidence);
+        const float z = hit.distance;  // rays have unit optical-axis component: t is depth
+        const bool in_range = z >= options_.min_range_m && z <= options_.max_range_m;
+        if (in_range && cos_incidence >= cos_cutoff && uniform(rng) >= options_.dropout_fraction) {
+          const float sigma = static_cast<float>(options_.noise_a_m + options_.noise_b_per_m * z * z);
+          const float noisy_mm = (z + sigma * unit_normal(rng)) * 1000.0f;
+          depth = static_cast<std::uint16_t>(std::clamp(std::lround(noisy_mm), 1L, 65535L));
+        }
+      }
+      depth_row[u] = depth;
+      color_row[u] = cv::Vec3b(static_cast<std::uint8_t>(std::clamp(color.z(), 0.0f, 1.0f) * 255.0f),
+                               static_cast<std::uint8_t>(std::clamp(color.y(), 0.0f, 1.0f) * 255.0f),
+                               static_cast<std::uint8_t>(std::clamp(color.x(), 0.0f, 1.0f) * 255.0f));
+    }
+  }
+}
+
+void CastScan(const RayCaster& caster, const Eigen::Isometry3d& world_T_laser, const SimLaserOptions& options,
+              std::mt19937& rng, LaserScan& scan) {
+  const int n = options.beams;
+  scan.angle_increment_rad = 2.0 * std::numbers::pi / n;
+  scan.angle_min_rad = -std::numbers::pi;
+  scan.range_min_m = options.min_range_m;
+  scan.range_max_m = options.max_range_m;
+  std::vector<Eigen::Vector3f> directions(n);
+  const Eigen::Matrix3f rotation = world_T_laser.linear().cast<float>();
+  for (int i = 0; i < n; ++i) {
+    const double a = scan.angle_min_rad + i * scan.angle_increment_rad;
+    directions[i] = rotation * Eigen::Vector3f(static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)), 0.0f);
+  }
+  std::vector<RayHit> hits(n);
+  caster.CastFan(world_T_laser.translation().cast<float>(), directions, static_cast<float>(options.min_range_m),
+                 static_cast<float>(options.max_range_m), hits);
+  std::normal_distribution<float> noise(0.0f, static_cast<float>(options.noise_m));
+  scan.ranges.resize(n);
+  for (int i = 0; i < n; ++i) {
+    scan.ranges[i] = hits[i].triangle < 0 ? std::numeric_limits<float>::infinity() : hits[i].distance + noise(rng);
+  }
+}
+
+}  // namespace corridor::drivers::sim

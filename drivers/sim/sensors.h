@@ -1,0 +1,62 @@
+// Simulated sensors: a ray-cast RGB-D camera with a structured-light noise model, and a planar laser.
+#pragma once
+
+#include <random>
+
+#include "drivers/depth_camera.h"
+#include "drivers/laser2d.h"
+#include "drivers/sim/ray_caster.h"
+
+namespace corridor::drivers::sim {
+
+struct SimCameraOptions {
+  int width = 320;
+  int height = 240;
+  double horizontal_fov_deg = 85.2;   // Intel RealSense D435 depth, as on DPoom
+  double vertical_fov_deg = 58.0;
+  double mount_x_m = 0.1;             // forward of the base centre
+  double mount_height_m = 0.3;        // optical centre above the floor
+  double tilt_deg = 10.0;             // pitched down
+  double min_range_m = 0.2;
+  double max_range_m = 6.0;
+  double rate_hz = 15.0;
+  // Axial noise sigma(z) = a + b * z^2, the usual structured-light model (Nguyen et al., 3DIMPVT 2012).
+  double noise_a_m = 0.0012;
+  double noise_b_per_m = 0.0019;
+  double dropout_fraction = 0.02;     // pixels lost at random
+  double grazing_cutoff_deg = 80.0;   // surfaces seen more obliquely than this return nothing
+};
+
+struct SimLaserOptions {
+  bool enabled = true;
+  int beams = 360;
+  double mount_height_m = 0.2;
+  double min_range_m = 0.12;
+  double max_range_m = 8.0;
+  double rate_hz = 10.0;
+  double noise_m = 0.01;
+};
+
+// Intrinsics and mounting of the simulated camera.
+CameraInfo MakeCameraInfo(const SimCameraOptions& options);
+
+// Renders one RGB-D frame from the camera at world_T_camera (optical frame). Draws noise from `rng`.
+// Colour is each triangle's colour, lit from the camera; depth follows the options' range, noise and holes.
+class RgbdRenderer {
+ public:
+  RgbdRenderer(const RayCaster& caster, const TriangleMesh& mesh, const SimCameraOptions& options);
+  void Render(const Eigen::Isometry3d& world_T_camera, std::mt19937& rng, RgbdFrame& frame) const;
+
+ private:
+  const RayCaster& caster_;
+  const TriangleMesh& mesh_;
+  SimCameraOptions options_;
+  CameraInfo info_;
+  std::vector<Eigen::Vector3f> rays_;  // per pixel, optical frame, z = 1 so that t is the depth
+};
+
+// Casts one laser sweep from the laser at world_T_laser (x forward, z up), ranges with Gaussian noise.
+void CastScan(const RayCaster& caster, const Eigen::Isometry3d& world_T_laser, const SimLaserOptions& options,
+              std::mt19937& rng, LaserScan& scan);
+
+}  // namespace corridor::drivers::sim

@@ -1,0 +1,79 @@
+#include "drivers/sim/sim_robot.h"
+
+namespace corridor::drivers::sim {
+namespace {
+
+TimeNs PeriodNs(double rate_hz) { return static_cast<TimeNs>(1e9 / rate_hz); }
+
+}  // namespace
+
+SimRobot::SimRobot(std::shared_ptr<const World> world, const SimOptions& options)
+    : world_(std::move(world)),
+      options_(options),
+      caster_(world_->mesh),
+      renderer_(caster_, world_->mesh, options.camera),
+      camera_info_(MakeCameraInfo(options.camera)),
+      rng_(options.seed),
+      base_(world_->collision, options.base, options.start) {}
+
+nav::Pose2 SimRobot::true_pose() const {
+  std::lock_guard lock(mutex_);
+  return base_.pose();
+}
+
+void SimRobot::Teleport(const nav::Pose2& pose) {
+  std::lock_guard lock(mutex_);
+  base_.Teleport(pose);
+}
+
+void SimRobot::SetVelocity(const nav::Twist2& command) {
+  std::lock_guard lock(mutex_);
+  pending_command_ = command;
+  has_pending_command_ = true;
+}
+
+void SimRobot::Step() {
+  ++step_count_;
+  const TimeNs now = static_cast<TimeNs>(static_cast<double>(step_count_) * 1e9 / options_.physics_rate_hz);
+  clock_.Set(now);
+  const double now_s = ToSeconds(now);
+
+  nav::Pose2 pose;
+  WheelOdometry odometry;
+  {
+    std::lock_guard lock(mutex_);
+    if (has_pending_command_) base_.Command(pending_command_, now_s);
+    has_pending_command_ = false;
+    base_.Step(step_s(), now_s, rng_);
+    pose = base_.pose();
+    odometry = {now, base_.odom_pose(), base_.velocity(), base_.bumper_pressed()};
+  }
+
+  if (now >= next_odometry_ns_) {
+    next_odometry_ns_ = now + PeriodNs(options_.odometry_rate_hz);
+    if (odometry_handler_) odometry_handler_(odometry);
+  }
+  if (now >= next_frame_ns_) {
+    next_frame_ns_ = now + PeriodNs(options_.camera.rate_hz);
+    if (frame_handler_) {
+      auto frame = std::make_shared<RgbdFrame>();
+      frame->stamp_ns = now;
+      frame->sequence = frame_sequence_++;
+      renderer_.Render(pose.ToIsometry3() * camera_info_.base_T_camera, rng_, *frame);
+      frame_handler_(std::move(frame));
+    }
+  }
+  if (options_.laser.enabled && now >= next_scan_ns_) {
+    next_scan_ns_ = now + PeriodNs(options_.laser.rate_hz);
+    if (scan_handler_) {
+      auto scan = std::make_shared<LaserScan>();
+      scan->stamp_ns = now;
+      Eigen::Isometry3d world_T_laser = pose.ToIsometry3();
+      world_T_laser.translation().z() = options_.laser.mount_height_m;
+      CastScan(caster_, world_T_laser, options_.laser, rng_, *scan);
+      scan_handler_(std::move(scan));
+    }
+  }
+}
+
+}  // namespace corridor::drivers::sim

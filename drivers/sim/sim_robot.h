@@ -1,0 +1,83 @@
+// The simulated robot: one object that is the DepthCamera, the DiffDriveBase and the Laser2D of a robot driving
+// in a World. Time advances only through Step(), so the owner decides between real time (the daemon's sim executor
+// steps it on a timer) and lockstep faster than real time (tools and tests call Step in a loop).
+#pragma once
+
+#include <memory>
+#include <mutex>
+#include <random>
+
+#include "drivers/depth_camera.h"
+#include "drivers/diff_drive_base.h"
+#include "drivers/laser2d.h"
+#include "drivers/sim/diff_drive_sim.h"
+#include "drivers/sim/ray_caster.h"
+#include "drivers/sim/sensors.h"
+#include "drivers/sim/world.h"
+
+namespace corridor::drivers::sim {
+
+struct SimOptions {
+  nav::Pose2 start;                 // initial pose in the world frame
+  double physics_rate_hz = 100.0;   // kinematics and collision steps per simulated second
+  double odometry_rate_hz = 50.0;
+  std::uint32_t seed = 1;           // all noise is drawn from one generator seeded with this
+  SimBaseOptions base;
+  SimCameraOptions camera;
+  SimLaserOptions laser;
+};
+
+class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D {
+ public:
+  // `world` must outlive the robot.
+  SimRobot(std::shared_ptr<const World> world, const SimOptions& options);
+
+  // Advances simulated time by one physics step, delivering odometry, frames and scans that fall due, on the
+  // caller's thread. Must be called from one thread at a time.
+  void Step();
+  TimeNs now_ns() const { return clock_.Now(); }
+  const Clock& clock() const { return clock_; }
+  double step_s() const { return 1.0 / options_.physics_rate_hz; }
+
+  // Ground truth, for the console and for tests. Thread-safe.
+  nav::Pose2 true_pose() const;
+  void Teleport(const nav::Pose2& pose);
+  const World& world() const { return *world_; }
+
+  // DepthCamera
+  CameraInfo info() const override { return camera_info_; }
+  void SetFrameHandler(FrameHandler handler) override { frame_handler_ = std::move(handler); }
+  // DiffDriveBase
+  BaseLimits limits() const override { return options_.base.limits; }
+  void SetVelocity(const nav::Twist2& command) override;
+  void SetOdometryHandler(OdometryHandler handler) override { odometry_handler_ = std::move(handler); }
+  // Laser2D
+  nav::Pose2 base_T_laser() const override { return {}; }
+  double height_m() const override { return options_.laser.mount_height_m; }
+  void SetScanHandler(ScanHandler handler) override { scan_handler_ = std::move(handler); }
+
+ private:
+  std::shared_ptr<const World> world_;
+  SimOptions options_;
+  ManualClock clock_;
+  RayCaster caster_;
+  RgbdRenderer renderer_;
+  CameraInfo camera_info_;
+  std::mt19937 rng_;
+
+  mutable std::mutex mutex_;  // guards base_ and the pending command against other threads
+  DiffDriveSim base_;
+  nav::Twist2 pending_command_;
+  bool has_pending_command_ = false;
+
+  std::int64_t step_count_ = 0;
+  TimeNs next_odometry_ns_ = 0;
+  TimeNs next_frame_ns_ = 0;
+  TimeNs next_scan_ns_ = 0;
+  std::uint64_t frame_sequence_ = 0;
+  FrameHandler frame_handler_;
+  OdometryHandler odometry_handler_;
+  ScanHandler scan_handler_;
+};
+
+}  // namespace corridor::drivers::sim

@@ -1,0 +1,63 @@
+// The simulator's static world: a triangle mesh in the world frame (metres, z up, floor at z = 0) for ray casting
+// depth and laser, and a 2D collision grid for the robot's footprint. Worlds come from a ROS map_server map
+// (occupied cells extruded to walls) or from 3D meshes (an SDF .world with model includes, or one mesh file).
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "nav/map/occupancy_grid.h"
+
+namespace corridor::drivers::sim {
+
+// Triangles with one RGB colour (0..1) each.
+struct TriangleMesh {
+  std::vector<Eigen::Vector3f> vertices;
+  std::vector<Eigen::Vector3i> triangles;
+  std::vector<Eigen::Vector3f> colors;
+
+  // Adds `other` transformed by `transform`.
+  void Append(const TriangleMesh& other, const Eigen::Affine3f& transform = Eigen::Affine3f::Identity());
+  // Adds an axis-aligned box with corners lo and hi.
+  void AddBox(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, const Eigen::Vector3f& color);
+  Eigen::AlignedBox3f Bounds() const;
+};
+
+struct WorldOptions {
+  double wall_height_m = 2.5;              // height of walls extruded from a 2D map
+  double collision_resolution_m = 0.05;    // cell size of the footprint collision grid
+  double collision_min_height_m = 0.03;    // geometry below this (floors, carpets, thresholds) is driven over
+  double collision_max_height_m = 1.2;     // geometry above this (tables' undersides aside) is passed under
+  bool add_floor = true;                   // add a floor plane at z = 0 under the whole world
+  std::vector<std::filesystem::path> model_paths;  // extra folders searched for model://NAME
+};
+
+struct World {
+  TriangleMesh mesh;
+  // Occupied where any geometry lies between collision_min_height_m and collision_max_height_m.
+  nav::OccupancyGrid collision;
+  std::string description;
+};
+
+// A world file that cannot be loaded; what() names the file and the problem.
+class WorldFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Walls of wall_height_m on every occupied cell of `map`; unknown cells are left open.
+World WorldFromMap(const nav::OccupancyGrid& map, const WorldOptions& options);
+
+// Loads by extension: .yaml (map_server map), .world or .sdf (SDF world: <include> and <model><include> entries
+// with their poses, each model's mesh URIs and scales; collision meshes preferred over visual ones), anything else
+// as a single mesh file through assimp (COLLADA kept Z-up, units applied). Throws WorldFileError.
+World LoadWorld(const std::filesystem::path& path, const WorldOptions& options);
+
+// Rasterises the mesh's parts between the collision heights into a grid covering the mesh's extent.
+nav::OccupancyGrid CollisionGridFromMesh(const TriangleMesh& mesh, const WorldOptions& options);
+
+}  // namespace corridor::drivers::sim
