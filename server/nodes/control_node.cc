@@ -1,0 +1,55 @@
+#include "server/nodes/control_node.h"
+
+#include <algorithm>
+
+#include "server/runtime/topics.h"
+
+namespace corridor::server {
+
+BaseCommand DecideCommand(const ControlInputs& in, const SafetyOptions& options) {
+  BaseCommand out{.stamp_ns = in.now_ns, .twist = {}, .mode = "idle", .reason = ""};
+  if (in.last_odometry_ns < 0 || in.now_ns - in.last_odometry_ns > drivers::FromSeconds(options.odometry_timeout_s)) {
+    out.mode = "stopped";
+    out.reason = "no odometry from the base";
+    return out;
+  }
+  if (in.teleop != nullptr && in.now_ns - in.teleop->received_ns <= drivers::FromSeconds(options.teleop_deadman_s)) {
+    out.mode = "teleop";
+    out.twist.linear_mps = std::clamp(in.teleop->twist.linear_mps, -options.max_linear_mps, options.max_linear_mps);
+    out.twist.angular_rps = std::clamp(in.teleop->twist.angular_rps, -options.max_angular_rps, options.max_angular_rps);
+  }
+  return out;
+}
+
+ControlNode::ControlNode(Executor& executor, Bus& bus, drivers::DiffDriveBase& base, const drivers::Clock& clock,
+                         const SafetyOptions& options)
+    : Node("control", executor.name(), clock), executor_(executor), bus_(bus), base_(base), options_(options) {}
+
+void ControlNode::Activate() {
+  bus_.Get(topics::kOdometry).Subscribe(executor_, [this](const auto&) { last_odometry_ns_ = clock().Now(); });
+  timer_ = std::make_unique<PeriodicTimer>(
+      executor_, std::chrono::nanoseconds(drivers::FromSeconds(1.0 / options_.control_rate_hz)), [this] { Tick(); });
+  SetHealth(Health::kOk, "");
+}
+
+void ControlNode::Deactivate() {
+  if (timer_) timer_->Stop();
+  base_.SetVelocity({});
+  bus_.Get(topics::kCmdVel).Publish(BaseCommand{clock().Now(), {}, "stopped", "shutting down"});
+  SetHealth(Health::kInactive, "stopped for shutdown");
+}
+
+void ControlNode::Tick() {
+  LoopTimer timer(stats(), clock());
+  const auto teleop = bus_.Get(topics::kTeleop).latest();
+  const BaseCommand command = DecideCommand({clock().Now(), teleop.get(), last_odometry_ns_.load()}, options_);
+  base_.SetVelocity(command.twist);
+  bus_.Get(topics::kCmdVel).Publish(command);
+  if (command.mode == "stopped") {
+    SetHealth(Health::kError, command.reason);
+  } else {
+    SetHealth(Health::kOk, "");
+  }
+}
+
+}  // namespace corridor::server

@@ -1,0 +1,43 @@
+// The control loop: picks the command for the base (today: teleop, or stop), applies the safety limits and
+// watchdogs, and sends it. Stops the robot when the teleop deadman lapses, when the base's odometry stops
+// arriving (the base is not answering), and when the node is deactivated (shutdown).
+#pragma once
+
+#include <atomic>
+#include <memory>
+
+#include "drivers/diff_drive_base.h"
+#include "server/runtime/bus.h"
+#include "server/runtime/config.h"
+#include "server/runtime/node.h"
+
+namespace corridor::server {
+
+// The pure decision of one control tick, separate from the node for tests.
+struct ControlInputs {
+  drivers::TimeNs now_ns = 0;
+  const TeleopCommand* teleop = nullptr;     // the latest, or null
+  drivers::TimeNs last_odometry_ns = -1;     // arrival time (the node's clock) of the latest odometry; -1 never
+};
+BaseCommand DecideCommand(const ControlInputs& in, const SafetyOptions& options);
+
+class ControlNode final : public Node {
+ public:
+  ControlNode(Executor& executor, Bus& bus, drivers::DiffDriveBase& base, const drivers::Clock& clock,
+              const SafetyOptions& options);
+  void Activate() override;
+  // Stops the timer and commands zero velocity: the first thing shutdown does.
+  void Deactivate() override;
+
+ private:
+  void Tick();
+
+  Executor& executor_;
+  Bus& bus_;
+  drivers::DiffDriveBase& base_;
+  SafetyOptions options_;
+  std::atomic<drivers::TimeNs> last_odometry_ns_{-1};
+  std::unique_ptr<PeriodicTimer> timer_;
+};
+
+}  // namespace corridor::server

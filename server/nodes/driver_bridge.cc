@@ -1,0 +1,18 @@
+#include "server/nodes/driver_bridge.h"
+
+#include "server/runtime/topics.h"
+
+namespace corridor::server {
+
+void ConnectDrivers(Bus& bus, drivers::DepthCamera& camera, drivers::DiffDriveBase& base, drivers::Laser2D* laser) {
+  auto& rgbd = bus.Get(topics::kRgbd);
+  camera.SetFrameHandler([&rgbd](std::shared_ptr<const drivers::RgbdFrame> frame) { rgbd.Publish(std::move(frame)); });
+  auto& odometry = bus.Get(topics::kOdometry);
+  base.SetOdometryHandler([&odometry](const drivers::WheelOdometry& o) { odometry.Publish(o); });
+  if (laser != nullptr) {
+    auto& scan = bus.Get(topics::kScan);
+    laser->SetScanHandler([&scan](std::shared_ptr<const drivers::LaserScan> s) { scan.Publish(std::move(s)); });
+  }
+}
+
+}  // namespace corridor::server

@@ -1,0 +1,14 @@
+// Connects device drivers to the bus: whatever a driver delivers on its own thread is published on its topic.
+#pragma once
+
+#include "drivers/depth_camera.h"
+#include "drivers/diff_drive_base.h"
+#include "drivers/laser2d.h"
+#include "server/runtime/bus.h"
+
+namespace corridor::server {
+
+// `laser` may be null (no laser fitted). The drivers must outlive the bus subscriptions' use of them.
+void ConnectDrivers(Bus& bus, drivers::DepthCamera& camera, drivers::DiffDriveBase& base, drivers::Laser2D* laser);
+
+}  // namespace corridor::server

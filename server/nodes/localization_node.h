@@ -1,0 +1,21 @@
+// Localization at skeleton depth: the robot's pose in the map is its wheel odometry placed at the configured
+// initial pose (dead reckoning; it drifts). Map matching and relocalization replace this in nav/localization.
+#pragma once
+
+#include "server/runtime/bus.h"
+#include "server/runtime/node.h"
+
+namespace corridor::server {
+
+class LocalizationNode final : public Node {
+ public:
+  LocalizationNode(Executor& executor, Bus& bus, const drivers::Clock& clock, nav::Pose2 initial_pose);
+  void Activate() override;
+
+ private:
+  Executor& executor_;
+  Bus& bus_;
+  nav::Pose2 map_T_odom_;
+};
+
+}  // namespace corridor::server

@@ -1,0 +1,43 @@
+#include "server/nodes/sim_node.h"
+
+#include "server/runtime/topics.h"
+
+namespace corridor::server {
+namespace {
+
+// At most this much simulated time per tick; beyond it the simulator runs slower than real time instead of
+// stalling the executor in an ever-growing catch-up.
+constexpr drivers::TimeNs kMaxCatchUpNs = drivers::kNsPerSecond / 10;
+
+}  // namespace
+
+SimNode::SimNode(Executor& executor, Bus& bus, drivers::sim::SimRobot& robot, const drivers::Clock& wall_clock)
+    : Node("sim", executor.name(), wall_clock), executor_(executor), bus_(bus), robot_(robot), wall_clock_(wall_clock) {}
+
+void SimNode::Activate() {
+  wall_start_ns_ = wall_clock_.Now();
+  sim_start_ns_ = robot_.now_ns();
+  const auto period = std::chrono::nanoseconds(drivers::FromSeconds(robot_.step_s()));
+  timer_ = std::make_unique<PeriodicTimer>(executor_, period, [this] { Tick(); });
+  SetHealth(Health::kOk, "running in real time");
+}
+
+void SimNode::Deactivate() {
+  if (timer_) timer_->Stop();
+  SetHealth(Health::kInactive, "");
+}
+
+void SimNode::Tick() {
+  LoopTimer timer(stats(), clock());
+  const drivers::TimeNs target = sim_start_ns_ + (wall_clock_.Now() - wall_start_ns_);
+  const drivers::TimeNs limit = robot_.now_ns() + kMaxCatchUpNs;
+  while (robot_.now_ns() < target && robot_.now_ns() < limit) robot_.Step();
+  if (robot_.now_ns() < target) {
+    // Behind by more than a catch-up: let real time go and report that simulated time is slower.
+    sim_start_ns_ -= target - robot_.now_ns();
+    SetHealth(Health::kDegraded, "slower than real time");
+  }
+  bus_.Get(topics::kSimTruePose).Publish(StampedPose{robot_.now_ns(), robot_.true_pose()});
+}
+
+}  // namespace corridor::server

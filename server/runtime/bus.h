@@ -1,0 +1,161 @@
+// The in-process topic bus. A topic has one name and one message type; publishers hand it immutable messages
+// (shared_ptr<const T>), it keeps the latest, and each subscriber gets messages on its own executor. A subscriber
+// that falls behind gets the newest message, not a backlog: a control loop must act on the latest frame.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <typeinfo>
+#include <vector>
+
+#include "server/runtime/demand.h"
+#include "server/runtime/executor.h"
+#include "server/runtime/messages.h"
+
+namespace corridor::server {
+
+// A topic's name carrying its message type, so that publisher and subscriber agree at compile time.
+template <typename T>
+struct TopicName {
+  std::string_view name;
+};
+
+template <typename T>
+concept JsonMessage = requires(const T& message) {
+  { ToJson(message) } -> std::same_as<nlohmann::json>;
+};
+
+class TopicBase {
+ public:
+  explicit TopicBase(std::string name) : name_(std::move(name)) {}
+  TopicBase(const TopicBase&) = delete;
+  TopicBase& operator=(const TopicBase&) = delete;
+  virtual ~TopicBase() = default;
+
+  const std::string& name() const { return name_; }
+  virtual const std::type_info& type() const = 0;
+  // The latest message as JSON; nullopt before the first message or for binary types (camera frames).
+  virtual std::optional<nlohmann::json> LatestJson() const = 0;
+
+ private:
+  std::string name_;
+};
+
+template <typename T>
+class Topic final : public TopicBase {
+ public:
+  using Message = std::shared_ptr<const T>;
+  using Callback = std::function<void(const Message&)>;
+
+  using TopicBase::TopicBase;
+
+  const std::type_info& type() const override { return typeid(T); }
+
+  // Thread-safe. Stores the message as the latest and schedules delivery to every subscriber.
+  void Publish(Message message) {
+    DEMAND(message != nullptr);
+    std::vector<std::shared_ptr<Subscriber>> subscribers;
+    {
+      std::lock_guard lock(mutex_);
+      latest_ = message;
+      subscribers = subscribers_;
+    }
+    for (const auto& s : subscribers) s->Offer(message);
+  }
+  void Publish(T message) { Publish(std::make_shared<const T>(std::move(message))); }
+
+  Message latest() const {
+    std::lock_guard lock(mutex_);
+    return latest_;
+  }
+
+  // Delivers future messages to `callback` on `executor`. Thread-safe.
+  void Subscribe(Executor& executor, Callback callback) {
+    auto s = std::make_shared<Subscriber>(executor, std::move(callback));
+    std::lock_guard lock(mutex_);
+    subscribers_.push_back(std::move(s));
+  }
+
+  std::optional<nlohmann::json> LatestJson() const override {
+    if constexpr (JsonMessage<T>) {
+      const Message m = latest();
+      if (m) return ToJson(*m);
+    }
+    return std::nullopt;
+  }
+
+ private:
+  // A one-slot mailbox: a new message replaces one that has not been delivered yet.
+  struct Subscriber : std::enable_shared_from_this<Subscriber> {
+    Subscriber(Executor& e, Callback c) : executor(e), callback(std::move(c)) {}
+    void Offer(const Message& message) {
+      {
+        std::lock_guard lock(mutex);
+        pending = message;
+        if (scheduled) return;
+        scheduled = true;
+      }
+      executor.Post([self = this->shared_from_this()] {
+        Message m;
+        {
+          std::lock_guard lock(self->mutex);
+          m = std::move(self->pending);
+          self->scheduled = false;
+        }
+        if (m) self->callback(m);
+      });
+    }
+    Executor& executor;
+    Callback callback;
+    std::mutex mutex;
+    Message pending;
+    bool scheduled = false;
+  };
+
+  mutable std::mutex mutex_;
+  Message latest_;
+  std::vector<std::shared_ptr<Subscriber>> subscribers_;
+};
+
+class Bus {
+ public:
+  Bus() = default;
+  Bus(const Bus&) = delete;
+  Bus& operator=(const Bus&) = delete;
+
+  // The topic with this name, created on first use. Asking for an existing name with another type is a bug.
+  template <typename T>
+  Topic<T>& Get(TopicName<T> name) {
+    std::lock_guard lock(mutex_);
+    auto& slot = topics_[std::string(name.name)];
+    if (!slot) slot = std::make_unique<Topic<T>>(std::string(name.name));
+    DEMAND(slot->type() == typeid(T));
+    return static_cast<Topic<T>&>(*slot);
+  }
+
+  // A topic by name for generic consumers (the WebSocket stream); nullptr if no such topic exists.
+  const TopicBase* Find(std::string_view name) const {
+    std::lock_guard lock(mutex_);
+    auto it = topics_.find(std::string(name));
+    return it == topics_.end() ? nullptr : it->second.get();
+  }
+
+  std::vector<std::string> names() const {
+    std::lock_guard lock(mutex_);
+    std::vector<std::string> out;
+    for (const auto& [name, topic] : topics_) out.push_back(name);
+    return out;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<std::string, std::unique_ptr<TopicBase>, std::less<>> topics_;
+};
+
+}  // namespace corridor::server

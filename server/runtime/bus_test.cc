@@ -1,0 +1,52 @@
+#include "server/runtime/bus.h"
+
+#include <gtest/gtest.h>
+
+#include <future>
+
+namespace corridor::server {
+namespace {
+
+constexpr TopicName<nav::Twist2> kTwist{"twist"};
+constexpr TopicName<StampedPose> kWrongType{"twist"};
+
+TEST(BusTest, SubscriberGetsMessagesOnItsExecutorAndLatestIsKept) {
+  Bus bus;
+  Executor executor("test");
+  executor.Start();
+  std::promise<std::pair<double, std::thread::id>> got;
+  bus.Get(kTwist).Subscribe(executor, [&](const auto& m) { got.set_value({m->linear_mps, std::this_thread::get_id()}); });
+  bus.Get(kTwist).Publish(nav::Twist2{0.25, 0.0});
+  const auto [value, thread] = got.get_future().get();
+  EXPECT_EQ(value, 0.25);
+  EXPECT_NE(thread, std::this_thread::get_id());
+  EXPECT_EQ(bus.Get(kTwist).latest()->linear_mps, 0.25);
+  ASSERT_NE(bus.Find("twist"), nullptr);
+  EXPECT_EQ((*bus.Find("twist")->LatestJson())["linear_mps"], 0.25);
+  executor.Stop();
+}
+
+TEST(BusTest, SlowSubscriberSkipsToTheNewestMessage) {
+  Bus bus;
+  Executor executor("test");
+  // Publish 100 messages before the executor runs: the subscriber sees only the newest.
+  std::vector<double> seen;
+  bus.Get(kTwist).Subscribe(executor, [&](const auto& m) { seen.push_back(m->linear_mps); });
+  for (int i = 0; i < 100; ++i) bus.Get(kTwist).Publish(nav::Twist2{static_cast<double>(i), 0.0});
+  executor.Start();
+  std::promise<void> drained;
+  executor.Post([&] { drained.set_value(); });
+  drained.get_future().wait();
+  executor.Stop();
+  ASSERT_EQ(seen.size(), 1u);
+  EXPECT_EQ(seen[0], 99.0);
+}
+
+TEST(BusDeathTest, SameNameWithAnotherTypeIsABug) {
+  Bus bus;
+  bus.Get(kTwist);
+  EXPECT_DEATH(bus.Get(kWrongType), "DEMAND");
+}
+
+}  // namespace
+}  // namespace corridor::server

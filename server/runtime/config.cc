@@ -1,0 +1,145 @@
+#include "server/runtime/config.h"
+
+#include <numbers>
+
+#include "server/runtime/config_reader.h"
+
+namespace corridor::server {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+void ReadPath(ConfigReader& r, const char* key, fs::path& value, const fs::path& base) {
+  std::string text = value.string();
+  r.Read(key, text);
+  value = text.empty() || fs::path(text).is_absolute() ? fs::path(text) : base / text;
+}
+
+void ReadServer(ConfigReader& r, ServerOptions& o, const fs::path& base) {
+  r.Read("port", o.port, 0, 65535);
+  r.Read("bind_address", o.bind_address);
+  ReadPath(r, "web_root", o.web_root, base);
+  r.Read("max_body_bytes", o.max_body_bytes, 256, 64 * 1024 * 1024);
+  r.Read("stream_rate_hz", o.stream_rate_hz, 1.0, 100.0);
+}
+
+void ReadSafety(ConfigReader& r, SafetyOptions& o) {
+  r.Read("teleop_deadman_s", o.teleop_deadman_s, 0.05, 5.0);
+  r.Read("max_linear_mps", o.max_linear_mps, 0.0, 3.0);
+  r.Read("max_angular_rps", o.max_angular_rps, 0.0, 6.0);
+  r.Read("odometry_timeout_s", o.odometry_timeout_s, 0.05, 5.0);
+  r.Read("control_rate_hz", o.control_rate_hz, 5.0, 200.0);
+}
+
+void ReadBase(ConfigReader& r, drivers::sim::SimBaseOptions& o) {
+  drivers::BaseLimits& l = o.limits;
+  r.Read("max_linear_mps", l.max_linear_mps, 0.01, 3.0);
+  r.Read("max_angular_rps", l.max_angular_rps, 0.01, 10.0);
+  r.Read("max_linear_accel_mps2", l.max_linear_accel_mps2, 0.01, 20.0);
+  r.Read("max_angular_accel_rps2", l.max_angular_accel_rps2, 0.01, 50.0);
+  r.Read("footprint_radius_m", l.footprint_radius_m, 0.05, 2.0);
+  r.Read("command_timeout_s", o.command_timeout_s, 0.05, 5.0);
+  r.Read("odom_linear_noise", o.odom_linear_noise, 0.0, 0.5);
+  r.Read("odom_angular_noise", o.odom_angular_noise, 0.0, 0.5);
+}
+
+void ReadCamera(ConfigReader& r, drivers::sim::SimCameraOptions& o) {
+  r.Read("width", o.width, 16, 4096);
+  r.Read("height", o.height, 16, 4096);
+  r.Read("horizontal_fov_deg", o.horizontal_fov_deg, 10.0, 170.0);
+  r.Read("vertical_fov_deg", o.vertical_fov_deg, 10.0, 170.0);
+  r.Read("mount_x_m", o.mount_x_m, -2.0, 2.0);
+  r.Read("mount_height_m", o.mount_height_m, 0.02, 3.0);
+  r.Read("tilt_deg", o.tilt_deg, -45.0, 90.0);
+  r.Read("min_range_m", o.min_range_m, 0.0, 10.0);
+  r.Read("max_range_m", o.max_range_m, 0.1, 65.0);
+  r.Read("rate_hz", o.rate_hz, 1.0, 120.0);
+  r.Read("noise_a_m", o.noise_a_m, 0.0, 1.0);
+  r.Read("noise_b_per_m", o.noise_b_per_m, 0.0, 1.0);
+  r.Read("dropout_fraction", o.dropout_fraction, 0.0, 1.0);
+  r.Read("grazing_cutoff_deg", o.grazing_cutoff_deg, 0.0, 90.0);
+  if (o.min_range_m >= o.max_range_m) throw ConfigError(r.PathOf("min_range_m") + ": must be below max_range_m");
+}
+
+void ReadLaser(ConfigReader& r, drivers::sim::SimLaserOptions& o) {
+  r.Read("enabled", o.enabled);
+  r.Read("beams", o.beams, 8, 8192);
+  r.Read("mount_height_m", o.mount_height_m, 0.01, 3.0);
+  r.Read("min_range_m", o.min_range_m, 0.0, 10.0);
+  r.Read("max_range_m", o.max_range_m, 0.1, 100.0);
+  r.Read("rate_hz", o.rate_hz, 1.0, 100.0);
+  r.Read("noise_m", o.noise_m, 0.0, 1.0);
+}
+
+void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
+  r.Read("enabled", o.enabled);
+  ReadPath(r, "world", o.world, base);
+  drivers::sim::WorldOptions& w = o.world_options;
+  r.Read("wall_height_m", w.wall_height_m, 0.1, 20.0);
+  r.Read("collision_resolution_m", w.collision_resolution_m, 0.01, 0.5);
+  r.Read("collision_min_height_m", w.collision_min_height_m, 0.0, 1.0);
+  r.Read("collision_max_height_m", w.collision_max_height_m, 0.1, 5.0);
+  drivers::sim::SimOptions& s = o.robot;
+  r.Section("start", [&](ConfigReader& p) {
+    double yaw_deg = s.start.yaw_rad / kDegToRad;
+    p.Read("x_m", s.start.x_m, -1e5, 1e5);
+    p.Read("y_m", s.start.y_m, -1e5, 1e5);
+    p.Read("yaw_deg", yaw_deg, -360.0, 360.0);
+    s.start.yaw_rad = yaw_deg * kDegToRad;
+  });
+  r.Read("physics_rate_hz", s.physics_rate_hz, 10.0, 2000.0);
+  r.Read("odometry_rate_hz", s.odometry_rate_hz, 1.0, 1000.0);
+  r.Read("seed", s.seed);
+  r.Section("base", [&](ConfigReader& b) { ReadBase(b, s.base); });
+  r.Section("camera", [&](ConfigReader& c) { ReadCamera(c, s.camera); });
+  r.Section("laser", [&](ConfigReader& l) { ReadLaser(l, s.laser); });
+  if (o.enabled && o.world.empty()) throw ConfigError(r.PathOf("world") + ": required when the simulator is enabled");
+}
+
+}  // namespace
+
+Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(file.string());
+  } catch (const YAML::BadFile&) {
+    throw ConfigError(file.string() + ": cannot be opened");
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(file.string() + ": is not valid YAML: " + e.what());
+  }
+  if (!root.IsMap()) throw ConfigError(file.string() + ": expected a mapping of sections");
+  // Command-line overrides replace keys before reading so they get the same validation.
+  const auto set = [&](const char* section, const char* key, const std::string& value) {
+    if (!root[section] || root[section].IsNull()) root[section] = YAML::Node(YAML::NodeType::Map);
+    root[section][key] = value;
+  };
+  if (overrides.port) set("server", "port", std::to_string(*overrides.port));
+  if (overrides.state_dir) set("store", "state_dir", fs::absolute(*overrides.state_dir).string());
+  if (overrides.map) set("map", "file", fs::absolute(*overrides.map).string());
+  if (overrides.world) set("sim", "world", fs::absolute(*overrides.world).string());
+
+  const fs::path base = fs::absolute(file).parent_path();
+  Config config;
+  try {
+    ConfigReader r(root, "");
+    r.Section("server", [&](ConfigReader& s) { ReadServer(s, config.server, base); });
+    r.Section("store", [&](ConfigReader& s) { ReadPath(s, "state_dir", config.store.state_dir, base); });
+    r.Section("map", [&](ConfigReader& s) { ReadPath(s, "file", config.map.file, base); });
+    r.Section("safety", [&](ConfigReader& s) { ReadSafety(s, config.safety); });
+    r.Section("sim", [&](ConfigReader& s) { ReadSim(s, config.sim, base); });
+    r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
+    r.Finish();
+  } catch (const ConfigError& e) {
+    throw ConfigError(file.string() + ": " + e.what());
+  }
+  if (config.store.state_dir.empty()) throw ConfigError(file.string() + ": store.state_dir: must not be empty");
+  static const std::set<std::string> kLevels = {"trace", "debug", "info", "warn", "error"};
+  if (!kLevels.contains(config.log.level)) {
+    throw ConfigError(file.string() + ": log.level: must be one of trace, debug, info, warn, error");
+  }
+  return config;
+}
+
+}  // namespace corridor::server

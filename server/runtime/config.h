@@ -1,0 +1,72 @@
+// corridord's configuration: one options struct per module, filled from one YAML file by LoadConfig, which is
+// strict (see ConfigReader). config/corridor.yaml in the tree documents every key.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "drivers/sim/sim_robot.h"
+#include "drivers/sim/world.h"
+#include "server/runtime/config_reader.h"  // ConfigError
+
+namespace corridor::server {
+
+struct ServerOptions {
+  int port = 8080;                      // 0 picks a free port (logged at start-up)
+  std::string bind_address = "0.0.0.0";
+  std::filesystem::path web_root;       // the built console; empty: next to the binary or in the source tree
+  int max_body_bytes = 64 * 1024;       // larger request bodies get 413
+  double stream_rate_hz = 20.0;         // WebSocket state pushes per second
+};
+
+struct StoreOptions {
+  std::filesystem::path state_dir = "/var/lib/corridor";
+};
+
+struct MapOptions {
+  // A ROS map_server YAML. Empty: the simulator's world when it is a map, else its collision slice.
+  std::filesystem::path file;
+};
+
+struct SafetyOptions {
+  double teleop_deadman_s = 0.5;       // a teleop command stops mattering this long after it arrived
+  double max_linear_mps = 0.5;         // limits on every command sent to the base
+  double max_angular_rps = 1.5;
+  double odometry_timeout_s = 0.5;     // no odometry for this long: the base is not answering; stop
+  double control_rate_hz = 50.0;
+};
+
+struct SimulatorOptions {
+  bool enabled = true;
+  std::filesystem::path world;          // .yaml map, .world/.sdf, or a mesh file
+  drivers::sim::WorldOptions world_options;
+  drivers::sim::SimOptions robot;
+};
+
+struct LogOptions {
+  std::string level = "info";           // trace, debug, info, warn, error
+};
+
+struct Config {
+  ServerOptions server;
+  StoreOptions store;
+  MapOptions map;
+  SafetyOptions safety;
+  SimulatorOptions sim;
+  LogOptions log;
+};
+
+// Values given on the command line; each replaces its key before validation, so the same checks apply.
+struct ConfigOverrides {
+  std::optional<int> port;
+  std::optional<std::filesystem::path> state_dir;
+  std::optional<std::filesystem::path> map;
+  std::optional<std::filesystem::path> world;
+};
+
+// Loads and validates `file`. Relative paths in it are resolved against the file's folder; override paths against
+// the working directory. Throws ConfigError with the key path for any problem.
+Config LoadConfig(const std::filesystem::path& file, const ConfigOverrides& overrides = {});
+
+}  // namespace corridor::server

@@ -1,0 +1,40 @@
+#include "server/runtime/config_reader.h"
+
+namespace corridor::server {
+
+ConfigReader::ConfigReader(YAML::Node node, std::string path) : node_(std::move(node)), path_(std::move(path)) {
+  if (node_ && !node_.IsNull() && !node_.IsMap()) {
+    throw ConfigError((path_.empty() ? std::string("the file") : path_) + ": expected a mapping of keys");
+  }
+}
+
+YAML::Node ConfigReader::Take(const char* key) {
+  if (!read_.insert(key).second) throw std::logic_error("config key read twice: " + PathOf(key));
+  // Looked up through a const node: yaml-cpp's non-const operator[] would insert the key.
+  const YAML::Node& node = node_;
+  if (!node || !node.IsMap()) return YAML::Node(YAML::NodeType::Null);
+  return node[key];
+}
+
+void ConfigReader::Section(const char* key, const std::function<void(ConfigReader&)>& read) {
+  ConfigReader section(Take(key), PathOf(key));
+  read(section);
+  section.Finish();
+}
+
+void ConfigReader::Finish() const {
+  if (!node_ || !node_.IsMap()) return;
+  for (const auto& entry : node_) {
+    const std::string key = entry.first.as<std::string>();
+    if (!read_.contains(key)) throw ConfigError(PathOf(key.c_str()) + ": unknown key");
+  }
+}
+
+std::string ConfigReader::Text(const YAML::Node& node) {
+  if (node.IsScalar()) return node.Scalar();
+  if (node.IsSequence()) return "a list";
+  if (node.IsMap()) return "a mapping";
+  return "nothing";
+}
+
+}  // namespace corridor::server

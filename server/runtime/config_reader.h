@@ -1,0 +1,74 @@
+// Strict YAML reading: every key is read at most once by name; a key nobody read, a wrong type or a value out of
+// range is an error that names the key's full path (e.g. "sim.camera.width").
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <functional>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace corridor::server {
+
+// A configuration problem, reported to the user as is; what() starts with the key path.
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class ConfigReader {
+ public:
+  // `node` must be a mapping or null (an absent section); `path` is its dotted key path ("" at the root).
+  ConfigReader(YAML::Node node, std::string path);
+
+  // Reads an optional key into `value`, which keeps its default when the key is absent.
+  template <typename T>
+  void Read(const char* key, T& value) {
+    const YAML::Node child = Take(key);
+    if (!child || child.IsNull()) return;  // absent, or "key:" with no value: keep the default
+    try {
+      value = child.as<T>();
+    } catch (const YAML::Exception&) {
+      throw ConfigError(PathOf(key) + ": expected " + TypeName<T>() + ", got '" + Text(child) + "'");
+    }
+  }
+
+  // Reads an optional number and checks min <= value <= max (the default is checked too).
+  template <typename T>
+  void Read(const char* key, T& value, T min, T max) {
+    Read(key, value);
+    if (!(value >= min && value <= max)) {
+      std::ostringstream msg;
+      msg << PathOf(key) << ": must be between " << min << " and " << max << ", got " << value;
+      throw ConfigError(msg.str());
+    }
+  }
+
+  // Reads an optional nested section with `read`, then checks that no key in it was left unread.
+  void Section(const char* key, const std::function<void(ConfigReader&)>& read);
+
+  // Throws ConfigError naming the first key that was never read.
+  void Finish() const;
+
+  const std::string& path() const { return path_; }
+  std::string PathOf(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
+
+ private:
+  YAML::Node Take(const char* key);
+  static std::string Text(const YAML::Node& node);
+  template <typename T>
+  static std::string TypeName() {
+    if constexpr (std::is_same_v<T, bool>) return "true or false";
+    else if constexpr (std::is_integral_v<T>) return "an integer";
+    else if constexpr (std::is_floating_point_v<T>) return "a number";
+    else return "a string";
+  }
+
+  YAML::Node node_;
+  std::string path_;
+  std::set<std::string> read_;
+};
+
+}  // namespace corridor::server

@@ -1,0 +1,106 @@
+#include "server/runtime/config.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+
+namespace corridor::server {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path SourceDir() {
+  const char* dir = std::getenv("CORRIDOR_SOURCE_DIR");
+  return dir ? fs::path(dir) : fs::current_path();
+}
+
+class ConfigTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("corridor_config_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Loads `yaml` and returns the error message, or "" when it loaded.
+  std::string ErrorOf(const std::string& yaml, const ConfigOverrides& overrides = {}) {
+    std::ofstream(dir_ / "c.yaml") << yaml;
+    try {
+      LoadConfig(dir_ / "c.yaml", overrides);
+      return "";
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(ConfigTest, EveryShippedConfigLoadsAndItsWorldExists) {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(SourceDir() / "config")) {
+    if (entry.path().extension() != ".yaml") continue;
+    ++count;
+    SCOPED_TRACE(entry.path().string());
+    const Config c = LoadConfig(entry.path());
+    EXPECT_TRUE(fs::exists(c.sim.world)) << c.sim.world;
+  }
+  EXPECT_GE(count, 2);
+}
+
+TEST_F(ConfigTest, DefaultsApplyToAnEmptyFileButTheWorldIsRequired) {
+  EXPECT_EQ(ErrorOf("sim: {enabled: false}\n"), "");
+  EXPECT_NE(ErrorOf("log: {level: info}\n").find("sim.world: required"), std::string::npos);
+}
+
+TEST_F(ConfigTest, RelativePathsAreRelativeToTheFile) {
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w/map.yaml}\n";
+  EXPECT_EQ(LoadConfig(dir_ / "c.yaml").sim.world, dir_ / "w/map.yaml");
+}
+
+TEST_F(ConfigTest, UnknownKeysAreNamedWithTheirPath) {
+  EXPECT_NE(ErrorOf("sim: {enabled: false, camera: {widht: 640}}\n").find("sim.camera.widht: unknown key"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\nserverr: {}\n").find("serverr: unknown key"), std::string::npos);
+}
+
+TEST_F(ConfigTest, WrongTypesAreNamed) {
+  const std::string e = ErrorOf("sim: {enabled: false}\nserver: {port: eighty}\n");
+  EXPECT_NE(e.find("server.port: expected an integer, got 'eighty'"), std::string::npos) << e;
+  EXPECT_NE(ErrorOf("sim: {enabled: false, base: [1, 2]}\n").find("sim.base: expected a mapping"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {enabled: maybe}\n").find("sim.enabled: expected true or false"), std::string::npos);
+}
+
+TEST_F(ConfigTest, OutOfRangeValuesAreNamedWithTheRange) {
+  const std::string e = ErrorOf("sim: {enabled: false, camera: {width: 5}}\n");
+  EXPECT_NE(e.find("sim.camera.width: must be between 16 and 4096, got 5"), std::string::npos) << e;
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\nsafety: {teleop_deadman_s: -1}\n").find("safety.teleop_deadman_s"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {enabled: false, camera: {min_range_m: 7, max_range_m: 6}}\n").find("min_range_m"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\nlog: {level: loud}\n").find("log.level"), std::string::npos);
+}
+
+TEST_F(ConfigTest, CommandLineOverridesGetTheSameChecks) {
+  ConfigOverrides o;
+  o.port = 70000;
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\n", o).find("server.port: must be between 0 and 65535"), std::string::npos);
+  o.port = 9090;
+  std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n";
+  EXPECT_EQ(LoadConfig(dir_ / "c.yaml", o).server.port, 9090);
+}
+
+TEST_F(ConfigTest, BrokenFilesAreReported) {
+  EXPECT_NE(ErrorOf("sim: {enabled: false\n").find("not valid YAML"), std::string::npos);
+  EXPECT_NE(ErrorOf("- a list\n").find("expected a mapping"), std::string::npos);
+  try {
+    LoadConfig(dir_ / "absent.yaml");
+    ADD_FAILURE();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot be opened"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace corridor::server

@@ -1,0 +1,57 @@
+#include "server/runtime/messages.h"
+
+#include <cmath>
+
+namespace corridor::server {
+
+nlohmann::json ToJson(const nav::Pose2& pose) {
+  return {{"x", pose.x_m}, {"y", pose.y_m}, {"yaw", pose.yaw_rad}};
+}
+
+nlohmann::json ToJson(const nav::Twist2& twist) {
+  return {{"linear_mps", twist.linear_mps}, {"angular_rps", twist.angular_rps}};
+}
+
+nlohmann::json ToJson(const StampedPose& pose) {
+  nlohmann::json j = ToJson(pose.pose);
+  j["stamp_s"] = drivers::ToSeconds(pose.stamp_ns);
+  return j;
+}
+
+nlohmann::json ToJson(const drivers::WheelOdometry& odometry) {
+  return {{"stamp_s", drivers::ToSeconds(odometry.stamp_ns)},
+          {"pose", ToJson(odometry.odom_T_base)},
+          {"velocity", ToJson(odometry.velocity)},
+          {"bumper_pressed", odometry.bumper_pressed}};
+}
+
+nlohmann::json ToJson(const drivers::LaserScan& scan) {
+  nlohmann::json ranges = nlohmann::json::array();
+  for (float r : scan.ranges) {
+    if (std::isfinite(r)) {
+      ranges.push_back(r);
+    } else {
+      ranges.push_back(nullptr);  // JSON has no infinity: null means no return
+    }
+  }
+  return {{"stamp_s", drivers::ToSeconds(scan.stamp_ns)},
+          {"angle_min_rad", scan.angle_min_rad},
+          {"angle_increment_rad", scan.angle_increment_rad},
+          {"range_max_m", scan.range_max_m},
+          {"ranges", std::move(ranges)}};
+}
+
+nlohmann::json ToJson(const TeleopCommand& command) {
+  nlohmann::json j = ToJson(command.twist);
+  j["source"] = command.source;
+  return j;
+}
+
+nlohmann::json ToJson(const BaseCommand& command) {
+  nlohmann::json j = ToJson(command.twist);
+  j["mode"] = command.mode;
+  j["reason"] = command.reason;
+  return j;
+}
+
+}  // namespace corridor::server

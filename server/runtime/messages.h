@@ -1,0 +1,45 @@
+// Messages that travel on the bus besides the drivers' own types, and their JSON form for the API and the
+// WebSocket stream. A type with a ToJson overload here is visible as JSON wherever its topic is.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "drivers/depth_camera.h"
+#include "drivers/diff_drive_base.h"
+#include "drivers/laser2d.h"
+#include "nav/geometry/pose2.h"
+
+namespace corridor::server {
+
+// A velocity request from a person or a building system, valid for the safety deadman from its arrival.
+struct TeleopCommand {
+  nav::Twist2 twist;
+  drivers::TimeNs received_ns = 0;
+  std::string source;  // "rest", "websocket", ...
+};
+
+// A pose with its time, in the map frame unless the topic says otherwise.
+struct StampedPose {
+  drivers::TimeNs stamp_ns = 0;
+  nav::Pose2 pose;
+};
+
+// What the control loop sent to the base, and why.
+struct BaseCommand {
+  drivers::TimeNs stamp_ns = 0;
+  nav::Twist2 twist;
+  std::string mode;    // "idle", "teleop", "stopped"
+  std::string reason;  // for "stopped": what made the robot stop
+};
+
+nlohmann::json ToJson(const nav::Pose2& pose);
+nlohmann::json ToJson(const nav::Twist2& twist);
+nlohmann::json ToJson(const StampedPose& pose);
+nlohmann::json ToJson(const drivers::WheelOdometry& odometry);
+nlohmann::json ToJson(const drivers::LaserScan& scan);
+nlohmann::json ToJson(const TeleopCommand& command);
+nlohmann::json ToJson(const BaseCommand& command);
+
+}  // namespace corridor::server

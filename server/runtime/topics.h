@@ -1,0 +1,17 @@
+// Every topic of the daemon, with its one name and type. The REST API, the WebSocket stream and (later) the DDS
+// bridge use these names.
+#pragma once
+
+#include "server/runtime/bus.h"
+
+namespace corridor::server::topics {
+
+inline constexpr TopicName<drivers::WheelOdometry> kOdometry{"odom"};
+inline constexpr TopicName<drivers::RgbdFrame> kRgbd{"camera/rgbd"};
+inline constexpr TopicName<drivers::LaserScan> kScan{"scan"};
+inline constexpr TopicName<StampedPose> kPose{"pose"};                 // the robot in the map frame
+inline constexpr TopicName<StampedPose> kSimTruePose{"sim/true_pose"};  // ground truth, simulator only
+inline constexpr TopicName<TeleopCommand> kTeleop{"teleop"};
+inline constexpr TopicName<BaseCommand> kCmdVel{"cmd_vel"};
+
+}  // namespace corridor::server::topics
