@@ -18,6 +18,7 @@ void SimNode::Activate() {
   wall_start_ns_ = wall_clock_.Now();
   sim_start_ns_ = robot_.now_ns();
   const auto period = std::chrono::nanoseconds(drivers::FromSeconds(robot_.step_s()));
+  bus_.Get(topics::kSimTruePose).Publish(StampedPose{robot_.now_ns(), robot_.true_pose()});
   timer_ = std::make_unique<PeriodicTimer>(executor_, period, [this] { Tick(); });
   SetHealth(Health::kOk, "running in real time");
 }

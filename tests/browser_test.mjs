@@ -1,0 +1,99 @@
+// The console in a real browser (Debian's chromium through playwright-core) against a real corridord:
+// open it, see the map and the live robot, drive with the keyboard, watch the pose change, take a screenshot.
+import assert from 'node:assert/strict';
+import { mkdirSync } from 'node:fs';
+import { join } from 'node:path';
+import { after, before, test } from 'node:test';
+
+import { require, sleep, sourceDir, startDaemon } from './daemon.mjs';
+
+const { chromium } = require('playwright-core');
+const artifacts = process.env.CORRIDOR_ARTIFACTS ?? join(sourceDir, 'tests/artifacts');
+
+let daemon;
+let browser;
+
+before(async () => {
+  daemon = await startDaemon();
+  browser = await chromium.launch({
+    executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+  });
+});
+
+after(async () => {
+  await browser?.close();
+  await daemon?.stop();
+});
+
+function parsePose(text) {
+  const m = /x (-?[\d.]+) m, y (-?[\d.]+) m, (-?[\d.]+)°/.exec(text);
+  assert.ok(m, `pose text '${text}'`);
+  return { x: Number(m[1]), y: Number(m[2]), yawDeg: Number(m[3]) };
+}
+
+test('open the console, see the map and the robot, drive with the keyboard', async () => {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(e.message));
+  await page.goto(daemon.url);
+
+  // Connected, the map image loaded, the robot drawn, telemetry live.
+  await page.getByTestId('connection').filter({ hasText: 'connected' }).waitFor({ timeout: 15000 });
+  await page.waitForFunction(() => {
+    const img = document.querySelector('img.map-image');
+    return img instanceof HTMLImageElement && img.complete && img.naturalWidth === 1165;
+  }, null, { timeout: 15000 });
+  await page.waitForSelector('path.robot', { timeout: 15000 });
+  await page.getByTestId('pose').filter({ hasText: 'x ' }).waitFor();
+  await page.waitForFunction(() => document.querySelectorAll('[data-testid=nodes] tbody tr').length === 3);
+  await page.waitForFunction(() => {
+    const img = document.querySelector('[data-testid=camera]');
+    return img instanceof HTMLImageElement && img.complete && img.naturalWidth === 320;
+  }, null, { timeout: 15000 });
+  const start = parsePose(await page.getByTestId('pose').textContent());
+  assert.ok(Math.abs(start.yawDeg - 90) < 1, 'starts facing +y');
+
+  // Hold the up arrow: the robot drives forward (+y); release: it stops.
+  await page.locator('body').click({ position: { x: 1000, y: 700 } });
+  await page.keyboard.down('ArrowUp');
+  await page.getByTestId('mode').filter({ hasText: 'teleop' }).waitFor({ timeout: 5000 });
+  await sleep(1500);
+  await page.keyboard.up('ArrowUp');
+  await page.getByTestId('mode').filter({ hasText: 'idle' }).waitFor({ timeout: 5000 });
+  await page.getByTestId('speed').filter({ hasText: /^0\.00 m\/s/ }).waitFor({ timeout: 5000 });
+  const driven = parsePose(await page.getByTestId('pose').textContent());
+  assert.ok(driven.y - start.y > 0.3, `moved from y ${start.y} to ${driven.y}`);
+  assert.ok(Math.abs(driven.x - start.x) < 0.1, 'straight ahead');
+
+  // D turns right (clockwise).
+  await page.keyboard.down('d');
+  await sleep(800);
+  await page.keyboard.up('d');
+  await page.getByTestId('mode').filter({ hasText: 'idle' }).waitFor({ timeout: 5000 });
+  const turned = parsePose(await page.getByTestId('pose').textContent());
+  assert.ok(turned.yawDeg < driven.yawDeg - 10, `turned from ${driven.yawDeg} to ${turned.yawDeg}`);
+
+  mkdirSync(artifacts, { recursive: true });
+  await page.screenshot({ path: join(artifacts, 'console.png') });
+  assert.deepEqual(errors, []);
+});
+
+test('the connection indicator shows a lost daemon and reconnects by itself', async () => {
+  const first = await startDaemon();
+  const page = await browser.newPage();
+  await page.goto(first.url);
+  await page.getByTestId('connection').filter({ hasText: 'connected' }).waitFor({ timeout: 15000 });
+  // The daemon goes away (a restart, a crash): the console says so.
+  await first.stop();
+  await page.getByTestId('connection').filter({ hasText: 'reconnecting' }).waitFor({ timeout: 15000 });
+  // It comes back on the same port: the console reconnects without a reload and shows live state again.
+  const second = await startDaemon({ args: ['--port', String(first.port)] });
+  try {
+    await page.getByTestId('connection').filter({ hasText: 'connected' }).waitFor({ timeout: 15000 });
+    await page.getByTestId('mode').filter({ hasText: 'idle' }).waitFor({ timeout: 5000 });
+  } finally {
+    await second.stop();
+  }
+});

@@ -1,0 +1,101 @@
+// Starts a real corridord for tests: its own free port, its own state directory, the simulator.
+// The packages tests use (ws, ajv, playwright-core) are installed with the console in web/.
+import { spawn } from 'node:child_process';
+import { mkdtempSync, rmSync, writeFileSync, readFileSync } from 'node:fs';
+import { createRequire } from 'node:module';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+
+export const sourceDir = new URL('..', import.meta.url).pathname;
+export const require = createRequire(join(sourceDir, 'web/package.json'));
+export const corridord = process.env.CORRIDORD ?? join(sourceDir, 'build/server/corridord');
+
+// Runs corridord to completion (for --help, bad configs); resolves {code, stdout, stderr}.
+export function runCorridord(args, timeoutMs = 20000) {
+  return new Promise((resolve, reject) => {
+    const proc = spawn(corridord, args, { stdio: ['ignore', 'pipe', 'pipe'] });
+    let stdout = '';
+    let stderr = '';
+    proc.stdout.on('data', (d) => { stdout += d; });
+    proc.stderr.on('data', (d) => { stderr += d; });
+    const timer = setTimeout(() => { proc.kill('SIGKILL'); reject(new Error(`corridord ${args} timed out`)); }, timeoutMs);
+    proc.on('exit', (code) => { clearTimeout(timer); resolve({ code, stdout, stderr }); });
+  });
+}
+
+// Starts corridord; `config` (YAML text) replaces the shipped config when given. Resolves once it listens.
+export async function startDaemon({ config = null, args = [] } = {}) {
+  const stateDir = mkdtempSync(join(tmpdir(), 'corridor-test-'));
+  const configArgs = [];
+  if (config !== null) {
+    const file = join(stateDir, 'corridor.yaml');
+    writeFileSync(file, config);
+    configArgs.push('--config', file);
+  } else {
+    configArgs.push('--config', join(sourceDir, 'config/corridor.yaml'));
+  }
+  const proc = spawn(corridord, [...configArgs, '--port', '0', '--state-dir', stateDir, ...args],
+    { stdio: ['ignore', 'ignore', 'pipe'] });
+  let log = '';
+  const port = await new Promise((resolve, reject) => {
+    const timer = setTimeout(() => reject(new Error(`corridord did not start:\n${log}`)), 30000);
+    proc.stderr.on('data', (d) => {
+      log += d;
+      const m = /listening on http:\/\/[^:]+:(\d+)/.exec(log);
+      if (m) { clearTimeout(timer); resolve(Number(m[1])); }
+    });
+    proc.on('exit', (code) => { clearTimeout(timer); reject(new Error(`corridord exited with ${code}:\n${log}`)); });
+  });
+  const exited = new Promise((resolve) => proc.on('exit', (code, signal) => resolve({ code, signal })));
+  return {
+    port,
+    url: `http://127.0.0.1:${port}`,
+    log: () => log,
+    exited,
+    async stop() {
+      proc.kill('SIGTERM');
+      const result = await exited;
+      rmSync(stateDir, { recursive: true, force: true });
+      return result;
+    },
+  };
+}
+
+export const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+
+export async function getJson(url) {
+  const res = await fetch(url);
+  return { status: res.status, type: res.headers.get('content-type'), body: await res.json() };
+}
+
+export async function postJson(url, body, contentType = 'application/json') {
+  const res = await fetch(url, {
+    method: 'POST', headers: { 'Content-Type': contentType },
+    body: typeof body === 'string' ? body : JSON.stringify(body),
+  });
+  return { status: res.status, type: res.headers.get('content-type'), body: await res.json() };
+}
+
+// A validator for a schema of the OpenAPI document (JSON Schema 2020-12, as OpenAPI 3.1 uses).
+export function openApiValidator() {
+  const Ajv2020 = require('ajv/dist/2020').default;
+  const doc = JSON.parse(readFileSync(join(sourceDir, 'server/api/openapi.json'), 'utf8'));
+  const ajv = new Ajv2020({ strict: false, allErrors: true });
+  ajv.addSchema({ $id: 'openapi', components: doc.components });
+  return {
+    doc,
+    check(name, value) {
+      const validate = ajv.getSchema(`openapi#/components/schemas/${name}`);
+      if (!validate(value)) throw new Error(`${name}: ${ajv.errorsText(validate.errors)}\n${JSON.stringify(value)}`);
+    },
+  };
+}
+
+// Sends teleop over REST every 100 ms for `ms` milliseconds, as a joystick would.
+export async function driveFor(url, command, ms) {
+  const end = Date.now() + ms;
+  while (Date.now() < end) {
+    await postJson(`${url}/api/v1/teleop`, command);
+    await sleep(100);
+  }
+}

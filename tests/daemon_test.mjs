@@ -1,0 +1,283 @@
+// corridord with the simulator, over real HTTP and WebSocket: what a console or a building system sees.
+import assert from 'node:assert/strict';
+import { after, before, describe, test } from 'node:test';
+
+import {
+  driveFor, getJson, openApiValidator, postJson, require, runCorridord, sleep, sourceDir, startDaemon,
+} from './daemon.mjs';
+
+const WebSocket = require('ws');
+const api = openApiValidator();
+
+function distance(a, b) {
+  return Math.hypot(a.x - b.x, a.y - b.y);
+}
+
+async function state(url) {
+  const { status, body } = await getJson(`${url}/api/v1/state`);
+  assert.equal(status, 200);
+  api.check('State', body);
+  return body;
+}
+
+async function expectProblem(responsePromise, status) {
+  const res = await responsePromise;
+  assert.equal(res.status, status, JSON.stringify(res.body));
+  assert.equal(res.type, 'application/problem+json');
+  api.check('Problem', res.body);
+  assert.equal(res.body.status, status);
+  return res.body;
+}
+
+// Opens the stream and collects its messages.
+async function openStream(url) {
+  const ws = new WebSocket(`${url.replace('http', 'ws')}/api/v1/stream`);
+  const messages = [];
+  ws.on('message', (data) => messages.push({ at: Date.now(), message: JSON.parse(String(data)) }));
+  await new Promise((resolve, reject) => { ws.once('open', resolve); ws.once('error', reject); });
+  return { ws, messages };
+}
+
+describe('corridord in the Willow Garage building', () => {
+  let daemon;
+  before(async () => { daemon = await startDaemon(); });
+  after(async () => { await daemon?.stop(); });
+
+  test('health, state, map and topics match the OpenAPI contract', async () => {
+    const health = await getJson(`${daemon.url}/api/v1/health`);
+    assert.equal(health.status, 200);
+    api.check('Health', health.body);
+
+    await sleep(500);
+    const s = await state(daemon.url);
+    assert.deepEqual(s.nodes.map((n) => n.name).sort(), ['control', 'localization', 'sim']);
+    for (const node of s.nodes) {
+      assert.equal(node.health, 'ok', `${node.name}: ${node.message}`);
+      assert.ok(node.rate_hz > 0, `${node.name} loops`);
+    }
+    assert.ok(Math.abs(s.pose.x - 24.38) < 0.01 && Math.abs(s.pose.y - 24.07) < 0.01, JSON.stringify(s.pose));
+
+    const map = await getJson(`${daemon.url}/api/v1/map`);
+    api.check('MapInfo', map.body);
+    assert.equal(map.body.width, 1165);
+    assert.equal(map.body.height, 945);
+    const image = await fetch(`${daemon.url}${map.body.image_url}`);
+    assert.equal(image.headers.get('content-type'), 'image/png');
+    const png = Buffer.from(await image.arrayBuffer());
+    assert.equal(png.readUInt32BE(16), 1165);  // IHDR width
+    assert.equal(png.readUInt32BE(20), 945);
+
+    const topics = await getJson(`${daemon.url}/api/v1/topics`);
+    api.check('Topics', topics.body);
+    for (const t of ['odom', 'pose', 'cmd_vel', 'camera/rgbd', 'scan']) assert.ok(topics.body.topics.includes(t), t);
+
+    const doc = await getJson(`${daemon.url}/api/v1/openapi.json`);
+    assert.equal(doc.body.openapi, '3.1.0');
+    assert.deepEqual(doc.body, api.doc, 'the daemon serves the document in the tree');
+  });
+
+  test('teleop moves the robot and the deadman stops it', async () => {
+    const before = await state(daemon.url);
+    const accepted = await postJson(`${daemon.url}/api/v1/teleop`, { linear_mps: 0.4, angular_rps: 0 });
+    assert.equal(accepted.status, 200);
+    api.check('TeleopAccepted', accepted.body);
+    assert.equal(accepted.body.expires_in_s, 0.5);
+    await driveFor(daemon.url, { linear_mps: 0.4, angular_rps: 0 }, 1500);
+    const moving = await state(daemon.url);
+    assert.equal(moving.mode, 'teleop');
+    assert.ok(moving.velocity.linear_mps > 0.3, `moving at ${moving.velocity.linear_mps}`);
+    // The robot faces +y (yaw 90 degrees) down a free corridor.
+    assert.ok(moving.sim_true_pose.y - before.sim_true_pose.y > 0.3, 'moved forward');
+
+    // No more commands: within the 0.5 s deadman plus the braking ramp the robot is still.
+    await sleep(1200);
+    const stopped = await state(daemon.url);
+    assert.equal(stopped.mode, 'idle');
+    assert.equal(stopped.velocity.linear_mps, 0);
+    await sleep(500);
+    const later = await state(daemon.url);
+    assert.ok(distance(later.sim_true_pose, stopped.sim_true_pose) < 1e-6, 'stays still');
+  });
+
+  test('the stream pushes state at 10 Hz or more and accepts teleop', async () => {
+    const { ws, messages } = await openStream(daemon.url);
+    await sleep(1000);
+    const states = messages.filter((m) => m.message.topic === 'state');
+    assert.ok(states.length >= 10, `${states.length} state messages in 1 s`);
+    api.check('State', states.at(-1).message.data);
+
+    const start = states.at(-1).message.data.sim_true_pose;
+    const timer = setInterval(() => ws.send(JSON.stringify({ type: 'teleop', linear_mps: 0, angular_rps: 1.0 })), 100);
+    await sleep(1500);
+    clearInterval(timer);
+    const acks = messages.filter((m) => m.message.type === 'teleop_ack');
+    assert.ok(acks.length >= 10);
+    const turned = (await state(daemon.url)).sim_true_pose;
+    assert.ok(Math.abs(turned.yaw - start.yaw) > 0.5, `turned from ${start.yaw} to ${turned.yaw}`);
+
+    // Bad messages get an error reply and the stream stays open.
+    ws.send('not json');
+    ws.send(JSON.stringify({ type: 'teleop', linear_mps: 'fast', angular_rps: 0 }));
+    ws.send(JSON.stringify({ type: 'subscribe', topics: ['no/such/topic'] }));
+    await sleep(300);
+    const errors = messages.filter((m) => m.message.type === 'error');
+    assert.equal(errors.length, 3);
+    assert.equal(ws.readyState, WebSocket.OPEN);
+
+    // Subscribing to a bus topic by name streams it.
+    ws.send(JSON.stringify({ type: 'subscribe', topics: ['odom'] }));
+    await sleep(500);
+    const odom = messages.filter((m) => m.message.topic === 'odom');
+    assert.ok(odom.length >= 3);
+    assert.ok('bumper_pressed' in odom.at(-1).message.data);
+    ws.close();
+  });
+
+  test('camera snapshots: 16-bit depth PNG, false-colour PNG and colour JPEG', async () => {
+    const depth = await fetch(`${daemon.url}/api/v1/camera/depth`);
+    assert.equal(depth.status, 200);
+    assert.equal(depth.headers.get('content-type'), 'image/png');
+    const png = Buffer.from(await depth.arrayBuffer());
+    assert.equal(png.readUInt32BE(16), 320);
+    assert.equal(png.readUInt32BE(20), 240);
+    assert.equal(png[24], 16, 'bit depth');
+    const view = await fetch(`${daemon.url}/api/v1/camera/depth?colormap=true`);
+    assert.equal(Buffer.from(await view.arrayBuffer())[24], 8);
+    const color = await fetch(`${daemon.url}/api/v1/camera/color`);
+    assert.equal(color.headers.get('content-type'), 'image/jpeg');
+    const jpeg = Buffer.from(await color.arrayBuffer());
+    assert.equal(jpeg.readUInt16BE(0), 0xffd8);
+  });
+
+  test('malformed, oversized and wrongly typed requests get a 4xx and the daemon keeps running', async () => {
+    const url = `${daemon.url}/api/v1/teleop`;
+    await expectProblem(postJson(url, '{"linear_mps": 0.2,'), 400);
+    await expectProblem(postJson(url, { linear_mps: 'fast', angular_rps: 0 }), 400);
+    await expectProblem(postJson(url, { linear_mps: 0.2 }), 400);
+    await expectProblem(postJson(url, { linear_mps: 0.2, angular_rps: 0, turbo: true }), 400);
+    await expectProblem(postJson(url, [1, 2]), 400);
+    await expectProblem(postJson(url, 'linear_mps=0.2', 'application/x-www-form-urlencoded'), 415);
+    await expectProblem(postJson(url, JSON.stringify({ pad: 'x'.repeat(200000) })), 413);
+    await expectProblem(getJson(`${daemon.url}/api/v1/no-such-route`), 404);
+    await expectProblem(getJson(`${daemon.url}/api/v1/teleop`), 405);
+    await expectProblem(postJson(`${daemon.url}/api/v1/state`, {}), 405);
+    await expectProblem(getJson(`${daemon.url}/api/v1/stream`), 426);
+    await expectProblem(getJson(`${daemon.url}/../../etc/passwd`), 404);
+    // A request that is not HTTP at all.
+    const net = await import('node:net');
+    const reply = await new Promise((resolve) => {
+      const socket = net.connect(daemon.port, '127.0.0.1', () => socket.end('GARBAGE\r\n\r\n'));
+      let data = '';
+      socket.on('data', (d) => { data += d; });
+      socket.on('close', () => resolve(data));
+    });
+    assert.match(reply, /^HTTP\/1\.1 400/);
+    // Nothing of that moved the robot, and the daemon is healthy.
+    const s = await state(daemon.url);
+    assert.notEqual(s.mode, 'teleop');
+    assert.equal((await getJson(`${daemon.url}/api/v1/health`)).status, 200);
+  });
+
+  test('the console is served at /', async () => {
+    const res = await fetch(`${daemon.url}/`);
+    assert.equal(res.status, 200);
+    assert.match(res.headers.get('content-type'), /text\/html/);
+    assert.match(await res.text(), /corridor console/);
+  });
+});
+
+describe('corridord in a small arena', () => {
+  const config = `
+sim:
+  world: "${sourceDir}tests/data/maps/lse_arena/lse_arena.yaml"
+  start: {x_m: 1.0, y_m: 0.75, yaw_deg: 0}
+  camera: {rate_hz: 5}
+`;
+
+  test('the robot stops against a wall instead of passing through it', async () => {
+    const daemon = await startDaemon({ config });
+    try {
+      // The outer wall stands 2.95 m ahead; drive at it for longer than it takes to get there.
+      let bumped = false;
+      const end = Date.now() + 7000;
+      while (Date.now() < end) {
+        await postJson(`${daemon.url}/api/v1/teleop`, { linear_mps: 0.5, angular_rps: 0 });
+        const s = await state(daemon.url);
+        bumped ||= s.bumper_pressed;
+        assert.ok(s.sim_true_pose.x + 0.2 <= 1.0 + 2.95 + 1e-6, `inside the wall at x = ${s.sim_true_pose.x}`);
+        await sleep(100);
+      }
+      assert.ok(bumped, 'the bumper reported the contact');
+      const s = await state(daemon.url);
+      assert.ok(s.sim_true_pose.x + 0.2 > 1.0 + 2.95 - 0.1, `reached the wall: x = ${s.sim_true_pose.x}`);
+    } finally {
+      await daemon.stop();
+    }
+  });
+
+  test('SIGTERM stops the robot first and exits cleanly', async () => {
+    const daemon = await startDaemon({ config });
+    await postJson(`${daemon.url}/api/v1/teleop`, { linear_mps: 0.3, angular_rps: 0 });
+    const { code } = await daemon.stop();
+    assert.equal(code, 0);
+    const log = daemon.log();
+    assert.match(log, /stopping the robot/);
+    const controlStopped = log.indexOf('control: inactive');
+    const simStopped = log.indexOf('sim: inactive');
+    assert.ok(controlStopped > 0 && simStopped > controlStopped, 'control stops before the simulator');
+    assert.match(log, /stopped$/m);
+  });
+});
+
+describe('corridord start-up', () => {
+  test('--help and --version', async () => {
+    const help = await runCorridord(['--help']);
+    assert.equal(help.code, 0);
+    for (const flag of ['--config', '--port', '--state-dir', '--map', '--world']) assert.match(help.stdout, new RegExp(flag));
+    const version = await runCorridord(['--version']);
+    assert.match(version.stdout, /^corridord \d+\.\d+\.\d+/);
+    const bad = await runCorridord(['--frobnicate']);
+    assert.equal(bad.code, 2);
+    assert.match(bad.stderr, /unknown option --frobnicate/);
+  });
+
+  test('a broken configuration stops start-up with the key path', async () => {
+    const { mkdtempSync, writeFileSync } = await import('node:fs');
+    const { join } = await import('node:path');
+    const dir = mkdtempSync(join((await import('node:os')).tmpdir(), 'corridor-cfg-'));
+    const cases = [
+      ['sim: {world: x.yaml, camera: {widht: 3}}\n', /sim\.camera\.widht: unknown key/],
+      ['server: {port: -4}\nsim: {world: x.yaml}\n', /server\.port: must be between 0 and 65535/],
+      ['sim: {world: missing.yaml}\n', /missing\.yaml.*does not exist/],
+    ];
+    for (const [text, expected] of cases) {
+      writeFileSync(join(dir, 'c.yaml'), text);
+      const run = await runCorridord(['--config', join(dir, 'c.yaml'), '--state-dir', dir]);
+      assert.equal(run.code, 1, run.stderr);
+      assert.match(run.stderr, expected);
+    }
+    const port = await runCorridord(['--port', '99999', '--state-dir', dir]);
+    assert.equal(port.code, 1);
+    assert.match(port.stderr, /server\.port/);
+    const world = await runCorridord(['--world', join(sourceDir, 'README.md'), '--state-dir', dir]);
+    assert.equal(world.code, 1);
+    assert.match(world.stderr, /README\.md/);
+  });
+
+  test('--world loads the 3D small house and --map its SLAM map', async () => {
+    const daemon = await startDaemon({
+      args: ['--world', `${sourceDir}config/worlds/small_house/worlds/small_house.world`,
+        '--map', `${sourceDir}config/worlds/small_house/maps/map.yaml`],
+      config: 'sim:\n  world: unused.yaml\n  start: {x_m: -3.5, y_m: 1.0, yaw_deg: 270}\n',
+    });
+    try {
+      const map = await getJson(`${daemon.url}/api/v1/map`);
+      assert.equal(map.body.name, 'map');
+      await sleep(500);
+      const depth = await fetch(`${daemon.url}/api/v1/camera/depth`);
+      assert.equal(depth.status, 200);
+    } finally {
+      await daemon.stop();
+    }
+  });
+});

@@ -1,0 +1,18 @@
+// Builds the console into web/dist: one bundled script, the pages, the styles (ours and Leaflet's).
+import { build } from 'esbuild';
+import { cpSync, mkdirSync } from 'node:fs';
+
+const dist = new URL('./dist/', import.meta.url).pathname;
+mkdirSync(dist, { recursive: true });
+await build({
+  entryPoints: ['src/main.ts'],
+  bundle: true,
+  minify: true,
+  sourcemap: true,
+  target: 'es2022',
+  outfile: `${dist}app.js`,
+  logLevel: 'warning',
+});
+cpSync('index.html', `${dist}index.html`);
+cpSync('style.css', `${dist}style.css`);
+cpSync('node_modules/leaflet/dist/leaflet.css', `${dist}leaflet.css`);
