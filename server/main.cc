@@ -16,6 +16,7 @@
 #include "server/api/http_server.h"
 #include "server/nodes/control_node.h"
 #include "server/nodes/driver_bridge.h"
+#include "server/nodes/face_node.h"
 #include "server/nodes/localization_node.h"
 #include "server/nodes/sim_node.h"
 #include "server/runtime/config.h"
@@ -170,6 +171,7 @@ int Run(const CommandLine& cl) {
   // Brought up in this order and down in reverse: control goes first at shutdown, so the robot stops first.
   lifecycle.Add(std::make_unique<SimNode>(executors.sim, bus, robot, wall_clock));
   lifecycle.Add(std::make_unique<LocalizationNode>(executors.mapping, bus, wall_clock, start));
+  lifecycle.Add(std::make_unique<FaceNode>(executors.perception, bus, wall_clock));
   lifecycle.Add(std::make_unique<ControlNode>(executors.control, bus, robot, wall_clock, config.safety));
   lifecycle.ConfigureAll();
 

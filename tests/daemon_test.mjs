@@ -50,7 +50,8 @@ describe('corridord in the Willow Garage building', () => {
 
     await sleep(500);
     const s = await state(daemon.url);
-    assert.deepEqual(s.nodes.map((n) => n.name).sort(), ['control', 'localization', 'sim']);
+    assert.deepEqual(s.nodes.map((n) => n.name).sort(), ['control', 'face', 'localization', 'sim']);
+    assert.equal(s.face, 'neutral');
     for (const node of s.nodes) {
       assert.equal(node.health, 'ok', `${node.name}: ${node.message}`);
       assert.ok(node.rate_hz > 0, `${node.name} loops`);
@@ -199,15 +200,18 @@ sim:
     try {
       // The outer wall stands 2.95 m ahead; drive at it for longer than it takes to get there.
       let bumped = false;
+      let surprised = false;
       const end = Date.now() + 7000;
       while (Date.now() < end) {
         await postJson(`${daemon.url}/api/v1/teleop`, { linear_mps: 0.5, angular_rps: 0 });
         const s = await state(daemon.url);
         bumped ||= s.bumper_pressed;
+        surprised ||= s.face === 'surprised';
         assert.ok(s.sim_true_pose.x + 0.2 <= 1.0 + 2.95 + 1e-6, `inside the wall at x = ${s.sim_true_pose.x}`);
         await sleep(100);
       }
       assert.ok(bumped, 'the bumper reported the contact');
+      assert.ok(surprised, 'the face showed surprise at the bump');
       const s = await state(daemon.url);
       assert.ok(s.sim_true_pose.x + 0.2 > 1.0 + 2.95 - 0.1, `reached the wall: x = ${s.sim_true_pose.x}`);
     } finally {

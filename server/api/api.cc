@@ -187,6 +187,8 @@ json Api::State() const {
   state["command"] = command ? ToJson(command->twist) : ToJson(nav::Twist2{});
   const auto truth = bus_.Get(topics::kSimTruePose).latest();
   state["sim_true_pose"] = truth ? ToJson(truth->pose) : json(nullptr);
+  const auto face = bus_.Get(topics::kFaceExpression).latest();
+  state["face"] = face ? face->expression : "neutral";
   json nodes = json::array();
   for (const auto& node : lifecycle_.nodes()) nodes.push_back(node->Status());
   state["nodes"] = std::move(nodes);

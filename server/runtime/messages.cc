@@ -8,6 +8,8 @@ nlohmann::json ToJson(const nav::Pose2& pose) {
   return {{"x", pose.x_m}, {"y", pose.y_m}, {"yaw", pose.yaw_rad}};
 }
 
+nlohmann::json ToJson(const FaceState& face) { return {{"expression", face.expression}}; }
+
 nlohmann::json ToJson(const nav::Twist2& twist) {
   return {{"linear_mps", twist.linear_mps}, {"angular_rps", twist.angular_rps}};
 }

@@ -34,6 +34,12 @@ struct BaseCommand {
   std::string reason;  // for "stopped": what made the robot stop
 };
 
+// The face's current expression (face/expression.h names them).
+struct FaceState {
+  std::string expression;
+};
+
+nlohmann::json ToJson(const FaceState& face);
 nlohmann::json ToJson(const nav::Pose2& pose);
 nlohmann::json ToJson(const nav::Twist2& twist);
 nlohmann::json ToJson(const StampedPose& pose);

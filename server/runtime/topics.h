@@ -13,5 +13,6 @@ inline constexpr TopicName<StampedPose> kPose{"pose"};                 // the ro
 inline constexpr TopicName<StampedPose> kSimTruePose{"sim/true_pose"};  // ground truth, simulator only
 inline constexpr TopicName<TeleopCommand> kTeleop{"teleop"};
 inline constexpr TopicName<BaseCommand> kCmdVel{"cmd_vel"};
+inline constexpr TopicName<FaceState> kFaceExpression{"face/expression"};
 
 }  // namespace corridor::server::topics

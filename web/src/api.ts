@@ -15,6 +15,7 @@ export interface State {
   stop_reason: string;
   command: Twist;
   sim_true_pose: Pose | null;
+  face: 'neutral' | 'happy' | 'focused' | 'surprised' | 'worried' | 'sleepy';
   nodes: NodeStatus[];
 }
 export interface MapInfo {

@@ -26,6 +26,7 @@ function showState(state: State, view: MapView | null): void {
   byId('speed').textContent = `${state.velocity.linear_mps.toFixed(2)} m/s, ${deg(state.velocity.angular_rps)}/s`;
   byId('command').textContent = `${state.command.linear_mps.toFixed(2)} m/s, ${deg(state.command.angular_rps)}/s`;
   byId('bumper').textContent = state.bumper_pressed ? 'pressed' : 'free';
+  byId('face').textContent = state.face;
   const rows = state.nodes.map((n) => {
     const tr = document.createElement('tr');
     tr.title = n.message;

@@ -1,0 +1,57 @@
+// Measures corridord's CPU while idle with the simulator, per thread. Executor threads carry their names
+// (control, mapping, planning, perception, io, sim), so the simulator's own work (physics and ray-cast sensors,
+// all on "sim") separates from the rest of the daemon.
+//   node bench/idle_cpu.mjs [seconds=30] [--console]
+// --console: what an open console costs: a stream client, and the camera view fetched five times a second.
+import { readFileSync, readdirSync } from 'node:fs';
+import { execFileSync } from 'node:child_process';
+
+import { require, sleep, startDaemon } from '../tests/daemon.mjs';
+
+const seconds = Number(process.argv.find((a) => /^\d+$/.test(a)) ?? 30);
+const withConsole = process.argv.includes('--console');
+const ticksPerSecond = Number(execFileSync('getconf', ['CLK_TCK']).toString());
+
+function threadTicks(pid) {
+  const out = new Map();
+  for (const tid of readdirSync(`/proc/${pid}/task`)) {
+    const stat = readFileSync(`/proc/${pid}/task/${tid}/stat`, 'utf8');
+    const name = stat.slice(stat.indexOf('(') + 1, stat.lastIndexOf(')'));
+    const fields = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
+    const ticks = Number(fields[11]) + Number(fields[12]);  // utime + stime
+    out.set(tid, { name, ticks });
+  }
+  return out;
+}
+
+const daemon = await startDaemon();
+const pid = Number(execFileSync('pgrep', ['-n', 'corridord']).toString());
+let ws = null;
+let camera = null;
+if (withConsole) {
+  const WebSocket = require('ws');
+  ws = new WebSocket(`${daemon.url.replace('http', 'ws')}/api/v1/stream`);
+  camera = setInterval(() => fetch(`${daemon.url}/api/v1/camera/depth?colormap=true`).then((r) => r.arrayBuffer()), 200);
+}
+await sleep(3000);  // start-up and the first frames are not idle
+const before = threadTicks(pid);
+await sleep(seconds * 1000);
+const after = threadTicks(pid);
+ws?.close();
+clearInterval(camera);
+await daemon.stop();
+
+const byName = new Map();
+for (const [tid, { name, ticks }] of after) {
+  const used = ticks - (before.get(tid)?.ticks ?? 0);
+  byName.set(name, (byName.get(name) ?? 0) + used);
+}
+const percent = (ticks) => (100 * ticks) / ticksPerSecond / seconds;
+const total = [...byName.values()].reduce((a, b) => a + b, 0);
+const sim = byName.get('sim') ?? 0;
+console.log(`corridord idle for ${seconds} s${withConsole ? ' with a console connected' : ''}:`);
+for (const [name, ticks] of [...byName].sort((a, b) => b[1] - a[1])) {
+  console.log(`  ${name.padEnd(16)} ${percent(ticks).toFixed(1).padStart(5)} % of one core`);
+}
+console.log(`  total            ${percent(total).toFixed(1).padStart(5)} %`);
+console.log(`  beyond the sim   ${percent(total - sim).toFixed(1).padStart(5)} %`);

@@ -1,0 +1,43 @@
+#include "server/nodes/face_node.h"
+
+#include "server/runtime/topics.h"
+
+namespace corridor::server {
+namespace {
+
+constexpr double kRateHz = 5.0;
+constexpr double kMovingMps = 0.02;
+constexpr double kMovingRps = 0.05;
+
+}  // namespace
+
+FaceNode::FaceNode(Executor& executor, Bus& bus, const drivers::Clock& clock, const face::ExpressionOptions& options)
+    : Node("face", executor.name(), clock), executor_(executor), bus_(bus), machine_(options) {}
+
+void FaceNode::Activate() {
+  timer_ = std::make_unique<PeriodicTimer>(executor_, std::chrono::nanoseconds(drivers::FromSeconds(1.0 / kRateHz)),
+                                           [this] { Tick(); });
+  SetHealth(Health::kOk, "");
+}
+
+void FaceNode::Deactivate() {
+  if (timer_) timer_->Stop();
+  SetHealth(Health::kInactive, "");
+}
+
+void FaceNode::Tick() {
+  LoopTimer timer(stats(), clock());
+  face::Situation s{.now_ns = clock().Now()};
+  if (const auto odometry = bus_.Get(topics::kOdometry).latest()) {
+    s.moving = std::abs(odometry->velocity.linear_mps) > kMovingMps ||
+               std::abs(odometry->velocity.angular_rps) > kMovingRps;
+    s.bumped = odometry->bumper_pressed;
+  }
+  if (const auto command = bus_.Get(topics::kCmdVel).latest()) {
+    s.driven = command->mode == "teleop";
+    s.fault = command->mode == "stopped";
+  }
+  bus_.Get(topics::kFaceExpression).Publish(FaceState{std::string(face::ToString(machine_.Update(s)))});
+}
+
+}  // namespace corridor::server
