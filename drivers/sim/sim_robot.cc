@@ -5,6 +5,15 @@ namespace {
 
 TimeNs PeriodNs(double rate_hz) { return static_cast<TimeNs>(1e9 / rate_hz); }
 
+// True when a sensor with this rate is due at `now`; advances its schedule by whole periods so that the rate is
+// kept exactly on average even when the period is not a multiple of the physics step.
+bool Due(TimeNs now, double rate_hz, TimeNs& next_ns) {
+  if (now < next_ns) return false;
+  next_ns += PeriodNs(rate_hz);
+  if (next_ns <= now) next_ns = now + PeriodNs(rate_hz);  // fell behind (a reset): do not burst
+  return true;
+}
+
 }  // namespace
 
 SimRobot::SimRobot(std::shared_ptr<const World> world, const SimOptions& options)
@@ -49,12 +58,10 @@ void SimRobot::Step() {
     odometry = {now, base_.odom_pose(), base_.velocity(), base_.bumper_pressed()};
   }
 
-  if (now >= next_odometry_ns_) {
-    next_odometry_ns_ = now + PeriodNs(options_.odometry_rate_hz);
+  if (Due(now, options_.odometry_rate_hz, next_odometry_ns_)) {
     if (odometry_handler_) odometry_handler_(odometry);
   }
-  if (now >= next_frame_ns_) {
-    next_frame_ns_ = now + PeriodNs(options_.camera.rate_hz);
+  if (Due(now, options_.camera.rate_hz, next_frame_ns_)) {
     if (frame_handler_) {
       auto frame = std::make_shared<RgbdFrame>();
       frame->stamp_ns = now;
@@ -63,8 +70,7 @@ void SimRobot::Step() {
       frame_handler_(std::move(frame));
     }
   }
-  if (options_.laser.enabled && now >= next_scan_ns_) {
-    next_scan_ns_ = now + PeriodNs(options_.laser.rate_hz);
+  if (options_.laser.enabled && Due(now, options_.laser.rate_hz, next_scan_ns_)) {
     if (scan_handler_) {
       auto scan = std::make_shared<LaserScan>();
       scan->stamp_ns = now;
