@@ -1,6 +1,7 @@
 #include "server/nodes/control_node.h"
 
 #include <algorithm>
+#include <future>
 
 #include "server/runtime/topics.h"
 
@@ -23,24 +24,31 @@ BaseCommand DecideCommand(const ControlInputs& in, const SafetyOptions& options)
 
 ControlNode::ControlNode(Executor& executor, Bus& bus, drivers::DiffDriveBase& base, const drivers::Clock& clock,
                          const SafetyOptions& options)
-    : Node("control", executor.name(), clock), executor_(executor), bus_(bus), base_(base), options_(options) {}
+    : PeriodicNode("control", executor, clock, options.control_rate_hz), bus_(bus), base_(base), options_(options) {}
 
 void ControlNode::Activate() {
-  bus_.Get(topics::kOdometry).Subscribe(executor_, [this](const auto&) { last_odometry_ns_ = clock().Now(); });
-  timer_ = std::make_unique<PeriodicTimer>(
-      executor_, std::chrono::nanoseconds(drivers::FromSeconds(1.0 / options_.control_rate_hz)), [this] { Tick(); });
-  SetHealth(Health::kOk, "");
+  bus_.Get(topics::kOdometry).Subscribe(executor(), [this](const auto&) { last_odometry_ns_ = clock().Now(); });
+  PeriodicNode::Activate();
 }
 
 void ControlNode::Deactivate() {
-  if (timer_) timer_->Stop();
-  base_.SetVelocity({});
-  bus_.Get(topics::kCmdVel).Publish(BaseCommand{clock().Now(), {}, "stopped", "shutting down"});
+  PeriodicNode::Deactivate();
+  const auto stop = [this] {
+    base_.SetVelocity({});
+    bus_.Get(topics::kCmdVel).Publish(BaseCommand{clock().Now(), {}, "stopped", "shutting down"});
+  };
+  // On the control executor, behind any tick in flight, so that zero is the last command the base gets. If the
+  // executor does not answer, stop from here anyway.
+  auto done = std::make_shared<std::promise<void>>();
+  executor().Post([stop, done] {
+    stop();
+    done->set_value();
+  });
+  if (done->get_future().wait_for(std::chrono::seconds(1)) != std::future_status::ready) stop();
   SetHealth(Health::kInactive, "stopped for shutdown");
 }
 
 void ControlNode::Tick() {
-  LoopTimer timer(stats(), clock());
   const auto teleop = bus_.Get(topics::kTeleop).latest();
   const BaseCommand command = DecideCommand({clock().Now(), teleop.get(), last_odometry_ns_.load()}, options_);
   base_.SetVelocity(command.twist);

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <atomic>
-#include <memory>
 
 #include "drivers/diff_drive_base.h"
 #include "server/runtime/bus.h"
@@ -21,7 +20,7 @@ struct ControlInputs {
 };
 BaseCommand DecideCommand(const ControlInputs& in, const SafetyOptions& options);
 
-class ControlNode final : public Node {
+class ControlNode final : public PeriodicNode {
  public:
   ControlNode(Executor& executor, Bus& bus, drivers::DiffDriveBase& base, const drivers::Clock& clock,
               const SafetyOptions& options);
@@ -30,14 +29,12 @@ class ControlNode final : public Node {
   void Deactivate() override;
 
  private:
-  void Tick();
+  void Tick() override;
 
-  Executor& executor_;
   Bus& bus_;
   drivers::DiffDriveBase& base_;
   SafetyOptions options_;
   std::atomic<drivers::TimeNs> last_odometry_ns_{-1};
-  std::unique_ptr<PeriodicTimer> timer_;
 };
 
 }  // namespace corridor::server

@@ -12,21 +12,9 @@ constexpr double kMovingRps = 0.05;
 }  // namespace
 
 FaceNode::FaceNode(Executor& executor, Bus& bus, const drivers::Clock& clock, const face::ExpressionOptions& options)
-    : Node("face", executor.name(), clock), executor_(executor), bus_(bus), machine_(options) {}
-
-void FaceNode::Activate() {
-  timer_ = std::make_unique<PeriodicTimer>(executor_, std::chrono::nanoseconds(drivers::FromSeconds(1.0 / kRateHz)),
-                                           [this] { Tick(); });
-  SetHealth(Health::kOk, "");
-}
-
-void FaceNode::Deactivate() {
-  if (timer_) timer_->Stop();
-  SetHealth(Health::kInactive, "");
-}
+    : PeriodicNode("face", executor, clock, kRateHz), bus_(bus), machine_(options) {}
 
 void FaceNode::Tick() {
-  LoopTimer timer(stats(), clock());
   face::Situation s{.now_ns = clock().Now()};
   if (const auto odometry = bus_.Get(topics::kOdometry).latest()) {
     s.moving = std::abs(odometry->velocity.linear_mps) > kMovingMps ||

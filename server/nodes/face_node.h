@@ -2,27 +2,21 @@
 // expression on face/expression, on the perception executor.
 #pragma once
 
-#include <memory>
-
 #include "face/expression.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
 
 namespace corridor::server {
 
-class FaceNode final : public Node {
+class FaceNode final : public PeriodicNode {
  public:
   FaceNode(Executor& executor, Bus& bus, const drivers::Clock& clock, const face::ExpressionOptions& options = {});
-  void Activate() override;
-  void Deactivate() override;
 
  private:
-  void Tick();
+  void Tick() override;
 
-  Executor& executor_;
   Bus& bus_;
   face::ExpressionMachine machine_;
-  std::unique_ptr<PeriodicTimer> timer_;
 };
 
 }  // namespace corridor::server

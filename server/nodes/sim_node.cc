@@ -12,25 +12,17 @@ constexpr drivers::TimeNs kMaxCatchUpNs = drivers::kNsPerSecond / 10;
 }  // namespace
 
 SimNode::SimNode(Executor& executor, Bus& bus, drivers::sim::SimRobot& robot, const drivers::Clock& wall_clock)
-    : Node("sim", executor.name(), wall_clock), executor_(executor), bus_(bus), robot_(robot), wall_clock_(wall_clock) {}
+    : PeriodicNode("sim", executor, wall_clock, 1.0 / robot.step_s()), bus_(bus), robot_(robot) {}
 
 void SimNode::Activate() {
-  wall_start_ns_ = wall_clock_.Now();
+  wall_start_ns_ = clock().Now();
   sim_start_ns_ = robot_.now_ns();
-  const auto period = std::chrono::nanoseconds(drivers::FromSeconds(robot_.step_s()));
   bus_.Get(topics::kSimTruePose).Publish(StampedPose{robot_.now_ns(), robot_.true_pose()});
-  timer_ = std::make_unique<PeriodicTimer>(executor_, period, [this] { Tick(); });
-  SetHealth(Health::kOk, "running in real time");
-}
-
-void SimNode::Deactivate() {
-  if (timer_) timer_->Stop();
-  SetHealth(Health::kInactive, "");
+  PeriodicNode::Activate();
 }
 
 void SimNode::Tick() {
-  LoopTimer timer(stats(), clock());
-  const drivers::TimeNs target = sim_start_ns_ + (wall_clock_.Now() - wall_start_ns_);
+  const drivers::TimeNs target = sim_start_ns_ + (clock().Now() - wall_start_ns_);
   const drivers::TimeNs limit = robot_.now_ns() + kMaxCatchUpNs;
   while (robot_.now_ns() < target && robot_.now_ns() < limit) robot_.Step();
   if (robot_.now_ns() < target) {

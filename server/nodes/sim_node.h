@@ -2,30 +2,24 @@
 // catches up with wall time. The SimRobot's sensors publish through the driver bridge as real devices would.
 #pragma once
 
-#include <memory>
-
 #include "drivers/sim/sim_robot.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
 
 namespace corridor::server {
 
-class SimNode final : public Node {
+class SimNode final : public PeriodicNode {
  public:
   SimNode(Executor& executor, Bus& bus, drivers::sim::SimRobot& robot, const drivers::Clock& wall_clock);
   void Activate() override;
-  void Deactivate() override;
 
  private:
-  void Tick();
+  void Tick() override;
 
-  Executor& executor_;
   Bus& bus_;
   drivers::sim::SimRobot& robot_;
-  const drivers::Clock& wall_clock_;
   drivers::TimeNs wall_start_ns_ = 0;
   drivers::TimeNs sim_start_ns_ = 0;
-  std::unique_ptr<PeriodicTimer> timer_;
 };
 
 }  // namespace corridor::server

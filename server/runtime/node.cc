@@ -78,6 +78,23 @@ nlohmann::json Node::Status() const {
           {"loops", s.loops}};
 }
 
+PeriodicNode::PeriodicNode(std::string name, Executor& executor, const drivers::Clock& clock, double rate_hz)
+    : Node(std::move(name), executor.name(), clock), executor_(executor), rate_hz_(rate_hz) {}
+
+void PeriodicNode::Activate() {
+  timer_ = std::make_unique<PeriodicTimer>(executor_, std::chrono::nanoseconds(drivers::FromSeconds(1.0 / rate_hz_)),
+                                           [this] {
+                                             LoopTimer timer(stats(), clock());
+                                             Tick();
+                                           });
+  SetHealth(Health::kOk, "");
+}
+
+void PeriodicNode::Deactivate() {
+  if (timer_) timer_->Stop();
+  SetHealth(Health::kInactive, "");
+}
+
 void Lifecycle::ConfigureAll() {
   for (auto& n : nodes_) n->Configure();
 }

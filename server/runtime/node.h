@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "drivers/clock.h"
+#include "server/runtime/executor.h"
 
 namespace corridor::server {
 
@@ -96,6 +97,24 @@ class Node {
   mutable std::mutex mutex_;
   Health health_ = Health::kInactive;
   std::string message_;
+};
+
+// A node driven by a period: Tick() runs on its executor at rate_hz, measured into stats(), from Activate() until
+// Deactivate(). Subclasses that override these call the base versions.
+class PeriodicNode : public Node {
+ public:
+  PeriodicNode(std::string name, Executor& executor, const drivers::Clock& clock, double rate_hz);
+  void Activate() override;
+  void Deactivate() override;
+
+ protected:
+  virtual void Tick() = 0;
+  Executor& executor() { return executor_; }
+
+ private:
+  Executor& executor_;
+  double rate_hz_;
+  std::unique_ptr<PeriodicTimer> timer_;
 };
 
 // Owns the nodes; brings them up in the order added and down in reverse order.
