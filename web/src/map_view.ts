@@ -25,7 +25,7 @@ export class MapView {
       className: 'robot-truth' });
     this.footprint = L.circle([0, 0], { radius: footprintRadius, color: '#1f6feb', weight: 2, fillOpacity: 0.5,
       className: 'robot' });
-    this.heading = L.polyline([], { color: '#f0f6fc', weight: 3, className: 'robot-heading' });
+    this.heading = L.polyline([], { color: '#0d1117', weight: 3, className: 'robot-heading' });
   }
 
   showRobot(pose: Pose | null, truth: Pose | null): void {
