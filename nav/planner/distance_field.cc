@@ -1,0 +1,174 @@
+#include "nav/planner/distance_field.h"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <stdexcept>
+
+namespace corridor::nav {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+// Cells this close to an obstacle (in cells) get their exact Euclidean distance before marching starts. The front
+// is most curved there (corners, single cells), where an upwind scheme errs most; farther out it is flat enough.
+constexpr int kExactBand = 3;
+
+enum class State : std::uint8_t { kFar, kTrial, kKnown };
+
+struct Entry {
+  float t;
+  int index;
+  bool operator>(const Entry& other) const { return t > other.t; }
+};
+
+// Solves the upwind quadratic for one cell from its known neighbours, in cell units.
+// Per axis, the upwind value and whether a second-order stencil applies (two known cells in a row, decreasing).
+class Solver {
+ public:
+  Solver(const std::vector<float>& t, const std::vector<State>& state, int width, int height)
+      : t_(t), state_(state), width_(width), height_(height) {}
+
+  float Solve(int x, int y) const {
+    // Per axis, the upwind term coef * (T - value)^2; coef is 1 (first order) or 9/4 (second order).
+    struct Term {
+      double value;
+      double coef;
+    };
+    Term terms[2];
+    int count = 0;
+    for (int axis = 0; axis < 2; ++axis) {
+      Term best{kInf, 1.0};
+      for (int dir = -1; dir <= 1; dir += 2) {
+        const int nx = x + (axis == 0 ? dir : 0);
+        const int ny = y + (axis == 1 ? dir : 0);
+        if (!Known(nx, ny)) continue;
+        const double t1 = Get(nx, ny);
+        const int fx = x + (axis == 0 ? 2 * dir : 0);
+        const int fy = y + (axis == 1 ? 2 * dir : 0);
+        Term term{t1, 1.0};
+        if (Known(fx, fy) && Get(fx, fy) <= t1) {
+          // Second order: dT ~ (3T - 4T1 + T2) / 2, i.e. (9/4) * (T - (4T1 - T2) / 3)^2.
+          term = {(4.0 * t1 - Get(fx, fy)) / 3.0, 9.0 / 4.0};
+        }
+        if (term.value < best.value) best = term;
+      }
+      if (best.value < kInf) terms[count++] = best;
+    }
+    if (count == 0) return kInf;
+    if (count == 2 && terms[1].value < terms[0].value) std::swap(terms[0], terms[1]);
+    // From the nearer axis alone; the other axis joins only if the front reached it first.
+    const double one_sided = terms[0].value + 1.0 / std::sqrt(terms[0].coef);
+    if (count == 1 || one_sided <= terms[1].value) return static_cast<float>(one_sided);
+    const double a = terms[0].coef + terms[1].coef;
+    const double b = -2.0 * (terms[0].coef * terms[0].value + terms[1].coef * terms[1].value);
+    const double c = terms[0].coef * terms[0].value * terms[0].value +
+                     terms[1].coef * terms[1].value * terms[1].value - 1.0;
+    const double disc = std::max(0.0, b * b - 4.0 * a * c);
+    return static_cast<float>((-b + std::sqrt(disc)) / (2.0 * a));
+  }
+
+ private:
+  bool Known(int x, int y) const {
+    return x >= 0 && y >= 0 && x < width_ && y < height_ && state_[static_cast<std::size_t>(y) * width_ + x] == State::kKnown;
+  }
+  float Get(int x, int y) const { return t_[static_cast<std::size_t>(y) * width_ + x]; }
+
+  const std::vector<float>& t_;
+  const std::vector<State>& state_;
+  int width_;
+  int height_;
+};
+
+}  // namespace
+
+DistanceField FastMarchingDistance(const std::vector<std::uint8_t>& obstacle, int width, int height,
+                                   double resolution_m, const FastMarchingOptions& options) {
+  if (width < 0 || height < 0 || obstacle.size() != static_cast<std::size_t>(width) * height) {
+    throw std::invalid_argument("FastMarchingDistance: obstacle mask does not match width x height");
+  }
+  const std::size_t n = obstacle.size();
+  std::vector<float> t(n, kInf);
+  std::vector<State> state(n, State::kFar);
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> trial;
+  const float limit_cells = static_cast<float>(options.max_distance_m / resolution_m);
+
+  // Obstacle cell centres are the zero level set, so distances are centre to centre (as OpenCV's exact
+  // distance transform measures them).
+  for (std::size_t i = 0; i < n; ++i) {
+    if (obstacle[i]) {
+      t[i] = 0.0f;
+      state[i] = State::kKnown;
+    }
+  }
+  // The exact band: each obstacle cell on the boundary stamps its distance onto the cells around it. A cell whose
+  // stamped distance is within the band has its nearest obstacle inside the stamp, so the value is exact.
+  const auto is_boundary = [&](int x, int y) {
+    return (x > 0 && !obstacle[static_cast<std::size_t>(y) * width + x - 1]) ||
+           (x + 1 < width && !obstacle[static_cast<std::size_t>(y) * width + x + 1]) ||
+           (y > 0 && !obstacle[static_cast<std::size_t>(y - 1) * width + x]) ||
+           (y + 1 < height && !obstacle[static_cast<std::size_t>(y + 1) * width + x]);
+  };
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      if (!obstacle[static_cast<std::size_t>(y) * width + x] || !is_boundary(x, y)) continue;
+      for (int dy = -kExactBand; dy <= kExactBand; ++dy) {
+        const int ny = y + dy;
+        if (ny < 0 || ny >= height) continue;
+        for (int dx = -kExactBand; dx <= kExactBand; ++dx) {
+          const int nx = x + dx;
+          if (nx < 0 || nx >= width) continue;
+          float& cell = t[static_cast<std::size_t>(ny) * width + nx];
+          cell = std::min(cell, std::sqrt(static_cast<float>(dx * dx + dy * dy)));
+        }
+      }
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (t[i] <= kExactBand) {
+      state[i] = State::kKnown;
+    } else {
+      t[i] = kInf;
+    }
+  }
+  const Solver solver(t, state, width, height);
+  static constexpr int kDx[4] = {1, -1, 0, 0};
+  static constexpr int kDy[4] = {0, 0, 1, -1};
+  const auto relax_neighbours = [&](int x, int y) {
+    for (int k = 0; k < 4; ++k) {
+      const int nx = x + kDx[k];
+      const int ny = y + kDy[k];
+      if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+      const std::size_t j = static_cast<std::size_t>(ny) * width + nx;
+      if (state[j] == State::kKnown) continue;
+      const float candidate = solver.Solve(nx, ny);
+      if (candidate < t[j]) {
+        t[j] = candidate;
+        state[j] = State::kTrial;
+        trial.push({candidate, static_cast<int>(j)});
+      }
+    }
+  };
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const float v = t[static_cast<std::size_t>(y) * width + x];
+      if (v > kExactBand - 1.5f && v <= kExactBand) relax_neighbours(x, y);  // the band's outer rim
+    }
+  }
+  while (!trial.empty()) {
+    const Entry e = trial.top();
+    trial.pop();
+    const std::size_t i = static_cast<std::size_t>(e.index);
+    if (state[i] == State::kKnown || e.t > t[i]) continue;  // a stale entry
+    if (e.t > limit_cells) break;
+    state[i] = State::kKnown;
+    relax_neighbours(e.index % width, e.index / width);
+  }
+
+  DistanceField field{width, height, resolution_m, std::vector<float>(n, kInf)};
+  for (std::size_t i = 0; i < n; ++i) {
+    if (state[i] == State::kKnown) field.distance_m[i] = t[i] * static_cast<float>(resolution_m);
+  }
+  return field;
+}
+
+}  // namespace corridor::nav
