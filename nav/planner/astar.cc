@@ -1,0 +1,132 @@
+#include "nav/planner/astar.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <sstream>
+
+namespace corridor::nav {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr double kSqrt2 = 1.4142135623730951;
+constexpr int kCancelPollMask = 4095;  // poll the cancel flag every 4096 expansions
+
+struct Open {
+  float f;
+  int index;
+  bool operator>(const Open& other) const { return f > other.f; }
+};
+
+std::string Where(const Eigen::Vector2d& p) {
+  std::ostringstream s;
+  s.precision(3);
+  s << "(" << p.x() << ", " << p.y() << ")";
+  return s.str();
+}
+
+}  // namespace
+
+const char* ToString(PlanError error) {
+  switch (error) {
+    case PlanError::kNone: return "none";
+    case PlanError::kStartOutsideMap: return "start_outside_map";
+    case PlanError::kStartOccupied: return "start_occupied";
+    case PlanError::kGoalOutsideMap: return "goal_outside_map";
+    case PlanError::kGoalOccupied: return "goal_occupied";
+    case PlanError::kNoPath: return "no_path";
+    case PlanError::kCancelled: return "cancelled";
+  }
+  return "unknown";
+}
+
+SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
+                   const std::atomic<bool>* cancel) {
+  SearchResult result;
+  const OccupancyGrid& grid = costmap.grid();
+  const auto start_cell = grid.WorldToCell(start);
+  if (!start_cell) return {PlanError::kStartOutsideMap, "start " + Where(start) + " is outside the map", {}};
+  const auto goal_cell = grid.WorldToCell(goal);
+  if (!goal_cell) return {PlanError::kGoalOutsideMap, "goal " + Where(goal) + " is outside the map", {}};
+  const std::size_t s = costmap.Index(*start_cell);
+  const std::size_t g = costmap.Index(*goal_cell);
+  if (costmap.IsObstacle(s)) {
+    return {PlanError::kStartOccupied,
+            "start " + Where(start) + (costmap.InKeepOut(s) ? " is in a keep-out zone" : " is on an obstacle"), {}};
+  }
+  if (!costmap.Traversable(g)) {
+    const std::string why = costmap.InKeepOut(g)     ? " is in a keep-out zone"
+                            : costmap.IsObstacle(g) ? " is on an obstacle or unknown space"
+                                                     : " is too close to an obstacle for the robot";
+    return {PlanError::kGoalOccupied, "goal " + Where(goal) + why, {}};
+  }
+
+  const int width = costmap.width();
+  const int height = costmap.height();
+  const double res = grid.resolution_m();
+  const auto heuristic = [&](int index) {
+    const int dx = std::abs(index % width - goal_cell->x);
+    const int dy = std::abs(index / width - goal_cell->y);
+    return static_cast<float>(res * (std::max(dx, dy) + (kSqrt2 - 1.0) * std::min(dx, dy)));
+  };
+  std::vector<float> cost(grid.cells().size(), kInf);
+  std::vector<int> parent(grid.cells().size(), -1);
+  std::vector<std::uint8_t> closed(grid.cells().size(), 0);
+  std::priority_queue<Open, std::vector<Open>, std::greater<>> open;
+  cost[s] = 0.0f;
+  open.push({heuristic(static_cast<int>(s)), static_cast<int>(s)});
+
+  static constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
+  static constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+  while (!open.empty()) {
+    const Open top = open.top();
+    open.pop();
+    const std::size_t cur = static_cast<std::size_t>(top.index);
+    if (closed[cur]) continue;
+    closed[cur] = 1;
+    if ((++result.path.expanded & kCancelPollMask) == 0 && cancel && cancel->load(std::memory_order_relaxed)) {
+      return {PlanError::kCancelled, "the plan was cancelled", {}};
+    }
+    if (cur == g) break;
+    const int x = top.index % width;
+    const int y = top.index / width;
+    const bool escaping = !costmap.Traversable(cur);  // only the start can be here
+    for (int k = 0; k < 8; ++k) {
+      const int nx = x + kDx[k];
+      const int ny = y + kDy[k];
+      if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+      const std::size_t next = static_cast<std::size_t>(ny) * width + nx;
+      if (closed[next] || costmap.IsObstacle(next)) continue;
+      const bool ok = costmap.Traversable(next) || (escaping && costmap.clearance_m(next) > costmap.clearance_m(cur));
+      if (!ok) continue;
+      const bool diagonal = k >= 4;
+      if (diagonal) {
+        // No cutting corners: both cells beside the diagonal must be passable too.
+        const std::size_t side_a = static_cast<std::size_t>(y) * width + nx;
+        const std::size_t side_b = static_cast<std::size_t>(ny) * width + x;
+        if (costmap.IsObstacle(side_a) || costmap.IsObstacle(side_b)) continue;
+        if (!escaping && (!costmap.Traversable(side_a) || !costmap.Traversable(side_b))) continue;
+      }
+      const float step = static_cast<float>((diagonal ? kSqrt2 : 1.0) * res) * costmap.step_factor(next);
+      const float candidate = cost[cur] + step;
+      if (candidate < cost[next]) {
+        cost[next] = candidate;
+        parent[next] = static_cast<int>(cur);
+        open.push({candidate + heuristic(static_cast<int>(next)), static_cast<int>(next)});
+      }
+    }
+  }
+  if (!closed[g]) {
+    result.error = PlanError::kNoPath;
+    result.detail = "no path from " + Where(start) + " to " + Where(goal) + " for a robot of radius " +
+                    std::to_string(costmap.options().robot_radius_m) + " m";
+    return result;
+  }
+  for (int i = static_cast<int>(g); i != -1; i = parent[i]) result.path.cells.push_back({i % width, i / width});
+  std::reverse(result.path.cells.begin(), result.path.cells.end());
+  result.path.cost = cost[g];
+  return result;
+}
+
+}  // namespace corridor::nav

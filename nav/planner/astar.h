@@ -1,0 +1,47 @@
+// Global path search: 8-connected A* on a Costmap with f(n) = g(n) + h(n) + d(n) (DPoom, Kim et al., IEEE Access
+// 2022, Algorithm 1). d(n) enters through each step's cost, length x (1 + d(n)), so the cost a path accumulates
+// grows near obstacles and the search prefers paths that keep their distance; h is the octile distance, which is
+// admissible because no step costs less than its length. With distance_weight 0 this is plain A* (f = g + h).
+#pragma once
+
+#include <atomic>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "nav/planner/costmap.h"
+
+namespace corridor::nav {
+
+enum class PlanError {
+  kNone,
+  kStartOutsideMap,
+  kStartOccupied,
+  kGoalOutsideMap,
+  kGoalOccupied,
+  kNoPath,
+  kCancelled,
+};
+const char* ToString(PlanError error);
+
+struct GridPath {
+  std::vector<CellIndex> cells;  // start to goal
+  double cost = 0.0;             // accumulated g at the goal, metres weighted by 1 + d(n)
+  int expanded = 0;              // nodes taken from the open list
+};
+
+struct SearchResult {
+  PlanError error = PlanError::kNone;
+  std::string detail;  // for people: what was wrong and where
+  GridPath path;
+};
+
+// Searches from `start` to `goal` (map-frame metres). A start inside the inflated band around obstacles (a robot
+// that drove close to a wall) may leave it along increasing clearance; a start on an obstacle cell may not.
+// `cancel`, when non-null, is polled; setting it makes the search return kCancelled. Thread-compatible: one search
+// per Costmap at a time is not required (the costmap is read-only).
+SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
+                   const std::atomic<bool>* cancel = nullptr);
+
+}  // namespace corridor::nav

@@ -1,0 +1,77 @@
+#include "nav/planner/costmap.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace corridor::nav {
+namespace {
+
+// A cell's centre must be this many cells farther than the robot radius from an obstacle cell's centre: the
+// obstacle cell's nearest point can be up to half a diagonal (0.71 cells) closer than its centre.
+constexpr double kCellExtent = 0.71;
+
+}  // namespace
+
+Costmap::Costmap(const OccupancyGrid& grid, std::span<const Zone> zones, const CostmapOptions& options)
+    : grid_(grid), options_(options) {
+  const std::size_t n = grid.cells().size();
+  obstacle_.assign(n, 0);
+  keep_out_.assign(n, 0);
+  for (const Zone& z : zones) {
+    if (z.kind == ZoneKind::kKeepOut) Rasterize(z.polygon, grid, keep_out_, 1);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int8_t v = grid.cells()[i];
+    const bool unknown_blocks = v == kUnknownCell && options.unknown == UnknownPolicy::kObstacle;
+    obstacle_[i] = keep_out_[i] || unknown_blocks || v >= options.occupied_threshold;
+  }
+
+  const double inflation_m = options.robot_radius_m + kCellExtent * grid.resolution_m();
+  field_ = FastMarchingDistance(obstacle_, grid.width(), grid.height(), grid.resolution_m(),
+                                {.max_distance_m = inflation_m + options.saturation_m + grid.resolution_m()});
+  traversable_.assign(n, 0);
+  step_factor_.assign(n, 1.0f);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double clearance = field_.distance_m[i];
+    traversable_[i] = !obstacle_[i] && clearance >= inflation_m;
+    // d(n): the FMM distance reversed, from distance_weight at the inflation boundary to 0 at saturation.
+    const double beyond = clearance - inflation_m;
+    if (traversable_[i] && beyond < options.saturation_m) {
+      step_factor_[i] = static_cast<float>(1.0 + options.distance_weight * (1.0 - beyond / options.saturation_m));
+    }
+  }
+
+  speed_limit_.assign(n, kNoSpeedLimit);
+  std::vector<std::uint8_t> mask(n);
+  for (const Zone& z : zones) {
+    if (z.kind != ZoneKind::kSpeedLimit) continue;
+    std::fill(mask.begin(), mask.end(), 0);
+    Rasterize(z.polygon, grid, mask, 1);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (mask[i]) speed_limit_[i] = std::min(speed_limit_[i], static_cast<float>(z.max_speed_mps));
+    }
+  }
+}
+
+std::optional<Eigen::Vector2d> MostOpenCell(const Costmap& costmap, const Eigen::Vector2d& near, double radius_m) {
+  const OccupancyGrid& grid = costmap.grid();
+  const Eigen::Vector2d local = grid.origin().Inverse().Transform(near) / grid.resolution_m();
+  const int cx = static_cast<int>(std::floor(local.x()));
+  const int cy = static_cast<int>(std::floor(local.y()));
+  const int reach = static_cast<int>(std::ceil(radius_m / grid.resolution_m()));
+  std::optional<Eigen::Vector2d> best;
+  float best_clearance = -1.0f;
+  for (int dy = -reach; dy <= reach; ++dy) {
+    for (int dx = -reach; dx <= reach; ++dx) {
+      const CellIndex c{cx + dx, cy + dy};
+      if (!grid.Contains(c) || (grid.CellCenter(c) - near).norm() > radius_m) continue;
+      const std::size_t i = costmap.Index(c);
+      if (!costmap.Traversable(i) || costmap.clearance_m(i) <= best_clearance) continue;
+      best_clearance = costmap.clearance_m(i);
+      best = grid.CellCenter(c);
+    }
+  }
+  return best;
+}
+
+}  // namespace corridor::nav

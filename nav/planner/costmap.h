@@ -1,0 +1,68 @@
+// What the global planner plans on: the occupancy grid with keep-out zones (and, by policy, unknown space) as
+// obstacles, their fast-marching distance field, robot-radius inflation, the distance cost d(n) of DPoom
+// (Kim et al., IEEE Access 2022, section III-C), and the speed limit of speed zones per cell.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "nav/map/occupancy_grid.h"
+#include "nav/map/zones.h"
+#include "nav/planner/distance_field.h"
+
+namespace corridor::nav {
+
+enum class UnknownPolicy { kObstacle, kFree };
+
+struct CostmapOptions {
+  double robot_radius_m = 0.2;        // cells closer to an obstacle than this (plus the cell's own extent) are
+                                      // not traversable
+  // d(n) at the inflation boundary, per metre travelled; 0 gives plain A*. With 1.5 and 0.5 m, Willow Garage paths
+  // keep 0.36-0.40 m from walls instead of 0.25 m for 6.5 % more length (docs/benchmarks.md).
+  double distance_weight = 1.5;
+  double saturation_m = 0.5;          // clearance beyond the inflation boundary at which d(n) reaches 0
+  int occupied_threshold = 65;        // cells at or above this occupancy are obstacles
+  UnknownPolicy unknown = UnknownPolicy::kObstacle;
+};
+
+class Costmap {
+ public:
+  static constexpr float kNoSpeedLimit = std::numeric_limits<float>::infinity();
+
+  // Builds the costmap. Invalid zones must have been rejected before (see Validate).
+  Costmap(const OccupancyGrid& grid, std::span<const Zone> zones, const CostmapOptions& options);
+
+  const OccupancyGrid& grid() const { return grid_; }
+  const CostmapOptions& options() const { return options_; }
+  int width() const { return grid_.width(); }
+  int height() const { return grid_.height(); }
+  std::size_t Index(CellIndex c) const { return static_cast<std::size_t>(c.y) * grid_.width() + c.x; }
+
+  bool IsObstacle(std::size_t i) const { return obstacle_[i] != 0; }
+  bool InKeepOut(std::size_t i) const { return keep_out_[i] != 0; }
+  bool Traversable(std::size_t i) const { return traversable_[i] != 0; }
+  // Distance to the nearest obstacle cell, centre to centre, in metres (+infinity when farther than the march).
+  float clearance_m(std::size_t i) const { return field_.distance_m[i]; }
+  // The multiplier on step length: 1 + d(n).
+  float step_factor(std::size_t i) const { return step_factor_[i]; }
+  float speed_limit_mps(std::size_t i) const { return speed_limit_[i]; }
+
+ private:
+  OccupancyGrid grid_;
+  CostmapOptions options_;
+  std::vector<std::uint8_t> obstacle_;
+  std::vector<std::uint8_t> keep_out_;
+  std::vector<std::uint8_t> traversable_;
+  DistanceField field_;
+  std::vector<float> step_factor_;
+  std::vector<float> speed_limit_;
+};
+
+// The traversable cell with the most clearance within radius_m of `near` (a place to park or send the robot),
+// or nullopt when none is traversable.
+std::optional<Eigen::Vector2d> MostOpenCell(const Costmap& costmap, const Eigen::Vector2d& near, double radius_m);
+
+}  // namespace corridor::nav

@@ -1,0 +1,100 @@
+#include "nav/planner/planner.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace corridor::nav {
+namespace {
+
+double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+// Douglas-Peucker that also refuses a shortcut through cells the robot may not enter.
+void Simplify(const Costmap& costmap, const std::vector<Eigen::Vector2d>& points, std::size_t first, std::size_t last,
+              double tolerance, std::vector<std::size_t>& keep) {
+  if (last <= first + 1) return;
+  double worst = -1.0;
+  std::size_t worst_index = first + 1;
+  for (std::size_t i = first + 1; i < last; ++i) {
+    const double d = DistanceToSegment(points[i], points[first], points[last]);
+    if (d > worst) {
+      worst = d;
+      worst_index = i;
+    }
+  }
+  if (worst <= tolerance && SegmentTraversable(costmap, points[first], points[last])) return;
+  Simplify(costmap, points, first, worst_index, tolerance, keep);
+  keep.push_back(worst_index);
+  Simplify(costmap, points, worst_index, last, tolerance, keep);
+}
+
+}  // namespace
+
+bool SegmentTraversable(const Costmap& costmap, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const double step = costmap.grid().resolution_m() / 2.0;
+  const int samples = static_cast<int>(std::ceil((b - a).norm() / step)) + 1;
+  for (int i = 0; i <= samples; ++i) {
+    const auto c = costmap.grid().WorldToCell(a + (b - a) * (static_cast<double>(i) / samples));
+    if (!c || !costmap.Traversable(costmap.Index(*c))) return false;
+  }
+  return true;
+}
+
+PlanResult PlanPath(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
+                    std::optional<double> goal_yaw, const std::atomic<bool>* cancel, const PathOptions& options) {
+  SearchResult search = AStar(costmap, start, goal, cancel);
+  PlanResult result{search.error, search.detail, {}};
+  if (!result.ok()) return result;
+  Plan& plan = result.plan;
+  plan.expanded = search.path.expanded;
+
+  // The dense path runs from the exact start through the cell centres to the exact goal.
+  const OccupancyGrid& grid = costmap.grid();
+  plan.dense.push_back(start);
+  for (std::size_t i = 1; i + 1 < search.path.cells.size(); ++i) plan.dense.push_back(grid.CellCenter(search.path.cells[i]));
+  plan.dense.push_back(goal);
+  double clearance_sum = 0.0;
+  plan.min_clearance_m = std::numeric_limits<double>::infinity();
+  const double cap = costmap.options().robot_radius_m + costmap.options().saturation_m + grid.resolution_m();
+  for (const CellIndex& c : search.path.cells) {
+    const double clearance = std::min<double>(costmap.clearance_m(costmap.Index(c)), cap);
+    plan.min_clearance_m = std::min(plan.min_clearance_m, clearance);
+    clearance_sum += clearance;
+  }
+  plan.mean_clearance_m = clearance_sum / static_cast<double>(search.path.cells.size());
+  for (std::size_t i = 1; i < plan.dense.size(); ++i) plan.length_m += (plan.dense[i] - plan.dense[i - 1]).norm();
+
+  std::vector<std::size_t> keep = {0};
+  Simplify(costmap, plan.dense, 0, plan.dense.size() - 1, options.simplify_tolerance_m, keep);
+  keep.push_back(plan.dense.size() - 1);
+  std::size_t previous = 0;
+  for (std::size_t k = 0; k < keep.size(); ++k) {
+    const Eigen::Vector2d& p = plan.dense[keep[k]];
+    Waypoint w;
+    w.pose.x_m = p.x();
+    w.pose.y_m = p.y();
+    // The speed limit on the way here: the lowest over the searched cells between the two waypoints.
+    for (std::size_t i = previous; i <= keep[k] && i < search.path.cells.size(); ++i) {
+      w.speed_limit_mps = std::min<double>(w.speed_limit_mps, costmap.speed_limit_mps(costmap.Index(search.path.cells[i])));
+    }
+    previous = keep[k];
+    plan.waypoints.push_back(w);
+  }
+  for (std::size_t k = 0; k + 1 < plan.waypoints.size(); ++k) {
+    const Eigen::Vector2d d = plan.waypoints[k + 1].pose.translation() - plan.waypoints[k].pose.translation();
+    plan.waypoints[k].pose.yaw_rad = std::atan2(d.y(), d.x());
+  }
+  Waypoint& last = plan.waypoints.back();
+  if (goal_yaw) {
+    last.pose.yaw_rad = WrapAngle(*goal_yaw);
+  } else if (plan.waypoints.size() >= 2) {
+    last.pose.yaw_rad = plan.waypoints[plan.waypoints.size() - 2].pose.yaw_rad;
+  }
+  return result;
+}
+
+}  // namespace corridor::nav

@@ -1,0 +1,44 @@
+// The global planner's whole job for one request: search (astar.h), then turn the cell path into waypoints with
+// headings and speed limits, and report length and clearance.
+#pragma once
+
+#include <optional>
+
+#include "nav/planner/astar.h"
+
+namespace corridor::nav {
+
+struct Waypoint {
+  Pose2 pose;                                        // yaw: toward the next waypoint; the goal's yaw at the end
+  double speed_limit_mps = Costmap::kNoSpeedLimit;   // the lowest speed zone on the way to this waypoint
+};
+
+struct Plan {
+  std::vector<Waypoint> waypoints;            // start to goal, simplified
+  std::vector<Eigen::Vector2d> dense;         // every cell centre of the search's path
+  double length_m = 0.0;
+  double min_clearance_m = 0.0;               // along the dense path: distance to the nearest obstacle cell
+  double mean_clearance_m = 0.0;              // (centre to centre), capped at the costmap's march limit
+  int expanded = 0;
+};
+
+struct PlanResult {
+  PlanError error = PlanError::kNone;
+  std::string detail;
+  Plan plan;
+  bool ok() const { return error == PlanError::kNone; }
+};
+
+struct PathOptions {
+  double simplify_tolerance_m = 0.1;   // how far a simplified path may stray from the searched one
+};
+
+// Plans from `start` to `goal`; when goal_yaw is set the last waypoint takes it. See AStar for `cancel`.
+PlanResult PlanPath(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
+                    std::optional<double> goal_yaw = std::nullopt, const std::atomic<bool>* cancel = nullptr,
+                    const PathOptions& options = {});
+
+// True when every cell the straight segment a-b passes is traversable.
+bool SegmentTraversable(const Costmap& costmap, const Eigen::Vector2d& a, const Eigen::Vector2d& b);
+
+}  // namespace corridor::nav
