@@ -1,0 +1,60 @@
+// A mission: one goal or a list of waypoints, each with an optional heading, driven in order. This is the pure
+// bookkeeping (status, which waypoint, progress, ETA); planning and driving are the mission node's.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nav/geometry/pose2.h"
+
+namespace corridor::nav {
+
+enum class MissionStatus { kActive, kPaused, kSucceeded, kFailed, kCanceled };
+const char* ToString(MissionStatus status);
+
+struct MissionGoal {
+  Pose2 pose;                  // yaw used only when has_yaw
+  bool has_yaw = false;
+  std::string place;           // the named place it came from, if any
+};
+
+class Mission {
+ public:
+  // Requires at least one goal; speed_limit_mps may be +infinity.
+  Mission(std::string id, std::vector<MissionGoal> goals, double speed_limit_mps);
+
+  const std::string& id() const { return id_; }
+  MissionStatus status() const { return status_; }
+  bool finished() const { return status_ == MissionStatus::kSucceeded || status_ == MissionStatus::kFailed ||
+                                 status_ == MissionStatus::kCanceled; }
+  const std::vector<MissionGoal>& goals() const { return goals_; }
+  std::size_t current() const { return current_; }
+  const MissionGoal& current_goal() const { return goals_[current_]; }
+  double speed_limit_mps() const { return speed_limit_mps_; }
+  const std::string& error() const { return error_; }
+
+  // Transitions; each returns false (and changes nothing) when not allowed from the current status.
+  bool Pause();
+  bool Resume();
+  bool Cancel();
+  // The current goal is reached: on to the next, or succeeded after the last.
+  void GoalReached();
+  void Fail(std::string reason);
+
+  // Fraction done in [0, 1], counting finished goals and the part of the current leg already driven.
+  double Progress(double remaining_on_leg_m, double leg_length_m) const;
+  // Seconds to the last goal at `speed_mps`: the current leg's remaining length plus straight lines between the
+  // remaining goals (a lower bound: their paths are planned when reached).
+  double EtaSeconds(double remaining_on_leg_m, double speed_mps) const;
+
+ private:
+  std::string id_;
+  std::vector<MissionGoal> goals_;
+  double speed_limit_mps_;
+  MissionStatus status_ = MissionStatus::kActive;
+  std::size_t current_ = 0;
+  std::string error_;
+};
+
+}  // namespace corridor::nav

@@ -1,0 +1,52 @@
+#include "nav/mission/mission.h"
+
+#include <gtest/gtest.h>
+
+namespace corridor::nav {
+namespace {
+
+Mission ThreeStops() {
+  return Mission("m1", {{{1, 0, 0}, false, ""}, {{1, 1, 0}, true, "kitchen"}, {{0, 1, 0}, false, ""}}, 0.5);
+}
+
+TEST(MissionTest, PauseResumeCancelFollowTheAllowedTransitions) {
+  Mission m = ThreeStops();
+  EXPECT_FALSE(m.Resume());
+  EXPECT_TRUE(m.Pause());
+  EXPECT_FALSE(m.Pause());
+  EXPECT_EQ(m.status(), MissionStatus::kPaused);
+  EXPECT_TRUE(m.Resume());
+  EXPECT_TRUE(m.Cancel());
+  EXPECT_FALSE(m.Cancel());
+  EXPECT_FALSE(m.Resume());
+  EXPECT_EQ(m.status(), MissionStatus::kCanceled);
+}
+
+TEST(MissionTest, WaypointsInOrderThenSuccessAndProgressGrows) {
+  Mission m = ThreeStops();
+  EXPECT_NEAR(m.Progress(1.0, 1.0), 0.0, 1e-9);
+  EXPECT_NEAR(m.Progress(0.5, 1.0), 0.5 / 3.0, 1e-9);
+  m.GoalReached();
+  EXPECT_EQ(m.current(), 1u);
+  EXPECT_EQ(m.current_goal().place, "kitchen");
+  EXPECT_NEAR(m.Progress(1.0, 1.0), 1.0 / 3.0, 1e-9);
+  // ETA: 0.5 m left on this leg plus the 1 m straight line to the last goal, at 0.5 m/s.
+  EXPECT_NEAR(m.EtaSeconds(0.5, 0.5), 3.0, 1e-9);
+  m.GoalReached();
+  m.GoalReached();
+  EXPECT_EQ(m.status(), MissionStatus::kSucceeded);
+  EXPECT_EQ(m.Progress(0.0, 0.0), 1.0);
+  EXPECT_FALSE(m.Pause());
+}
+
+TEST(MissionTest, FailureKeepsItsReasonAndEndsTheMission) {
+  Mission m = ThreeStops();
+  m.Fail("goal occupied");
+  EXPECT_EQ(m.status(), MissionStatus::kFailed);
+  EXPECT_EQ(m.error(), "goal occupied");
+  EXPECT_FALSE(m.Cancel());
+  EXPECT_THROW(Mission("x", {}, 1.0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace corridor::nav
