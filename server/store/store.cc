@@ -1,0 +1,182 @@
+#include "server/store/store.h"
+
+#include <sqlite3.h>
+
+#include <random>
+
+namespace corridor::server {
+namespace {
+
+using nlohmann::json;
+
+// A prepared statement that finalizes itself.
+class Statement {
+ public:
+  Statement(sqlite3* db, const char* sql) : db_(db) {
+    if (sqlite3_prepare_v2(db, sql, -1, &stmt_, nullptr) != SQLITE_OK) {
+      throw StoreError(std::string("database: cannot prepare '") + sql + "': " + sqlite3_errmsg(db));
+    }
+  }
+  ~Statement() { sqlite3_finalize(stmt_); }
+  Statement(const Statement&) = delete;
+  Statement& operator=(const Statement&) = delete;
+
+  Statement& Bind(int index, const std::string& text) {
+    sqlite3_bind_text(stmt_, index, text.c_str(), static_cast<int>(text.size()), SQLITE_TRANSIENT);
+    return *this;
+  }
+  Statement& Bind(int index, double value) {
+    sqlite3_bind_double(stmt_, index, value);
+    return *this;
+  }
+  // True while rows come; false at the end. Throws on error.
+  bool Step() {
+    const int rc = sqlite3_step(stmt_);
+    if (rc == SQLITE_ROW) return true;
+    if (rc == SQLITE_DONE) return false;
+    throw StoreError(std::string("database: ") + sqlite3_errmsg(db_));
+  }
+  std::string Text(int column) const {
+    const auto* p = sqlite3_column_text(stmt_, column);
+    return p ? reinterpret_cast<const char*>(p) : "";
+  }
+  double Double(int column) const { return sqlite3_column_double(stmt_, column); }
+  int changes() const { return sqlite3_changes(db_); }
+
+ private:
+  sqlite3* db_;
+  sqlite3_stmt* stmt_ = nullptr;
+};
+
+json PolygonJson(const std::vector<Eigen::Vector2d>& polygon) {
+  json out = json::array();
+  for (const auto& p : polygon) out.push_back({p.x(), p.y()});
+  return out;
+}
+
+}  // namespace
+
+std::string NewId() {
+  static thread_local std::mt19937_64 rng{std::random_device{}()};
+  char text[17];
+  std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(rng()));
+  return text;
+}
+
+Store::Store(const std::filesystem::path& file) : file_(file) {
+  if (sqlite3_open(file.c_str(), &db_) != SQLITE_OK) {
+    const std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
+    sqlite3_close(db_);
+    throw StoreError("database " + file.string() + ": cannot be opened: " + why);
+  }
+  sqlite3_busy_timeout(db_, 2000);
+  try {
+    // WAL: readers never wait for the writer; synchronous=FULL: a committed write survives a power cut.
+    Exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL;");
+    Exec(
+        "CREATE TABLE IF NOT EXISTS zones (map TEXT NOT NULL, id TEXT NOT NULL, name TEXT NOT NULL, kind TEXT NOT NULL,"
+        " polygon TEXT NOT NULL, max_speed_mps REAL NOT NULL, PRIMARY KEY (map, id));"
+        "CREATE TABLE IF NOT EXISTS places (map TEXT NOT NULL, id TEXT NOT NULL, name TEXT NOT NULL, x REAL NOT NULL,"
+        " y REAL NOT NULL, yaw REAL NOT NULL, PRIMARY KEY (map, id));"
+        "CREATE TABLE IF NOT EXISTS missions (id TEXT PRIMARY KEY, document TEXT NOT NULL,"
+        " updated REAL NOT NULL DEFAULT (julianday('now')));");
+  } catch (const StoreError& e) {
+    sqlite3_close(db_);
+    throw StoreError("database " + file.string() + ": " + e.what() + " (is it a corridor database?)");
+  }
+}
+
+Store::~Store() { sqlite3_close(db_); }
+
+void Store::Exec(const std::string& sql) const {
+  char* error = nullptr;
+  if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
+    const std::string why = error ? error : "unknown error";
+    sqlite3_free(error);
+    throw StoreError(why);
+  }
+}
+
+std::vector<nav::Zone> Store::Zones(const std::string& map) const {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "SELECT id, name, kind, polygon, max_speed_mps FROM zones WHERE map = ? ORDER BY rowid");
+  s.Bind(1, map);
+  std::vector<nav::Zone> out;
+  while (s.Step()) {
+    nav::Zone z;
+    z.id = s.Text(0);
+    z.name = s.Text(1);
+    z.kind = nav::ZoneKindFromString(s.Text(2)).value_or(nav::ZoneKind::kKeepOut);
+    for (const json& p : json::parse(s.Text(3))) z.polygon.emplace_back(p[0].get<double>(), p[1].get<double>());
+    z.max_speed_mps = s.Double(4);
+    out.push_back(std::move(z));
+  }
+  return out;
+}
+
+void Store::PutZone(const std::string& map, const nav::Zone& zone) {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "INSERT OR REPLACE INTO zones (map, id, name, kind, polygon, max_speed_mps) VALUES (?,?,?,?,?,?)");
+  s.Bind(1, map).Bind(2, zone.id).Bind(3, zone.name).Bind(4, std::string(nav::ToString(zone.kind)));
+  s.Bind(5, PolygonJson(zone.polygon).dump()).Bind(6, zone.max_speed_mps);
+  s.Step();
+}
+
+bool Store::DeleteZone(const std::string& map, const std::string& id) {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "DELETE FROM zones WHERE map = ? AND id = ?");
+  s.Bind(1, map).Bind(2, id);
+  s.Step();
+  return s.changes() > 0;
+}
+
+std::vector<nav::Place> Store::Places(const std::string& map) const {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "SELECT id, name, x, y, yaw FROM places WHERE map = ? ORDER BY name");
+  s.Bind(1, map);
+  std::vector<nav::Place> out;
+  while (s.Step()) out.push_back({s.Text(0), s.Text(1), {s.Double(2), s.Double(3), s.Double(4)}});
+  return out;
+}
+
+void Store::PutPlace(const std::string& map, const nav::Place& place) {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "INSERT OR REPLACE INTO places (map, id, name, x, y, yaw) VALUES (?,?,?,?,?,?)");
+  s.Bind(1, map).Bind(2, place.id).Bind(3, place.name).Bind(4, place.pose.x_m).Bind(5, place.pose.y_m);
+  s.Bind(6, place.pose.yaw_rad);
+  s.Step();
+}
+
+bool Store::DeletePlace(const std::string& map, const std::string& id) {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "DELETE FROM places WHERE map = ? AND id = ?");
+  s.Bind(1, map).Bind(2, id);
+  s.Step();
+  return s.changes() > 0;
+}
+
+void Store::PutMission(const std::string& id, const json& document) {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "INSERT OR REPLACE INTO missions (id, document, updated) VALUES (?, ?, julianday('now'))");
+  s.Bind(1, id).Bind(2, document.dump());
+  s.Step();
+}
+
+std::optional<json> Store::Mission(const std::string& id) const {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "SELECT document FROM missions WHERE id = ?");
+  s.Bind(1, id);
+  if (!s.Step()) return std::nullopt;
+  return json::parse(s.Text(0));
+}
+
+std::vector<json> Store::Missions(int limit) const {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "SELECT document FROM missions ORDER BY updated DESC LIMIT ?");
+  s.Bind(1, static_cast<double>(limit));
+  std::vector<json> out;
+  while (s.Step()) out.push_back(json::parse(s.Text(0)));
+  return out;
+}
+
+}  // namespace corridor::server

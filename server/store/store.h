@@ -1,0 +1,59 @@
+// The robot's database (SQLite, <state_dir>/corridor.db): zones and named places per map, and missions. Every
+// write is one transaction, so a crash or power cut leaves the old or the new state, never a torn one.
+// Thread-safe: one connection behind a mutex (writes are rare and small; keep them off the control executor).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <mutex>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "nav/map/zones.h"
+
+struct sqlite3;
+
+namespace corridor::server {
+
+// The database cannot be opened, read or written; what() says what and where.
+class StoreError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Store {
+ public:
+  // Opens or creates the database and its tables. Throws StoreError.
+  explicit Store(const std::filesystem::path& file);
+  Store(const Store&) = delete;
+  Store& operator=(const Store&) = delete;
+  ~Store();
+
+  std::vector<nav::Zone> Zones(const std::string& map) const;
+  void PutZone(const std::string& map, const nav::Zone& zone);  // insert or replace by id
+  bool DeleteZone(const std::string& map, const std::string& id);
+
+  std::vector<nav::Place> Places(const std::string& map) const;
+  void PutPlace(const std::string& map, const nav::Place& place);
+  bool DeletePlace(const std::string& map, const std::string& id);
+
+  // Missions are kept as their JSON documents (request and latest status), newest first.
+  void PutMission(const std::string& id, const nlohmann::json& document);
+  std::optional<nlohmann::json> Mission(const std::string& id) const;
+  std::vector<nlohmann::json> Missions(int limit) const;
+
+ private:
+  void Exec(const std::string& sql) const;
+
+  mutable std::mutex mutex_;
+  sqlite3* db_ = nullptr;
+  std::filesystem::path file_;
+};
+
+// A random identifier for new records: 16 hex digits.
+std::string NewId();
+
+}  // namespace corridor::server

@@ -1,0 +1,65 @@
+#include "server/store/store.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+namespace corridor::server {
+namespace {
+
+namespace fs = std::filesystem;
+
+class StoreTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("corridor_store_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(StoreTest, ZonesPlacesAndMissionsSurviveReopening) {
+  {
+    Store store(dir_ / "corridor.db");
+    store.PutZone("willow", {"z1", "wet floor", nav::ZoneKind::kKeepOut, {{0, 0}, {1, 0}, {1, 1}}, 0.0});
+    store.PutZone("willow", {"z2", "lobby", nav::ZoneKind::kSpeedLimit, {{0, 0}, {2, 0}, {2, 2}}, 0.3});
+    store.PutZone("house", {"z3", "other map", nav::ZoneKind::kKeepOut, {{0, 0}, {1, 0}, {1, 1}}, 0.0});
+    store.PutPlace("willow", {"p1", "kitchen", {1.0, 2.0, 0.5}});
+    store.PutMission("m1", {{"id", "m1"}, {"status", "active"}});
+    store.PutMission("m1", {{"id", "m1"}, {"status", "succeeded"}});
+  }
+  Store store(dir_ / "corridor.db");
+  const auto zones = store.Zones("willow");
+  ASSERT_EQ(zones.size(), 2u);
+  EXPECT_EQ(zones[1].kind, nav::ZoneKind::kSpeedLimit);
+  EXPECT_DOUBLE_EQ(zones[1].max_speed_mps, 0.3);
+  EXPECT_TRUE(zones[0].polygon[1].isApprox(Eigen::Vector2d(1, 0)));
+  EXPECT_EQ(store.Zones("house").size(), 1u);
+  EXPECT_TRUE(store.DeleteZone("willow", "z1"));
+  EXPECT_FALSE(store.DeleteZone("willow", "z1"));
+  EXPECT_EQ(store.Places("willow").at(0).name, "kitchen");
+  EXPECT_DOUBLE_EQ(store.Places("willow").at(0).pose.yaw_rad, 0.5);
+  EXPECT_EQ((*store.Mission("m1"))["status"], "succeeded");
+  EXPECT_EQ(store.Missions(10).size(), 1u);
+  EXPECT_FALSE(store.Mission("nope"));
+}
+
+TEST_F(StoreTest, AFileThatIsNotADatabaseIsReported) {
+  std::ofstream(dir_ / "junk.db") << std::string(4096, 'x');
+  try {
+    Store store(dir_ / "junk.db");
+    ADD_FAILURE();
+  } catch (const StoreError& e) {
+    EXPECT_NE(std::string(e.what()).find("junk.db"), std::string::npos) << e.what();
+  }
+}
+
+TEST(NewIdTest, IdsAreSixteenHexDigitsAndDistinct) {
+  const std::string a = NewId();
+  EXPECT_EQ(a.size(), 16u);
+  EXPECT_NE(a, NewId());
+}
+
+}  // namespace
+}  // namespace corridor::server
