@@ -9,7 +9,6 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
-#include <opencv2/imgcodecs.hpp>
 
 #include "drivers/sim/sim_robot.h"
 #include "nav/map/map_io.h"
@@ -18,6 +17,7 @@
 #include "server/nodes/driver_bridge.h"
 #include "server/nodes/face_node.h"
 #include "server/nodes/localization_node.h"
+#include "server/nodes/mission_node.h"
 #include "server/nodes/sim_node.h"
 #include "server/runtime/config.h"
 
@@ -107,24 +107,15 @@ void PrepareStateDir(const fs::path& dir) {
   fs::remove(probe);
 }
 
-ActiveMap MakeActiveMap(const Config& config, const drivers::sim::World* world) {
-  ActiveMap map;
-  if (!config.map.file.empty()) {
-    map.grid = nav::LoadMap(config.map.file);
-    map.name = config.map.file.stem().string();
-  } else if (world != nullptr && (config.sim.world.extension() == ".yaml" || config.sim.world.extension() == ".yml")) {
-    map.grid = nav::LoadMap(config.sim.world);
-    map.name = config.sim.world.stem().string();
-  } else if (world != nullptr) {
-    map.grid = world->collision;  // a mesh world with no map given: show what the robot can bump into
-    map.name = config.sim.world.stem().string() + " (collision slice)";
-  } else {
-    throw std::runtime_error("map.file: required when the simulator is disabled");
+// The map to work in and its name: the configured map file, else the simulator's world when it is a map, else
+// the world's collision slice (what the robot can bump into).
+std::pair<std::string, nav::OccupancyGrid> InitialMap(const Config& config, const drivers::sim::World* world) {
+  if (!config.map.file.empty()) return {config.map.file.stem().string(), nav::LoadMap(config.map.file)};
+  if (world != nullptr && (config.sim.world.extension() == ".yaml" || config.sim.world.extension() == ".yml")) {
+    return {config.sim.world.stem().string(), nav::LoadMap(config.sim.world)};
   }
-  std::vector<std::uint8_t> png;
-  cv::imencode(".png", nav::GridToImage(map.grid), png);
-  map.png.assign(png.begin(), png.end());
-  return map;
+  if (world != nullptr) return {config.sim.world.stem().string() + "-collision", world->collision};
+  throw std::runtime_error("map.file: required when the simulator is disabled");
 }
 
 int Run(const CommandLine& cl) {
@@ -142,9 +133,8 @@ int Run(const CommandLine& cl) {
 
   auto world = std::make_shared<const drivers::sim::World>(
       drivers::sim::LoadWorld(config.sim.world, config.sim.world_options));
-  const ActiveMap map = MakeActiveMap(config, world.get());
-  spdlog::info("map '{}': {} x {} cells at {} m", map.name, map.grid.width(), map.grid.height(),
-               map.grid.resolution_m());
+  auto [map_name, map_grid] = InitialMap(config, world.get());
+  Store store(config.store.state_dir / "corridor.db");
 
   drivers::sim::SimRobot robot(world, config.sim.robot);
   const nav::Pose2 start = config.sim.robot.start;
@@ -166,16 +156,42 @@ int Run(const CommandLine& cl) {
   const drivers::SteadyClock wall_clock;
   Bus bus;
   Executors executors;
+  PlannerService planner(executors.planning, config.planner);
+  MapLibrary maps(config.store.state_dir, map_name, std::move(map_grid),
+                  [&planner](std::shared_ptr<const ActiveMap> map) {
+                    planner.SetMap(std::shared_ptr<const nav::OccupancyGrid>(map, &map->grid));
+                  });
+  {
+    const auto map = maps.active();
+    planner.SetMap(std::shared_ptr<const nav::OccupancyGrid>(map, &map->grid));
+    planner.SetZones(store.Zones(map->name));
+    spdlog::info("map '{}': {} x {} cells at {} m", map->name, map->grid.width(), map->grid.height(),
+                 map->grid.resolution_m());
+  }
   ConnectDrivers(bus, robot, robot, &robot);
   Lifecycle lifecycle;
+  // Mission documents are written to the database on the io executor, off the control path.
+  const auto persist = [&store, &executors](nlohmann::json doc) {
+    executors.io.Post([&store, doc = std::move(doc)] {
+      try {
+        store.PutMission(doc["id"].get<std::string>(), doc);
+      } catch (const StoreError& e) {
+        spdlog::error("{}", e.what());
+      }
+    });
+  };
+  auto mission_node =
+      std::make_unique<MissionNode>(executors.control, bus, wall_clock, planner, config.mission, persist);
+  MissionNode& missions = *mission_node;
   // Brought up in this order and down in reverse: control goes first at shutdown, so the robot stops first.
   lifecycle.Add(std::make_unique<SimNode>(executors.sim, bus, robot, wall_clock));
   lifecycle.Add(std::make_unique<LocalizationNode>(executors.mapping, bus, wall_clock, start));
   lifecycle.Add(std::make_unique<FaceNode>(executors.perception, bus, wall_clock));
+  lifecycle.Add(std::move(mission_node));
   lifecycle.Add(std::make_unique<ControlNode>(executors.control, bus, robot, wall_clock, config.safety));
   lifecycle.ConfigureAll();
 
-  const Api api(bus, lifecycle, map, config, wall_clock);
+  const Api api({bus, lifecycle, maps, store, planner, missions, config, wall_clock, executors.io});
   HttpServer server(executors.io, api, config.server);
   server.Start();
   executors.StartAll();

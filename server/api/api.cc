@@ -1,5 +1,6 @@
 #include "server/api/api.h"
 
+#include <boost/asio/post.hpp>
 #include <spdlog/spdlog.h>
 
 #include <cmath>
@@ -18,46 +19,6 @@ using nlohmann::json;
 
 constexpr const char* kVersion = "0.1.0";
 
-Response MakeResponse(const Request& request, http::status status, std::string content_type, std::string body) {
-  Response res{status, request.version()};
-  res.set(http::field::server, "corridord");
-  res.set(http::field::content_type, std::move(content_type));
-  res.set(http::field::cache_control, "no-store");
-  res.keep_alive(request.keep_alive());
-  res.body() = std::move(body);
-  res.prepare_payload();
-  return res;
-}
-
-Response JsonResponse(const Request& request, const json& body, http::status status = http::status::ok) {
-  return MakeResponse(request, status, "application/json", body.dump());
-}
-
-[[noreturn]] void MethodNotAllowed(const Request& request) {
-  throw ApiError(http::status::method_not_allowed, "Method not allowed",
-                 std::string(request.method_string()) + " is not supported on " + std::string(request.target()));
-}
-
-json ParseJsonBody(const Request& request) {
-  const auto content_type = request[http::field::content_type];
-  if (!content_type.starts_with("application/json")) {
-    throw ApiError(http::status::unsupported_media_type, "Unsupported media type",
-                   "send the body as application/json");
-  }
-  json body = json::parse(request.body(), nullptr, /*allow_exceptions=*/false);
-  if (body.is_discarded()) throw ApiError(http::status::bad_request, "Malformed JSON", "the body is not valid JSON");
-  return body;
-}
-
-double RequireNumber(const json& body, const char* key) {
-  const auto it = body.find(key);
-  if (it == body.end()) throw ApiError(http::status::bad_request, "Invalid command", std::string("missing '") + key + "'");
-  if (!it->is_number()) {
-    throw ApiError(http::status::bad_request, "Invalid command", std::string("'") + key + "' must be a number");
-  }
-  return it->get<double>();
-}
-
 std::string ContentTypeFor(const fs::path& file) {
   static const std::map<std::string, std::string> kTypes = {
       {".html", "text/html; charset=utf-8"}, {".js", "text/javascript; charset=utf-8"},
@@ -68,7 +29,7 @@ std::string ContentTypeFor(const fs::path& file) {
   return it == kTypes.end() ? "application/octet-stream" : it->second;
 }
 
-// Splits "/path?a=1&b=2" into the path and one query parameter's value.
+// One query parameter's value from "/path?a=1&b=2"; "true" for a bare key, "" when absent.
 std::string QueryValue(std::string_view target, std::string_view key) {
   const auto q = target.find('?');
   if (q == std::string_view::npos) return "";
@@ -84,139 +45,221 @@ std::string QueryValue(std::string_view target, std::string_view key) {
   return "";
 }
 
+std::vector<std::string> Split(std::string_view path) {
+  std::vector<std::string> out;
+  while (!path.empty()) {
+    if (path.front() == '/') {
+      path.remove_prefix(1);
+      continue;
+    }
+    const auto slash = path.find('/');
+    out.emplace_back(path.substr(0, slash));
+    if (slash == std::string_view::npos) break;
+    path.remove_prefix(slash);
+  }
+  return out;
+}
+
 }  // namespace
 
-Response ProblemResponse(http::status status, const std::string& title, const std::string& detail, unsigned version,
-                         bool keep_alive) {
-  Response res{status, version};
+Response MakeResponse(const Request& request, http::status status, std::string content_type, std::string body) {
+  Response res{status, request.version()};
   res.set(http::field::server, "corridord");
-  res.set(http::field::content_type, "application/problem+json");
-  res.keep_alive(keep_alive);
-  res.body() = json{{"type", "about:blank"}, {"title", title}, {"status", static_cast<int>(status)}, {"detail", detail}}
-                   .dump();
+  res.set(http::field::content_type, std::move(content_type));
+  res.set(http::field::cache_control, "no-store");
+  res.keep_alive(request.keep_alive());
+  res.body() = std::move(body);
   res.prepare_payload();
   return res;
 }
 
-Api::Api(Bus& bus, const Lifecycle& lifecycle, const ActiveMap& map, const Config& config, const drivers::Clock& clock)
-    : bus_(bus),
-      lifecycle_(lifecycle),
-      map_(map),
-      config_(config),
-      clock_(clock),
-      start_ns_(clock.Now()),
-      web_root_(config.server.web_root) {}
+Response JsonResponse(const Request& request, const json& body, http::status status) {
+  return MakeResponse(request, status, "application/json", body.dump());
+}
 
-Response Api::Handle(const Request& request) const {
-  try {
-    return Route(request);
-  } catch (const ApiError& e) {
-    Response res = ProblemResponse(e.status(), e.title(), e.what(), request.version(), request.keep_alive());
-    if (e.status() == http::status::method_not_allowed) res.set(http::field::allow, "GET, POST");
-    return res;
-  } catch (const std::exception& e) {
-    spdlog::error("{} {}: {}", std::string(request.method_string()), std::string(request.target()), e.what());
-    return ProblemResponse(http::status::internal_server_error, "Internal error", e.what(), request.version(), false);
+Response ProblemResponse(http::status status, const std::string& title, const std::string& detail, unsigned version,
+                         bool keep_alive, const std::string& code) {
+  Response res{status, version};
+  res.set(http::field::server, "corridord");
+  res.set(http::field::content_type, "application/problem+json");
+  res.keep_alive(keep_alive);
+  json body = {{"type", "about:blank"}, {"title", title}, {"status", static_cast<int>(status)}, {"detail", detail}};
+  if (!code.empty()) body["code"] = code;
+  res.body() = body.dump();
+  res.prepare_payload();
+  return res;
+}
+
+json ParseJsonBody(const Request& request) {
+  const auto content_type = request[http::field::content_type];
+  if (!content_type.starts_with("application/json")) {
+    throw ApiError(http::status::unsupported_media_type, "Unsupported media type", "send the body as application/json");
+  }
+  json body = json::parse(request.body(), nullptr, /*allow_exceptions=*/false);
+  if (body.is_discarded()) throw ApiError(http::status::bad_request, "Malformed JSON", "the body is not valid JSON");
+  if (!body.is_object()) throw ApiError(http::status::bad_request, "Malformed request", "expected a JSON object");
+  return body;
+}
+
+double RequireNumber(const json& body, const char* key, const std::string& where) {
+  const std::string name = where.empty() ? key : where + "." + key;
+  const auto it = body.find(key);
+  if (it == body.end()) throw ApiError(http::status::bad_request, "Invalid request", "missing '" + name + "'");
+  if (!it->is_number() || !std::isfinite(it->get<double>())) {
+    throw ApiError(http::status::bad_request, "Invalid request", "'" + name + "' must be a finite number");
+  }
+  return it->get<double>();
+}
+
+void AllowOnlyKeys(const json& body, std::initializer_list<const char*> allowed, const std::string& where) {
+  for (const auto& [key, value] : body.items()) {
+    if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; })) {
+      throw ApiError(http::status::bad_request, "Invalid request",
+                     "unknown key '" + (where.empty() ? key : where + "." + key) + "'");
+    }
   }
 }
 
-Response Api::Route(const Request& request) const {
+Api::Api(ApiContext context) : c_(context), start_ns_(context.clock.Now()) {
+  AddCoreRoutes();
+  AddNavigationRoutes();
+  AddMapRoutes();
+}
+
+Api::Handler Api::Sync(std::function<Response(const Request&, const Params&)> f) {
+  return [f = std::move(f)](const Request& request, const Params& params, Reply reply) { reply(f(request, params)); };
+}
+
+void Api::Add(http::verb method, const std::string& pattern, Handler handler) {
+  routes_.push_back({method, Split(pattern), std::move(handler)});
+}
+
+void Api::Answer(const Request& request, Reply reply, const std::function<Response()>& work) const {
+  Response response;
+  try {
+    response = work();
+  } catch (const ApiError& e) {
+    response = ProblemResponse(e.status(), e.title(), e.what(), request.version(), request.keep_alive(), e.code());
+    if (e.status() == http::status::method_not_allowed) response.set(http::field::allow, "GET, POST, PUT, DELETE");
+  } catch (const std::exception& e) {
+    spdlog::error("{} {}: {}", std::string(request.method_string()), std::string(request.target()), e.what());
+    response = ProblemResponse(http::status::internal_server_error, "Internal error", e.what(), request.version(), false);
+  }
+  boost::asio::post(c_.io.context(), [reply = std::move(reply), response = std::move(response)]() mutable {
+    reply(std::move(response));
+  });
+}
+
+void Api::Handle(const Request& request, Reply reply) const {
   const std::string_view target = request.target();
   const std::string path(target.substr(0, target.find('?')));
-  const bool get = request.method() == http::verb::get || request.method() == http::verb::head;
-  const bool post = request.method() == http::verb::post;
+  const std::vector<std::string> segments = Split(path);
+  const http::verb method = request.method() == http::verb::head ? http::verb::get : request.method();
+  bool path_matched = false;
+  for (const Route& route : routes_) {
+    if (route.segments.size() != segments.size()) continue;
+    Params params;
+    bool match = true;
+    for (std::size_t i = 0; i < segments.size() && match; ++i) {
+      const std::string& want = route.segments[i];
+      if (want.size() > 2 && want.front() == '{' && want.back() == '}') {
+        params[want.substr(1, want.size() - 2)] = segments[i];
+      } else {
+        match = want == segments[i];
+      }
+    }
+    if (!match) continue;
+    path_matched = true;
+    if (route.method != method) continue;
+    // A handler that throws before handing off answers with the problem; one that hands off replies itself.
+    try {
+      route.handler(request, params, [this, reply](Response r) {
+        boost::asio::post(c_.io.context(), [reply, r = std::move(r)]() mutable { reply(std::move(r)); });
+      });
+    } catch (...) {
+      const std::exception_ptr error = std::current_exception();
+      Answer(request, reply, [error]() -> Response { std::rethrow_exception(error); });
+    }
+    return;
+  }
+  Answer(request, std::move(reply), [&]() -> Response {
+    if (path_matched) {
+      throw ApiError(http::status::method_not_allowed, "Method not allowed",
+                     std::string(request.method_string()) + " is not supported on " + path);
+    }
+    if (path.starts_with("/api/")) throw ApiError(http::status::not_found, "Not found", "no API route " + path);
+    if (method != http::verb::get) {
+      throw ApiError(http::status::method_not_allowed, "Method not allowed", "only GET is supported on " + path);
+    }
+    return ServeFile(request, path);
+  });
+}
 
-  if (path == "/api/v1/health") {
-    if (!get) MethodNotAllowed(request);
-    return JsonResponse(request, {{"status", "ok"},
-                                  {"version", kVersion},
-                                  {"uptime_s", drivers::ToSeconds(clock_.Now() - start_ns_)}});
-  }
-  if (path == "/api/v1/state") {
-    if (!get) MethodNotAllowed(request);
-    return JsonResponse(request, State());
-  }
-  if (path == "/api/v1/map") {
-    if (!get) MethodNotAllowed(request);
-    const nav::OccupancyGrid& g = map_.grid;
-    return JsonResponse(request, {{"name", map_.name},
-                                  {"resolution_m", g.resolution_m()},
-                                  {"width", g.width()},
-                                  {"height", g.height()},
-                                  {"origin", ToJson(g.origin())},
-                                  {"image_url", "/api/v1/map/image"}});
-  }
-  if (path == "/api/v1/map/image") {
-    if (!get) MethodNotAllowed(request);
-    return MakeResponse(request, http::status::ok, "image/png", map_.png);
-  }
-  if (path == "/api/v1/teleop") {
-    if (!post) MethodNotAllowed(request);
-    return JsonResponse(request, Teleop(ParseJsonBody(request), "rest"));
-  }
-  if (path == "/api/v1/camera/depth" || path == "/api/v1/camera/color") {
-    if (!get) MethodNotAllowed(request);
-    return CameraImage(request, path == "/api/v1/camera/depth");
-  }
-  if (path == "/api/v1/topics") {
-    if (!get) MethodNotAllowed(request);
-    return JsonResponse(request, {{"topics", bus_.names()}});
-  }
-  if (path == "/api/v1/openapi.json") {
-    if (!get) MethodNotAllowed(request);
-    return MakeResponse(request, http::status::ok, "application/json", OpenApiDocument());
-  }
-  if (path.starts_with("/api/")) {
-    throw ApiError(http::status::not_found, "Not found", "no API route " + path);
-  }
-  if (!get) MethodNotAllowed(request);
-  return ServeFile(request, path);
+void Api::AddCoreRoutes() {
+  Add(http::verb::get, "/api/v1/health", Sync([this](const Request& r, const Params&) {
+        return JsonResponse(r, {{"status", "ok"}, {"version", kVersion},
+                                {"uptime_s", drivers::ToSeconds(c_.clock.Now() - start_ns_)}});
+      }));
+  Add(http::verb::get, "/api/v1/state", Sync([this](const Request& r, const Params&) { return JsonResponse(r, State()); }));
+  Add(http::verb::post, "/api/v1/teleop", Sync([this](const Request& r, const Params&) {
+        return JsonResponse(r, Teleop(ParseJsonBody(r), "rest"));
+      }));
+  Add(http::verb::get, "/api/v1/camera/depth",
+      Sync([this](const Request& r, const Params&) { return CameraImage(r, true); }));
+  Add(http::verb::get, "/api/v1/camera/color",
+      Sync([this](const Request& r, const Params&) { return CameraImage(r, false); }));
+  Add(http::verb::get, "/api/v1/topics", Sync([this](const Request& r, const Params&) {
+        return JsonResponse(r, {{"topics", c_.bus.names()}});
+      }));
+  Add(http::verb::get, "/api/v1/openapi.json", Sync([](const Request& r, const Params&) {
+        return MakeResponse(r, http::status::ok, "application/json", OpenApiDocument());
+      }));
+  Add(http::verb::get, "/api/v1/stream", Sync([](const Request&, const Params&) -> Response {
+        throw ApiError(http::status::upgrade_required, "Upgrade required", "/api/v1/stream is a WebSocket endpoint");
+      }));
 }
 
 json Api::State() const {
   json state;
-  state["stamp_s"] = drivers::ToSeconds(clock_.Now() - start_ns_);
-  const auto pose = bus_.Get(topics::kPose).latest();
+  state["stamp_s"] = drivers::ToSeconds(c_.clock.Now() - start_ns_);
+  const auto pose = c_.bus.Get(topics::kPose).latest();
   state["pose"] = pose ? ToJson(pose->pose) : json(nullptr);
-  const auto odometry = bus_.Get(topics::kOdometry).latest();
+  const auto odometry = c_.bus.Get(topics::kOdometry).latest();
   state["velocity"] = odometry ? ToJson(odometry->velocity) : ToJson(nav::Twist2{});
   state["bumper_pressed"] = odometry && odometry->bumper_pressed;
-  const auto command = bus_.Get(topics::kCmdVel).latest();
+  const auto command = c_.bus.Get(topics::kCmdVel).latest();
   state["mode"] = command ? command->mode : "starting";
   state["stop_reason"] = command ? command->reason : "";
   state["command"] = command ? ToJson(command->twist) : ToJson(nav::Twist2{});
-  const auto truth = bus_.Get(topics::kSimTruePose).latest();
+  const auto truth = c_.bus.Get(topics::kSimTruePose).latest();
   state["sim_true_pose"] = truth ? ToJson(truth->pose) : json(nullptr);
-  const auto face = bus_.Get(topics::kFaceExpression).latest();
+  const auto face = c_.bus.Get(topics::kFaceExpression).latest();
   state["face"] = face ? face->expression : "neutral";
+  const auto mission = c_.bus.Get(topics::kMission).latest();
+  state["mission"] = mission ? mission->document : json(nullptr);
+  const auto map = c_.maps.active();
+  state["map"] = {{"name", map->name}, {"revision", map->revision}};
   json nodes = json::array();
-  for (const auto& node : lifecycle_.nodes()) nodes.push_back(node->Status());
+  for (const auto& node : c_.lifecycle.nodes()) nodes.push_back(node->Status());
   state["nodes"] = std::move(nodes);
   return state;
 }
 
 json Api::Teleop(const json& body, const std::string& source) const {
   if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid command", "expected a JSON object");
-  for (const auto& [key, value] : body.items()) {
-    if (key != "linear_mps" && key != "angular_rps" && key != "type") {
-      throw ApiError(http::status::bad_request, "Invalid command", "unknown key '" + key + "'");
-    }
-  }
-  const double v = RequireNumber(body, "linear_mps");
-  const double w = RequireNumber(body, "angular_rps");
-  if (!std::isfinite(v) || !std::isfinite(w)) {
-    throw ApiError(http::status::bad_request, "Invalid command", "speeds must be finite numbers");
-  }
-  const SafetyOptions& s = config_.safety;
+  AllowOnlyKeys(body, {"linear_mps", "angular_rps", "type"}, "");
+  const double v = RequireNumber(body, "linear_mps", "");
+  const double w = RequireNumber(body, "angular_rps", "");
+  const SafetyOptions& s = c_.config.safety;
   const nav::Twist2 applied{std::clamp(v, -s.max_linear_mps, s.max_linear_mps),
                             std::clamp(w, -s.max_angular_rps, s.max_angular_rps)};
-  bus_.Get(topics::kTeleop).Publish(TeleopCommand{{v, w}, clock_.Now(), source});
+  c_.bus.Get(topics::kTeleop).Publish(TeleopCommand{{v, w}, c_.clock.Now(), source});
   return {{"applied", ToJson(applied)}, {"expires_in_s", s.teleop_deadman_s}};
 }
 
 std::optional<json> Api::TopicMessage(const std::string& topic) const {
   if (topic == "state") return json{{"topic", "state"}, {"data", State()}};
-  const TopicBase* t = bus_.Find(topic);
+  const TopicBase* t = c_.bus.Find(topic);
   if (t == nullptr) return std::nullopt;
   auto data = t->LatestJson();
   if (!data) return std::nullopt;
@@ -239,7 +282,7 @@ json Api::StreamMessage(const std::string& text, std::vector<std::string>& subsc
     for (const json& t : *topics) {
       if (!t.is_string()) throw ApiError(http::status::bad_request, "Malformed message", "topic names are strings");
       const std::string name = t.get<std::string>();
-      if (name != "state" && bus_.Find(name) == nullptr) {
+      if (name != "state" && c_.bus.Find(name) == nullptr) {
         throw ApiError(http::status::not_found, "Unknown topic", "no topic '" + name + "'");
       }
       wanted.push_back(name);
@@ -251,7 +294,7 @@ json Api::StreamMessage(const std::string& text, std::vector<std::string>& subsc
 }
 
 Response Api::CameraImage(const Request& request, bool depth) const {
-  const auto frame = bus_.Get(topics::kRgbd).latest();
+  const auto frame = c_.bus.Get(topics::kRgbd).latest();
   if (!frame) throw ApiError(http::status::service_unavailable, "No camera frame", "the camera has not sent a frame yet");
   std::vector<std::uint8_t> bytes;
   std::string type = "image/png";
@@ -261,7 +304,7 @@ Response Api::CameraImage(const Request& request, bool depth) const {
   } else if (QueryValue(request.target(), "colormap") == "true") {
     // For people: near is warm, far is cool, holes are black.
     cv::Mat scaled;
-    const double max_mm = std::max(1.0, config_.sim.robot.camera.max_range_m * 1000.0);
+    const double max_mm = std::max(1.0, c_.config.sim.robot.camera.max_range_m * 1000.0);
     frame->depth_mm.convertTo(scaled, CV_8U, -255.0 / max_mm, 255.0);
     cv::Mat colored;
     cv::applyColorMap(scaled, colored, cv::COLORMAP_TURBO);
@@ -281,9 +324,10 @@ Response Api::ServeFile(const Request& request, const std::string& target) const
   if (relative.find("..") != std::string::npos || relative.find('\0') != std::string::npos) {
     throw ApiError(http::status::bad_request, "Bad path", "path must not contain '..'");
   }
-  const fs::path file = web_root_ / relative;
+  const fs::path& root = c_.config.server.web_root;
+  const fs::path file = root / relative;
   std::ifstream in(file, std::ios::binary);
-  if (web_root_.empty() || !fs::is_regular_file(file) || !in) {
+  if (root.empty() || !fs::is_regular_file(file) || !in) {
     throw ApiError(http::status::not_found, "Not found", "no file " + target);
   }
   std::ostringstream body;

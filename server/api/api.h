@@ -1,85 +1,117 @@
 // The REST API and the WebSocket stream's messages, independent of the transport (http_server.h carries them).
-// Every route is described in openapi.json; errors are RFC 9457 problem details (application/problem+json).
+// Every route is described in openapi.json; errors are RFC 9457 problem details (application/problem+json),
+// with a machine-readable "code" where a client may want to act on the kind of error.
 #pragma once
 
 #include <boost/beast/http.hpp>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <functional>
+#include <map>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
-#include "nav/map/occupancy_grid.h"
+#include "server/nodes/mission_node.h"
+#include "server/nodes/planner_service.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/config.h"
 #include "server/runtime/node.h"
+#include "server/store/map_library.h"
+#include "server/store/store.h"
 
 namespace corridor::server {
 
 namespace http = boost::beast::http;
 using Request = http::request<http::string_body>;
 using Response = http::response<http::string_body>;
+using Reply = std::function<void(Response)>;
+using Params = std::map<std::string, std::string, std::less<>>;
 
-// A request the API refuses; becomes a problem+json response with this status.
+// A request the API refuses; becomes a problem+json response with this status (and `code`, when not empty).
 class ApiError : public std::runtime_error {
  public:
-  ApiError(http::status status, std::string title, const std::string& detail)
-      : std::runtime_error(detail), status_(status), title_(std::move(title)) {}
+  ApiError(http::status status, std::string title, const std::string& detail, std::string code = "")
+      : std::runtime_error(detail), status_(status), title_(std::move(title)), code_(std::move(code)) {}
   http::status status() const { return status_; }
   const std::string& title() const { return title_; }
+  const std::string& code() const { return code_; }
 
  private:
   http::status status_;
   std::string title_;
-};
-
-// The map the robot works in, with its image encoded once for the console.
-struct ActiveMap {
-  std::string name;
-  nav::OccupancyGrid grid;
-  std::string png;  // 8-bit grey, map_server trinary shades, row 0 at the top
+  std::string code_;
 };
 
 Response ProblemResponse(http::status status, const std::string& title, const std::string& detail,
-                         unsigned version, bool keep_alive);
+                         unsigned version, bool keep_alive, const std::string& code = "");
+
+// What the API works with; all must outlive the Api.
+struct ApiContext {
+  Bus& bus;
+  const Lifecycle& lifecycle;
+  MapLibrary& maps;
+  Store& store;
+  PlannerService& planner;
+  MissionNode& missions;
+  const Config& config;
+  const drivers::Clock& clock;
+  Executor& io;  // replies that are computed elsewhere come back here
+};
 
 class Api {
  public:
-  Api(Bus& bus, const Lifecycle& lifecycle, const ActiveMap& map, const Config& config, const drivers::Clock& clock);
+  explicit Api(ApiContext context);
 
-  // Answers one HTTP request (never throws; errors become problem responses). Called on the io executor.
-  Response Handle(const Request& request) const;
+  // Answers one HTTP request through `reply`, which is called exactly once, on the io executor. Never throws.
+  void Handle(const Request& request, Reply reply) const;
 
-  // The state document of GET /api/v1/state, also pushed on the stream.
   nlohmann::json State() const;
-
-  // Validates a teleop body {"linear_mps", "angular_rps"} and publishes it; returns what will be applied.
-  // Throws ApiError for a malformed command.
   nlohmann::json Teleop(const nlohmann::json& body, const std::string& source) const;
-
-  // Handles one text message from a stream client; returns the reply to send, if any. Throws ApiError.
   nlohmann::json StreamMessage(const std::string& text, std::vector<std::string>& subscriptions) const;
-
-  // The stream's message for one topic, or nullopt when it has no JSON message yet.
   std::optional<nlohmann::json> TopicMessage(const std::string& topic) const;
 
-  const std::filesystem::path& web_root() const { return web_root_; }
-
  private:
-  Response Route(const Request& request) const;
+  using Handler = std::function<void(const Request&, const Params&, Reply)>;
+  struct Route {
+    http::verb method;
+    std::vector<std::string> segments;  // "{name}" captures a segment
+    Handler handler;
+  };
+  // A handler that answers synchronously.
+  static Handler Sync(std::function<Response(const Request&, const Params&)> f);
+  void Add(http::verb method, const std::string& pattern, Handler handler);
+  // Runs `work` and replies with its response, or with the problem it throws, on the io executor.
+  void Answer(const Request& request, Reply reply, const std::function<Response()>& work) const;
+
+  void AddCoreRoutes();
+  void AddNavigationRoutes();
+  void AddMapRoutes();
+
   Response ServeFile(const Request& request, const std::string& target) const;
   Response CameraImage(const Request& request, bool depth) const;
+  void Plan(const Request& request, Reply reply) const;
+  void StartMission(const Request& request, Reply reply) const;
+  Response MissionAction(const Request& request, const std::string& id, const std::string& action) const;
+  nav::MissionGoal ParseGoal(const nlohmann::json& j, const std::string& where) const;
+  void ZonesChanged() const;
 
-  Bus& bus_;
-  const Lifecycle& lifecycle_;
-  const ActiveMap& map_;
-  const Config& config_;
-  const drivers::Clock& clock_;
+  ApiContext c_;
   drivers::TimeNs start_ns_;
-  std::filesystem::path web_root_;
+  std::vector<Route> routes_;
 };
 
 // The OpenAPI 3.1 document (server/api/openapi.json, built into the binary).
 const std::string& OpenApiDocument();
+
+// Helpers shared by the route files.
+Response JsonResponse(const Request& request, const nlohmann::json& body, http::status status = http::status::ok);
+Response MakeResponse(const Request& request, http::status status, std::string content_type, std::string body);
+nlohmann::json ParseJsonBody(const Request& request);
+// A required finite number; throws ApiError 400 naming `where` and `key`.
+double RequireNumber(const nlohmann::json& body, const char* key, const std::string& where);
+// Throws ApiError 400 for a key not in `allowed`.
+void AllowOnlyKeys(const nlohmann::json& body, std::initializer_list<const char*> allowed, const std::string& where);
 
 }  // namespace corridor::server

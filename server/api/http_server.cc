@@ -151,11 +151,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       return Reply(ProblemResponse(http::status::not_found, "Not found", "WebSocket is served at /api/v1/stream",
                                    request.version(), false));
     }
-    if (request.target() == "/api/v1/stream") {
-      return Reply(ProblemResponse(http::status::upgrade_required, "Upgrade required",
-                                   "/api/v1/stream is a WebSocket endpoint", request.version(), request.keep_alive()));
-    }
-    Reply(api_.Handle(request));
+    api_.Handle(request, [self = shared_from_this()](Response response) { self->Reply(std::move(response)); });
   }
 
   void Reply(Response response) {

@@ -7,6 +7,18 @@
 
 namespace corridor::server {
 
+namespace {
+
+// A mission command older than this is not acted on: the mission node has stopped talking.
+constexpr double kMissionFreshS = 0.3;
+
+nav::Twist2 Limit(const nav::Twist2& t, const SafetyOptions& o) {
+  return {std::clamp(t.linear_mps, -o.max_linear_mps, o.max_linear_mps),
+          std::clamp(t.angular_rps, -o.max_angular_rps, o.max_angular_rps)};
+}
+
+}  // namespace
+
 BaseCommand DecideCommand(const ControlInputs& in, const SafetyOptions& options) {
   BaseCommand out{.stamp_ns = in.now_ns, .twist = {}, .mode = "idle", .reason = ""};
   if (in.last_odometry_ns < 0 || in.now_ns - in.last_odometry_ns > drivers::FromSeconds(options.odometry_timeout_s)) {
@@ -16,8 +28,10 @@ BaseCommand DecideCommand(const ControlInputs& in, const SafetyOptions& options)
   }
   if (in.teleop != nullptr && in.now_ns - in.teleop->received_ns <= drivers::FromSeconds(options.teleop_deadman_s)) {
     out.mode = "teleop";
-    out.twist.linear_mps = std::clamp(in.teleop->twist.linear_mps, -options.max_linear_mps, options.max_linear_mps);
-    out.twist.angular_rps = std::clamp(in.teleop->twist.angular_rps, -options.max_angular_rps, options.max_angular_rps);
+    out.twist = Limit(in.teleop->twist, options);
+  } else if (in.mission != nullptr && in.now_ns - in.mission->stamp_ns <= drivers::FromSeconds(kMissionFreshS)) {
+    out.mode = "mission";
+    out.twist = Limit(in.mission->twist, options);
   }
   return out;
 }
@@ -50,7 +64,9 @@ void ControlNode::Deactivate() {
 
 void ControlNode::Tick() {
   const auto teleop = bus_.Get(topics::kTeleop).latest();
-  const BaseCommand command = DecideCommand({clock().Now(), teleop.get(), last_odometry_ns_.load()}, options_);
+  const auto mission = bus_.Get(topics::kMissionCommand).latest();
+  const BaseCommand command =
+      DecideCommand({clock().Now(), teleop.get(), last_odometry_ns_.load(), mission.get()}, options_);
   base_.SetVelocity(command.twist);
   bus_.Get(topics::kCmdVel).Publish(command);
   if (command.mode == "stopped") {

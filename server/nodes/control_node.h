@@ -1,4 +1,5 @@
-// The control loop: picks the command for the base (today: teleop, or stop), applies the safety limits and
+// The control loop: picks the command for the base (teleop over a mission over standing still), applies the
+// safety limits and
 // watchdogs, and sends it. Stops the robot when the teleop deadman lapses, when the base's odometry stops
 // arriving (the base is not answering), and when the node is deactivated (shutdown).
 #pragma once
@@ -17,6 +18,7 @@ struct ControlInputs {
   drivers::TimeNs now_ns = 0;
   const TeleopCommand* teleop = nullptr;     // the latest, or null
   drivers::TimeNs last_odometry_ns = -1;     // arrival time (the node's clock) of the latest odometry; -1 never
+  const MissionCommand* mission = nullptr;   // the latest, or null
 };
 BaseCommand DecideCommand(const ControlInputs& in, const SafetyOptions& options);
 

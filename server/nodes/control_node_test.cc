@@ -25,6 +25,17 @@ TEST(DecideCommandTest, DeadmanLapsesAndTheRobotStops) {
   EXPECT_EQ(c.twist.angular_rps, 0.0);
 }
 
+TEST(DecideCommandTest, TeleopOverridesAMissionAndAStaleMissionIsIgnored) {
+  SafetyOptions o;
+  const TeleopCommand teleop{{0.1, 0.0}, FromSeconds(10.0), "rest"};
+  const MissionCommand mission{FromSeconds(10.0), {0.4, 0.2}};
+  EXPECT_EQ(DecideCommand({FromSeconds(10.1), &teleop, FromSeconds(10.1), &mission}, o).mode, "teleop");
+  const BaseCommand m = DecideCommand({FromSeconds(10.1), nullptr, FromSeconds(10.1), &mission}, o);
+  EXPECT_EQ(m.mode, "mission");
+  EXPECT_DOUBLE_EQ(m.twist.linear_mps, 0.4);
+  EXPECT_EQ(DecideCommand({FromSeconds(10.5), nullptr, FromSeconds(10.5), &mission}, o).mode, "idle");
+}
+
 TEST(DecideCommandTest, NoOdometryMeansStopWithAReason) {
   SafetyOptions o;
   const TeleopCommand teleop{{0.3, 0.0}, FromSeconds(10.0), "rest"};

@@ -73,6 +73,36 @@ void ReadLaser(ConfigReader& r, drivers::sim::SimLaserOptions& o) {
   r.Read("noise_m", o.noise_m, 0.0, 1.0);
 }
 
+void ReadPlanner(ConfigReader& r, nav::CostmapOptions& o) {
+  r.Read("robot_radius_m", o.robot_radius_m, 0.05, 2.0);
+  r.Read("distance_weight", o.distance_weight, 0.0, 100.0);
+  r.Read("saturation_m", o.saturation_m, 0.01, 10.0);
+  r.Read("occupied_threshold", o.occupied_threshold, 1, 100);
+  bool unknown_is_free = o.unknown == nav::UnknownPolicy::kFree;
+  r.Read("unknown_is_free", unknown_is_free);
+  o.unknown = unknown_is_free ? nav::UnknownPolicy::kFree : nav::UnknownPolicy::kObstacle;
+}
+
+void ReadMission(ConfigReader& r, nav::FollowerOptions& o) {
+  r.Read("k_rho", o.gains.k_rho, -100.0, 100.0);
+  r.Read("k_alpha", o.gains.k_alpha, -100.0, 100.0);
+  r.Read("k_beta", o.gains.k_beta, -100.0, 100.0);
+  try {
+    nav::ValidateGains(o.gains);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(r.PathOf("k_rho") + ", k_alpha, k_beta: " + e.what() + " (the polar controller would not converge)");
+  }
+  r.Read("lookahead_m", o.lookahead_m, 0.05, 5.0);
+  r.Read("approach_m", o.approach_m, 0.05, 5.0);
+  r.Read("max_linear_mps", o.max_linear_mps, 0.01, 3.0);
+  r.Read("max_angular_rps", o.max_angular_rps, 0.01, 6.0);
+  r.Read("max_linear_accel_mps2", o.max_linear_accel_mps2, 0.01, 10.0);
+  r.Read("position_tolerance_m", o.position_tolerance_m, 0.001, 1.0);
+  double yaw_tolerance_deg = o.yaw_tolerance_rad / kDegToRad;
+  r.Read("yaw_tolerance_deg", yaw_tolerance_deg, 0.1, 45.0);
+  o.yaw_tolerance_rad = yaw_tolerance_deg * kDegToRad;
+}
+
 void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
   r.Read("enabled", o.enabled);
   ReadPath(r, "world", o.world, base);
@@ -129,6 +159,8 @@ Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
     r.Section("map", [&](ConfigReader& s) { ReadPath(s, "file", config.map.file, base); });
     r.Section("safety", [&](ConfigReader& s) { ReadSafety(s, config.safety); });
     r.Section("sim", [&](ConfigReader& s) { ReadSim(s, config.sim, base); });
+    r.Section("planner", [&](ConfigReader& s) { ReadPlanner(s, config.planner); });
+    r.Section("mission", [&](ConfigReader& s) { ReadMission(s, config.mission); });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();
   } catch (const ConfigError& e) {

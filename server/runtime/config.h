@@ -8,6 +8,8 @@
 
 #include "drivers/sim/sim_robot.h"
 #include "drivers/sim/world.h"
+#include "nav/planner/costmap.h"
+#include "nav/policy/path_follower.h"
 #include "server/runtime/config_reader.h"  // ConfigError
 
 namespace corridor::server {
@@ -16,7 +18,7 @@ struct ServerOptions {
   int port = 8080;                      // 0 picks a free port (logged at start-up)
   std::string bind_address = "0.0.0.0";
   std::filesystem::path web_root;       // the built console; empty: next to the binary or in the source tree
-  int max_body_bytes = 64 * 1024;       // larger request bodies get 413
+  int max_body_bytes = 4 * 1024 * 1024; // larger request bodies get 413 (a whole map image fits)
   double stream_rate_hz = 20.0;         // WebSocket state pushes per second
 };
 
@@ -44,6 +46,8 @@ struct SimulatorOptions {
   drivers::sim::SimOptions robot;
 };
 
+// planner: nav::CostmapOptions; mission: nav::FollowerOptions (their fields are the keys, with units).
+
 struct LogOptions {
   std::string level = "info";           // trace, debug, info, warn, error
 };
@@ -54,6 +58,8 @@ struct Config {
   MapOptions map;
   SafetyOptions safety;
   SimulatorOptions sim;
+  nav::CostmapOptions planner;
+  nav::FollowerOptions mission;
   LogOptions log;
 };
 

@@ -82,6 +82,14 @@ TEST_F(ConfigTest, OutOfRangeValuesAreNamedWithTheRange) {
   EXPECT_NE(ErrorOf("sim: {enabled: false}\nlog: {level: loud}\n").find("log.level"), std::string::npos);
 }
 
+TEST_F(ConfigTest, PolarGainsAreCheckedForConvergence) {
+  const std::string e = ErrorOf("sim: {enabled: false}\nmission: {k_beta: 0.5}\n");
+  EXPECT_NE(e.find("k_beta must be < 0"), std::string::npos) << e;
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\nmission: {k_rho: 3, k_alpha: 2}\n").find("k_alpha - k_rho must be > 0"),
+            std::string::npos);
+  EXPECT_EQ(ErrorOf("sim: {enabled: false}\nmission: {k_rho: 0.5, k_alpha: 1.5, k_beta: -0.3}\n"), "");
+}
+
 TEST_F(ConfigTest, CommandLineOverridesGetTheSameChecks) {
   ConfigOverrides o;
   o.port = 70000;

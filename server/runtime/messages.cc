@@ -10,6 +10,8 @@ nlohmann::json ToJson(const nav::Pose2& pose) {
 
 nlohmann::json ToJson(const FaceState& face) { return {{"expression", face.expression}}; }
 
+nlohmann::json ToJson(const MissionState& mission) { return mission.document; }
+
 nlohmann::json ToJson(const nav::Twist2& twist) {
   return {{"linear_mps", twist.linear_mps}, {"angular_rps", twist.angular_rps}};
 }

@@ -34,12 +34,24 @@ struct BaseCommand {
   std::string reason;  // for "stopped": what made the robot stop
 };
 
+// A velocity the mission wants, valid for a short time from its stamp (the control node's clock).
+struct MissionCommand {
+  drivers::TimeNs stamp_ns = 0;
+  nav::Twist2 twist;
+};
+
+// The mission in progress (or the last one), as the console and the API show it.
+struct MissionState {
+  nlohmann::json document;  // see MissionNode::Describe
+};
+
 // The face's current expression (face/expression.h names them).
 struct FaceState {
   std::string expression;
 };
 
 nlohmann::json ToJson(const FaceState& face);
+nlohmann::json ToJson(const MissionState& mission);
 nlohmann::json ToJson(const nav::Pose2& pose);
 nlohmann::json ToJson(const nav::Twist2& twist);
 nlohmann::json ToJson(const StampedPose& pose);

@@ -1,0 +1,244 @@
+// Routes for the map and what is drawn on it: the active map, its editing and selection, zones and places.
+#include <cmath>
+
+#include "server/api/api.h"
+#include "server/runtime/topics.h"
+
+namespace corridor::server {
+namespace {
+
+using nlohmann::json;
+
+// The most cells one edit may set: a full-map repaint goes through PUT /api/v1/map/image instead.
+constexpr std::size_t kMaxCellEdits = 250000;
+
+json ZoneJson(const nav::Zone& z) {
+  json polygon = json::array();
+  for (const auto& p : z.polygon) polygon.push_back({p.x(), p.y()});
+  json j = {{"id", z.id}, {"name", z.name}, {"kind", nav::ToString(z.kind)}, {"polygon", polygon}};
+  if (z.kind == nav::ZoneKind::kSpeedLimit) j["max_speed_mps"] = z.max_speed_mps;
+  return j;
+}
+
+json PlaceJson(const nav::Place& p) {
+  return {{"id", p.id}, {"name", p.name}, {"x", p.pose.x_m}, {"y", p.pose.y_m}, {"yaw", p.pose.yaw_rad}};
+}
+
+nav::Zone ParseZone(const json& body, std::string id) {
+  AllowOnlyKeys(body, {"id", "name", "kind", "polygon", "max_speed_mps"}, "");
+  nav::Zone z;
+  z.id = std::move(id);
+  z.name = body.value("name", "");
+  if (!body.contains("kind") || !body["kind"].is_string()) {
+    throw ApiError(http::status::bad_request, "Invalid zone", "'kind' must be \"keep_out\" or \"speed_limit\"");
+  }
+  const auto kind = nav::ZoneKindFromString(body["kind"].get<std::string>());
+  if (!kind) throw ApiError(http::status::bad_request, "Invalid zone", "'kind' must be \"keep_out\" or \"speed_limit\"");
+  z.kind = *kind;
+  const auto polygon = body.find("polygon");
+  if (polygon == body.end() || !polygon->is_array() || polygon->size() > 1000) {
+    throw ApiError(http::status::bad_request, "Invalid zone", "'polygon' must be a list of up to 1000 [x, y] points");
+  }
+  for (const json& p : *polygon) {
+    if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number()) {
+      throw ApiError(http::status::bad_request, "Invalid zone", "'polygon' points are [x, y] number pairs");
+    }
+    z.polygon.emplace_back(p[0].get<double>(), p[1].get<double>());
+  }
+  if (z.kind == nav::ZoneKind::kSpeedLimit) z.max_speed_mps = RequireNumber(body, "max_speed_mps", "");
+  try {
+    nav::Validate(z);
+  } catch (const nav::InvalidZone& e) {
+    throw ApiError(http::status::bad_request, "Invalid zone", e.what());
+  }
+  return z;
+}
+
+nav::Place ParsePlace(const json& body, std::string id) {
+  AllowOnlyKeys(body, {"id", "name", "x", "y", "yaw"}, "");
+  if (!body.contains("name") || !body["name"].is_string() || body["name"].get<std::string>().empty()) {
+    throw ApiError(http::status::bad_request, "Invalid place", "'name' must be a non-empty string");
+  }
+  return {std::move(id), body["name"].get<std::string>(),
+          {RequireNumber(body, "x", ""), RequireNumber(body, "y", ""),
+           body.contains("yaw") ? nav::WrapAngle(RequireNumber(body, "yaw", "")) : 0.0}};
+}
+
+void ExpectMapEdit(const std::function<void()>& edit) {
+  try {
+    edit();
+  } catch (const MapEditError& e) {
+    throw ApiError(http::status::unprocessable_entity, "Invalid map edit", e.what(), "invalid_map_edit");
+  }
+}
+
+}  // namespace
+
+void Api::ZonesChanged() const { c_.planner.SetZones(c_.store.Zones(c_.maps.active()->name)); }
+
+void Api::AddMapRoutes() {
+  Add(http::verb::get, "/api/v1/map", Sync([this](const Request& r, const Params&) {
+        const auto map = c_.maps.active();
+        const nav::OccupancyGrid& g = map->grid;
+        return JsonResponse(r, {{"name", map->name},
+                                {"revision", map->revision},
+                                {"resolution_m", g.resolution_m()},
+                                {"width", g.width()},
+                                {"height", g.height()},
+                                {"origin", ToJson(g.origin())},
+                                {"image_url", "/api/v1/map/image?revision=" + std::to_string(map->revision)}});
+      }));
+  Add(http::verb::get, "/api/v1/map/image", Sync([this](const Request& r, const Params&) {
+        return MakeResponse(r, http::status::ok, "image/png", c_.maps.active()->png);
+      }));
+  Add(http::verb::put, "/api/v1/map/image", Sync([this](const Request& r, const Params&) {
+        ExpectMapEdit([&] { c_.maps.ReplaceImage(r.body()); });
+        return JsonResponse(r, {{"revision", c_.maps.active()->revision}});
+      }));
+  Add(http::verb::put, "/api/v1/map/cells", Sync([this](const Request& r, const Params&) {
+        const json body = ParseJsonBody(r);
+        AllowOnlyKeys(body, {"cells", "rects"}, "");
+        std::vector<CellEdit> edits;
+        const auto value_of = [](const json& v, const std::string& where) {
+          if (!v.is_number_integer()) {
+            throw ApiError(http::status::bad_request, "Invalid map edit", where + ": value must be -1, 0 or 100");
+          }
+          return static_cast<std::int8_t>(std::clamp<std::int64_t>(v.get<std::int64_t>(), -2, 101));
+        };
+        for (const json& c : body.value("cells", json::array())) {
+          if (!c.is_array() || c.size() != 3 || !c[0].is_number_integer() || !c[1].is_number_integer()) {
+            throw ApiError(http::status::bad_request, "Invalid map edit", "cells are [column, row, value] triples");
+          }
+          edits.push_back({c[0].get<int>(), c[1].get<int>(), value_of(c[2], "cells")});
+          if (edits.size() > kMaxCellEdits) break;
+        }
+        // Rectangles: {"x0", "y0", "x1", "y1", "value"}, inclusive cell ranges; what a brush stroke sends.
+        for (const json& rect : body.value("rects", json::array())) {
+          if (!rect.is_object()) throw ApiError(http::status::bad_request, "Invalid map edit", "rects are objects");
+          const int x0 = static_cast<int>(RequireNumber(rect, "x0", "rects"));
+          const int y0 = static_cast<int>(RequireNumber(rect, "y0", "rects"));
+          const int x1 = static_cast<int>(RequireNumber(rect, "x1", "rects"));
+          const int y1 = static_cast<int>(RequireNumber(rect, "y1", "rects"));
+          const std::int8_t value = value_of(rect.value("value", json()), "rects");
+          const auto area = static_cast<double>(std::abs(x1 - x0) + 1) * (std::abs(y1 - y0) + 1);
+          if (area + static_cast<double>(edits.size()) > kMaxCellEdits) break;
+          for (int y = std::min(y0, y1); y <= std::max(y0, y1); ++y) {
+            for (int x = std::min(x0, x1); x <= std::max(x0, x1); ++x) edits.push_back({x, y, value});
+          }
+        }
+        if (edits.size() > kMaxCellEdits) {
+          throw ApiError(http::status::payload_too_large, "Edit too large",
+                         "at most " + std::to_string(kMaxCellEdits) + " cells per edit; use PUT /api/v1/map/image");
+        }
+        ExpectMapEdit([&] { c_.maps.EditCells(edits); });
+        return JsonResponse(r, {{"revision", c_.maps.active()->revision}, {"changed", edits.size()}});
+      }));
+  Add(http::verb::get, "/api/v1/maps", Sync([this](const Request& r, const Params&) {
+        return JsonResponse(r, {{"maps", c_.maps.Names()}, {"active", c_.maps.active()->name}});
+      }));
+  Add(http::verb::put, "/api/v1/map/active", Sync([this](const Request& r, const Params&) {
+        const json body = ParseJsonBody(r);
+        AllowOnlyKeys(body, {"name"}, "");
+        if (!body.contains("name") || !body["name"].is_string()) {
+          throw ApiError(http::status::bad_request, "Invalid request", "'name' must be a map name");
+        }
+        const auto mission = c_.bus.Get(topics::kMission).latest();
+        const std::string status = mission ? mission->document.value("status", "") : "";
+        if (status == "active" || status == "paused") {
+          throw ApiError(http::status::conflict, "Mission in progress", "cancel the mission before changing maps",
+                         "mission_in_progress");
+        }
+        ExpectMapEdit([&] { c_.maps.Select(body["name"].get<std::string>()); });
+        ZonesChanged();
+        return JsonResponse(r, {{"active", c_.maps.active()->name}});
+      }));
+
+  // Zones and places belong to the active map.
+  Add(http::verb::get, "/api/v1/zones", Sync([this](const Request& r, const Params&) {
+        json zones = json::array();
+        for (const nav::Zone& z : c_.store.Zones(c_.maps.active()->name)) zones.push_back(ZoneJson(z));
+        return JsonResponse(r, {{"zones", zones}});
+      }));
+  Add(http::verb::post, "/api/v1/zones", Sync([this](const Request& r, const Params&) {
+        const nav::Zone z = ParseZone(ParseJsonBody(r), NewId());
+        c_.store.PutZone(c_.maps.active()->name, z);
+        ZonesChanged();
+        Response res = JsonResponse(r, ZoneJson(z), http::status::created);
+        res.set(http::field::location, "/api/v1/zones/" + z.id);
+        return res;
+      }));
+  const auto find_zone = [this](const std::string& id) {
+    for (const nav::Zone& z : c_.store.Zones(c_.maps.active()->name)) {
+      if (z.id == id) return z;
+    }
+    throw ApiError(http::status::not_found, "Not found", "no zone " + id);
+  };
+  Add(http::verb::get, "/api/v1/zones/{id}", Sync([find_zone](const Request& r, const Params& p) {
+        return JsonResponse(r, ZoneJson(find_zone(p.at("id"))));
+      }));
+  Add(http::verb::put, "/api/v1/zones/{id}", Sync([this, find_zone](const Request& r, const Params& p) {
+        find_zone(p.at("id"));
+        const nav::Zone z = ParseZone(ParseJsonBody(r), p.at("id"));
+        c_.store.PutZone(c_.maps.active()->name, z);
+        ZonesChanged();
+        return JsonResponse(r, ZoneJson(z));
+      }));
+  Add(http::verb::delete_, "/api/v1/zones/{id}", Sync([this](const Request& r, const Params& p) {
+        if (!c_.store.DeleteZone(c_.maps.active()->name, p.at("id"))) {
+          throw ApiError(http::status::not_found, "Not found", "no zone " + p.at("id"));
+        }
+        ZonesChanged();
+        return MakeResponse(r, http::status::no_content, "application/json", "");
+      }));
+
+  Add(http::verb::get, "/api/v1/places", Sync([this](const Request& r, const Params&) {
+        json places = json::array();
+        for (const nav::Place& p : c_.store.Places(c_.maps.active()->name)) places.push_back(PlaceJson(p));
+        return JsonResponse(r, {{"places", places}});
+      }));
+  const auto check_name_free = [this](const nav::Place& place) {
+    for (const nav::Place& p : c_.store.Places(c_.maps.active()->name)) {
+      if (p.name == place.name && p.id != place.id) {
+        throw ApiError(http::status::conflict, "Name taken", "a place named '" + place.name + "' exists", "name_taken");
+      }
+    }
+    const auto cell = c_.maps.active()->grid.WorldToCell(place.pose.translation());
+    if (!cell) {
+      throw ApiError(http::status::unprocessable_entity, "Place outside the map", "the place is outside the map",
+                     "goal_outside_map");
+    }
+  };
+  Add(http::verb::post, "/api/v1/places", Sync([this, check_name_free](const Request& r, const Params&) {
+        const nav::Place place = ParsePlace(ParseJsonBody(r), NewId());
+        check_name_free(place);
+        c_.store.PutPlace(c_.maps.active()->name, place);
+        Response res = JsonResponse(r, PlaceJson(place), http::status::created);
+        res.set(http::field::location, "/api/v1/places/" + place.id);
+        return res;
+      }));
+  const auto find_place = [this](const std::string& id) {
+    for (const nav::Place& p : c_.store.Places(c_.maps.active()->name)) {
+      if (p.id == id) return p;
+    }
+    throw ApiError(http::status::not_found, "Not found", "no place " + id);
+  };
+  Add(http::verb::get, "/api/v1/places/{id}", Sync([find_place](const Request& r, const Params& p) {
+        return JsonResponse(r, PlaceJson(find_place(p.at("id"))));
+      }));
+  Add(http::verb::put, "/api/v1/places/{id}",
+      Sync([this, find_place, check_name_free](const Request& r, const Params& p) {
+        find_place(p.at("id"));
+        const nav::Place place = ParsePlace(ParseJsonBody(r), p.at("id"));
+        check_name_free(place);
+        c_.store.PutPlace(c_.maps.active()->name, place);
+        return JsonResponse(r, PlaceJson(place));
+      }));
+  Add(http::verb::delete_, "/api/v1/places/{id}", Sync([this](const Request& r, const Params& p) {
+        if (!c_.store.DeletePlace(c_.maps.active()->name, p.at("id"))) {
+          throw ApiError(http::status::not_found, "Not found", "no place " + p.at("id"));
+        }
+        return MakeResponse(r, http::status::no_content, "application/json", "");
+      }));
+}
+
+}  // namespace corridor::server

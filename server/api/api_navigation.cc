@@ -1,0 +1,182 @@
+// Routes for planning and missions: POST /api/v1/plan, /api/v1/missions and their actions.
+#include <cmath>
+
+#include "server/api/api.h"
+#include "server/runtime/topics.h"
+
+namespace corridor::server {
+namespace {
+
+using nlohmann::json;
+
+http::status StatusFor(nav::PlanError error) {
+  switch (error) {
+    case nav::PlanError::kCancelled: return http::status::service_unavailable;
+    default: return http::status::unprocessable_entity;
+  }
+}
+
+std::string TitleFor(nav::PlanError error) {
+  switch (error) {
+    case nav::PlanError::kStartOutsideMap: return "Start outside the map";
+    case nav::PlanError::kStartOccupied: return "Start occupied";
+    case nav::PlanError::kGoalOutsideMap: return "Goal outside the map";
+    case nav::PlanError::kGoalOccupied: return "Goal occupied";
+    case nav::PlanError::kNoPath: return "No path";
+    case nav::PlanError::kCancelled: return "Plan cancelled";
+    case nav::PlanError::kNone: break;
+  }
+  return "Plan failed";
+}
+
+json NumberOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+}  // namespace
+
+nav::MissionGoal Api::ParseGoal(const json& j, const std::string& where) const {
+  if (!j.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "'" + where + "' must be an object");
+  nav::MissionGoal goal;
+  if (j.contains("place")) {
+    AllowOnlyKeys(j, {"place"}, where);
+    if (!j["place"].is_string()) {
+      throw ApiError(http::status::bad_request, "Invalid request", "'" + where + ".place' must be a place name");
+    }
+    goal.place = j["place"].get<std::string>();
+    const auto map = c_.maps.active();
+    for (const nav::Place& p : c_.store.Places(map->name)) {
+      if (p.name == goal.place || p.id == goal.place) {
+        goal.pose = p.pose;
+        goal.has_yaw = true;
+        return goal;
+      }
+    }
+    throw ApiError(http::status::unprocessable_entity, "Unknown place",
+                   "'" + where + "': no place named '" + goal.place + "' on map '" + map->name + "'", "unknown_place");
+  }
+  AllowOnlyKeys(j, {"x", "y", "yaw"}, where);
+  goal.pose.x_m = RequireNumber(j, "x", where);
+  goal.pose.y_m = RequireNumber(j, "y", where);
+  if (j.contains("yaw")) {
+    goal.pose.yaw_rad = nav::WrapAngle(RequireNumber(j, "yaw", where));
+    goal.has_yaw = true;
+  }
+  return goal;
+}
+
+void Api::AddNavigationRoutes() {
+  Add(http::verb::post, "/api/v1/plan",
+      [this](const Request& r, const Params&, Reply reply) { Plan(r, std::move(reply)); });
+  Add(http::verb::post, "/api/v1/missions",
+      [this](const Request& r, const Params&, Reply reply) { StartMission(r, std::move(reply)); });
+  Add(http::verb::get, "/api/v1/missions", Sync([this](const Request& r, const Params&) {
+        return JsonResponse(r, {{"missions", c_.store.Missions(50)}});
+      }));
+  Add(http::verb::get, "/api/v1/missions/{id}", Sync([this](const Request& r, const Params& p) {
+        const std::string& id = p.at("id");
+        if (auto doc = c_.missions.Describe(id)) return JsonResponse(r, *doc);
+        if (auto doc = c_.store.Mission(id)) return JsonResponse(r, *doc);
+        throw ApiError(http::status::not_found, "Not found", "no mission " + id);
+      }));
+  Add(http::verb::post, "/api/v1/missions/{id}/{action}", Sync([this](const Request& r, const Params& p) {
+        return MissionAction(r, p.at("id"), p.at("action"));
+      }));
+}
+
+void Api::Plan(const Request& request, Reply reply) const {
+  const json body = ParseJsonBody(request);
+  AllowOnlyKeys(body, {"start", "goal"}, "");
+  if (!body.contains("goal")) throw ApiError(http::status::bad_request, "Invalid request", "missing 'goal'");
+  const nav::MissionGoal goal = ParseGoal(body["goal"], "goal");
+  PlanRequest plan{{}, goal.pose.translation(), goal.has_yaw ? std::optional(goal.pose.yaw_rad) : std::nullopt, {}};
+  if (body.contains("start")) {
+    plan.start = ParseGoal(body["start"], "start").pose.translation();
+  } else {
+    const auto pose = c_.bus.Get(topics::kPose).latest();
+    if (!pose) throw ApiError(http::status::service_unavailable, "No pose", "the robot does not know where it is yet");
+    plan.start = pose->pose.translation();
+  }
+  c_.planner.Plan(std::move(plan), [this, request, reply](PlanReply r) {
+    Answer(request, reply, [&]() -> Response {
+      if (!r.result.ok()) {
+        throw ApiError(StatusFor(r.result.error), TitleFor(r.result.error), r.result.detail,
+                       nav::ToString(r.result.error));
+      }
+      const nav::Plan& p = r.result.plan;
+      json path = json::array();
+      for (const nav::Waypoint& w : p.waypoints) {
+        path.push_back({{"x", w.pose.x_m}, {"y", w.pose.y_m}, {"yaw", w.pose.yaw_rad},
+                        {"speed_limit_mps", NumberOrNull(w.speed_limit_mps)}});
+      }
+      return JsonResponse(request, {{"path", path},
+                                    {"length_m", p.length_m},
+                                    {"min_clearance_m", p.min_clearance_m},
+                                    {"mean_clearance_m", p.mean_clearance_m},
+                                    {"expanded", p.expanded},
+                                    {"planning_ms", r.planning_ms},
+                                    {"costmap_ms", r.costmap_ms}});
+    });
+  });
+}
+
+void Api::StartMission(const Request& request, Reply reply) const {
+  const json body = ParseJsonBody(request);
+  AllowOnlyKeys(body, {"waypoints", "speed_limit_mps"}, "");
+  const auto list = body.find("waypoints");
+  if (list == body.end() || !list->is_array() || list->empty() || list->size() > 100) {
+    throw ApiError(http::status::bad_request, "Invalid request", "'waypoints' must be a list of 1 to 100 waypoints");
+  }
+  std::vector<nav::MissionGoal> goals;
+  for (std::size_t i = 0; i < list->size(); ++i) goals.push_back(ParseGoal((*list)[i], "waypoints[" + std::to_string(i) + "]"));
+  double speed_limit = std::numeric_limits<double>::infinity();
+  if (body.contains("speed_limit_mps")) {
+    speed_limit = RequireNumber(body, "speed_limit_mps", "");
+    if (speed_limit <= 0.0) throw ApiError(http::status::bad_request, "Invalid request", "'speed_limit_mps' must be > 0");
+  }
+  // Every waypoint must be somewhere the robot can stand; say which one is not before anything moves.
+  c_.planner.WithCostmap([this, request, reply, goals = std::move(goals), speed_limit](const nav::Costmap& costmap,
+                                                                                         std::uint64_t) mutable {
+    Answer(request, reply, [&]() -> Response {
+      for (std::size_t i = 0; i < goals.size(); ++i) {
+        const std::string where = "waypoints[" + std::to_string(i) + "]";
+        const auto cell = costmap.grid().WorldToCell(goals[i].pose.translation());
+        if (!cell) {
+          throw ApiError(http::status::unprocessable_entity, "Goal outside the map", where + " is outside the map",
+                         "goal_outside_map");
+        }
+        if (!costmap.Traversable(costmap.Index(*cell))) {
+          const std::string why = costmap.InKeepOut(costmap.Index(*cell)) ? " is in a keep-out zone"
+                                                                           : " is occupied or too close to an obstacle";
+          throw ApiError(http::status::unprocessable_entity, "Goal occupied", where + why, "goal_occupied");
+        }
+      }
+      json doc = c_.missions.Start(std::move(goals), speed_limit);
+      Response res = JsonResponse(request, doc, http::status::created);
+      res.set(http::field::location, "/api/v1/missions/" + doc["id"].get<std::string>());
+      return res;
+    });
+  });
+}
+
+Response Api::MissionAction(const Request& request, const std::string& id, const std::string& action) const {
+  MissionNode::Outcome outcome;
+  if (action == "pause") {
+    outcome = c_.missions.Pause(id);
+  } else if (action == "resume") {
+    outcome = c_.missions.Resume(id);
+  } else if (action == "cancel") {
+    outcome = c_.missions.Cancel(id);
+  } else {
+    throw ApiError(http::status::not_found, "Not found", "missions have no action '" + action + "'");
+  }
+  if (outcome == MissionNode::Outcome::kNotFound) {
+    throw ApiError(http::status::not_found, "Not found", "no mission " + id + " in progress");
+  }
+  const json doc = *c_.missions.Describe(id);
+  if (outcome == MissionNode::Outcome::kConflict) {
+    throw ApiError(http::status::conflict, "Not allowed now",
+                   "cannot " + action + " a mission that is " + doc["status"].get<std::string>(), "invalid_transition");
+  }
+  return JsonResponse(request, doc);
+}
+
+}  // namespace corridor::server

@@ -1,0 +1,195 @@
+#include "server/nodes/mission_node.h"
+
+#include <cmath>
+#include <spdlog/spdlog.h>
+
+#include "server/runtime/topics.h"
+#include "server/store/store.h"
+
+namespace corridor::server {
+namespace {
+
+using nlohmann::json;
+
+constexpr double kRateHz = 20.0;
+
+json PoseJson(const nav::Pose2& p) { return {{"x", p.x_m}, {"y", p.y_m}, {"yaw", p.yaw_rad}}; }
+
+}  // namespace
+
+MissionNode::MissionNode(Executor& control, Bus& bus, const drivers::Clock& clock, PlannerService& planner,
+                         const nav::FollowerOptions& follower, std::function<void(json)> on_change)
+    : PeriodicNode("mission", control, clock, kRateHz),
+      bus_(bus),
+      planner_(planner),
+      on_change_(std::move(on_change)),
+      nominal_speed_mps_(follower.max_linear_mps),
+      follower_(follower) {}
+
+json MissionNode::DescribeLocked() const {
+  const nav::Mission& m = *mission_;
+  json goals = json::array();
+  for (const nav::MissionGoal& g : m.goals()) {
+    json goal = {{"x", g.pose.x_m}, {"y", g.pose.y_m}};
+    if (g.has_yaw) goal["yaw"] = g.pose.yaw_rad;
+    if (!g.place.empty()) goal["place"] = g.place;
+    goals.push_back(goal);
+  }
+  json path = json::array();
+  for (const nav::Waypoint& w : follower_.path()) path.push_back(PoseJson(w.pose));
+  const double speed = std::min(nominal_speed_mps_, m.speed_limit_mps());
+  json doc = {{"id", m.id()},
+              {"status", nav::ToString(m.status())},
+              {"waypoints", goals},
+              {"current_waypoint", m.current()},
+              {"progress", m.Progress(remaining_m_, leg_length_m_)},
+              {"eta_s", m.EtaSeconds(remaining_m_, speed)},
+              {"remaining_on_leg_m", remaining_m_},
+              {"path", path},
+              {"error", m.error()}};
+  doc["speed_limit_mps"] = std::isfinite(m.speed_limit_mps()) ? json(m.speed_limit_mps()) : json(nullptr);
+  return doc;
+}
+
+void MissionNode::Changed() {
+  const json doc = DescribeLocked();
+  bus_.Get(topics::kMission).Publish(MissionState{doc});
+  if (on_change_) on_change_(doc);
+}
+
+json MissionNode::Start(std::vector<nav::MissionGoal> goals, double speed_limit_mps) {
+  std::lock_guard lock(mutex_);
+  if (mission_ && mission_->Cancel()) Changed();
+  mission_ = std::make_unique<nav::Mission>(NewId(), std::move(goals), speed_limit_mps);
+  follower_.Clear();
+  ++generation_;
+  planning_ = false;
+  checking_ = false;
+  leg_length_m_ = remaining_m_ = 0.0;
+  Changed();
+  spdlog::info("mission {}: {} waypoint(s)", mission_->id(), mission_->goals().size());
+  return DescribeLocked();
+}
+
+MissionNode::Outcome MissionNode::Pause(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  if (!mission_ || mission_->id() != id) return Outcome::kNotFound;
+  if (!mission_->Pause()) return Outcome::kConflict;
+  Changed();
+  return Outcome::kOk;
+}
+
+MissionNode::Outcome MissionNode::Resume(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  if (!mission_ || mission_->id() != id) return Outcome::kNotFound;
+  if (!mission_->Resume()) return Outcome::kConflict;
+  // The robot may have been pushed or driven while paused: plan the leg again from where it is.
+  follower_.Clear();
+  ++generation_;
+  planning_ = false;
+  Changed();
+  return Outcome::kOk;
+}
+
+MissionNode::Outcome MissionNode::Cancel(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  if (!mission_ || mission_->id() != id) return Outcome::kNotFound;
+  if (!mission_->Cancel()) return Outcome::kConflict;
+  follower_.Clear();
+  ++generation_;
+  Changed();
+  return Outcome::kOk;
+}
+
+std::optional<json> MissionNode::Describe(const std::string& id) const {
+  std::lock_guard lock(mutex_);
+  if (!mission_ || mission_->id() != id) return std::nullopt;
+  return DescribeLocked();
+}
+
+void MissionNode::RequestPlan(const nav::Pose2& from) {
+  planning_ = true;
+  const nav::MissionGoal& goal = mission_->current_goal();
+  PlanRequest request{from.translation(), goal.pose.translation(),
+                      goal.has_yaw ? std::optional<double>(goal.pose.yaw_rad) : std::nullopt, nullptr};
+  const std::uint64_t generation = generation_;
+  planner_.Plan(std::move(request), [this, generation](PlanReply reply) {
+    executor().Post([this, generation, reply = std::move(reply)] {
+      std::lock_guard lock(mutex_);
+      if (generation != generation_ || !mission_ || mission_->finished()) return;  // overtaken
+      planning_ = false;
+      if (!reply.result.ok()) {
+        spdlog::warn("mission {}: {}", mission_->id(), reply.result.detail);
+        mission_->Fail(reply.result.detail);
+        Changed();
+        return;
+      }
+      follower_.SetPath(reply.result.plan.waypoints);
+      path_version_ = reply.version;
+      leg_length_m_ = remaining_m_ = reply.result.plan.length_m;
+      Changed();
+    });
+  });
+}
+
+void MissionNode::CheckPath(const nav::Pose2& from) {
+  checking_ = true;
+  const std::uint64_t generation = generation_;
+  std::vector<nav::Waypoint> path = follower_.path();
+  planner_.WithCostmap([this, generation, from, path = std::move(path)](const nav::Costmap& costmap,
+                                                                        std::uint64_t version) {
+    // Is the rest of the path still free? The legs from the waypoint nearest the robot onward.
+    std::size_t nearest = 0;
+    for (std::size_t i = 1; i < path.size(); ++i) {
+      if ((path[i].pose.translation() - from.translation()).norm() <
+          (path[nearest].pose.translation() - from.translation()).norm()) {
+        nearest = i;
+      }
+    }
+    bool free = true;
+    for (std::size_t i = std::max<std::size_t>(nearest, 1); i < path.size() && free; ++i) {
+      free = nav::SegmentTraversable(costmap, path[i - 1].pose.translation(), path[i].pose.translation());
+    }
+    executor().Post([this, generation, free, version] {
+      std::lock_guard lock(mutex_);
+      if (generation != generation_) return;
+      checking_ = false;
+      if (free) {
+        path_version_ = version;
+      } else {
+        spdlog::info("mission {}: the map or zones changed across the path; replanning", mission_->id());
+        follower_.Clear();
+        ++generation_;
+      }
+    });
+  });
+}
+
+void MissionNode::Tick() {
+  std::lock_guard lock(mutex_);
+  if (!mission_ || mission_->finished()) return;
+  const auto pose = bus_.Get(topics::kPose).latest();
+  auto& command = bus_.Get(topics::kMissionCommand);
+  const auto stop = [&] { command.Publish(MissionCommand{clock().Now(), {}}); };
+  if (!pose) return stop();
+  if (mission_->status() == nav::MissionStatus::kPaused) return stop();
+  if (!follower_.has_path()) {
+    if (!planning_) RequestPlan(pose->pose);
+    return stop();
+  }
+  if (path_version_ != planner_.version() && !checking_) CheckPath(pose->pose);
+  const nav::FollowStep step = follower_.Update(pose->pose, mission_->speed_limit_mps());
+  remaining_m_ = step.remaining_m;
+  if (step.done) {
+    mission_->GoalReached();
+    follower_.Clear();
+    ++generation_;
+    remaining_m_ = leg_length_m_ = 0.0;
+    Changed();
+    return stop();
+  }
+  command.Publish(MissionCommand{clock().Now(), step.twist});
+  bus_.Get(topics::kMission).Publish(MissionState{DescribeLocked()});
+}
+
+}  // namespace corridor::server

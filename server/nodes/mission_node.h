@@ -1,0 +1,59 @@
+// Runs missions: plans each leg from the robot's pose with the planner service, follows the path with the path
+// follower, and goes on to the next waypoint. Replans when the map or zones change across the rest of the path,
+// fails the mission with the planner's reason when there is no way. Publishes its velocity on mission/command
+// for the control node, and its state on mission. On the control executor.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <mutex>
+
+#include "nav/mission/mission.h"
+#include "nav/policy/path_follower.h"
+#include "server/nodes/planner_service.h"
+#include "server/runtime/bus.h"
+#include "server/runtime/node.h"
+
+namespace corridor::server {
+
+class MissionNode final : public PeriodicNode {
+ public:
+  enum class Outcome { kOk, kNotFound, kConflict };
+
+  // `on_change` receives the mission's document whenever its status changes (to persist it); called on the
+  // control executor, so it must hand the work elsewhere.
+  MissionNode(Executor& control, Bus& bus, const drivers::Clock& clock, PlannerService& planner,
+              const nav::FollowerOptions& follower, std::function<void(nlohmann::json)> on_change);
+
+  // Thread-safe. Starting a mission cancels the one in progress. Returns the new mission's document.
+  nlohmann::json Start(std::vector<nav::MissionGoal> goals, double speed_limit_mps);
+  Outcome Pause(const std::string& id);
+  Outcome Resume(const std::string& id);
+  Outcome Cancel(const std::string& id);
+  // The mission's document when it is the current (or last) one.
+  std::optional<nlohmann::json> Describe(const std::string& id) const;
+
+ private:
+  void Tick() override;
+  void RequestPlan(const nav::Pose2& from);
+  void CheckPath(const nav::Pose2& from);
+  nlohmann::json DescribeLocked() const;
+  void Changed();  // status changed: persist and publish
+
+  Bus& bus_;
+  PlannerService& planner_;
+  std::function<void(nlohmann::json)> on_change_;
+  double nominal_speed_mps_;
+
+  mutable std::mutex mutex_;
+  std::unique_ptr<nav::Mission> mission_;
+  nav::PathFollower follower_;
+  std::uint64_t generation_ = 0;    // bumped per leg and mission, to drop answers to stale requests
+  bool planning_ = false;
+  bool checking_ = false;
+  std::uint64_t path_version_ = 0;  // planner version the current path was made or checked with
+  double leg_length_m_ = 0.0;
+  double remaining_m_ = 0.0;
+};
+
+}  // namespace corridor::server

@@ -1,0 +1,68 @@
+#include "server/nodes/planner_service.h"
+
+#include <chrono>
+
+namespace corridor::server {
+namespace {
+
+double MsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+PlannerService::PlannerService(Executor& planning, const nav::CostmapOptions& options)
+    : planning_(planning), options_(options) {}
+
+void PlannerService::SetMap(std::shared_ptr<const nav::OccupancyGrid> map) {
+  std::lock_guard lock(mutex_);
+  map_ = std::move(map);
+  ++version_;
+}
+
+void PlannerService::SetZones(std::vector<nav::Zone> zones) {
+  std::lock_guard lock(mutex_);
+  zones_ = std::move(zones);
+  ++version_;
+}
+
+std::shared_ptr<const nav::Costmap> PlannerService::Current(double* build_ms) {
+  *build_ms = 0.0;
+  std::shared_ptr<const nav::OccupancyGrid> map;
+  std::vector<nav::Zone> zones;
+  std::uint64_t version = 0;
+  {
+    std::lock_guard lock(mutex_);
+    version = version_.load();
+    if (costmap_ && costmap_version_ == version) return costmap_;
+    map = map_;
+    zones = zones_;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  costmap_ = std::make_shared<const nav::Costmap>(*map, zones, options_);
+  costmap_version_ = version;
+  *build_ms = MsSince(start);
+  return costmap_;
+}
+
+void PlannerService::Plan(PlanRequest request, std::function<void(PlanReply)> done) {
+  planning_.Post([this, request = std::move(request), done = std::move(done)] {
+    PlanReply reply;
+    const auto costmap = Current(&reply.costmap_ms);
+    reply.version = costmap_version_;
+    const auto start = std::chrono::steady_clock::now();
+    reply.result = nav::PlanPath(*costmap, request.start, request.goal, request.goal_yaw, request.cancel.get());
+    reply.planning_ms = MsSince(start);
+    done(std::move(reply));
+  });
+}
+
+void PlannerService::WithCostmap(std::function<void(const nav::Costmap&, std::uint64_t)> work) {
+  planning_.Post([this, work = std::move(work)] {
+    double build_ms = 0.0;
+    const auto costmap = Current(&build_ms);
+    work(*costmap, costmap_version_);
+  });
+}
+
+}  // namespace corridor::server

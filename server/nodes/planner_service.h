@@ -1,0 +1,60 @@
+// Global planning for the daemon: keeps the costmap of the active map and zones, rebuilt only when either
+// changes, and runs plan requests on the planning executor. Used by the API (POST /api/v1/plan) and by missions.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+
+#include "nav/planner/planner.h"
+#include "server/runtime/executor.h"
+
+namespace corridor::server {
+
+struct PlanRequest {
+  Eigen::Vector2d start;
+  Eigen::Vector2d goal;
+  std::optional<double> goal_yaw;
+  std::shared_ptr<std::atomic<bool>> cancel;  // may be null
+};
+
+struct PlanReply {
+  nav::PlanResult result;
+  std::uint64_t version = 0;   // of the map and zones it was planned on
+  double planning_ms = 0.0;    // search and path processing
+  double costmap_ms = 0.0;     // 0 when the cached costmap was used
+};
+
+class PlannerService {
+ public:
+  PlannerService(Executor& planning, const nav::CostmapOptions& options);
+
+  // Thread-safe. Each change bumps the version; the costmap is rebuilt on the next request.
+  void SetMap(std::shared_ptr<const nav::OccupancyGrid> map);
+  void SetZones(std::vector<nav::Zone> zones);
+  std::uint64_t version() const { return version_.load(); }
+  const nav::CostmapOptions& options() const { return options_; }
+
+  // Queues a plan on the planning executor; `done` runs there.
+  void Plan(PlanRequest request, std::function<void(PlanReply)> done);
+  // Queues `work` with the current costmap on the planning executor (for checks such as "is the rest of my path
+  // still free?").
+  void WithCostmap(std::function<void(const nav::Costmap&, std::uint64_t version)> work);
+
+ private:
+  // On the planning executor: the costmap for the current map and zones, and how long building it took.
+  std::shared_ptr<const nav::Costmap> Current(double* build_ms);
+
+  Executor& planning_;
+  nav::CostmapOptions options_;
+  mutable std::mutex mutex_;
+  std::shared_ptr<const nav::OccupancyGrid> map_;
+  std::vector<nav::Zone> zones_;
+  std::atomic<std::uint64_t> version_{1};
+  std::shared_ptr<const nav::Costmap> costmap_;  // planning executor only
+  std::uint64_t costmap_version_ = 0;             // planning executor only
+};
+
+}  // namespace corridor::server

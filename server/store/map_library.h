@@ -1,0 +1,67 @@
+// The maps the robot knows and the one it works in. Maps live in <state_dir>/maps/NAME/map.{yaml,pgm} (ROS
+// map_server format); the configured map is the first, and an edited map is saved there under its name, so edits
+// survive restarts. Saving is atomic (temporary file, then rename). Thread-safe.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "nav/map/occupancy_grid.h"
+
+namespace corridor::server {
+
+// The map in use, immutable once published: edits make a new one.
+struct ActiveMap {
+  std::string name;
+  nav::OccupancyGrid grid;
+  std::string png;            // 8-bit grey, map_server trinary shades, row 0 at the top
+  std::uint64_t revision = 0; // bumped by every edit and selection
+};
+
+// A map edit or selection the library refuses; what() says why.
+class MapEditError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+struct CellEdit {
+  int x = 0;
+  int y = 0;
+  std::int8_t value = nav::kUnknownCell;  // -1, 0 or 100
+};
+
+class MapLibrary {
+ public:
+  // Starts with `initial` named `name`; a saved edit of the same name in the state directory takes precedence.
+  // `on_change` runs (on the caller's thread) after every edit or selection, with the lock released.
+  MapLibrary(const std::filesystem::path& state_dir, std::string name, nav::OccupancyGrid initial,
+             std::function<void(std::shared_ptr<const ActiveMap>)> on_change);
+
+  std::shared_ptr<const ActiveMap> active() const;
+  std::vector<std::string> Names() const;
+
+  // Sets cells (grid coordinates, values -1, 0 or 100) and saves. Throws MapEditError for a cell outside the map
+  // or a bad value; nothing changes then.
+  void EditCells(const std::vector<CellEdit>& edits);
+  // Replaces the whole map with an image of the same size (PNG or PGM bytes, map_server trinary shades).
+  void ReplaceImage(const std::string& bytes);
+  // Makes a saved map the active one. Throws MapEditError when there is no such map.
+  void Select(const std::string& name);
+
+ private:
+  void Publish(nav::OccupancyGrid grid, const std::string& name, bool save);
+
+  std::filesystem::path dir_;
+  std::function<void(std::shared_ptr<const ActiveMap>)> on_change_;
+  mutable std::mutex mutex_;
+  std::shared_ptr<const ActiveMap> active_;
+};
+
+// True for names usable as folder names: letters, digits, '-', '_' and '.', not starting with '.'.
+bool ValidMapName(const std::string& name);
+
+}  // namespace corridor::server
