@@ -23,9 +23,10 @@ export function runCorridord(args, timeoutMs = 20000) {
   });
 }
 
-// Starts corridord; `config` (YAML text) replaces the shipped config when given. Resolves once it listens.
-export async function startDaemon({ config = null, args = [] } = {}) {
-  const stateDir = mkdtempSync(join(tmpdir(), 'corridor-test-'));
+// Starts corridord; `config` (YAML text) replaces the shipped config when given; `stateDir` keeps the state of an
+// earlier daemon (it is then left in place at stop). Resolves once it listens.
+export async function startDaemon({ config = null, args = [], stateDir: keptStateDir = null } = {}) {
+  const stateDir = keptStateDir ?? mkdtempSync(join(tmpdir(), 'corridor-test-'));
   const configArgs = [];
   if (config !== null) {
     const file = join(stateDir, 'corridor.yaml');
@@ -50,12 +51,13 @@ export async function startDaemon({ config = null, args = [] } = {}) {
   return {
     port,
     url: `http://127.0.0.1:${port}`,
+    stateDir,
     log: () => log,
     exited,
     async stop() {
       proc.kill('SIGTERM');
       const result = await exited;
-      rmSync(stateDir, { recursive: true, force: true });
+      if (!keptStateDir) rmSync(stateDir, { recursive: true, force: true });
       return result;
     },
   };
@@ -68,12 +70,27 @@ export async function getJson(url) {
   return { status: res.status, type: res.headers.get('content-type'), body: await res.json() };
 }
 
-export async function postJson(url, body, contentType = 'application/json') {
+export async function sendJson(method, url, body, contentType = 'application/json') {
   const res = await fetch(url, {
-    method: 'POST', headers: { 'Content-Type': contentType },
+    method, headers: { 'Content-Type': contentType },
     body: typeof body === 'string' ? body : JSON.stringify(body),
   });
-  return { status: res.status, type: res.headers.get('content-type'), body: await res.json() };
+  const text = await res.text();
+  return { status: res.status, type: res.headers.get('content-type'), body: text ? JSON.parse(text) : null };
+}
+
+export const postJson = (url, body, contentType) => sendJson('POST', url, body, contentType);
+
+// Polls until `predicate(value)` holds for `get()`'s value; returns that value, or throws after `ms`.
+export async function waitFor(get, predicate, ms, what) {
+  const end = Date.now() + ms;
+  let value;
+  while (Date.now() < end) {
+    value = await get();
+    if (predicate(value)) return value;
+    await sleep(100);
+  }
+  throw new Error(`timed out waiting for ${what}; last: ${JSON.stringify(value)?.slice(0, 400)}`);
 }
 
 // A validator for a schema of the OpenAPI document (JSON Schema 2020-12, as OpenAPI 3.1 uses).

@@ -29,7 +29,8 @@ BaseCommand DecideCommand(const ControlInputs& in, const SafetyOptions& options)
   if (in.teleop != nullptr && in.now_ns - in.teleop->received_ns <= drivers::FromSeconds(options.teleop_deadman_s)) {
     out.mode = "teleop";
     out.twist = Limit(in.teleop->twist, options);
-  } else if (in.mission != nullptr && in.now_ns - in.mission->stamp_ns <= drivers::FromSeconds(kMissionFreshS)) {
+  } else if (in.mission != nullptr && in.mission->active &&
+             in.now_ns - in.mission->stamp_ns <= drivers::FromSeconds(kMissionFreshS)) {
     out.mode = "mission";
     out.twist = Limit(in.mission->twist, options);
   }

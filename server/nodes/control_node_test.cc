@@ -34,6 +34,8 @@ TEST(DecideCommandTest, TeleopOverridesAMissionAndAStaleMissionIsIgnored) {
   EXPECT_EQ(m.mode, "mission");
   EXPECT_DOUBLE_EQ(m.twist.linear_mps, 0.4);
   EXPECT_EQ(DecideCommand({FromSeconds(10.5), nullptr, FromSeconds(10.5), &mission}, o).mode, "idle");
+  const MissionCommand over{FromSeconds(10.0), {}, false};
+  EXPECT_EQ(DecideCommand({FromSeconds(10.05), nullptr, FromSeconds(10.05), &over}, o).mode, "idle");
 }
 
 TEST(DecideCommandTest, NoOdometryMeansStopWithAReason) {

@@ -9,6 +9,8 @@ LocalizationNode::LocalizationNode(Executor& executor, Bus& bus, const drivers::
 
 void LocalizationNode::Activate() {
   auto& pose = bus_.Get(topics::kPose);
+  // The configured initial pose is known before the first odometry arrives.
+  pose.Publish(StampedPose{clock().Now(), map_T_odom_});
   bus_.Get(topics::kOdometry).Subscribe(executor_, [this, &pose](const auto& odometry) {
     LoopTimer timer(stats(), clock());
     pose.Publish(StampedPose{odometry->stamp_ns, map_T_odom_ * odometry->odom_T_base});

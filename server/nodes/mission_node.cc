@@ -53,6 +53,10 @@ json MissionNode::DescribeLocked() const {
 
 void MissionNode::Changed() {
   const json doc = DescribeLocked();
+  if (mission_->finished()) {
+    // Tell the control node at once, rather than letting the last command go stale.
+    bus_.Get(topics::kMissionCommand).Publish(MissionCommand{clock().Now(), {}, false});
+  }
   bus_.Get(topics::kMission).Publish(MissionState{doc});
   if (on_change_) on_change_(doc);
 }

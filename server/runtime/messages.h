@@ -38,6 +38,7 @@ struct BaseCommand {
 struct MissionCommand {
   drivers::TimeNs stamp_ns = 0;
   nav::Twist2 twist;
+  bool active = true;  // false: the mission is over (the control node stops and goes idle at once)
 };
 
 // The mission in progress (or the last one), as the console and the API show it.
