@@ -5,9 +5,8 @@ import { mkdirSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 
-import { require, sleep, sourceDir, startDaemon } from './daemon.mjs';
+import { launchBrowser, sleep, sourceDir, startDaemon } from './daemon.mjs';
 
-const { chromium } = require('playwright-core');
 const artifacts = process.env.CORRIDOR_ARTIFACTS ?? join(sourceDir, 'tests/artifacts');
 
 let daemon;
@@ -15,11 +14,7 @@ let browser;
 
 before(async () => {
   daemon = await startDaemon();
-  browser = await chromium.launch({
-    executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-  });
+  browser = await launchBrowser();
 });
 
 after(async () => {

@@ -93,6 +93,16 @@ export async function waitFor(get, predicate, ms, what) {
   throw new Error(`timed out waiting for ${what}; last: ${JSON.stringify(value)?.slice(0, 400)}`);
 }
 
+// Debian's chromium driven by playwright-core, headless, with the flags this machine's closed network needs.
+export function launchBrowser() {
+  const { chromium } = require('playwright-core');
+  return chromium.launch({
+    executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+  });
+}
+
 // A validator for a schema of the OpenAPI document (JSON Schema 2020-12, as OpenAPI 3.1 uses).
 export function openApiValidator() {
   const Ajv2020 = require('ajv/dist/2020').default;

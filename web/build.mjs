@@ -16,3 +16,4 @@ await build({
 cpSync('index.html', `${dist}index.html`);
 cpSync('style.css', `${dist}style.css`);
 cpSync('node_modules/leaflet/dist/leaflet.css', `${dist}leaflet.css`);
+cpSync('node_modules/@geoman-io/leaflet-geoman-free/dist/leaflet-geoman.css', `${dist}leaflet-geoman.css`);

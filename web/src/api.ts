@@ -11,15 +11,18 @@ export interface State {
   pose: Pose | null;
   velocity: Twist;
   bumper_pressed: boolean;
-  mode: 'starting' | 'idle' | 'teleop' | 'stopped';
+  mode: 'starting' | 'idle' | 'teleop' | 'mission' | 'stopped';
   stop_reason: string;
   command: Twist;
   sim_true_pose: Pose | null;
   face: 'neutral' | 'happy' | 'focused' | 'surprised' | 'worried' | 'sleepy';
+  mission: Mission | null;
+  map: { name: string; revision: number };
   nodes: NodeStatus[];
 }
 export interface MapInfo {
-  name: string; resolution_m: number; width: number; height: number; origin: Pose; image_url: string;
+  name: string; revision: number; resolution_m: number; width: number; height: number; origin: Pose;
+  image_url: string;
 }
 export interface Problem { type: string; title: string; status: number; detail: string; }
 
@@ -30,4 +33,37 @@ export async function fetchJson<T>(url: string): Promise<T> {
     throw new Error(problem ? `${problem.title}: ${problem.detail}` : `${url}: HTTP ${res.status}`);
   }
   return (await res.json()) as T;
+}
+
+export interface MissionWaypoint { x: number; y: number; yaw?: number; place?: string; }
+export interface Mission {
+  id: string; status: 'active' | 'paused' | 'succeeded' | 'failed' | 'canceled';
+  waypoints: MissionWaypoint[]; current_waypoint: number; progress: number; eta_s: number;
+  remaining_on_leg_m: number; path: Pose[]; error: string; speed_limit_mps: number | null;
+}
+export interface PathPoint { x: number; y: number; yaw: number; speed_limit_mps: number | null; }
+export interface PlanResult {
+  path: PathPoint[]; length_m: number; min_clearance_m: number; mean_clearance_m: number;
+  expanded: number; planning_ms: number; costmap_ms: number;
+}
+export interface Zone {
+  id: string; name: string; kind: 'keep_out' | 'speed_limit'; polygon: [number, number][]; max_speed_mps?: number;
+}
+export interface Place { id: string; name: string; x: number; y: number; yaw: number; }
+export type Goal = { x: number; y: number; yaw?: number } | { place: string };
+
+// Sends a JSON request; resolves the parsed body, or rejects with the problem's title and detail.
+export async function send<T>(method: string, url: string, body?: unknown): Promise<T> {
+  const res = await fetch(url, {
+    method,
+    headers: body === undefined ? {} : { 'Content-Type': 'application/json' },
+    body: body === undefined ? undefined : JSON.stringify(body),
+  });
+  const text = await res.text();
+  const parsed = text ? JSON.parse(text) : null;
+  if (!res.ok) {
+    const problem = parsed as Problem | null;
+    throw new Error(problem ? `${problem.title}: ${problem.detail}` : `${url}: HTTP ${res.status}`);
+  }
+  return parsed as T;
 }

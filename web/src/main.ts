@@ -1,8 +1,10 @@
-// The corridor console: map, live pose, camera, telemetry and teleoperation.
-import { fetchJson, type MapInfo, type State, type Twist } from './api';
+// The corridor console: map, live pose, camera, telemetry, teleoperation, and the navigation tools.
+import { fetchJson, send, type MapInfo, type Mission, type State, type Twist } from './api';
 import { MapView } from './map_view';
 import { Stream } from './stream';
 import { Teleop } from './teleop';
+import { Tools } from './tools';
+import { ZoneLayers } from './zones';
 
 const kCameraPeriodMs = 200;
 // The console drives at a walking pace; the daemon clamps to its own limits anyway.
@@ -17,6 +19,26 @@ function byId<T extends HTMLElement>(id: string): T {
 
 function deg(rad: number): string {
   return `${((rad * 180) / Math.PI).toFixed(1)}°`;
+}
+
+function report(message: string): void {
+  byId('message').textContent = message;
+}
+
+function showMission(mission: Mission | null): void {
+  const status = byId('mission-status');
+  const live = mission !== null && (mission.status === 'active' || mission.status === 'paused');
+  if (!mission) {
+    status.textContent = 'none';
+  } else {
+    const where = mission.waypoints.length > 1 ? ` (waypoint ${mission.current_waypoint + 1} of ${mission.waypoints.length})` : '';
+    status.textContent = `${mission.status}${live ? where : ''}${mission.error ? `: ${mission.error}` : ''}`;
+  }
+  byId<HTMLProgressElement>('mission-progress').value = mission?.progress ?? 0;
+  byId('mission-eta').textContent = live ? `about ${Math.ceil(mission.eta_s)} s to go` : '';
+  byId<HTMLButtonElement>('mission-pause').disabled = mission?.status !== 'active';
+  byId<HTMLButtonElement>('mission-resume').disabled = mission?.status !== 'paused';
+  byId<HTMLButtonElement>('mission-cancel').disabled = !live;
 }
 
 function showState(state: State, view: MapView | null): void {
@@ -40,7 +62,9 @@ function showState(state: State, view: MapView | null): void {
     return tr;
   });
   byId('nodes').replaceChildren(...rows);
+  showMission(state.mission);
   view?.showRobot(state.pose, state.sim_true_pose);
+  view?.showMission(state.mission);
 }
 
 // Refreshes the camera image; a fetched blob replaces the old one only when complete, so there is no flicker.
@@ -67,20 +91,49 @@ function startCamera(): void {
   void tick();
 }
 
+function missionAction(action: 'pause' | 'resume' | 'cancel', current: () => Mission | null): void {
+  byId(`mission-${action}`).addEventListener('click', () => {
+    const mission = current();
+    if (mission) void send('POST', `/api/v1/missions/${mission.id}/${action}`).catch((e: Error) => report(e.message));
+  });
+}
+
 async function main(): Promise<void> {
   let view: MapView | null = null;
+  let tools: Tools | null = null;
+  let mission: Mission | null = null;
+  let mapRevision = -1;
   try {
     const info = await fetchJson<MapInfo>('/api/v1/map');
     byId('map-name').textContent = info.name;
     view = new MapView(byId('map'), info, kFootprintRadius);
+    mapRevision = info.revision;
+    const zones = new ZoneLayers(view.map, report);
+    tools = new Tools(view, zones, report);
+    tools.attachPlaces();
+    await Promise.all([zones.reload(), tools.reloadPlaces()]);
+    // For tests and debugging from the browser's console.
+    (window as unknown as { corridorConsole: object }).corridorConsole = { view, tools, zones };
   } catch (e) {
     byId('map').textContent = `map unavailable: ${(e as Error).message}`;
   }
+  for (const action of ['pause', 'resume', 'cancel'] as const) missionAction(action, () => mission);
   const connection = byId('connection');
   const scheme = location.protocol === 'https:' ? 'wss' : 'ws';
   const stream = new Stream(`${scheme}://${location.host}/api/v1/stream`,
     (topic, data) => {
-      if (topic === 'state') showState(data as State, view);
+      if (topic !== 'state') return;
+      const state = data as State;
+      mission = state.mission;
+      showState(state, view);
+      if (view && state.map.revision !== mapRevision) {
+        mapRevision = state.map.revision;
+        void fetchJson<MapInfo>('/api/v1/map').then((info) => {
+          view?.setMap(info);
+          byId('map-name').textContent = info.name;
+          tools?.clearPaintPreview();
+        });
+      }
     },
     (status) => {
       connection.textContent = status === 'up' ? 'connected' : 'reconnecting…';

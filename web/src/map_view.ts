@@ -1,26 +1,35 @@
 // The map with pan and zoom (Leaflet, in metres: CRS.Simple with lat = y and lng = x of the map frame), the robot
-// as its footprint and heading, its recent trail, and the simulator's ground truth as a faint ghost.
+// as its footprint and heading, its recent trail, the simulator's ground truth as a faint ghost, and the mission's
+// path and waypoints.
 import L from 'leaflet';
 
-import type { MapInfo, Pose } from './api';
+import type { MapInfo, Mission, Pose } from './api';
 
 const kTrailLength = 600;
 
+export const toLatLng = (x: number, y: number): L.LatLng => L.latLng(y, x);
+
 export class MapView {
-  private readonly map: L.Map;
+  readonly map: L.Map;
+  private info: MapInfo;
+  private readonly image: L.ImageOverlay;
   private readonly footprint: L.Circle;
   private readonly heading: L.Polyline;
   private readonly ghost: L.Circle;
   private readonly trail: L.Polyline;
+  private readonly missionPath: L.Polyline;
+  private readonly missionGoals = L.layerGroup();
   private followed = false;
 
   constructor(element: HTMLElement, info: MapInfo, private readonly footprintRadius: number) {
-    this.map = L.map(element, { crs: L.CRS.Simple, minZoom: -3, maxZoom: 6, zoomSnap: 0.25, attributionControl: false });
-    const { x, y } = info.origin;
-    const bounds = L.latLngBounds([y, x], [y + info.height * info.resolution_m, x + info.width * info.resolution_m]);
-    L.imageOverlay(info.image_url, bounds, { className: 'map-image' }).addTo(this.map);
-    this.map.fitBounds(bounds);
+    this.info = info;
+    this.map = L.map(element, { crs: L.CRS.Simple, minZoom: -3, maxZoom: 7, zoomSnap: 0.25, attributionControl: false });
+    this.image = L.imageOverlay(info.image_url, this.bounds(info), { className: 'map-image' }).addTo(this.map);
+    this.map.fitBounds(this.bounds(info));
     this.trail = L.polyline([], { color: '#58a6ff', weight: 2, opacity: 0.6, className: 'robot-trail' }).addTo(this.map);
+    this.missionPath = L.polyline([], { color: '#2ea043', weight: 4, opacity: 0.8, className: 'mission-path' })
+      .addTo(this.map);
+    this.missionGoals.addTo(this.map);
     this.ghost = L.circle([0, 0], { radius: footprintRadius, color: '#888', weight: 1, fill: false, dashArray: '3',
       className: 'robot-truth' });
     this.footprint = L.circle([0, 0], { radius: footprintRadius, color: '#1f6feb', weight: 2, fillOpacity: 0.5,
@@ -28,11 +37,29 @@ export class MapView {
     this.heading = L.polyline([], { color: '#0d1117', weight: 3, className: 'robot-heading' });
   }
 
+  get revision(): number { return this.info.revision; }
+  get size(): { width: number; height: number } { return { width: this.info.width, height: this.info.height }; }
+
+  // Shows a new revision of the map (after an edit or a change of map).
+  setMap(info: MapInfo): void {
+    this.info = info;
+    this.image.setUrl(info.image_url);
+    this.image.setBounds(this.bounds(info));
+  }
+
+  // The map cell under a map-frame point, or null outside the map.
+  cellAt(x: number, y: number): { col: number; row: number } | null {
+    const col = Math.floor((x - this.info.origin.x) / this.info.resolution_m);
+    const row = Math.floor((y - this.info.origin.y) / this.info.resolution_m);
+    if (col < 0 || row < 0 || col >= this.info.width || row >= this.info.height) return null;
+    return { col, row };
+  }
+
   showRobot(pose: Pose | null, truth: Pose | null): void {
     if (pose) {
-      const at = L.latLng(pose.y, pose.x);
-      const tip = L.latLng(pose.y + 2 * this.footprintRadius * Math.sin(pose.yaw),
-        pose.x + 2 * this.footprintRadius * Math.cos(pose.yaw));
+      const at = toLatLng(pose.x, pose.y);
+      const tip = toLatLng(pose.x + 2 * this.footprintRadius * Math.cos(pose.yaw),
+        pose.y + 2 * this.footprintRadius * Math.sin(pose.yaw));
       this.footprint.setLatLng(at).addTo(this.map);
       this.heading.setLatLngs([at, tip]).addTo(this.map);
       const points = this.trail.getLatLngs() as L.LatLng[];
@@ -43,10 +70,26 @@ export class MapView {
         this.trail.setLatLngs(points);
       }
       if (!this.followed) {
-        this.map.setView(at, 5);  // 32 px per metre: the robot and the rooms around it
+        this.map.setView(at, 5, { animate: false });  // 32 px per metre: the robot and the rooms around it
         this.followed = true;
       }
     }
-    if (truth) this.ghost.setLatLng([truth.y, truth.x]).addTo(this.map);
+    if (truth) this.ghost.setLatLng(toLatLng(truth.x, truth.y)).addTo(this.map);
+  }
+
+  showMission(mission: Mission | null): void {
+    const live = mission && (mission.status === 'active' || mission.status === 'paused');
+    this.missionPath.setLatLngs(live ? mission.path.map((p) => toLatLng(p.x, p.y)) : []);
+    this.missionGoals.clearLayers();
+    if (!live) return;
+    mission.waypoints.forEach((w, i) => {
+      L.circleMarker(toLatLng(w.x, w.y), { radius: 5, color: i < mission.current_waypoint ? '#888' : '#2ea043',
+        className: 'mission-waypoint' }).addTo(this.missionGoals);
+    });
+  }
+
+  private bounds(info: MapInfo): L.LatLngBounds {
+    const { x, y } = info.origin;
+    return L.latLngBounds(toLatLng(x, y), toLatLng(x + info.width * info.resolution_m, y + info.height * info.resolution_m));
   }
 }

@@ -1,0 +1,218 @@
+// The map tools: click a goal (drag for its heading) with a plan preview, waypoint missions, named places, zones
+// (zones.ts) and painting the map. One tool is active at a time; Pan gives the mouse back to the map.
+import L from 'leaflet';
+
+import { send, type Goal, type Place, type PlanResult } from './api';
+import { toLatLng, type MapView } from './map_view';
+import type { ZoneLayers } from './zones';
+
+type Tool = 'pan' | 'goal' | 'waypoints' | 'keep_out' | 'speed_limit' | 'place' | 'edit_zones' | 'delete_zones' |
+  'paint_occupied' | 'paint_free' | 'paint_unknown';
+
+const kHeadingDragM = 0.15;  // a drag shorter than this sets no heading
+const kPaintValue: Record<string, number> = { paint_occupied: 100, paint_free: 0, paint_unknown: -1 };
+
+function byId<T extends HTMLElement>(id: string): T {
+  const element = document.getElementById(id);
+  if (!element) throw new Error(`missing #${id}`);
+  return element as T;
+}
+
+export class Tools {
+  private tool: Tool = 'pan';
+  private readonly preview = L.layerGroup();
+  private goal: Goal | null = null;
+  private waypoints: { x: number; y: number }[] = [];
+  private press: L.LatLng | null = null;
+  private strokes: { x0: number; y0: number; x1: number; y1: number; value: number }[] = [];
+  private places: Place[] = [];
+
+  constructor(private readonly view: MapView, private readonly zones: ZoneLayers,
+    private readonly report: (message: string) => void) {
+    const map = view.map;
+    this.preview.addTo(map);
+    for (const button of document.querySelectorAll<HTMLButtonElement>('#tools button[data-tool]')) {
+      button.addEventListener('click', () => this.select(button.dataset.tool as Tool));
+    }
+    map.on('mousedown', (e) => this.down(e.latlng));
+    map.on('mousemove', (e) => this.move(e.latlng));
+    map.on('mouseup', (e) => void this.up(e.latlng));
+    byId('plan-go').addEventListener('click', () => void this.go());
+    byId('plan-clear').addEventListener('click', () => this.clear());
+    byId('place-go').addEventListener('click', () => {
+      const name = byId<HTMLSelectElement>('places').value;
+      if (name) void this.startMission([{ place: name }]);
+    });
+    byId('place-delete').addEventListener('click', () => void this.deletePlace());
+  }
+
+  select(tool: Tool): void {
+    this.zones.stopDrawing();
+    this.zones.edit(false);
+    this.zones.remove(false);
+    this.clear();
+    this.tool = tool;
+    for (const b of document.querySelectorAll<HTMLButtonElement>('#tools button[data-tool]')) {
+      b.classList.toggle('active', b.dataset.tool === tool);
+    }
+    const map = this.view.map;
+    if (tool === 'pan' || tool === 'edit_zones' || tool === 'delete_zones') map.dragging.enable();
+    else map.dragging.disable();
+    if (tool === 'keep_out' || tool === 'speed_limit') {
+      this.zones.draw(tool, Number(byId<HTMLInputElement>('zone-speed').value) || 0.2);
+    }
+    if (tool === 'edit_zones') this.zones.edit(true);
+    if (tool === 'delete_zones') this.zones.remove(true);
+  }
+
+  async reloadPlaces(): Promise<void> {
+    this.places = (await send<{ places: Place[] }>('GET', '/api/v1/places')).places;
+    const select = byId<HTMLSelectElement>('places');
+    select.replaceChildren(...this.places.map((p) => new Option(p.name, p.name)));
+    this.placeLayer.clearLayers();
+    for (const p of this.places) {
+      L.marker(toLatLng(p.x, p.y), {
+        icon: L.divIcon({ className: 'place-label', html: `&#9873; ${p.name}`, iconSize: [80, 16], iconAnchor: [6, 14] }),
+      }).addTo(this.placeLayer);
+    }
+  }
+
+  private readonly placeLayer = L.layerGroup();
+
+  attachPlaces(): void {
+    this.placeLayer.addTo(this.view.map);
+  }
+
+  private down(at: L.LatLng): void {
+    if (this.tool === 'goal') {
+      this.press = at;
+      this.goal = null;
+      this.preview.clearLayers();
+    } else if (this.tool.startsWith('paint_')) {
+      this.press = at;
+      this.strokes = [];
+      this.paint(at);
+    }
+  }
+
+  private move(at: L.LatLng): void {
+    if (!this.press) return;
+    if (this.tool === 'goal') {
+      this.preview.clearLayers();
+      L.circleMarker(this.press, { radius: 6, color: '#2ea043' }).addTo(this.preview);
+      if (this.press.distanceTo(at) > kHeadingDragM) L.polyline([this.press, at], { color: '#2ea043', weight: 3 }).addTo(this.preview);
+    } else if (this.tool.startsWith('paint_')) {
+      this.paint(at);
+    }
+  }
+
+  private async up(at: L.LatLng): Promise<void> {
+    const press = this.press;
+    this.press = null;
+    if (this.tool === 'goal' && press) {
+      const goal: Goal = { x: press.lng, y: press.lat };
+      if (press.distanceTo(at) > kHeadingDragM) goal.yaw = Math.atan2(at.lat - press.lat, at.lng - press.lng);
+      this.goal = goal;
+      await this.previewPlan(goal);
+    } else if (this.tool === 'waypoints') {
+      this.waypoints.push({ x: at.lng, y: at.lat });
+      L.marker(at, { icon: L.divIcon({ className: 'place-label', html: `${this.waypoints.length}`, iconSize: [16, 16] }) })
+        .addTo(this.preview);
+      this.showBar(`${this.waypoints.length} waypoint(s)`);
+    } else if (this.tool === 'place') {
+      const name = window.prompt('Name of this place');
+      if (!name) return;
+      try {
+        await send<Place>('POST', '/api/v1/places', { name, x: at.lng, y: at.lat, yaw: 0 });
+        this.report(`place '${name}' added`);
+        await this.reloadPlaces();
+      } catch (e) {
+        this.report((e as Error).message);
+      }
+    } else if (this.tool.startsWith('paint_') && press) {
+      await this.flushPaint();
+    }
+  }
+
+  private async previewPlan(goal: Goal): Promise<void> {
+    try {
+      const plan = await send<PlanResult>('POST', '/api/v1/plan', { goal });
+      L.polyline(plan.path.map((p) => toLatLng(p.x, p.y)), { color: '#2ea043', weight: 3, dashArray: '6 6',
+        className: 'plan-preview' }).addTo(this.preview);
+      this.showBar(`${plan.length_m.toFixed(1)} m, clearance ≥ ${plan.min_clearance_m.toFixed(2)} m ` +
+        `(mean ${plan.mean_clearance_m.toFixed(2)} m), planned in ${plan.planning_ms.toFixed(0)} ms`);
+    } catch (e) {
+      this.showBar((e as Error).message, false);
+    }
+  }
+
+  private showBar(text: string, canGo = true): void {
+    byId('plan-summary').textContent = text;
+    byId<HTMLButtonElement>('plan-go').disabled = !canGo;
+    byId('plan-bar').classList.remove('hidden');
+  }
+
+  private clear(): void {
+    this.preview.clearLayers();
+    this.goal = null;
+    this.waypoints = [];
+    byId('plan-bar').classList.add('hidden');
+  }
+
+  private async go(): Promise<void> {
+    const goals: Goal[] = this.tool === 'waypoints' ? this.waypoints : this.goal ? [this.goal] : [];
+    if (goals.length > 0) await this.startMission(goals);
+  }
+
+  private async startMission(waypoints: Goal[]): Promise<void> {
+    try {
+      await send('POST', '/api/v1/missions', { waypoints });
+      this.clear();
+      this.report('mission started');
+    } catch (e) {
+      this.report((e as Error).message);
+    }
+  }
+
+  private async deletePlace(): Promise<void> {
+    const place = this.places.find((p) => p.name === byId<HTMLSelectElement>('places').value);
+    if (!place) return;
+    await send('DELETE', `/api/v1/places/${place.id}`).catch((e: Error) => this.report(e.message));
+    await this.reloadPlaces();
+  }
+
+  // One brush dab: a square of brush x brush cells around the point, shown at once and sent on release.
+  private paint(at: L.LatLng): void {
+    const cell = this.view.cellAt(at.lng, at.lat);
+    if (!cell) return;
+    const half = Math.floor((Number(byId<HTMLInputElement>('brush').value) || 1) / 2);
+    const value = kPaintValue[this.tool];
+    const rect = { x0: cell.col - half, y0: cell.row - half, x1: cell.col + half, y1: cell.row + half, value };
+    const last = this.strokes[this.strokes.length - 1];
+    if (last && last.x0 === rect.x0 && last.y0 === rect.y0) return;
+    this.strokes.push(rect);
+    const colour = value === 100 ? '#000' : value === 0 ? '#fff' : '#999';
+    const r = 0.05 * (half + 0.5);
+    L.rectangle([[at.lat - r, at.lng - r], [at.lat + r, at.lng + r]], { color: colour, weight: 0, fillOpacity: 0.8 })
+      .addTo(this.preview);
+  }
+
+  private async flushPaint(): Promise<void> {
+    if (this.strokes.length === 0) return;
+    const { width, height } = this.view.size;
+    const rects = this.strokes.map((r) => ({ ...r, x0: Math.max(0, r.x0), y0: Math.max(0, r.y0),
+      x1: Math.min(width - 1, r.x1), y1: Math.min(height - 1, r.y1) }));
+    this.strokes = [];
+    try {
+      await send('PUT', '/api/v1/map/cells', { rects });
+      this.report('map edited');
+    } catch (e) {
+      this.report((e as Error).message);
+    }
+    // The new map image replaces the preview when the state reports the new revision.
+  }
+
+  clearPaintPreview(): void {
+    if (this.tool.startsWith('paint_')) this.preview.clearLayers();
+  }
+}
