@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 
+#include "nav/map/log_odds_grid.h"
 #include "nav/map/map_io.h"
 
 namespace corridor::drivers::sim {
@@ -69,6 +70,59 @@ TEST(SimRobotTest, SameSeedSameRun) {
   EXPECT_EQ(truth_a.x_m, truth_c.x_m);       // motion itself is deterministic
   EXPECT_NE(odom_a.x_m, odom_c.x_m);         // the odometry noise follows the seed
   EXPECT_GT(truth_a.x_m, 1.3);               // and the commands were obeyed
+}
+
+}  // namespace
+}  // namespace corridor::drivers::sim
+
+namespace corridor::drivers::sim {
+namespace {
+
+TEST(SimRobotTest, LaserScansIntegratedInALogOddsGridRebuildTheArena) {
+  const auto world = Arena();
+  SimOptions o;
+  o.start = {1.0, 0.75, 0.0};
+  o.camera.rate_hz = 1.0;
+  o.camera.width = 32;
+  o.camera.height = 24;
+  SimRobot robot(world, o);
+  const nav::OccupancyGrid& truth = world->collision;
+  nav::LogOddsGrid built(truth.width(), truth.height(), truth.resolution_m(), truth.origin());
+  robot.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) {
+    const nav::Pose2 pose = robot.true_pose();
+    for (std::size_t i = 0; i < scan->ranges.size(); ++i) {
+      const double a = scan->angle_min_rad + static_cast<double>(i) * scan->angle_increment_rad;
+      const bool hit = std::isfinite(scan->ranges[i]);
+      const double r = hit ? scan->ranges[i] : scan->range_max_m;
+      built.IntegrateRay(pose.translation(), pose.Transform({r * std::cos(a), r * std::sin(a)}), hit);
+    }
+  });
+  for (int i = 0; i < 200; ++i) robot.Step();  // two seconds standing still: 20 scans
+  const nav::OccupancyGrid m = built.ToOccupancyGrid();
+  int occupied = 0;
+  int on_walls = 0;
+  int free = 0;
+  int free_on_walls = 0;
+  for (int y = 0; y < m.height(); ++y) {
+    for (int x = 0; x < m.width(); ++x) {
+      // A wall cell or its neighbour: the laser's noise is about a fifth of a cell.
+      bool near_wall = false;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          near_wall |= truth.Contains({x + dx, y + dy}) && truth.at({x + dx, y + dy}) == nav::kOccupiedCell;
+      if (m.at({x, y}) == nav::kOccupiedCell) {
+        ++occupied;
+        on_walls += near_wall;
+      } else if (m.at({x, y}) == nav::kFreeCell) {
+        ++free;
+        free_on_walls += truth.at({x, y}) == nav::kOccupiedCell;
+      }
+    }
+  }
+  EXPECT_GT(occupied, 100);
+  EXPECT_GE(on_walls, occupied * 98 / 100);
+  EXPECT_GT(free, 1000);
+  EXPECT_LE(free_on_walls, free / 100);
 }
 
 }  // namespace
