@@ -1,5 +1,7 @@
 #include "nav/planner/distance_field.h"
 
+#include "nav/planner/bucket_queue.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -14,88 +16,72 @@ constexpr int kExactBand = 3;
 
 enum class State : std::uint8_t { kFar, kTrial, kKnown };
 
-// Buckets per cell of distance in the queue. Cells in one bucket leave in arrival order rather than strictly by
-// value (Yatziv, Bartesaghi and Sapiro, "O(N) implementation of the fast marching algorithm", J. Comput. Phys.
-// 2006); at 1/32 of a cell the ordering error is far below the upwind scheme's own.
-constexpr float kBucketsPerCell = 32.0f;
+// Bucket width of the trial queue, in cells: cells within one bucket leave in arrival order rather than strictly by
+// value; at 1/32 of a cell that ordering error is far below the upwind scheme's own.
+constexpr double kBucketCells = 1.0 / 32.0;
 
-// A monotone bucket queue over non-negative values up to a limit.
-class BucketQueue {
- public:
-  explicit BucketQueue(float max_value) : buckets_(static_cast<std::size_t>(max_value * kBucketsPerCell) + 2) {}
-  void Push(float value, int index) {
-    const std::size_t b = std::min(buckets_.size() - 1, static_cast<std::size_t>(value * kBucketsPerCell));
-    buckets_[std::max(b, current_)].push_back(index);
-  }
-  // The next index, or -1 when empty.
-  int Pop() {
-    while (current_ < buckets_.size()) {
-      std::vector<int>& bucket = buckets_[current_];
-      if (read_ < bucket.size()) return bucket[read_++];
-      bucket.clear();
-      read_ = 0;
-      ++current_;
-    }
-    return -1;
-  }
-
- private:
-  std::vector<std::vector<int>> buckets_;
-  std::size_t current_ = 0;
-  std::size_t read_ = 0;
-};
-
-// Solves the upwind quadratic for one cell from its known neighbours, in cell units.
-// Per axis, the upwind value and whether a second-order stencil applies (two known cells in a row, decreasing).
+// Solves the upwind quadratic for one cell from its known neighbours, in cell units. kInterior: the cell is at
+// least two cells from the grid's edge, so its second neighbours exist and need no bounds checks (nearly every cell;
+// it is the march's inner loop).
 class Solver {
  public:
   Solver(const std::vector<float>& t, const std::vector<State>& state, int width, int height)
       : t_(t), state_(state), width_(width), height_(height) {}
 
   float Solve(int x, int y) const {
-    // Per axis, the upwind term coef * (T - value)^2; coef is 1 (first order) or 9/4 (second order).
-    struct Term {
-      double value;
-      double coef;
-    };
-    Term terms[2];
-    int count = 0;
-    for (int axis = 0; axis < 2; ++axis) {
-      Term best{kInf, 1.0};
-      for (int dir = -1; dir <= 1; dir += 2) {
-        const int nx = x + (axis == 0 ? dir : 0);
-        const int ny = y + (axis == 1 ? dir : 0);
-        if (!Known(nx, ny)) continue;
-        const double t1 = Get(nx, ny);
-        const int fx = x + (axis == 0 ? 2 * dir : 0);
-        const int fy = y + (axis == 1 ? 2 * dir : 0);
-        Term term{t1, 1.0};
-        if (Known(fx, fy) && Get(fx, fy) <= t1) {
-          // Second order: dT ~ (3T - 4T1 + T2) / 2, i.e. (9/4) * (T - (4T1 - T2) / 3)^2.
-          term = {(4.0 * t1 - Get(fx, fy)) / 3.0, 9.0 / 4.0};
-        }
-        if (term.value < best.value) best = term;
-      }
-      if (best.value < kInf) terms[count++] = best;
-    }
-    if (count == 0) return kInf;
-    if (count == 2 && terms[1].value < terms[0].value) std::swap(terms[0], terms[1]);
-    // From the nearer axis alone; the other axis joins only if the front reached it first.
-    const double one_sided = terms[0].value + 1.0 / std::sqrt(terms[0].coef);
-    if (count == 1 || one_sided <= terms[1].value) return static_cast<float>(one_sided);
-    const double a = terms[0].coef + terms[1].coef;
-    const double b = -2.0 * (terms[0].coef * terms[0].value + terms[1].coef * terms[1].value);
-    const double c = terms[0].coef * terms[0].value * terms[0].value +
-                     terms[1].coef * terms[1].value * terms[1].value - 1.0;
-    const double disc = std::max(0.0, b * b - 4.0 * a * c);
-    return static_cast<float>((-b + std::sqrt(disc)) / (2.0 * a));
+    const bool interior = x >= 2 && y >= 2 && x < width_ - 2 && y < height_ - 2;
+    return interior ? SolveAt<true>(x, y) : SolveAt<false>(x, y);
   }
 
  private:
+  struct Term {
+    double value;
+    double coef;  // 1 (first order) or 9/4 (second order)
+  };
+
+  template <bool kInterior>
   bool Known(int x, int y) const {
-    return x >= 0 && y >= 0 && x < width_ && y < height_ && state_[static_cast<std::size_t>(y) * width_ + x] == State::kKnown;
+    if constexpr (!kInterior) {
+      if (x < 0 || y < 0 || x >= width_ || y >= height_) return false;
+    }
+    return state_[static_cast<std::size_t>(y) * width_ + x] == State::kKnown;
   }
   float Get(int x, int y) const { return t_[static_cast<std::size_t>(y) * width_ + x]; }
+
+  // The best upwind term along one axis: first order from the nearer known neighbour, second order where the next
+  // cell beyond it is known and not larger: dT ~ (3T - 4T1 + T2) / 2, i.e. (9/4) * (T - (4T1 - T2) / 3)^2.
+  template <bool kInterior>
+  Term AxisTerm(int x, int y, int dx, int dy) const {
+    Term best{kInf, 1.0};
+    for (int dir = -1; dir <= 1; dir += 2) {
+      const int nx = x + dir * dx;
+      const int ny = y + dir * dy;
+      if (!Known<kInterior>(nx, ny)) continue;
+      const double t1 = Get(nx, ny);
+      Term term{t1, 1.0};
+      const int fx = nx + dir * dx;
+      const int fy = ny + dir * dy;
+      if (Known<kInterior>(fx, fy) && Get(fx, fy) <= t1) term = {(4.0 * t1 - Get(fx, fy)) / 3.0, 9.0 / 4.0};
+      if (term.value < best.value) best = term;
+    }
+    return best;
+  }
+
+  template <bool kInterior>
+  float SolveAt(int x, int y) const {
+    Term a = AxisTerm<kInterior>(x, y, 1, 0);
+    Term b = AxisTerm<kInterior>(x, y, 0, 1);
+    if (b.value < a.value) std::swap(a, b);
+    if (a.value == kInf) return kInf;
+    // From the nearer axis alone; the other axis joins only if the front reached it first.
+    const double one_sided = a.value + 1.0 / std::sqrt(a.coef);
+    if (b.value == kInf || one_sided <= b.value) return static_cast<float>(one_sided);
+    const double qa = a.coef + b.coef;
+    const double qb = -2.0 * (a.coef * a.value + b.coef * b.value);
+    const double qc = a.coef * a.value * a.value + b.coef * b.value * b.value - 1.0;
+    const double disc = std::max(0.0, qb * qb - 4.0 * qa * qc);
+    return static_cast<float>((-qb + std::sqrt(disc)) / (2.0 * qa));
+  }
 
   const std::vector<float>& t_;
   const std::vector<State>& state_;
@@ -115,7 +101,7 @@ DistanceField FastMarchingDistance(const std::vector<std::uint8_t>& obstacle, in
   std::vector<State> state(n, State::kFar);
   const float limit_cells = static_cast<float>(std::min(options.max_distance_m / resolution_m,
                                                          static_cast<double>(width + height)));
-  BucketQueue trial(limit_cells + 2.0f);
+  BucketQueue trial(kBucketCells, limit_cells + 2.0f);
 
   // Obstacle cell centres are the zero level set, so distances are centre to centre (as OpenCV's exact
   // distance transform measures them).
