@@ -78,6 +78,10 @@ SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const E
 
   static constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
   static constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+  const float step_length[8] = {static_cast<float>(res),         static_cast<float>(res),
+                                static_cast<float>(res),         static_cast<float>(res),
+                                static_cast<float>(kSqrt2 * res), static_cast<float>(kSqrt2 * res),
+                                static_cast<float>(kSqrt2 * res), static_cast<float>(kSqrt2 * res)};
   for (int top = open.Pop(); top >= 0; top = open.Pop()) {
     const std::size_t cur = static_cast<std::size_t>(top);
     if (closed[cur]) continue;
@@ -88,25 +92,25 @@ SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const E
     if (cur == g) break;
     const int x = top % width;
     const int y = top / width;
+    // Inside the grid's one-cell rim every neighbour exists: no bounds checks (nearly every expansion).
+    const bool interior = x > 0 && y > 0 && x < width - 1 && y < height - 1;
     const bool escaping = !costmap.Traversable(cur);  // only the start can be here
     for (int k = 0; k < 8; ++k) {
       const int nx = x + kDx[k];
       const int ny = y + kDy[k];
-      if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
-      const std::size_t next = static_cast<std::size_t>(ny) * width + nx;
+      if (!interior && (nx < 0 || ny < 0 || nx >= width || ny >= height)) continue;
+      const std::size_t next = cur + static_cast<std::ptrdiff_t>(kDy[k]) * width + kDx[k];
       if (closed[next] || costmap.IsObstacle(next)) continue;
       const bool ok = costmap.Traversable(next) || (escaping && costmap.clearance_m(next) > costmap.clearance_m(cur));
       if (!ok) continue;
-      const bool diagonal = k >= 4;
-      if (diagonal) {
+      if (k >= 4) {
         // No cutting corners: both cells beside the diagonal must be passable too.
-        const std::size_t side_a = static_cast<std::size_t>(y) * width + nx;
-        const std::size_t side_b = static_cast<std::size_t>(ny) * width + x;
+        const std::size_t side_a = cur + kDx[k];
+        const std::size_t side_b = cur + static_cast<std::ptrdiff_t>(kDy[k]) * width;
         if (costmap.IsObstacle(side_a) || costmap.IsObstacle(side_b)) continue;
         if (!escaping && (!costmap.Traversable(side_a) || !costmap.Traversable(side_b))) continue;
       }
-      const float step = static_cast<float>((diagonal ? kSqrt2 : 1.0) * res) * costmap.step_factor(next);
-      const float candidate = cost[cur] + step;
+      const float candidate = cost[cur] + step_length[k] * costmap.step_factor(next);
       if (candidate < cost[next]) {
         cost[next] = candidate;
         parent[next] = static_cast<int>(cur);

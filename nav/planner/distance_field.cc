@@ -35,8 +35,8 @@ class Solver {
 
  private:
   struct Term {
-    double value;
-    double coef;  // 1 (first order) or 9/4 (second order)
+    float value;
+    float coef;  // 1 (first order) or 9/4 (second order)
   };
 
   template <bool kInterior>
@@ -52,16 +52,16 @@ class Solver {
   // cell beyond it is known and not larger: dT ~ (3T - 4T1 + T2) / 2, i.e. (9/4) * (T - (4T1 - T2) / 3)^2.
   template <bool kInterior>
   Term AxisTerm(int x, int y, int dx, int dy) const {
-    Term best{kInf, 1.0};
+    Term best{kInf, 1.0f};
     for (int dir = -1; dir <= 1; dir += 2) {
       const int nx = x + dir * dx;
       const int ny = y + dir * dy;
       if (!Known<kInterior>(nx, ny)) continue;
-      const double t1 = Get(nx, ny);
-      Term term{t1, 1.0};
+      const float t1 = Get(nx, ny);
+      Term term{t1, 1.0f};
       const int fx = nx + dir * dx;
       const int fy = ny + dir * dy;
-      if (Known<kInterior>(fx, fy) && Get(fx, fy) <= t1) term = {(4.0 * t1 - Get(fx, fy)) / 3.0, 9.0 / 4.0};
+      if (Known<kInterior>(fx, fy) && Get(fx, fy) <= t1) term = {(4.0f * t1 - Get(fx, fy)) / 3.0f, 9.0f / 4.0f};
       if (term.value < best.value) best = term;
     }
     return best;
@@ -74,13 +74,13 @@ class Solver {
     if (b.value < a.value) std::swap(a, b);
     if (a.value == kInf) return kInf;
     // From the nearer axis alone; the other axis joins only if the front reached it first.
-    const double one_sided = a.value + 1.0 / std::sqrt(a.coef);
-    if (b.value == kInf || one_sided <= b.value) return static_cast<float>(one_sided);
-    const double qa = a.coef + b.coef;
-    const double qb = -2.0 * (a.coef * a.value + b.coef * b.value);
-    const double qc = a.coef * a.value * a.value + b.coef * b.value * b.value - 1.0;
-    const double disc = std::max(0.0, qb * qb - 4.0 * qa * qc);
-    return static_cast<float>((-qb + std::sqrt(disc)) / (2.0 * qa));
+    const float one_sided = a.value + 1.0f / std::sqrt(a.coef);
+    if (b.value == kInf || one_sided <= b.value) return one_sided;
+    const float qa = a.coef + b.coef;
+    const float qb = -2.0f * (a.coef * a.value + b.coef * b.value);
+    const float qc = a.coef * a.value * a.value + b.coef * b.value * b.value - 1.0f;
+    const float disc = std::max(0.0f, qb * qb - 4.0f * qa * qc);
+    return (-qb + std::sqrt(disc)) / (2.0f * qa);
   }
 
   const std::vector<float>& t_;
