@@ -1,7 +1,7 @@
 // Planning and missions in a small real arena (lse_arena, 4 x 3 m): a lower room and two upper rooms joined by one
 // 1.2 m doorway (x 0.8 to 2.0, y about 1.5). Odometry is noiseless here so that accuracy is the controller's.
 import assert from 'node:assert/strict';
-import { mkdtempSync, rmSync } from 'node:fs';
+import { copyFileSync, mkdirSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
@@ -237,6 +237,37 @@ describe('what the robot is told survives a restart', () => {
       assert.equal(maps.body.active, 'lse_arena');
     } finally {
       await second.stop();
+    }
+  });
+
+  test('another map can be selected; its zones are its own', async () => {
+    // A second map, copied into the state directory as a user would.
+    mkdirSync(join(stateDir, 'maps', 'original'), { recursive: true });
+    for (const f of ['lse_arena.yaml', 'lse_arena.pgm']) {
+      copyFileSync(join(sourceDir, 'tests/data/maps/lse_arena', f), join(stateDir, 'maps', 'original', f));
+    }
+    copyFileSync(join(stateDir, 'maps', 'original', 'lse_arena.yaml'), join(stateDir, 'maps', 'original', 'map.yaml'));
+    const daemon = await startDaemon({ config, stateDir });
+    try {
+      const maps = (await getJson(`${daemon.url}/api/v1/maps`)).body;
+      assert.deepEqual(maps.maps, ['lse_arena', 'original']);
+      const id = (await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 3.0, y: 0.7 }] })).body.id;
+      const busy = await sendJson('PUT', `${daemon.url}/api/v1/map/active`, { name: 'original' });
+      assert.equal(busy.status, 409);
+      assert.equal(busy.body.code, 'mission_in_progress');
+      await postJson(`${daemon.url}/api/v1/missions/${id}/cancel`, {});
+      const selected = await sendJson('PUT', `${daemon.url}/api/v1/map/active`, { name: 'original' });
+      assert.equal(selected.status, 200, JSON.stringify(selected.body));
+      const map = (await getJson(`${daemon.url}/api/v1/map`)).body;
+      assert.equal(map.name, 'original');
+      assert.equal((await getJson(`${daemon.url}/api/v1/state`)).body.map.name, 'original');
+      // The unedited original has its doorway open, and the first map's zones stay with the first map.
+      assert.equal((await postJson(`${daemon.url}/api/v1/plan`, { goal: upperRoom })).status, 200);
+      assert.deepEqual((await getJson(`${daemon.url}/api/v1/zones`)).body.zones, []);
+      assert.equal((await sendJson('PUT', `${daemon.url}/api/v1/map/active`, { name: 'nope' })).status, 422);
+      assert.equal((await sendJson('PUT', `${daemon.url}/api/v1/map/active`, { name: '../etc' })).status, 422);
+    } finally {
+      await daemon.stop();
     }
   });
 });
