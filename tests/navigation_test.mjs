@@ -93,7 +93,7 @@ describe('missions in the arena', () => {
     const done = await waitFor(() => mission(daemon.url, id), (m) => m.status !== 'active', 30000, 'the end');
     assert.equal(done.status, 'succeeded', done.error);
     assert.equal(done.progress, 1);
-    await sleep(300);
+    await sleep(100);  // one state push: the robot is idle as soon as the mission ends
     const s = await state(daemon.url);
     const truth = s.sim_true_pose;
     const error_cm = Math.hypot(truth.x - goal.x, truth.y - goal.y) * 100;

@@ -189,8 +189,9 @@ void MissionNode::Tick() {
     follower_.Clear();
     ++generation_;
     remaining_m_ = leg_length_m_ = 0.0;
-    Changed();
-    return stop();
+    Changed();  // after the last goal this also tells the control node the mission is over
+    if (!mission_->finished()) stop();  // a brief stop before the next leg is planned
+    return;
   }
   command.Publish(MissionCommand{clock().Now(), step.twist});
   bus_.Get(topics::kMission).Publish(MissionState{DescribeLocked()});
