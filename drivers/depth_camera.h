@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 
 #include "drivers/clock.h"
+#include "nav/geometry/camera_model.h"
 
 namespace corridor::drivers {
 
@@ -37,6 +38,12 @@ struct RgbdFrame {
   cv::Mat depth_mm;
   cv::Mat color_bgr;
 };
+
+// The camera as the navigation algorithms see it.
+inline nav::PinholeCamera ToPinhole(const CameraInfo& info) {
+  const CameraIntrinsics& k = info.intrinsics;
+  return {k.width, k.height, k.fx, k.fy, k.cx, k.cy, info.base_T_camera};
+}
 
 class DepthCamera {
  public:

@@ -24,7 +24,8 @@ struct SimCameraOptions {
   double noise_a_m = 0.0012;
   double noise_b_per_m = 0.0019;
   double dropout_fraction = 0.02;     // pixels lost at random
-  double grazing_cutoff_deg = 80.0;   // surfaces seen more obliquely than this return nothing
+  double grazing_cutoff_deg = 87.0;   // surfaces seen more obliquely than this return nothing (floor beyond
+                                      // about 5.7 m for a camera 0.3 m up)
 };
 
 struct SimLaserOptions {

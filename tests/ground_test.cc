@@ -1,0 +1,191 @@
+// MORP and the floor fit on depth images the simulator renders from known geometry (so the answer is known), and on
+// real Kinect frames from the TUM RGB-D benchmark (holes and noise: the output must stay sane).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <numbers>
+#include <opencv2/imgcodecs.hpp>
+
+#include "drivers/sim/sensors.h"
+#include "nav/ground/floor_fit.h"
+#include "nav/ground/morp.h"
+
+namespace corridor {
+namespace {
+
+using drivers::sim::TriangleMesh;
+
+std::filesystem::path SourceDir() {
+  const char* dir = std::getenv("CORRIDOR_SOURCE_DIR");
+  return dir ? dir : ".";
+}
+
+const Eigen::Vector3f kGrey(0.6f, 0.6f, 0.6f);
+
+// A large floor at z = 0, optionally ending at x = floor_end_m with a lower floor 0.3 m down beyond it.
+TriangleMesh Floor(float floor_end_m = 50.0f) {
+  TriangleMesh m;
+  m.AddBox({-5.0f, -10.0f, -0.01f}, {floor_end_m, 10.0f, 0.0f}, kGrey);
+  if (floor_end_m < 50.0f) m.AddBox({floor_end_m, -10.0f, -0.31f}, {50.0f, 10.0f, -0.3f}, kGrey);
+  return m;
+}
+
+drivers::sim::SimCameraOptions Camera() {
+  drivers::sim::SimCameraOptions o;  // the simulator's default: RealSense-like, 0.3 m high, tilted 10 degrees
+  o.width = 640;
+  o.height = 480;
+  o.max_range_m = 6.0;
+  return o;
+}
+
+cv::Mat Render(const TriangleMesh& mesh, const drivers::sim::SimCameraOptions& o, std::uint32_t seed = 1) {
+  const drivers::sim::RayCaster caster(mesh);
+  const drivers::sim::RgbdRenderer renderer(caster, mesh, o);
+  std::mt19937 rng(seed);
+  drivers::RgbdFrame frame;
+  renderer.Render(drivers::sim::MakeCameraInfo(o).base_T_camera, rng, frame);  // the robot at the origin
+  return frame.depth_mm;
+}
+
+nav::Morp MakeMorp(const drivers::sim::SimCameraOptions& o, nav::MorpOptions options = {}) {
+  return nav::Morp(drivers::ToPinhole(drivers::sim::MakeCameraInfo(o)), options);
+}
+
+TEST(MorpTest, OpenFloorHasNoDeadEnds) {
+  const auto o = Camera();
+  nav::Morp morp = MakeMorp(o);
+  ASSERT_EQ(morp.lane_count(), 4);  // 0.4 m robot, 0.1 m lanes
+  for (const nav::LaneResult& lane : morp.Process(Render(Floor(), o))) {
+    EXPECT_FALSE(lane.dead_end) << "lane " << lane.offset_m << " at " << lane.free_distance_m;
+    EXPECT_GT(lane.free_distance_m, 3.5);
+  }
+}
+
+TEST(MorpTest, AWallAheadIsADeadEndAtItsDistanceInEveryLane) {
+  const auto o = Camera();
+  nav::Morp morp = MakeMorp(o);
+  for (const float wall_x : {0.8f, 1.5f, 2.5f, 3.5f}) {
+    TriangleMesh mesh = Floor();
+    mesh.AddBox({wall_x, -3.0f, 0.0f}, {wall_x + 0.2f, 3.0f, 1.5f}, kGrey);
+    for (const nav::LaneResult& lane : morp.Process(Render(mesh, o))) {
+      EXPECT_TRUE(lane.dead_end) << "wall at " << wall_x << ", free " << lane.free_distance_m;
+      // Depth noise at 3.5 m is about 2.5 cm; the dead-end is the wall's foot.
+      EXPECT_NEAR(lane.free_distance_m, wall_x, 0.03 + 0.01 * wall_x) << "wall at " << wall_x;
+      EXPECT_LT(lane.point.z(), 0.15);
+    }
+  }
+}
+
+TEST(MorpTest, ABoxOnTheLeftBlocksOnlyTheLeftLanes) {
+  const auto o = Camera();
+  nav::Morp morp = MakeMorp(o);
+  TriangleMesh mesh = Floor();
+  mesh.AddBox({1.5f, 0.0f, 0.0f}, {1.8f, 0.5f, 0.4f}, kGrey);
+  for (const nav::LaneResult& lane : morp.Process(Render(mesh, o))) {
+    if (lane.offset_m > 0.0) {
+      EXPECT_TRUE(lane.dead_end) << lane.offset_m;
+      EXPECT_NEAR(lane.free_distance_m, 1.5, 0.04);
+    } else {
+      EXPECT_FALSE(lane.dead_end) << lane.offset_m;
+    }
+  }
+}
+
+TEST(MorpTest, StepsJustUnderTheThresholdAreDrivenOverAndJustOverAreNot) {
+  const auto o = Camera();
+  nav::MorpOptions options;
+  options.max_step_m = 0.03;
+  nav::Morp morp = MakeMorp(o, options);
+  const auto with_step = [](float height) {
+    TriangleMesh mesh = Floor();
+    mesh.AddBox({1.2f, -1.0f, 0.0f}, {1.6f, 1.0f, height}, kGrey);
+    return mesh;
+  };
+  const cv::Mat low = Render(with_step(0.02f), o);
+  const cv::Mat high = Render(with_step(0.045f), o);
+  for (const nav::LaneResult& lane : morp.Process(low)) EXPECT_FALSE(lane.dead_end) << "2 cm step";
+  for (const nav::LaneResult& lane : morp.Process(high)) {
+    EXPECT_TRUE(lane.dead_end) << "4.5 cm step";
+    EXPECT_NEAR(lane.free_distance_m, 1.2, 0.04);
+  }
+  // The same robot with bigger wheels: raise the threshold at run time, no retraining.
+  morp.set_max_step_m(0.06);
+  for (const nav::LaneResult& lane : morp.Process(high)) EXPECT_FALSE(lane.dead_end) << "4.5 cm step, 6 cm allowed";
+}
+
+TEST(MorpTest, ADropIsADeadEnd) {
+  const auto o = Camera();
+  nav::Morp morp = MakeMorp(o);
+  for (const nav::LaneResult& lane : morp.Process(Render(Floor(1.5f), o))) {
+    EXPECT_TRUE(lane.dead_end);
+    EXPECT_NEAR(lane.free_distance_m, 1.5, 0.05);  // at the edge, though the lower floor is first seen at 3 m
+    EXPECT_LT(lane.point.z(), -0.2);
+  }
+}
+
+TEST(MorpTest, TooCloseToSeeMeansBlindAndStop) {
+  const auto o = Camera();
+  nav::Morp morp = MakeMorp(o);
+  TriangleMesh mesh = Floor();
+  mesh.AddBox({0.25f, -3.0f, 0.0f}, {0.4f, 3.0f, 1.5f}, kGrey);  // 0.15 m from the lens: under its 0.2 m range
+  for (const nav::LaneResult& lane : morp.Process(Render(mesh, o))) {
+    EXPECT_TRUE(lane.blind);
+    EXPECT_TRUE(lane.dead_end);
+    EXPECT_DOUBLE_EQ(lane.free_distance_m, morp.options().min_range_m);
+  }
+  EXPECT_THROW(morp.Process(cv::Mat(10, 10, CV_16UC1, cv::Scalar(0))), std::invalid_argument);
+}
+
+TEST(MorpTest, RealKinectFramesGiveSaneOutput) {
+  // TUM RGB-D desk frames (freiburg2 Kinect): depth / 5000 = metres, a third of pixels are holes.
+  nav::PinholeCamera camera{640, 480, 520.9, 521.0, 325.1, 249.7, drivers::sim::MakeCameraInfo(Camera()).base_T_camera};
+  nav::Morp morp(camera, nav::MorpOptions{});
+  for (const char* name : {"tests/data/depth/1_depth.png", "tests/data/depth/2_depth.png"}) {
+    cv::Mat raw = cv::imread((SourceDir() / name).string(), cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(raw.type(), CV_16UC1) << name;
+    cv::Mat metres;
+    raw.convertTo(metres, CV_32FC1, 1.0 / 5000.0);
+    const double holes = 1.0 - cv::countNonZero(raw) / static_cast<double>(raw.total());
+    EXPECT_GT(holes, 0.1);
+    for (const nav::LaneResult& lane : morp.Process(metres)) {
+      EXPECT_TRUE(std::isfinite(lane.free_distance_m));
+      EXPECT_GE(lane.free_distance_m, 0.0);
+      EXPECT_LE(lane.free_distance_m, morp.options().max_range_m);
+      if (lane.dead_end && !lane.blind) {
+        EXPECT_TRUE(lane.point.allFinite());
+      }
+    }
+  }
+}
+
+TEST(FloorFitTest, RecoversCameraHeightAndTiltFromOneFrame) {
+  std::mt19937 rng(7);
+  for (const auto& [height, tilt_deg] : {std::pair{0.3, 10.0}, {0.45, 25.0}, {0.2, 5.0}}) {
+    auto o = Camera();
+    o.mount_height_m = height;
+    o.tilt_deg = tilt_deg;
+    TriangleMesh mesh = Floor();
+    mesh.AddBox({2.0f, -3.0f, 0.0f}, {2.2f, 3.0f, 1.5f}, kGrey);  // a wall too: it must not be taken for the floor
+    const auto info = drivers::sim::MakeCameraInfo(o);
+    const auto fit = nav::FitFloor(Render(mesh, o), drivers::ToPinhole(info), nav::FloorFitOptions{}, rng);
+    ASSERT_TRUE(fit) << height << " m, " << tilt_deg << " degrees";
+    EXPECT_NEAR(fit->camera_height_m, height, 0.01);
+    EXPECT_NEAR(fit->tilt_rad * 180.0 / std::numbers::pi, tilt_deg, 0.5);
+    EXPECT_NEAR(fit->roll_rad, 0.0, 0.01);
+    // The mounting it implies maps the floor to z = 0.
+    const Eigen::Isometry3d mount = nav::MountingFromFloor(*fit, info.base_T_camera);
+    EXPECT_TRUE(mount.isApprox(info.base_T_camera, 0.02)) << mount.matrix() << "\n" << info.base_T_camera.matrix();
+  }
+}
+
+TEST(FloorFitTest, NoFloorInViewGivesNoFit) {
+  auto o = Camera();
+  TriangleMesh mesh;
+  mesh.AddBox({0.5f, -3.0f, -3.0f}, {0.7f, 3.0f, 3.0f}, kGrey);  // a wall filling the view
+  std::mt19937 rng(1);
+  EXPECT_FALSE(nav::FitFloor(Render(mesh, o), drivers::ToPinhole(drivers::sim::MakeCameraInfo(o)),
+                             nav::FloorFitOptions{}, rng));
+}
+
+}  // namespace
+}  // namespace corridor
