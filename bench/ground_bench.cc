@@ -1,0 +1,72 @@
+// MORP ground segmentation per depth frame at VGA and 720p, against the budget of 0.5 ms (VGA) and 1 ms (720p) on one
+// core. BM_PointCloud is the baseline in the same process: turning the whole frame into base-frame points, the first
+// step of the point-cloud pipelines MORP is compared with (before any voxel grid or clustering).
+#include <benchmark/benchmark.h>
+
+#include "drivers/sim/sensors.h"
+#include "nav/ground/morp.h"
+
+namespace corridor {
+namespace {
+
+struct Scene {
+  drivers::sim::SimCameraOptions options;
+  cv::Mat depth;
+};
+
+// A floor with a wall 2.5 m ahead and a box on the left at 1.5 m, rendered with the camera's noise and holes.
+const Scene& SceneAt(int width, int height) {
+  static std::map<std::pair<int, int>, Scene> scenes;
+  auto& scene = scenes[{width, height}];
+  if (scene.depth.empty()) {
+    scene.options.width = width;
+    scene.options.height = height;
+    drivers::sim::TriangleMesh mesh;
+    const Eigen::Vector3f grey(0.6f, 0.6f, 0.6f);
+    mesh.AddBox({-5.0f, -10.0f, -0.01f}, {50.0f, 10.0f, 0.0f}, grey);
+    mesh.AddBox({2.5f, -3.0f, 0.0f}, {2.7f, 3.0f, 1.5f}, grey);
+    mesh.AddBox({1.5f, 0.0f, 0.0f}, {1.8f, 0.5f, 0.4f}, grey);
+    const drivers::sim::RayCaster caster(mesh);
+    const drivers::sim::RgbdRenderer renderer(caster, mesh, scene.options);
+    std::mt19937 rng(1);
+    drivers::RgbdFrame frame;
+    renderer.Render(drivers::sim::MakeCameraInfo(scene.options).base_T_camera, rng, frame);
+    scene.depth = frame.depth_mm;
+  }
+  return scene;
+}
+
+void BM_Morp(benchmark::State& state) {
+  const Scene& scene = SceneAt(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  nav::Morp morp(drivers::ToPinhole(drivers::sim::MakeCameraInfo(scene.options)), nav::MorpOptions{});
+  for (auto _ : state) benchmark::DoNotOptimize(morp.Process(scene.depth).data());
+}
+BENCHMARK(BM_Morp)->Args({640, 480})->Args({1280, 720})->Unit(benchmark::kMicrosecond);
+
+void BM_PointCloud(benchmark::State& state) {
+  const Scene& scene = SceneAt(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  const nav::PinholeCamera camera = drivers::ToPinhole(drivers::sim::MakeCameraInfo(scene.options));
+  const Eigen::Matrix3f rotation = camera.base_T_camera.linear().cast<float>();
+  const Eigen::Vector3f origin = camera.base_T_camera.translation().cast<float>();
+  std::vector<Eigen::Vector3f> cloud;
+  cloud.reserve(scene.depth.total());
+  for (auto _ : state) {
+    cloud.clear();
+    for (int v = 0; v < scene.depth.rows; ++v) {
+      const auto* row = scene.depth.ptr<std::uint16_t>(v);
+      for (int u = 0; u < scene.depth.cols; ++u) {
+        if (row[u] == 0) continue;
+        const float d = row[u] * 0.001f;
+        cloud.push_back(origin + rotation * Eigen::Vector3f(static_cast<float>((u - camera.cx) / camera.fx) * d,
+                                                            static_cast<float>((v - camera.cy) / camera.fy) * d, d));
+      }
+    }
+    benchmark::DoNotOptimize(cloud.data());
+  }
+}
+BENCHMARK(BM_PointCloud)->Args({640, 480})->Args({1280, 720})->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace corridor
+
+BENCHMARK_MAIN();
