@@ -7,6 +7,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "drivers/sim/sensors.h"
+#include "drivers/sim/sim_robot.h"
+#include "nav/policy/morp_rb.h"
 #include "nav/ground/floor_fit.h"
 #include "nav/ground/morp.h"
 
@@ -185,6 +187,56 @@ TEST(FloorFitTest, NoFloorInViewGivesNoFit) {
   std::mt19937 rng(1);
   EXPECT_FALSE(nav::FitFloor(Render(mesh, o), drivers::ToPinhole(drivers::sim::MakeCameraInfo(o)),
                              nav::FloorFitOptions{}, rng));
+}
+
+}  // namespace
+}  // namespace corridor
+
+namespace corridor {
+namespace {
+
+// A 10 x 6 m room with a 0.6 m pillar on the straight line from the start to the goal.
+std::shared_ptr<const drivers::sim::World> PillarRoom() {
+  nav::OccupancyGrid grid(200, 120, 0.05, {}, nav::kFreeCell);
+  for (int i = 0; i < 200; ++i) grid.at({i, 0}) = grid.at({i, 119}) = nav::kOccupiedCell;
+  for (int i = 0; i < 120; ++i) grid.at({0, i}) = grid.at({199, i}) = nav::kOccupiedCell;
+  for (int y = 54; y < 66; ++y)
+    for (int x = 84; x < 96; ++x) grid.at({x, y}) = nav::kOccupiedCell;  // x 4.2-4.8 m, y 2.7-3.3 m
+  return std::make_shared<const drivers::sim::World>(drivers::sim::WorldFromMap(grid, drivers::sim::WorldOptions{}));
+}
+
+TEST(MorpClosedLoopTest, DrivesAroundAPillarToItsGoalWithoutTouchingIt) {
+  drivers::sim::SimOptions o;
+  o.start = {1.0, 3.0, 0.0};
+  o.seed = 2022;
+  o.camera.rate_hz = 15.0;
+  o.base.limits.max_linear_mps = 0.26;  // DPoom's speed
+  o.laser.enabled = false;
+  drivers::sim::SimRobot robot(PillarRoom(), o);
+  nav::Morp morp(drivers::ToPinhole(robot.info()), nav::MorpOptions{});
+  nav::MorpRb policy{nav::MorpRbOptions{}};
+  const Eigen::Vector2d goal(8.0, 3.0);
+  bool bumped = false;
+  bool avoided = false;
+  robot.SetOdometryHandler([&](const drivers::WheelOdometry& w) { bumped |= w.bumper_pressed; });
+  robot.SetFrameHandler([&](std::shared_ptr<const drivers::RgbdFrame> frame) {
+    // The control loop at the camera's rate: lanes, then the rule-based policy toward the goal.
+    const nav::Pose2 pose = robot.true_pose();
+    const Eigen::Vector2d to_goal = goal - pose.translation();
+    const double heading_error = std::atan2(to_goal.y(), to_goal.x()) - pose.yaw_rad;
+    const nav::MorpRbDecision d = policy.Decide(morp.Process(frame->depth_mm), heading_error, 1.0 / 15.0);
+    avoided |= d.mode != nav::MorpRbMode::kFollow;
+    robot.SetVelocity(to_goal.norm() < 0.15 ? nav::Twist2{} : d.twist);
+  });
+  double seconds = 0.0;
+  while (seconds < 90.0 && (robot.true_pose().translation() - goal).norm() >= 0.15) {
+    robot.Step();
+    seconds += robot.step_s();
+  }
+  EXPECT_LT((robot.true_pose().translation() - goal).norm(), 0.15) << "stuck at " << robot.true_pose().x_m << ", "
+                                                                    << robot.true_pose().y_m;
+  EXPECT_FALSE(bumped);
+  EXPECT_TRUE(avoided) << "the pillar was never seen";
 }
 
 }  // namespace

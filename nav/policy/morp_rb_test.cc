@@ -1,0 +1,110 @@
+#include "nav/policy/morp_rb.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace corridor::nav {
+namespace {
+
+// Four lanes across a 0.4 m robot, left to right; a negative distance means the lane is free.
+std::vector<LaneResult> Lanes(std::initializer_list<double> dead_ends) {
+  std::vector<LaneResult> lanes;
+  double offset = 0.15;
+  for (double d : dead_ends) {
+    LaneResult lane;
+    lane.offset_m = offset;
+    lane.dead_end = d >= 0.0;
+    lane.free_distance_m = d >= 0.0 ? d : 4.0;
+    lanes.push_back(lane);
+    offset -= 0.1;
+  }
+  return lanes;
+}
+
+TEST(MorpRbTest, ClearLanesFollowTheWaypoint) {
+  const MorpRbOptions o;
+  const auto straight = MorpRb(o).Decide(Lanes({-1, -1, -1, -1}), 0.0, 0.1);
+  EXPECT_EQ(straight.mode, MorpRbMode::kFollow);
+  EXPECT_DOUBLE_EQ(straight.twist.linear_mps, o.max_linear_mps);
+  EXPECT_DOUBLE_EQ(straight.twist.angular_rps, 0.0);
+  const auto left = MorpRb(o).Decide(Lanes({-1, -1, -1, -1}), 0.4, 0.1);
+  EXPECT_GT(left.twist.angular_rps, 0.0);
+  EXPECT_LT(left.twist.linear_mps, o.max_linear_mps);
+  const auto behind = MorpRb(o).Decide(Lanes({-1, -1, -1, -1}), -2.5, 0.1);
+  EXPECT_EQ(behind.twist.linear_mps, 0.0);  // turn in place first
+  EXPECT_LT(behind.twist.angular_rps, 0.0);
+}
+
+TEST(MorpRbTest, AnObstacleOnTheLeftMeansChangeLaneToTheRightAndSlowDown) {
+  const MorpRbOptions o;
+  const auto d = MorpRb(o).Decide(Lanes({0.7, 0.7, -1, -1}), 0.1, 0.1);
+  EXPECT_EQ(d.mode, MorpRbMode::kChangeLaneRight);
+  EXPECT_LT(d.twist.angular_rps, 0.0);
+  EXPECT_GT(d.twist.linear_mps, 0.0);
+  EXPECT_LT(d.twist.linear_mps, o.max_linear_mps);
+  const auto mirrored = MorpRb(o).Decide(Lanes({-1, -1, 0.7, 0.7}), -0.1, 0.1);
+  EXPECT_EQ(mirrored.mode, MorpRbMode::kChangeLaneLeft);
+  EXPECT_GT(mirrored.twist.angular_rps, 0.0);
+}
+
+TEST(MorpRbTest, ABlockedWayTurnsTowardTheWaypointAndNearerMeansSlower) {
+  const MorpRbOptions o;
+  const auto toward_goal = MorpRb(o).Decide(Lanes({0.8, 0.8, 0.8, 0.8}), -0.3, 0.1);
+  EXPECT_EQ(toward_goal.mode, MorpRbMode::kChangeLaneRight);
+  const auto far = MorpRb(o).Decide(Lanes({0.9, 0.9, 0.9, 0.9}), 0.3, 0.1);
+  const auto near = MorpRb(o).Decide(Lanes({0.55, 0.55, 0.55, 0.55}), 0.3, 0.1);
+  EXPECT_EQ(far.mode, MorpRbMode::kChangeLaneLeft);
+  EXPECT_LT(near.twist.linear_mps, far.twist.linear_mps);
+}
+
+TEST(MorpRbTest, TooCloseToPassMeansStopAndTurnAndBlindMeansStop) {
+  const MorpRbOptions o;
+  const auto d = MorpRb(o).Decide(Lanes({0.3, 0.3, 0.9, -1}), 0.0, 0.1);
+  EXPECT_EQ(d.mode, MorpRbMode::kStopAndTurn);
+  EXPECT_EQ(d.twist.linear_mps, 0.0);
+  EXPECT_LT(d.twist.angular_rps, 0.0);  // the right side is freer
+  std::vector<LaneResult> blind = Lanes({0.2, 0.2, 0.2, 0.2});
+  for (auto& lane : blind) lane.blind = true;
+  EXPECT_EQ(MorpRb(o).Decide(blind, 0.0, 0.1).twist.linear_mps, 0.0);
+  EXPECT_EQ(MorpRb(o).Decide({}, 0.0, 0.1).twist.linear_mps, 0.0);
+}
+
+TEST(MorpRbTest, ItKeepsItsSideThenOvertakesBeforeTurningBack) {
+  const MorpRbOptions o;
+  MorpRb policy(o);
+  // Blocked, the right side freer: it goes right...
+  EXPECT_EQ(policy.Decide(Lanes({0.6, 0.6, 0.9, 0.9}), 0.0, 0.1).mode, MorpRbMode::kChangeLaneRight);
+  // ...and stays right even when the left looks freer a frame later (no dithering).
+  EXPECT_EQ(policy.Decide(Lanes({0.9, 0.9, 0.6, 0.6}), 0.0, 0.1).mode, MorpRbMode::kChangeLaneRight);
+  // Clear: straight on for the overtaking distance although the waypoint is to the left.
+  const MorpRbDecision overtaking = policy.Decide(Lanes({-1, -1, -1, -1}), 0.8, 0.1);
+  EXPECT_EQ(overtaking.mode, MorpRbMode::kOvertake);
+  EXPECT_EQ(overtaking.twist.angular_rps, 0.0);
+  for (int i = 0; i < 100; ++i) policy.Decide(Lanes({-1, -1, -1, -1}), 0.8, 0.1);  // 10 s at up to 0.26 m/s
+  EXPECT_EQ(policy.Decide(Lanes({-1, -1, -1, -1}), 0.8, 0.1).mode, MorpRbMode::kFollow);
+}
+
+TEST(StoppingTest, TheSpeedForAFreeDistanceAlwaysStopsWithinItOverRandomCases) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> free(0.0, 5.0);
+  std::uniform_real_distribution<double> decel(0.2, 2.0);
+  std::uniform_real_distribution<double> reaction(0.0, 0.3);
+  for (int i = 0; i < 1000; ++i) {
+    const StoppingModel m{decel(rng), reaction(rng), 0.1};
+    const double d = free(rng);
+    const double v = SpeedForFreeDistance(d, m);
+    EXPECT_GE(v, 0.0);
+    if (d > m.margin_m) {
+      EXPECT_NEAR(StoppingDistance(v, m), d, 1e-9);  // the inverse, exactly at the limit
+      EXPECT_FALSE(NeedsProtectiveStop(d + 1e-6, v, m));
+    } else {
+      EXPECT_EQ(v, 0.0);
+      EXPECT_TRUE(NeedsProtectiveStop(d, 0.0, m));  // already inside the margin: stay stopped
+    }
+    EXPECT_TRUE(NeedsProtectiveStop(d - 0.01, v + 0.05, m));
+  }
+}
+
+}  // namespace
+}  // namespace corridor::nav
