@@ -30,7 +30,7 @@ const Scene& SceneAt(int width, int height) {
     const drivers::sim::RgbdRenderer renderer(caster, mesh, scene.options);
     std::mt19937 rng(1);
     drivers::RgbdFrame frame;
-    renderer.Render(drivers::sim::MakeCameraInfo(scene.options).base_T_camera, rng, frame);
+    renderer.Render(drivers::sim::MakeCameraInfo(scene.options).camera.base_T_camera, rng, frame);
     scene.depth = frame.depth_mm;
   }
   return scene;
@@ -38,14 +38,14 @@ const Scene& SceneAt(int width, int height) {
 
 void BM_Morp(benchmark::State& state) {
   const Scene& scene = SceneAt(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
-  nav::Morp morp(drivers::ToPinhole(drivers::sim::MakeCameraInfo(scene.options)), nav::MorpOptions{});
+  nav::Morp morp(drivers::sim::MakeCameraInfo(scene.options).camera, nav::MorpOptions{});
   for (auto _ : state) benchmark::DoNotOptimize(morp.Process(scene.depth).data());
 }
 BENCHMARK(BM_Morp)->Args({640, 480})->Args({1280, 720})->Unit(benchmark::kMicrosecond);
 
 void BM_PointCloud(benchmark::State& state) {
   const Scene& scene = SceneAt(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
-  const nav::PinholeCamera camera = drivers::ToPinhole(drivers::sim::MakeCameraInfo(scene.options));
+  const nav::PinholeCamera camera = drivers::sim::MakeCameraInfo(scene.options).camera;
   const Eigen::Matrix3f rotation = camera.base_T_camera.linear().cast<float>();
   const Eigen::Vector3f origin = camera.base_T_camera.translation().cast<float>();
   std::vector<Eigen::Vector3f> cloud;

@@ -21,7 +21,7 @@ const RayCaster& Caster() {
 
 // The robot at the default start, looking down the corridor.
 Eigen::Isometry3d CameraPose(const SimCameraOptions& o) {
-  return nav::Pose2{24.38, 24.07, 1.5708}.ToIsometry3() * MakeCameraInfo(o).base_T_camera;
+  return nav::Pose2{24.38, 24.07, 1.5708}.ToIsometry3() * MakeCameraInfo(o).camera.base_T_camera;
 }
 
 SimCameraOptions Camera(int width, int height) {
@@ -50,8 +50,8 @@ std::vector<Eigen::Vector3f> DepthRays(const SimCameraOptions& o) {
   std::vector<Eigen::Vector3f> rays;
   for (int v = 0; v < o.height; ++v) {
     for (int u = 0; u < o.width; ++u) {
-      rays.push_back(r * Eigen::Vector3f(static_cast<float>((u + 0.5 - info.intrinsics.cx) / info.intrinsics.fx),
-                                         static_cast<float>((v + 0.5 - info.intrinsics.cy) / info.intrinsics.fy), 1.0f));
+      rays.push_back(r * Eigen::Vector3f(static_cast<float>((u + 0.5 - info.camera.cx) / info.camera.fx),
+                                         static_cast<float>((v + 0.5 - info.camera.cy) / info.camera.fy), 1.0f));
     }
   }
   return rays;

@@ -12,20 +12,10 @@
 
 namespace corridor::drivers {
 
-// Pinhole intrinsics in pixels for an image of width x height.
-struct CameraIntrinsics {
-  int width = 0;
-  int height = 0;
-  double fx = 0.0;
-  double fy = 0.0;
-  double cx = 0.0;
-  double cy = 0.0;
-};
-
 struct CameraInfo {
-  CameraIntrinsics intrinsics;
-  // Pose of the optical frame (x right, y down, z forward) in the robot base frame (x forward, z up, on the floor).
-  Eigen::Isometry3d base_T_camera = Eigen::Isometry3d::Identity();
+  // Intrinsics, and the pose of the optical frame (x right, y down, z forward) in the robot base frame (x forward,
+  // z up, on the floor): what the navigation algorithms use.
+  nav::PinholeCamera camera;
   double min_range_m = 0.0;
   double max_range_m = 0.0;
 };
@@ -38,12 +28,6 @@ struct RgbdFrame {
   cv::Mat depth_mm;
   cv::Mat color_bgr;
 };
-
-// The camera as the navigation algorithms see it.
-inline nav::PinholeCamera ToPinhole(const CameraInfo& info) {
-  const CameraIntrinsics& k = info.intrinsics;
-  return {k.width, k.height, k.fx, k.fy, k.cx, k.cy, info.base_T_camera};
-}
 
 class DepthCamera {
  public:

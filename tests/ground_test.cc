@@ -45,12 +45,12 @@ cv::Mat Render(const TriangleMesh& mesh, const drivers::sim::SimCameraOptions& o
   const drivers::sim::RgbdRenderer renderer(caster, mesh, o);
   std::mt19937 rng(seed);
   drivers::RgbdFrame frame;
-  renderer.Render(drivers::sim::MakeCameraInfo(o).base_T_camera, rng, frame);  // the robot at the origin
+  renderer.Render(drivers::sim::MakeCameraInfo(o).camera.base_T_camera, rng, frame);  // the robot at the origin
   return frame.depth_mm;
 }
 
 nav::Morp MakeMorp(const drivers::sim::SimCameraOptions& o, nav::MorpOptions options = {}) {
-  return nav::Morp(drivers::ToPinhole(drivers::sim::MakeCameraInfo(o)), options);
+  return nav::Morp(drivers::sim::MakeCameraInfo(o).camera, options);
 }
 
 TEST(MorpTest, OpenFloorHasNoDeadEnds) {
@@ -140,7 +140,7 @@ TEST(MorpTest, TooCloseToSeeMeansBlindAndStop) {
 
 TEST(MorpTest, RealKinectFramesGiveSaneOutput) {
   // TUM RGB-D desk frames (freiburg2 Kinect): depth / 5000 = metres, a third of pixels are holes.
-  nav::PinholeCamera camera{640, 480, 520.9, 521.0, 325.1, 249.7, drivers::sim::MakeCameraInfo(Camera()).base_T_camera};
+  nav::PinholeCamera camera{640, 480, 520.9, 521.0, 325.1, 249.7, drivers::sim::MakeCameraInfo(Camera()).camera.base_T_camera};
   nav::Morp morp(camera, nav::MorpOptions{});
   for (const char* name : {"tests/data/depth/1_depth.png", "tests/data/depth/2_depth.png"}) {
     cv::Mat raw = cv::imread((SourceDir() / name).string(), cv::IMREAD_UNCHANGED);
@@ -169,14 +169,14 @@ TEST(FloorFitTest, RecoversCameraHeightAndTiltFromOneFrame) {
     TriangleMesh mesh = Floor();
     mesh.AddBox({2.0f, -3.0f, 0.0f}, {2.2f, 3.0f, 1.5f}, kGrey);  // a wall too: it must not be taken for the floor
     const auto info = drivers::sim::MakeCameraInfo(o);
-    const auto fit = nav::FitFloor(Render(mesh, o), drivers::ToPinhole(info), nav::FloorFitOptions{}, rng);
+    const auto fit = nav::FitFloor(Render(mesh, o), info.camera, nav::FloorFitOptions{}, rng);
     ASSERT_TRUE(fit) << height << " m, " << tilt_deg << " degrees";
     EXPECT_NEAR(fit->camera_height_m, height, 0.01);
     EXPECT_NEAR(fit->tilt_rad * 180.0 / std::numbers::pi, tilt_deg, 0.5);
     EXPECT_NEAR(fit->roll_rad, 0.0, 0.01);
     // The mounting it implies maps the floor to z = 0.
-    const Eigen::Isometry3d mount = nav::MountingFromFloor(*fit, info.base_T_camera);
-    EXPECT_TRUE(mount.isApprox(info.base_T_camera, 0.02)) << mount.matrix() << "\n" << info.base_T_camera.matrix();
+    const Eigen::Isometry3d mount = nav::MountingFromFloor(*fit, info.camera.base_T_camera);
+    EXPECT_TRUE(mount.isApprox(info.camera.base_T_camera, 0.02)) << mount.matrix() << "\n" << info.camera.base_T_camera.matrix();
   }
 }
 
@@ -185,7 +185,7 @@ TEST(FloorFitTest, NoFloorInViewGivesNoFit) {
   TriangleMesh mesh;
   mesh.AddBox({0.5f, -3.0f, -3.0f}, {0.7f, 3.0f, 3.0f}, kGrey);  // a wall filling the view
   std::mt19937 rng(1);
-  EXPECT_FALSE(nav::FitFloor(Render(mesh, o), drivers::ToPinhole(drivers::sim::MakeCameraInfo(o)),
+  EXPECT_FALSE(nav::FitFloor(Render(mesh, o), drivers::sim::MakeCameraInfo(o).camera,
                              nav::FloorFitOptions{}, rng));
 }
 
@@ -213,7 +213,7 @@ TEST(MorpClosedLoopTest, DrivesAroundAPillarToItsGoalWithoutTouchingIt) {
   o.base.limits.max_linear_mps = 0.26;  // DPoom's speed
   o.laser.enabled = false;
   drivers::sim::SimRobot robot(PillarRoom(), o);
-  nav::Morp morp(drivers::ToPinhole(robot.info()), nav::MorpOptions{});
+  nav::Morp morp(robot.info().camera, nav::MorpOptions{});
   nav::MorpRb policy{nav::MorpRbOptions{}};
   const Eigen::Vector2d goal(8.0, 3.0);
   bool bumped = false;

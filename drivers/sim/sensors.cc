@@ -14,7 +14,7 @@ const Eigen::Vector3f kBackground(0.85f, 0.85f, 0.88f);
 
 CameraInfo MakeCameraInfo(const SimCameraOptions& o) {
   CameraInfo info;
-  CameraIntrinsics& k = info.intrinsics;
+  nav::PinholeCamera& k = info.camera;
   k.width = o.width;
   k.height = o.height;
   k.fx = o.width / (2.0 * std::tan(Radians(o.horizontal_fov_deg) / 2.0));
@@ -26,9 +26,9 @@ CameraInfo MakeCameraInfo(const SimCameraOptions& o) {
   base_R_optical.col(0) = Eigen::Vector3d(0, -1, 0);
   base_R_optical.col(1) = Eigen::Vector3d(0, 0, -1);
   base_R_optical.col(2) = Eigen::Vector3d(1, 0, 0);
-  info.base_T_camera = Eigen::Isometry3d::Identity();
-  info.base_T_camera.linear() = Eigen::AngleAxisd(Radians(o.tilt_deg), Eigen::Vector3d::UnitY()) * base_R_optical;
-  info.base_T_camera.translation() = Eigen::Vector3d(o.mount_x_m, 0.0, o.mount_height_m);
+  info.camera.base_T_camera = Eigen::Isometry3d::Identity();
+  info.camera.base_T_camera.linear() = Eigen::AngleAxisd(Radians(o.tilt_deg), Eigen::Vector3d::UnitY()) * base_R_optical;
+  info.camera.base_T_camera.translation() = Eigen::Vector3d(o.mount_x_m, 0.0, o.mount_height_m);
   info.min_range_m = o.min_range_m;
   info.max_range_m = o.max_range_m;
   return info;
@@ -36,7 +36,7 @@ CameraInfo MakeCameraInfo(const SimCameraOptions& o) {
 
 RgbdRenderer::RgbdRenderer(const RayCaster& caster, const TriangleMesh& mesh, const SimCameraOptions& options)
     : caster_(caster), mesh_(mesh), options_(options), info_(MakeCameraInfo(options)) {
-  const CameraIntrinsics& k = info_.intrinsics;
+  const nav::PinholeCamera& k = info_.camera;
   rays_.reserve(static_cast<std::size_t>(k.width) * k.height);
   for (int v = 0; v < k.height; ++v) {
     for (int u = 0; u < k.width; ++u) {
@@ -46,7 +46,7 @@ RgbdRenderer::RgbdRenderer(const RayCaster& caster, const TriangleMesh& mesh, co
 }
 
 void RgbdRenderer::Render(const Eigen::Isometry3d& world_T_camera, std::mt19937& rng, RgbdFrame& frame) const {
-  const CameraIntrinsics& k = info_.intrinsics;
+  const nav::PinholeCamera& k = info_.camera;
   const Eigen::Matrix3f rotation = world_T_camera.linear().cast<float>();
   const Eigen::Vector3f origin = world_T_camera.translation().cast<float>();
   std::vector<Eigen::Vector3f> directions(rays_.size());

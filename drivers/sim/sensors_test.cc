@@ -34,7 +34,7 @@ RgbdFrame RenderFrom(const TriangleMesh& mesh, const SimCameraOptions& o, const 
   const RgbdRenderer renderer(caster, mesh, o);
   std::mt19937 rng(seed);
   RgbdFrame frame;
-  renderer.Render(base.ToIsometry3() * MakeCameraInfo(o).base_T_camera, rng, frame);
+  renderer.Render(base.ToIsometry3() * MakeCameraInfo(o).camera.base_T_camera, rng, frame);
   return frame;
 }
 
@@ -61,10 +61,10 @@ TEST(RgbdRendererTest, WallAtAnyHeadingKeepsItsPerpendicularDistance) {
   for (int trial = 0; trial < 10; ++trial) {
     const double a = yaw(rng);
     RgbdFrame frame;
-    renderer.Render(nav::Pose2{1.0, 0.0, a}.ToIsometry3() * MakeCameraInfo(o).base_T_camera, rng, frame);
+    renderer.Render(nav::Pose2{1.0, 0.0, a}.ToIsometry3() * MakeCameraInfo(o).camera.base_T_camera, rng, frame);
     // Pixel u's ray is (xn, yn, 1) in the optical frame; its x axis points to the robot's right, which is
     // (sin a, -cos a) in the world. The wall is 3 m ahead in x: 3 = z * (cos a + xn * sin a).
-    const CameraIntrinsics k = MakeCameraInfo(o).intrinsics;
+    const nav::PinholeCamera k = MakeCameraInfo(o).camera;
     for (int u = 0; u < o.width; u += 13) {
       const double xn = (u + 0.5 - k.cx) / k.fx;
       const double expected_mm = 3000.0 / (std::cos(a) + xn * std::sin(a));
@@ -80,7 +80,7 @@ TEST(RgbdRendererTest, BoxAppearsWithItsProjectedWidth) {
   mesh.AddBox({2.0f, -0.5f, 0.0f}, {3.0f, 0.5f, 1.0f}, {0.0f, 1.0f, 0.0f});
   const RgbdFrame frame = RenderFrom(mesh, o, {});
   const CameraInfo info = MakeCameraInfo(o);
-  const int row = static_cast<int>(info.intrinsics.cy) + 2;  // just under the optical axis, below the box top
+  const int row = static_cast<int>(info.camera.cy) + 2;  // just under the optical axis, below the box top
   int seen = 0;
   for (int u = 0; u < o.width; ++u) {
     const std::uint16_t d = frame.depth_mm.at<std::uint16_t>(row, u);
@@ -89,7 +89,7 @@ TEST(RgbdRendererTest, BoxAppearsWithItsProjectedWidth) {
       ++seen;
     }
   }
-  const double expected_px = 1.0 / 2.0 * info.intrinsics.fx;
+  const double expected_px = 1.0 / 2.0 * info.camera.fx;
   EXPECT_NEAR(seen, expected_px, 1.5);
 }
 
@@ -104,7 +104,7 @@ TEST(RgbdRendererTest, TiltedCameraSeesTheFloorWhereGeometrySaysSo) {
   for (int v = o.height / 2 + 5; v < o.height; v += 10) {
     // The ray through row v dips below the axis by atan((v + 0.5 - cy) / fy); it meets the floor at range
     // h / sin(dip + tilt), and its depth is that range times cos(dip).
-    const double dip = std::atan((v + 0.5 - info.intrinsics.cy) / info.intrinsics.fy);
+    const double dip = std::atan((v + 0.5 - info.camera.cy) / info.camera.fy);
     const double range = o.mount_height_m / std::sin(dip + tilt);
     const double expected_mm = range * std::cos(dip) * 1000.0;
     EXPECT_NEAR(frame.depth_mm.at<std::uint16_t>(v, o.width / 2), expected_mm, 2.0) << "row " << v;

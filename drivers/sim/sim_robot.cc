@@ -66,7 +66,7 @@ void SimRobot::Step() {
       auto frame = std::make_shared<RgbdFrame>();
       frame->stamp_ns = now;
       frame->sequence = frame_sequence_++;
-      renderer_.Render(pose.ToIsometry3() * camera_info_.base_T_camera, rng_, *frame);
+      renderer_.Render(pose.ToIsometry3() * camera_info_.camera.base_T_camera, rng_, *frame);
       frame_handler_(std::move(frame));
     }
   }
