@@ -16,6 +16,7 @@
 #include "server/nodes/control_node.h"
 #include "server/nodes/driver_bridge.h"
 #include "server/nodes/face_node.h"
+#include "server/nodes/ground_node.h"
 #include "server/nodes/localization_node.h"
 #include "server/nodes/mission_node.h"
 #include "server/nodes/sim_node.h"
@@ -187,6 +188,7 @@ int Run(const CommandLine& cl) {
   lifecycle.Add(std::make_unique<SimNode>(executors.sim, bus, robot, wall_clock));
   lifecycle.Add(std::make_unique<LocalizationNode>(executors.mapping, bus, wall_clock, start));
   lifecycle.Add(std::make_unique<FaceNode>(executors.perception, bus, wall_clock));
+  lifecycle.Add(std::make_unique<GroundNode>(executors.control, bus, wall_clock, robot.info(), config.ground));
   lifecycle.Add(std::move(mission_node));
   lifecycle.Add(std::make_unique<ControlNode>(executors.control, bus, robot, wall_clock, config.safety));
   lifecycle.ConfigureAll();

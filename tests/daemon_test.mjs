@@ -50,7 +50,7 @@ describe('corridord in the Willow Garage building', () => {
 
     await sleep(500);
     const s = await state(daemon.url);
-    assert.deepEqual(s.nodes.map((n) => n.name).sort(), ['control', 'face', 'localization', 'mission', 'sim']);
+    assert.deepEqual(s.nodes.map((n) => n.name).sort(), ['control', 'face', 'ground', 'localization', 'mission', 'sim']);
     assert.equal(s.face, 'neutral');
     for (const node of s.nodes) {
       assert.equal(node.health, 'ok', `${node.name}: ${node.message}`);
@@ -70,7 +70,7 @@ describe('corridord in the Willow Garage building', () => {
 
     const topics = await getJson(`${daemon.url}/api/v1/topics`);
     api.check('Topics', topics.body);
-    for (const t of ['odom', 'pose', 'cmd_vel', 'camera/rgbd', 'scan']) assert.ok(topics.body.topics.includes(t), t);
+    for (const t of ['odom', 'pose', 'cmd_vel', 'camera/rgbd', 'scan', 'ground/lanes']) assert.ok(topics.body.topics.includes(t), t);
 
     const doc = await getJson(`${daemon.url}/api/v1/openapi.json`);
     assert.equal(doc.body.openapi, '3.1.0');
@@ -126,11 +126,15 @@ describe('corridord in the Willow Garage building', () => {
     assert.equal(ws.readyState, WebSocket.OPEN);
 
     // Subscribing to a bus topic by name streams it.
-    ws.send(JSON.stringify({ type: 'subscribe', topics: ['odom'] }));
+    ws.send(JSON.stringify({ type: 'subscribe', topics: ['odom', 'ground/lanes'] }));
     await sleep(500);
     const odom = messages.filter((m) => m.message.topic === 'odom');
     assert.ok(odom.length >= 3);
     assert.ok('bumper_pressed' in odom.at(-1).message.data);
+    const lanes = messages.filter((m) => m.message.topic === 'ground/lanes');
+    assert.ok(lanes.length >= 3);
+    api.check('GroundLanes', lanes.at(-1).message.data);
+    assert.equal(lanes.at(-1).message.data.lanes.length, 4);
     ws.close();
   });
 

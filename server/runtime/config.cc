@@ -73,6 +73,22 @@ void ReadLaser(ConfigReader& r, drivers::sim::SimLaserOptions& o) {
   r.Read("noise_m", o.noise_m, 0.0, 1.0);
 }
 
+void ReadGround(ConfigReader& r, nav::MorpOptions& o) {
+  r.Read("lanes", o.lanes, 0, 64);
+  r.Read("robot_width_m", o.robot_width_m, 0.05, 3.0);
+  r.Read("lane_width_m", o.lane_width_m, 0.01, 1.0);
+  r.Read("w1", o.w1, 0.0, 10.0);
+  r.Read("w2", o.w2, 0.0, 10.0);
+  r.Read("score_threshold", o.score_threshold, 0.01, 100.0);
+  r.Read("max_step_m", o.max_step_m, 0.0, 0.5);
+  r.Read("max_drop_m", o.max_drop_m, 0.0, 1.0);
+  r.Read("min_range_m", o.min_range_m, 0.0, 5.0);
+  r.Read("max_range_m", o.max_range_m, 0.2, 20.0);
+  r.Read("blind_range_m", o.blind_range_m, 0.05, 10.0);
+  r.Read("half_window_px", o.half_window_px, 0, 20);
+  if (o.min_range_m >= o.max_range_m) throw ConfigError(r.PathOf("min_range_m") + ": must be below max_range_m");
+}
+
 void ReadPlanner(ConfigReader& r, nav::CostmapOptions& o) {
   r.Read("robot_radius_m", o.robot_radius_m, 0.05, 2.0);
   r.Read("distance_weight", o.distance_weight, 0.0, 100.0);
@@ -159,6 +175,7 @@ Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
     r.Section("map", [&](ConfigReader& s) { ReadPath(s, "file", config.map.file, base); });
     r.Section("safety", [&](ConfigReader& s) { ReadSafety(s, config.safety); });
     r.Section("sim", [&](ConfigReader& s) { ReadSim(s, config.sim, base); });
+    r.Section("ground", [&](ConfigReader& s) { ReadGround(s, config.ground); });
     r.Section("planner", [&](ConfigReader& s) { ReadPlanner(s, config.planner); });
     r.Section("mission", [&](ConfigReader& s) { ReadMission(s, config.mission); });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });

@@ -8,6 +8,7 @@
 
 #include "drivers/sim/sim_robot.h"
 #include "drivers/sim/world.h"
+#include "nav/ground/morp.h"
 #include "nav/planner/costmap.h"
 #include "nav/policy/path_follower.h"
 #include "server/runtime/config_reader.h"  // ConfigError
@@ -46,7 +47,8 @@ struct SimulatorOptions {
   drivers::sim::SimOptions robot;
 };
 
-// planner: nav::CostmapOptions; mission: nav::FollowerOptions (their fields are the keys, with units).
+// ground: nav::MorpOptions; planner: nav::CostmapOptions; mission: nav::FollowerOptions (their fields are the keys,
+// with units).
 
 struct LogOptions {
   std::string level = "info";           // trace, debug, info, warn, error
@@ -58,6 +60,7 @@ struct Config {
   MapOptions map;
   SafetyOptions safety;
   SimulatorOptions sim;
+  nav::MorpOptions ground;
   nav::CostmapOptions planner;
   nav::FollowerOptions mission;
   LogOptions log;

@@ -10,6 +10,22 @@ nlohmann::json ToJson(const nav::Pose2& pose) {
 
 nlohmann::json ToJson(const FaceState& face) { return {{"expression", face.expression}}; }
 
+nlohmann::json ToJson(const GroundLanes& g) {
+  nlohmann::json lanes = nlohmann::json::array();
+  for (const nav::LaneResult& l : g.lanes) {
+    nlohmann::json lane = {{"offset_m", l.offset_m},
+                           {"free_distance_m", l.free_distance_m},
+                           {"dead_end", l.dead_end},
+                           {"blind", l.blind}};
+    if (l.dead_end && !l.blind) {
+      lane["pixel"] = {l.pixel.x(), l.pixel.y()};
+      lane["point"] = {l.point.x(), l.point.y(), l.point.z()};
+    }
+    lanes.push_back(std::move(lane));
+  }
+  return {{"frame_sequence", g.frame_sequence}, {"latency_ms", g.latency_ms}, {"lanes", std::move(lanes)}};
+}
+
 nlohmann::json ToJson(const MissionState& mission) { return mission.document; }
 
 nlohmann::json ToJson(const nav::Twist2& twist) {

@@ -10,6 +10,7 @@
 #include "drivers/diff_drive_base.h"
 #include "drivers/laser2d.h"
 #include "nav/geometry/pose2.h"
+#include "nav/ground/morp.h"
 
 namespace corridor::server {
 
@@ -46,12 +47,21 @@ struct MissionState {
   nlohmann::json document;  // see MissionNode::Describe
 };
 
+// MORP's lanes for one depth frame (nav/ground/morp.h), and how long after the frame they were ready.
+struct GroundLanes {
+  drivers::TimeNs stamp_ns = 0;      // the frame's
+  std::uint64_t frame_sequence = 0;
+  double latency_ms = 0.0;           // from the frame's arrival on the bus to the lanes
+  std::vector<nav::LaneResult> lanes;
+};
+
 // The face's current expression (face/expression.h names them).
 struct FaceState {
   std::string expression;
 };
 
 nlohmann::json ToJson(const FaceState& face);
+nlohmann::json ToJson(const GroundLanes& lanes);
 nlohmann::json ToJson(const MissionState& mission);
 nlohmann::json ToJson(const nav::Pose2& pose);
 nlohmann::json ToJson(const nav::Twist2& twist);

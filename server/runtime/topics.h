@@ -16,5 +16,6 @@ inline constexpr TopicName<BaseCommand> kCmdVel{"cmd_vel"};
 inline constexpr TopicName<FaceState> kFaceExpression{"face/expression"};
 inline constexpr TopicName<MissionCommand> kMissionCommand{"mission/command"};
 inline constexpr TopicName<MissionState> kMission{"mission"};
+inline constexpr TopicName<GroundLanes> kGroundLanes{"ground/lanes"};
 
 }  // namespace corridor::server::topics

@@ -50,6 +50,11 @@ export interface Zone {
   id: string; name: string; kind: 'keep_out' | 'speed_limit'; polygon: [number, number][]; max_speed_mps?: number;
 }
 export interface Place { id: string; name: string; x: number; y: number; yaw: number; }
+export interface Lane {
+  offset_m: number; free_distance_m: number; dead_end: boolean; blind: boolean;
+  pixel?: [number, number]; point?: [number, number, number];
+}
+export interface GroundLanes { frame_sequence: number; latency_ms: number; lanes: Lane[]; }
 export type Goal = { x: number; y: number; yaw?: number } | { place: string };
 
 // Sends a JSON request; resolves the parsed body, or rejects with the problem's title and detail.

@@ -1,5 +1,5 @@
 // The corridor console: map, live pose, camera, telemetry, teleoperation, and the navigation tools.
-import { fetchJson, send, type MapInfo, type Mission, type State, type Twist } from './api';
+import { fetchJson, send, type GroundLanes, type MapInfo, type Mission, type Pose, type State, type Twist } from './api';
 import { MapView } from './map_view';
 import { Stream } from './stream';
 import { Teleop } from './teleop';
@@ -91,6 +91,37 @@ function startCamera(): void {
   void tick();
 }
 
+// Each lane's dead-end over the depth view: a red mark at its pixel with the free distance; blind lanes are grey.
+function showLanes(ground: GroundLanes, view: MapView | null, pose: Pose | null): void {
+  const img = byId<HTMLImageElement>('camera');
+  const canvas = byId<HTMLCanvasElement>('lanes-overlay');
+  canvas.width = img.clientWidth;
+  canvas.height = img.clientHeight;
+  const ctx = canvas.getContext('2d');
+  if (!ctx || img.naturalWidth === 0) return;
+  ctx.clearRect(0, 0, canvas.width, canvas.height);
+  const sx = canvas.width / img.naturalWidth;
+  const sy = canvas.height / img.naturalHeight;
+  ctx.font = '11px system-ui';
+  for (const lane of ground.lanes) {
+    if (!lane.pixel) continue;
+    const [u, v] = lane.pixel;
+    ctx.strokeStyle = '#fff';
+    ctx.fillStyle = '#f85149';
+    ctx.beginPath();
+    ctx.arc(u * sx, v * sy, 4, 0, 2 * Math.PI);
+    ctx.fill();
+    ctx.stroke();
+    ctx.fillStyle = '#fff';
+    ctx.fillText(`${lane.free_distance_m.toFixed(1)}`, u * sx + 5, v * sy - 5);
+  }
+  const nearest = Math.min(...ground.lanes.map((l) => (l.dead_end ? l.free_distance_m : Infinity)));
+  byId('lanes').textContent = `${ground.lanes.length} lanes, nearest dead-end ` +
+    `${Number.isFinite(nearest) ? `${nearest.toFixed(2)} m` : 'none'}, ready ${ground.latency_ms.toFixed(2)} ms after the frame` +
+    (ground.lanes.some((l) => l.blind) ? ' (blind)' : '');
+  view?.showDeadEnds(ground.lanes.filter((l) => l.point).map((l) => [l.point![0], l.point![1]]), pose);
+}
+
 function missionAction(action: 'pause' | 'resume' | 'cancel', current: () => Mission | null): void {
   byId(`mission-${action}`).addEventListener('click', () => {
     const mission = current();
@@ -120,10 +151,13 @@ async function main(): Promise<void> {
   for (const action of ['pause', 'resume', 'cancel'] as const) missionAction(action, () => mission);
   const connection = byId('connection');
   const scheme = location.protocol === 'https:' ? 'wss' : 'ws';
-  const stream = new Stream(`${scheme}://${location.host}/api/v1/stream`,
+  let pose: Pose | null = null;
+  const stream = new Stream(`${scheme}://${location.host}/api/v1/stream`, ['state', 'ground/lanes'],
     (topic, data) => {
+      if (topic === 'ground/lanes') showLanes(data as GroundLanes, view, pose);
       if (topic !== 'state') return;
       const state = data as State;
+      pose = state.pose;
       mission = state.mission;
       showState(state, view);
       if (view && state.map.revision !== mapRevision) {

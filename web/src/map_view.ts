@@ -19,6 +19,7 @@ export class MapView {
   private readonly trail: L.Polyline;
   private readonly missionPath: L.Polyline;
   private readonly missionGoals = L.layerGroup();
+  private readonly deadEnds = L.layerGroup();
   private followed = false;
 
   constructor(element: HTMLElement, info: MapInfo, private readonly footprintRadius: number) {
@@ -30,6 +31,7 @@ export class MapView {
     this.missionPath = L.polyline([], { color: '#2ea043', weight: 4, opacity: 0.8, className: 'mission-path' })
       .addTo(this.map);
     this.missionGoals.addTo(this.map);
+    this.deadEnds.addTo(this.map);
     this.ghost = L.circle([0, 0], { radius: footprintRadius, color: '#888', weight: 1, fill: false, dashArray: '3',
       className: 'robot-truth' });
     this.footprint = L.circle([0, 0], { radius: footprintRadius, color: '#1f6feb', weight: 2, fillOpacity: 0.5,
@@ -75,6 +77,18 @@ export class MapView {
       }
     }
     if (truth) this.ghost.setLatLng(toLatLng(truth.x, truth.y)).addTo(this.map);
+  }
+
+  // MORP's dead-ends (base-frame points) placed on the map through the robot's pose.
+  showDeadEnds(points: [number, number][], pose: Pose | null): void {
+    this.deadEnds.clearLayers();
+    if (!pose) return;
+    const c = Math.cos(pose.yaw);
+    const s = Math.sin(pose.yaw);
+    for (const [x, y] of points) {
+      L.circleMarker(toLatLng(pose.x + c * x - s * y, pose.y + s * x + c * y),
+        { radius: 3, color: '#f85149', fillOpacity: 1, className: 'dead-end' }).addTo(this.deadEnds);
+    }
   }
 
   showMission(mission: Mission | null): void {

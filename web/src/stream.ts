@@ -8,6 +8,7 @@ export class Stream {
 
   constructor(
     private readonly url: string,
+    private readonly topics: string[],
     private readonly onMessage: (topic: string, data: unknown) => void,
     private readonly onStatus: (status: StreamStatus) => void,
   ) {
@@ -26,6 +27,7 @@ export class Stream {
     this.socket = socket;
     socket.onopen = () => {
       this.retryMs = 250;
+      socket.send(JSON.stringify({ type: 'subscribe', topics: this.topics }));
       this.onStatus('up');
     };
     socket.onmessage = (event) => {

@@ -1,0 +1,24 @@
+// Runs MORP ground segmentation (nav/ground/morp.h) on every depth frame, on the control executor, and publishes the
+// lanes on ground/lanes with the time from the frame's arrival. The local policy and the safety limits read them.
+#pragma once
+
+#include "drivers/depth_camera.h"
+#include "nav/ground/morp.h"
+#include "server/runtime/bus.h"
+#include "server/runtime/node.h"
+
+namespace corridor::server {
+
+class GroundNode final : public Node {
+ public:
+  GroundNode(Executor& control, Bus& bus, const drivers::Clock& clock, const drivers::CameraInfo& camera,
+             const nav::MorpOptions& options);
+  void Activate() override;
+
+ private:
+  Executor& executor_;
+  Bus& bus_;
+  nav::Morp morp_;
+};
+
+}  // namespace corridor::server
