@@ -196,28 +196,52 @@ describe('corridord in a small arena', () => {
 sim:
   world: "${sourceDir}tests/data/maps/lse_arena/lse_arena.yaml"
   start: {x_m: 1.0, y_m: 0.75, yaw_deg: 0}
-  camera: {rate_hz: 5}
+  camera: {rate_hz: 15, width: 160, height: 120}
 `;
 
-  test('the robot stops against a wall instead of passing through it', async () => {
+  test('driving at a wall it sees, the robot slows and stops short of it', async () => {
     const daemon = await startDaemon({ config });
     try {
-      // The outer wall stands 2.95 m ahead; drive at it for longer than it takes to get there.
+      // The outer wall stands 2.95 m ahead; ask for full speed at it for longer than it takes to get there.
       let bumped = false;
-      let surprised = false;
-      const end = Date.now() + 7000;
+      let slowed = false;
+      const end = Date.now() + 9000;
       while (Date.now() < end) {
         await postJson(`${daemon.url}/api/v1/teleop`, { linear_mps: 0.5, angular_rps: 0 });
         const s = await state(daemon.url);
         bumped ||= s.bumper_pressed;
+        slowed ||= s.stop_reason === 'slowed for an obstacle ahead';
+        await sleep(100);
+      }
+      const s = await state(daemon.url);
+      const front = s.sim_true_pose.x + 0.2;
+      assert.ok(!bumped, 'never touched the wall');
+      assert.ok(slowed, 'the control loop said why it slowed');
+      assert.ok(front < 3.95 && front > 3.95 - 0.4, `stopped with its front at x = ${front}, the wall at 3.95`);
+    } finally {
+      await daemon.stop();
+    }
+  });
+
+  test('backing into a wall it cannot see, it stops against it instead of passing through', async () => {
+    const daemon = await startDaemon({ config });
+    try {
+      // The wall behind stands 0.95 m back (x = 0.05); the camera looks forward, so only the bumper tells.
+      let bumped = false;
+      let surprised = false;
+      const end = Date.now() + 5000;
+      while (Date.now() < end) {
+        await postJson(`${daemon.url}/api/v1/teleop`, { linear_mps: -0.4, angular_rps: 0 });
+        const s = await state(daemon.url);
+        bumped ||= s.bumper_pressed;
         surprised ||= s.face === 'surprised';
-        assert.ok(s.sim_true_pose.x + 0.2 <= 1.0 + 2.95 + 1e-6, `inside the wall at x = ${s.sim_true_pose.x}`);
+        assert.ok(s.sim_true_pose.x - 0.2 >= 0.05 - 1e-6, `inside the wall at x = ${s.sim_true_pose.x}`);
         await sleep(100);
       }
       assert.ok(bumped, 'the bumper reported the contact');
       assert.ok(surprised, 'the face showed surprise at the bump');
       const s = await state(daemon.url);
-      assert.ok(s.sim_true_pose.x + 0.2 > 1.0 + 2.95 - 0.1, `reached the wall: x = ${s.sim_true_pose.x}`);
+      assert.ok(s.sim_true_pose.x - 0.2 < 0.05 + 0.1, `reached the wall: x = ${s.sim_true_pose.x}`);
     } finally {
       await daemon.stop();
     }

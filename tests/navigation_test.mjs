@@ -13,7 +13,7 @@ const config = `
 sim:
   world: "${sourceDir}tests/data/maps/lse_arena/lse_arena.yaml"
   start: {x_m: 1.0, y_m: 0.75, yaw_deg: 0}
-  camera: {rate_hz: 5, width: 160, height: 120}
+  camera: {rate_hz: 15, width: 160, height: 120}
   laser: {enabled: false}
   base: {odom_linear_noise: 0, odom_angular_noise: 0}
 `;

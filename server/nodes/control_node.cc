@@ -1,6 +1,7 @@
 #include "server/nodes/control_node.h"
 
 #include <algorithm>
+#include <limits>
 #include <future>
 
 #include "server/runtime/topics.h"
@@ -34,6 +35,22 @@ BaseCommand DecideCommand(const ControlInputs& in, const SafetyOptions& options)
     out.mode = "mission";
     out.twist = Limit(in.mission->twist, options);
   }
+  if (out.twist.linear_mps > 0.0) {
+    // Forward: only as fast as stops before the nearest dead-end the camera sees, and not at all without sight.
+    const bool fresh = in.lanes != nullptr && in.last_lanes_ns >= 0 &&
+                       in.now_ns - in.last_lanes_ns <= drivers::FromSeconds(options.depth_timeout_s);
+    double nearest = std::numeric_limits<double>::infinity();
+    if (fresh) {
+      for (const nav::LaneResult& lane : in.lanes->lanes) {
+        if (lane.dead_end) nearest = std::min(nearest, lane.free_distance_m);
+      }
+    }
+    const double cap = fresh ? nav::SpeedForFreeDistance(nearest - options.front_offset_m, options.stopping) : 0.0;
+    if (out.twist.linear_mps > cap) {
+      out.twist.linear_mps = cap;
+      out.reason = fresh ? "slowed for an obstacle ahead" : "no depth frames: not driving forward";
+    }
+  }
   return out;
 }
 
@@ -43,6 +60,7 @@ ControlNode::ControlNode(Executor& executor, Bus& bus, drivers::DiffDriveBase& b
 
 void ControlNode::Activate() {
   bus_.Get(topics::kOdometry).Subscribe(executor(), [this](const auto&) { last_odometry_ns_ = clock().Now(); });
+  bus_.Get(topics::kGroundLanes).Subscribe(executor(), [this](const auto&) { last_lanes_ns_ = clock().Now(); });
   PeriodicNode::Activate();
 }
 
@@ -66,8 +84,9 @@ void ControlNode::Deactivate() {
 void ControlNode::Tick() {
   const auto teleop = bus_.Get(topics::kTeleop).latest();
   const auto mission = bus_.Get(topics::kMissionCommand).latest();
-  const BaseCommand command =
-      DecideCommand({clock().Now(), teleop.get(), last_odometry_ns_.load(), mission.get()}, options_);
+  const auto lanes = bus_.Get(topics::kGroundLanes).latest();
+  const BaseCommand command = DecideCommand(
+      {clock().Now(), teleop.get(), last_odometry_ns_.load(), mission.get(), lanes.get(), last_lanes_ns_.load()}, options_);
   base_.SetVelocity(command.twist);
   bus_.Get(topics::kCmdVel).Publish(command);
   if (command.mode == "stopped") {

@@ -19,6 +19,8 @@ struct ControlInputs {
   const TeleopCommand* teleop = nullptr;     // the latest, or null
   drivers::TimeNs last_odometry_ns = -1;     // arrival time (the node's clock) of the latest odometry; -1 never
   const MissionCommand* mission = nullptr;   // the latest, or null
+  const GroundLanes* lanes = nullptr;        // the latest, or null
+  drivers::TimeNs last_lanes_ns = -1;        // arrival time of the latest lanes; -1 never
 };
 BaseCommand DecideCommand(const ControlInputs& in, const SafetyOptions& options);
 
@@ -37,6 +39,7 @@ class ControlNode final : public PeriodicNode {
   drivers::DiffDriveBase& base_;
   SafetyOptions options_;
   std::atomic<drivers::TimeNs> last_odometry_ns_{-1};
+  std::atomic<drivers::TimeNs> last_lanes_ns_{-1};
 };
 
 }  // namespace corridor::server

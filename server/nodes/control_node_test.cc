@@ -7,10 +7,24 @@ namespace {
 
 using drivers::FromSeconds;
 
+// Four lanes, each blocked at `dead_end_m` (or clear when negative).
+GroundLanes LanesAt(double dead_end_m) {
+  GroundLanes g;
+  for (double offset : {0.15, 0.05, -0.05, -0.15}) {
+    nav::LaneResult lane;
+    lane.offset_m = offset;
+    lane.dead_end = dead_end_m >= 0.0;
+    lane.free_distance_m = dead_end_m >= 0.0 ? dead_end_m : 4.0;
+    g.lanes.push_back(lane);
+  }
+  return g;
+}
+const GroundLanes kClear = LanesAt(-1.0);
+
 TEST(DecideCommandTest, TeleopIsAppliedWithinTheDeadmanAndClamped) {
   SafetyOptions o;
   const TeleopCommand teleop{{2.0, -0.5}, FromSeconds(10.0), "rest"};
-  const BaseCommand c = DecideCommand({FromSeconds(10.2), &teleop, FromSeconds(10.19)}, o);
+  const BaseCommand c = DecideCommand({FromSeconds(10.2), &teleop, FromSeconds(10.19), nullptr, &kClear, FromSeconds(10.19)}, o);
   EXPECT_EQ(c.mode, "teleop");
   EXPECT_DOUBLE_EQ(c.twist.linear_mps, o.max_linear_mps);
   EXPECT_DOUBLE_EQ(c.twist.angular_rps, -0.5);
@@ -30,12 +44,37 @@ TEST(DecideCommandTest, TeleopOverridesAMissionAndAStaleMissionIsIgnored) {
   const TeleopCommand teleop{{0.1, 0.0}, FromSeconds(10.0), "rest"};
   const MissionCommand mission{FromSeconds(10.0), {0.4, 0.2}};
   EXPECT_EQ(DecideCommand({FromSeconds(10.1), &teleop, FromSeconds(10.1), &mission}, o).mode, "teleop");
-  const BaseCommand m = DecideCommand({FromSeconds(10.1), nullptr, FromSeconds(10.1), &mission}, o);
+  const BaseCommand m = DecideCommand({FromSeconds(10.1), nullptr, FromSeconds(10.1), &mission, &kClear, FromSeconds(10.1)}, o);
   EXPECT_EQ(m.mode, "mission");
   EXPECT_DOUBLE_EQ(m.twist.linear_mps, 0.4);
   EXPECT_EQ(DecideCommand({FromSeconds(10.5), nullptr, FromSeconds(10.5), &mission}, o).mode, "idle");
   const MissionCommand over{FromSeconds(10.0), {}, false};
   EXPECT_EQ(DecideCommand({FromSeconds(10.05), nullptr, FromSeconds(10.05), &over}, o).mode, "idle");
+}
+
+TEST(DecideCommandTest, ForwardSpeedStopsBeforeWhatTheCameraSeesAndNeedsFreshDepth) {
+  SafetyOptions o;
+  const TeleopCommand forward{{0.5, 0.0}, FromSeconds(10.0), "rest"};
+  const auto at = [&](const GroundLanes* lanes, drivers::TimeNs lanes_ns) {
+    return DecideCommand({FromSeconds(10.05), &forward, FromSeconds(10.05), nullptr, lanes, lanes_ns}, o);
+  };
+  EXPECT_DOUBLE_EQ(at(&kClear, FromSeconds(10.04)).twist.linear_mps, 0.5);
+  // A dead-end 0.4 m from the centre is 0.2 m from the front: the speed that stops within it (0.42 m/s).
+  const GroundLanes near = LanesAt(0.4);
+  const BaseCommand slowed = at(&near, FromSeconds(10.04));
+  EXPECT_LT(slowed.twist.linear_mps, 0.5);
+  EXPECT_NEAR(nav::StoppingDistance(slowed.twist.linear_mps, o.stopping), 0.2, 1e-9);
+  EXPECT_EQ(slowed.reason, "slowed for an obstacle ahead");
+  // At the front already: no forward motion at all.
+  const GroundLanes touching = LanesAt(0.2);
+  EXPECT_EQ(at(&touching, FromSeconds(10.04)).twist.linear_mps, 0.0);
+  // No depth frame for longer than depth_timeout_s, or never: hold forward motion; reversing and turning stay allowed.
+  EXPECT_EQ(at(&kClear, FromSeconds(10.05 - o.depth_timeout_s - 0.01)).twist.linear_mps, 0.0);
+  EXPECT_EQ(at(nullptr, -1).reason, "no depth frames: not driving forward");
+  const TeleopCommand back{{-0.3, 0.5}, FromSeconds(10.0), "rest"};
+  const BaseCommand reversing = DecideCommand({FromSeconds(10.05), &back, FromSeconds(10.05)}, o);
+  EXPECT_DOUBLE_EQ(reversing.twist.linear_mps, -0.3);
+  EXPECT_DOUBLE_EQ(reversing.twist.angular_rps, 0.5);
 }
 
 TEST(DecideCommandTest, NoOdometryMeansStopWithAReason) {

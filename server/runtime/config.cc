@@ -31,6 +31,11 @@ void ReadSafety(ConfigReader& r, SafetyOptions& o) {
   r.Read("max_angular_rps", o.max_angular_rps, 0.0, 6.0);
   r.Read("odometry_timeout_s", o.odometry_timeout_s, 0.05, 5.0);
   r.Read("control_rate_hz", o.control_rate_hz, 5.0, 200.0);
+  r.Read("depth_timeout_s", o.depth_timeout_s, 0.02, 5.0);
+  r.Read("front_offset_m", o.front_offset_m, 0.0, 2.0);
+  r.Read("max_decel_mps2", o.stopping.max_decel_mps2, 0.05, 10.0);
+  r.Read("reaction_time_s", o.stopping.reaction_time_s, 0.0, 2.0);
+  r.Read("stop_margin_m", o.stopping.margin_m, 0.0, 1.0);
 }
 
 void ReadBase(ConfigReader& r, drivers::sim::SimBaseOptions& o) {

@@ -10,6 +10,7 @@
 #include "drivers/sim/world.h"
 #include "nav/ground/morp.h"
 #include "nav/planner/costmap.h"
+#include "nav/safety/stopping.h"
 #include "nav/policy/path_follower.h"
 #include "server/runtime/config_reader.h"  // ConfigError
 
@@ -38,6 +39,11 @@ struct SafetyOptions {
   double max_angular_rps = 1.5;
   double odometry_timeout_s = 0.5;     // no odometry for this long: the base is not answering; stop
   double control_rate_hz = 50.0;
+  // Forward motion is limited to what stops before the nearest dead-end the depth camera sees (ground/lanes),
+  // measured from the robot's front; without a fresh depth frame the robot does not drive forward.
+  double depth_timeout_s = 0.15;       // lanes older than this are stale
+  double front_offset_m = 0.2;         // from the base's centre to its front
+  nav::StoppingModel stopping{.max_decel_mps2 = 0.8, .reaction_time_s = 0.1, .margin_m = 0.05};
 };
 
 struct SimulatorOptions {
