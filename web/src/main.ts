@@ -1,5 +1,6 @@
 // The corridor console: map, live pose, camera, telemetry, teleoperation, and the navigation tools.
 import { fetchJson, send, type GroundLanes, type MapInfo, type Mission, type Pose, type State, type Twist } from './api';
+import { byId } from './dom';
 import { MapView } from './map_view';
 import { Stream } from './stream';
 import { Teleop } from './teleop';
@@ -10,12 +11,6 @@ const kCameraPeriodMs = 200;
 // The console drives at a walking pace; the daemon clamps to its own limits anyway.
 const kTeleopLimits = { maxLinear: 0.4, maxAngular: 1.0 };
 const kFootprintRadius = 0.2;
-
-function byId<T extends HTMLElement>(id: string): T {
-  const element = document.getElementById(id);
-  if (!element) throw new Error(`missing #${id}`);
-  return element as T;
-}
 
 function deg(rad: number): string {
   return `${((rad * 180) / Math.PI).toFixed(1)}°`;

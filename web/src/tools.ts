@@ -3,6 +3,7 @@
 import L from 'leaflet';
 
 import { send, type Goal, type Place, type PlanResult } from './api';
+import { byId } from './dom';
 import { toLatLng, type MapView } from './map_view';
 import type { ZoneLayers } from './zones';
 
@@ -11,12 +12,6 @@ type Tool = 'pan' | 'goal' | 'waypoints' | 'keep_out' | 'speed_limit' | 'place' 
 
 const kHeadingDragM = 0.15;  // a drag shorter than this sets no heading
 const kPaintValue: Record<string, number> = { paint_occupied: 100, paint_free: 0, paint_unknown: -1 };
-
-function byId<T extends HTMLElement>(id: string): T {
-  const element = document.getElementById(id);
-  if (!element) throw new Error(`missing #${id}`);
-  return element as T;
-}
 
 export class Tools {
   private tool: Tool = 'pan';
