@@ -112,9 +112,7 @@ void PrepareStateDir(const fs::path& dir) {
 // the world's collision slice (what the robot can bump into).
 std::pair<std::string, nav::OccupancyGrid> InitialMap(const Config& config, const drivers::sim::World* world) {
   if (!config.map.file.empty()) return {config.map.file.stem().string(), nav::LoadMap(config.map.file)};
-  if (world != nullptr && (config.sim.world.extension() == ".yaml" || config.sim.world.extension() == ".yml")) {
-    return {config.sim.world.stem().string(), nav::LoadMap(config.sim.world)};
-  }
+  if (world != nullptr && world->source_map) return {config.sim.world.stem().string(), *world->source_map};
   if (world != nullptr) return {config.sim.world.stem().string() + "-collision", world->collision};
   throw std::runtime_error("map.file: required when the simulator is disabled");
 }

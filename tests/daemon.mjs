@@ -65,21 +65,17 @@ export async function startDaemon({ config = null, args = [], stateDir: keptStat
 
 export const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
-export async function getJson(url) {
-  const res = await fetch(url);
-  return { status: res.status, type: res.headers.get('content-type'), body: await res.json() };
-}
-
 export async function sendJson(method, url, body, contentType = 'application/json') {
   const res = await fetch(url, {
-    method, headers: { 'Content-Type': contentType },
-    body: typeof body === 'string' ? body : JSON.stringify(body),
+    method, headers: body === undefined ? {} : { 'Content-Type': contentType },
+    body: body === undefined || typeof body === 'string' ? body : JSON.stringify(body),
   });
   const text = await res.text();
   return { status: res.status, type: res.headers.get('content-type'), body: text ? JSON.parse(text) : null };
 }
 
 export const postJson = (url, body, contentType) => sendJson('POST', url, body, contentType);
+export const getJson = (url) => sendJson('GET', url);
 
 // Polls until `predicate(value)` holds for `get()`'s value; returns that value, or throws after `ms`.
 export async function waitFor(get, predicate, ms, what) {

@@ -2,6 +2,8 @@
 // real Kinect frames from the TUM RGB-D benchmark (holes and noise: the output must stay sane).
 #include <gtest/gtest.h>
 
+#include "testing/source_dir.h"
+
 #include <cstdlib>
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
@@ -17,10 +19,7 @@ namespace {
 
 using drivers::sim::TriangleMesh;
 
-std::filesystem::path SourceDir() {
-  const char* dir = std::getenv("CORRIDOR_SOURCE_DIR");
-  return dir ? dir : ".";
-}
+using testing::SourceDir;
 
 const Eigen::Vector3f kGrey(0.6f, 0.6f, 0.6f);
 

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "testing/source_dir.h"
+
 #include <cstdlib>
 
 #include "nav/map/log_odds_grid.h"
@@ -11,9 +13,8 @@ namespace corridor::drivers::sim {
 namespace {
 
 std::shared_ptr<const World> Arena() {
-  const char* dir = std::getenv("CORRIDOR_SOURCE_DIR");
-  const std::filesystem::path root = dir ? dir : ".";
-  return std::make_shared<const World>(LoadWorld(root / "tests/data/maps/lse_arena/lse_arena.yaml", WorldOptions{}));
+  return std::make_shared<const World>(
+      LoadWorld(testing::SourceDir() / "tests/data/maps/lse_arena/lse_arena.yaml", WorldOptions{}));
 }
 
 TEST(SimRobotTest, LockstepDeliversEverySensorAtItsRateInSimulatedTime) {

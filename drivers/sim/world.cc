@@ -77,7 +77,7 @@ class SdfLoader {
         if (auto include = child.get_child_optional("include")) {
           AddInclude(*include, world_T_model, out);
         } else {
-          AddModel(child, world_file_.parent_path(), world_T_model, out);
+          AddModelLinks(child, world_file_.parent_path(), world_file_, world_T_model, out);
         }
       }
     }
@@ -129,10 +129,6 @@ class SdfLoader {
       transform = transform * Eigen::Scaling(ParseVector3(*scale, world_file_, "scale"));
     }
     AddModelLinks(*model, model_dir, model_file, transform, out);
-  }
-
-  void AddModel(const pt::ptree& model, const fs::path& dir, const Eigen::Affine3f& world_T_model, TriangleMesh& out) {
-    AddModelLinks(model, dir, world_file_, world_T_model, out);
   }
 
   void AddModelLinks(const pt::ptree& model, const fs::path& model_dir, const fs::path& file,
@@ -338,6 +334,7 @@ World WorldFromMap(const nav::OccupancyGrid& map, const WorldOptions& options) {
   for (std::size_t i = 0; i < map.cells().size(); ++i) {
     if (map.cells()[i] >= kWallPercent) world.collision.mutable_cells()[i] = nav::kOccupiedCell;
   }
+  world.source_map = map;
   world.description = "map extruded to " + std::to_string(options.wall_height_m) + " m walls";
   return world;
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -40,6 +41,8 @@ struct World {
   TriangleMesh mesh;
   // Occupied where any geometry lies between collision_min_height_m and collision_max_height_m.
   nav::OccupancyGrid collision;
+  // The map the world was extruded from (map_server worlds only): the daemon works in it without reading it again.
+  std::optional<nav::OccupancyGrid> source_map;
   std::string description;
 };
 

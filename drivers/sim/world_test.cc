@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "testing/source_dir.h"
+
 #include <cstdlib>
 #include <fstream>
 #include <opencv2/imgproc.hpp>
@@ -13,10 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path SourceDir() {
-  const char* dir = std::getenv("CORRIDOR_SOURCE_DIR");
-  return dir ? fs::path(dir) : fs::current_path();
-}
+using testing::SourceDir;
 
 TEST(WorldFromMapTest, CollisionGridIsTheMapsOccupiedCellsAndWallsAreExtruded) {
   const nav::OccupancyGrid map = nav::LoadMap(SourceDir() / "tests/data/maps/lse_arena/lse_arena.yaml");

@@ -35,7 +35,6 @@ class LogOddsGrid {
   double log_odds(CellIndex cell) const { return log_odds_[Index(cell)]; }
   // Thresholded into nav_msgs conventions: 100 occupied, 0 free, -1 unknown (never observed or undecided).
   OccupancyGrid ToOccupancyGrid() const;
-  const OccupancyGrid& geometry() const { return geometry_; }
 
  private:
   std::size_t Index(CellIndex c) const { return static_cast<std::size_t>(c.y) * geometry_.width() + c.x; }

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "testing/source_dir.h"
+
 #include <cstdlib>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -11,10 +13,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path SourceDir() {
-  const char* dir = std::getenv("CORRIDOR_SOURCE_DIR");
-  return dir ? fs::path(dir) : fs::current_path();
-}
+using testing::SourceDir;
 
 class MapIoTest : public ::testing::Test {
  protected:

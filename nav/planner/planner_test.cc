@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "testing/source_dir.h"
+
 #include <cstdlib>
 #include <queue>
 #include <random>
@@ -11,10 +13,7 @@
 namespace corridor::nav {
 namespace {
 
-std::filesystem::path SourceDir() {
-  const char* dir = std::getenv("CORRIDOR_SOURCE_DIR");
-  return dir ? dir : ".";
-}
+using testing::SourceDir;
 
 const OccupancyGrid& Map(const std::string& relative) {
   static std::map<std::string, OccupancyGrid> cache;

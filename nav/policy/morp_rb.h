@@ -47,8 +47,6 @@ class MorpRb {
   // (radians, positive: the waypoint is to the left) and the time since the previous decision. An empty lane list
   // means no sight: stop.
   MorpRbDecision Decide(const std::vector<LaneResult>& lanes, double heading_error_rad, double dt_s);
-  // Forgets the committed side (a new goal).
-  void Reset() { side_ = 0; overtake_left_m_ = 0.0; }
 
  private:
   MorpRbOptions options_;

@@ -10,13 +10,13 @@ GroundNode::GroundNode(Executor& control, Bus& bus, const drivers::Clock& clock,
 
 void GroundNode::Activate() {
   auto& lanes = bus_.Get(topics::kGroundLanes);
-  // Frames are stamped in the camera's time (simulated or device); latency is measured on this node's clock from
-  // the moment the frame reached the bus subscription, which is what the control path sees.
-  auto& frames = bus_.Get(topics::kRgbd);
-  frames.Subscribe(executor_, [this, &lanes](const std::shared_ptr<const drivers::RgbdFrame>& frame) {
+  // Frames are stamped in the camera's time (simulated or device), so latency is measured on this node's clock:
+  // from the moment the control executor takes the frame up to the lanes being ready. The same measurement feeds
+  // the node's loop statistics.
+  bus_.Get(topics::kRgbd).Subscribe(executor_, [this, &lanes](const std::shared_ptr<const drivers::RgbdFrame>& frame) {
     const drivers::TimeNs start = clock().Now();
-    LoopTimer timer(stats(), clock());
     GroundLanes out{frame->stamp_ns, frame->sequence, 0.0, morp_.Process(frame->depth_mm)};
+    stats().Record(start);
     out.latency_ms = static_cast<double>(clock().Now() - start) * 1e-6;
     lanes.Publish(std::move(out));
   });

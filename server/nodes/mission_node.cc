@@ -75,35 +75,25 @@ json MissionNode::Start(std::vector<nav::MissionGoal> goals, double speed_limit_
   return DescribeLocked();
 }
 
-MissionNode::Outcome MissionNode::Pause(const std::string& id) {
+MissionNode::Outcome MissionNode::Transition(const std::string& id, bool (nav::Mission::*transition)(),
+                                              bool drop_path) {
   std::lock_guard lock(mutex_);
   if (!mission_ || mission_->id() != id) return Outcome::kNotFound;
-  if (!mission_->Pause()) return Outcome::kConflict;
+  if (!((*mission_).*transition)()) return Outcome::kConflict;
+  if (drop_path) {
+    follower_.Clear();
+    ++generation_;
+    planning_ = false;
+  }
   Changed();
   return Outcome::kOk;
 }
 
-MissionNode::Outcome MissionNode::Resume(const std::string& id) {
-  std::lock_guard lock(mutex_);
-  if (!mission_ || mission_->id() != id) return Outcome::kNotFound;
-  if (!mission_->Resume()) return Outcome::kConflict;
-  // The robot may have been pushed or driven while paused: plan the leg again from where it is.
-  follower_.Clear();
-  ++generation_;
-  planning_ = false;
-  Changed();
-  return Outcome::kOk;
-}
-
-MissionNode::Outcome MissionNode::Cancel(const std::string& id) {
-  std::lock_guard lock(mutex_);
-  if (!mission_ || mission_->id() != id) return Outcome::kNotFound;
-  if (!mission_->Cancel()) return Outcome::kConflict;
-  follower_.Clear();
-  ++generation_;
-  Changed();
-  return Outcome::kOk;
-}
+// Pausing keeps the path; resuming plans the leg again from where the robot is (it may have been pushed or driven
+// while paused); cancelling drops it.
+MissionNode::Outcome MissionNode::Pause(const std::string& id) { return Transition(id, &nav::Mission::Pause, false); }
+MissionNode::Outcome MissionNode::Resume(const std::string& id) { return Transition(id, &nav::Mission::Resume, true); }
+MissionNode::Outcome MissionNode::Cancel(const std::string& id) { return Transition(id, &nav::Mission::Cancel, true); }
 
 std::optional<json> MissionNode::Describe(const std::string& id) const {
   std::lock_guard lock(mutex_);

@@ -35,6 +35,8 @@ class MissionNode final : public PeriodicNode {
 
  private:
   void Tick() override;
+  // Applies a Mission transition to mission `id`; drop_path: the current path no longer applies.
+  Outcome Transition(const std::string& id, bool (nav::Mission::*transition)(), bool drop_path);
   void RequestPlan(const nav::Pose2& from);
   void CheckPath(const nav::Pose2& from);
   nlohmann::json DescribeLocked() const;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "testing/source_dir.h"
+
 #include <cstdlib>
 #include <fstream>
 
@@ -10,10 +12,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path SourceDir() {
-  const char* dir = std::getenv("CORRIDOR_SOURCE_DIR");
-  return dir ? fs::path(dir) : fs::current_path();
-}
+using testing::SourceDir;
 
 class ConfigTest : public ::testing::Test {
  protected:

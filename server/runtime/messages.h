@@ -51,7 +51,7 @@ struct MissionState {
 struct GroundLanes {
   drivers::TimeNs stamp_ns = 0;      // the frame's
   std::uint64_t frame_sequence = 0;
-  double latency_ms = 0.0;           // from the frame's arrival on the bus to the lanes
+  double latency_ms = 0.0;           // from the control executor taking the frame up to the lanes being ready
   std::vector<nav::LaneResult> lanes;
 };
 

@@ -20,7 +20,6 @@ void LoopStats::Record(drivers::TimeNs start_ns) {
   current_.total_ms += ms;
   current_.worst_ms = std::max(current_.worst_ms, ms);
   ++loops_;
-  last_ns_ = now;
 }
 
 LoopStats::Snapshot LoopStats::snapshot() const {
@@ -35,7 +34,6 @@ LoopStats::Snapshot LoopStats::snapshot() const {
   s.mean_ms = count > 0 ? (previous_.total_ms + current_.total_ms) / static_cast<double>(count) : 0.0;
   s.worst_ms = std::max(previous_.worst_ms, current_.worst_ms);
   s.loops = loops_;
-  s.since_last_s = last_ns_ < 0 ? -1.0 : drivers::ToSeconds(now - last_ns_);
   return s;
 }
 

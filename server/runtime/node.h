@@ -23,7 +23,6 @@ class LoopStats {
     double mean_ms = 0.0;
     double worst_ms = 0.0;         // over the window
     std::uint64_t loops = 0;       // since start
-    double since_last_s = -1.0;    // -1 before the first loop
   };
 
   explicit LoopStats(const drivers::Clock& clock) : clock_(clock) {}
@@ -46,7 +45,6 @@ class LoopStats {
   mutable Window current_;
   mutable Window previous_;
   std::uint64_t loops_ = 0;
-  drivers::TimeNs last_ns_ = -1;
 };
 
 enum class Health { kOk, kDegraded, kError, kInactive };

@@ -26,14 +26,6 @@ export interface MapInfo {
 }
 export interface Problem { type: string; title: string; status: number; detail: string; }
 
-export async function fetchJson<T>(url: string): Promise<T> {
-  const res = await fetch(url, { cache: 'no-store' });
-  if (!res.ok) {
-    const problem = (await res.json().catch(() => null)) as Problem | null;
-    throw new Error(problem ? `${problem.title}: ${problem.detail}` : `${url}: HTTP ${res.status}`);
-  }
-  return (await res.json()) as T;
-}
 
 export interface MissionWaypoint { x: number; y: number; yaw?: number; place?: string; }
 export interface Mission {
@@ -61,6 +53,7 @@ export type Goal = { x: number; y: number; yaw?: number } | { place: string };
 export async function send<T>(method: string, url: string, body?: unknown): Promise<T> {
   const res = await fetch(url, {
     method,
+    cache: 'no-store',
     headers: body === undefined ? {} : { 'Content-Type': 'application/json' },
     body: body === undefined ? undefined : JSON.stringify(body),
   });

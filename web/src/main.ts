@@ -1,5 +1,5 @@
 // The corridor console: map, live pose, camera, telemetry, teleoperation, and the navigation tools.
-import { fetchJson, send, type GroundLanes, type MapInfo, type Mission, type Pose, type State, type Twist } from './api';
+import { send, type GroundLanes, type MapInfo, type Mission, type Pose, type State, type Twist } from './api';
 import { byId } from './dom';
 import { MapView } from './map_view';
 import { Stream } from './stream';
@@ -130,7 +130,7 @@ async function main(): Promise<void> {
   let mission: Mission | null = null;
   let mapRevision = -1;
   try {
-    const info = await fetchJson<MapInfo>('/api/v1/map');
+    const info = await send<MapInfo>('GET', '/api/v1/map');
     byId('map-name').textContent = info.name;
     view = new MapView(byId('map'), info, kFootprintRadius);
     mapRevision = info.revision;
@@ -157,7 +157,7 @@ async function main(): Promise<void> {
       showState(state, view);
       if (view && state.map.revision !== mapRevision) {
         mapRevision = state.map.revision;
-        void fetchJson<MapInfo>('/api/v1/map').then((info) => {
+        void send<MapInfo>('GET', '/api/v1/map').then((info) => {
           view?.setMap(info);
           byId('map-name').textContent = info.name;
           tools?.clearPaintPreview();

@@ -39,7 +39,6 @@ export class MapView {
     this.heading = L.polyline([], { color: '#0d1117', weight: 3, className: 'robot-heading' });
   }
 
-  get revision(): number { return this.info.revision; }
   get size(): { width: number; height: number } { return { width: this.info.width, height: this.info.height }; }
 
   // Shows a new revision of the map (after an edit or a change of map).
