@@ -167,7 +167,7 @@ int Run(const CommandLine& cl) {
     spdlog::info("map '{}': {} x {} cells at {} m", map->name, map->grid.width(), map->grid.height(),
                  map->grid.resolution_m());
   }
-  ConnectDrivers(bus, robot, robot, &robot);
+  ConnectDrivers(bus, wall_clock, robot, robot, &robot);
   Lifecycle lifecycle;
   // Mission documents are written to the database on the io executor, off the control path.
   const auto persist = [&store, &executors](nlohmann::json doc) {

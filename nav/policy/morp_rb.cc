@@ -39,7 +39,7 @@ MorpRbDecision MorpRb::Decide(const std::vector<LaneResult>& lanes, double headi
   }
   out.nearest_m = nearest;
   const double error = WrapAngle(heading_error_rad);
-  const double v_safe = std::min(o.max_linear_mps, SpeedForFreeDistance(nearest, o.stopping));
+  const double v_safe = std::min(o.max_linear_mps, SpeedForFreeDistance(nearest - o.front_offset_m, o.stopping));
 
   if (nearest >= o.clear_distance_m) {
     if (side_ != 0) {

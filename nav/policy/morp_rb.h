@@ -27,6 +27,7 @@ struct MorpRbOptions {
   double turn_in_place_rad = 1.0;    // heading error beyond which the robot turns before driving
   double tie_margin_m = 0.15;        // sides this close in free distance count as equal: turn toward the goal
   double overtake_distance_m = 0.9;  // straight on after the lanes clear, before turning back to the waypoint
+  double front_offset_m = 0.2;       // from the base's centre (where lane distances start) to its front
   StoppingModel stopping;
 };
 

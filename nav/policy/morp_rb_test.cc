@@ -1,4 +1,5 @@
 #include "nav/policy/morp_rb.h"
+#include "nav/policy/local_navigator.h"
 
 #include <gtest/gtest.h>
 
@@ -83,6 +84,76 @@ TEST(MorpRbTest, ItKeepsItsSideThenOvertakesBeforeTurningBack) {
   EXPECT_EQ(overtaking.twist.angular_rps, 0.0);
   for (int i = 0; i < 100; ++i) policy.Decide(Lanes({-1, -1, -1, -1}), 0.8, 0.1);  // 10 s at up to 0.26 m/s
   EXPECT_EQ(policy.Decide(Lanes({-1, -1, -1, -1}), 0.8, 0.1).mode, MorpRbMode::kFollow);
+}
+
+
+// A straight 6 m path along x from the origin.
+std::vector<Waypoint> StraightPath() {
+  std::vector<Waypoint> path;
+  for (int i = 0; i <= 6; ++i) path.push_back({Pose2{static_cast<double>(i), 0.0, 0.0}});
+  return path;
+}
+
+TEST(LocalNavigatorTest, ClearLanesFollowThePath) {
+  const LocalNavigatorOptions o;
+  LocalNavigator nav(o);
+  nav.SetPath(StraightPath());
+  const LocalStep step = nav.Update(Pose2{1.0, 0.0, 0.0}, Lanes({-1, -1, -1, -1}), 1e9, 0.05);
+  EXPECT_FALSE(step.avoiding);
+  EXPECT_EQ(step.mode, MorpRbMode::kFollow);
+  EXPECT_NEAR(step.twist.linear_mps, o.follower.max_linear_mps, 1e-9);
+  EXPECT_NEAR(step.twist.angular_rps, 0.0, 1e-9);
+}
+
+TEST(LocalNavigatorTest, AnObstacleOnThePathIsPassedByMorpRbWithinTheSpeedLimit) {
+  const LocalNavigatorOptions o;
+  LocalNavigator nav(o);
+  nav.SetPath(StraightPath());
+  const LocalStep step = nav.Update(Pose2{1.0, 0.0, 0.0}, Lanes({0.7, 0.7, -1, -1}), 0.1, 0.05);
+  EXPECT_TRUE(step.avoiding);
+  EXPECT_EQ(step.mode, MorpRbMode::kChangeLaneRight);
+  EXPECT_LT(step.twist.angular_rps, 0.0);
+  EXPECT_GT(step.twist.linear_mps, 0.0);
+  EXPECT_LE(step.twist.linear_mps, 0.1);  // the mission's limit holds while avoiding too
+  EXPECT_NEAR(step.nearest_m, 0.7, 1e-9);
+}
+
+TEST(LocalNavigatorTest, FarFromThePathAsksForANewOne) {
+  LocalNavigator nav(LocalNavigatorOptions{});
+  nav.SetPath(StraightPath());
+  const LocalStep step = nav.Update(Pose2{1.0, 1.5, 0.0}, Lanes({-1, -1, -1, -1}), 1e9, 0.05);
+  EXPECT_TRUE(step.replan);
+  EXPECT_EQ(step.twist.linear_mps, 0.0);
+  EXPECT_EQ(step.twist.angular_rps, 0.0);
+}
+
+TEST(LocalNavigatorTest, TheFinalApproachIsThePolarControllersButStopsForWhatIsAhead) {
+  LocalNavigator nav(LocalNavigatorOptions{});
+  nav.SetPath(StraightPath());
+  for (double x = 1.0; x < 5.0; x += 1.0) nav.Update(Pose2{x, 0.0, 0.0}, Lanes({-1, -1, -1, -1}), 1e9, 0.05);
+  // 0.5 m before the goal, slightly off the line: the polar controller steers back toward the goal pose...
+  const LocalStep clear = nav.Update(Pose2{5.5, 0.05, 0.0}, Lanes({-1, -1, -1, -1}), 1e9, 0.05);
+  EXPECT_FALSE(clear.avoiding);
+  EXPECT_GT(clear.twist.linear_mps, 0.0);
+  EXPECT_LT(clear.twist.angular_rps, 0.0);
+  // ...and with something in the way it does not swerve; it slows to what stops before it.
+  const LocalStep blocked = nav.Update(Pose2{5.5, 0.05, 0.0}, Lanes({0.28, 0.28, 0.28, 0.28}), 1e9, 0.05);
+  EXPECT_FALSE(blocked.avoiding);
+  EXPECT_EQ(blocked.twist.linear_mps, 0.0);
+  EXPECT_NEAR(blocked.twist.angular_rps, clear.twist.angular_rps, 1e-9);
+}
+
+TEST(LocalNavigatorTest, NoLanesMeansNoForwardMotion) {
+  LocalNavigator nav(LocalNavigatorOptions{});
+  nav.SetPath(StraightPath());
+  EXPECT_EQ(nav.Update(Pose2{1.0, 0.0, 0.0}, {}, 1e9, 0.05).twist.linear_mps, 0.0);
+  EXPECT_EQ(nav.Update(Pose2{2.0, 0.0, 0.0}, {}, 1e9, 0.05).twist.linear_mps, 0.0);
+}
+
+TEST(LocalNavigatorTest, AtTheGoalItIsDone) {
+  LocalNavigator nav(LocalNavigatorOptions{});
+  nav.SetPath(StraightPath());
+  EXPECT_TRUE(nav.Update(Pose2{6.0, 0.0, 0.0}, Lanes({-1, -1, -1, -1}), 1e9, 0.05).done);
 }
 
 TEST(StoppingTest, TheSpeedForAFreeDistanceAlwaysStopsWithinItOverRandomCases) {

@@ -17,7 +17,7 @@ void PathFollower::SetPath(std::vector<Waypoint> path) {
   final_turn_ = false;
 }
 
-double PathFollower::Project(const Eigen::Vector2d& p) {
+double PathFollower::Project(const Eigen::Vector2d& p, double* distance) {
   double best_distance = std::numeric_limits<double>::infinity();
   double best_s = cumulative_[segment_];
   std::size_t best_segment = segment_;
@@ -35,6 +35,7 @@ double PathFollower::Project(const Eigen::Vector2d& p) {
     }
   }
   segment_ = best_segment;
+  *distance = best_distance;
   return best_s;
 }
 
@@ -58,15 +59,18 @@ FollowStep PathFollower::Update(const Pose2& robot, double speed_limit_mps) {
     return step;
   }
   const Pose2& goal = path_.back().pose;
-  const double s = path_.size() > 1 ? Project(robot.translation()) : 0.0;
   const double to_goal = (goal.translation() - robot.translation()).norm();
+  step.off_path_m = to_goal;
+  const double s = path_.size() > 1 ? Project(robot.translation(), &step.off_path_m) : 0.0;
   step.remaining_m = std::max(to_goal, cumulative_.back() - s);
+  step.target = goal.translation();
 
   // At the goal position the robot turns in place to the goal heading. The phase is latched: a few millimetres
   // of drift while turning must not send it back to the approach, or it would never settle.
   if (to_goal <= options_.position_tolerance_m) final_turn_ = true;
   if (final_turn_ && to_goal > 5.0 * options_.position_tolerance_m) final_turn_ = false;  // pushed away
   if (final_turn_) {
+    step.final_approach = true;
     const double yaw_error = WrapAngle(goal.yaw_rad - robot.yaw_rad);
     if (std::abs(yaw_error) <= options_.yaw_tolerance_rad) {
       step.done = true;
@@ -82,9 +86,11 @@ FollowStep PathFollower::Update(const Pose2& robot, double speed_limit_mps) {
   PolarCommand command;
   std::size_t segment = path_.size() - 1;
   if (to_goal <= options_.approach_m || path_.size() == 1) {
+    step.final_approach = true;
     command = PolarControl(robot, goal, options_.gains, /*allow_reverse=*/true);
   } else {
     const Eigen::Vector2d carrot = PointAt(s + options_.lookahead_m, &segment);
+    step.target = carrot;
     const double carrot_yaw = path_[std::min(segment, path_.size() - 2)].pose.yaw_rad;
     command = PolarControl(robot, Pose2{carrot.x(), carrot.y(), carrot_yaw}, options_.gains, false);
     // Steering to a point a look-ahead away would crawl at k_rho * lookahead: drive at the path's pace instead.
@@ -96,6 +102,7 @@ FollowStep PathFollower::Update(const Pose2& robot, double speed_limit_mps) {
   double v_max = std::min(options_.max_linear_mps, speed_limit_mps);
   v_max = std::min(v_max, path_[std::min(segment_ + 1, path_.size() - 1)].speed_limit_mps);
   v_max = std::min(v_max, std::sqrt(2.0 * options_.max_linear_accel_mps2 * std::max(0.0, step.remaining_m)));
+  step.speed_limit_mps = v_max;
   const double v = command.twist.linear_mps;
   const double w = command.twist.angular_rps;
   // Scale both together so the robot keeps its curvature when a limit applies.

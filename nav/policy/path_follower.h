@@ -26,7 +26,11 @@ struct FollowerOptions {
 struct FollowStep {
   Twist2 twist;
   bool done = false;
-  double remaining_m = 0.0;  // along the path to the goal
+  double remaining_m = 0.0;      // along the path to the goal
+  double off_path_m = 0.0;       // from the robot to the nearest point of the path
+  bool final_approach = false;   // steering to the goal pose itself (or turning to its heading)
+  Eigen::Vector2d target = Eigen::Vector2d::Zero();  // where the robot steers: the look-ahead point or the goal
+  double speed_limit_mps = 0.0;  // the lowest of the robot's, the mission's, the zone's and the goal's limits
 };
 
 class PathFollower {
@@ -43,8 +47,9 @@ class PathFollower {
   FollowStep Update(const Pose2& robot, double speed_limit_mps);
 
  private:
-  // The distance along the path of the robot's projection, searched forward from the last one.
-  double Project(const Eigen::Vector2d& p);
+  // The distance along the path of the robot's projection, searched forward from the last one, and the distance
+  // to it.
+  double Project(const Eigen::Vector2d& p, double* distance);
   Eigen::Vector2d PointAt(double s, std::size_t* segment) const;
 
   FollowerOptions options_;

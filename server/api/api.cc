@@ -233,6 +233,8 @@ json Api::State() const {
   state["command"] = command ? ToJson(command->twist) : ToJson(nav::Twist2{});
   const auto truth = c_.bus.Get(topics::kSimTruePose).latest();
   state["sim_true_pose"] = truth ? ToJson(truth->pose) : json(nullptr);
+  const auto latency = c_.bus.Get(topics::kControlLatency).latest();
+  state["control_latency"] = latency ? ToJson(*latency) : json(nullptr);
   const auto face = c_.bus.Get(topics::kFaceExpression).latest();
   state["face"] = face ? face->expression : "neutral";
   const auto mission = c_.bus.Get(topics::kMission).latest();

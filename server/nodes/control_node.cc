@@ -12,6 +12,7 @@ namespace {
 
 // A mission command older than this is not acted on: the mission node has stopped talking.
 constexpr double kMissionFreshS = 0.3;
+constexpr double kLatencyPublishS = 0.5;
 
 nav::Twist2 Limit(const nav::Twist2& t, const SafetyOptions& o) {
   return {std::clamp(t.linear_mps, -o.max_linear_mps, o.max_linear_mps),
@@ -61,6 +62,7 @@ ControlNode::ControlNode(Executor& executor, Bus& bus, drivers::DiffDriveBase& b
 void ControlNode::Activate() {
   bus_.Get(topics::kOdometry).Subscribe(executor(), [this](const auto&) { last_odometry_ns_ = clock().Now(); });
   bus_.Get(topics::kGroundLanes).Subscribe(executor(), [this](const auto&) { last_lanes_ns_ = clock().Now(); });
+  bus_.Get(topics::kMissionCommand).Subscribe(executor(), [this](const auto&) { Act(); });
   PeriodicNode::Activate();
 }
 
@@ -81,13 +83,25 @@ void ControlNode::Deactivate() {
   SetHealth(Health::kInactive, "stopped for shutdown");
 }
 
-void ControlNode::Tick() {
+void ControlNode::Tick() { Act(); }
+
+void ControlNode::Act() {
   const auto teleop = bus_.Get(topics::kTeleop).latest();
   const auto mission = bus_.Get(topics::kMissionCommand).latest();
   const auto lanes = bus_.Get(topics::kGroundLanes).latest();
   const BaseCommand command = DecideCommand(
       {clock().Now(), teleop.get(), last_odometry_ns_.load(), mission.get(), lanes.get(), last_lanes_ns_.load()}, options_);
   base_.SetVelocity(command.twist);
+  const drivers::TimeNs sent_ns = clock().Now();
+  if (command.mode == "mission" && mission->frame_arrival_ns >= 0 && mission->frame_arrival_ns != answered_frame_ns_) {
+    answered_frame_ns_ = mission->frame_arrival_ns;
+    latency_.Record(sent_ns, static_cast<double>(sent_ns - mission->frame_arrival_ns) * 1e-6);
+  }
+  if (sent_ns >= next_latency_publish_ns_) {
+    next_latency_publish_ns_ = sent_ns + drivers::FromSeconds(kLatencyPublishS);
+    const LatencyStats::Summary s = latency_.Summarise(sent_ns);
+    bus_.Get(topics::kControlLatency).Publish(ControlLatency{s.rate_hz, s.p50_ms, s.p99_ms, s.max_ms, s.samples});
+  }
   bus_.Get(topics::kCmdVel).Publish(command);
   if (command.mode == "stopped") {
     SetHealth(Health::kError, command.reason);

@@ -1,7 +1,10 @@
 // The control loop: picks the command for the base (teleop over a mission over standing still), applies the
-// safety limits and
-// watchdogs, and sends it. Stops the robot when the teleop deadman lapses, when the base's odometry stops
-// arriving (the base is not answering), and when the node is deactivated (shutdown).
+// safety limits and watchdogs, and sends it. Stops the robot when the teleop deadman lapses, when the base's
+// odometry stops arriving (the base is not answering), and when the node is deactivated (shutdown).
+//
+// It decides on a timer (control_rate_hz, the watchdogs' clock) and at once whenever the mission sends a command,
+// which it does once per depth frame: the robot answers a frame without waiting for the next tick. The latency
+// from a frame's arrival to the base command that answers it is published on control/latency.
 #pragma once
 
 #include <atomic>
@@ -9,6 +12,7 @@
 #include "drivers/diff_drive_base.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/config.h"
+#include "server/runtime/latency_stats.h"
 #include "server/runtime/node.h"
 
 namespace corridor::server {
@@ -34,12 +38,17 @@ class ControlNode final : public PeriodicNode {
 
  private:
   void Tick() override;
+  void Act();  // one decision, sent to the base
 
   Bus& bus_;
   drivers::DiffDriveBase& base_;
   SafetyOptions options_;
   std::atomic<drivers::TimeNs> last_odometry_ns_{-1};
   std::atomic<drivers::TimeNs> last_lanes_ns_{-1};
+  // On the control executor only:
+  LatencyStats latency_;
+  drivers::TimeNs answered_frame_ns_ = -1;  // arrival of the last frame a command answered
+  drivers::TimeNs next_latency_publish_ns_ = 0;
 };
 
 }  // namespace corridor::server

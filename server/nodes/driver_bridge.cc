@@ -4,9 +4,13 @@
 
 namespace corridor::server {
 
-void ConnectDrivers(Bus& bus, drivers::DepthCamera& camera, drivers::DiffDriveBase& base, drivers::Laser2D* laser) {
+void ConnectDrivers(Bus& bus, const drivers::Clock& clock, drivers::DepthCamera& camera, drivers::DiffDriveBase& base,
+                    drivers::Laser2D* laser) {
   auto& rgbd = bus.Get(topics::kRgbd);
-  camera.SetFrameHandler([&rgbd](std::shared_ptr<const drivers::RgbdFrame> frame) { rgbd.Publish(std::move(frame)); });
+  camera.SetFrameHandler([&rgbd, &clock](std::shared_ptr<drivers::RgbdFrame> frame) {
+    frame->arrival_ns = clock.Now();
+    rgbd.Publish(std::move(frame));
+  });
   auto& odometry = bus.Get(topics::kOdometry);
   base.SetOdometryHandler([&odometry](const drivers::WheelOdometry& o) { odometry.Publish(o); });
   if (laser != nullptr) {

@@ -8,7 +8,9 @@
 
 namespace corridor::server {
 
-// `laser` may be null (no laser fitted). The drivers must outlive the bus subscriptions' use of them.
-void ConnectDrivers(Bus& bus, drivers::DepthCamera& camera, drivers::DiffDriveBase& base, drivers::Laser2D* laser);
+// `laser` may be null (no laser fitted). The drivers must outlive the bus subscriptions' use of them. Frames are
+// stamped with their arrival on `clock` (the host's), from which the control loop's latency is measured.
+void ConnectDrivers(Bus& bus, const drivers::Clock& clock, drivers::DepthCamera& camera, drivers::DiffDriveBase& base,
+                    drivers::Laser2D* laser);
 
 }  // namespace corridor::server

@@ -15,7 +15,7 @@ void GroundNode::Activate() {
   // the node's loop statistics.
   bus_.Get(topics::kRgbd).Subscribe(executor_, [this, &lanes](const std::shared_ptr<const drivers::RgbdFrame>& frame) {
     const drivers::TimeNs start = clock().Now();
-    GroundLanes out{frame->stamp_ns, frame->sequence, 0.0, morp_.Process(frame->depth_mm)};
+    GroundLanes out{frame->stamp_ns, frame->arrival_ns, frame->sequence, 0.0, morp_.Process(frame->depth_mm)};
     stats().Record(start);
     out.latency_ms = static_cast<double>(clock().Now() - start) * 1e-6;
     lanes.Publish(std::move(out));

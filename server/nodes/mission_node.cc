@@ -12,19 +12,28 @@ namespace {
 using nlohmann::json;
 
 constexpr double kRateHz = 20.0;
+// No depth frame for this long: the mission holds the robot still (the control loop also refuses forward motion).
+constexpr double kNoFramesS = 0.2;
 
 json PoseJson(const nav::Pose2& p) { return {{"x", p.x_m}, {"y", p.y_m}, {"yaw", p.yaw_rad}}; }
 
 }  // namespace
 
 MissionNode::MissionNode(Executor& control, Bus& bus, const drivers::Clock& clock, PlannerService& planner,
-                         const nav::FollowerOptions& follower, std::function<void(json)> on_change)
+                         const nav::LocalNavigatorOptions& navigator, std::function<void(json)> on_change)
     : PeriodicNode("mission", control, clock, kRateHz),
       bus_(bus),
       planner_(planner),
       on_change_(std::move(on_change)),
-      nominal_speed_mps_(follower.max_linear_mps),
-      follower_(follower) {}
+      nominal_speed_mps_(navigator.follower.max_linear_mps),
+      navigator_(navigator) {}
+
+void MissionNode::Activate() {
+  bus_.Get(topics::kGroundLanes).Subscribe(executor(), [this](const std::shared_ptr<const GroundLanes>& lanes) {
+    Drive(*lanes);
+  });
+  PeriodicNode::Activate();
+}
 
 json MissionNode::DescribeLocked() const {
   const nav::Mission& m = *mission_;
@@ -36,7 +45,7 @@ json MissionNode::DescribeLocked() const {
     goals.push_back(goal);
   }
   json path = json::array();
-  for (const nav::Waypoint& w : follower_.path()) path.push_back(PoseJson(w.pose));
+  for (const nav::Waypoint& w : navigator_.path()) path.push_back(PoseJson(w.pose));
   const double speed = std::min(nominal_speed_mps_, m.speed_limit_mps());
   json doc = {{"id", m.id()},
               {"status", nav::ToString(m.status())},
@@ -46,6 +55,7 @@ json MissionNode::DescribeLocked() const {
               {"eta_s", m.EtaSeconds(remaining_m_, speed)},
               {"remaining_on_leg_m", remaining_m_},
               {"path", path},
+              {"policy", policy_mode_},
               {"error", m.error()}};
   doc["speed_limit_mps"] = std::isfinite(m.speed_limit_mps()) ? json(m.speed_limit_mps()) : json(nullptr);
   return doc;
@@ -65,7 +75,7 @@ json MissionNode::Start(std::vector<nav::MissionGoal> goals, double speed_limit_
   std::lock_guard lock(mutex_);
   if (mission_ && mission_->Cancel()) Changed();
   mission_ = std::make_unique<nav::Mission>(NewId(), std::move(goals), speed_limit_mps);
-  follower_.Clear();
+  navigator_.Clear();
   ++generation_;
   planning_ = false;
   checking_ = false;
@@ -81,7 +91,7 @@ MissionNode::Outcome MissionNode::Transition(const std::string& id, bool (nav::M
   if (!mission_ || mission_->id() != id) return Outcome::kNotFound;
   if (!((*mission_).*transition)()) return Outcome::kConflict;
   if (drop_path) {
-    follower_.Clear();
+    navigator_.Clear();
     ++generation_;
     planning_ = false;
   }
@@ -118,7 +128,7 @@ void MissionNode::RequestPlan(const nav::Pose2& from) {
         Changed();
         return;
       }
-      follower_.SetPath(reply.result.plan.waypoints);
+      navigator_.SetPath(reply.result.plan.waypoints);
       path_version_ = reply.version;
       leg_length_m_ = remaining_m_ = reply.result.plan.length_m;
       Changed();
@@ -129,7 +139,7 @@ void MissionNode::RequestPlan(const nav::Pose2& from) {
 void MissionNode::CheckPath(const nav::Pose2& from) {
   checking_ = true;
   const std::uint64_t generation = generation_;
-  std::vector<nav::Waypoint> path = follower_.path();
+  std::vector<nav::Waypoint> path = navigator_.path();
   planner_.WithCostmap([this, generation, from, path = std::move(path)](const nav::Costmap& costmap,
                                                                         std::uint64_t version) {
     // Is the rest of the path still free? The legs from the waypoint nearest the robot onward.
@@ -152,7 +162,7 @@ void MissionNode::CheckPath(const nav::Pose2& from) {
         path_version_ = version;
       } else {
         spdlog::info("mission {}: the map or zones changed across the path; replanning", mission_->id());
-        follower_.Clear();
+        navigator_.Clear();
         ++generation_;
       }
     });
@@ -163,27 +173,53 @@ void MissionNode::Tick() {
   std::lock_guard lock(mutex_);
   if (!mission_ || mission_->finished()) return;
   const auto pose = bus_.Get(topics::kPose).latest();
-  auto& command = bus_.Get(topics::kMissionCommand);
-  const auto stop = [&] { command.Publish(MissionCommand{clock().Now(), {}}); };
+  const auto stop = [&] { bus_.Get(topics::kMissionCommand).Publish(MissionCommand{clock().Now(), {}}); };
   if (!pose) return stop();
   if (mission_->status() == nav::MissionStatus::kPaused) return stop();
-  if (!follower_.has_path()) {
+  if (!navigator_.has_path()) {
     if (!planning_) RequestPlan(pose->pose);
     return stop();
   }
   if (path_version_ != planner_.version() && !checking_) CheckPath(pose->pose);
-  const nav::FollowStep step = follower_.Update(pose->pose, mission_->speed_limit_mps());
+  // Driving waits for depth frames; without them there is nothing safe to do but stand still.
+  if (last_drive_ns_ < 0 || clock().Now() - last_drive_ns_ > drivers::FromSeconds(kNoFramesS)) {
+    policy_mode_ = "waiting_for_depth";
+    stop();
+  }
+}
+
+void MissionNode::Drive(const GroundLanes& lanes) {
+  std::lock_guard lock(mutex_);
+  const drivers::TimeNs now = clock().Now();
+  const double dt_s = last_drive_ns_ < 0 ? 0.0 : drivers::ToSeconds(now - last_drive_ns_);
+  last_drive_ns_ = now;
+  if (!mission_ || mission_->finished() || mission_->status() == nav::MissionStatus::kPaused) return;
+  if (!navigator_.has_path()) return;
+  const auto pose = bus_.Get(topics::kPose).latest();
+  if (!pose) return;
+  auto& command = bus_.Get(topics::kMissionCommand);
+  const nav::LocalStep step = navigator_.Update(pose->pose, lanes.lanes, mission_->speed_limit_mps(), dt_s);
   remaining_m_ = step.remaining_m;
+  policy_mode_ = nav::ToString(step.mode);
   if (step.done) {
     mission_->GoalReached();
-    follower_.Clear();
+    navigator_.Clear();
     ++generation_;
     remaining_m_ = leg_length_m_ = 0.0;
     Changed();  // after the last goal this also tells the control node the mission is over
-    if (!mission_->finished()) stop();  // a brief stop before the next leg is planned
+    if (!mission_->finished()) command.Publish(MissionCommand{now, {}});  // a brief stop before the next leg
     return;
   }
-  command.Publish(MissionCommand{clock().Now(), step.twist});
+  if (step.replan) {
+    spdlog::info("mission {}: the robot is more than {} m from its path; replanning", mission_->id(),
+                 navigator_.options().replan_distance_m);
+    navigator_.Clear();
+    ++generation_;
+    planning_ = false;
+    command.Publish(MissionCommand{now, {}});
+    return;
+  }
+  command.Publish(MissionCommand{now, step.twist, true, lanes.arrival_ns});
   bus_.Get(topics::kMission).Publish(MissionState{DescribeLocked()});
 }
 

@@ -1,7 +1,12 @@
-// Runs missions: plans each leg from the robot's pose with the planner service, follows the path with the path
-// follower, and goes on to the next waypoint. Replans when the map or zones change across the rest of the path,
-// fails the mission with the planner's reason when there is no way. Publishes its velocity on mission/command
-// for the control node, and its state on mission. On the control executor.
+// Runs missions: plans each leg from the robot's pose with the planner service, drives it with the local navigator
+// (the path follower, and MORP-RB around what the map does not show), and goes on to the next waypoint. Replans
+// when the map or zones change across the rest of the path and when the robot has strayed far from it; fails the
+// mission with the planner's reason when there is no way. On the control executor.
+//
+// Driving runs once per depth frame, as soon as its lanes arrive (ground/lanes), so the command answers the newest
+// frame: the control loop runs at the camera's rate. A timer at 20 Hz does the rest (planning, checking the path,
+// stopping when frames stop). Publishes its velocity on mission/command for the control node, and its state on
+// mission.
 #pragma once
 
 #include <functional>
@@ -9,7 +14,7 @@
 #include <mutex>
 
 #include "nav/mission/mission.h"
-#include "nav/policy/path_follower.h"
+#include "nav/policy/local_navigator.h"
 #include "server/nodes/planner_service.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
@@ -23,7 +28,8 @@ class MissionNode final : public PeriodicNode {
   // `on_change` receives the mission's document whenever its status changes (to persist it); called on the
   // control executor, so it must hand the work elsewhere.
   MissionNode(Executor& control, Bus& bus, const drivers::Clock& clock, PlannerService& planner,
-              const nav::FollowerOptions& follower, std::function<void(nlohmann::json)> on_change);
+              const nav::LocalNavigatorOptions& navigator, std::function<void(nlohmann::json)> on_change);
+  void Activate() override;
 
   // Thread-safe. Starting a mission cancels the one in progress. Returns the new mission's document.
   nlohmann::json Start(std::vector<nav::MissionGoal> goals, double speed_limit_mps);
@@ -35,6 +41,7 @@ class MissionNode final : public PeriodicNode {
 
  private:
   void Tick() override;
+  void Drive(const GroundLanes& lanes);  // one local navigation step on this frame's lanes
   // Applies a Mission transition to mission `id`; drop_path: the current path no longer applies.
   Outcome Transition(const std::string& id, bool (nav::Mission::*transition)(), bool drop_path);
   void RequestPlan(const nav::Pose2& from);
@@ -49,7 +56,9 @@ class MissionNode final : public PeriodicNode {
 
   mutable std::mutex mutex_;
   std::unique_ptr<nav::Mission> mission_;
-  nav::PathFollower follower_;
+  nav::LocalNavigator navigator_;
+  drivers::TimeNs last_drive_ns_ = -1;  // the last Drive, on the node's clock
+  std::string policy_mode_;
   std::uint64_t generation_ = 0;    // bumped per leg and mission, to drop answers to stale requests
   bool planning_ = false;
   bool checking_ = false;

@@ -104,7 +104,21 @@ void ReadPlanner(ConfigReader& r, nav::CostmapOptions& o) {
   o.unknown = unknown_is_free ? nav::UnknownPolicy::kFree : nav::UnknownPolicy::kObstacle;
 }
 
-void ReadMission(ConfigReader& r, nav::FollowerOptions& o) {
+void ReadAvoid(ConfigReader& r, nav::MorpRbOptions& o) {
+  r.Read("max_linear_mps", o.max_linear_mps, 0.01, 3.0);
+  r.Read("max_angular_rps", o.max_angular_rps, 0.01, 6.0);
+  r.Read("clear_distance_m", o.clear_distance_m, 0.1, 10.0);
+  r.Read("pass_distance_m", o.pass_distance_m, 0.05, 10.0);
+  r.Read("avoid_turn_rps", o.avoid_turn_rps, 0.01, 6.0);
+  r.Read("tie_margin_m", o.tie_margin_m, 0.0, 5.0);
+  r.Read("overtake_distance_m", o.overtake_distance_m, 0.0, 10.0);
+  if (o.pass_distance_m >= o.clear_distance_m) {
+    throw ConfigError(r.PathOf("pass_distance_m") + ": must be below clear_distance_m");
+  }
+}
+
+void ReadMission(ConfigReader& r, nav::LocalNavigatorOptions& navigator) {
+  nav::FollowerOptions& o = navigator.follower;
   r.Read("k_rho", o.gains.k_rho, -100.0, 100.0);
   r.Read("k_alpha", o.gains.k_alpha, -100.0, 100.0);
   r.Read("k_beta", o.gains.k_beta, -100.0, 100.0);
@@ -122,6 +136,8 @@ void ReadMission(ConfigReader& r, nav::FollowerOptions& o) {
   double yaw_tolerance_deg = o.yaw_tolerance_rad / kDegToRad;
   r.Read("yaw_tolerance_deg", yaw_tolerance_deg, 0.1, 45.0);
   o.yaw_tolerance_rad = yaw_tolerance_deg * kDegToRad;
+  r.Read("replan_distance_m", navigator.replan_distance_m, 0.1, 100.0);
+  r.Section("avoid", [&](ConfigReader& a) { ReadAvoid(a, navigator.avoid); });
 }
 
 void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
@@ -185,6 +201,9 @@ Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
     r.Section("mission", [&](ConfigReader& s) { ReadMission(s, config.mission); });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();
+    // MORP-RB brakes by the control loop's model.
+    config.mission.avoid.stopping = config.safety.stopping;
+    config.mission.avoid.front_offset_m = config.safety.front_offset_m;
   } catch (const ConfigError& e) {
     throw ConfigError(file.string() + ": " + e.what());
   }

@@ -11,7 +11,7 @@
 #include "nav/ground/morp.h"
 #include "nav/planner/costmap.h"
 #include "nav/safety/stopping.h"
-#include "nav/policy/path_follower.h"
+#include "nav/policy/local_navigator.h"
 #include "server/runtime/config_reader.h"  // ConfigError
 
 namespace corridor::server {
@@ -53,8 +53,8 @@ struct SimulatorOptions {
   drivers::sim::SimOptions robot;
 };
 
-// ground: nav::MorpOptions; planner: nav::CostmapOptions; mission: nav::FollowerOptions (their fields are the keys,
-// with units).
+// ground: nav::MorpOptions; planner: nav::CostmapOptions; mission: nav::LocalNavigatorOptions (the follower's
+// fields at the top, MORP-RB's under avoid; their fields are the keys, with units).
 
 struct LogOptions {
   std::string level = "info";           // trace, debug, info, warn, error
@@ -68,7 +68,7 @@ struct Config {
   SimulatorOptions sim;
   nav::MorpOptions ground;
   nav::CostmapOptions planner;
-  nav::FollowerOptions mission;
+  nav::LocalNavigatorOptions mission;
   LogOptions log;
 };
 

@@ -8,6 +8,10 @@ nlohmann::json ToJson(const nav::Pose2& pose) {
   return {{"x", pose.x_m}, {"y", pose.y_m}, {"yaw", pose.yaw_rad}};
 }
 
+nlohmann::json ToJson(const ControlLatency& l) {
+  return {{"rate_hz", l.rate_hz}, {"p50_ms", l.p50_ms}, {"p99_ms", l.p99_ms}, {"max_ms", l.max_ms}, {"samples", l.samples}};
+}
+
 nlohmann::json ToJson(const FaceState& face) { return {{"expression", face.expression}}; }
 
 nlohmann::json ToJson(const GroundLanes& g) {

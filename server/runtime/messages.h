@@ -40,6 +40,17 @@ struct MissionCommand {
   drivers::TimeNs stamp_ns = 0;
   nav::Twist2 twist;
   bool active = true;  // false: the mission is over (the control node stops and goes idle at once)
+  drivers::TimeNs frame_arrival_ns = -1;  // the depth frame this command answers (host clock); -1: none
+};
+
+// How fast the robot answers what its camera sees: depth frame arrival to base command, over the last few hundred
+// frames, and how many frame-driven commands a second the control loop sends (the camera's rate when healthy).
+struct ControlLatency {
+  double rate_hz = 0.0;
+  double p50_ms = 0.0;
+  double p99_ms = 0.0;
+  double max_ms = 0.0;
+  std::uint64_t samples = 0;
 };
 
 // The mission in progress (or the last one), as the console and the API show it.
@@ -50,6 +61,7 @@ struct MissionState {
 // MORP's lanes for one depth frame (nav/ground/morp.h), and how long after the frame they were ready.
 struct GroundLanes {
   drivers::TimeNs stamp_ns = 0;      // the frame's
+  drivers::TimeNs arrival_ns = -1;   // the frame's arrival at the host
   std::uint64_t frame_sequence = 0;
   double latency_ms = 0.0;           // from the control executor taking the frame up to the lanes being ready
   std::vector<nav::LaneResult> lanes;
@@ -60,6 +72,7 @@ struct FaceState {
   std::string expression;
 };
 
+nlohmann::json ToJson(const ControlLatency& latency);
 nlohmann::json ToJson(const FaceState& face);
 nlohmann::json ToJson(const GroundLanes& lanes);
 nlohmann::json ToJson(const MissionState& mission);

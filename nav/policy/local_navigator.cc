@@ -1,0 +1,53 @@
+#include "nav/policy/local_navigator.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace corridor::nav {
+
+LocalNavigator::LocalNavigator(const LocalNavigatorOptions& options)
+    : options_(options), follower_(options.follower), avoid_(options.avoid) {}
+
+void LocalNavigator::SetPath(std::vector<Waypoint> path) {
+  follower_.SetPath(std::move(path));
+  avoid_ = MorpRb(options_.avoid);  // a new path: no side committed, no overtaking in progress
+}
+
+LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double speed_limit_mps,
+                                 double dt_s) {
+  LocalStep out;
+  const FollowStep follow = follower_.Update(robot, speed_limit_mps);
+  out.remaining_m = follow.remaining_m;
+  if (follow.done) {
+    out.done = true;
+    return out;
+  }
+  if (follow.off_path_m > options_.replan_distance_m) {
+    out.replan = true;
+    return out;
+  }
+  const Eigen::Vector2d to_target = follow.target - robot.translation();
+  const double heading_error = WrapAngle(std::atan2(to_target.y(), to_target.x()) - robot.yaw_rad);
+  const MorpRbDecision decision = avoid_.Decide(lanes, heading_error, dt_s);
+  out.nearest_m = decision.nearest_m;
+  out.mode = decision.mode;
+  const double v_free =
+      lanes.empty() ? 0.0 : SpeedForFreeDistance(decision.nearest_m - options_.avoid.front_offset_m, options_.avoid.stopping);
+
+  if (follow.final_approach || decision.mode == MorpRbMode::kFollow) {
+    out.twist = follow.twist;
+    if (out.twist.linear_mps > v_free) {
+      // Keep the curvature: slow the turn with the speed.
+      const double scale = out.twist.linear_mps > 0.0 ? v_free / out.twist.linear_mps : 0.0;
+      out.twist = {v_free, out.twist.angular_rps * (follow.final_approach ? 1.0 : scale)};
+    }
+    out.mode = MorpRbMode::kFollow;
+    return out;
+  }
+  out.avoiding = true;
+  out.twist = decision.twist;
+  out.twist.linear_mps = std::min(out.twist.linear_mps, follow.speed_limit_mps);
+  return out;
+}
+
+}  // namespace corridor::nav

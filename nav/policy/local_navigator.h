@@ -1,0 +1,57 @@
+// The local navigator: follows the global path (PathFollower, the polar pose controller of Wang et al.) and passes
+// what the map does not show with MORP-RB on the depth camera's lanes (DPoom). Each step:
+//   - on the way, while the lanes ahead are clear, the path follower steers toward its look-ahead point, its speed
+//     capped by what the robot can stop within;
+//   - when they are not, MORP-RB takes over with the look-ahead point as its waypoint (change lane, overtake, turn
+//     back), at no more than the path's speed limit;
+//   - the final approach is the polar controller's alone (MORP-RB would swerve around the goal's own
+//     surroundings), still capped by the free distance ahead;
+//   - a robot pushed (or swerved) far from the path asks for a new one.
+// Pure logic: the caller supplies the pose, this frame's lanes and the time step.
+#pragma once
+
+#include <vector>
+
+#include "nav/ground/morp.h"
+#include "nav/policy/morp_rb.h"
+#include "nav/policy/path_follower.h"
+
+namespace corridor::nav {
+
+struct LocalNavigatorOptions {
+  FollowerOptions follower;
+  MorpRbOptions avoid;
+  double replan_distance_m = 1.0;  // farther than this from the path: plan again from where the robot is
+};
+
+struct LocalStep {
+  Twist2 twist;
+  bool done = false;
+  bool replan = false;            // strayed from the path: the caller should plan again (the twist is zero)
+  double remaining_m = 0.0;
+  MorpRbMode mode = MorpRbMode::kFollow;
+  bool avoiding = false;          // MORP-RB, not the path follower, chose the twist
+  double nearest_m = 0.0;         // the nearest dead-end ahead
+};
+
+class LocalNavigator {
+ public:
+  explicit LocalNavigator(const LocalNavigatorOptions& options);  // throws std::invalid_argument for bad gains
+
+  void SetPath(std::vector<Waypoint> path);
+  const std::vector<Waypoint>& path() const { return follower_.path(); }
+  bool has_path() const { return follower_.has_path(); }
+  void Clear() { follower_.Clear(); }
+  const LocalNavigatorOptions& options() const { return options_; }
+
+  // One step from the robot's pose and this frame's lanes (empty: nothing seen, the robot stops). dt_s is the time
+  // since the previous step; speed_limit_mps caps the whole mission.
+  LocalStep Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double speed_limit_mps, double dt_s);
+
+ private:
+  LocalNavigatorOptions options_;
+  PathFollower follower_;
+  MorpRb avoid_;
+};
+
+}  // namespace corridor::nav
