@@ -27,7 +27,7 @@ const Scene& SceneAt(int width, int height) {
     mesh.AddBox({2.5f, -3.0f, 0.0f}, {2.7f, 3.0f, 1.5f}, grey);
     mesh.AddBox({1.5f, 0.0f, 0.0f}, {1.8f, 0.5f, 0.4f}, grey);
     const drivers::sim::RayCaster caster(mesh);
-    const drivers::sim::RgbdRenderer renderer(caster, mesh, scene.options);
+    const drivers::sim::RgbdRenderer renderer(caster, scene.options);
     std::mt19937 rng(1);
     drivers::RgbdFrame frame;
     renderer.Render(drivers::sim::MakeCameraInfo(scene.options).camera.base_T_camera, rng, frame);

@@ -33,7 +33,7 @@ SimCameraOptions Camera(int width, int height) {
 
 void BM_RenderRgbd(benchmark::State& state) {
   const SimCameraOptions o = Camera(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
-  const RgbdRenderer renderer(Caster(), Willow().mesh, o);
+  const RgbdRenderer renderer(Caster(), o);
   std::mt19937 rng(1);
   RgbdFrame frame;
   for (auto _ : state) {

@@ -41,7 +41,7 @@ drivers::sim::SimCameraOptions Camera() {
 
 cv::Mat Render(const TriangleMesh& mesh, const drivers::sim::SimCameraOptions& o, std::uint32_t seed = 1) {
   const drivers::sim::RayCaster caster(mesh);
-  const drivers::sim::RgbdRenderer renderer(caster, mesh, o);
+  const drivers::sim::RgbdRenderer renderer(caster, o);
   std::mt19937 rng(seed);
   drivers::RgbdFrame frame;
   renderer.Render(drivers::sim::MakeCameraInfo(o).camera.base_T_camera, rng, frame);  // the robot at the origin

@@ -38,6 +38,9 @@ void DiffDriveSim::Teleport(const nav::Pose2& pose) {
 
 bool DiffDriveSim::Collides(const nav::Pose2& pose) const {
   const double r = options_.limits.footprint_radius_m;
+  for (const Disc& d : movers_) {
+    if ((d.center - pose.translation()).norm() < r + d.radius_m) return true;
+  }
   const double res = collision_.resolution_m();
   const auto centre = collision_.WorldToCell(pose.translation());
   if (!centre) return true;  // off the world

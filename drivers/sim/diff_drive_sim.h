@@ -4,6 +4,7 @@
 #pragma once
 
 #include <random>
+#include <vector>
 
 #include "drivers/diff_drive_base.h"
 #include "nav/map/occupancy_grid.h"
@@ -21,6 +22,12 @@ struct SimBaseOptions {
   double odom_angular_noise = 0.02;     // the same for rotation
 };
 
+// A round thing that moves (a person), for collisions.
+struct Disc {
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();
+  double radius_m = 0.0;
+};
+
 // Not thread-safe: the simulator calls it from one thread.
 class DiffDriveSim {
  public:
@@ -33,7 +40,10 @@ class DiffDriveSim {
   // Moves the robot (a simulator reset); clears velocity and odometry stays continuous.
   void Teleport(const nav::Pose2& pose);
 
-  // True when the footprint at `pose` overlaps an occupied cell or leaves the grid.
+  // The moving things the robot can bump into, where they are now.
+  void SetMovers(std::vector<Disc> movers) { movers_ = std::move(movers); }
+
+  // True when the footprint at `pose` overlaps an occupied cell, a mover, or leaves the grid.
   bool Collides(const nav::Pose2& pose) const;
 
   const nav::Pose2& pose() const { return pose_; }
@@ -50,6 +60,7 @@ class DiffDriveSim {
   nav::Twist2 command_;
   double command_time_s_ = -1e9;
   bool bumper_ = false;
+  std::vector<Disc> movers_;
 };
 
 // Pose after driving `v`, `w` for `dt` seconds along the exact arc.

@@ -1,7 +1,10 @@
-// Ray casting against a static triangle mesh with Embree (the Intel ray-tracing kernels): the simulator's depth
-// camera and laser. Thread-safe once constructed: any number of threads may cast at the same time.
+// Ray casting with Embree (the Intel ray-tracing kernels) against a static triangle mesh and a few moving ones (people):
+// the simulator's depth camera and laser. The static scene is built once; the movers are a second, small scene
+// rebuilt whenever they move, cast after the static one with the ray cut at the static hit. Any number of threads
+// may cast at the same time, but not while SetMovers runs.
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <span>
 
@@ -13,16 +16,24 @@ namespace corridor::drivers::sim {
 
 struct RayHit {
   float distance = 0.0f;       // along the ray, in metres; +infinity for a miss
-  int triangle = -1;           // index into the mesh's triangles, -1 for a miss
+  int triangle = -1;           // index into the static mesh's triangles, -1 for a miss or a mover
+  bool mover = false;          // the hit is on a mover
   Eigen::Vector3f normal;      // unit geometric normal of the hit triangle (world frame)
+  Eigen::Vector3f color;       // the hit triangle's colour
+
+  bool hit() const { return distance < std::numeric_limits<float>::infinity(); }
 };
 
 class RayCaster {
  public:
+  // `mesh` must outlive the caster.
   explicit RayCaster(const TriangleMesh& mesh);
   RayCaster(const RayCaster&) = delete;
   RayCaster& operator=(const RayCaster&) = delete;
   ~RayCaster();
+
+  // Replaces the moving geometry (an empty mesh removes it). Not concurrently with casting.
+  void SetMovers(const TriangleMesh& movers);
 
   // The nearest hit along origin + t * direction for t in [t_min, t_max]. direction need not be unit length;
   // distances are then in units of its length.

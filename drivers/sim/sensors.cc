@@ -34,8 +34,8 @@ CameraInfo MakeCameraInfo(const SimCameraOptions& o) {
   return info;
 }
 
-RgbdRenderer::RgbdRenderer(const RayCaster& caster, const TriangleMesh& mesh, const SimCameraOptions& options)
-    : caster_(caster), mesh_(mesh), options_(options), info_(MakeCameraInfo(options)) {
+RgbdRenderer::RgbdRenderer(const RayCaster& caster, const SimCameraOptions& options)
+    : caster_(caster), options_(options), info_(MakeCameraInfo(options)) {
   const nav::PinholeCamera& k = info_.camera;
   rays_.reserve(static_cast<std::size_t>(k.width) * k.height);
   for (int v = 0; v < k.height; ++v) {
@@ -68,9 +68,9 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& world_T_camera, std::mt19937&
       const RayHit& hit = hits[i];
       Eigen::Vector3f color = kBackground;
       std::uint16_t depth = 0;
-      if (hit.triangle >= 0) {
+      if (hit.hit()) {
         const float cos_incidence = std::abs(hit.normal.dot(directions[i].normalized()));
-        color = mesh_.colors[hit.triangle] * (0.3f + 0.7f * cos_incidence);
+        color = hit.color * (0.3f + 0.7f * cos_incidence);
         const float z = hit.distance;  // rays have unit optical-axis component: t is depth
         const bool in_range = z >= options_.min_range_m && z <= options_.max_range_m;
         if (in_range && cos_incidence >= cos_cutoff && uniform(rng) >= options_.dropout_fraction) {
@@ -106,7 +106,7 @@ void CastScan(const RayCaster& caster, const Eigen::Isometry3d& world_T_laser, c
   std::normal_distribution<float> noise(0.0f, static_cast<float>(options.noise_m));
   scan.ranges.resize(n);
   for (int i = 0; i < n; ++i) {
-    scan.ranges[i] = hits[i].triangle < 0 ? std::numeric_limits<float>::infinity() : hits[i].distance + noise(rng);
+    scan.ranges[i] = hits[i].hit() ? hits[i].distance + noise(rng) : std::numeric_limits<float>::infinity();
   }
 }
 

@@ -45,12 +45,11 @@ CameraInfo MakeCameraInfo(const SimCameraOptions& options);
 // Colour is each triangle's colour, lit from the camera; depth follows the options' range, noise and holes.
 class RgbdRenderer {
  public:
-  RgbdRenderer(const RayCaster& caster, const TriangleMesh& mesh, const SimCameraOptions& options);
+  RgbdRenderer(const RayCaster& caster, const SimCameraOptions& options);
   void Render(const Eigen::Isometry3d& world_T_camera, std::mt19937& rng, RgbdFrame& frame) const;
 
  private:
   const RayCaster& caster_;
-  const TriangleMesh& mesh_;
   SimCameraOptions options_;
   CameraInfo info_;
   std::vector<Eigen::Vector3f> rays_;  // per pixel, optical frame, z = 1 so that t is the depth

@@ -31,7 +31,7 @@ TriangleMesh WallAt(float wall_x) {
 
 RgbdFrame RenderFrom(const TriangleMesh& mesh, const SimCameraOptions& o, const nav::Pose2& base, std::uint32_t seed = 1) {
   const RayCaster caster(mesh);
-  const RgbdRenderer renderer(caster, mesh, o);
+  const RgbdRenderer renderer(caster, o);
   std::mt19937 rng(seed);
   RgbdFrame frame;
   renderer.Render(base.ToIsometry3() * MakeCameraInfo(o).camera.base_T_camera, rng, frame);
@@ -55,7 +55,7 @@ TEST(RgbdRendererTest, WallAtAnyHeadingKeepsItsPerpendicularDistance) {
   const SimCameraOptions o = NoiselessCamera();
   const TriangleMesh wall = WallAt(4.0f);
   const RayCaster caster(wall);
-  const RgbdRenderer renderer(caster, wall, o);
+  const RgbdRenderer renderer(caster, o);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> yaw(-0.5, 0.5);
   for (int trial = 0; trial < 10; ++trial) {

@@ -20,10 +20,21 @@ SimRobot::SimRobot(std::shared_ptr<const World> world, const SimOptions& options
     : world_(std::move(world)),
       options_(options),
       caster_(world_->mesh),
-      renderer_(caster_, world_->mesh, options.camera),
+      renderer_(caster_, options.camera),
       camera_info_(MakeCameraInfo(options.camera)),
       rng_(options.seed),
-      base_(world_->collision, options.base, options.start) {}
+      base_(world_->collision, options.base, options.start),
+      crowd_(*world_, options.pedestrians, options.crowd) {}
+
+std::vector<Pedestrian> SimRobot::pedestrians() const {
+  std::lock_guard lock(mutex_);
+  return crowd_.pedestrians();
+}
+
+bool SimRobot::bumper_pressed() const {
+  std::lock_guard lock(mutex_);
+  return base_.bumper_pressed();
+}
 
 nav::Pose2 SimRobot::true_pose() const {
   std::lock_guard lock(mutex_);
@@ -53,6 +64,12 @@ void SimRobot::Step() {
     std::lock_guard lock(mutex_);
     if (has_pending_command_) base_.Command(pending_command_, now_s);
     has_pending_command_ = false;
+    if (!crowd_.empty()) {
+      crowd_.Step(step_s());
+      std::vector<Disc> people;
+      for (const Pedestrian& p : crowd_.pedestrians()) people.push_back({p.position, options_.crowd.radius_m});
+      base_.SetMovers(std::move(people));
+    }
     base_.Step(step_s(), now_s, rng_);
     pose = base_.pose();
     odometry = {now, base_.odom_pose(), base_.velocity(), base_.bumper_pressed()};
@@ -61,24 +78,26 @@ void SimRobot::Step() {
   if (Due(now, options_.odometry_rate_hz, next_odometry_ns_)) {
     if (odometry_handler_) odometry_handler_(odometry);
   }
-  if (Due(now, options_.camera.rate_hz, next_frame_ns_)) {
-    if (frame_handler_) {
-      auto frame = std::make_shared<RgbdFrame>();
-      frame->stamp_ns = now;
-      frame->sequence = frame_sequence_++;
-      renderer_.Render(pose.ToIsometry3() * camera_info_.camera.base_T_camera, rng_, *frame);
-      frame_handler_(std::move(frame));
-    }
+  const bool frame_due = Due(now, options_.camera.rate_hz, next_frame_ns_) && frame_handler_;
+  const bool scan_due = options_.laser.enabled && Due(now, options_.laser.rate_hz, next_scan_ns_) && scan_handler_;
+  if (!crowd_.empty() && (frame_due || scan_due)) {
+    std::lock_guard lock(mutex_);
+    caster_.SetMovers(crowd_.Mesh());
   }
-  if (options_.laser.enabled && Due(now, options_.laser.rate_hz, next_scan_ns_)) {
-    if (scan_handler_) {
-      auto scan = std::make_shared<LaserScan>();
-      scan->stamp_ns = now;
-      Eigen::Isometry3d world_T_laser = pose.ToIsometry3();
-      world_T_laser.translation().z() = options_.laser.mount_height_m;
-      CastScan(caster_, world_T_laser, options_.laser, rng_, *scan);
-      scan_handler_(std::move(scan));
-    }
+  if (frame_due) {
+    auto frame = std::make_shared<RgbdFrame>();
+    frame->stamp_ns = now;
+    frame->sequence = frame_sequence_++;
+    renderer_.Render(pose.ToIsometry3() * camera_info_.camera.base_T_camera, rng_, *frame);
+    frame_handler_(std::move(frame));
+  }
+  if (scan_due) {
+    auto scan = std::make_shared<LaserScan>();
+    scan->stamp_ns = now;
+    Eigen::Isometry3d world_T_laser = pose.ToIsometry3();
+    world_T_laser.translation().z() = options_.laser.mount_height_m;
+    CastScan(caster_, world_T_laser, options_.laser, rng_, *scan);
+    scan_handler_(std::move(scan));
   }
 }
 

@@ -10,6 +10,7 @@
 #include "drivers/depth_camera.h"
 #include "drivers/diff_drive_base.h"
 #include "drivers/laser2d.h"
+#include "drivers/sim/crowd.h"
 #include "drivers/sim/diff_drive_sim.h"
 #include "drivers/sim/ray_caster.h"
 #include "drivers/sim/sensors.h"
@@ -25,6 +26,8 @@ struct SimOptions {
   SimBaseOptions base;
   SimCameraOptions camera;
   SimLaserOptions laser;
+  std::vector<PedestrianRoute> pedestrians;  // people walking back and forth, not seeing the robot
+  CrowdOptions crowd;
 };
 
 class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D {
@@ -40,6 +43,9 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D 
 
   // Ground truth, for the console and for tests. Thread-safe.
   nav::Pose2 true_pose() const;
+  std::vector<Pedestrian> pedestrians() const;
+  double pedestrian_radius_m() const { return options_.crowd.radius_m; }
+  bool bumper_pressed() const;
   void Teleport(const nav::Pose2& pose);
   const World& world() const { return *world_; }
 
@@ -64,8 +70,9 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D 
   CameraInfo camera_info_;
   std::mt19937 rng_;
 
-  mutable std::mutex mutex_;  // guards base_ and the pending command against other threads
+  mutable std::mutex mutex_;  // guards base_, crowd_ and the pending command against other threads
   DiffDriveSim base_;
+  Crowd crowd_;
   nav::Twist2 pending_command_;
   bool has_pending_command_ = false;
 

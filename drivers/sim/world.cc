@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include <map>
+#include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
@@ -22,6 +23,7 @@ namespace pt = boost::property_tree;
 const Eigen::Vector3f kWallColor(0.82f, 0.80f, 0.74f);
 const Eigen::Vector3f kFloorColor(0.55f, 0.50f, 0.45f);
 const Eigen::Vector3f kDefaultMeshColor(0.7f, 0.7f, 0.7f);
+const Eigen::Vector3f kObstacleColor(0.75f, 0.45f, 0.2f);  // unmapped obstacles: orange
 // A grid larger than this is almost surely stray geometry (see the willowgarage collision mesh).
 constexpr double kMaxCollisionCells = 25e6;
 // Cells at or above this occupancy (percent) become walls: map_server's default occupied threshold.
@@ -232,6 +234,80 @@ void TriangleMesh::Append(const TriangleMesh& other, const Eigen::Affine3f& tran
   for (const Eigen::Vector3f& v : other.vertices) vertices.push_back(transform * v);
   for (const Eigen::Vector3i& t : other.triangles) triangles.push_back(t.array() + base);
   colors.insert(colors.end(), other.colors.begin(), other.colors.end());
+}
+
+double StaticObstacle::bounding_radius_m() const {
+  return shape == Shape::kCylinder ? size_m : size_m * std::numbers::sqrt2;
+}
+
+void AddObstacles(World& world, const std::vector<StaticObstacle>& obstacles) {
+  nav::OccupancyGrid& grid = world.collision;
+  world.obstacles.insert(world.obstacles.end(), obstacles.begin(), obstacles.end());
+  for (const StaticObstacle& o : obstacles) {
+    const Eigen::Vector2f c = o.center.cast<float>();
+    if (o.shape == StaticObstacle::Shape::kCylinder) {
+      world.mesh.AddCylinder(c, static_cast<float>(o.size_m), static_cast<float>(o.height_m), 24, kObstacleColor);
+    } else {
+      TriangleMesh box;
+      const float h = static_cast<float>(o.size_m);
+      box.AddBox({-h, -h, 0.0f}, {h, h, static_cast<float>(o.height_m)}, kObstacleColor);
+      world.mesh.Append(box, Eigen::Translation3f(c.x(), c.y(), 0.0f) *
+                                 Eigen::AngleAxisf(static_cast<float>(o.yaw_rad), Eigen::Vector3f::UnitZ()));
+    }
+    // Footprint cells: every cell whose centre lies inside the shape.
+    const double reach = o.bounding_radius_m();
+    const auto lo = grid.WorldToCell(o.center - Eigen::Vector2d(reach, reach));
+    const auto hi = grid.WorldToCell(o.center + Eigen::Vector2d(reach, reach));
+    const double res = grid.resolution_m();
+    const int x0 = lo ? lo->x : 0, y0 = lo ? lo->y : 0;
+    const int x1 = hi ? hi->x : grid.width() - 1, y1 = hi ? hi->y : grid.height() - 1;
+    const Eigen::Rotation2Dd to_box(-o.yaw_rad);
+    for (int y = std::max(0, y0 - 1); y <= std::min(grid.height() - 1, y1 + 1); ++y) {
+      for (int x = std::max(0, x0 - 1); x <= std::min(grid.width() - 1, x1 + 1); ++x) {
+        const Eigen::Vector2d d = grid.CellCenter({x, y}) - o.center;
+        bool inside;
+        if (o.shape == StaticObstacle::Shape::kCylinder) {
+          inside = d.norm() <= o.size_m + 0.5 * res;
+        } else {
+          const Eigen::Vector2d local = to_box * d;
+          inside = std::abs(local.x()) <= o.size_m + 0.5 * res && std::abs(local.y()) <= o.size_m + 0.5 * res;
+        }
+        if (inside) grid.at({x, y}) = nav::kOccupiedCell;
+      }
+    }
+  }
+}
+
+nav::OccupancyGrid RoomMap(double width_m, double height_m, double resolution_m) {
+  const int w = static_cast<int>(std::lround(width_m / resolution_m)) + 2;
+  const int h = static_cast<int>(std::lround(height_m / resolution_m)) + 2;
+  nav::OccupancyGrid grid(w, h, resolution_m, nav::Pose2{-resolution_m, -resolution_m, 0.0}, nav::kFreeCell);
+  for (int x = 0; x < w; ++x) grid.at({x, 0}) = grid.at({x, h - 1}) = nav::kOccupiedCell;
+  for (int y = 0; y < h; ++y) grid.at({0, y}) = grid.at({w - 1, y}) = nav::kOccupiedCell;
+  return grid;
+}
+
+void TriangleMesh::AddCylinder(const Eigen::Vector2f& center, float radius, float height, int sides,
+                               const Eigen::Vector3f& color) {
+  const int b = static_cast<int>(vertices.size());
+  for (int i = 0; i < sides; ++i) {
+    const double a = 2.0 * std::numbers::pi * i / sides;
+    const Eigen::Vector2f p = center + radius * Eigen::Vector2f(static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)));
+    vertices.emplace_back(p.x(), p.y(), 0.0f);
+    vertices.emplace_back(p.x(), p.y(), height);
+  }
+  const int bottom = static_cast<int>(vertices.size());
+  vertices.emplace_back(center.x(), center.y(), 0.0f);
+  vertices.emplace_back(center.x(), center.y(), height);
+  for (int i = 0; i < sides; ++i) {
+    const int j = (i + 1) % sides;
+    const int lo_i = b + 2 * i, hi_i = lo_i + 1, lo_j = b + 2 * j, hi_j = lo_j + 1;
+    for (const Eigen::Vector3i& t : {Eigen::Vector3i(lo_i, lo_j, hi_j), Eigen::Vector3i(lo_i, hi_j, hi_i),
+                                    Eigen::Vector3i(bottom, lo_j, lo_i), Eigen::Vector3i(bottom + 1, hi_i, hi_j)}) {
+      triangles.push_back(t);
+      colors.push_back(color);
+    }
+  }
 }
 
 void TriangleMesh::AddBox(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, const Eigen::Vector3f& color) {

@@ -25,6 +25,8 @@ struct TriangleMesh {
   void Append(const TriangleMesh& other, const Eigen::Affine3f& transform = Eigen::Affine3f::Identity());
   // Adds an axis-aligned box with corners lo and hi.
   void AddBox(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, const Eigen::Vector3f& color);
+  // Adds a vertical cylinder standing on z = 0 as a closed prism of `sides` faces.
+  void AddCylinder(const Eigen::Vector2f& center, float radius, float height, int sides, const Eigen::Vector3f& color);
   Eigen::AlignedBox3f Bounds() const;
 };
 
@@ -37,12 +39,27 @@ struct WorldOptions {
   std::vector<std::filesystem::path> model_paths;  // extra folders searched for model://NAME
 };
 
+// Things standing on the floor that are not in the robot's map: the DPoom evaluation's unit cubes and cylinders.
+struct StaticObstacle {
+  enum class Shape { kCylinder, kBox };
+  Shape shape = Shape::kCylinder;
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();
+  double size_m = 0.5;     // cylinder: radius; box: half the side of a square box
+  double height_m = 1.0;
+  double yaw_rad = 0.0;    // boxes only
+
+  // The radius of a circle around it, for avoidance and placement.
+  double bounding_radius_m() const;
+};
+
 struct World {
   TriangleMesh mesh;
   // Occupied where any geometry lies between collision_min_height_m and collision_max_height_m.
   nav::OccupancyGrid collision;
   // The map the world was extruded from (map_server worlds only): the daemon works in it without reading it again.
   std::optional<nav::OccupancyGrid> source_map;
+  // Obstacles added with AddObstacles (in mesh and collision, not in source_map).
+  std::vector<StaticObstacle> obstacles;
   std::string description;
 };
 
@@ -52,6 +69,10 @@ class WorldFileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// An empty rectangular room, width_m x height_m inside, walled by one cell, its inside corner at (0, 0): a map for
+// scenarios and tests.
+nav::OccupancyGrid RoomMap(double width_m, double height_m, double resolution_m);
+
 // Walls of wall_height_m on every occupied cell of `map`; unknown cells are left open.
 World WorldFromMap(const nav::OccupancyGrid& map, const WorldOptions& options);
 
@@ -59,6 +80,10 @@ World WorldFromMap(const nav::OccupancyGrid& map, const WorldOptions& options);
 // with their poses, each model's mesh URIs and scales; collision meshes preferred over visual ones), anything else
 // as a single mesh file through assimp (COLLADA kept Z-up, units applied). Throws WorldFileError.
 World LoadWorld(const std::filesystem::path& path, const WorldOptions& options);
+
+// Adds obstacles to a world: their surfaces to the mesh (seen by the camera and the laser) and their footprints to
+// the collision grid. Not to its source map: they are what the robot's map does not know.
+void AddObstacles(World& world, const std::vector<StaticObstacle>& obstacles);
 
 // Rasterises the mesh's parts between the collision heights into a grid covering the mesh's extent.
 nav::OccupancyGrid CollisionGridFromMesh(const TriangleMesh& mesh, const WorldOptions& options);

@@ -1,0 +1,93 @@
+// Simulated people and unmapped objects for the simulator: static obstacles (cylinders and boxes standing on the
+// floor) and pedestrians walking back and forth between their own two points.
+//
+// Pedestrians avoid each other and the static obstacles with ORCA, optimal reciprocal collision avoidance (van den
+// Berg, Guy, Lin and Manocha, "Reciprocal n-body collision avoidance", ISRR 2011): each one's new velocity is the
+// one nearest its preferred velocity inside the half-planes that keep it clear of every neighbour for a time
+// horizon, each pair taking half of the avoidance. They do not see the robot, as in the DPoom evaluation: avoiding
+// them is the robot's job alone. Walls and the static obstacles are kept by routes chosen along clear straight
+// lines and by refusing moves into the world's collision grid; ORCA also avoids the static obstacles (as neighbours
+// that do not move) when other people push someone toward them.
+//
+// Written here rather than taken from RVO2: Debian packages no ORCA library, and the algorithm (two small linear
+// programs in the velocity plane) is about two hundred lines; see docs/design.md.
+#pragma once
+
+#include <random>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "drivers/sim/world.h"
+#include "nav/map/occupancy_grid.h"
+
+namespace corridor::drivers::sim {
+
+struct PedestrianRoute {
+  Eigen::Vector2d start = Eigen::Vector2d::Zero();
+  Eigen::Vector2d goal = Eigen::Vector2d::Zero();
+};
+
+struct CrowdOptions {
+  double radius_m = 0.25;          // a person's footprint
+  double height_m = 1.7;
+  double preferred_speed_mps = 0.8;
+  double max_speed_mps = 1.2;
+  double time_horizon_s = 2.0;     // ORCA: velocities are kept collision-free this far ahead
+  double neighbour_distance_m = 5.0;
+  double goal_tolerance_m = 0.3;   // at a route's end a person turns back
+  // People aim this much to the right of their goal, as people keep right: it breaks the symmetric standoffs in
+  // which ORCA agents walking straight at each other would slow to a stop face to face.
+  double keep_right_rad = 0.1;
+};
+
+struct Pedestrian {
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();
+  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
+  PedestrianRoute route;
+  bool returning = false;          // walking from goal back to start
+};
+
+class Crowd {
+ public:
+  // `world` must outlive the crowd; its obstacles are avoided, its collision grid's walls kept. Each pedestrian
+  // starts at its route's start.
+  Crowd(const World& world, std::vector<PedestrianRoute> routes, const CrowdOptions& options);
+
+  void Step(double dt_s);
+  const std::vector<Pedestrian>& pedestrians() const { return pedestrians_; }
+  const CrowdOptions& options() const { return options_; }
+  bool empty() const { return pedestrians_.empty(); }
+
+  // Every pedestrian as a closed prism of their footprint and height, coloured, for ray casting.
+  TriangleMesh Mesh() const;
+
+ private:
+  bool Free(const Eigen::Vector2d& p) const;  // a person's footprint here is clear of the collision grid
+
+  const nav::OccupancyGrid& collision_;
+  const std::vector<StaticObstacle>& obstacles_;
+  CrowdOptions options_;
+  std::vector<Pedestrian> pedestrians_;
+};
+
+// The velocity nearest `preferred` within speed `max_speed` that keeps `self` (at `position`, moving at `velocity`)
+// clear of every other disc for `time_horizon_s`. Others with `reciprocal` share the avoidance; static ones do not.
+struct OrcaNeighbour {
+  Eigen::Vector2d position;
+  Eigen::Vector2d velocity;
+  double radius_m;
+  bool reciprocal;
+};
+Eigen::Vector2d OrcaVelocity(const Eigen::Vector2d& position, const Eigen::Vector2d& velocity, double radius_m,
+                             const Eigen::Vector2d& preferred, double max_speed, double time_horizon_s, double dt_s,
+                             const std::vector<OrcaNeighbour>& neighbours);
+
+// Random routes for `count` people in free space of `collision`, each between 4 and 10 m long with a clear straight
+// line (the person's radius plus a margin) and away from `keep_clear` points by `clearance_m`. Fewer when the
+// world has no room.
+std::vector<PedestrianRoute> RandomRoutes(const nav::OccupancyGrid& collision, int count, double radius_m,
+                                          const std::vector<Eigen::Vector2d>& keep_clear, double clearance_m,
+                                          std::mt19937& rng);
+
+}  // namespace corridor::drivers::sim
