@@ -13,6 +13,7 @@
 #include "nav/policy/morp_rb.h"
 #include "nav/ground/floor_fit.h"
 #include "nav/ground/morp.h"
+#include "nav/ground/voxel_obstacles.h"
 
 namespace corridor {
 namespace {
@@ -48,8 +49,41 @@ cv::Mat Render(const TriangleMesh& mesh, const drivers::sim::SimCameraOptions& o
   return frame.depth_mm;
 }
 
-nav::Morp MakeMorp(const drivers::sim::SimCameraOptions& o, nav::MorpOptions options = {}) {
+// Lanes across the robot's width only (0.4 m, four lanes), so that each test's geometry reads simply.
+nav::MorpOptions RobotWidthLanes() {
+  nav::MorpOptions options;
+  options.span_m = 0.4;
+  return options;
+}
+
+nav::Morp MakeMorp(const drivers::sim::SimCameraOptions& o, nav::MorpOptions options = RobotWidthLanes()) {
   return nav::Morp(drivers::sim::MakeCameraInfo(o).camera, options);
+}
+
+TEST(VoxelObstaclesTest, TheComparisonFrontEndFindsTheWallAndTheBoxButNotTheFloor) {
+  const auto o = Camera();
+  TriangleMesh mesh = Floor();
+  mesh.AddBox({2.5f, -3.0f, 0.0f}, {2.7f, 3.0f, 1.5f}, kGrey);   // a wall 2.5 m ahead
+  mesh.AddBox({1.5f, 0.0f, 0.0f}, {1.8f, 0.5f, 0.4f}, kGrey);    // a box on the left
+  nav::VoxelObstacles voxels(drivers::sim::MakeCameraInfo(o).camera, nav::VoxelObstacleOptions{});
+  const auto& obstacles = voxels.Process(Render(mesh, o));
+  ASSERT_FALSE(obstacles.empty());
+  EXPECT_GT(voxels.cloud().size(), 100000u);  // most of a VGA frame
+  int wall = 0;
+  int box = 0;
+  for (const Eigen::Vector2f& p : obstacles) {
+    // Nothing on the open floor before the box and the wall.
+    EXPECT_GT(p.x(), 1.4f) << p.transpose();
+    if (p.x() > 2.4f) {
+      ++wall;
+      EXPECT_LT(p.x(), 2.6f) << p.transpose();  // the wall's face, within a voxel and depth noise
+    } else {
+      ++box;
+      EXPECT_GT(p.y(), -0.06f) << p.transpose();  // the box is on the left
+    }
+  }
+  EXPECT_GT(wall, 50);
+  EXPECT_GT(box, 5);
 }
 
 TEST(MorpTest, OpenFloorHasNoDeadEnds) {
@@ -94,7 +128,7 @@ TEST(MorpTest, ABoxOnTheLeftBlocksOnlyTheLeftLanes) {
 
 TEST(MorpTest, StepsJustUnderTheThresholdAreDrivenOverAndJustOverAreNot) {
   const auto o = Camera();
-  nav::MorpOptions options;
+  nav::MorpOptions options = RobotWidthLanes();
   options.max_step_m = 0.03;
   nav::Morp morp = MakeMorp(o, options);
   const auto with_step = [](float height) {
@@ -212,7 +246,7 @@ TEST(MorpClosedLoopTest, DrivesAroundAPillarToItsGoalWithoutTouchingIt) {
   o.base.limits.max_linear_mps = 0.26;  // DPoom's speed
   o.laser.enabled = false;
   drivers::sim::SimRobot robot(PillarRoom(), o);
-  nav::Morp morp(robot.info().camera, nav::MorpOptions{});
+  nav::Morp morp(robot.info().camera, RobotWidthLanes());  // MORP-RB alone steers on every lane it is given
   nav::MorpRb policy{nav::MorpRbOptions{}};
   const Eigen::Vector2d goal(8.0, 3.0);
   bool bumped = false;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace corridor::nav {
@@ -25,17 +26,17 @@ Morp::Morp(const PinholeCamera& camera, const MorpOptions& options) : camera_(ca
   if (camera.width <= 0 || camera.height <= 0 || !(camera.fx > 0.0) || !(camera.fy > 0.0)) {
     throw std::invalid_argument("Morp: the camera needs a positive size and focal length");
   }
-  if (!(options.robot_width_m > 0.0) || !(options.lane_width_m > 0.0) || !(options.max_range_m > options.min_range_m)) {
+  if (!(options.span_m > 0.0) || !(options.lane_width_m > 0.0) || !(options.max_range_m > options.min_range_m)) {
     throw std::invalid_argument("Morp: widths must be positive and max_range_m above min_range_m");
   }
   const int n = options.lanes > 0 ? options.lanes
-                                  : std::max(1, static_cast<int>(std::lround(options.robot_width_m / options.lane_width_m)));
+                                  : std::max(1, static_cast<int>(std::lround(options.span_m / options.lane_width_m)));
   const Eigen::Vector3f origin = camera.base_T_camera.translation().cast<float>();
   const Eigen::Matrix3d rotation = camera.base_T_camera.linear();
   for (int j = 0; j < n; ++j) {
     Lane lane;
     // Lane centres from left (+y) to right, evenly across the robot's width.
-    lane.offset_m = options.robot_width_m / 2.0 - (j + 0.5) * options.robot_width_m / n;
+    lane.offset_m = options.span_m / 2.0 - (j + 0.5) * options.span_m / n;
     int last_row = camera.height;
     for (double x = kLaneStepM; x <= options.max_range_m; x += kLaneStepM) {
       Eigen::Vector2d pixel;
@@ -153,6 +154,14 @@ const std::vector<LaneResult>& Morp::Process(const cv::Mat& depth) {
     }
   }
   return results_;
+}
+
+double NearestDeadEnd(const std::vector<LaneResult>& lanes, double half_width_m) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const LaneResult& lane : lanes) {
+    if (lane.dead_end && std::abs(lane.offset_m) <= half_width_m) nearest = std::min(nearest, lane.free_distance_m);
+  }
+  return nearest;
 }
 
 }  // namespace corridor::nav

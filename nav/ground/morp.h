@@ -32,8 +32,10 @@
 namespace corridor::nav {
 
 struct MorpOptions {
-  int lanes = 0;                     // 0: one lane per lane_width_m across robot_width_m
-  double robot_width_m = 0.4;
+  int lanes = 0;                     // 0: one lane per lane_width_m across span_m
+  // The lanes' total width, centred on the robot: wider than the robot, so that what passes beside it was seen
+  // (the local navigator steers on the lanes in front of its footprint and remembers the others).
+  double span_m = 1.2;
   double lane_width_m = 0.1;
   double w1 = 0.5;                   // weight of the local gradient
   double w2 = 0.5;                   // weight of the gradient from the start pixel
@@ -54,6 +56,10 @@ struct LaneResult {
   Eigen::Vector2i pixel{-1, -1};     // the dead-end pixel (u, v), when dead_end
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  // the dead-end in the base frame, when dead_end
 };
+
+// The nearest dead-end among the lanes whose centre lies within half_width_m of the robot's centre line (the lanes
+// in front of its footprint); +infinity when there is none.
+double NearestDeadEnd(const std::vector<LaneResult>& lanes, double half_width_m);
 
 class Morp {
  public:

@@ -6,7 +6,7 @@
 namespace corridor::nav {
 
 LocalNavigator::LocalNavigator(const LocalNavigatorOptions& options)
-    : options_(options), follower_(options.follower), avoid_(options.avoid) {}
+    : options_(options), follower_(options.follower), avoid_(options.avoid), memory_(options.memory) {}
 
 void LocalNavigator::SetPath(std::vector<Waypoint> path) {
   follower_.SetPath(std::move(path));
@@ -16,6 +16,7 @@ void LocalNavigator::SetPath(std::vector<Waypoint> path) {
 LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double speed_limit_mps,
                                  double dt_s) {
   LocalStep out;
+  memory_.Update(robot, lanes, dt_s);
   const FollowStep follow = follower_.Update(robot, speed_limit_mps);
   out.remaining_m = follow.remaining_m;
   if (follow.done) {
@@ -28,11 +29,15 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
   }
   const Eigen::Vector2d to_target = follow.target - robot.translation();
   const double heading_error = WrapAngle(std::atan2(to_target.y(), to_target.x()) - robot.yaw_rad);
-  const MorpRbDecision decision = avoid_.Decide(lanes, heading_error, dt_s);
+  ahead_.clear();
+  for (const LaneResult& lane : lanes) {
+    if (std::abs(lane.offset_m) <= options_.corridor_half_width_m) ahead_.push_back(lane);
+  }
+  const MorpRbDecision decision = avoid_.Decide(ahead_, heading_error, dt_s);
   out.nearest_m = decision.nearest_m;
   out.mode = decision.mode;
   const double v_free =
-      lanes.empty() ? 0.0 : SpeedForFreeDistance(decision.nearest_m - options_.avoid.front_offset_m, options_.avoid.stopping);
+      ahead_.empty() ? 0.0 : SpeedForFreeDistance(decision.nearest_m - options_.avoid.front_offset_m, options_.avoid.stopping);
 
   if (follow.final_approach || decision.mode == MorpRbMode::kFollow) {
     out.twist = follow.twist;
@@ -42,11 +47,14 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
       out.twist = {v_free, out.twist.angular_rps * (follow.final_approach ? 1.0 : scale)};
     }
     out.mode = MorpRbMode::kFollow;
-    return out;
+  } else {
+    out.avoiding = true;
+    out.twist = decision.twist;
+    out.twist.linear_mps = std::min(out.twist.linear_mps, follow.speed_limit_mps);
   }
-  out.avoiding = true;
-  out.twist = decision.twist;
-  out.twist.linear_mps = std::min(out.twist.linear_mps, follow.speed_limit_mps);
+  const Twist2 guarded = memory_.Guard(robot, out.twist);
+  out.guarded = guarded.linear_mps != out.twist.linear_mps || guarded.angular_rps != out.twist.angular_rps;
+  out.twist = guarded;
   return out;
 }
 

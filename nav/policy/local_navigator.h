@@ -6,7 +6,9 @@
 //     back), at no more than the path's speed limit;
 //   - the final approach is the polar controller's alone (MORP-RB would swerve around the goal's own
 //     surroundings), still capped by the free distance ahead;
-//   - a robot pushed (or swerved) far from the path asks for a new one.
+//   - a robot pushed (or swerved) far from the path asks for a new one;
+//   - every command is checked against a short memory of dead-ends (nav/safety/obstacle_memory.h), so that turning
+//     back to the path does not sweep into an obstacle that has left the camera's view.
 // Pure logic: the caller supplies the pose, this frame's lanes and the time step.
 #pragma once
 
@@ -15,12 +17,17 @@
 #include "nav/ground/morp.h"
 #include "nav/policy/morp_rb.h"
 #include "nav/policy/path_follower.h"
+#include "nav/safety/obstacle_memory.h"
 
 namespace corridor::nav {
 
 struct LocalNavigatorOptions {
   FollowerOptions follower;
   MorpRbOptions avoid;
+  ObstacleMemoryOptions memory;
+  // MORP-RB steers on the lanes within this of the centre line (the footprint and a margin); the memory keeps
+  // every lane's dead-end.
+  double corridor_half_width_m = 0.3;
   double replan_distance_m = 1.0;  // farther than this from the path: plan again from where the robot is
 };
 
@@ -31,6 +38,7 @@ struct LocalStep {
   double remaining_m = 0.0;
   MorpRbMode mode = MorpRbMode::kFollow;
   bool avoiding = false;          // MORP-RB, not the path follower, chose the twist
+  bool guarded = false;           // the obstacle memory replaced the chosen twist
   double nearest_m = 0.0;         // the nearest dead-end ahead
 };
 
@@ -52,6 +60,8 @@ class LocalNavigator {
   LocalNavigatorOptions options_;
   PathFollower follower_;
   MorpRb avoid_;
+  ObstacleMemory memory_;
+  std::vector<LaneResult> ahead_;  // this frame's lanes in the corridor
 };
 
 }  // namespace corridor::nav

@@ -1,5 +1,7 @@
 #include "nav/policy/morp_rb.h"
 #include "nav/policy/local_navigator.h"
+#include "nav/policy/reactive.h"
+#include "nav/safety/obstacle_memory.h"
 
 #include <gtest/gtest.h>
 
@@ -154,6 +156,74 @@ TEST(LocalNavigatorTest, AtTheGoalItIsDone) {
   LocalNavigator nav(LocalNavigatorOptions{});
   nav.SetPath(StraightPath());
   EXPECT_TRUE(nav.Update(Pose2{6.0, 0.0, 0.0}, Lanes({-1, -1, -1, -1}), 1e9, 0.05).done);
+}
+
+
+// A lane whose dead-end is the base-frame point (x, y).
+LaneResult DeadEndAt(double offset, double x, double y) {
+  LaneResult lane;
+  lane.offset_m = offset;
+  lane.dead_end = true;
+  lane.free_distance_m = x;
+  lane.point = {x, y, 0.1};
+  return lane;
+}
+
+TEST(ObstacleMemoryTest, AnObstacleThatLeftTheViewStillStopsATurnIntoIt) {
+  ObstacleMemory memory(ObstacleMemoryOptions{});
+  // Seen 0.8 m ahead and 0.35 m to the right...
+  memory.Update(Pose2{0, 0, 0}, {DeadEndAt(-0.35, 0.8, -0.35)}, 0.05);
+  EXPECT_EQ(memory.size(), 1u);
+  // ...then the robot drove 0.8 m on: the obstacle is beside it, out of the camera's view, and no lane sees it.
+  const Pose2 beside{0.8, 0.0, 0.0};
+  memory.Update(beside, {}, 3.0);
+  EXPECT_EQ(memory.size(), 1u);
+  // Turning right while driving would sweep into it: the guard bends the arc away instead, keeping the speed.
+  const Twist2 guarded = memory.Guard(beside, {0.26, -0.8});
+  EXPECT_NEAR(guarded.linear_mps, 0.26, 1e-9);
+  EXPECT_GT(guarded.angular_rps, -0.8);
+  // Driving away (left) is left alone.
+  const Twist2 away{0.26, 0.5};
+  EXPECT_EQ(memory.Guard(beside, away).angular_rps, away.angular_rps);
+}
+
+TEST(ObstacleMemoryTest, FreeFloorSeenPastAPointClearsItAndDistanceForgetsIt) {
+  ObstacleMemory memory(ObstacleMemoryOptions{});
+  memory.Update(Pose2{0, 0, 0}, {DeadEndAt(0.05, 1.0, 0.05)}, 0.05);
+  ASSERT_EQ(memory.size(), 1u);
+  LaneResult free;
+  free.offset_m = 0.05;
+  free.free_distance_m = 4.0;
+  memory.Update(Pose2{0, 0, 0}, {free}, 0.05);  // the person walked away: that lane now sees 4 m of floor
+  EXPECT_EQ(memory.size(), 0u);
+  memory.Update(Pose2{0, 0, 0}, {DeadEndAt(0.05, 1.0, 0.05)}, 0.05);
+  memory.Update(Pose2{3.0, 0, 0}, {}, 0.05);  // driven past, far away
+  EXPECT_EQ(memory.size(), 0u);
+}
+
+TEST(ObstacleMemoryTest, WhenEveryArcIsBlockedItTurnsInPlaceAwayFromTheNearestPoint) {
+  ObstacleMemory memory(ObstacleMemoryOptions{});
+  // A wall of points just ahead, nearer on the left.
+  std::vector<LaneResult> wall;
+  for (double y = -0.6; y <= 0.6; y += 0.1) wall.push_back(DeadEndAt(y, 0.4 + (y > 0 ? 0.0 : 0.05), y));
+  memory.Update(Pose2{0, 0, 0}, wall, 0.05);
+  const Twist2 t = memory.Guard(Pose2{0, 0, 0}, {0.26, 0.0});
+  EXPECT_EQ(t.linear_mps, 0.0);
+  EXPECT_LT(t.angular_rps, 0.0);  // away from the nearer, left side
+}
+
+TEST(ReactiveTest, ClearCorridorFollowsBlockedSlowsAndTurnsAwayTooCloseStops) {
+  const ReactiveOptions o;
+  const Twist2 clear = ReactiveCommand({{2.0f, 0.0f}, {0.5f, 0.6f}}, 0.0, o);
+  EXPECT_NEAR(clear.linear_mps, o.max_linear_mps, 1e-9);
+  EXPECT_EQ(clear.angular_rps, 0.0);
+  const Twist2 ahead = ReactiveCommand({{0.8f, 0.1f}}, 0.0, o);
+  EXPECT_GT(ahead.linear_mps, 0.0);
+  EXPECT_LT(ahead.linear_mps, o.max_linear_mps);
+  EXPECT_LT(ahead.angular_rps, 0.0);  // the obstacle is left of centre: turn right
+  const Twist2 close = ReactiveCommand({{0.3f, -0.1f}}, 0.0, o);
+  EXPECT_EQ(close.linear_mps, 0.0);
+  EXPECT_GT(close.angular_rps, 0.0);
 }
 
 TEST(StoppingTest, TheSpeedForAFreeDistanceAlwaysStopsWithinItOverRandomCases) {

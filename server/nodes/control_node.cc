@@ -40,12 +40,8 @@ BaseCommand DecideCommand(const ControlInputs& in, const SafetyOptions& options)
     // Forward: only as fast as stops before the nearest dead-end the camera sees, and not at all without sight.
     const bool fresh = in.lanes != nullptr && in.last_lanes_ns >= 0 &&
                        in.now_ns - in.last_lanes_ns <= drivers::FromSeconds(options.depth_timeout_s);
-    double nearest = std::numeric_limits<double>::infinity();
-    if (fresh) {
-      for (const nav::LaneResult& lane : in.lanes->lanes) {
-        if (lane.dead_end) nearest = std::min(nearest, lane.free_distance_m);
-      }
-    }
+    const double nearest =
+        fresh ? nav::NearestDeadEnd(in.lanes->lanes, options.corridor_half_width_m) : std::numeric_limits<double>::infinity();
     const double cap = fresh ? nav::SpeedForFreeDistance(nearest - options.front_offset_m, options.stopping) : 0.0;
     if (out.twist.linear_mps > cap) {
       out.twist.linear_mps = cap;

@@ -33,6 +33,7 @@ void ReadSafety(ConfigReader& r, SafetyOptions& o) {
   r.Read("control_rate_hz", o.control_rate_hz, 5.0, 200.0);
   r.Read("depth_timeout_s", o.depth_timeout_s, 0.02, 5.0);
   r.Read("front_offset_m", o.front_offset_m, 0.0, 2.0);
+  r.Read("corridor_half_width_m", o.corridor_half_width_m, 0.01, 2.0);
   r.Read("max_decel_mps2", o.stopping.max_decel_mps2, 0.05, 10.0);
   r.Read("reaction_time_s", o.stopping.reaction_time_s, 0.0, 2.0);
   r.Read("stop_margin_m", o.stopping.margin_m, 0.0, 1.0);
@@ -80,7 +81,7 @@ void ReadLaser(ConfigReader& r, drivers::sim::SimLaserOptions& o) {
 
 void ReadGround(ConfigReader& r, nav::MorpOptions& o) {
   r.Read("lanes", o.lanes, 0, 64);
-  r.Read("robot_width_m", o.robot_width_m, 0.05, 3.0);
+  r.Read("span_m", o.span_m, 0.05, 3.0);
   r.Read("lane_width_m", o.lane_width_m, 0.01, 1.0);
   r.Read("w1", o.w1, 0.0, 10.0);
   r.Read("w2", o.w2, 0.0, 10.0);
@@ -204,6 +205,8 @@ Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
     // MORP-RB brakes by the control loop's model.
     config.mission.avoid.stopping = config.safety.stopping;
     config.mission.avoid.front_offset_m = config.safety.front_offset_m;
+    config.mission.memory.robot_radius_m = config.safety.front_offset_m;
+    config.mission.corridor_half_width_m = config.safety.corridor_half_width_m;
   } catch (const ConfigError& e) {
     throw ConfigError(file.string() + ": " + e.what());
   }

@@ -43,6 +43,7 @@ struct SafetyOptions {
   // measured from the robot's front; without a fresh depth frame the robot does not drive forward.
   double depth_timeout_s = 0.15;       // lanes older than this are stale
   double front_offset_m = 0.2;         // from the base's centre to its front
+  double corridor_half_width_m = 0.3;  // lanes whose centre is this close to the centre line are in the robot's way
   nav::StoppingModel stopping{.max_decel_mps2 = 0.8, .reaction_time_s = 0.1, .margin_m = 0.05};
 };
 

@@ -1,0 +1,66 @@
+// A short memory of what the depth camera saw, for the blind sides of a narrow camera. MORP's dead-ends are kept
+// in the world frame for a few seconds; before a command goes out, the robot's footprint is swept along the arc it
+// would drive for a short horizon, and a command that would bring it into a remembered obstacle is replaced by the
+// nearest safe one among arcs that bend away (as a dynamic-window check would), turning in place, and stopping.
+//
+// Without it, a robot that has just passed an obstacle (now beside it, out of the camera's 85-degree view) turns back
+// toward its path and into the obstacle's side. This is corridor's addition to MORP-RB; the paper's policy sees only
+// the current frame.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "nav/geometry/pose2.h"
+#include "nav/ground/morp.h"
+
+namespace corridor::nav {
+
+struct ObstacleMemoryOptions {
+  // A dead-end is forgotten when a lane later sees free floor past it (a person walked away), when the robot is
+  // farther from it than keep_radius_m, and at the latest keep_s after it was seen.
+  double keep_s = 30.0;
+  double keep_radius_m = 1.5;
+  double clear_from_m = 0.6;    // lanes see the floor from this forward distance: only beyond it can they clear
+  double lane_half_width_m = 0.05;
+  double cell_m = 0.05;         // dead-ends closer than this to a remembered one replace it
+  double robot_radius_m = 0.2;
+  // Kept between the footprint and a remembered point: more than a lane's width, since the surface between two
+  // lanes' dead-ends (never sampled) may reach that much nearer.
+  double margin_m = 0.15;
+  double horizon_s = 1.2;       // how far ahead a command is swept
+  double sweep_step_s = 0.1;
+  double max_turn_rps = 1.0;    // the sharpest arc the guard may substitute
+};
+
+class ObstacleMemory {
+ public:
+  explicit ObstacleMemory(const ObstacleMemoryOptions& options) : options_(options) {}
+
+  // Ages the memory by dt_s, forgets what is too old or too far, and remembers this frame's dead-ends (lanes taken
+  // at `robot`). Blind lanes are not obstacles to remember.
+  void Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double dt_s);
+
+  // `command` if its sweep stays clear of every remembered point (or moves away from them), else the clear
+  // candidate nearest to it: the same or half the speed on arcs bending up to max_turn_rps either way; else turning
+  // in place away from the nearest point (it comes into the camera's view, which clears it or confirms it).
+  Twist2 Guard(const Pose2& robot, const Twist2& command) const;
+
+  std::size_t size() const { return points_.size(); }
+  void Clear() { points_.clear(); }
+
+ private:
+  struct Point {
+    Eigen::Vector2d world;
+    double age_s;
+  };
+  // True when driving `command` from `robot` for the horizon brings the footprint within the margin of a point,
+  // nearer than it is now.
+  bool Blocked(const Pose2& robot, const Twist2& command) const;
+
+  ObstacleMemoryOptions options_;
+  std::vector<Point> points_;
+};
+
+}  // namespace corridor::nav

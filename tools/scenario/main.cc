@@ -1,0 +1,163 @@
+// corridor-scenario: the DPoom evaluation (Tables 3 and 4) on the simulator, in lockstep faster than real time.
+// See tools/scenario/scenario.h for the protocol and docs/benchmarks.md for results.
+#include <nlohmann/json.hpp>
+
+#include <charconv>
+#include <cstdio>
+#include <iostream>
+#include <string>
+
+#include "tools/scenario/scenario.h"
+
+namespace {
+
+using corridor::scenario::Policy;
+using corridor::scenario::ScenarioOptions;
+
+constexpr const char* kUsage = R"(usage: corridor-scenario [options]
+
+Runs the DPoom evaluation protocol: a DPoom-like robot (0.26 m/s, camera 85.2 x 58 degrees) drives to a goal 7 to
+11 m away among pedestrians and unmapped static obstacles, with each local policy, and prints the paper's Table 4
+(success, collision, time to goal) and Table 3 (milliseconds per depth frame).
+
+  --world FILE        a map (.yaml) or world (.world, .sdf, mesh) to run in; default: generated rooms of 12-15 m
+  --worlds N          worlds (layouts) to run, default 10
+  --runs N            runs per world, default 3
+  --seed N            default 1; the same seed gives the same scenarios
+  --pedestrians N     0 to 5, default 0
+  --static N          static obstacles, 0 to 9, default 0
+  --policy NAME       morp-rb or voxel-reactive; repeat for several; default both
+  --timeout S         per run, default 3 x straight-line time + 20 s
+  --json              machine-readable results (every run and the summaries) on stdout
+  --quiet             no progress on stderr
+  --help
+)";
+
+int ParseInt(const std::string& flag, const std::string& text, int lo, int hi) {
+  int value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size() || value < lo || value > hi) {
+    throw std::invalid_argument(flag + ": expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi) +
+                                ", got '" + text + "'");
+  }
+  return value;
+}
+
+nlohmann::json ToJson(const corridor::scenario::PolicySummary& s) {
+  return {{"policy", ToString(s.policy)},
+          {"runs", s.runs},
+          {"success", s.success},
+          {"collision", s.collision},
+          {"timeout", s.timeout},
+          {"mean_time_to_goal_s", s.mean_time_to_goal_s},
+          {"depth_ms", s.depth_ms},
+          {"policy_ms", s.policy_ms},
+          {"total_ms", s.total_ms},
+          {"total_p99_ms", s.total_p99_ms},
+          {"frames", s.frames}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ScenarioOptions options;
+  bool json = false;
+  bool quiet = false;
+  try {
+    std::vector<Policy> policies;
+    for (int i = 1; i < argc; ++i) {
+      const std::string flag = argv[i];
+      const auto value = [&]() -> std::string {
+        if (i + 1 >= argc) throw std::invalid_argument(flag + ": needs a value");
+        return argv[++i];
+      };
+      if (flag == "--help" || flag == "-h") {
+        std::cout << kUsage;
+        return 0;
+      } else if (flag == "--world") {
+        options.world = value();
+      } else if (flag == "--worlds") {
+        options.worlds = ParseInt(flag, value(), 1, 1000);
+      } else if (flag == "--runs") {
+        options.runs = ParseInt(flag, value(), 1, 1000);
+      } else if (flag == "--seed") {
+        options.seed = static_cast<std::uint32_t>(ParseInt(flag, value(), 0, 1 << 30));
+      } else if (flag == "--pedestrians") {
+        options.pedestrians = ParseInt(flag, value(), 0, 20);
+      } else if (flag == "--static") {
+        options.static_obstacles = ParseInt(flag, value(), 0, 30);
+      } else if (flag == "--policy") {
+        const std::string name = value();
+        const auto policy = corridor::scenario::ParsePolicy(name);
+        if (!policy) throw std::invalid_argument("--policy: unknown policy '" + name + "' (morp-rb, voxel-reactive)");
+        policies.push_back(*policy);
+      } else if (flag == "--timeout") {
+        options.timeout_s = ParseInt(flag, value(), 1, 100000);
+      } else if (flag == "--json") {
+        json = true;
+      } else if (flag == "--quiet") {
+        quiet = true;
+      } else {
+        throw std::invalid_argument("unknown option '" + flag + "'");
+      }
+    }
+    if (!policies.empty()) options.policies = policies;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "corridor-scenario: " << e.what() << "\n\n" << kUsage;
+    return 2;
+  }
+
+  std::vector<corridor::scenario::RunResult> results;
+  try {
+    results = corridor::scenario::RunAll(options, [&](const corridor::scenario::RunResult& r) {
+      if (quiet) return;
+      std::fprintf(stderr, "world %d run %d %-15s %-9s %6.1f s%s%s\n", r.world_index, r.run_index, ToString(r.policy),
+                   ToString(r.outcome), r.time_s, r.collided_with.empty() ? "" : " with ", r.collided_with.c_str());
+    });
+  } catch (const std::exception& e) {
+    std::cerr << "corridor-scenario: " << e.what() << "\n";
+    return 1;
+  }
+  const auto summaries = corridor::scenario::Summarise(results);
+
+  if (json) {
+    nlohmann::json doc;
+    doc["options"] = {{"world", options.world.empty() ? "generated rooms" : options.world.string()},
+                      {"worlds", options.worlds},
+                      {"runs", options.runs},
+                      {"seed", options.seed},
+                      {"pedestrians", options.pedestrians},
+                      {"static", options.static_obstacles},
+                      {"max_speed_mps", options.max_speed_mps},
+                      {"camera_rate_hz", options.camera_rate_hz}};
+    for (const auto& r : results) {
+      doc["runs"].push_back({{"policy", ToString(r.policy)},
+                             {"world", r.world_index},
+                             {"run", r.run_index},
+                             {"seed", r.seed},
+                             {"outcome", ToString(r.outcome)},
+                             {"time_s", r.time_s},
+                             {"path_length_m", r.path_length_m},
+                             {"collided_with", r.collided_with}});
+    }
+    for (const auto& s : summaries) doc["summary"].push_back(ToJson(s));
+    std::cout << doc.dump(2) << "\n";
+    return 0;
+  }
+  std::printf("%d worlds x %d runs, %d pedestrians, %d static obstacles, seed %u, %s\n\n", options.worlds, options.runs,
+              options.pedestrians, options.static_obstacles, options.seed,
+              options.world.empty() ? "generated rooms" : options.world.c_str());
+  std::printf("Table 4: outcomes\n%-16s %5s %8s %10s %8s %18s\n", "policy", "runs", "success", "collision", "timeout",
+              "time to goal (s)");
+  for (const auto& s : summaries) {
+    std::printf("%-16s %5d %8.2f %10.2f %8.2f %18.1f\n", ToString(s.policy), s.runs, s.success, s.collision, s.timeout,
+                s.mean_time_to_goal_s);
+  }
+  std::printf("\nTable 3: milliseconds per depth frame (this machine, one core)\n%-16s %17s %10s %10s %10s %8s\n",
+              "policy", "depth processing", "policy", "total", "total p99", "frames");
+  for (const auto& s : summaries) {
+    std::printf("%-16s %17.3f %10.4f %10.3f %10.3f %8llu\n", ToString(s.policy), s.depth_ms, s.policy_ms, s.total_ms,
+                s.total_p99_ms, static_cast<unsigned long long>(s.frames));
+  }
+  return 0;
+}

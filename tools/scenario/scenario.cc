@@ -1,0 +1,410 @@
+#include "tools/scenario/scenario.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+
+#include "drivers/sim/sim_robot.h"
+#include "nav/ground/morp.h"
+#include "nav/ground/voxel_obstacles.h"
+#include "nav/planner/planner.h"
+#include "nav/policy/local_navigator.h"
+#include "nav/policy/reactive.h"
+
+namespace corridor::scenario {
+namespace {
+
+using drivers::sim::PedestrianRoute;
+using drivers::sim::StaticObstacle;
+using drivers::sim::World;
+
+constexpr double kRobotRadiusM = 0.2;
+constexpr double kPersonRadiusM = 0.25;
+constexpr double kRoomResolutionM = 0.05;
+
+std::mt19937 Rng(std::uint32_t seed, int world_index, int run_index) {
+  std::seed_seq seq{seed, static_cast<std::uint32_t>(world_index), static_cast<std::uint32_t>(run_index)};
+  return std::mt19937(seq);
+}
+
+// True when a disc of `radius` at p is inside the grid and clear of occupied and unknown cells.
+bool Clear(const nav::OccupancyGrid& grid, const Eigen::Vector2d& p, double radius) {
+  const auto centre = grid.WorldToCell(p);
+  if (!centre) return false;
+  const int reach = static_cast<int>(std::ceil(radius / grid.resolution_m()));
+  for (int dy = -reach; dy <= reach; ++dy) {
+    for (int dx = -reach; dx <= reach; ++dx) {
+      const nav::CellIndex c{centre->x + dx, centre->y + dy};
+      if (!grid.Contains(c)) return false;
+      if ((grid.CellCenter(c) - p).norm() > radius + grid.resolution_m()) continue;
+      if (grid.at(c) < 0 || grid.at(c) >= nav::kOccupiedCell) return false;
+    }
+  }
+  return true;
+}
+
+bool LineClear(const nav::OccupancyGrid& grid, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double radius) {
+  const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / grid.resolution_m())));
+  for (int s = 0; s <= steps; ++s) {
+    if (!Clear(grid, a + (b - a) * (static_cast<double>(s) / steps), radius)) return false;
+  }
+  return true;
+}
+
+double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
+  return (a + t * ab - p).norm();
+}
+
+bool PathExists(const nav::OccupancyGrid& grid, const Eigen::Vector2d& start, const Eigen::Vector2d& goal) {
+  nav::CostmapOptions options;
+  options.robot_radius_m = kRobotRadiusM;
+  const nav::Costmap costmap(grid, {}, options);
+  return nav::PlanPath(costmap, start, goal).ok();
+}
+
+// The world before obstacles, loaded or generated for world_index.
+World BaseWorld(const ScenarioOptions& options, int world_index, nav::OccupancyGrid& map) {
+  if (!options.world.empty()) {
+    World world = drivers::sim::LoadWorld(options.world, drivers::sim::WorldOptions{});
+    map = world.source_map ? *world.source_map : world.collision;
+    return world;
+  }
+  std::mt19937 rng = Rng(options.seed, world_index, -1);
+  std::uniform_real_distribution<double> size(12.0, 15.0);
+  const double width = size(rng);
+  const double height = size(rng);
+  map = drivers::sim::RoomMap(width, height, kRoomResolutionM);
+  return drivers::sim::WorldFromMap(map, drivers::sim::WorldOptions{});
+}
+
+template <typename Fn>
+auto Sample(Fn&& fn, int attempts) -> decltype(fn()) {
+  for (int i = 0; i < attempts; ++i) {
+    if (auto value = fn()) return value;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+const char* ToString(Policy policy) {
+  switch (policy) {
+    case Policy::kMorpRb: return "morp-rb";
+    case Policy::kVoxelReactive: return "voxel-reactive";
+  }
+  return "unknown";
+}
+
+std::optional<Policy> ParsePolicy(const std::string& name) {
+  for (Policy p : {Policy::kMorpRb, Policy::kVoxelReactive}) {
+    if (name == ToString(p)) return p;
+  }
+  return std::nullopt;
+}
+
+const char* ToString(Outcome outcome) {
+  switch (outcome) {
+    case Outcome::kSuccess: return "success";
+    case Outcome::kCollision: return "collision";
+    case Outcome::kTimeout: return "timeout";
+    case Outcome::kNoPath: return "no_path";
+  }
+  return "unknown";
+}
+
+Layout MakeLayout(const ScenarioOptions& options, int world_index, int run_index) {
+  Layout layout;
+  layout.world_index = world_index;
+  layout.run_index = run_index;
+  layout.seed = static_cast<std::uint32_t>(options.seed * 7919u + static_cast<std::uint32_t>(world_index) * 101u +
+                                           static_cast<std::uint32_t>(run_index));
+  layout.world = BaseWorld(options, world_index, layout.map);
+  const nav::OccupancyGrid& grid = layout.world.collision;
+  std::mt19937 rng = Rng(options.seed, world_index, run_index);
+  const double res = grid.resolution_m();
+  std::uniform_real_distribution<double> ux(grid.origin().x_m, grid.origin().x_m + grid.width() * res);
+  std::uniform_real_distribution<double> uy(grid.origin().y_m, grid.origin().y_m + grid.height() * res);
+  std::uniform_real_distribution<double> angle(-std::numbers::pi, std::numbers::pi);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+
+  // Start and goal: free with room around them, 7 to 11 m apart, joined by a path on the robot's map.
+  const double margin = kRobotRadiusM + 0.3;
+  const auto pair = Sample(
+      [&]() -> std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> {
+        const Eigen::Vector2d start(ux(rng), uy(rng));
+        if (!Clear(grid, start, margin) || !Clear(layout.map, start, margin)) return std::nullopt;
+        const double a = angle(rng);
+        const double d = options.min_goal_m + unit(rng) * (options.max_goal_m - options.min_goal_m);
+        const Eigen::Vector2d goal = start + d * Eigen::Vector2d(std::cos(a), std::sin(a));
+        if (!Clear(grid, goal, margin) || !PathExists(layout.map, start, goal)) return std::nullopt;
+        return std::pair{start, goal};
+      },
+      2000);
+  if (!pair) throw std::runtime_error("no start and goal 7-11 m apart with a path between them in this world");
+  const auto [start, goal] = *pair;
+  layout.goal = goal;
+  const Eigen::Vector2d way = goal - start;
+  const Eigen::Vector2d across(-way.y() / way.norm(), way.x() / way.norm());
+  // Facing roughly toward the goal, as a robot would after turning to its path.
+  layout.start = {start.x(), start.y(), std::atan2(way.y(), way.x()) + (unit(rng) - 0.5) * std::numbers::pi / 3.0};
+
+  // Static obstacles near the way (so that they matter), apart enough for the robot to pass between them, never
+  // closing the way: each is kept only while a path remains.
+  std::vector<StaticObstacle> obstacles;
+  for (int i = 0; i < options.static_obstacles; ++i) {
+    const auto obstacle = Sample(
+        [&]() -> std::optional<StaticObstacle> {
+          StaticObstacle o;
+          o.shape = unit(rng) < 0.5 ? StaticObstacle::Shape::kCylinder : StaticObstacle::Shape::kBox;
+          o.size_m = 0.5;
+          o.height_m = 1.0;
+          o.yaw_rad = angle(rng);
+          o.center = start + (0.15 + 0.7 * unit(rng)) * way + (unit(rng) - 0.5) * 3.0 * across;
+          const double r = o.bounding_radius_m();
+          if ((o.center - start).norm() < r + 1.0 || (o.center - goal).norm() < r + 1.0) return std::nullopt;
+          if (!Clear(grid, o.center, r + 0.1)) return std::nullopt;
+          for (const StaticObstacle& other : obstacles) {
+            if ((other.center - o.center).norm() < r + other.bounding_radius_m() + 2.0 * kRobotRadiusM + 0.3) {
+              return std::nullopt;
+            }
+          }
+          World trial_world;
+          trial_world.collision = grid;
+          std::vector<StaticObstacle> trial = obstacles;
+          trial.push_back(o);
+          drivers::sim::AddObstacles(trial_world, trial);
+          if (!PathExists(trial_world.collision, start, goal)) return std::nullopt;
+          return o;
+        },
+        200);
+    if (obstacle) obstacles.push_back(*obstacle);
+  }
+  drivers::sim::AddObstacles(layout.world, obstacles);
+
+  // People crossing the way, not starting on the robot.
+  for (int i = 0; i < options.pedestrians; ++i) {
+    const auto route = Sample(
+        [&]() -> std::optional<PedestrianRoute> {
+          const Eigen::Vector2d middle = start + (0.25 + 0.6 * unit(rng)) * way;
+          const double a = angle(rng);
+          const double half = 2.0 + 2.0 * unit(rng);
+          const Eigen::Vector2d dir(std::cos(a), std::sin(a));
+          const PedestrianRoute r{middle - half * dir, middle + half * dir};
+          if (DistanceToSegment(start, r.start, r.goal) < 1.5 || (r.start - goal).norm() < 1.0) return std::nullopt;
+          if (!LineClear(layout.world.collision, r.start, r.goal, kPersonRadiusM + 0.1)) return std::nullopt;
+          for (const PedestrianRoute& other : layout.routes) {
+            if ((other.start - r.start).norm() < 4.0 * kPersonRadiusM) return std::nullopt;
+          }
+          return r;
+        },
+        500);
+    if (route) layout.routes.push_back(*route);
+  }
+  if (static_cast<int>(layout.routes.size()) < options.pedestrians) {
+    const auto more = drivers::sim::RandomRoutes(layout.world.collision, options.pedestrians - static_cast<int>(layout.routes.size()),
+                                                 kPersonRadiusM, {start}, 2.0, rng);
+    layout.routes.insert(layout.routes.end(), more.begin(), more.end());
+  }
+  return layout;
+}
+
+RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& options) {
+  RunResult result;
+  result.policy = policy;
+  result.world_index = layout.world_index;
+  result.run_index = layout.run_index;
+  result.seed = layout.seed;
+
+  drivers::sim::SimOptions sim;
+  sim.start = layout.start;
+  sim.seed = layout.seed;
+  sim.camera.rate_hz = options.camera_rate_hz;
+  sim.laser.enabled = false;
+  sim.pedestrians = layout.routes;
+  sim.crowd.radius_m = kPersonRadiusM;
+  sim.base.limits.footprint_radius_m = kRobotRadiusM;
+  drivers::sim::SimRobot robot(std::make_shared<const World>(layout.world), sim);
+  std::shared_ptr<const drivers::RgbdFrame> pending;
+  robot.SetFrameHandler([&pending](std::shared_ptr<drivers::RgbdFrame> frame) { pending = std::move(frame); });
+  const nav::PinholeCamera camera = robot.info().camera;
+
+  nav::CostmapOptions costmap_options;
+  costmap_options.robot_radius_m = kRobotRadiusM;
+  const nav::Costmap costmap(layout.map, {}, costmap_options);
+  const auto plan_from = [&](const Eigen::Vector2d& from) { return nav::PlanPath(costmap, from, layout.goal); };
+  nav::PlanResult plan = plan_from(layout.start.translation());
+  if (!plan.ok()) {
+    result.outcome = Outcome::kNoPath;
+    return result;
+  }
+
+  nav::LocalNavigatorOptions navigator_options;
+  navigator_options.follower.max_linear_mps = options.max_speed_mps;
+  navigator_options.avoid.max_linear_mps = options.max_speed_mps;
+  navigator_options.avoid.front_offset_m = kRobotRadiusM;
+  navigator_options.memory.robot_radius_m = kRobotRadiusM;
+  nav::LocalNavigator navigator(navigator_options);
+  navigator.SetPath(plan.plan.waypoints);
+  nav::Morp morp(camera, nav::MorpOptions{});
+
+  nav::FollowerOptions follower_options = navigator_options.follower;
+  nav::PathFollower follower(follower_options);
+  follower.SetPath(plan.plan.waypoints);
+  nav::VoxelObstacles voxels(camera, nav::VoxelObstacleOptions{});
+  nav::ReactiveOptions reactive;
+  reactive.max_linear_mps = options.max_speed_mps;
+  reactive.front_offset_m = kRobotRadiusM;
+
+  const double straight = (layout.goal - layout.start.translation()).norm();
+  const double timeout_s = options.timeout_s > 0.0 ? options.timeout_s : 3.0 * straight / options.max_speed_mps + 20.0;
+  nav::Pose2 last = layout.start;
+  double last_frame_s = 0.0;
+  using Clock = std::chrono::steady_clock;
+  const auto ms = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+  };
+  while (true) {
+    robot.Step();
+    const double now_s = drivers::ToSeconds(robot.now_ns());
+    const nav::Pose2 pose = robot.true_pose();
+    result.path_length_m += (pose.translation() - last.translation()).norm();
+    last = pose;
+    result.time_s = now_s;
+    if (robot.bumper_pressed()) {
+      result.outcome = Outcome::kCollision;
+      const auto people = robot.pedestrians();
+      const bool person = std::any_of(people.begin(), people.end(), [&](const drivers::sim::Pedestrian& p) {
+        return (p.position - pose.translation()).norm() <= kRobotRadiusM + kPersonRadiusM + 0.02;
+      });
+      result.collided_with = person ? "person" : "wall or obstacle";
+      if (std::getenv("CORRIDOR_SCENARIO_TRACE")) {
+        std::fprintf(stderr, "collision at %.2f %.2f yaw %.2f; goal %.2f %.2f\n", pose.x_m, pose.y_m, pose.yaw_rad,
+                     layout.goal.x(), layout.goal.y());
+        for (const auto& o : layout.world.obstacles) {
+          std::fprintf(stderr, "  obstacle %s at %.2f %.2f size %.2f, distance %.2f\n",
+                       o.shape == StaticObstacle::Shape::kBox ? "box" : "cylinder", o.center.x(), o.center.y(), o.size_m,
+                       (o.center - pose.translation()).norm());
+        }
+      }
+      break;
+    }
+    if ((pose.translation() - layout.goal).norm() <= options.goal_tolerance_m) {
+      result.outcome = Outcome::kSuccess;
+      break;
+    }
+    if (now_s > timeout_s) {
+      result.outcome = Outcome::kTimeout;
+      break;
+    }
+    if (!pending) continue;
+    const std::shared_ptr<const drivers::RgbdFrame> frame = std::move(pending);
+    pending = nullptr;
+    const double dt_s = now_s - last_frame_s;
+    last_frame_s = now_s;
+    nav::Twist2 twist;
+    const auto t0 = Clock::now();
+    if (policy == Policy::kMorpRb) {
+      const std::vector<nav::LaneResult>& lanes = morp.Process(frame->depth_mm);
+      const auto t1 = Clock::now();
+      nav::LocalStep step = navigator.Update(pose, lanes, std::numeric_limits<double>::infinity(), dt_s);
+      if (step.replan) {
+        plan = plan_from(pose.translation());
+        if (plan.ok()) navigator.SetPath(plan.plan.waypoints);
+      }
+      twist = step.twist;
+      if (std::getenv("CORRIDOR_SCENARIO_TRACE")) {
+        std::fprintf(stderr, "t %.2f pose %.2f %.2f %.2f mode %s%s nearest %.2f twist %.2f %.2f lanes", now_s, pose.x_m,
+                     pose.y_m, pose.yaw_rad, nav::ToString(step.mode), step.guarded ? " guarded" : "", step.nearest_m,
+                     twist.linear_mps, twist.angular_rps);
+        for (const auto& l : lanes) std::fprintf(stderr, " %.2f%s", l.free_distance_m, l.dead_end ? "*" : "");
+        std::fprintf(stderr, "\n");
+      }
+      const auto t2 = Clock::now();
+      result.depth_ms.push_back(ms(t0, t1));
+      result.policy_ms.push_back(ms(t1, t2));
+    } else {
+      const std::vector<Eigen::Vector2f>& obstacles = voxels.Process(frame->depth_mm);
+      const auto t1 = Clock::now();
+      const nav::FollowStep follow = follower.Update(pose, std::numeric_limits<double>::infinity());
+      if (follow.off_path_m > navigator_options.replan_distance_m) {
+        plan = plan_from(pose.translation());
+        if (plan.ok()) follower.SetPath(plan.plan.waypoints);
+      }
+      const Eigen::Vector2d to_target = follow.target - pose.translation();
+      twist = nav::ReactiveCommand(obstacles, std::atan2(to_target.y(), to_target.x()) - pose.yaw_rad, reactive);
+      const auto t2 = Clock::now();
+      result.depth_ms.push_back(ms(t0, t1));
+      result.policy_ms.push_back(ms(t1, t2));
+    }
+    robot.SetVelocity(twist);
+  }
+  return result;
+}
+
+std::vector<RunResult> RunAll(const ScenarioOptions& options, const std::function<void(const RunResult&)>& progress) {
+  std::vector<RunResult> results;
+  for (int w = 0; w < options.worlds; ++w) {
+    for (int r = 0; r < options.runs; ++r) {
+      const Layout layout = MakeLayout(options, w, r);
+      for (Policy policy : options.policies) {
+        results.push_back(RunOnce(layout, policy, options));
+        if (progress) progress(results.back());
+      }
+    }
+  }
+  return results;
+}
+
+std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results) {
+  std::map<Policy, std::vector<const RunResult*>> by_policy;
+  for (const RunResult& r : results) by_policy[r.policy].push_back(&r);
+  std::vector<PolicySummary> out;
+  for (const auto& [policy, runs] : by_policy) {
+    PolicySummary s;
+    s.policy = policy;
+    s.runs = static_cast<int>(runs.size());
+    int successes = 0;
+    double time = 0.0;
+    std::vector<double> totals;
+    double depth = 0.0;
+    double decide = 0.0;
+    for (const RunResult* r : runs) {
+      if (r->outcome == Outcome::kSuccess) {
+        ++successes;
+        time += r->time_s;
+      }
+      s.collision += r->outcome == Outcome::kCollision ? 1.0 : 0.0;
+      s.timeout += r->outcome == Outcome::kTimeout ? 1.0 : 0.0;
+      for (std::size_t i = 0; i < r->depth_ms.size(); ++i) {
+        depth += r->depth_ms[i];
+        decide += r->policy_ms[i];
+        totals.push_back(r->depth_ms[i] + r->policy_ms[i]);
+      }
+    }
+    s.success = static_cast<double>(successes) / s.runs;
+    s.collision /= s.runs;
+    s.timeout /= s.runs;
+    s.mean_time_to_goal_s = successes > 0 ? time / successes : 0.0;
+    s.frames = totals.size();
+    if (!totals.empty()) {
+      const double n = static_cast<double>(totals.size());
+      s.depth_ms = depth / n;
+      s.policy_ms = decide / n;
+      s.total_ms = s.depth_ms + s.policy_ms;
+      std::sort(totals.begin(), totals.end());
+      s.total_p99_ms = totals[static_cast<std::size_t>(0.99 * (n - 1))];
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+}  // namespace corridor::scenario

@@ -1,0 +1,105 @@
+// The scenario runner's core: the DPoom evaluation protocol (Kim et al., IEEE Access 2022, section IV, Tables 3 and
+// 4) on the simulator in lockstep, faster than real time.
+//
+// A scenario is a world (a generated room, or any map or world file), a start and a goal 7 to 11 m apart, static
+// obstacles the robot's map does not show and pedestrians walking routes across the way, all drawn from one seed.
+// A DPoom-like robot (0.26 m/s, a depth camera of 85.2 x 58 degrees) follows a global path planned on its map, with
+// one of the local policies on every depth frame:
+//   - morp-rb: MORP lanes and MORP-RB (corridor's navigator, exactly as the daemon runs it);
+//   - voxel-reactive: the comparison pipeline, a point cloud downsampled in a voxel grid with obstacle extraction,
+//     feeding a simple reactive controller.
+// A run succeeds when the robot is within goal_tolerance_m of the goal, fails with a collision when its footprint
+// touches anything (wall, obstacle, person), and times out otherwise. Localization is the simulator's ground truth:
+// the scenarios measure local navigation, as the paper's do.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "drivers/sim/crowd.h"
+#include "drivers/sim/world.h"
+#include "nav/geometry/pose2.h"
+#include "nav/map/occupancy_grid.h"
+
+namespace corridor::scenario {
+
+enum class Policy { kMorpRb, kVoxelReactive };
+const char* ToString(Policy policy);
+std::optional<Policy> ParsePolicy(const std::string& name);
+
+struct ScenarioOptions {
+  std::filesystem::path world;      // a .yaml map or a mesh world; empty: generated rooms of 12 to 15 m
+  int worlds = 10;
+  int runs = 3;                     // per world
+  std::uint32_t seed = 1;
+  int pedestrians = 0;              // 0 to 5 in the paper's protocol
+  int static_obstacles = 0;         // 0 to 9: unit cubes and cylinders of 0.5 m radius
+  double min_goal_m = 7.0;
+  double max_goal_m = 11.0;
+  double goal_tolerance_m = 0.25;
+  double max_speed_mps = 0.26;      // DPoom's
+  double camera_rate_hz = 18.0;     // DPoom's control rate
+  double timeout_s = 0.0;           // 0: three times the straight-line time, plus 20 s
+  std::vector<Policy> policies = {Policy::kMorpRb, Policy::kVoxelReactive};
+};
+
+// Everything one run needs, drawn from the seed.
+struct Layout {
+  int world_index = 0;
+  int run_index = 0;
+  std::uint32_t seed = 0;
+  drivers::sim::World world;                       // with the static obstacles
+  nav::OccupancyGrid map;                          // what the robot knows: no obstacles, no people
+  nav::Pose2 start;
+  Eigen::Vector2d goal = Eigen::Vector2d::Zero();
+  std::vector<drivers::sim::PedestrianRoute> routes;
+};
+
+// Throws std::runtime_error when the world has no room for the protocol (no start and goal 7-11 m apart).
+Layout MakeLayout(const ScenarioOptions& options, int world_index, int run_index);
+
+enum class Outcome { kSuccess, kCollision, kTimeout, kNoPath };
+const char* ToString(Outcome outcome);
+
+struct RunResult {
+  Policy policy = Policy::kMorpRb;
+  int world_index = 0;
+  int run_index = 0;
+  std::uint32_t seed = 0;
+  Outcome outcome = Outcome::kTimeout;
+  double time_s = 0.0;               // simulated, to the end of the run
+  double path_length_m = 0.0;        // driven
+  std::string collided_with;         // "wall or obstacle", "person"
+  std::vector<double> depth_ms;      // per frame: the front end (MORP, or cloud + voxel grid + extraction)
+  std::vector<double> policy_ms;     // per frame: the local policy
+};
+
+// One run of `policy` in `layout`. Deterministic for a layout and policy (timings aside).
+RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& options);
+
+struct PolicySummary {
+  Policy policy = Policy::kMorpRb;
+  int runs = 0;
+  double success = 0.0;              // fractions of runs
+  double collision = 0.0;
+  double timeout = 0.0;
+  double mean_time_to_goal_s = 0.0;  // over successful runs
+  double depth_ms = 0.0;             // means over every frame of every run
+  double policy_ms = 0.0;
+  double total_ms = 0.0;
+  double total_p99_ms = 0.0;
+  std::uint64_t frames = 0;
+};
+
+// Every world x run x policy. `progress` (optional) gets each result as it is done.
+std::vector<RunResult> RunAll(const ScenarioOptions& options,
+                              const std::function<void(const RunResult&)>& progress = nullptr);
+std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results);
+
+}  // namespace corridor::scenario
