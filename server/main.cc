@@ -130,13 +130,23 @@ int Run(const CommandLine& cl) {
     throw std::runtime_error("sim.enabled: false needs real drivers, and none is built yet; run with the simulator");
   }
 
-  auto world = std::make_shared<const drivers::sim::World>(
-      drivers::sim::LoadWorld(config.sim.world, config.sim.world_options));
+  auto world = [&] {
+    drivers::sim::World w = drivers::sim::LoadWorld(config.sim.world, config.sim.world_options);
+    drivers::sim::AddObstacles(w, config.sim.obstacles);  // in the world, not in its map
+    return std::make_shared<const drivers::sim::World>(std::move(w));
+  }();
   auto [map_name, map_grid] = InitialMap(config, world.get());
   Store store(config.store.state_dir / "corridor.db");
 
-  drivers::sim::SimRobot robot(world, config.sim.robot);
   const nav::Pose2 start = config.sim.robot.start;
+  drivers::sim::SimOptions sim_options = config.sim.robot;
+  if (config.sim.pedestrians > 0) {
+    std::mt19937 rng(config.sim.robot.seed);
+    sim_options.pedestrians = drivers::sim::RandomRoutes(world->collision, config.sim.pedestrians, sim_options.crowd.radius_m,
+                                                         start.translation(), config.sim.pedestrians_within_m, 1.5, rng);
+    spdlog::info("simulator: {} pedestrian(s) walking near the start", sim_options.pedestrians.size());
+  }
+  drivers::sim::SimRobot robot(world, sim_options);
   {
     drivers::sim::DiffDriveSim probe(world->collision, config.sim.robot.base, start);
     if (probe.Collides(start)) {

@@ -246,7 +246,7 @@ TriangleMesh Crowd::Mesh() const {
 }
 
 std::vector<PedestrianRoute> RandomRoutes(const nav::OccupancyGrid& collision, int count, double radius_m,
-                                          const std::vector<Eigen::Vector2d>& keep_clear, double clearance_m,
+                                          const Eigen::Vector2d& center, double within_m, double clearance_m,
                                           std::mt19937& rng) {
   // Free cells with room for a person and a margin.
   const double margin = radius_m + 0.15;
@@ -270,19 +270,18 @@ std::vector<PedestrianRoute> RandomRoutes(const nav::OccupancyGrid& collision, i
     }
     return true;
   };
-  const auto away = [&](const Eigen::Vector2d& p) {
-    return std::all_of(keep_clear.begin(), keep_clear.end(), [&](const Eigen::Vector2d& k) {
-      return (k - p).norm() >= clearance_m;
-    });
+  const auto in_range = [&](const Eigen::Vector2d& p) {
+    const double d = (p - center).norm();
+    return d >= clearance_m && d <= within_m;
   };
-  std::uniform_real_distribution<double> ux(collision.origin().x_m, collision.origin().x_m + collision.width() * res);
-  std::uniform_real_distribution<double> uy(collision.origin().y_m, collision.origin().y_m + collision.height() * res);
+  std::uniform_real_distribution<double> ux(center.x() - within_m, center.x() + within_m);
+  std::uniform_real_distribution<double> uy(center.y() - within_m, center.y() + within_m);
   std::uniform_real_distribution<double> length(4.0, 10.0);
   std::uniform_real_distribution<double> angle(-std::numbers::pi, std::numbers::pi);
   std::vector<PedestrianRoute> routes;
   for (int attempt = 0; attempt < 20000 && static_cast<int>(routes.size()) < count; ++attempt) {
     const Eigen::Vector2d start(ux(rng), uy(rng));
-    if (!clear_at(start) || !away(start)) continue;
+    if (!in_range(start) || !clear_at(start)) continue;
     const double a = angle(rng);
     const Eigen::Vector2d goal = start + length(rng) * Eigen::Vector2d(std::cos(a), std::sin(a));
     if (!clear_at(goal) || !line_clear(start, goal)) continue;

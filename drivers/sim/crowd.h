@@ -84,10 +84,10 @@ Eigen::Vector2d OrcaVelocity(const Eigen::Vector2d& position, const Eigen::Vecto
                              const std::vector<OrcaNeighbour>& neighbours);
 
 // Random routes for `count` people in free space of `collision`, each between 4 and 10 m long with a clear straight
-// line (the person's radius plus a margin) and away from `keep_clear` points by `clearance_m`. Fewer when the
-// world has no room.
+// line (the person's radius plus a margin), starting within `within_m` of `center` but no nearer than
+// `clearance_m` to it (people do not appear on the robot). Fewer when the world has no room.
 std::vector<PedestrianRoute> RandomRoutes(const nav::OccupancyGrid& collision, int count, double radius_m,
-                                          const std::vector<Eigen::Vector2d>& keep_clear, double clearance_m,
+                                          const Eigen::Vector2d& center, double within_m, double clearance_m,
                                           std::mt19937& rng);
 
 }  // namespace corridor::drivers::sim

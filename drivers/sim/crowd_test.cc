@@ -87,10 +87,11 @@ TEST(CrowdTest, OrcaKeepsThePreferredVelocityWhenNothingIsNear) {
 TEST(CrowdTest, RandomRoutesAreInFreeSpaceAwayFromTheRobot) {
   const World world = Room(10, 10);
   std::mt19937 rng(3);
-  const auto routes = RandomRoutes(world.collision, 5, 0.25, {{5, 5}}, 1.5, rng);
+  const auto routes = RandomRoutes(world.collision, 5, 0.25, {5, 5}, 4.0, 1.5, rng);
   ASSERT_EQ(routes.size(), 5u);
   for (const auto& r : routes) {
     EXPECT_GE((r.start - Eigen::Vector2d(5, 5)).norm(), 1.5);
+    EXPECT_LE((r.start - Eigen::Vector2d(5, 5)).norm(), 4.0);
     const double length = (r.goal - r.start).norm();
     EXPECT_GE(length, 4.0);
     EXPECT_LE(length, 10.0);

@@ -233,6 +233,14 @@ json Api::State() const {
   state["command"] = command ? ToJson(command->twist) : ToJson(nav::Twist2{});
   const auto truth = c_.bus.Get(topics::kSimTruePose).latest();
   state["sim_true_pose"] = truth ? ToJson(truth->pose) : json(nullptr);
+  const auto people = c_.bus.Get(topics::kSimPedestrians).latest();
+  state["sim_pedestrians"] = people ? ToJson(*people) : json::array();
+  json obstacles = json::array();
+  for (const drivers::sim::StaticObstacle& o : c_.config.sim.obstacles) {
+    obstacles.push_back({{"shape", o.shape == drivers::sim::StaticObstacle::Shape::kBox ? "box" : "cylinder"},
+                         {"x", o.center.x()}, {"y", o.center.y()}, {"size_m", o.size_m}, {"yaw", o.yaw_rad}});
+  }
+  state["sim_obstacles"] = std::move(obstacles);
   const auto latency = c_.bus.Get(topics::kControlLatency).latest();
   state["control_latency"] = latency ? ToJson(*latency) : json(nullptr);
   const auto face = c_.bus.Get(topics::kFaceExpression).latest();

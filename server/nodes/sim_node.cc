@@ -18,6 +18,8 @@ void SimNode::Activate() {
   wall_start_ns_ = clock().Now();
   sim_start_ns_ = robot_.now_ns();
   bus_.Get(topics::kSimTruePose).Publish(StampedPose{robot_.now_ns(), robot_.true_pose()});
+  has_pedestrians_ = !robot_.pedestrians().empty();
+  PublishPedestrians();  // once even when there are none: the topic then says so
   PeriodicNode::Activate();
 }
 
@@ -31,6 +33,13 @@ void SimNode::Tick() {
     SetHealth(Health::kDegraded, "slower than real time");
   }
   bus_.Get(topics::kSimTruePose).Publish(StampedPose{robot_.now_ns(), robot_.true_pose()});
+  if (has_pedestrians_) PublishPedestrians();
+}
+
+void SimNode::PublishPedestrians() {
+  SimPedestrians out{robot_.pedestrian_radius_m(), {}};
+  for (const drivers::sim::Pedestrian& p : robot_.pedestrians()) out.people.push_back({p.position, p.velocity});
+  bus_.Get(topics::kSimPedestrians).Publish(std::move(out));
 }
 
 }  // namespace corridor::server

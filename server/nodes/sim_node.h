@@ -15,11 +15,13 @@ class SimNode final : public PeriodicNode {
 
  private:
   void Tick() override;
+  void PublishPedestrians();
 
   Bus& bus_;
   drivers::sim::SimRobot& robot_;
   drivers::TimeNs wall_start_ns_ = 0;
   drivers::TimeNs sim_start_ns_ = 0;
+  bool has_pedestrians_ = false;
 };
 
 }  // namespace corridor::server

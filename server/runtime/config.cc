@@ -141,6 +141,22 @@ void ReadMission(ConfigReader& r, nav::LocalNavigatorOptions& navigator) {
   r.Section("avoid", [&](ConfigReader& a) { ReadAvoid(a, navigator.avoid); });
 }
 
+drivers::sim::StaticObstacle ReadObstacle(ConfigReader& r) {
+  drivers::sim::StaticObstacle o;
+  std::string shape = "cylinder";
+  r.Read("shape", shape);
+  if (shape != "cylinder" && shape != "box") throw ConfigError(r.PathOf("shape") + ": must be cylinder or box");
+  o.shape = shape == "box" ? drivers::sim::StaticObstacle::Shape::kBox : drivers::sim::StaticObstacle::Shape::kCylinder;
+  r.Read("x_m", o.center.x(), -1e5, 1e5);
+  r.Read("y_m", o.center.y(), -1e5, 1e5);
+  r.Read("size_m", o.size_m, 0.01, 10.0);
+  r.Read("height_m", o.height_m, 0.01, 10.0);
+  double yaw_deg = 0.0;
+  r.Read("yaw_deg", yaw_deg, -360.0, 360.0);
+  o.yaw_rad = yaw_deg * kDegToRad;
+  return o;
+}
+
 void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
   r.Read("enabled", o.enabled);
   ReadPath(r, "world", o.world, base);
@@ -163,6 +179,15 @@ void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
   r.Section("base", [&](ConfigReader& b) { ReadBase(b, s.base); });
   r.Section("camera", [&](ConfigReader& c) { ReadCamera(c, s.camera); });
   r.Section("laser", [&](ConfigReader& l) { ReadLaser(l, s.laser); });
+  r.List("obstacles", [&](ConfigReader& item) { o.obstacles.push_back(ReadObstacle(item)); });
+  r.Read("pedestrians", o.pedestrians, 0, 20);
+  r.Read("pedestrians_within_m", o.pedestrians_within_m, 2.0, 100.0);
+  r.Section("crowd", [&](ConfigReader& c) {
+    c.Read("radius_m", s.crowd.radius_m, 0.05, 1.0);
+    c.Read("preferred_speed_mps", s.crowd.preferred_speed_mps, 0.0, 3.0);
+    c.Read("max_speed_mps", s.crowd.max_speed_mps, 0.0, 5.0);
+    c.Read("time_horizon_s", s.crowd.time_horizon_s, 0.1, 20.0);
+  });
   if (o.enabled && o.world.empty()) throw ConfigError(r.PathOf("world") + ": required when the simulator is enabled");
 }
 

@@ -52,6 +52,11 @@ struct SimulatorOptions {
   std::filesystem::path world;          // .yaml map, .world/.sdf, or a mesh file
   drivers::sim::WorldOptions world_options;
   drivers::sim::SimOptions robot;
+  // Things the map does not show: obstacles standing on the floor, and people walking back and forth (ORCA among
+  // themselves, blind to the robot) on random routes within pedestrians_within_m of the start.
+  std::vector<drivers::sim::StaticObstacle> obstacles;
+  int pedestrians = 0;
+  double pedestrians_within_m = 8.0;
 };
 
 // ground: nav::MorpOptions; planner: nav::CostmapOptions; mission: nav::LocalNavigatorOptions (the follower's

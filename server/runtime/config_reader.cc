@@ -22,6 +22,17 @@ void ConfigReader::Section(const char* key, const std::function<void(ConfigReade
   section.Finish();
 }
 
+void ConfigReader::List(const char* key, const std::function<void(ConfigReader&)>& read_item) {
+  const YAML::Node list = Take(key);
+  if (!list || list.IsNull()) return;
+  if (!list.IsSequence()) throw ConfigError(PathOf(key) + ": expected a list");
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    ConfigReader item(list[i], PathOf(key) + "[" + std::to_string(i) + "]");
+    read_item(item);
+    item.Finish();
+  }
+}
+
 void ConfigReader::Finish() const {
   if (!node_ || !node_.IsMap()) return;
   for (const auto& entry : node_) {

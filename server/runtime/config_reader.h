@@ -49,6 +49,8 @@ class ConfigReader {
   // Reads an optional nested section with `read`, then checks that no key in it was left unread.
   void Section(const char* key, const std::function<void(ConfigReader&)>& read);
 
+  // Reads an optional list of mappings, each with `read_item` (its path is key[i]); absent or null: no items.
+  void List(const char* key, const std::function<void(ConfigReader&)>& read_item);
   // Throws ConfigError naming the first key that was never read.
   void Finish() const;
 

@@ -12,6 +12,15 @@ nlohmann::json ToJson(const ControlLatency& l) {
   return {{"rate_hz", l.rate_hz}, {"p50_ms", l.p50_ms}, {"p99_ms", l.p99_ms}, {"max_ms", l.max_ms}, {"samples", l.samples}};
 }
 
+nlohmann::json ToJson(const SimPedestrians& p) {
+  nlohmann::json people = nlohmann::json::array();
+  for (const auto& person : p.people) {
+    people.push_back({{"x", person.position.x()}, {"y", person.position.y()}, {"vx", person.velocity.x()},
+                      {"vy", person.velocity.y()}, {"radius_m", p.radius_m}});
+  }
+  return people;
+}
+
 nlohmann::json ToJson(const FaceState& face) { return {{"expression", face.expression}}; }
 
 nlohmann::json ToJson(const GroundLanes& g) {

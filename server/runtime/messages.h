@@ -67,6 +67,16 @@ struct GroundLanes {
   std::vector<nav::LaneResult> lanes;
 };
 
+// The simulator's people, as they are now (ground truth, for the console).
+struct SimPedestrians {
+  struct Person {
+    Eigen::Vector2d position;
+    Eigen::Vector2d velocity;
+  };
+  double radius_m = 0.0;
+  std::vector<Person> people;
+};
+
 // The face's current expression (face/expression.h names them).
 struct FaceState {
   std::string expression;
@@ -74,6 +84,7 @@ struct FaceState {
 
 nlohmann::json ToJson(const ControlLatency& latency);
 nlohmann::json ToJson(const FaceState& face);
+nlohmann::json ToJson(const SimPedestrians& pedestrians);
 nlohmann::json ToJson(const GroundLanes& lanes);
 nlohmann::json ToJson(const MissionState& mission);
 nlohmann::json ToJson(const nav::Pose2& pose);

@@ -11,6 +11,7 @@ inline constexpr TopicName<drivers::RgbdFrame> kRgbd{"camera/rgbd"};
 inline constexpr TopicName<drivers::LaserScan> kScan{"scan"};
 inline constexpr TopicName<StampedPose> kPose{"pose"};                 // the robot in the map frame
 inline constexpr TopicName<StampedPose> kSimTruePose{"sim/true_pose"};  // ground truth, simulator only
+inline constexpr TopicName<SimPedestrians> kSimPedestrians{"sim/pedestrians"};  // simulator only
 inline constexpr TopicName<TeleopCommand> kTeleop{"teleop"};
 inline constexpr TopicName<BaseCommand> kCmdVel{"cmd_vel"};
 inline constexpr TopicName<FaceState> kFaceExpression{"face/expression"};

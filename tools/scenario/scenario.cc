@@ -49,20 +49,6 @@ bool Clear(const nav::OccupancyGrid& grid, const Eigen::Vector2d& p, double radi
   return true;
 }
 
-bool LineClear(const nav::OccupancyGrid& grid, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double radius) {
-  const int steps = std::max(1, static_cast<int>(std::ceil((b - a).norm() / grid.resolution_m())));
-  for (int s = 0; s <= steps; ++s) {
-    if (!Clear(grid, a + (b - a) * (static_cast<double>(s) / steps), radius)) return false;
-  }
-  return true;
-}
-
-double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
-  return (a + t * ab - p).norm();
-}
-
 bool PathExists(const nav::OccupancyGrid& grid, const Eigen::Vector2d& start, const Eigen::Vector2d& goal) {
   nav::CostmapOptions options;
   options.robot_radius_m = kRobotRadiusM;
@@ -189,30 +175,10 @@ Layout MakeLayout(const ScenarioOptions& options, int world_index, int run_index
   }
   drivers::sim::AddObstacles(layout.world, obstacles);
 
-  // People crossing the way, not starting on the robot.
-  for (int i = 0; i < options.pedestrians; ++i) {
-    const auto route = Sample(
-        [&]() -> std::optional<PedestrianRoute> {
-          const Eigen::Vector2d middle = start + (0.25 + 0.6 * unit(rng)) * way;
-          const double a = angle(rng);
-          const double half = 2.0 + 2.0 * unit(rng);
-          const Eigen::Vector2d dir(std::cos(a), std::sin(a));
-          const PedestrianRoute r{middle - half * dir, middle + half * dir};
-          if (DistanceToSegment(start, r.start, r.goal) < 1.5 || (r.start - goal).norm() < 1.0) return std::nullopt;
-          if (!LineClear(layout.world.collision, r.start, r.goal, kPersonRadiusM + 0.1)) return std::nullopt;
-          for (const PedestrianRoute& other : layout.routes) {
-            if ((other.start - r.start).norm() < 4.0 * kPersonRadiusM) return std::nullopt;
-          }
-          return r;
-        },
-        500);
-    if (route) layout.routes.push_back(*route);
-  }
-  if (static_cast<int>(layout.routes.size()) < options.pedestrians) {
-    const auto more = drivers::sim::RandomRoutes(layout.world.collision, options.pedestrians - static_cast<int>(layout.routes.size()),
-                                                 kPersonRadiusM, {start}, 2.0, rng);
-    layout.routes.insert(layout.routes.end(), more.begin(), more.end());
-  }
+  // People walking their own routes anywhere in the world, not starting near the robot. They cross the robot's
+  // way when their routes happen to, as in the paper's worlds; they never see it.
+  layout.routes = drivers::sim::RandomRoutes(layout.world.collision, options.pedestrians, kPersonRadiusM, start, 1e3,
+                                             2.0, rng);
   return layout;
 }
 

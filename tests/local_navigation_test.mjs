@@ -1,0 +1,106 @@
+// Local navigation in the daemon: a mission whose planned path runs through something the map does not show, and
+// simulated people. The world is a 10 x 6 m room written here as a map_server map; the obstacles and people exist
+// only in the simulator, so the planner plans straight through them and the robot must see them with its camera.
+import assert from 'node:assert/strict';
+import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { after, before, describe, test } from 'node:test';
+
+import { getJson, openApiValidator, postJson, sleep, startDaemon } from './daemon.mjs';
+
+const api = openApiValidator();
+
+// An empty room `width` x `height` metres at 5 cm, walled by one cell; its inside corner at (0, 0).
+function writeRoom(dir, width, height) {
+  const w = Math.round(width / 0.05) + 2;
+  const h = Math.round(height / 0.05) + 2;
+  const header = Buffer.from(`P5\n${w} ${h}\n255\n`);
+  const pixels = Buffer.alloc(w * h, 254);
+  for (let x = 0; x < w; ++x) { pixels[x] = 0; pixels[(h - 1) * w + x] = 0; }
+  for (let y = 0; y < h; ++y) { pixels[y * w] = 0; pixels[y * w + w - 1] = 0; }
+  writeFileSync(join(dir, 'room.pgm'), Buffer.concat([header, pixels]));
+  writeFileSync(join(dir, 'room.yaml'),
+    'image: room.pgm\nresolution: 0.05\norigin: [-0.05, -0.05, 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n');
+  return join(dir, 'room.yaml');
+}
+
+const dir = mkdtempSync(join(tmpdir(), 'corridor-room-'));
+const room = writeRoom(dir, 10, 6);
+after(() => rmSync(dir, { recursive: true, force: true }));
+
+describe('local navigation among unmapped obstacles and people', () => {
+  const pillar = { x: 5.0, y: 3.05, r: 0.3 };
+  let daemon;
+  before(async () => {
+    daemon = await startDaemon({ config: `
+sim:
+  world: "${room}"
+  start: {x_m: 1.5, y_m: 3.0, yaw_deg: 0}
+  camera: {rate_hz: 15}
+  laser: {enabled: false}
+  obstacles:
+    - {shape: cylinder, x_m: ${pillar.x}, y_m: ${pillar.y}, size_m: ${pillar.r}, height_m: 1.0}
+` });
+    await sleep(300);
+  });
+  after(async () => { await daemon?.stop(); });
+
+  test('a pillar on the planned path is passed around by MORP-RB, at the camera rate', async () => {
+    const start = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 8.5, y: 3.0 }] });
+    assert.equal(start.status, 201, JSON.stringify(start.body));
+    // The plan goes straight through the pillar: the map does not know it.
+    assert.ok(start.body.status === 'active');
+    const policies = new Set();
+    let closest = Infinity;
+    let bumped = false;
+    let doc;
+    const deadline = Date.now() + 90000;
+    for (;;) {
+      const s = (await getJson(`${daemon.url}/api/v1/state`)).body;
+      if (s.mission) policies.add(s.mission.policy);
+      bumped ||= s.bumper_pressed;
+      if (s.sim_true_pose) closest = Math.min(closest, Math.hypot(s.sim_true_pose.x - pillar.x, s.sim_true_pose.y - pillar.y));
+      doc = s.mission;
+      if (doc && doc.status !== 'active') break;
+      assert.ok(Date.now() < deadline, `mission still ${doc?.status}, policy ${doc?.policy}`);
+      await sleep(100);
+    }
+    assert.equal(doc.status, 'succeeded', JSON.stringify(doc));
+    assert.ok(!bumped, 'the bumper was pressed');
+    assert.ok(closest > pillar.r + 0.2, `came within ${closest.toFixed(2)} m of the pillar's centre`);
+    assert.ok([...policies].some((p) => p.startsWith('change_lane') || p === 'stop_and_turn'),
+      `MORP-RB never took over: ${[...policies]}`);
+    // Commands followed the camera's frames, and the console can show how fast.
+    const s = (await getJson(`${daemon.url}/api/v1/state`)).body;
+    api.check('State', s);
+    assert.ok(s.control_latency.samples > 100, JSON.stringify(s.control_latency));
+    assert.equal(s.sim_obstacles.length, 1);
+    assert.equal(s.sim_obstacles[0].shape, 'cylinder');
+  });
+});
+
+describe('simulated people', () => {
+  let daemon;
+  before(async () => {
+    daemon = await startDaemon({ config: `
+sim:
+  world: "${room}"
+  start: {x_m: 1.5, y_m: 3.0, yaw_deg: 0}
+  camera: {width: 160, height: 120}
+  pedestrians: 2
+` });
+  });
+  after(async () => { await daemon?.stop(); });
+
+  test('walk, and are in the state for the console', async () => {
+    const first = (await getJson(`${daemon.url}/api/v1/state`)).body;
+    api.check('State', first);
+    await sleep(1000);
+    const later = (await getJson(`${daemon.url}/api/v1/state`)).body;
+    assert.equal(first.sim_pedestrians.length, 2);
+    const moved = later.sim_pedestrians.some((p, i) =>
+      Math.hypot(p.x - first.sim_pedestrians[i].x, p.y - first.sim_pedestrians[i].y) > 0.2);
+    assert.ok(moved, JSON.stringify([first.sim_pedestrians, later.sim_pedestrians]));
+  });
+});
