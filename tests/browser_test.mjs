@@ -47,7 +47,7 @@ test('open the console, see the map and the robot, drive with the keyboard', asy
     const img = document.querySelector('[data-testid=camera]');
     return img instanceof HTMLImageElement && img.complete && img.naturalWidth === 320;
   }, null, { timeout: 15000 });
-  await page.getByTestId('lanes').filter({ hasText: /^4 lanes, nearest dead-end/ }).waitFor({ timeout: 10000 });
+  await page.getByTestId('lanes').filter({ hasText: /^10 lanes, nearest dead-end/ }).waitFor({ timeout: 10000 });
   const start = parsePose(await page.getByTestId('pose').textContent());
   assert.ok(Math.abs(start.yawDeg - 90) < 1, 'starts facing +y');
 

@@ -14,6 +14,8 @@ sim:
   start: {x_m: 1.0, y_m: 0.75, yaw_deg: 0}
   camera: {rate_hz: 15, width: 160, height: 120}
   base: {odom_linear_noise: 0, odom_angular_noise: 0}
+  obstacles:   # in the upper right room, off every path here: the console draws what the map does not show
+    - {shape: box, x_m: 3.2, y_m: 2.5, size_m: 0.15, height_m: 0.5}
 `;
 // Across the straight line from the robot to the goal, leaving a gap of 0.75 m below it.
 const zone = [[1.8, 0.8], [2.4, 0.8], [2.4, 1.6], [1.8, 1.6]];
@@ -117,6 +119,9 @@ test('draw a no-go zone: the new path avoids it and the robot drives around it',
   const last = seen.at(-1);
   assert.ok(Math.hypot(last.x - goal.x, last.y - goal.y) < 0.02);
   await page.getByTestId('mission-status').filter({ hasText: 'succeeded' }).waitFor({ timeout: 5000 });
+  // The mission drove on the camera's frames: the console shows the loop's rate and frame-to-command latency.
+  await page.getByTestId('control-loop').filter({ hasText: /Hz, frame to command .* ms \(p99/ }).waitFor({ timeout: 5000 });
+  assert.equal(await page.locator('path.sim-obstacle').count(), 1);
 
   mkdirSync(artifacts, { recursive: true });
   await page.screenshot({ path: join(artifacts, 'console-navigation.png') });

@@ -134,7 +134,7 @@ describe('corridord in the Willow Garage building', () => {
     const lanes = messages.filter((m) => m.message.topic === 'ground/lanes');
     assert.ok(lanes.length >= 3);
     api.check('GroundLanes', lanes.at(-1).message.data);
-    assert.equal(lanes.at(-1).message.data.lanes.length, 4);
+    assert.equal(lanes.at(-1).message.data.lanes.length, 10);
     ws.close();
   });
 

@@ -274,8 +274,13 @@ std::vector<PedestrianRoute> RandomRoutes(const nav::OccupancyGrid& collision, i
     const double d = (p - center).norm();
     return d >= clearance_m && d <= within_m;
   };
-  std::uniform_real_distribution<double> ux(center.x() - within_m, center.x() + within_m);
-  std::uniform_real_distribution<double> uy(center.y() - within_m, center.y() + within_m);
+  // Sampled over the part of the grid within reach of the centre.
+  const double x0 = collision.origin().x_m;
+  const double y0 = collision.origin().y_m;
+  std::uniform_real_distribution<double> ux(std::max(x0, center.x() - within_m),
+                                            std::min(x0 + collision.width() * res, center.x() + within_m));
+  std::uniform_real_distribution<double> uy(std::max(y0, center.y() - within_m),
+                                            std::min(y0 + collision.height() * res, center.y() + within_m));
   std::uniform_real_distribution<double> length(4.0, 10.0);
   std::uniform_real_distribution<double> angle(-std::numbers::pi, std::numbers::pi);
   std::vector<PedestrianRoute> routes;

@@ -35,7 +35,7 @@ struct MorpOptions {
   int lanes = 0;                     // 0: one lane per lane_width_m across span_m
   // The lanes' total width, centred on the robot: wider than the robot, so that what passes beside it was seen
   // (the local navigator steers on the lanes in front of its footprint and remembers the others).
-  double span_m = 1.2;
+  double span_m = 1.0;
   double lane_width_m = 0.1;
   double w1 = 0.5;                   // weight of the local gradient
   double w2 = 0.5;                   // weight of the gradient from the start pixel

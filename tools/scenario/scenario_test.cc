@@ -31,7 +31,8 @@ TEST(ScenarioTest, TheSameSeedGivesTheSameScenario) {
   const Layout b = MakeLayout(options, 3, 1);
   EXPECT_EQ(a.goal, b.goal);
   EXPECT_EQ(a.start.translation(), b.start.translation());
-  ASSERT_EQ(a.routes.size(), b.routes.size());
+  ASSERT_EQ(a.routes.size(), 2u);
+  ASSERT_EQ(b.routes.size(), 2u);
   EXPECT_EQ(a.routes[0].start, b.routes[0].start);
   const Layout c = MakeLayout(options, 3, 2);
   EXPECT_NE(a.goal, c.goal);

@@ -19,7 +19,13 @@ export interface State {
   mission: Mission | null;
   map: { name: string; revision: number };
   nodes: NodeStatus[];
+  sim_pedestrians: SimPerson[];
+  sim_obstacles: SimObstacle[];
+  control_latency: ControlLatency | null;
 }
+export interface SimPerson { x: number; y: number; vx: number; vy: number; radius_m: number; }
+export interface SimObstacle { shape: 'cylinder' | 'box'; x: number; y: number; size_m: number; yaw: number; }
+export interface ControlLatency { rate_hz: number; p50_ms: number; p99_ms: number; max_ms: number; samples: number; }
 export interface MapInfo {
   name: string; revision: number; resolution_m: number; width: number; height: number; origin: Pose;
   image_url: string;
@@ -31,7 +37,7 @@ export interface MissionWaypoint { x: number; y: number; yaw?: number; place?: s
 export interface Mission {
   id: string; status: 'active' | 'paused' | 'succeeded' | 'failed' | 'canceled';
   waypoints: MissionWaypoint[]; current_waypoint: number; progress: number; eta_s: number;
-  remaining_on_leg_m: number; path: Pose[]; error: string; speed_limit_mps: number | null;
+  remaining_on_leg_m: number; path: Pose[]; error: string; speed_limit_mps: number | null; policy?: string;
 }
 export interface PathPoint { x: number; y: number; yaw: number; speed_limit_mps: number | null; }
 export interface PlanResult {

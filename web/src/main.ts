@@ -44,6 +44,11 @@ function showState(state: State, view: MapView | null): void {
   byId('command').textContent = `${state.command.linear_mps.toFixed(2)} m/s, ${deg(state.command.angular_rps)}/s`;
   byId('bumper').textContent = state.bumper_pressed ? 'pressed' : 'free';
   byId('face').textContent = state.face;
+  const latency = state.control_latency;
+  byId('control-loop').textContent = latency && latency.samples > 0
+    ? `${latency.rate_hz.toFixed(1)} Hz, frame to command ${latency.p50_ms.toFixed(2)} ms (p99 ${latency.p99_ms.toFixed(2)} ms)`
+    : '—';
+  byId('policy').textContent = state.mission?.status === 'active' ? (state.mission.policy ?? '—') : '—';
   const rows = state.nodes.map((n) => {
     const tr = document.createElement('tr');
     tr.title = n.message;
@@ -59,6 +64,7 @@ function showState(state: State, view: MapView | null): void {
   byId('nodes').replaceChildren(...rows);
   showMission(state.mission);
   view?.showRobot(state.pose, state.sim_true_pose);
+  view?.showSimulation(state.sim_pedestrians, state.sim_obstacles);
   view?.showMission(state.mission);
 }
 

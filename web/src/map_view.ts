@@ -1,9 +1,9 @@
 // The map with pan and zoom (Leaflet, in metres: CRS.Simple with lat = y and lng = x of the map frame), the robot
-// as its footprint and heading, its recent trail, the simulator's ground truth as a faint ghost, and the mission's
-// path and waypoints.
+// as its footprint and heading, its recent trail, the simulator's ground truth as a faint ghost (with its people and
+// the obstacles it adds to the world), and the mission's path and waypoints.
 import L from 'leaflet';
 
-import type { MapInfo, Mission, Pose } from './api';
+import type { MapInfo, Mission, Pose, SimObstacle, SimPerson } from './api';
 
 const kTrailLength = 600;
 
@@ -20,6 +20,9 @@ export class MapView {
   private readonly missionPath: L.Polyline;
   private readonly missionGoals = L.layerGroup();
   private readonly deadEnds = L.layerGroup();
+  private readonly simPeople = L.layerGroup();
+  private readonly simObstacles = L.layerGroup();
+  private shownObstacles = '';
   private followed = false;
 
   constructor(element: HTMLElement, info: MapInfo, private readonly footprintRadius: number) {
@@ -32,6 +35,8 @@ export class MapView {
       .addTo(this.map);
     this.missionGoals.addTo(this.map);
     this.deadEnds.addTo(this.map);
+    this.simObstacles.addTo(this.map);
+    this.simPeople.addTo(this.map);
     this.ghost = L.circle([0, 0], { radius: footprintRadius, color: '#888', weight: 1, fill: false, dashArray: '3',
       className: 'robot-truth' });
     this.footprint = L.circle([0, 0], { radius: footprintRadius, color: '#1f6feb', weight: 2, fillOpacity: 0.5,
@@ -54,6 +59,34 @@ export class MapView {
     const row = Math.floor((y - this.info.origin.y) / this.info.resolution_m);
     if (col < 0 || row < 0 || col >= this.info.width || row >= this.info.height) return null;
     return { col, row };
+  }
+
+  // The simulator's people (moving) and unmapped obstacles (redrawn only when they change).
+  showSimulation(people: SimPerson[], obstacles: SimObstacle[]): void {
+    this.simPeople.clearLayers();
+    for (const p of people) {
+      L.circle(toLatLng(p.x, p.y), { radius: p.radius_m, color: '#8250df', weight: 1, fillOpacity: 0.6,
+        className: 'sim-person' }).addTo(this.simPeople);
+      L.polyline([toLatLng(p.x, p.y), toLatLng(p.x + p.vx, p.y + p.vy)], { color: '#8250df', weight: 2 })
+        .addTo(this.simPeople);
+    }
+    const key = JSON.stringify(obstacles);
+    if (key === this.shownObstacles) return;
+    this.shownObstacles = key;
+    this.simObstacles.clearLayers();
+    const style = { color: '#bc4c00', weight: 1, fillOpacity: 0.5, className: 'sim-obstacle' };
+    for (const o of obstacles) {
+      if (o.shape === 'cylinder') {
+        L.circle(toLatLng(o.x, o.y), { radius: o.size_m, ...style }).addTo(this.simObstacles);
+        continue;
+      }
+      const corners = [[1, 1], [-1, 1], [-1, -1], [1, -1]].map(([cx, cy]) => {
+        const lx = cx * o.size_m;
+        const ly = cy * o.size_m;
+        return toLatLng(o.x + lx * Math.cos(o.yaw) - ly * Math.sin(o.yaw), o.y + lx * Math.sin(o.yaw) + ly * Math.cos(o.yaw));
+      });
+      L.polygon(corners, style).addTo(this.simObstacles);
+    }
   }
 
   showRobot(pose: Pose | null, truth: Pose | null): void {
