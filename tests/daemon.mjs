@@ -122,3 +122,17 @@ export async function driveFor(url, command, ms) {
     await sleep(100);
   }
 }
+
+// An empty room `width` x `height` metres at 5 cm, walled by one cell; its inside corner at (0, 0).
+export function writeRoom(dir, width, height) {
+  const w = Math.round(width / 0.05) + 2;
+  const h = Math.round(height / 0.05) + 2;
+  const header = Buffer.from(`P5\n${w} ${h}\n255\n`);
+  const pixels = Buffer.alloc(w * h, 254);
+  for (let x = 0; x < w; ++x) { pixels[x] = 0; pixels[(h - 1) * w + x] = 0; }
+  for (let y = 0; y < h; ++y) { pixels[y * w] = 0; pixels[y * w + w - 1] = 0; }
+  writeFileSync(join(dir, 'room.pgm'), Buffer.concat([header, pixels]));
+  writeFileSync(join(dir, 'room.yaml'),
+    'image: room.pgm\nresolution: 0.05\norigin: [-0.05, -0.05, 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n');
+  return join(dir, 'room.yaml');
+}

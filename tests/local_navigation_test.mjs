@@ -2,28 +2,14 @@
 // simulated people. The world is a 10 x 6 m room written here as a map_server map; the obstacles and people exist
 // only in the simulator, so the planner plans straight through them and the robot must see them with its camera.
 import assert from 'node:assert/strict';
-import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
-import { getJson, openApiValidator, postJson, sleep, startDaemon } from './daemon.mjs';
+import { getJson, openApiValidator, postJson, sleep, startDaemon, writeRoom } from './daemon.mjs';
 
 const api = openApiValidator();
-
-// An empty room `width` x `height` metres at 5 cm, walled by one cell; its inside corner at (0, 0).
-function writeRoom(dir, width, height) {
-  const w = Math.round(width / 0.05) + 2;
-  const h = Math.round(height / 0.05) + 2;
-  const header = Buffer.from(`P5\n${w} ${h}\n255\n`);
-  const pixels = Buffer.alloc(w * h, 254);
-  for (let x = 0; x < w; ++x) { pixels[x] = 0; pixels[(h - 1) * w + x] = 0; }
-  for (let y = 0; y < h; ++y) { pixels[y * w] = 0; pixels[y * w + w - 1] = 0; }
-  writeFileSync(join(dir, 'room.pgm'), Buffer.concat([header, pixels]));
-  writeFileSync(join(dir, 'room.yaml'),
-    'image: room.pgm\nresolution: 0.05\norigin: [-0.05, -0.05, 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n');
-  return join(dir, 'room.yaml');
-}
 
 const dir = mkdtempSync(join(tmpdir(), 'corridor-room-'));
 const room = writeRoom(dir, 10, 6);

@@ -17,6 +17,7 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
                                  double dt_s) {
   LocalStep out;
   memory_.Update(robot, lanes, dt_s);
+  detour_left_m_ = std::max(0.0, detour_left_m_ - last_speed_mps_ * std::max(0.0, dt_s));
   const FollowStep follow = follower_.Update(robot, speed_limit_mps);
   out.remaining_m = follow.remaining_m;
   if (follow.done) {
@@ -39,7 +40,11 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
   const double v_free =
       ahead_.empty() ? 0.0 : SpeedForFreeDistance(decision.nearest_m - options_.avoid.front_offset_m, options_.avoid.stopping);
 
-  if (follow.final_approach || decision.mode == MorpRbMode::kFollow) {
+  if (!follow.final_approach && decision.mode == MorpRbMode::kFollow && detour_left_m_ > 0.0) {
+    // Away from what the memory refused, straight on.
+    out.mode = MorpRbMode::kOvertake;
+    out.twist = {std::min({options_.avoid.max_linear_mps, v_free, follow.speed_limit_mps}), 0.0};
+  } else if (follow.final_approach || decision.mode == MorpRbMode::kFollow) {
     out.twist = follow.twist;
     if (out.twist.linear_mps > v_free) {
       // Keep the curvature: slow the turn with the speed.
@@ -54,7 +59,9 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
   }
   const Twist2 guarded = memory_.Guard(robot, out.twist);
   out.guarded = guarded.linear_mps != out.twist.linear_mps || guarded.angular_rps != out.twist.angular_rps;
+  if (out.guarded && !follow.final_approach) detour_left_m_ = options_.detour_m;
   out.twist = guarded;
+  last_speed_mps_ = std::max(0.0, out.twist.linear_mps);
   return out;
 }
 

@@ -8,7 +8,9 @@
 //     surroundings), still capped by the free distance ahead;
 //   - a robot pushed (or swerved) far from the path asks for a new one;
 //   - every command is checked against a short memory of dead-ends (nav/safety/obstacle_memory.h), so that turning
-//     back to the path does not sweep into an obstacle that has left the camera's view.
+//     back to the path does not sweep into an obstacle that has left the camera's view. When the memory had to
+//     refuse the way toward the path, the robot drives on straight (detour_m) before heading for the path again;
+//     otherwise it would turn back toward the hidden obstacle at once, be refused again, and dither in place.
 // Pure logic: the caller supplies the pose, this frame's lanes and the time step.
 #pragma once
 
@@ -29,6 +31,7 @@ struct LocalNavigatorOptions {
   // every lane's dead-end.
   double corridor_half_width_m = 0.3;
   double replan_distance_m = 1.0;  // farther than this from the path: plan again from where the robot is
+  double detour_m = 0.6;
 };
 
 struct LocalStep {
@@ -62,6 +65,8 @@ class LocalNavigator {
   MorpRb avoid_;
   ObstacleMemory memory_;
   std::vector<LaneResult> ahead_;  // this frame's lanes in the corridor
+  double detour_left_m_ = 0.0;
+  double last_speed_mps_ = 0.0;
 };
 
 }  // namespace corridor::nav

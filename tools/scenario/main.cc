@@ -29,6 +29,7 @@ Runs the DPoom evaluation protocol: a DPoom-like robot (0.26 m/s, camera 85.2 x 
   --policy NAME       morp-rb or voxel-reactive; repeat for several; default both
   --timeout S         per run, default 3 x straight-line time + 20 s
   --json              machine-readable results (every run and the summaries) on stdout
+  --trace             every morp-rb decision (pose, mode, lanes) and each collision's surroundings on stderr
   --quiet             no progress on stderr
   --help
 )";
@@ -95,6 +96,8 @@ int main(int argc, char** argv) {
         options.timeout_s = ParseInt(flag, value(), 1, 100000);
       } else if (flag == "--json") {
         json = true;
+      } else if (flag == "--trace") {
+        options.trace = true;
       } else if (flag == "--quiet") {
         quiet = true;
       } else {

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -251,7 +250,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
         return (p.position - pose.translation()).norm() <= kRobotRadiusM + kPersonRadiusM + 0.02;
       });
       result.collided_with = person ? "person" : "wall or obstacle";
-      if (std::getenv("CORRIDOR_SCENARIO_TRACE")) {
+      if (options.trace) {
         std::fprintf(stderr, "collision at %.2f %.2f yaw %.2f; goal %.2f %.2f\n", pose.x_m, pose.y_m, pose.yaw_rad,
                      layout.goal.x(), layout.goal.y());
         for (const auto& o : layout.world.obstacles) {
@@ -286,7 +285,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
         if (plan.ok()) navigator.SetPath(plan.plan.waypoints);
       }
       twist = step.twist;
-      if (std::getenv("CORRIDOR_SCENARIO_TRACE")) {
+      if (options.trace) {
         std::fprintf(stderr, "t %.2f pose %.2f %.2f %.2f mode %s%s nearest %.2f twist %.2f %.2f lanes", now_s, pose.x_m,
                      pose.y_m, pose.yaw_rad, nav::ToString(step.mode), step.guarded ? " guarded" : "", step.nearest_m,
                      twist.linear_mps, twist.angular_rps);

@@ -47,6 +47,7 @@ struct ScenarioOptions {
   double camera_rate_hz = 18.0;     // DPoom's control rate
   double timeout_s = 0.0;           // 0: three times the straight-line time, plus 20 s
   std::vector<Policy> policies = {Policy::kMorpRb, Policy::kVoxelReactive};
+  bool trace = false;               // every morp-rb decision and every collision's surroundings on stderr
 };
 
 // Everything one run needs, drawn from the seed.
