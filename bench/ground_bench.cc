@@ -1,10 +1,12 @@
 // MORP ground segmentation per depth frame at VGA and 720p, against the budget of 0.5 ms (VGA) and 1 ms (720p) on one
-// core. BM_PointCloud is the baseline in the same process: turning the whole frame into base-frame points, the first
-// step of the point-cloud pipelines MORP is compared with (before any voxel grid or clustering).
+// core, with the default lanes (ten across 1 m). Baselines in the same process: BM_PointCloud turns the whole frame
+// into base-frame points, the first step of the point-cloud pipelines MORP is compared with; BM_VoxelObstacles is the
+// scenario runner's whole comparison front end (cloud, voxel grid, obstacle extraction: nav/ground/voxel_obstacles.h).
 #include <benchmark/benchmark.h>
 
 #include "drivers/sim/sensors.h"
 #include "nav/ground/morp.h"
+#include "nav/ground/voxel_obstacles.h"
 
 namespace corridor {
 namespace {
@@ -65,6 +67,13 @@ void BM_PointCloud(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_PointCloud)->Args({640, 480})->Args({1280, 720})->Unit(benchmark::kMicrosecond);
+
+void BM_VoxelObstacles(benchmark::State& state) {
+  const Scene& scene = SceneAt(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  nav::VoxelObstacles voxels(drivers::sim::MakeCameraInfo(scene.options).camera, nav::VoxelObstacleOptions{});
+  for (auto _ : state) benchmark::DoNotOptimize(voxels.Process(scene.depth).data());
+}
+BENCHMARK(BM_VoxelObstacles)->Args({640, 480})->Args({1280, 720})->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace corridor
