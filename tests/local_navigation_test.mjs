@@ -14,20 +14,23 @@ const api = openApiValidator();
 const dir = mkdtempSync(join(tmpdir(), 'corridor-room-'));
 const room = writeRoom(dir, 10, 6);
 after(() => rmSync(dir, { recursive: true, force: true }));
+// The room, the robot at its west end looking east, and `sim` keys of the test's own.
+const roomConfig = (sim) => `
+sim:
+  world: "${room}"
+  start: {x_m: 1.5, y_m: 3.0, yaw_deg: 0}
+${sim}`;
 
 describe('local navigation among unmapped obstacles and people', () => {
   const pillar = { x: 5.0, y: 3.05, r: 0.3 };
   let daemon;
   before(async () => {
-    daemon = await startDaemon({ config: `
-sim:
-  world: "${room}"
-  start: {x_m: 1.5, y_m: 3.0, yaw_deg: 0}
+    daemon = await startDaemon({ config: roomConfig(`
   camera: {rate_hz: 15}
   laser: {enabled: false}
   obstacles:
     - {shape: cylinder, x_m: ${pillar.x}, y_m: ${pillar.y}, size_m: ${pillar.r}, height_m: 1.0}
-` });
+`) });
     await sleep(300);
   });
   after(async () => { await daemon?.stop(); });
@@ -69,13 +72,10 @@ sim:
 describe('simulated people', () => {
   let daemon;
   before(async () => {
-    daemon = await startDaemon({ config: `
-sim:
-  world: "${room}"
-  start: {x_m: 1.5, y_m: 3.0, yaw_deg: 0}
+    daemon = await startDaemon({ config: roomConfig(`
   camera: {width: 160, height: 120}
   pedestrians: 2
-` });
+`) });
   });
   after(async () => { await daemon?.stop(); });
 

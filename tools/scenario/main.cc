@@ -49,6 +49,7 @@ nlohmann::json ToJson(const corridor::scenario::PolicySummary& s) {
           {"runs", s.runs},
           {"success", s.success},
           {"collision", s.collision},
+          {"robot_collision", s.robot_collision},
           {"timeout", s.timeout},
           {"mean_time_to_goal_s", s.mean_time_to_goal_s},
           {"depth_ms", s.depth_ms},
@@ -114,8 +115,9 @@ int main(int argc, char** argv) {
   try {
     results = corridor::scenario::RunAll(options, [&](const corridor::scenario::RunResult& r) {
       if (quiet) return;
-      std::fprintf(stderr, "world %d run %d %-15s %-9s %6.1f s%s%s\n", r.world_index, r.run_index, ToString(r.policy),
-                   ToString(r.outcome), r.time_s, r.collided_with.empty() ? "" : " with ", r.collided_with.c_str());
+      std::fprintf(stderr, "world %d run %d %-15s %-9s %6.1f s%s%s%s\n", r.world_index, r.run_index, ToString(r.policy),
+                   ToString(r.outcome), r.time_s, r.collided_with.empty() ? "" : " with ", r.collided_with.c_str(),
+                   r.outcome == corridor::scenario::Outcome::kCollision && !r.robot_drove_into_it ? " (walked into the robot)" : "");
     });
   } catch (const std::exception& e) {
     std::cerr << "corridor-scenario: " << e.what() << "\n";
@@ -141,7 +143,8 @@ int main(int argc, char** argv) {
                              {"outcome", ToString(r.outcome)},
                              {"time_s", r.time_s},
                              {"path_length_m", r.path_length_m},
-                             {"collided_with", r.collided_with}});
+                             {"collided_with", r.collided_with},
+                             {"robot_drove_into_it", r.robot_drove_into_it}});
     }
     for (const auto& s : summaries) doc["summary"].push_back(ToJson(s));
     std::cout << doc.dump(2) << "\n";
@@ -150,11 +153,12 @@ int main(int argc, char** argv) {
   std::printf("%d worlds x %d runs, %d pedestrians, %d static obstacles, seed %u, %s\n\n", options.worlds, options.runs,
               options.pedestrians, options.static_obstacles, options.seed,
               options.world.empty() ? "generated rooms" : options.world.c_str());
-  std::printf("Table 4: outcomes\n%-16s %5s %8s %10s %8s %18s\n", "policy", "runs", "success", "collision", "timeout",
-              "time to goal (s)");
+  std::printf("Table 4: outcomes (robot-caused: collisions the robot drove into, not people walking into it)\n"
+              "%-16s %5s %8s %10s %14s %8s %18s\n",
+              "policy", "runs", "success", "collision", "robot-caused", "timeout", "time to goal (s)");
   for (const auto& s : summaries) {
-    std::printf("%-16s %5d %8.2f %10.2f %8.2f %18.1f\n", ToString(s.policy), s.runs, s.success, s.collision, s.timeout,
-                s.mean_time_to_goal_s);
+    std::printf("%-16s %5d %8.2f %10.2f %14.2f %8.2f %18.1f\n", ToString(s.policy), s.runs, s.success, s.collision,
+                s.robot_collision, s.timeout, s.mean_time_to_goal_s);
   }
   std::printf("\nTable 3: milliseconds per depth frame (this machine, one core)\n%-16s %17s %10s %10s %10s %8s\n",
               "policy", "depth processing", "policy", "total", "total p99", "frames");

@@ -240,19 +240,32 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
     robot.Step();
     const double now_s = drivers::ToSeconds(robot.now_ns());
     const nav::Pose2 pose = robot.true_pose();
+    const Eigen::Vector2d robot_velocity = (pose.translation() - last.translation()) / robot.step_s();
     result.path_length_m += (pose.translation() - last.translation()).norm();
     last = pose;
     result.time_s = now_s;
     if (robot.bumper_pressed()) {
       result.outcome = Outcome::kCollision;
       const auto people = robot.pedestrians();
-      const bool person = std::any_of(people.begin(), people.end(), [&](const drivers::sim::Pedestrian& p) {
+      const auto person = std::find_if(people.begin(), people.end(), [&](const drivers::sim::Pedestrian& p) {
         return (p.position - pose.translation()).norm() <= kRobotRadiusM + kPersonRadiusM + 0.02;
       });
-      result.collided_with = person ? "person" : "wall or obstacle";
+      result.collided_with = person != people.end() ? "person" : "wall or obstacle";
+      result.robot_drove_into_it = true;
+      if (person != people.end()) {
+        // Closing speeds along the line between them: who walked into whom.
+        const Eigen::Vector2d toward = (person->position - pose.translation()).normalized();
+        const double robot_closing = robot_velocity.dot(toward);
+        result.robot_drove_into_it = robot_closing > 0.02 && robot_closing >= -person->velocity.dot(toward);
+      }
       if (options.trace) {
         std::fprintf(stderr, "collision at %.2f %.2f yaw %.2f; goal %.2f %.2f\n", pose.x_m, pose.y_m, pose.yaw_rad,
                      layout.goal.x(), layout.goal.y());
+        for (const auto& p : people) {
+          const Eigen::Vector2d local = pose.Inverse().Transform(p.position);
+          std::fprintf(stderr, "  person at %.2f %.2f (robot frame %.2f %.2f) moving %.2f %.2f\n", p.position.x(),
+                       p.position.y(), local.x(), local.y(), p.velocity.x(), p.velocity.y());
+        }
         for (const auto& o : layout.world.obstacles) {
           std::fprintf(stderr, "  obstacle %s at %.2f %.2f size %.2f, distance %.2f\n",
                        o.shape == StaticObstacle::Shape::kBox ? "box" : "cylinder", o.center.x(), o.center.y(), o.size_m,
@@ -347,6 +360,7 @@ std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results) {
         time += r->time_s;
       }
       s.collision += r->outcome == Outcome::kCollision ? 1.0 : 0.0;
+      s.robot_collision += r->outcome == Outcome::kCollision && r->robot_drove_into_it ? 1.0 : 0.0;
       s.timeout += r->outcome == Outcome::kTimeout ? 1.0 : 0.0;
       for (std::size_t i = 0; i < r->depth_ms.size(); ++i) {
         depth += r->depth_ms[i];
@@ -356,6 +370,7 @@ std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results) {
     }
     s.success = static_cast<double>(successes) / s.runs;
     s.collision /= s.runs;
+    s.robot_collision /= s.runs;
     s.timeout /= s.runs;
     s.mean_time_to_goal_s = successes > 0 ? time / successes : 0.0;
     s.frames = totals.size();

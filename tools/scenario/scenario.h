@@ -9,7 +9,9 @@
 //   - voxel-reactive: the comparison pipeline, a point cloud downsampled in a voxel grid with obstacle extraction,
 //     feeding a simple reactive controller.
 // A run succeeds when the robot is within goal_tolerance_m of the goal, fails with a collision when its footprint
-// touches anything (wall, obstacle, person), and times out otherwise. Localization is the simulator's ground truth:
+// touches anything (wall, obstacle, person), and times out otherwise. People do not see the robot, so many contacts
+// are a person walking into it from its side or back; each collision also says whether the robot drove into it (it
+// was closing in faster than the person), and the tables count those separately. Localization is the simulator's ground truth:
 // the scenarios measure local navigation, as the paper's do.
 #pragma once
 
@@ -77,6 +79,7 @@ struct RunResult {
   double time_s = 0.0;               // simulated, to the end of the run
   double path_length_m = 0.0;        // driven
   std::string collided_with;         // "wall or obstacle", "person"
+  bool robot_drove_into_it = false;  // a collision the robot closed in on (always, for walls and obstacles)
   std::vector<double> depth_ms;      // per frame: the front end (MORP, or cloud + voxel grid + extraction)
   std::vector<double> policy_ms;     // per frame: the local policy
 };
@@ -89,6 +92,7 @@ struct PolicySummary {
   int runs = 0;
   double success = 0.0;              // fractions of runs
   double collision = 0.0;
+  double robot_collision = 0.0;      // collisions the robot drove into
   double timeout = 0.0;
   double mean_time_to_goal_s = 0.0;  // over successful runs
   double depth_ms = 0.0;             // means over every frame of every run
