@@ -201,7 +201,7 @@ int Run(const CommandLine& cl) {
   lifecycle.Add(std::make_unique<ControlNode>(executors.control, bus, robot, wall_clock, config.safety));
   lifecycle.ConfigureAll();
 
-  const Api api({bus, lifecycle, maps, store, planner, missions, config, wall_clock, executors.io});
+  const Api api({bus, lifecycle, maps, store, planner, missions, config, wall_clock, executors.io, &robot});
   HttpServer server(executors.io, api, config.server);
   server.Start();
   executors.StartAll();

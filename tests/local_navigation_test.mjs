@@ -7,7 +7,9 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
-import { getJson, openApiValidator, postJson, sleep, startDaemon, writeRoom } from './daemon.mjs';
+import { getJson, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor, writeRoom } from './daemon.mjs';
+
+const state = async (url) => (await getJson(`${url}/api/v1/state`)).body;
 
 const api = openApiValidator();
 
@@ -66,6 +68,30 @@ describe('local navigation among unmapped obstacles and people', () => {
     assert.ok(s.control_latency.samples > 100, JSON.stringify(s.control_latency));
     assert.equal(s.sim_obstacles.length, 1);
     assert.equal(s.sim_obstacles[0].shape, 'cylinder');
+  });
+
+  test('the camera stops answering: the robot stops at once, and goes on when it is back', async (t) => {
+    const res = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 6.5, y: 1.0 }] });
+    assert.equal(res.status, 201, JSON.stringify(res.body));
+    await waitFor(() => state(daemon.url), (s) => s.velocity.linear_mps > 0.2, 20000, 'the robot driving');
+    const fault = await sendJson('PUT', `${daemon.url}/api/v1/sim/faults`, { camera_stopped: true });
+    assert.equal(fault.status, 200, JSON.stringify(fault.body));
+    api.check('SimFaults', fault.body);
+    const t0 = Date.now();
+    const stopped = await waitFor(() => state(daemon.url), (s) => Math.abs(s.velocity.linear_mps) < 0.005, 3000,
+      'the robot stopping');
+    t.diagnostic(`stopped ${Date.now() - t0} ms after the camera stopped`);
+    assert.equal(stopped.mission.status, 'active');
+    await sleep(1000);
+    const still = await state(daemon.url);
+    assert.ok(Math.abs(still.velocity.linear_mps) < 0.005, 'it stays stopped without frames');
+    assert.equal(still.mission.policy, 'waiting_for_depth');
+    // Bad requests change nothing.
+    assert.equal((await sendJson('PUT', `${daemon.url}/api/v1/sim/faults`, { camera_stopped: 'yes' })).status, 400);
+    assert.equal((await sendJson('PUT', `${daemon.url}/api/v1/sim/faults`, { lidar: true })).status, 400);
+    assert.equal((await sendJson('PUT', `${daemon.url}/api/v1/sim/faults`, { camera_stopped: false })).status, 200);
+    const done = await waitFor(() => state(daemon.url), (s) => s.mission.status !== 'active', 60000, 'the mission');
+    assert.equal(done.mission.status, 'succeeded', JSON.stringify(done.mission));
   });
 });
 

@@ -78,7 +78,7 @@ void SimRobot::Step() {
   if (Due(now, options_.odometry_rate_hz, next_odometry_ns_)) {
     if (odometry_handler_) odometry_handler_(odometry);
   }
-  const bool frame_due = Due(now, options_.camera.rate_hz, next_frame_ns_) && frame_handler_;
+  const bool frame_due = Due(now, options_.camera.rate_hz, next_frame_ns_) && frame_handler_ && !camera_stopped_;
   const bool scan_due = options_.laser.enabled && Due(now, options_.laser.rate_hz, next_scan_ns_) && scan_handler_;
   if (!crowd_.empty() && (frame_due || scan_due)) {
     std::lock_guard lock(mutex_);

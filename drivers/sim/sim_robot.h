@@ -3,6 +3,7 @@
 // steps it on a timer) and lockstep faster than real time (tools and tests call Step in a loop).
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <mutex>
 #include <random>
@@ -44,6 +45,9 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D 
   // Ground truth, for the console and for tests. Thread-safe.
   nav::Pose2 true_pose() const;
   std::vector<Pedestrian> pedestrians() const;
+  // A simulated fault: the camera stops delivering frames (true) or resumes (false). Thread-safe.
+  void SetCameraStopped(bool stopped) { camera_stopped_ = stopped; }
+  bool camera_stopped() const { return camera_stopped_; }
   double pedestrian_radius_m() const { return options_.crowd.radius_m; }
   bool bumper_pressed() const;
   void Teleport(const nav::Pose2& pose);
@@ -76,6 +80,7 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D 
   nav::Twist2 pending_command_;
   bool has_pending_command_ = false;
 
+  std::atomic<bool> camera_stopped_{false};
   std::int64_t step_count_ = 0;
   TimeNs next_odometry_ns_ = 0;
   TimeNs next_frame_ns_ = 0;

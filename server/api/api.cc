@@ -204,6 +204,18 @@ void Api::AddCoreRoutes() {
   Add(http::verb::post, "/api/v1/teleop", Sync([this](const Request& r, const Params&) {
         return JsonResponse(r, Teleop(ParseJsonBody(r), "rest"));
       }));
+  // Fault injection for the simulator: what the robot does when a device stops answering.
+  Add(http::verb::put, "/api/v1/sim/faults", Sync([this](const Request& r, const Params&) {
+        if (c_.sim == nullptr) throw ApiError(http::status::not_found, "No simulator", "faults are simulated only");
+        const json body = ParseJsonBody(r);
+        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid faults", "expected a JSON object");
+        AllowOnlyKeys(body, {"camera_stopped"}, "");
+        if (!body.contains("camera_stopped") || !body["camera_stopped"].is_boolean()) {
+          throw ApiError(http::status::bad_request, "Invalid faults", "camera_stopped: expected true or false");
+        }
+        c_.sim->SetCameraStopped(body["camera_stopped"].get<bool>());
+        return JsonResponse(r, {{"camera_stopped", c_.sim->camera_stopped()}});
+      }));
   Add(http::verb::get, "/api/v1/camera/depth",
       Sync([this](const Request& r, const Params&) { return CameraImage(r, true); }));
   Add(http::verb::get, "/api/v1/camera/color",

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "drivers/sim/sim_robot.h"
 #include "server/nodes/mission_node.h"
 #include "server/nodes/planner_service.h"
 #include "server/runtime/bus.h"
@@ -58,6 +59,7 @@ struct ApiContext {
   const Config& config;
   const drivers::Clock& clock;
   Executor& io;  // replies that are computed elsewhere come back here
+  drivers::sim::SimRobot* sim = nullptr;  // the simulated robot, for fault injection; null with real drivers
 };
 
 class Api {

@@ -183,7 +183,10 @@ void MissionNode::Tick() {
   if (path_version_ != planner_.version() && !checking_) CheckPath(pose->pose);
   // Driving waits for depth frames; without them there is nothing safe to do but stand still.
   if (last_drive_ns_ < 0 || clock().Now() - last_drive_ns_ > drivers::FromSeconds(kNoFramesS)) {
-    policy_mode_ = "waiting_for_depth";
+    if (policy_mode_ != "waiting_for_depth") {
+      policy_mode_ = "waiting_for_depth";
+      bus_.Get(topics::kMission).Publish(MissionState{DescribeLocked()});
+    }
     stop();
   }
 }
