@@ -254,25 +254,24 @@ void AddObstacles(World& world, const std::vector<StaticObstacle>& obstacles) {
       world.mesh.Append(box, Eigen::Translation3f(c.x(), c.y(), 0.0f) *
                                  Eigen::AngleAxisf(static_cast<float>(o.yaw_rad), Eigen::Vector3f::UnitZ()));
     }
-    // Footprint cells: every cell whose centre lies inside the shape.
-    const double reach = o.bounding_radius_m();
-    const auto lo = grid.WorldToCell(o.center - Eigen::Vector2d(reach, reach));
-    const auto hi = grid.WorldToCell(o.center + Eigen::Vector2d(reach, reach));
+    // Footprint cells: every cell whose centre lies within half a cell of the shape, searched over the cells
+    // around its bounding circle.
     const double res = grid.resolution_m();
-    const int x0 = lo ? lo->x : 0, y0 = lo ? lo->y : 0;
-    const int x1 = hi ? hi->x : grid.width() - 1, y1 = hi ? hi->y : grid.height() - 1;
+    const double tolerance = o.size_m + 0.5 * res;
     const Eigen::Rotation2Dd to_box(-o.yaw_rad);
-    for (int y = std::max(0, y0 - 1); y <= std::min(grid.height() - 1, y1 + 1); ++y) {
-      for (int x = std::max(0, x0 - 1); x <= std::min(grid.width() - 1, x1 + 1); ++x) {
-        const Eigen::Vector2d d = grid.CellCenter({x, y}) - o.center;
-        bool inside;
-        if (o.shape == StaticObstacle::Shape::kCylinder) {
-          inside = d.norm() <= o.size_m + 0.5 * res;
-        } else {
-          const Eigen::Vector2d local = to_box * d;
-          inside = std::abs(local.x()) <= o.size_m + 0.5 * res && std::abs(local.y()) <= o.size_m + 0.5 * res;
-        }
-        if (inside) grid.at({x, y}) = nav::kOccupiedCell;
+    const auto covers = [&](const Eigen::Vector2d& cell_center) {
+      const Eigen::Vector2d d = cell_center - o.center;
+      if (o.shape == StaticObstacle::Shape::kCylinder) return d.norm() <= tolerance;
+      const Eigen::Vector2d local = to_box * d;
+      return std::abs(local.x()) <= tolerance && std::abs(local.y()) <= tolerance;
+    };
+    const Eigen::Vector2d center = grid.origin().Inverse().Transform(o.center) / res;  // in cells
+    const int reach = static_cast<int>(std::ceil(o.bounding_radius_m() / res)) + 1;
+    const int cx = static_cast<int>(std::floor(center.x()));
+    const int cy = static_cast<int>(std::floor(center.y()));
+    for (int y = std::max(0, cy - reach); y <= std::min(grid.height() - 1, cy + reach); ++y) {
+      for (int x = std::max(0, cx - reach); x <= std::min(grid.width() - 1, cx + reach); ++x) {
+        if (covers(grid.CellCenter({x, y}))) grid.at({x, y}) = nav::kOccupiedCell;
       }
     }
   }

@@ -74,6 +74,7 @@ class Morp {
   // The run-time step height (the paper's argument for an analytic method: no retraining to change it).
   void set_max_step_m(double metres) { options_.max_step_m = metres; }
   const MorpOptions& options() const { return options_; }
+  const std::vector<LaneResult>& results() const { return results_; }  // the last Process's
   int lane_count() const { return static_cast<int>(lanes_.size()); }
 
  private:

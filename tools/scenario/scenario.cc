@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
@@ -48,10 +49,13 @@ bool Clear(const nav::OccupancyGrid& grid, const Eigen::Vector2d& p, double radi
   return true;
 }
 
-bool PathExists(const nav::OccupancyGrid& grid, const Eigen::Vector2d& start, const Eigen::Vector2d& goal) {
+nav::Costmap RobotCostmap(const nav::OccupancyGrid& grid) {
   nav::CostmapOptions options;
   options.robot_radius_m = kRobotRadiusM;
-  const nav::Costmap costmap(grid, {}, options);
+  return nav::Costmap(grid, {}, options);
+}
+
+bool PathExists(const nav::Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal) {
   return nav::PlanPath(costmap, start, goal).ok();
 }
 
@@ -68,6 +72,31 @@ World BaseWorld(const ScenarioOptions& options, int world_index, nav::OccupancyG
   const double height = size(rng);
   map = drivers::sim::RoomMap(width, height, kRoomResolutionM);
   return drivers::sim::WorldFromMap(map, drivers::sim::WorldOptions{});
+}
+
+// --trace output: one line per morp-rb decision, and what surrounded a collision.
+void TraceDecision(double now_s, const nav::Pose2& pose, const nav::LocalStep& step,
+                   const std::vector<nav::LaneResult>& lanes) {
+  std::fprintf(stderr, "t %.2f pose %.2f %.2f %.2f mode %s%s nearest %.2f twist %.2f %.2f lanes", now_s, pose.x_m,
+               pose.y_m, pose.yaw_rad, nav::ToString(step.mode), step.guarded ? " guarded" : "", step.nearest_m,
+               step.twist.linear_mps, step.twist.angular_rps);
+  for (const auto& l : lanes) std::fprintf(stderr, " %.2f%s", l.free_distance_m, l.dead_end ? "*" : "");
+  std::fprintf(stderr, "\n");
+}
+
+void TraceCollision(const Layout& layout, const nav::Pose2& pose, const std::vector<drivers::sim::Pedestrian>& people) {
+  std::fprintf(stderr, "collision at %.2f %.2f yaw %.2f; goal %.2f %.2f\n", pose.x_m, pose.y_m, pose.yaw_rad,
+               layout.goal.x(), layout.goal.y());
+  for (const auto& p : people) {
+    const Eigen::Vector2d local = pose.Inverse().Transform(p.position);
+    std::fprintf(stderr, "  person at %.2f %.2f (robot frame %.2f %.2f) moving %.2f %.2f\n", p.position.x(),
+                 p.position.y(), local.x(), local.y(), p.velocity.x(), p.velocity.y());
+  }
+  for (const auto& o : layout.world.obstacles) {
+    std::fprintf(stderr, "  obstacle %s at %.2f %.2f size %.2f, distance %.2f\n",
+                 o.shape == StaticObstacle::Shape::kBox ? "box" : "cylinder", o.center.x(), o.center.y(), o.size_m,
+                 (o.center - pose.translation()).norm());
+  }
 }
 
 template <typename Fn>
@@ -122,6 +151,7 @@ Layout MakeLayout(const ScenarioOptions& options, int world_index, int run_index
 
   // Start and goal: free with room around them, 7 to 11 m apart, joined by a path on the robot's map.
   const double margin = kRobotRadiusM + 0.3;
+  const nav::Costmap map_costmap = RobotCostmap(layout.map);
   const auto pair = Sample(
       [&]() -> std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> {
         const Eigen::Vector2d start(ux(rng), uy(rng));
@@ -129,7 +159,7 @@ Layout MakeLayout(const ScenarioOptions& options, int world_index, int run_index
         const double a = angle(rng);
         const double d = options.min_goal_m + unit(rng) * (options.max_goal_m - options.min_goal_m);
         const Eigen::Vector2d goal = start + d * Eigen::Vector2d(std::cos(a), std::sin(a));
-        if (!Clear(grid, goal, margin) || !PathExists(layout.map, start, goal)) return std::nullopt;
+        if (!Clear(grid, goal, margin) || !PathExists(map_costmap, start, goal)) return std::nullopt;
         return std::pair{start, goal};
       },
       2000);
@@ -166,7 +196,7 @@ Layout MakeLayout(const ScenarioOptions& options, int world_index, int run_index
           std::vector<StaticObstacle> trial = obstacles;
           trial.push_back(o);
           drivers::sim::AddObstacles(trial_world, trial);
-          if (!PathExists(trial_world.collision, start, goal)) return std::nullopt;
+          if (!PathExists(RobotCostmap(trial_world.collision), start, goal)) return std::nullopt;
           return o;
         },
         200);
@@ -201,9 +231,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   robot.SetFrameHandler([&pending](std::shared_ptr<drivers::RgbdFrame> frame) { pending = std::move(frame); });
   const nav::PinholeCamera camera = robot.info().camera;
 
-  nav::CostmapOptions costmap_options;
-  costmap_options.robot_radius_m = kRobotRadiusM;
-  const nav::Costmap costmap(layout.map, {}, costmap_options);
+  const nav::Costmap costmap = RobotCostmap(layout.map);
   const auto plan_from = [&](const Eigen::Vector2d& from) { return nav::PlanPath(costmap, from, layout.goal); };
   nav::PlanResult plan = plan_from(layout.start.translation());
   if (!plan.ok()) {
@@ -220,8 +248,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   navigator.SetPath(plan.plan.waypoints);
   nav::Morp morp(camera, nav::MorpOptions{});
 
-  nav::FollowerOptions follower_options = navigator_options.follower;
-  nav::PathFollower follower(follower_options);
+  nav::PathFollower follower(navigator_options.follower);
   follower.SetPath(plan.plan.waypoints);
   nav::VoxelObstacles voxels(camera, nav::VoxelObstacleOptions{});
   nav::ReactiveOptions reactive;
@@ -258,20 +285,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
         const double robot_closing = robot_velocity.dot(toward);
         result.robot_drove_into_it = robot_closing > 0.02 && robot_closing >= -person->velocity.dot(toward);
       }
-      if (options.trace) {
-        std::fprintf(stderr, "collision at %.2f %.2f yaw %.2f; goal %.2f %.2f\n", pose.x_m, pose.y_m, pose.yaw_rad,
-                     layout.goal.x(), layout.goal.y());
-        for (const auto& p : people) {
-          const Eigen::Vector2d local = pose.Inverse().Transform(p.position);
-          std::fprintf(stderr, "  person at %.2f %.2f (robot frame %.2f %.2f) moving %.2f %.2f\n", p.position.x(),
-                       p.position.y(), local.x(), local.y(), p.velocity.x(), p.velocity.y());
-        }
-        for (const auto& o : layout.world.obstacles) {
-          std::fprintf(stderr, "  obstacle %s at %.2f %.2f size %.2f, distance %.2f\n",
-                       o.shape == StaticObstacle::Shape::kBox ? "box" : "cylinder", o.center.x(), o.center.y(), o.size_m,
-                       (o.center - pose.translation()).norm());
-        }
-      }
+      if (options.trace) TraceCollision(layout, pose, people);
       break;
     }
     if ((pose.translation() - layout.goal).norm() <= options.goal_tolerance_m) {
@@ -288,29 +302,21 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
     const double dt_s = now_s - last_frame_s;
     last_frame_s = now_s;
     nav::Twist2 twist;
+    std::optional<nav::LocalStep> step;  // morp-rb's, for --trace after the timings
     const auto t0 = Clock::now();
+    Clock::time_point t1;
     if (policy == Policy::kMorpRb) {
       const std::vector<nav::LaneResult>& lanes = morp.Process(frame->depth_mm);
-      const auto t1 = Clock::now();
-      nav::LocalStep step = navigator.Update(pose, lanes, std::numeric_limits<double>::infinity(), dt_s);
-      if (step.replan) {
+      t1 = Clock::now();
+      step = navigator.Update(pose, lanes, std::numeric_limits<double>::infinity(), dt_s);
+      if (step->replan) {
         plan = plan_from(pose.translation());
         if (plan.ok()) navigator.SetPath(plan.plan.waypoints);
       }
-      twist = step.twist;
-      if (options.trace) {
-        std::fprintf(stderr, "t %.2f pose %.2f %.2f %.2f mode %s%s nearest %.2f twist %.2f %.2f lanes", now_s, pose.x_m,
-                     pose.y_m, pose.yaw_rad, nav::ToString(step.mode), step.guarded ? " guarded" : "", step.nearest_m,
-                     twist.linear_mps, twist.angular_rps);
-        for (const auto& l : lanes) std::fprintf(stderr, " %.2f%s", l.free_distance_m, l.dead_end ? "*" : "");
-        std::fprintf(stderr, "\n");
-      }
-      const auto t2 = Clock::now();
-      result.depth_ms.push_back(ms(t0, t1));
-      result.policy_ms.push_back(ms(t1, t2));
+      twist = step->twist;
     } else {
       const std::vector<Eigen::Vector2f>& obstacles = voxels.Process(frame->depth_mm);
-      const auto t1 = Clock::now();
+      t1 = Clock::now();
       const nav::FollowStep follow = follower.Update(pose, std::numeric_limits<double>::infinity());
       if (follow.off_path_m > navigator_options.replan_distance_m) {
         plan = plan_from(pose.translation());
@@ -318,10 +324,11 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       }
       const Eigen::Vector2d to_target = follow.target - pose.translation();
       twist = nav::ReactiveCommand(obstacles, std::atan2(to_target.y(), to_target.x()) - pose.yaw_rad, reactive);
-      const auto t2 = Clock::now();
-      result.depth_ms.push_back(ms(t0, t1));
-      result.policy_ms.push_back(ms(t1, t2));
     }
+    const auto t2 = Clock::now();
+    result.depth_ms.push_back(ms(t0, t1));
+    result.policy_ms.push_back(ms(t1, t2));
+    if (options.trace && step) TraceDecision(now_s, pose, *step, morp.results());
     robot.SetVelocity(twist);
   }
   return result;
