@@ -12,14 +12,6 @@ double Approach(double current, double target, double max_step) {
 
 }  // namespace
 
-nav::Pose2 IntegrateArc(const nav::Pose2& pose, double v, double w, double dt) {
-  const double dyaw = w * dt;
-  // Chord of the arc in the robot frame; the straight-line limit when the turn is negligible.
-  const double forward = std::abs(dyaw) < 1e-9 ? v * dt : v / w * std::sin(dyaw);
-  const double left = std::abs(dyaw) < 1e-9 ? 0.0 : v / w * (1.0 - std::cos(dyaw));
-  return pose * nav::Pose2{forward, left, dyaw};
-}
-
 DiffDriveSim::DiffDriveSim(const nav::OccupancyGrid& collision, const SimBaseOptions& options, nav::Pose2 start)
     : collision_(collision), options_(options), pose_(start) {}
 
@@ -67,7 +59,7 @@ void DiffDriveSim::Step(double dt_s, double now_s, std::mt19937& rng) {
   velocity_.linear_mps = Approach(velocity_.linear_mps, target.linear_mps, l.max_linear_accel_mps2 * dt_s);
   velocity_.angular_rps = Approach(velocity_.angular_rps, target.angular_rps, l.max_angular_accel_rps2 * dt_s);
 
-  nav::Pose2 next = IntegrateArc(pose_, velocity_.linear_mps, velocity_.angular_rps, dt_s);
+  nav::Pose2 next = nav::DriveArc(pose_, velocity_, dt_s);
   bumper_ = false;
   if (Collides(next)) {
     // Blocked: the round footprint may still turn in place, but it does not move into the obstacle.

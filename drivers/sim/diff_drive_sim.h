@@ -63,7 +63,4 @@ class DiffDriveSim {
   std::vector<Disc> movers_;
 };
 
-// Pose after driving `v`, `w` for `dt` seconds along the exact arc.
-nav::Pose2 IntegrateArc(const nav::Pose2& pose, double v, double w, double dt);
-
 }  // namespace corridor::drivers::sim

@@ -28,6 +28,16 @@ Eigen::Vector2d Pose2::Transform(const Eigen::Vector2d& point) const {
   return {x_m + c * point.x() - s * point.y(), y_m + s * point.x() + c * point.y()};
 }
 
+Pose2 DriveArc(const Pose2& start, const Twist2& twist, double t_s) {
+  const double v = twist.linear_mps;
+  const double w = twist.angular_rps;
+  const double dyaw = w * t_s;
+  // Chord of the arc in the robot frame; the straight-line limit when the turn is negligible.
+  const double forward = std::abs(dyaw) < 1e-9 ? v * t_s : v / w * std::sin(dyaw);
+  const double left = std::abs(dyaw) < 1e-9 ? 0.0 : v / w * (1.0 - std::cos(dyaw));
+  return start * Pose2{forward, left, dyaw};
+}
+
 Eigen::Isometry3d Pose2::ToIsometry3() const {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.translation() = Eigen::Vector3d(x_m, y_m, 0.0);

@@ -30,4 +30,7 @@ struct Twist2 {
   double angular_rps = 0.0;
 };
 
+// The pose reached by driving `twist` from `start` for t_s seconds along the exact arc.
+Pose2 DriveArc(const Pose2& start, const Twist2& twist, double t_s);
+
 }  // namespace corridor::nav

@@ -6,18 +6,6 @@
 #include <optional>
 
 namespace corridor::nav {
-namespace {
-
-// The pose after driving v, w for t seconds along the arc.
-Pose2 Arc(const Pose2& p, double v, double w, double t) {
-  if (std::abs(w) < 1e-9) return {p.x_m + v * t * std::cos(p.yaw_rad), p.y_m + v * t * std::sin(p.yaw_rad), p.yaw_rad};
-  const double yaw = p.yaw_rad + w * t;
-  const double r = v / w;
-  return {p.x_m + r * (std::sin(yaw) - std::sin(p.yaw_rad)), p.y_m - r * (std::cos(yaw) - std::cos(p.yaw_rad)), yaw};
-}
-
-}  // namespace
-
 void ObstacleMemory::Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double dt_s) {
   const ObstacleMemoryOptions& o = options_;
   for (Point& p : points_) p.age_s += std::max(0.0, dt_s);
@@ -48,13 +36,13 @@ void ObstacleMemory::Update(const Pose2& robot, const std::vector<LaneResult>& l
   }
 }
 
-bool ObstacleMemory::Blocked(const Pose2& robot, const Twist2& command) const {
+bool ObstacleMemory::Blocks(const Pose2& robot, const Twist2& command) const {
   const ObstacleMemoryOptions& o = options_;
   const double clearance = o.robot_radius_m + o.margin_m;
   double now = std::numeric_limits<double>::infinity();
   for (const Point& p : points_) now = std::min(now, (p.world - robot.translation()).norm());
   for (double t = o.sweep_step_s; t <= o.horizon_s + 1e-9; t += o.sweep_step_s) {
-    const Eigen::Vector2d at = Arc(robot, command.linear_mps, command.angular_rps, t).translation();
+    const Eigen::Vector2d at = DriveArc(robot, command, t).translation();
     for (const Point& p : points_) {
       const double d = (p.world - at).norm();
       // Inside the clearance and closing in: blocked. Already inside and moving away is how the robot gets out.
@@ -65,7 +53,7 @@ bool ObstacleMemory::Blocked(const Pose2& robot, const Twist2& command) const {
 }
 
 Twist2 ObstacleMemory::Guard(const Pose2& robot, const Twist2& command) const {
-  if (points_.empty() || !Blocked(robot, command)) return command;
+  if (points_.empty() || !Blocks(robot, command)) return command;
   // Keeping the speed matters more than keeping the turn: a robot that bends away keeps going.
   const auto cost = [&](const Twist2& t) {
     return 2.0 * std::abs(t.linear_mps - command.linear_mps) + std::abs(t.angular_rps - command.angular_rps);
@@ -76,7 +64,7 @@ Twist2 ObstacleMemory::Guard(const Pose2& robot, const Twist2& command) const {
     if (v <= 0.0) continue;
     for (const double dw : {0.0, 0.25, -0.25, 0.5, -0.5, 0.75, -0.75, 1.0, -1.0, 1.5, -1.5, 2.0, -2.0}) {
       const Twist2 candidate{v, std::clamp(command.angular_rps + dw, -w_max, w_max)};
-      if ((!best || cost(candidate) < cost(*best)) && !Blocked(robot, candidate)) best = candidate;
+      if ((!best || cost(candidate) < cost(*best)) && !Blocks(robot, candidate)) best = candidate;
     }
   }
   if (best) return *best;

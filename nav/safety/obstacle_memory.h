@@ -47,6 +47,10 @@ class ObstacleMemory {
   // in place away from the nearest point (it comes into the camera's view, which clears it or confirms it).
   Twist2 Guard(const Pose2& robot, const Twist2& command) const;
 
+  // True when driving `command` from `robot` for the horizon brings the footprint within the margin of a
+  // remembered point, nearer than it is now.
+  bool Blocks(const Pose2& robot, const Twist2& command) const;
+
   std::size_t size() const { return points_.size(); }
   void Clear() { points_.clear(); }
 
@@ -55,10 +59,6 @@ class ObstacleMemory {
     Eigen::Vector2d world;
     double age_s;
   };
-  // True when driving `command` from `robot` for the horizon brings the footprint within the margin of a point,
-  // nearer than it is now.
-  bool Blocked(const Pose2& robot, const Twist2& command) const;
-
   ObstacleMemoryOptions options_;
   std::vector<Point> points_;
 };
