@@ -1,0 +1,159 @@
+#include "nav/tracking/moving_objects.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+
+namespace corridor::nav {
+namespace {
+
+struct Disc {
+  Eigen::Vector2d centre;
+  double radius;
+};
+
+// A 360-beam scan from `sensor` (yaw 0) of discs inside a square room [0, size]^2, with range noise.
+std::vector<float> Scan(const Eigen::Vector2d& sensor, const std::vector<Disc>& discs, double size, std::mt19937& rng,
+                        double noise_m = 0.01) {
+  std::normal_distribution<double> noise(0.0, noise_m);
+  std::vector<float> ranges(360);
+  for (int i = 0; i < 360; ++i) {
+    const double a = -std::numbers::pi + i * std::numbers::pi / 180.0;
+    const Eigen::Vector2d d(std::cos(a), std::sin(a));
+    double best = std::numeric_limits<double>::infinity();
+    // Walls.
+    for (int axis = 0; axis < 2; ++axis) {
+      if (std::abs(d[axis]) < 1e-12) continue;
+      for (const double wall : {0.0, size}) {
+        const double t = (wall - sensor[axis]) / d[axis];
+        if (t > 0.0) best = std::min(best, t);
+      }
+    }
+    for (const Disc& disc : discs) {
+      const Eigen::Vector2d f = sensor - disc.centre;
+      const double b = f.dot(d);
+      const double c = f.squaredNorm() - disc.radius * disc.radius;
+      const double h = b * b - c;
+      if (h < 0.0) continue;
+      const double t = -b - std::sqrt(h);
+      if (t > 0.0) best = std::min(best, t);
+    }
+    ranges[i] = static_cast<float>(best + noise(rng));
+  }
+  return ranges;
+}
+
+OccupancyGrid Room(double size) {
+  const double res = 0.05;
+  const int n = static_cast<int>(std::round(size / res));
+  OccupancyGrid grid(n + 2, n + 2, res, Pose2{-res, -res, 0.0}, kFreeCell);
+  for (int i = 0; i < n + 2; ++i) {
+    for (const int j : {0, 1, n, n + 1}) {
+      grid.at({i, j}) = kOccupiedCell;
+      grid.at({j, i}) = kOccupiedCell;
+    }
+  }
+  return grid;
+}
+
+// Feeds `scans` scans at 10 Hz of a person walking at `velocity` from `start`, seen from a sensor moving at
+// `sensor_velocity` from `sensor_start`; returns the tracker after the last one.
+MovingObjectTracker Watch(const Eigen::Vector2d& start, const Eigen::Vector2d& velocity,
+                          const Eigen::Vector2d& sensor_start, const Eigen::Vector2d& sensor_velocity, int scans,
+                          std::mt19937& rng, double* last_t = nullptr) {
+  MovingObjectTracker tracker{MovingObjectOptions{}};
+  tracker.SetMap(std::make_shared<const OccupancyGrid>(Room(10.0)));
+  for (int k = 0; k < scans; ++k) {
+    const double t = 0.1 * k;
+    const Eigen::Vector2d sensor = sensor_start + t * sensor_velocity;
+    const auto ranges = Scan(sensor, {{start + t * velocity, 0.25}}, 10.0, rng);
+    tracker.Update(t, sensor, ScanToWorld({sensor.x(), sensor.y(), 0.0}, -std::numbers::pi, std::numbers::pi / 180.0, 0.1, 8.0, ranges));
+    if (last_t != nullptr) *last_t = t;
+  }
+  return tracker;
+}
+
+TEST(MovingObjectTrackerTest, AWalkingPersonGetsItsVelocityAndTheWallsAreNotObjects) {
+  std::mt19937 rng(7);
+  double t = 0.0;
+  const Eigen::Vector2d start(3.0, 6.0);
+  const Eigen::Vector2d velocity(0.8, -0.3);
+  const MovingObjectTracker tracker = Watch(start, velocity, {5.0, 3.0}, {0.0, 0.0}, 12, rng, &t);
+  ASSERT_EQ(tracker.objects().size(), 1u);
+  const TrackedObject& person = tracker.objects().front();
+  EXPECT_TRUE(person.moving);
+  EXPECT_NEAR(person.velocity.x(), velocity.x(), 0.08);
+  EXPECT_NEAR(person.velocity.y(), velocity.y(), 0.08);
+  // The laser sees the near side: the centroid is inside the person, toward the sensor.
+  EXPECT_LT((person.position - (start + t * velocity)).norm(), 0.25);
+  EXPECT_GT(person.radius_m, 0.1);
+  EXPECT_LT(person.radius_m, 0.35);
+  // The walls stay as static points; the person's points do not.
+  EXPECT_GT(tracker.static_points().size(), 200u);
+  for (const auto& p : tracker.static_points()) EXPECT_GT((p - (start + t * velocity)).norm(), 0.4);
+}
+
+TEST(MovingObjectTrackerTest, AStandingPersonIsAnObjectThatDoesNotMove) {
+  std::mt19937 rng(8);
+  const Eigen::Vector2d at(6.0, 6.0);
+  const MovingObjectTracker tracker = Watch(at, {0.0, 0.0}, {3.0, 3.0}, {0.2, 0.0}, 12, rng);
+  ASSERT_EQ(tracker.objects().size(), 1u);
+  EXPECT_FALSE(tracker.objects().front().moving);
+  EXPECT_EQ(tracker.objects().front().velocity, Eigen::Vector2d::Zero());
+  std::size_t near = 0;
+  for (const auto& p : tracker.static_points()) near += (p - at).norm() < 0.3 ? 1 : 0;
+  EXPECT_GT(near, 5u);  // kept clear of like a wall
+}
+
+TEST(MovingObjectTrackerTest, VelocitiesHoldFromAMovingRobotInEveryDirection) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < 40; ++trial) {
+    const double heading = 2.0 * std::numbers::pi * unit(rng);
+    const double speed = 0.3 + 0.9 * unit(rng);
+    const Eigen::Vector2d velocity = speed * Eigen::Vector2d(std::cos(heading), std::sin(heading));
+    const Eigen::Vector2d start = Eigen::Vector2d(5.0, 5.0) - 0.5 * velocity;  // crosses the middle at t = 0.5 s
+    const double robot_heading = 2.0 * std::numbers::pi * unit(rng);
+    const Eigen::Vector2d sensor_start =
+        Eigen::Vector2d(5.0, 5.0) + 1.5 * Eigen::Vector2d(std::cos(robot_heading), std::sin(robot_heading));
+    const Eigen::Vector2d sensor_velocity = 0.26 * Eigen::Vector2d(-std::sin(robot_heading), std::cos(robot_heading));
+    const MovingObjectTracker tracker = Watch(start, velocity, sensor_start, sensor_velocity, 11, rng);
+    ASSERT_EQ(tracker.objects().size(), 1u) << "trial " << trial;
+    const TrackedObject& person = tracker.objects().front();
+    EXPECT_TRUE(person.moving) << "trial " << trial;
+    EXPECT_LT((person.velocity - velocity).norm(), 0.12) << "trial " << trial << " speed " << speed;
+  }
+}
+
+TEST(MovingObjectTrackerTest, TwoPeopleApartAreTwoObjectsAndATimeResetStartsAgain) {
+  std::mt19937 rng(10);
+  MovingObjectTracker tracker{MovingObjectOptions{}};
+  tracker.SetMap(std::make_shared<const OccupancyGrid>(Room(10.0)));
+  const Eigen::Vector2d sensor(5.0, 2.0);
+  const auto scan_at = [&](double t) {
+    const auto ranges = Scan(sensor, {{{3.0 + 0.8 * t, 5.0}, 0.25}, {{7.0, 6.0 - 0.6 * t}, 0.25}}, 10.0, rng);
+    return ScanToWorld({sensor.x(), sensor.y(), 0.0}, -std::numbers::pi, std::numbers::pi / 180.0, 0.1, 8.0, ranges);
+  };
+  for (int k = 0; k < 10; ++k) tracker.Update(0.1 * k, sensor, scan_at(0.1 * k));
+  ASSERT_EQ(tracker.objects().size(), 2u);
+  EXPECT_NEAR(tracker.objects()[0].velocity.x(), 0.8, 0.1);
+  EXPECT_NEAR(tracker.objects()[1].velocity.y(), -0.6, 0.1);
+  // A stamp from the past (a replayed log, a reset clock) clears the window: one scan gives no velocity yet.
+  tracker.Update(0.0, sensor, scan_at(0.0));
+  for (const TrackedObject& o : tracker.objects()) EXPECT_FALSE(o.moving);
+}
+
+TEST(MovingObjectTrackerTest, BadOptionsAreRefused) {
+  MovingObjectOptions o;
+  o.window_scans = 1;
+  EXPECT_THROW(MovingObjectTracker{o}, std::invalid_argument);
+  o = {};
+  o.cluster_distance_m = 0.0;
+  EXPECT_THROW(MovingObjectTracker{o}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace corridor::nav
