@@ -6,7 +6,8 @@
 namespace corridor::nav {
 
 LocalNavigator::LocalNavigator(const LocalNavigatorOptions& options)
-    : options_(options), follower_(options.follower), avoid_(options.avoid), memory_(options.memory) {}
+    : options_(options), follower_(options.follower), avoid_(options.avoid), memory_(options.memory),
+      evade_(options.evade) {}
 
 void LocalNavigator::SetPath(std::vector<Waypoint> path) {
   follower_.SetPath(std::move(path));
@@ -14,7 +15,7 @@ void LocalNavigator::SetPath(std::vector<Waypoint> path) {
 }
 
 LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double speed_limit_mps,
-                                 double dt_s) {
+                                 double dt_s, const MovingObjectTracker* around) {
   LocalStep out;
   memory_.Update(robot, lanes, dt_s);
   detour_left_m_ = std::max(0.0, detour_left_m_ - last_speed_mps_ * std::max(0.0, dt_s));
@@ -26,6 +27,7 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
   }
   if (follow.off_path_m > options_.replan_distance_m) {
     out.replan = true;
+    Evade(robot, around, out);  // standing still is not safe from someone walking into the robot
     return out;
   }
   const Eigen::Vector2d to_target = follow.target - robot.translation();
@@ -61,8 +63,16 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
   out.guarded = guarded.linear_mps != out.twist.linear_mps || guarded.angular_rps != out.twist.angular_rps;
   if (out.guarded && !follow.final_approach) detour_left_m_ = options_.detour_m;
   out.twist = guarded;
+  Evade(robot, around, out);
   last_speed_mps_ = std::max(0.0, out.twist.linear_mps);
   return out;
+}
+
+void LocalNavigator::Evade(const Pose2& robot, const MovingObjectTracker* around, LocalStep& step) const {
+  if (around == nullptr) return;
+  const EvasionResult evasion = evade_.Check(robot, step.twist, around->objects(), around->static_points(), &memory_);
+  step.evading = evasion.evading;
+  step.twist = evasion.twist;
 }
 
 }  // namespace corridor::nav

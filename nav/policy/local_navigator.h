@@ -10,16 +10,21 @@
 //   - every command is checked against a short memory of dead-ends (nav/safety/obstacle_memory.h), so that turning
 //     back to the path does not sweep into an obstacle that has left the camera's view. When the memory had to
 //     refuse the way toward the path, the robot drives on straight (detour_m) before heading for the path again;
-//     otherwise it would turn back toward the hidden obstacle at once, be refused again, and dither in place.
+//     otherwise it would turn back toward the hidden obstacle at once, be refused again, and dither in place;
+//   - with a laser, moving objects tracked around the robot (nav/tracking) are predicted, and a command that would
+//     meet one is replaced by a way out of its path (nav/policy/evasion.h): people who do not see the robot walk
+//     into it from the sides and from behind, where the camera cannot see.
 // Pure logic: the caller supplies the pose, this frame's lanes and the time step.
 #pragma once
 
 #include <vector>
 
 #include "nav/ground/morp.h"
+#include "nav/policy/evasion.h"
 #include "nav/policy/morp_rb.h"
 #include "nav/policy/path_follower.h"
 #include "nav/safety/obstacle_memory.h"
+#include "nav/tracking/moving_objects.h"
 
 namespace corridor::nav {
 
@@ -27,6 +32,7 @@ struct LocalNavigatorOptions {
   FollowerOptions follower;
   MorpRbOptions avoid;
   ObstacleMemoryOptions memory;
+  EvasionOptions evade;
   // MORP-RB steers on the lanes within this of the centre line (the footprint and a margin); the memory keeps
   // every lane's dead-end.
   double corridor_half_width_m = 0.3;
@@ -37,11 +43,13 @@ struct LocalNavigatorOptions {
 struct LocalStep {
   Twist2 twist;
   bool done = false;
-  bool replan = false;            // strayed from the path: the caller should plan again (the twist is zero)
+  bool replan = false;            // strayed from the path: the caller should plan again (the twist is zero
+                                  // unless it evades someone)
   double remaining_m = 0.0;
   MorpRbMode mode = MorpRbMode::kFollow;
   bool avoiding = false;          // MORP-RB, not the path follower, chose the twist
   bool guarded = false;           // the obstacle memory replaced the chosen twist
+  bool evading = false;           // a moving object's predicted path did
   double nearest_m = 0.0;         // the nearest dead-end ahead
 };
 
@@ -56,14 +64,20 @@ class LocalNavigator {
   const LocalNavigatorOptions& options() const { return options_; }
 
   // One step from the robot's pose and this frame's lanes (empty: nothing seen, the robot stops). dt_s is the time
-  // since the previous step; speed_limit_mps caps the whole mission.
-  LocalStep Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double speed_limit_mps, double dt_s);
+  // since the previous step; speed_limit_mps caps the whole mission. `around` (may be null: no laser, or its
+  // scans are stale) is what the laser tracks around the robot, in the same frame as `robot`.
+  LocalStep Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double speed_limit_mps, double dt_s,
+                   const MovingObjectTracker* around = nullptr);
 
  private:
+  // Replaces the step's twist when a tracked moving object would meet the robot on it.
+  void Evade(const Pose2& robot, const MovingObjectTracker* around, LocalStep& step) const;
+
   LocalNavigatorOptions options_;
   PathFollower follower_;
   MorpRb avoid_;
   ObstacleMemory memory_;
+  Evasion evade_;
   std::vector<LaneResult> ahead_;  // this frame's lanes in the corridor
   double detour_left_m_ = 0.0;
   double last_speed_mps_ = 0.0;

@@ -1,0 +1,134 @@
+#include "nav/policy/evasion.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+namespace corridor::nav {
+namespace {
+
+TrackedObject Person(const Eigen::Vector2d& at, const Eigen::Vector2d& velocity) {
+  TrackedObject o;
+  o.position = at;
+  o.velocity = velocity;
+  o.radius_m = 0.2;
+  o.moving = velocity.norm() > 0.0;
+  o.points = 50;
+  return o;
+}
+
+// The closest distance between the robot's and a person's centres while the robot, driven by Evasion on every
+// 1/18 s step from `command`, and the person, walking straight at constant velocity, move for `seconds`.
+double ClosestApproach(const Evasion& evasion, Pose2 robot, const Twist2& command, Eigen::Vector2d person,
+                       const Eigen::Vector2d& velocity, const std::vector<Eigen::Vector2d>& walls, double seconds,
+                       bool* evaded = nullptr) {
+  const double dt = 1.0 / 18.0;
+  double closest = (person - robot.translation()).norm();
+  for (double t = 0.0; t < seconds; t += dt) {
+    // The laser sees the near side of the person: report the centroid there, as the tracker would.
+    const Eigen::Vector2d seen = person - 0.16 * (person - robot.translation()).normalized();
+    const EvasionResult r = evasion.Check(robot, command, {Person(seen, velocity)}, walls, nullptr);
+    if (evaded != nullptr) *evaded = *evaded || r.evading;
+    robot = DriveArc(robot, r.twist, dt);
+    person += dt * velocity;
+    closest = std::min(closest, (person - robot.translation()).norm());
+  }
+  return closest;
+}
+
+TEST(EvasionTest, NothingMovingOrNothingComingLeavesTheCommandAlone) {
+  const Evasion evasion{EvasionOptions{}};
+  const Pose2 robot{0.0, 0.0, 0.0};
+  const Twist2 command{0.26, 0.1};
+  EXPECT_FALSE(evasion.Check(robot, command, {}, {}, nullptr).evading);
+  // Standing people are walls' business (static points), not evasion's.
+  EXPECT_FALSE(evasion.Check(robot, command, {Person({1.0, 0.0}, {0.0, 0.0})}, {}, nullptr).evading);
+  // Walking away, or crossing well ahead.
+  EXPECT_FALSE(evasion.Check(robot, command, {Person({2.0, 0.0}, {0.8, 0.0})}, {}, nullptr).evading);
+  EXPECT_FALSE(evasion.Check(robot, command, {Person({4.0, -3.0}, {0.0, 0.8})}, {}, nullptr).evading);
+  const EvasionResult unchanged = evasion.Check(robot, command, {Person({4.0, -3.0}, {0.0, 0.8})}, {}, nullptr);
+  EXPECT_EQ(unchanged.twist.linear_mps, command.linear_mps);
+  EXPECT_EQ(unchanged.twist.angular_rps, command.angular_rps);
+}
+
+TEST(EvasionTest, SomeoneWalkingIntoTheRobotFromAnySideIsAvoided) {
+  // A person who does not see the robot walks at 0.8 m/s straight through where the robot is waiting, from 3 m
+  // away and from every direction.
+  EvasionOptions o;
+  o.max_reverse_mps = 0.26;
+  const Evasion evasion{o};
+  const double touching = o.robot_radius_m + 0.25;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> offset(-0.2, 0.2);
+  for (int k = 0; k < 16; ++k) {
+    const double from = k * std::numbers::pi / 8.0;
+    const Eigen::Vector2d direction(std::cos(from), std::sin(from));
+    const Eigen::Vector2d start = 3.0 * direction + offset(rng) * Eigen::Vector2d(-direction.y(), direction.x());
+    bool evaded = false;
+    const double closest =
+        ClosestApproach(evasion, {0.0, 0.0, 0.0}, {0.0, 0.0}, start, -0.8 * direction, {}, 8.0, &evaded);
+    EXPECT_TRUE(evaded) << "from " << from;
+    EXPECT_GT(closest, touching) << "from " << from;
+  }
+}
+
+TEST(EvasionTest, SomeoneWalkingAtTheRobotWhileItDrivesIsAvoided) {
+  // The same people, aimed at where the robot started while it drives on at its top speed: head-on and from
+  // behind, it must turn out of their line.
+  EvasionOptions o;
+  o.max_reverse_mps = 0.26;
+  const Evasion evasion{o};
+  for (int k = 0; k < 16; ++k) {
+    const double from = k * std::numbers::pi / 8.0;
+    const Eigen::Vector2d direction(std::cos(from), std::sin(from));
+    const double closest =
+        ClosestApproach(evasion, {0.0, 0.0, 0.0}, {0.26, 0.0}, 3.0 * direction, -0.8 * direction, {}, 8.0);
+    EXPECT_GT(closest, o.robot_radius_m + 0.25) << "from " << from;
+  }
+}
+
+TEST(EvasionTest, WithoutEvasionTheSameEncountersCollide) {
+  // The check above can fail: standing still, every one of those people walks into the robot.
+  int hits = 0;
+  for (int k = 0; k < 16; ++k) {
+    const double from = k * std::numbers::pi / 8.0;
+    const Eigen::Vector2d direction(std::cos(from), std::sin(from));
+    const Pose2 robot{0.0, 0.0, 0.0};
+    Eigen::Vector2d person = 3.0 * direction;
+    double closest = 1e9;
+    for (double t = 0.0; t < 8.0; t += 1.0 / 18.0) {
+      person -= 0.8 / 18.0 * direction;
+      closest = std::min(closest, (person - robot.translation()).norm());
+    }
+    hits += closest < 0.45 ? 1 : 0;
+  }
+  EXPECT_EQ(hits, 16);
+}
+
+TEST(EvasionTest, TheWayOutDoesNotBackIntoAWall) {
+  // A wall 0.35 m behind the robot: backing away from someone coming head-on is not allowed, stepping aside is.
+  EvasionOptions o;
+  o.max_reverse_mps = 0.26;
+  const Evasion evasion{o};
+  std::vector<Eigen::Vector2d> wall;
+  for (double y = -2.0; y <= 2.0; y += 0.05) wall.emplace_back(-0.35, y);
+  const Pose2 robot{0.0, 0.0, 0.0};
+  const EvasionResult r = evasion.Check(robot, {0.0, 0.0}, {Person({2.4, 0.0}, {-0.8, 0.0})}, wall, nullptr);
+  EXPECT_TRUE(r.evading);
+  EXPECT_GE(r.twist.linear_mps, 0.0);
+  EXPECT_GT((ClosestApproach(evasion, robot, {0.0, 0.0}, {2.6, 0.05}, {-0.8, 0.0}, wall, 6.0)), o.robot_radius_m + 0.25);
+}
+
+TEST(EvasionTest, BadOptionsAreRefused) {
+  EvasionOptions o;
+  o.step_s = 0.0;
+  EXPECT_THROW(Evasion{o}, std::invalid_argument);
+  o = {};
+  o.static_horizon_s = 10.0;
+  EXPECT_THROW(Evasion{o}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace corridor::nav
