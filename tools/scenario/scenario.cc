@@ -16,6 +16,7 @@
 #include "nav/planner/planner.h"
 #include "nav/policy/local_navigator.h"
 #include "nav/policy/reactive.h"
+#include "nav/tracking/moving_objects.h"
 
 namespace corridor::scenario {
 namespace {
@@ -76,11 +77,20 @@ World BaseWorld(const ScenarioOptions& options, int world_index, nav::OccupancyG
 
 // --trace output: one line per morp-rb decision, and what surrounded a collision.
 void TraceDecision(double now_s, const nav::Pose2& pose, const nav::LocalStep& step,
-                   const std::vector<nav::LaneResult>& lanes) {
-  std::fprintf(stderr, "t %.2f pose %.2f %.2f %.2f mode %s%s nearest %.2f twist %.2f %.2f lanes", now_s, pose.x_m,
-               pose.y_m, pose.yaw_rad, nav::ToString(step.mode), step.guarded ? " guarded" : "", step.nearest_m,
-               step.twist.linear_mps, step.twist.angular_rps);
+                   const std::vector<nav::LaneResult>& lanes, const nav::MovingObjectTracker* around) {
+  std::fprintf(stderr, "t %.2f pose %.2f %.2f %.2f mode %s%s%s nearest %.2f twist %.2f %.2f lanes", now_s, pose.x_m,
+               pose.y_m, pose.yaw_rad, nav::ToString(step.mode), step.guarded ? " guarded" : "",
+               step.evading ? " evading" : "", step.nearest_m, step.twist.linear_mps, step.twist.angular_rps);
   for (const auto& l : lanes) std::fprintf(stderr, " %.2f%s", l.free_distance_m, l.dead_end ? "*" : "");
+  if (around != nullptr) {
+    std::fprintf(stderr, " movers");
+    for (const auto& o : around->objects()) {
+      if (o.moving) {
+        std::fprintf(stderr, " (%.2f %.2f v %.2f %.2f r %.2f)", o.position.x(), o.position.y(), o.velocity.x(),
+                     o.velocity.y(), o.radius_m);
+      }
+    }
+  }
   std::fprintf(stderr, "\n");
 }
 
@@ -222,13 +232,26 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   sim.start = layout.start;
   sim.seed = layout.seed;
   sim.camera.rate_hz = options.camera_rate_hz;
-  sim.laser.enabled = false;
+  sim.laser.enabled = options.laser && policy == Policy::kMorpRb;
   sim.pedestrians = layout.routes;
   sim.crowd.radius_m = kPersonRadiusM;
   sim.base.limits.footprint_radius_m = kRobotRadiusM;
   drivers::sim::SimRobot robot(std::make_shared<const World>(layout.world), sim);
   std::shared_ptr<const drivers::RgbdFrame> pending;
   robot.SetFrameHandler([&pending](std::shared_ptr<drivers::RgbdFrame> frame) { pending = std::move(frame); });
+  // The laser's scans feed the tracker as they come (the simulator calls back inside Step, at the scan's pose).
+  nav::MovingObjectTracker tracker{nav::MovingObjectOptions{}};
+  tracker.SetMap(std::make_shared<const nav::OccupancyGrid>(layout.map));
+  robot.SetScanHandler([&](std::shared_ptr<const drivers::LaserScan> scan) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const nav::Pose2 laser = robot.true_pose() * robot.base_T_laser();
+    tracker.Update(drivers::ToSeconds(scan->stamp_ns), laser.translation(),
+                   nav::ScanToWorld(laser, scan->angle_min_rad, scan->angle_increment_rad, scan->range_min_m,
+                                    scan->range_max_m, scan->ranges));
+    result.tracking_ms.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  });
+  const nav::MovingObjectTracker* around = sim.laser.enabled ? &tracker : nullptr;
   const nav::PinholeCamera camera = robot.info().camera;
 
   const nav::Costmap costmap = RobotCostmap(layout.map);
@@ -244,6 +267,9 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   navigator_options.avoid.max_linear_mps = options.max_speed_mps;
   navigator_options.avoid.front_offset_m = kRobotRadiusM;
   navigator_options.memory.robot_radius_m = kRobotRadiusM;
+  navigator_options.evade.robot_radius_m = kRobotRadiusM;
+  navigator_options.evade.max_linear_mps = options.max_speed_mps;
+  navigator_options.evade.max_reverse_mps = options.max_speed_mps;
   nav::LocalNavigator navigator(navigator_options);
   navigator.SetPath(plan.plan.waypoints);
   nav::Morp morp(camera, nav::MorpOptions{});
@@ -308,7 +334,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
     if (policy == Policy::kMorpRb) {
       const std::vector<nav::LaneResult>& lanes = morp.Process(frame->depth_mm);
       t1 = Clock::now();
-      step = navigator.Update(pose, lanes, std::numeric_limits<double>::infinity(), dt_s);
+      step = navigator.Update(pose, lanes, std::numeric_limits<double>::infinity(), dt_s, around);
       if (step->replan) {
         plan = plan_from(pose.translation());
         if (plan.ok()) navigator.SetPath(plan.plan.waypoints);
@@ -328,7 +354,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
     const auto t2 = Clock::now();
     result.depth_ms.push_back(ms(t0, t1));
     result.policy_ms.push_back(ms(t1, t2));
-    if (options.trace && step) TraceDecision(now_s, pose, *step, morp.results());
+    if (options.trace && step) TraceDecision(now_s, pose, *step, morp.results(), around);
     robot.SetVelocity(twist);
   }
   return result;
@@ -359,6 +385,7 @@ std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results) {
     int successes = 0;
     double time = 0.0;
     std::vector<double> totals;
+    double tracking = 0.0;
     double depth = 0.0;
     double decide = 0.0;
     for (const RunResult* r : runs) {
@@ -369,6 +396,8 @@ std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results) {
       s.collision += r->outcome == Outcome::kCollision ? 1.0 : 0.0;
       s.robot_collision += r->outcome == Outcome::kCollision && r->robot_drove_into_it ? 1.0 : 0.0;
       s.timeout += r->outcome == Outcome::kTimeout ? 1.0 : 0.0;
+      for (const double t : r->tracking_ms) tracking += t;
+      s.scans += r->tracking_ms.size();
       for (std::size_t i = 0; i < r->depth_ms.size(); ++i) {
         depth += r->depth_ms[i];
         decide += r->policy_ms[i];
@@ -381,6 +410,7 @@ std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results) {
     s.timeout /= s.runs;
     s.mean_time_to_goal_s = successes > 0 ? time / successes : 0.0;
     s.frames = totals.size();
+    if (s.scans > 0) s.tracking_ms = tracking / static_cast<double>(s.scans);
     if (!totals.empty()) {
       const double n = static_cast<double>(totals.size());
       s.depth_ms = depth / n;

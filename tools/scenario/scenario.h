@@ -11,8 +11,10 @@
 // A run succeeds when the robot is within goal_tolerance_m of the goal, fails with a collision when its footprint
 // touches anything (wall, obstacle, person), and times out otherwise. People do not see the robot, so many contacts
 // are a person walking into it from its side or back; each collision also says whether the robot drove into it (it
-// was closing in faster than the person), and the tables count those separately. Localization is the simulator's ground truth:
-// the scenarios measure local navigation, as the paper's do.
+// was closing in faster than the person), and the tables count those separately. Localization is the simulator's
+// ground truth: the scenarios measure local navigation, as the paper's do. With `laser`, the robot also carries
+// corridor's optional 2D laser and morp-rb evades the moving objects it tracks (nav/tracking, nav/policy/evasion.h);
+// the voxel-reactive baseline does not use it.
 #pragma once
 
 #include <cstdint>
@@ -49,6 +51,9 @@ struct ScenarioOptions {
   double camera_rate_hz = 18.0;     // DPoom's control rate
   double timeout_s = 0.0;           // 0: three times the straight-line time, plus 20 s
   std::vector<Policy> policies = {Policy::kMorpRb, Policy::kVoxelReactive};
+  // corridor's optional 2D laser (360 beams, 10 Hz) on the robot: morp-rb then tracks moving objects around it
+  // and steps out of their way. Off: DPoom's camera only.
+  bool laser = false;
   bool trace = false;               // every morp-rb decision and every collision's surroundings on stderr
 };
 
@@ -82,6 +87,7 @@ struct RunResult {
   bool robot_drove_into_it = false;  // a collision the robot closed in on (always, for walls and obstacles)
   std::vector<double> depth_ms;      // per frame: the front end (MORP, or cloud + voxel grid + extraction)
   std::vector<double> policy_ms;     // per frame: the local policy
+  std::vector<double> tracking_ms;   // per laser scan (with `laser`): the moving-object tracker
 };
 
 // One run of `policy` in `layout`. Deterministic for a layout and policy (timings aside).
@@ -100,6 +106,8 @@ struct PolicySummary {
   double total_ms = 0.0;
   double total_p99_ms = 0.0;
   std::uint64_t frames = 0;
+  double tracking_ms = 0.0;          // mean per laser scan; 0 without the laser
+  std::uint64_t scans = 0;
 };
 
 // Every world x run x policy. `progress` (optional) gets each result as it is done.
