@@ -34,9 +34,9 @@ void Drive(DiffDriveSim& base, const nav::Twist2& command, double seconds, doubl
   }
 }
 
-TEST(IntegrateArcTest, FullCircleReturnsToStart) {
+TEST(DriveArcTest, FullCircleReturnsToStart) {
   nav::Pose2 p{1.0, 2.0, 0.3};
-  for (int i = 0; i < 1000; ++i) p = IntegrateArc(p, 0.5, 2.0 * std::numbers::pi / 10.0, 0.01);
+  for (int i = 0; i < 1000; ++i) p = nav::DriveArc(p, {0.5, 2.0 * std::numbers::pi / 10.0}, 0.01);
   EXPECT_NEAR(p.x_m, 1.0, 1e-9);
   EXPECT_NEAR(p.y_m, 2.0, 1e-9);
   EXPECT_NEAR(p.yaw_rad, 0.3, 1e-9);
