@@ -15,7 +15,7 @@ void LocalNavigator::SetPath(std::vector<Waypoint> path) {
 }
 
 LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double speed_limit_mps,
-                                 double dt_s, const MovingObjectTracker* around) {
+                                 double dt_s, const Surroundings* around) {
   LocalStep out;
   memory_.Update(robot, lanes, dt_s);
   detour_left_m_ = std::max(0.0, detour_left_m_ - last_speed_mps_ * std::max(0.0, dt_s));
@@ -68,9 +68,9 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
   return out;
 }
 
-void LocalNavigator::Evade(const Pose2& robot, const MovingObjectTracker* around, LocalStep& step) const {
+void LocalNavigator::Evade(const Pose2& robot, const Surroundings* around, LocalStep& step) const {
   if (around == nullptr) return;
-  const EvasionResult evasion = evade_.Check(robot, step.twist, around->objects(), around->static_points(), &memory_);
+  const EvasionResult evasion = evade_.Check(robot, step.twist, around->objects, around->static_points, &memory_);
   step.evading = evasion.evading;
   step.twist = evasion.twist;
 }

@@ -65,13 +65,13 @@ class LocalNavigator {
 
   // One step from the robot's pose and this frame's lanes (empty: nothing seen, the robot stops). dt_s is the time
   // since the previous step; speed_limit_mps caps the whole mission. `around` (may be null: no laser, or its
-  // scans are stale) is what the laser tracks around the robot, in the same frame as `robot`.
+  // scans are stale) is what the laser shows around the robot, in the same frame as `robot`.
   LocalStep Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double speed_limit_mps, double dt_s,
-                   const MovingObjectTracker* around = nullptr);
+                   const Surroundings* around = nullptr);
 
  private:
   // Replaces the step's twist when a tracked moving object would meet the robot on it.
-  void Evade(const Pose2& robot, const MovingObjectTracker* around, LocalStep& step) const;
+  void Evade(const Pose2& robot, const Surroundings* around, LocalStep& step) const;
 
   LocalNavigatorOptions options_;
   PathFollower follower_;

@@ -54,8 +54,8 @@ void MovingObjectTracker::SetMap(std::shared_ptr<const OccupancyGrid> map) {
 void MovingObjectTracker::Clear() {
   scans_.clear();
   newest_all_.clear();
-  objects_.clear();
-  static_points_.clear();
+  now_.objects.clear();
+  now_.static_points.clear();
 }
 
 bool MovingObjectTracker::OnMap(const Eigen::Vector2d& p) const {
@@ -86,7 +86,7 @@ const std::vector<TrackedObject>& MovingObjectTracker::Update(double stamp_s, co
   scans_.push_back(std::move(scan));
   while (static_cast<int>(scans_.size()) > options_.window_scans) scans_.pop_front();
   Cluster();
-  return objects_;
+  return now_.objects;
 }
 
 void MovingObjectTracker::Cluster() {
@@ -127,11 +127,11 @@ void MovingObjectTracker::Cluster() {
   std::unordered_map<std::size_t, std::vector<std::size_t>> clusters;  // root -> members, in time order
   for (std::size_t i = 0; i < points.size(); ++i) clusters[sets.Find(i)].push_back(i);
 
-  objects_.clear();
-  static_points_.clear();
+  now_.objects.clear();
+  now_.static_points.clear();
   // Map points of the newest scan are static; object points are added below unless they move.
   for (const Eigen::Vector2d& p : newest_all_) {
-    if (OnMap(p)) static_points_.push_back(p);
+    if (OnMap(p)) now_.static_points.push_back(p);
   }
   for (const auto& [root, members] : clusters) {
     std::vector<Eigen::Vector2d> newest;
@@ -168,11 +168,11 @@ void MovingObjectTracker::Cluster() {
         }
       }
     }
-    if (!object.moving) static_points_.insert(static_points_.end(), newest.begin(), newest.end());
-    if (static_cast<int>(members.size()) >= o.min_points) objects_.push_back(object);
+    if (!object.moving) now_.static_points.insert(now_.static_points.end(), newest.begin(), newest.end());
+    if (static_cast<int>(members.size()) >= o.min_points) now_.objects.push_back(object);
   }
   // The clusters' hash order is arbitrary: sort, so that the same scans give the same list.
-  std::sort(objects_.begin(), objects_.end(), [](const TrackedObject& a, const TrackedObject& b) {
+  std::sort(now_.objects.begin(), now_.objects.end(), [](const TrackedObject& a, const TrackedObject& b) {
     return a.position.x() != b.position.x() ? a.position.x() < b.position.x() : a.position.y() < b.position.y();
   });
 }

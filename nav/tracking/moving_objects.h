@@ -42,6 +42,12 @@ struct TrackedObject {
   int points = 0;                    // over the whole window
 };
 
+// What the laser shows around the robot after one scan: the objects and the points that stay where they are.
+struct Surroundings {
+  std::vector<TrackedObject> objects;
+  std::vector<Eigen::Vector2d> static_points;  // world frame: walls and every object that is not moving
+};
+
 // The points of one scan in the world frame: ranges[i] along angle_min_rad + i * increment_rad from the sensor at
 // `world_T_sensor`. Non-finite ranges and those outside [range_min_m, range_max_m] are skipped.
 std::vector<Eigen::Vector2d> ScanToWorld(const Pose2& world_T_sensor, double angle_min_rad, double increment_rad,
@@ -60,9 +66,10 @@ class MovingObjectTracker {
   const std::vector<TrackedObject>& Update(double stamp_s, const Eigen::Vector2d& sensor,
                                            const std::vector<Eigen::Vector2d>& world_points);
 
-  const std::vector<TrackedObject>& objects() const { return objects_; }
+  const std::vector<TrackedObject>& objects() const { return now_.objects; }
   // The newest scan's points that are not part of a moving object (walls included): what stays where it is.
-  const std::vector<Eigen::Vector2d>& static_points() const { return static_points_; }
+  const std::vector<Eigen::Vector2d>& static_points() const { return now_.static_points; }
+  const Surroundings& surroundings() const { return now_; }
   void Clear();
 
  private:
@@ -79,8 +86,7 @@ class MovingObjectTracker {
   std::deque<std::vector<Point>> scans_;  // oldest first
   double newest_stamp_s_ = 0.0;
   std::vector<Eigen::Vector2d> newest_all_;
-  std::vector<TrackedObject> objects_;
-  std::vector<Eigen::Vector2d> static_points_;
+  Surroundings now_;
 };
 
 }  // namespace corridor::nav

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -77,14 +78,14 @@ World BaseWorld(const ScenarioOptions& options, int world_index, nav::OccupancyG
 
 // --trace output: one line per morp-rb decision, and what surrounded a collision.
 void TraceDecision(double now_s, const nav::Pose2& pose, const nav::LocalStep& step,
-                   const std::vector<nav::LaneResult>& lanes, const nav::MovingObjectTracker* around) {
+                   const std::vector<nav::LaneResult>& lanes, const nav::Surroundings* around) {
   std::fprintf(stderr, "t %.2f pose %.2f %.2f %.2f mode %s%s%s nearest %.2f twist %.2f %.2f lanes", now_s, pose.x_m,
                pose.y_m, pose.yaw_rad, nav::ToString(step.mode), step.guarded ? " guarded" : "",
                step.evading ? " evading" : "", step.nearest_m, step.twist.linear_mps, step.twist.angular_rps);
   for (const auto& l : lanes) std::fprintf(stderr, " %.2f%s", l.free_distance_m, l.dead_end ? "*" : "");
   if (around != nullptr) {
     std::fprintf(stderr, " movers");
-    for (const auto& o : around->objects()) {
+    for (const auto& o : around->objects) {
       if (o.moving) {
         std::fprintf(stderr, " (%.2f %.2f v %.2f %.2f r %.2f)", o.position.x(), o.position.y(), o.velocity.x(),
                      o.velocity.y(), o.radius_m);
@@ -240,7 +241,10 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   std::shared_ptr<const drivers::RgbdFrame> pending;
   robot.SetFrameHandler([&pending](std::shared_ptr<drivers::RgbdFrame> frame) { pending = std::move(frame); });
   // The laser's scans feed the tracker as they come (the simulator calls back inside Step, at the scan's pose).
-  nav::MovingObjectTracker tracker{nav::MovingObjectOptions{}};
+  nav::MovingObjectOptions tracking_options;
+  if (const char* e = std::getenv("XW")) tracking_options.window_scans = std::atoi(e);
+  if (const char* e = std::getenv("XC")) tracking_options.cluster_distance_m = std::atof(e);
+  nav::MovingObjectTracker tracker{tracking_options};
   tracker.SetMap(std::make_shared<const nav::OccupancyGrid>(layout.map));
   robot.SetScanHandler([&](std::shared_ptr<const drivers::LaserScan> scan) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -251,7 +255,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
     result.tracking_ms.push_back(
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
   });
-  const nav::MovingObjectTracker* around = sim.laser.enabled ? &tracker : nullptr;
+  const nav::Surroundings* around = sim.laser.enabled ? &tracker.surroundings() : nullptr;
   const nav::PinholeCamera camera = robot.info().camera;
 
   const nav::Costmap costmap = RobotCostmap(layout.map);
@@ -270,6 +274,10 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   navigator_options.evade.robot_radius_m = kRobotRadiusM;
   navigator_options.evade.max_linear_mps = options.max_speed_mps;
   navigator_options.evade.max_reverse_mps = options.max_speed_mps;
+  if (const char* e = std::getenv("XH")) navigator_options.evade.horizon_s = std::atof(e);
+  if (const char* e = std::getenv("XM")) navigator_options.evade.margin_m = std::atof(e);
+  if (const char* e = std::getenv("XU")) navigator_options.evade.uncertainty_mps = std::atof(e);
+  if (const char* e = std::getenv("XS")) navigator_options.evade.static_margin_m = std::atof(e);
   nav::LocalNavigator navigator(navigator_options);
   navigator.SetPath(plan.plan.waypoints);
   nav::Morp morp(camera, nav::MorpOptions{});
