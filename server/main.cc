@@ -17,6 +17,7 @@
 #include "server/nodes/driver_bridge.h"
 #include "server/nodes/face_node.h"
 #include "server/nodes/ground_node.h"
+#include "server/nodes/tracking_node.h"
 #include "server/nodes/localization_node.h"
 #include "server/nodes/mission_node.h"
 #include "server/nodes/sim_node.h"
@@ -166,13 +167,23 @@ int Run(const CommandLine& cl) {
   Bus bus;
   Executors executors;
   PlannerService planner(executors.planning, config.planner);
+  // The laser's tracker, when there is a laser: the map's walls are not objects to track.
+  std::unique_ptr<TrackingNode> tracking_node;
+  if (config.tracking.enabled && config.sim.robot.laser.enabled) {
+    tracking_node = std::make_unique<TrackingNode>(executors.mapping, bus, wall_clock, robot.base_T_laser(),
+                                                   config.tracking.objects);
+  }
+  TrackingNode* const tracking = tracking_node.get();
   MapLibrary maps(config.store.state_dir, map_name, std::move(map_grid),
-                  [&planner](std::shared_ptr<const ActiveMap> map) {
-                    planner.SetMap(std::shared_ptr<const nav::OccupancyGrid>(map, &map->grid));
+                  [&planner, tracking](std::shared_ptr<const ActiveMap> map) {
+                    const std::shared_ptr<const nav::OccupancyGrid> grid(map, &map->grid);
+                    planner.SetMap(grid);
+                    if (tracking != nullptr) tracking->SetMap(grid);
                   });
   {
     const auto map = maps.active();
     planner.SetMap(std::shared_ptr<const nav::OccupancyGrid>(map, &map->grid));
+    if (tracking != nullptr) tracking->SetMap(std::shared_ptr<const nav::OccupancyGrid>(map, &map->grid));
     planner.SetZones(store.Zones(map->name));
     spdlog::info("map '{}': {} x {} cells at {} m", map->name, map->grid.width(), map->grid.height(),
                  map->grid.resolution_m());
@@ -197,6 +208,7 @@ int Run(const CommandLine& cl) {
   lifecycle.Add(std::make_unique<LocalizationNode>(executors.mapping, bus, wall_clock, start));
   lifecycle.Add(std::make_unique<FaceNode>(executors.perception, bus, wall_clock));
   lifecycle.Add(std::make_unique<GroundNode>(executors.control, bus, wall_clock, robot.info(), config.ground));
+  if (tracking_node) lifecycle.Add(std::move(tracking_node));
   lifecycle.Add(std::move(mission_node));
   lifecycle.Add(std::make_unique<ControlNode>(executors.control, bus, robot, wall_clock, config.safety));
   lifecycle.ConfigureAll();

@@ -115,4 +115,15 @@ describe('simulated people', () => {
       Math.hypot(p.x - first.sim_pedestrians[i].x, p.y - first.sim_pedestrians[i].y) > 0.2);
     assert.ok(moved, JSON.stringify([first.sim_pedestrians, later.sim_pedestrians]));
   });
+
+  test('are tracked by the laser, with their velocities', async () => {
+    // A person walking in view of the laser shows as a moving object near them, going their way at their speed
+    // (the laser sees a person's near side, and the state's two lists are a scan apart: hence the tolerances).
+    const matches = (st) => st.sim_pedestrians.some((p) => Math.hypot(p.vx, p.vy) > 0.4 && st.tracked_objects.some((o) =>
+      o.moving && Math.hypot(o.x - p.x, o.y - p.y) < 0.5 && Math.hypot(o.vx - p.vx, o.vy - p.vy) < 0.3));
+    const last = await waitFor(() => state(daemon.url), matches, 8000, 'a tracked person');
+    api.check('State', last);
+    const tracking = last.nodes.find((n) => n.name === 'tracking');
+    assert.equal(tracking?.health, 'ok', JSON.stringify(tracking));
+  });
 });

@@ -247,6 +247,8 @@ json Api::State() const {
   state["sim_true_pose"] = truth ? ToJson(truth->pose) : json(nullptr);
   const auto people = c_.bus.Get(topics::kSimPedestrians).latest();
   state["sim_pedestrians"] = people ? ToJson(*people) : json::array();
+  const auto tracked = c_.bus.Get(topics::kTrackedObjects).latest();
+  state["tracked_objects"] = tracked ? ToJson(*tracked) : json::array();
   json obstacles = json::array();
   for (const drivers::sim::StaticObstacle& o : c_.config.sim.obstacles) {
     obstacles.push_back({{"shape", o.shape == drivers::sim::StaticObstacle::Shape::kBox ? "box" : "cylinder"},

@@ -14,6 +14,9 @@ using nlohmann::json;
 constexpr double kRateHz = 20.0;
 // No depth frame for this long: the mission holds the robot still (the control loop also refuses forward motion).
 constexpr double kNoFramesS = 0.2;
+// Tracked objects older than this (three scans of a 10 Hz laser) are not used: a laser that stops answering leaves
+// the robot with MORP and the obstacle memory, as without a laser.
+constexpr double kStaleTrackingS = 0.3;
 
 json PoseJson(const nav::Pose2& p) { return {{"x", p.x_m}, {"y", p.y_m}, {"yaw", p.yaw_rad}}; }
 
@@ -201,9 +204,13 @@ void MissionNode::Drive(const GroundLanes& lanes) {
   const auto pose = bus_.Get(topics::kPose).latest();
   if (!pose) return;
   auto& command = bus_.Get(topics::kMissionCommand);
-  const nav::LocalStep step = navigator_.Update(pose->pose, lanes.lanes, mission_->speed_limit_mps(), dt_s);
+  // The laser's tracked objects, while they are fresh: people to step out of the way of.
+  const auto tracked = bus_.Get(topics::kTrackedObjects).latest();
+  const bool fresh = tracked && drivers::ToSeconds(now - tracked->received_ns) < kStaleTrackingS;
+  const nav::LocalStep step = navigator_.Update(pose->pose, lanes.lanes, mission_->speed_limit_mps(), dt_s,
+                                                fresh ? &tracked->surroundings : nullptr);
   remaining_m_ = step.remaining_m;
-  policy_mode_ = nav::ToString(step.mode);
+  policy_mode_ = step.evading ? "evade" : nav::ToString(step.mode);
   if (step.done) {
     mission_->GoalReached();
     navigator_.Clear();
@@ -219,7 +226,7 @@ void MissionNode::Drive(const GroundLanes& lanes) {
     navigator_.Clear();
     ++generation_;
     planning_ = false;
-    command.Publish(MissionCommand{now, {}});
+    command.Publish(MissionCommand{now, step.twist});  // still, unless stepping out of someone's way
     return;
   }
   command.Publish(MissionCommand{now, step.twist, true, lanes.arrival_ns});

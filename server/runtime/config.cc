@@ -118,6 +118,27 @@ void ReadAvoid(ConfigReader& r, nav::MorpRbOptions& o) {
   }
 }
 
+void ReadEvade(ConfigReader& r, nav::EvasionOptions& o) {
+  r.Read("margin_m", o.margin_m, 0.0, 2.0);
+  r.Read("horizon_s", o.horizon_s, 0.5, 10.0);
+  r.Read("uncertainty_mps", o.uncertainty_mps, 0.0, 2.0);
+  r.Read("max_reverse_mps", o.max_reverse_mps, 0.0, 2.0);
+  r.Read("max_turn_rps", o.max_turn_rps, 0.1, 6.0);
+  o.static_horizon_s = std::min(o.static_horizon_s, o.horizon_s);
+}
+
+void ReadTracking(ConfigReader& r, TrackingOptions& t) {
+  nav::MovingObjectOptions& o = t.objects;
+  r.Read("enabled", t.enabled);
+  r.Read("window_scans", o.window_scans, 2, 100);
+  r.Read("cluster_distance_m", o.cluster_distance_m, 0.01, 2.0);
+  r.Read("time_scale_mps", o.time_scale_mps, 0.01, 10.0);
+  r.Read("min_points", o.min_points, 2, 10000);
+  r.Read("moving_speed_mps", o.moving_speed_mps, 0.0, 5.0);
+  r.Read("map_clearance_m", o.map_clearance_m, 0.0, 1.0);
+  r.Read("range_m", o.range_m, 0.5, 100.0);
+}
+
 void ReadMission(ConfigReader& r, nav::LocalNavigatorOptions& navigator) {
   nav::FollowerOptions& o = navigator.follower;
   r.Read("k_rho", o.gains.k_rho, -100.0, 100.0);
@@ -139,6 +160,7 @@ void ReadMission(ConfigReader& r, nav::LocalNavigatorOptions& navigator) {
   o.yaw_tolerance_rad = yaw_tolerance_deg * kDegToRad;
   r.Read("replan_distance_m", navigator.replan_distance_m, 0.1, 100.0);
   r.Section("avoid", [&](ConfigReader& a) { ReadAvoid(a, navigator.avoid); });
+  r.Section("evade", [&](ConfigReader& e) { ReadEvade(e, navigator.evade); });
 }
 
 drivers::sim::StaticObstacle ReadObstacle(ConfigReader& r) {
@@ -225,12 +247,15 @@ Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
     r.Section("ground", [&](ConfigReader& s) { ReadGround(s, config.ground); });
     r.Section("planner", [&](ConfigReader& s) { ReadPlanner(s, config.planner); });
     r.Section("mission", [&](ConfigReader& s) { ReadMission(s, config.mission); });
+    r.Section("tracking", [&](ConfigReader& s) { ReadTracking(s, config.tracking); });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();
     // MORP-RB brakes by the control loop's model.
     config.mission.avoid.stopping = config.safety.stopping;
     config.mission.avoid.front_offset_m = config.safety.front_offset_m;
     config.mission.memory.robot_radius_m = config.safety.front_offset_m;
+    config.mission.evade.robot_radius_m = config.safety.front_offset_m;
+    config.mission.evade.max_linear_mps = config.mission.follower.max_linear_mps;
     config.mission.corridor_half_width_m = config.safety.corridor_half_width_m;
   } catch (const ConfigError& e) {
     throw ConfigError(file.string() + ": " + e.what());

@@ -12,6 +12,7 @@
 #include "nav/planner/costmap.h"
 #include "nav/safety/stopping.h"
 #include "nav/policy/local_navigator.h"
+#include "nav/tracking/moving_objects.h"
 #include "server/runtime/config_reader.h"  // ConfigError
 
 namespace corridor::server {
@@ -59,8 +60,14 @@ struct SimulatorOptions {
   double pedestrians_within_m = 8.0;
 };
 
+// The laser's moving-object tracker (nav/tracking); without a laser it has nothing to do.
+struct TrackingOptions {
+  bool enabled = true;
+  nav::MovingObjectOptions objects;
+};
+
 // ground: nav::MorpOptions; planner: nav::CostmapOptions; mission: nav::LocalNavigatorOptions (the follower's
-// fields at the top, MORP-RB's under avoid; their fields are the keys, with units).
+// fields at the top, MORP-RB's under avoid, evasion's under evade; their fields are the keys, with units).
 
 struct LogOptions {
   std::string level = "info";           // trace, debug, info, warn, error
@@ -75,6 +82,7 @@ struct Config {
   nav::MorpOptions ground;
   nav::CostmapOptions planner;
   nav::LocalNavigatorOptions mission;
+  TrackingOptions tracking;
   LogOptions log;
 };
 

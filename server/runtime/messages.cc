@@ -21,6 +21,15 @@ nlohmann::json ToJson(const SimPedestrians& p) {
   return people;
 }
 
+nlohmann::json ToJson(const TrackedObjects& t) {
+  nlohmann::json objects = nlohmann::json::array();
+  for (const nav::TrackedObject& o : t.surroundings.objects) {
+    objects.push_back({{"x", o.position.x()}, {"y", o.position.y()}, {"vx", o.velocity.x()}, {"vy", o.velocity.y()},
+                       {"radius_m", o.radius_m}, {"moving", o.moving}});
+  }
+  return objects;
+}
+
 nlohmann::json ToJson(const FaceState& face) { return {{"expression", face.expression}}; }
 
 nlohmann::json ToJson(const GroundLanes& g) {

@@ -11,6 +11,7 @@
 #include "drivers/laser2d.h"
 #include "nav/geometry/pose2.h"
 #include "nav/ground/morp.h"
+#include "nav/tracking/moving_objects.h"
 
 namespace corridor::server {
 
@@ -67,6 +68,13 @@ struct GroundLanes {
   std::vector<nav::LaneResult> lanes;
 };
 
+// What the laser's moving-object tracker (nav/tracking) shows after one scan, in the map frame.
+struct TrackedObjects {
+  drivers::TimeNs stamp_ns = 0;      // the scan's
+  drivers::TimeNs received_ns = 0;   // when the tracker took the scan, on the daemon's clock: its age for the mission
+  nav::Surroundings surroundings;
+};
+
 // The simulator's people, as they are now (ground truth, for the console).
 struct SimPedestrians {
   struct Person {
@@ -85,6 +93,7 @@ struct FaceState {
 nlohmann::json ToJson(const ControlLatency& latency);
 nlohmann::json ToJson(const FaceState& face);
 nlohmann::json ToJson(const SimPedestrians& pedestrians);
+nlohmann::json ToJson(const TrackedObjects& tracked);  // the objects only, not the static points
 nlohmann::json ToJson(const GroundLanes& lanes);
 nlohmann::json ToJson(const MissionState& mission);
 nlohmann::json ToJson(const nav::Pose2& pose);

@@ -18,6 +18,7 @@ inline constexpr TopicName<FaceState> kFaceExpression{"face/expression"};
 inline constexpr TopicName<MissionCommand> kMissionCommand{"mission/command"};
 inline constexpr TopicName<MissionState> kMission{"mission"};
 inline constexpr TopicName<GroundLanes> kGroundLanes{"ground/lanes"};
+inline constexpr TopicName<TrackedObjects> kTrackedObjects{"tracking/objects"};
 inline constexpr TopicName<ControlLatency> kControlLatency{"control/latency"};
 
 }  // namespace corridor::server::topics

@@ -65,6 +65,7 @@ function showState(state: State, view: MapView | null): void {
   showMission(state.mission);
   view?.showRobot(state.pose, state.sim_true_pose);
   view?.showSimulation(state.sim_pedestrians, state.sim_obstacles);
+  view?.showTracked(state.tracked_objects);
   view?.showMission(state.mission);
 }
 

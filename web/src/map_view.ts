@@ -3,7 +3,7 @@
 // the obstacles it adds to the world), and the mission's path and waypoints.
 import L from 'leaflet';
 
-import type { MapInfo, Mission, Pose, SimObstacle, SimPerson } from './api';
+import type { MapInfo, Mission, Pose, SimObstacle, SimPerson, TrackedObject } from './api';
 
 const kTrailLength = 600;
 
@@ -21,6 +21,7 @@ export class MapView {
   private readonly missionGoals = L.layerGroup();
   private readonly deadEnds = L.layerGroup();
   private readonly simPeople = L.layerGroup();
+  private readonly tracked = L.layerGroup();
   private readonly simObstacles = L.layerGroup();
   private shownObstacles = '';
   private followed = false;
@@ -37,6 +38,7 @@ export class MapView {
     this.deadEnds.addTo(this.map);
     this.simObstacles.addTo(this.map);
     this.simPeople.addTo(this.map);
+    this.tracked.addTo(this.map);
     this.ghost = L.circle([0, 0], { radius: footprintRadius, color: '#888', weight: 1, fill: false, dashArray: '3',
       className: 'robot-truth' });
     this.footprint = L.circle([0, 0], { radius: footprintRadius, color: '#1f6feb', weight: 2, fillOpacity: 0.5,
@@ -86,6 +88,24 @@ export class MapView {
         return toLatLng(o.x + lx * Math.cos(o.yaw) - ly * Math.sin(o.yaw), o.y + lx * Math.sin(o.yaw) + ly * Math.cos(o.yaw));
       });
       L.polygon(corners, style).addTo(this.simObstacles);
+    }
+  }
+
+  // What the laser tracks: moving objects as dashed rings with their velocity over the next second, standing ones
+  // as small grey rings.
+  showTracked(objects: TrackedObject[]): void {
+    this.tracked.clearLayers();
+    for (const o of objects) {
+      const radius = Math.max(o.radius_m, 0.1);
+      if (!o.moving) {
+        L.circle(toLatLng(o.x, o.y), { radius, color: '#6e7781', weight: 1, fill: false, className: 'tracked-still' })
+          .addTo(this.tracked);
+        continue;
+      }
+      L.circle(toLatLng(o.x, o.y), { radius, color: '#cf222e', weight: 2, dashArray: '4 3', fill: false,
+        className: 'tracked-moving' }).addTo(this.tracked);
+      L.polyline([toLatLng(o.x, o.y), toLatLng(o.x + o.vx, o.y + o.vy)], { color: '#cf222e', weight: 2 })
+        .addTo(this.tracked);
     }
   }
 
