@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
+#include <optional>
 #include <stdexcept>
+#include <utility>
 
 namespace corridor::nav {
 namespace {
@@ -20,116 +21,139 @@ Evasion::Evasion(const EvasionOptions& options) : options_(options) {
   if (options.static_horizon_s < 0.0 || options.static_horizon_s > options.horizon_s) {
     throw std::invalid_argument("evasion: static_horizon_s must be within [0, horizon_s]");
   }
+  if (options.first_s < 0.0 || options.first_s > options.horizon_s) {
+    throw std::invalid_argument("evasion: first_s must be within [0, horizon_s]");
+  }
   if (!(options.max_linear_mps > 0.0) || options.max_reverse_mps < 0.0 || !(options.max_turn_rps > 0.0)) {
     throw std::invalid_argument("evasion: speeds must be positive");
   }
+  steps_ = static_cast<int>(std::round(options.horizon_s / options.step_s));
+  first_steps_ = static_cast<int>(std::round(options.first_s / options.step_s));
 }
 
-Eigen::Vector2d Evasion::At(const Pose2& robot, const Manoeuvre& m, double t) const {
-  const double turn_s = std::abs(m.turn_rad) / options_.max_turn_rps;
-  if (t <= turn_s) return robot.translation();
-  const Pose2 turned{robot.x_m, robot.y_m, robot.yaw_rad + m.turn_rad};
-  return DriveArc(turned, m.drive, t - turn_s).translation();
-}
-
-Twist2 Evasion::FirstTwist(const Manoeuvre& m) const {
-  if (m.turn_rad == 0.0) return m.drive;
-  return {0.0, m.turn_rad > 0.0 ? options_.max_turn_rps : -options_.max_turn_rps};
-}
-
-Evasion::Score Evasion::Predict(const Pose2& robot, const Manoeuvre& m, const std::vector<Mover>& movers) const {
-  Score score{kInfinity, kInfinity};
-  std::vector<double> previous(movers.size());
-  for (std::size_t i = 0; i < movers.size(); ++i) {
-    previous[i] = (movers[i].position - robot.translation()).norm() - movers[i].clearance_m;
-    score.closest_m = std::min(score.closest_m, previous[i]);
+void Evasion::Trace(const Pose2& robot, const Twist2& first, int first_steps, const Twist2& then,
+                    std::vector<Eigen::Vector2d>& at) const {
+  at.resize(static_cast<std::size_t>(steps_));
+  const double dt = options_.step_s;
+  const Pose2 mid = DriveArc(robot, first, first_steps * dt);
+  for (int k = 1; k <= steps_; ++k) {
+    at[k - 1] = k <= first_steps ? DriveArc(robot, first, k * dt).translation()
+                                 : DriveArc(mid, then, (k - first_steps) * dt).translation();
   }
-  const int steps = static_cast<int>(std::round(options_.horizon_s / options_.step_s));
-  for (int k = 1; k <= steps; ++k) {
-    const double t = k * options_.step_s;
-    const Eigen::Vector2d at = At(robot, m, t);
-    for (std::size_t i = 0; i < movers.size(); ++i) {
-      const double gap = (movers[i].position + t * movers[i].velocity - at).norm() - movers[i].clearance_m -
-                         options_.uncertainty_mps * t;
+}
+
+Evasion::Score Evasion::Predict(const Pose2& robot, const std::vector<Eigen::Vector2d>& at,
+                                const std::vector<Mover>& movers) const {
+  Score score{kInfinity, kInfinity};
+  for (const Mover& m : movers) {
+    double previous = (m.position - robot.translation()).norm() - m.clearance_m;
+    score.closest_m = std::min(score.closest_m, previous);
+    for (int k = 1; k <= steps_; ++k) {
+      const double t = k * options_.step_s;
+      const double gap =
+          (m.position + t * m.velocity - at[k - 1]).norm() - m.clearance_m - options_.uncertainty_mps * t;
       // Overlapping and still closing in; overlapping while separating is how the robot gets out.
-      if (gap < 0.0 && gap < previous[i] - 1e-6) score.conflict_s = std::min(score.conflict_s, t);
+      if (gap < 0.0 && gap < previous - 1e-6) score.conflict_s = std::min(score.conflict_s, t);
       score.closest_m = std::min(score.closest_m, gap);
-      previous[i] = gap;
+      previous = gap;
     }
   }
   return score;
 }
 
-bool Evasion::StaticBlocked(const Pose2& robot, const Manoeuvre& m, const std::vector<Eigen::Vector2d>& near,
-                            const ObstacleMemory* memory) const {
-  if (memory != nullptr && memory->Blocks({robot.x_m, robot.y_m, robot.yaw_rad + m.turn_rad}, m.drive)) return true;
+bool Evasion::StaticBlocked(const Pose2& robot, const std::vector<Eigen::Vector2d>& at, int steps,
+                            const std::vector<Eigen::Vector2d>& near) const {
   const double clearance = options_.robot_radius_m + options_.static_margin_m;
-  double now = kInfinity;
-  for (const Eigen::Vector2d& p : near) now = std::min(now, (p - robot.translation()).norm());
-  const int steps = static_cast<int>(std::round(options_.static_horizon_s / options_.step_s));
-  for (int k = 1; k <= steps; ++k) {
-    const Eigen::Vector2d at = At(robot, m, k * options_.step_s);
-    for (const Eigen::Vector2d& p : near) {
-      const double d = (p - at).norm();
-      if (d < clearance && d < now - 1e-6) return true;
+  for (const Eigen::Vector2d& p : near) {
+    double previous = (p - robot.translation()).norm();
+    for (int k = 1; k <= steps; ++k) {
+      const double d = (p - at[k - 1]).norm();
+      if (d < clearance && d < previous - 1e-6) return true;
+      previous = d;
     }
   }
   return false;
 }
 
-EvasionResult Evasion::Check(const Pose2& robot, const Twist2& command, const std::vector<TrackedObject>& objects,
-                             const std::vector<Eigen::Vector2d>& static_points, const ObstacleMemory* memory) const {
+EvasionResult Evasion::Check(const Pose2& robot, const Twist2& command, const Eigen::Vector2d& target,
+                             const std::vector<TrackedObject>& objects,
+                             const std::vector<Eigen::Vector2d>& static_points, const ObstacleMemory* memory) {
   const EvasionOptions& o = options_;
   std::vector<Mover> movers;
   for (const TrackedObject& object : objects) {
     if (!object.moving) continue;
     const double radius = std::max(object.radius_m, o.min_object_radius_m);
     const Eigen::Vector2d away = object.position - robot.translation();
-    const Eigen::Vector2d centre =
-        object.position + (away.norm() > 1e-6 ? away.normalized() : Eigen::Vector2d::Zero()) * o.far_side_fraction * radius;
+    const Eigen::Vector2d centre = object.position + (away.norm() > 1e-6 ? away.normalized() : Eigen::Vector2d::Zero()) *
+                                                         o.far_side_fraction * radius;
     movers.push_back({centre, object.velocity, o.robot_radius_m + radius + o.margin_m});
   }
+  const std::optional<Twist2> last = std::exchange(last_, std::nullopt);
   EvasionResult result{command, false, kInfinity};
   if (movers.empty()) return result;
-  const Score nominal = Predict(robot, {0.0, command}, movers);
-  if (nominal.conflict_s == kInfinity) return result;
+  std::vector<Eigen::Vector2d> at;
+  Trace(robot, command, steps_, command, at);
+  if (Predict(robot, at, movers).conflict_s == kInfinity) return result;
 
   std::vector<Eigen::Vector2d> near;
   for (const Eigen::Vector2d& p : static_points) {
     if ((p - robot.translation()).norm() <= o.static_reach_m) near.push_back(p);
   }
-  std::vector<Manoeuvre> candidates;
+  const int static_steps = static_cast<int>(std::round(o.static_horizon_s / o.step_s));
+  std::vector<Twist2> twists;
   const double w = o.max_turn_rps;
   for (const double v : {o.max_linear_mps, 0.5 * o.max_linear_mps, 0.0, -0.5 * o.max_reverse_mps, -o.max_reverse_mps}) {
-    for (const double turn : {0.0, 0.35 * w, -0.35 * w, 0.7 * w, -0.7 * w, w, -w}) candidates.push_back({0.0, {v, turn}});
+    for (const double turn : {0.0, 0.5 * w, -0.5 * w, w, -w}) twists.push_back({v, turn});
   }
-  for (const double turn : {std::numbers::pi / 4.0, -std::numbers::pi / 4.0, std::numbers::pi / 2.0, -std::numbers::pi / 2.0}) {
-    for (const double v : {o.max_linear_mps, -o.max_reverse_mps}) candidates.push_back({turn, {v, 0.0}});
-  }
-  // Keeping the speed matters more than keeping the turn, as in the obstacle memory's guard.
-  const auto cost = [&](const Twist2& t) {
-    return 2.0 * std::abs(t.linear_mps - command.linear_mps) + std::abs(t.angular_rps - command.angular_rps);
+  struct Candidate {
+    Twist2 first;
+    Twist2 then;
+    double value;
+    Score score;
   };
-  bool found_clear = false;
-  Manoeuvre best;  // standing still, unless something better is found
-  Score best_score = Predict(robot, best, movers);
-  for (const Manoeuvre& candidate : candidates) {
-    if (candidate.drive.linear_mps != 0.0 && StaticBlocked(robot, candidate, near, memory)) continue;
-    const Score score = Predict(robot, candidate, movers);
-    if (score.conflict_s == kInfinity) {
-      if (!found_clear || cost(FirstTwist(candidate)) < cost(FirstTwist(best))) {
-        best = candidate;
-        best_score = score;
+  std::vector<Candidate> clear;
+  std::optional<Candidate> least_bad;
+  const double distance_now = (target - robot.translation()).norm();
+  for (const Twist2& first : twists) {
+    // The first part must keep clear of what stands still; the whole manoeuvre is checked once chosen.
+    Trace(robot, first, steps_, first, at);
+    const bool moves = first.linear_mps != 0.0;
+    if (moves && ((memory != nullptr && memory->Blocks(robot, first)) || StaticBlocked(robot, at, static_steps, near))) {
+      continue;
+    }
+    for (const Twist2& then : twists) {
+      Trace(robot, first, first_steps_, then, at);
+      const Score score = Predict(robot, at, movers);
+      const double progress = distance_now - (target - at.back()).norm();
+      const double value = progress - o.social_weight * std::max(0.0, o.social_m - score.closest_m) -
+                           o.smooth_weight * (std::abs(first.linear_mps - command.linear_mps) +
+                                              std::abs(first.angular_rps - command.angular_rps) / 3.0) +
+                           (last && last->linear_mps == first.linear_mps && last->angular_rps == first.angular_rps
+                                ? o.commit_bonus
+                                : 0.0);
+      const Candidate candidate{first, then, value, score};
+      if (score.conflict_s == kInfinity) {
+        clear.push_back(candidate);
+      } else if (!least_bad || score.closest_m > least_bad->score.closest_m + 1e-6 ||
+                 (score.closest_m > least_bad->score.closest_m - 1e-6 &&
+                  score.conflict_s > least_bad->score.conflict_s)) {
+        least_bad = candidate;
       }
-      found_clear = true;
-    } else if (!found_clear &&
-               (score.closest_m > best_score.closest_m + 1e-6 ||
-                (score.closest_m > best_score.closest_m - 1e-6 && score.conflict_s > best_score.conflict_s))) {
-      best = candidate;
-      best_score = score;
     }
   }
-  return {FirstTwist(best), true, best_score.conflict_s};
+  std::sort(clear.begin(), clear.end(), [](const Candidate& a, const Candidate& b) { return a.value > b.value; });
+  for (const Candidate& c : clear) {
+    Trace(robot, c.first, first_steps_, c.then, at);
+    if (!StaticBlocked(robot, at, steps_, near)) {
+      last_ = c.first;
+      return {c.first, true, kInfinity};
+    }
+  }
+  if (least_bad) {
+    last_ = least_bad->first;
+    return {least_bad->first, true, least_bad->score.conflict_s};
+  }
+  return {{0.0, 0.0}, true, 0.0};  // every way moves into something standing: stand still
 }
 
 }  // namespace corridor::nav

@@ -1,20 +1,22 @@
 // Stepping out of the way of people: the last check on a command before it goes out, when a laser tracks moving
 // objects around the robot (nav/tracking/moving_objects.h).
 //
-// Each moving object is predicted at constant velocity for a horizon, the robot along the arc of a command; a
-// command is in conflict when the two footprints (with a margin) come closer than that while still closing in.
-// A command without conflict passes unchanged. Otherwise, as in a dynamic window (Fox, Burgard and Thrun, 1997)
-// with velocity obstacles' prediction (Fiorini and Shiller, 1998), a set of manoeuvres is searched: arcs (forward,
-// stopped, reversing, each bending either way) and, since a differential base cannot move sideways, turning in
-// place by 45 or 90 degrees either way and then driving straight forward or back. The clear one nearest the
-// command wins if there is one, else the one that puts the conflict latest and keeps the closest approach widest;
-// its first twist goes out, and the search is made again on the next frame. Every candidate must also keep clear
-// of what stands still (the scan's static points and the obstacle memory's) over a shorter horizon.
+// Each moving object is predicted at constant velocity for a horizon, the robot along a manoeuvre; a manoeuvre is in
+// conflict when the two footprints (with a margin that grows with the prediction time) come closer than that while
+// still closing in. A command without conflict passes unchanged. Otherwise a dynamic window (Fox, Burgard and
+// Thrun, 1997) with velocity obstacles' prediction (Fiorini and Shiller, 1998) is searched over two-part
+// manoeuvres: one twist for the first second, another for the rest of the horizon (so "wait, then cross behind
+// them" and "turn away, then drive on" are in the set, which a single arc cannot express for a differential base).
+// Of the manoeuvres without conflict that keep clear of what stands still (the scan's static points and the obstacle
+// memory), the one making the most progress toward the target wins, less a penalty for passing close to people and
+// for leaving the command; if none is without conflict, the one keeping the closest approach widest. Its first twist
+// goes out, and the search is made again on the next frame.
 //
 // People in the DPoom protocol do not see the robot: a person walking into it from the side or from behind is
 // avoided only by moving. This is corridor's addition; the paper's policies react to the camera's view alone.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -43,6 +45,12 @@ struct EvasionOptions {
   double max_reverse_mps = 0.2;     // the laser sees behind: backing away is often the shortest way out
   double max_turn_rps = 1.0;
   double static_reach_m = 2.0;       // static points farther than this cannot matter within the horizon
+  double first_s = 1.0;              // the first part of a manoeuvre; the second lasts to the horizon
+  double social_m = 0.3;             // passing a person with less than this beyond the margin costs...
+  double social_weight = 1.0;        // ...this much per metre short of it, against metres of progress
+  double smooth_weight = 0.2;        // and leaving the command costs this per m/s (and per 3 rad/s);
+  double commit_bonus = 0.15;        // keeping the previous frame's evasive twist is worth this: a way out chosen
+                                     // is followed, not swapped for its mirror image on the next frame
 };
 
 struct EvasionResult {
@@ -55,19 +63,17 @@ class Evasion {
  public:
   explicit Evasion(const EvasionOptions& options);  // throws std::invalid_argument for bad options
 
-  // `command` if it keeps clear of every moving object in `objects` for the horizon; else the best candidate.
-  // `static_points` (world frame) and `memory` (may be null) are what must not be driven into.
-  EvasionResult Check(const Pose2& robot, const Twist2& command, const std::vector<TrackedObject>& objects,
-                      const std::vector<Eigen::Vector2d>& static_points, const ObstacleMemory* memory) const;
+  // `command` if it keeps clear of every moving object in `objects` for the horizon; else the first twist of the
+  // best manoeuvre toward `target` (world frame; the robot's own position: no preference). `static_points` (world
+  // frame) and `memory` (may be null) are what must not be driven into.
+  // Remembers its choice for the next call's commit_bonus.
+  EvasionResult Check(const Pose2& robot, const Twist2& command, const Eigen::Vector2d& target,
+                      const std::vector<TrackedObject>& objects, const std::vector<Eigen::Vector2d>& static_points,
+                      const ObstacleMemory* memory);
 
   const EvasionOptions& options() const { return options_; }
 
  private:
-  // Turn in place by turn_rad at max_turn_rps, then drive `drive`.
-  struct Manoeuvre {
-    double turn_rad = 0.0;
-    Twist2 drive;
-  };
   struct Mover {
     Eigen::Vector2d position;
     Eigen::Vector2d velocity;
@@ -77,12 +83,16 @@ class Evasion {
     double conflict_s;   // first conflict time; infinity when none
     double closest_m;    // the smallest gap over the horizon (negative: overlapping)
   };
-  Eigen::Vector2d At(const Pose2& robot, const Manoeuvre& m, double t) const;
-  Twist2 FirstTwist(const Manoeuvre& m) const;
-  Score Predict(const Pose2& robot, const Manoeuvre& m, const std::vector<Mover>& movers) const;
-  bool StaticBlocked(const Pose2& robot, const Manoeuvre& m, const std::vector<Eigen::Vector2d>& near,
-                     const ObstacleMemory* memory) const;
+  // Where the robot is at each step (1..steps) of a manoeuvre of `first` for first_steps steps, then `then`.
+  void Trace(const Pose2& robot, const Twist2& first, int first_steps, const Twist2& then,
+             std::vector<Eigen::Vector2d>& at) const;
+  Score Predict(const Pose2& robot, const std::vector<Eigen::Vector2d>& at, const std::vector<Mover>& movers) const;
+  bool StaticBlocked(const Pose2& robot, const std::vector<Eigen::Vector2d>& at, int steps,
+                     const std::vector<Eigen::Vector2d>& near) const;
 
+  int steps_;        // prediction steps over the horizon
+  int first_steps_;  // of them, the first part's
+  std::optional<Twist2> last_;  // the previous call's evasive twist; none when it did not evade
   EvasionOptions options_;
 };
 

@@ -9,6 +9,9 @@
 namespace corridor::nav {
 namespace {
 
+// Where the robot is heading: 5 m on along its start heading.
+const Eigen::Vector2d kTarget(5.0, 0.0);
+
 TrackedObject Person(const Eigen::Vector2d& at, const Eigen::Vector2d& velocity) {
   TrackedObject o;
   o.position = at;
@@ -21,7 +24,7 @@ TrackedObject Person(const Eigen::Vector2d& at, const Eigen::Vector2d& velocity)
 
 // The closest distance between the robot's and a person's centres while the robot, driven by Evasion on every
 // 1/18 s step from `command`, and the person, walking straight at constant velocity, move for `seconds`.
-double ClosestApproach(const Evasion& evasion, Pose2 robot, const Twist2& command, Eigen::Vector2d person,
+double ClosestApproach(Evasion evasion, Pose2 robot, const Twist2& command, Eigen::Vector2d person,
                        const Eigen::Vector2d& velocity, const std::vector<Eigen::Vector2d>& walls, double seconds,
                        bool* evaded = nullptr) {
   const double dt = 1.0 / 18.0;
@@ -29,7 +32,7 @@ double ClosestApproach(const Evasion& evasion, Pose2 robot, const Twist2& comman
   for (double t = 0.0; t < seconds; t += dt) {
     // The laser sees the near side of the person: report the centroid there, as the tracker would.
     const Eigen::Vector2d seen = person - 0.16 * (person - robot.translation()).normalized();
-    const EvasionResult r = evasion.Check(robot, command, {Person(seen, velocity)}, walls, nullptr);
+    const EvasionResult r = evasion.Check(robot, command, kTarget, {Person(seen, velocity)}, walls, nullptr);
     if (evaded != nullptr) *evaded = *evaded || r.evading;
     robot = DriveArc(robot, r.twist, dt);
     person += dt * velocity;
@@ -39,16 +42,16 @@ double ClosestApproach(const Evasion& evasion, Pose2 robot, const Twist2& comman
 }
 
 TEST(EvasionTest, NothingMovingOrNothingComingLeavesTheCommandAlone) {
-  const Evasion evasion{EvasionOptions{}};
+  Evasion evasion{EvasionOptions{}};
   const Pose2 robot{0.0, 0.0, 0.0};
   const Twist2 command{0.26, 0.1};
-  EXPECT_FALSE(evasion.Check(robot, command, {}, {}, nullptr).evading);
+  EXPECT_FALSE(evasion.Check(robot, command, kTarget, {}, {}, nullptr).evading);
   // Standing people are walls' business (static points), not evasion's.
-  EXPECT_FALSE(evasion.Check(robot, command, {Person({1.0, 0.0}, {0.0, 0.0})}, {}, nullptr).evading);
+  EXPECT_FALSE(evasion.Check(robot, command, kTarget, {Person({1.0, 0.0}, {0.0, 0.0})}, {}, nullptr).evading);
   // Walking away, or crossing well ahead.
-  EXPECT_FALSE(evasion.Check(robot, command, {Person({2.0, 0.0}, {0.8, 0.0})}, {}, nullptr).evading);
-  EXPECT_FALSE(evasion.Check(robot, command, {Person({4.0, -3.0}, {0.0, 0.8})}, {}, nullptr).evading);
-  const EvasionResult unchanged = evasion.Check(robot, command, {Person({4.0, -3.0}, {0.0, 0.8})}, {}, nullptr);
+  EXPECT_FALSE(evasion.Check(robot, command, kTarget, {Person({2.0, 0.0}, {0.8, 0.0})}, {}, nullptr).evading);
+  EXPECT_FALSE(evasion.Check(robot, command, kTarget, {Person({4.0, -3.0}, {0.0, 0.8})}, {}, nullptr).evading);
+  const EvasionResult unchanged = evasion.Check(robot, command, kTarget, {Person({4.0, -3.0}, {0.0, 0.8})}, {}, nullptr);
   EXPECT_EQ(unchanged.twist.linear_mps, command.linear_mps);
   EXPECT_EQ(unchanged.twist.angular_rps, command.angular_rps);
 }
@@ -58,7 +61,7 @@ TEST(EvasionTest, SomeoneWalkingIntoTheRobotFromAnySideIsAvoided) {
   // away and from every direction.
   EvasionOptions o;
   o.max_reverse_mps = 0.26;
-  const Evasion evasion{o};
+  Evasion evasion{o};
   const double touching = o.robot_radius_m + 0.25;
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> offset(-0.2, 0.2);
@@ -79,7 +82,7 @@ TEST(EvasionTest, SomeoneWalkingAtTheRobotWhileItDrivesIsAvoided) {
   // behind, it must turn out of their line.
   EvasionOptions o;
   o.max_reverse_mps = 0.26;
-  const Evasion evasion{o};
+  Evasion evasion{o};
   for (int k = 0; k < 16; ++k) {
     const double from = k * std::numbers::pi / 8.0;
     const Eigen::Vector2d direction(std::cos(from), std::sin(from));
@@ -111,11 +114,11 @@ TEST(EvasionTest, TheWayOutDoesNotBackIntoAWall) {
   // A wall 0.35 m behind the robot: backing away from someone coming head-on is not allowed, stepping aside is.
   EvasionOptions o;
   o.max_reverse_mps = 0.26;
-  const Evasion evasion{o};
+  Evasion evasion{o};
   std::vector<Eigen::Vector2d> wall;
   for (double y = -2.0; y <= 2.0; y += 0.05) wall.emplace_back(-0.35, y);
   const Pose2 robot{0.0, 0.0, 0.0};
-  const EvasionResult r = evasion.Check(robot, {0.0, 0.0}, {Person({2.4, 0.0}, {-0.8, 0.0})}, wall, nullptr);
+  const EvasionResult r = evasion.Check(robot, {0.0, 0.0}, kTarget, {Person({2.4, 0.0}, {-0.8, 0.0})}, wall, nullptr);
   EXPECT_TRUE(r.evading);
   EXPECT_GE(r.twist.linear_mps, 0.0);
   EXPECT_GT((ClosestApproach(evasion, robot, {0.0, 0.0}, {2.6, 0.05}, {-0.8, 0.0}, wall, 6.0)), o.robot_radius_m + 0.25);

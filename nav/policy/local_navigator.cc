@@ -18,6 +18,12 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
                                  double dt_s, const Surroundings* around) {
   LocalStep out;
   memory_.Update(robot, lanes, dt_s);
+  if (around != nullptr) {
+    // The laser tells people from furniture: what the camera saw of someone walking is not an obstacle to keep.
+    for (const TrackedObject& o : around->objects) {
+      if (o.moving) memory_.Forget(o.position, o.radius_m + options_.evade.min_object_radius_m);
+    }
+  }
   detour_left_m_ = std::max(0.0, detour_left_m_ - last_speed_mps_ * std::max(0.0, dt_s));
   const FollowStep follow = follower_.Update(robot, speed_limit_mps);
   out.remaining_m = follow.remaining_m;
@@ -27,7 +33,7 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
   }
   if (follow.off_path_m > options_.replan_distance_m) {
     out.replan = true;
-    Evade(robot, around, out);  // standing still is not safe from someone walking into the robot
+    Evade(robot, robot.translation(), around, out);  // standing still is not safe from someone walking into it
     return out;
   }
   const Eigen::Vector2d to_target = follow.target - robot.translation();
@@ -63,14 +69,16 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
   out.guarded = guarded.linear_mps != out.twist.linear_mps || guarded.angular_rps != out.twist.angular_rps;
   if (out.guarded && !follow.final_approach) detour_left_m_ = options_.detour_m;
   out.twist = guarded;
-  Evade(robot, around, out);
+  Evade(robot, follow.target, around, out);
   last_speed_mps_ = std::max(0.0, out.twist.linear_mps);
   return out;
 }
 
-void LocalNavigator::Evade(const Pose2& robot, const Surroundings* around, LocalStep& step) const {
+void LocalNavigator::Evade(const Pose2& robot, const Eigen::Vector2d& target, const Surroundings* around,
+                           LocalStep& step) {
   if (around == nullptr) return;
-  const EvasionResult evasion = evade_.Check(robot, step.twist, around->objects, around->static_points, &memory_);
+  const EvasionResult evasion =
+      evade_.Check(robot, step.twist, target, around->objects, around->static_points, &memory_);
   step.evading = evasion.evading;
   step.twist = evasion.twist;
 }

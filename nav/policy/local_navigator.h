@@ -70,8 +70,9 @@ class LocalNavigator {
                    const Surroundings* around = nullptr);
 
  private:
-  // Replaces the step's twist when a tracked moving object would meet the robot on it.
-  void Evade(const Pose2& robot, const Surroundings* around, LocalStep& step) const;
+  // Replaces the step's twist when a tracked moving object would meet the robot on it; `target`: where the robot
+  // is heading (world frame).
+  void Evade(const Pose2& robot, const Eigen::Vector2d& target, const Surroundings* around, LocalStep& step);
 
   LocalNavigatorOptions options_;
   PathFollower follower_;

@@ -36,6 +36,10 @@ void ObstacleMemory::Update(const Pose2& robot, const std::vector<LaneResult>& l
   }
 }
 
+void ObstacleMemory::Forget(const Eigen::Vector2d& centre, double radius_m) {
+  std::erase_if(points_, [&](const Point& p) { return (p.world - centre).norm() <= radius_m; });
+}
+
 bool ObstacleMemory::Blocks(const Pose2& robot, const Twist2& command) const {
   const ObstacleMemoryOptions& o = options_;
   const double clearance = o.robot_radius_m + o.margin_m;

@@ -51,6 +51,9 @@ class ObstacleMemory {
   // remembered point, nearer than it is now.
   bool Blocks(const Pose2& robot, const Twist2& command) const;
 
+  // Forgets the points within radius_m of `centre` (world frame): something known to have moved on.
+  void Forget(const Eigen::Vector2d& centre, double radius_m);
+
   std::size_t size() const { return points_.size(); }
   void Clear() { points_.clear(); }
 
