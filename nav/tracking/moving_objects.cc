@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <unordered_map>
@@ -53,6 +54,7 @@ void MovingObjectTracker::SetMap(std::shared_ptr<const OccupancyGrid> map) {
 
 void MovingObjectTracker::Clear() {
   scans_.clear();
+  tracks_.clear();
   newest_all_.clear();
   now_.objects.clear();
   now_.static_points.clear();
@@ -85,11 +87,11 @@ const std::vector<TrackedObject>& MovingObjectTracker::Update(double stamp_s, co
   // An empty scan (everything on the map) still takes its place in the window.
   scans_.push_back(std::move(scan));
   while (static_cast<int>(scans_.size()) > options_.window_scans) scans_.pop_front();
-  Cluster();
+  UpdateTracks(stamp_s, FindClusters());
   return now_.objects;
 }
 
-void MovingObjectTracker::Cluster() {
+std::vector<MovingObjectTracker::Cluster> MovingObjectTracker::FindClusters() const {
   const MovingObjectOptions& o = options_;
   std::vector<Point> points;
   for (const auto& scan : scans_) points.insert(points.end(), scan.begin(), scan.end());
@@ -124,54 +126,127 @@ void MovingObjectTracker::Cluster() {
     }
   }
 
-  std::unordered_map<std::size_t, std::vector<std::size_t>> clusters;  // root -> members, in time order
-  for (std::size_t i = 0; i < points.size(); ++i) clusters[sets.Find(i)].push_back(i);
+  std::unordered_map<std::size_t, std::vector<std::size_t>> members_of;  // root -> members, in time order
+  for (std::size_t i = 0; i < points.size(); ++i) members_of[sets.Find(i)].push_back(i);
+
+  std::vector<Cluster> clusters;
+  for (const auto& [root, members] : members_of) {
+    if (static_cast<int>(members.size()) < o.min_points) continue;  // noise
+    Cluster c;
+    for (const std::size_t i : members) {
+      if (i >= newest_begin) c.newest.push_back(points[i].xy);
+    }
+    if (c.newest.empty()) continue;  // gone from view: nothing to report
+    c.points = static_cast<int>(members.size());
+    c.position = Eigen::Vector2d::Zero();
+    for (const auto& p : c.newest) c.position += p;
+    c.position /= static_cast<double>(c.newest.size());
+    for (const auto& p : c.newest) c.radius_m = std::max(c.radius_m, (p - c.position).norm());
+    const double span = points[members.back()].t - points[members.front()].t;
+    if (span < o.min_span_s) {
+      clusters.push_back(std::move(c));
+      continue;
+    }
+    // Lower and upper halves along the time axis (members are in time order).
+    const std::size_t half = members.size() / 2;
+    Eigen::Vector2d lower = Eigen::Vector2d::Zero();
+    Eigen::Vector2d upper = Eigen::Vector2d::Zero();
+    double t_lower = 0.0;
+    double t_upper = 0.0;
+    for (std::size_t k = 0; k < members.size(); ++k) {
+      const Point& p = points[members[k]];
+      (k < half ? lower : upper) += p.xy;
+      (k < half ? t_lower : t_upper) += p.t;
+    }
+    const auto n_lower = static_cast<double>(half);
+    const auto n_upper = static_cast<double>(members.size() - half);
+    const double dt = t_upper / n_upper - t_lower / n_lower;
+    if (dt > 1e-6) c.velocity = (upper / n_upper - lower / n_lower) / dt;
+    clusters.push_back(std::move(c));
+  }
+  // The clusters' hash order is arbitrary: sort, so that the same scans give the same tracks.
+  std::sort(clusters.begin(), clusters.end(), [](const Cluster& a, const Cluster& b) {
+    return a.position.x() != b.position.x() ? a.position.x() < b.position.x() : a.position.y() < b.position.y();
+  });
+  return clusters;
+}
+
+void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster>& clusters) {
+  const MovingObjectOptions& o = options_;
+  for (Track& t : tracks_) {
+    t.position += (stamp_s - t.stamp_s) * t.velocity;
+    t.stamp_s = stamp_s;
+  }
+  // Nearest-neighbour association, closest pairs first; a cluster may take several tracks (people side by side),
+  // a track one cluster.
+  struct Pair {
+    double distance;
+    std::size_t track;
+    std::size_t cluster;
+  };
+  std::vector<Pair> pairs;
+  for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    for (std::size_t j = 0; j < clusters.size(); ++j) {
+      double d = std::numeric_limits<double>::infinity();
+      for (const auto& p : clusters[j].newest) d = std::min(d, (p - tracks_[i].position).norm());
+      if (d <= o.gate_m) pairs.push_back({d, i, j});
+    }
+  }
+  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.distance < b.distance; });
+  std::vector<int> cluster_of(tracks_.size(), -1);
+  std::vector<int> tracks_in(clusters.size(), 0);
+  for (const Pair& p : pairs) {
+    if (cluster_of[p.track] >= 0) continue;
+    cluster_of[p.track] = static_cast<int>(p.cluster);
+    ++tracks_in[p.cluster];
+  }
+  for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    if (cluster_of[i] < 0) continue;
+    const Cluster& c = clusters[static_cast<std::size_t>(cluster_of[i])];
+    const bool alone = tracks_in[static_cast<std::size_t>(cluster_of[i])] == 1 && c.radius_m <= o.merged_radius_m;
+    if (!alone) continue;  // sharing a cluster: coast on the prediction
+    Track& t = tracks_[i];
+    t.position = c.position;
+    t.radius_m = c.radius_m;
+    t.points = c.points;
+    t.last_seen_s = stamp_s;
+    if (c.velocity) t.velocity = o.velocity_gain * *c.velocity + (1.0 - o.velocity_gain) * t.velocity;
+  }
+  // New clusters start tracks; tracks not seen alone for a while end.
+  for (std::size_t j = 0; j < clusters.size(); ++j) {
+    if (tracks_in[j] > 0) continue;
+    const Cluster& c = clusters[j];
+    const bool single = c.radius_m <= o.merged_radius_m;
+    tracks_.push_back({next_id_++, c.position, single && c.velocity ? *c.velocity : Eigen::Vector2d::Zero(),
+                       c.radius_m, c.points, stamp_s, stamp_s});
+  }
+  std::erase_if(tracks_, [&](const Track& t) { return stamp_s - t.last_seen_s > o.coast_s; });
 
   now_.objects.clear();
   now_.static_points.clear();
-  // Map points of the newest scan are static; object points are added below unless they move.
+  std::vector<bool> cluster_moves(clusters.size(), false);
+  for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    const Track& t = tracks_[i];
+    TrackedObject object;
+    object.id = t.id;
+    object.position = t.position;
+    object.radius_m = t.radius_m;
+    object.points = t.points;
+    object.seen = t.last_seen_s == stamp_s;
+    if (t.velocity.norm() >= o.moving_speed_mps) {
+      object.velocity = t.velocity;
+      object.moving = true;
+    }
+    if (i < cluster_of.size() && cluster_of[i] >= 0 && object.moving) cluster_moves[static_cast<std::size_t>(cluster_of[i])] = true;
+    now_.objects.push_back(object);
+  }
+  // Static points: the newest scan's on the map, and those of every cluster that no moving track holds.
   for (const Eigen::Vector2d& p : newest_all_) {
     if (OnMap(p)) now_.static_points.push_back(p);
   }
-  for (const auto& [root, members] : clusters) {
-    std::vector<Eigen::Vector2d> newest;
-    for (const std::size_t i : members) {
-      if (i >= newest_begin) newest.push_back(points[i].xy);
-    }
-    if (newest.empty()) continue;  // gone from view: nothing to report
-    TrackedObject object;
-    object.points = static_cast<int>(members.size());
-    for (const auto& p : newest) object.position += p;
-    object.position /= static_cast<double>(newest.size());
-    for (const auto& p : newest) object.radius_m = std::max(object.radius_m, (p - object.position).norm());
-    const double span = points[members.back()].t - points[members.front()].t;
-    if (static_cast<int>(members.size()) >= o.min_points && span >= o.min_span_s) {
-      // Lower and upper halves along the time axis (members are in time order).
-      const std::size_t half = members.size() / 2;
-      Eigen::Vector2d lower = Eigen::Vector2d::Zero();
-      Eigen::Vector2d upper = Eigen::Vector2d::Zero();
-      double t_lower = 0.0;
-      double t_upper = 0.0;
-      for (std::size_t k = 0; k < members.size(); ++k) {
-        const Point& p = points[members[k]];
-        (k < half ? lower : upper) += p.xy;
-        (k < half ? t_lower : t_upper) += p.t;
-      }
-      const auto n_lower = static_cast<double>(half);
-      const auto n_upper = static_cast<double>(members.size() - half);
-      const double dt = t_upper / n_upper - t_lower / n_lower;
-      if (dt > 1e-6) {
-        const Eigen::Vector2d velocity = (upper / n_upper - lower / n_lower) / dt;
-        if (velocity.norm() >= o.moving_speed_mps) {
-          object.velocity = velocity;
-          object.moving = true;
-        }
-      }
-    }
-    if (!object.moving) now_.static_points.insert(now_.static_points.end(), newest.begin(), newest.end());
-    if (static_cast<int>(members.size()) >= o.min_points) now_.objects.push_back(object);
+  for (std::size_t j = 0; j < clusters.size(); ++j) {
+    if (!cluster_moves[j]) now_.static_points.insert(now_.static_points.end(), clusters[j].newest.begin(), clusters[j].newest.end());
   }
-  // The clusters' hash order is arbitrary: sort, so that the same scans give the same list.
   std::sort(now_.objects.begin(), now_.objects.end(), [](const TrackedObject& a, const TrackedObject& b) {
     return a.position.x() != b.position.x() ? a.position.x() < b.position.x() : a.position.y() < b.position.y();
   });

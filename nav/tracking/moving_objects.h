@@ -5,7 +5,11 @@
 // the time between them.
 //
 // corridor's additions: points on the map's walls are dropped before clustering (they are not objects to
-// track), and each object carries the newest scan's extent, so that a caller can keep clear of it.
+// track); each object carries the newest scan's extent, so that a caller can keep clear of it; and the clusters
+// feed tracks kept from scan to scan (nearest-neighbour association, constant-velocity prediction), so that two
+// people passing close to each other, whose points join into one cluster with a meaningless velocity for a moment,
+// keep their own positions and velocities through it (each track coasts on its prediction while it is not seen
+// alone), and so that a person hidden behind another is still there for a short while.
 //
 // Clustering is written here (a uniform grid with union-find, linear in the number of points) rather than taken
 // from OpenCV: cv::partition compares every pair, which at a few thousand points costs milliseconds per scan on a
@@ -14,6 +18,7 @@
 
 #include <deque>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -32,14 +37,21 @@ struct MovingObjectOptions {
   double min_span_s = 0.3;           // a cluster must cover this much time to give a velocity
   double map_clearance_m = 0.1;      // points this near an occupied map cell belong to the map
   double range_m = 6.0;              // points farther from the sensor are ignored
+  double gate_m = 0.35;              // a cluster within this of a track's prediction (to its nearest point) is it
+  double merged_radius_m = 0.45;     // a cluster this wide is taken for several objects: no velocity from it
+  double coast_s = 0.8;              // a track not seen alone for this long is dropped
+  double velocity_gain = 0.6;        // weight of a new velocity measurement against the track's
 };
 
 struct TrackedObject {
-  Eigen::Vector2d position = Eigen::Vector2d::Zero();  // world frame: centroid of the newest scan's points
+  int id = 0;                        // the track's, the same from scan to scan
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();  // world frame: centroid of the newest scan's points (or the
+                                                        // prediction, while the object is not seen alone)
   Eigen::Vector2d velocity = Eigen::Vector2d::Zero();  // world frame, m/s; zero when not moving
   double radius_m = 0.0;             // the newest scan's points' largest distance from `position`
   bool moving = false;
   int points = 0;                    // over the whole window
+  bool seen = true;                  // false: coasting on its prediction (merged with another, or hidden)
 };
 
 // What the laser shows around the robot after one scan: the objects and the points that stay where they are.
@@ -77,8 +89,26 @@ class MovingObjectTracker {
     Eigen::Vector2d xy;
     double t;
   };
+  // One cluster seen in the newest scan.
+  struct Cluster {
+    Eigen::Vector2d position;
+    std::vector<Eigen::Vector2d> newest;  // its points in the newest scan
+    double radius_m = 0.0;
+    int points = 0;
+    std::optional<Eigen::Vector2d> velocity;  // lower/upper-half estimate, when the cluster spans enough time
+  };
+  struct Track {
+    int id;
+    Eigen::Vector2d position;
+    Eigen::Vector2d velocity;
+    double radius_m;
+    int points;
+    double stamp_s;       // of position
+    double last_seen_s;   // alone in a cluster
+  };
   bool OnMap(const Eigen::Vector2d& p) const;
-  void Cluster();
+  std::vector<Cluster> FindClusters() const;
+  void UpdateTracks(double stamp_s, const std::vector<Cluster>& clusters);
 
   MovingObjectOptions options_;
   std::shared_ptr<const OccupancyGrid> map_;
@@ -87,6 +117,8 @@ class MovingObjectTracker {
   double newest_stamp_s_ = 0.0;
   std::vector<Eigen::Vector2d> newest_all_;
   Surroundings now_;
+  std::vector<Track> tracks_;
+  int next_id_ = 1;
 };
 
 }  // namespace corridor::nav
