@@ -29,7 +29,7 @@ namespace corridor::nav {
 
 struct EvasionOptions {
   double robot_radius_m = 0.2;
-  double margin_m = 0.2;             // kept between the robot and a moving object, both as discs
+  double margin_m = 0.3;             // kept between the robot and a moving object, both as discs
   // A laser sees the near side of a person only: an object counts at least this large, its centre this much of
   // the radius beyond the seen centroid (the centroid of a half circle's rim is 2/pi of the radius from its centre).
   double min_object_radius_m = 0.25;

@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cmath>
-#include <cstdlib>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -241,10 +240,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   std::shared_ptr<const drivers::RgbdFrame> pending;
   robot.SetFrameHandler([&pending](std::shared_ptr<drivers::RgbdFrame> frame) { pending = std::move(frame); });
   // The laser's scans feed the tracker as they come (the simulator calls back inside Step, at the scan's pose).
-  nav::MovingObjectOptions tracking_options;
-  if (const char* e = std::getenv("XW")) tracking_options.window_scans = std::atoi(e);
-  if (const char* e = std::getenv("XC")) tracking_options.cluster_distance_m = std::atof(e);
-  nav::MovingObjectTracker tracker{tracking_options};
+  nav::MovingObjectTracker tracker{nav::MovingObjectOptions{}};
   tracker.SetMap(std::make_shared<const nav::OccupancyGrid>(layout.map));
   robot.SetScanHandler([&](std::shared_ptr<const drivers::LaserScan> scan) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -274,10 +270,6 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   navigator_options.evade.robot_radius_m = kRobotRadiusM;
   navigator_options.evade.max_linear_mps = options.max_speed_mps;
   navigator_options.evade.max_reverse_mps = options.max_speed_mps;
-  if (const char* e = std::getenv("XH")) navigator_options.evade.horizon_s = std::atof(e);
-  if (const char* e = std::getenv("XM")) navigator_options.evade.margin_m = std::atof(e);
-  if (const char* e = std::getenv("XU")) navigator_options.evade.uncertainty_mps = std::atof(e);
-  if (const char* e = std::getenv("XS")) navigator_options.evade.static_margin_m = std::atof(e);
   nav::LocalNavigator navigator(navigator_options);
   navigator.SetPath(plan.plan.waypoints);
   nav::Morp morp(camera, nav::MorpOptions{});
