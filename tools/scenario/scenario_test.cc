@@ -23,6 +23,24 @@ TEST(ScenarioTest, ASeededRunAmongPeopleAndObstaclesReachesItsGoalWithoutCollisi
   EXPECT_GT(result.depth_ms.size(), 50u);  // it drove on depth frames
 }
 
+// Five people who do not see the robot, no obstacles: in this seeded layout a person walks into the camera-only
+// robot from outside the camera's view within seconds; with the laser the robot tracks them, steps out of the way
+// and reaches its goal. (A regression check on one layout; the rates over 30 runs are in docs/benchmarks.md.)
+TEST(ScenarioTest, WithTheLaserTheRobotStepsOutOfTheWayOfSomeoneItCannotSee) {
+  ScenarioOptions options;
+  options.seed = 1;
+  options.pedestrians = 5;
+  const Layout layout = MakeLayout(options, 2, 1);
+  const RunResult camera_only = RunOnce(layout, Policy::kMorpRb, options);
+  EXPECT_EQ(ToString(camera_only.outcome), std::string("collision"));
+  EXPECT_EQ(camera_only.collided_with, "person");
+  EXPECT_FALSE(camera_only.robot_drove_into_it);
+  options.laser = true;
+  const RunResult with_laser = RunOnce(layout, Policy::kMorpRb, options);
+  EXPECT_EQ(ToString(with_laser.outcome), std::string("success")) << with_laser.collided_with;
+  EXPECT_GT(with_laser.tracking_ms.size(), 100u);  // it tracked on laser scans
+}
+
 TEST(ScenarioTest, TheSameSeedGivesTheSameScenario) {
   ScenarioOptions options;
   options.pedestrians = 2;
