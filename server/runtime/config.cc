@@ -137,6 +137,7 @@ void ReadTracking(ConfigReader& r, TrackingOptions& t) {
   r.Read("moving_speed_mps", o.moving_speed_mps, 0.0, 5.0);
   r.Read("map_clearance_m", o.map_clearance_m, 0.0, 1.0);
   r.Read("range_m", o.range_m, 0.5, 100.0);
+  r.Read("coast_s", o.coast_s, 0.0, 10.0);
 }
 
 void ReadMission(ConfigReader& r, nav::LocalNavigatorOptions& navigator) {
