@@ -212,15 +212,25 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
     t.last_seen_s = stamp_s;
     if (c.velocity) t.velocity = o.velocity_gain * *c.velocity + (1.0 - o.velocity_gain) * t.velocity;
   }
-  // New clusters start tracks; tracks not seen alone for a while end.
+  // New clusters start tracks.
   for (std::size_t j = 0; j < clusters.size(); ++j) {
     if (tracks_in[j] > 0) continue;
     const Cluster& c = clusters[j];
     const bool single = c.radius_m <= o.merged_radius_m;
     tracks_.push_back({next_id_++, c.position, single && c.velocity ? *c.velocity : Eigen::Vector2d::Zero(),
                        c.radius_m, c.points, stamp_s, stamp_s});
+    cluster_of.push_back(static_cast<int>(j));
   }
-  std::erase_if(tracks_, [&](const Track& t) { return stamp_s - t.last_seen_s > o.coast_s; });
+  // Tracks not seen alone for a while end (with their cluster index, kept alongside).
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    if (stamp_s - tracks_[i].last_seen_s > o.coast_s) continue;
+    tracks_[kept] = tracks_[i];
+    cluster_of[kept] = cluster_of[i];
+    ++kept;
+  }
+  tracks_.resize(kept);
+  cluster_of.resize(kept);
 
   now_.objects.clear();
   now_.static_points.clear();
@@ -237,7 +247,7 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
       object.velocity = t.velocity;
       object.moving = true;
     }
-    if (i < cluster_of.size() && cluster_of[i] >= 0 && object.moving) cluster_moves[static_cast<std::size_t>(cluster_of[i])] = true;
+    if (cluster_of[i] >= 0 && object.moving) cluster_moves[static_cast<std::size_t>(cluster_of[i])] = true;
     now_.objects.push_back(object);
   }
   // Static points: the newest scan's on the map, and those of every cluster that no moving track holds.
