@@ -174,16 +174,16 @@ int Run(const CommandLine& cl) {
                                                    config.tracking.objects);
   }
   TrackingNode* const tracking = tracking_node.get();
-  MapLibrary maps(config.store.state_dir, map_name, std::move(map_grid),
-                  [&planner, tracking](std::shared_ptr<const ActiveMap> map) {
-                    const std::shared_ptr<const nav::OccupancyGrid> grid(map, &map->grid);
-                    planner.SetMap(grid);
-                    if (tracking != nullptr) tracking->SetMap(grid);
-                  });
+  // Each active map goes to the planner and, for its walls, to the tracker.
+  const auto use_map = [&planner, tracking](const std::shared_ptr<const ActiveMap>& map) {
+    const std::shared_ptr<const nav::OccupancyGrid> grid(map, &map->grid);
+    planner.SetMap(grid);
+    if (tracking != nullptr) tracking->SetMap(grid);
+  };
+  MapLibrary maps(config.store.state_dir, map_name, std::move(map_grid), use_map);
   {
     const auto map = maps.active();
-    planner.SetMap(std::shared_ptr<const nav::OccupancyGrid>(map, &map->grid));
-    if (tracking != nullptr) tracking->SetMap(std::shared_ptr<const nav::OccupancyGrid>(map, &map->grid));
+    use_map(map);
     planner.SetZones(store.Zones(map->name));
     spdlog::info("map '{}': {} x {} cells at {} m", map->name, map->grid.width(), map->grid.height(),
                  map->grid.resolution_m());

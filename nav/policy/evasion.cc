@@ -31,14 +31,10 @@ Evasion::Evasion(const EvasionOptions& options) : options_(options) {
   first_steps_ = static_cast<int>(std::round(options.first_s / options.step_s));
 }
 
-void Evasion::Trace(const Pose2& robot, const Twist2& first, int first_steps, const Twist2& then,
-                    std::vector<Eigen::Vector2d>& at) const {
+void Evasion::Trace(const Pose2& start, const Twist2& twist, int from_step, std::vector<Eigen::Vector2d>& at) const {
   at.resize(static_cast<std::size_t>(steps_));
-  const double dt = options_.step_s;
-  const Pose2 mid = DriveArc(robot, first, first_steps * dt);
-  for (int k = 1; k <= steps_; ++k) {
-    at[k - 1] = k <= first_steps ? DriveArc(robot, first, k * dt).translation()
-                                 : DriveArc(mid, then, (k - first_steps) * dt).translation();
+  for (int k = from_step + 1; k <= steps_; ++k) {
+    at[k - 1] = DriveArc(start, twist, (k - from_step) * options_.step_s).translation();
   }
 }
 
@@ -92,7 +88,7 @@ EvasionResult Evasion::Check(const Pose2& robot, const Twist2& command, const Ei
   EvasionResult result{command, false, kInfinity};
   if (movers.empty()) return result;
   std::vector<Eigen::Vector2d> at;
-  Trace(robot, command, steps_, command, at);
+  Trace(robot, command, 0, at);
   if (Predict(robot, at, movers).conflict_s == kInfinity) return result;
 
   std::vector<Eigen::Vector2d> near;
@@ -115,14 +111,16 @@ EvasionResult Evasion::Check(const Pose2& robot, const Twist2& command, const Ei
   std::optional<Candidate> least_bad;
   const double distance_now = (target - robot.translation()).norm();
   for (const Twist2& first : twists) {
-    // The first part must keep clear of what stands still; the whole manoeuvre is checked once chosen.
-    Trace(robot, first, steps_, first, at);
+    // The first part must keep clear of what stands still; the whole manoeuvre is checked once chosen. Only the
+    // second part changes from one manoeuvre to the next.
+    Trace(robot, first, 0, at);
+    const Pose2 mid = DriveArc(robot, first, first_steps_ * o.step_s);
     const bool moves = first.linear_mps != 0.0;
     if (moves && ((memory != nullptr && memory->Blocks(robot, first)) || StaticBlocked(robot, at, static_steps, near))) {
       continue;
     }
     for (const Twist2& then : twists) {
-      Trace(robot, first, first_steps_, then, at);
+      Trace(mid, then, first_steps_, at);
       const Score score = Predict(robot, at, movers);
       const double progress = distance_now - (target - at.back()).norm();
       const double value = progress - o.social_weight * std::max(0.0, o.social_m - score.closest_m) -
@@ -143,7 +141,8 @@ EvasionResult Evasion::Check(const Pose2& robot, const Twist2& command, const Ei
   }
   std::sort(clear.begin(), clear.end(), [](const Candidate& a, const Candidate& b) { return a.value > b.value; });
   for (const Candidate& c : clear) {
-    Trace(robot, c.first, first_steps_, c.then, at);
+    Trace(robot, c.first, 0, at);
+    Trace(DriveArc(robot, c.first, first_steps_ * o.step_s), c.then, first_steps_, at);
     if (!StaticBlocked(robot, at, steps_, near)) {
       last_ = c.first;
       return {c.first, true, kInfinity};

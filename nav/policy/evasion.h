@@ -83,9 +83,9 @@ class Evasion {
     double conflict_s;   // first conflict time; infinity when none
     double closest_m;    // the smallest gap over the horizon (negative: overlapping)
   };
-  // Where the robot is at each step (1..steps) of a manoeuvre of `first` for first_steps steps, then `then`.
-  void Trace(const Pose2& robot, const Twist2& first, int first_steps, const Twist2& then,
-             std::vector<Eigen::Vector2d>& at) const;
+  // Where the robot is at steps from_step + 1 .. steps_ (at[k - 1] for step k) driving `twist` from `start`, which
+  // it is at step from_step; earlier steps of `at` are left as they are.
+  void Trace(const Pose2& start, const Twist2& twist, int from_step, std::vector<Eigen::Vector2d>& at) const;
   Score Predict(const Pose2& robot, const std::vector<Eigen::Vector2d>& at, const std::vector<Mover>& movers) const;
   bool StaticBlocked(const Pose2& robot, const std::vector<Eigen::Vector2d>& at, int steps,
                      const std::vector<Eigen::Vector2d>& near) const;

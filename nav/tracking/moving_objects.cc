@@ -55,7 +55,7 @@ void MovingObjectTracker::SetMap(std::shared_ptr<const OccupancyGrid> map) {
 void MovingObjectTracker::Clear() {
   scans_.clear();
   tracks_.clear();
-  newest_all_.clear();
+  newest_on_map_.clear();
   now_.objects.clear();
   now_.static_points.clear();
 }
@@ -77,12 +77,15 @@ const std::vector<TrackedObject>& MovingObjectTracker::Update(double stamp_s, co
                                                               const std::vector<Eigen::Vector2d>& world_points) {
   if (!scans_.empty() && stamp_s < newest_stamp_s_) Clear();
   newest_stamp_s_ = stamp_s;
-  newest_all_.clear();
+  newest_on_map_.clear();
   std::vector<Point> scan;
   for (const Eigen::Vector2d& p : world_points) {
     if ((p - sensor).norm() > options_.range_m) continue;
-    newest_all_.push_back(p);
-    if (!OnMap(p)) scan.push_back({p, stamp_s});
+    if (OnMap(p)) {
+      newest_on_map_.push_back(p);
+    } else {
+      scan.push_back({p, stamp_s});
+    }
   }
   // An empty scan (everything on the map) still takes its place in the window.
   scans_.push_back(std::move(scan));
@@ -251,9 +254,7 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
     now_.objects.push_back(object);
   }
   // Static points: the newest scan's on the map, and those of every cluster that no moving track holds.
-  for (const Eigen::Vector2d& p : newest_all_) {
-    if (OnMap(p)) now_.static_points.push_back(p);
-  }
+  now_.static_points = newest_on_map_;
   for (std::size_t j = 0; j < clusters.size(); ++j) {
     if (!cluster_moves[j]) now_.static_points.insert(now_.static_points.end(), clusters[j].newest.begin(), clusters[j].newest.end());
   }

@@ -115,7 +115,7 @@ class MovingObjectTracker {
   int map_reach_ = 0;
   std::deque<std::vector<Point>> scans_;  // oldest first
   double newest_stamp_s_ = 0.0;
-  std::vector<Eigen::Vector2d> newest_all_;
+  std::vector<Eigen::Vector2d> newest_on_map_;  // the newest scan's points on the map's walls
   Surroundings now_;
   std::vector<Track> tracks_;
   int next_id_ = 1;

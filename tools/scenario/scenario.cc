@@ -239,19 +239,26 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   drivers::sim::SimRobot robot(std::make_shared<const World>(layout.world), sim);
   std::shared_ptr<const drivers::RgbdFrame> pending;
   robot.SetFrameHandler([&pending](std::shared_ptr<drivers::RgbdFrame> frame) { pending = std::move(frame); });
-  // The laser's scans feed the tracker as they come (the simulator calls back inside Step, at the scan's pose).
+  using Clock = std::chrono::steady_clock;
+  const auto ms = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+  };
+  // With the laser, its scans feed the tracker as they come (the simulator calls back inside Step, at the scan's
+  // pose).
   nav::MovingObjectTracker tracker{nav::MovingObjectOptions{}};
-  tracker.SetMap(std::make_shared<const nav::OccupancyGrid>(layout.map));
-  robot.SetScanHandler([&](std::shared_ptr<const drivers::LaserScan> scan) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const nav::Pose2 laser = robot.true_pose() * robot.base_T_laser();
-    tracker.Update(drivers::ToSeconds(scan->stamp_ns), laser.translation(),
-                   nav::ScanToWorld(laser, scan->angle_min_rad, scan->angle_increment_rad, scan->range_min_m,
-                                    scan->range_max_m, scan->ranges));
-    result.tracking_ms.push_back(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-  });
-  const nav::Surroundings* around = sim.laser.enabled ? &tracker.surroundings() : nullptr;
+  const nav::Surroundings* around = nullptr;
+  if (sim.laser.enabled) {
+    tracker.SetMap(std::make_shared<const nav::OccupancyGrid>(layout.map));
+    robot.SetScanHandler([&](std::shared_ptr<const drivers::LaserScan> scan) {
+      const auto t0 = Clock::now();
+      const nav::Pose2 laser = robot.true_pose() * robot.base_T_laser();
+      tracker.Update(drivers::ToSeconds(scan->stamp_ns), laser.translation(),
+                     nav::ScanToWorld(laser, scan->angle_min_rad, scan->angle_increment_rad, scan->range_min_m,
+                                      scan->range_max_m, scan->ranges));
+      result.tracking_ms.push_back(ms(t0, Clock::now()));
+    });
+    around = &tracker.surroundings();
+  }
   const nav::PinholeCamera camera = robot.info().camera;
 
   const nav::Costmap costmap = RobotCostmap(layout.map);
@@ -285,10 +292,6 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   const double timeout_s = options.timeout_s > 0.0 ? options.timeout_s : 3.0 * straight / options.max_speed_mps + 20.0;
   nav::Pose2 last = layout.start;
   double last_frame_s = 0.0;
-  using Clock = std::chrono::steady_clock;
-  const auto ms = [](Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<double, std::milli>(b - a).count();
-  };
   while (true) {
     robot.Step();
     const double now_s = drivers::ToSeconds(robot.now_ns());
