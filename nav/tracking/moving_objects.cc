@@ -88,7 +88,7 @@ const std::vector<TrackedObject>& MovingObjectTracker::Update(double stamp_s, co
     }
   }
   // An empty scan (everything on the map) still takes its place in the window.
-  scans_.push_back(std::move(scan));
+  scans_.push_back({stamp_s, std::move(scan)});
   while (static_cast<int>(scans_.size()) > options_.window_scans) scans_.pop_front();
   UpdateTracks(stamp_s, FindClusters());
   return now_.objects;
@@ -97,8 +97,8 @@ const std::vector<TrackedObject>& MovingObjectTracker::Update(double stamp_s, co
 std::vector<MovingObjectTracker::Cluster> MovingObjectTracker::FindClusters() const {
   const MovingObjectOptions& o = options_;
   std::vector<Point> points;
-  for (const auto& scan : scans_) points.insert(points.end(), scan.begin(), scan.end());
-  const std::size_t newest_begin = points.size() - scans_.back().size();
+  for (const auto& scan : scans_) points.insert(points.end(), scan.points.begin(), scan.points.end());
+  const std::size_t newest_begin = points.size() - scans_.back().points.size();
 
   // Euclidean clustering in (x, y, t * scale): every pair nearer than cluster_distance_m joins, found through a
   // uniform grid in (x, y) of that cell size (the window's time span is short, so time needs no cells of its own).
@@ -213,15 +213,17 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
     t.radius_m = c.radius_m;
     t.points = c.points;
     t.last_seen_s = stamp_s;
-    if (c.velocity) t.velocity = o.velocity_gain * *c.velocity + (1.0 - o.velocity_gain) * t.velocity;
+    See(t, stamp_s, c);
   }
   // New clusters start tracks.
   for (std::size_t j = 0; j < clusters.size(); ++j) {
     if (tracks_in[j] > 0) continue;
     const Cluster& c = clusters[j];
     const bool single = c.radius_m <= o.merged_radius_m;
-    tracks_.push_back({next_id_++, c.position, single && c.velocity ? *c.velocity : Eigen::Vector2d::Zero(),
-                       c.radius_m, c.points, stamp_s, stamp_s});
+    Track t{next_id_++, c.position, single && c.velocity ? *c.velocity : Eigen::Vector2d::Zero(),
+            c.radius_m, c.points, stamp_s, stamp_s, {}, -std::numeric_limits<double>::infinity()};
+    if (single) t.seen.push_back({stamp_s, c.position, c.radius_m, true});
+    tracks_.push_back(std::move(t));
     cluster_of.push_back(static_cast<int>(j));
   }
   // Tracks not seen alone for a while end (with their cluster index, kept alongside).
@@ -261,6 +263,59 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
   std::sort(now_.objects.begin(), now_.objects.end(), [](const TrackedObject& a, const TrackedObject& b) {
     return a.position.x() != b.position.x() ? a.position.x() < b.position.x() : a.position.y() < b.position.y();
   });
+}
+
+void MovingObjectTracker::See(Track& t, double stamp_s, const Cluster& c) const {
+  const MovingObjectOptions& o = options_;
+  const double window_begin_s = scans_.front().stamp_s;
+  while (!t.seen.empty() && t.seen.front().stamp_s < window_begin_s - o.recent_s) t.seen.pop_front();
+  // A person partly hidden behind another shows a sliver whose centroid stalls: not a change of velocity.
+  double widest = 0.0;
+  for (const Sighting& s : t.seen) widest = std::max(widest, s.whole ? s.radius_m : 0.0);
+  t.seen.push_back({stamp_s, c.position, c.radius_m, c.radius_m >= o.partial_fraction * widest});
+
+  // The velocity over the last recent_s, from whole sightings in every scan since (a track coming out of a merged
+  // cluster jumps).
+  const auto then = std::find_if(t.seen.rbegin(), t.seen.rend(),
+                                 [&](const Sighting& s) { return stamp_s - s.stamp_s >= o.recent_s - 1e-6; });
+  if (then != t.seen.rend()) {
+    const auto sightings = then - t.seen.rbegin() + 1;
+    const auto scans = std::count_if(scans_.begin(), scans_.end(),
+                                     [&](const Scan& scan) { return scan.stamp_s >= then->stamp_s; });
+    const bool whole = std::all_of(t.seen.rbegin(), then + 1, [](const Sighting& s) { return s.whole; });
+    const Eigen::Vector2d recent = (c.position - then->position) / (stamp_s - then->stamp_s);
+    if (sightings == scans && whole && (recent - t.velocity).norm() > o.maneuver_mps) {
+      t.velocity = recent;
+      t.maneuver_s = then->stamp_s;
+      return;
+    }
+  }
+  if (t.maneuver_s < window_begin_s) {
+    if (c.velocity) t.velocity = o.velocity_gain * *c.velocity + (1.0 - o.velocity_gain) * t.velocity;
+    return;
+  }
+  // The window still holds scans from before the change: a least-squares line through the track's own whole
+  // sightings since then.
+  double n = 0.0;
+  double t_mean = 0.0;
+  Eigen::Vector2d p_mean = Eigen::Vector2d::Zero();
+  for (const Sighting& s : t.seen) {
+    if (s.stamp_s < t.maneuver_s || !s.whole) continue;
+    n += 1.0;
+    t_mean += s.stamp_s;
+    p_mean += s.position;
+  }
+  if (n < 2.0) return;
+  t_mean /= n;
+  p_mean /= n;
+  double tt = 0.0;
+  Eigen::Vector2d tp = Eigen::Vector2d::Zero();
+  for (const Sighting& s : t.seen) {
+    if (s.stamp_s < t.maneuver_s || !s.whole) continue;
+    tt += (s.stamp_s - t_mean) * (s.stamp_s - t_mean);
+    tp += (s.stamp_s - t_mean) * (s.position - p_mean);
+  }
+  if (tt > 1e-9) t.velocity = tp / tt;
 }
 
 }  // namespace corridor::nav

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <deque>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -41,6 +42,13 @@ struct MovingObjectOptions {
   double merged_radius_m = 0.45;     // a cluster this wide is taken for several objects: no velocity from it
   double coast_s = 0.8;              // a track not seen alone for this long is dropped
   double velocity_gain = 0.6;        // weight of a new velocity measurement against the track's
+  // A person who turns round or sets off shows it in their own last few positions long before the window's halves
+  // agree: when the track's velocity over the last recent_s differs from its estimate by more than maneuver_mps,
+  // the track takes that recent velocity, and until the window holds only scans after the change, its velocity is
+  // fitted to its own positions since then rather than taken from the cluster (whose halves straddle the turn).
+  double recent_s = 0.3;
+  double maneuver_mps = 0.5;
+  double partial_fraction = 0.6;     // a sighting narrower than this part of the track's recent ones is partly hidden
 };
 
 struct TrackedObject {
@@ -97,6 +105,12 @@ class MovingObjectTracker {
     int points = 0;
     std::optional<Eigen::Vector2d> velocity;  // lower/upper-half estimate, when the cluster spans enough time
   };
+  struct Sighting {
+    double stamp_s;
+    Eigen::Vector2d position;
+    double radius_m;
+    bool whole;  // not partly hidden: its extent is at least partial_fraction of the widest recent whole one
+  };
   struct Track {
     int id;
     Eigen::Vector2d position;
@@ -105,7 +119,11 @@ class MovingObjectTracker {
     int points;
     double stamp_s;       // of position
     double last_seen_s;   // alone in a cluster
+    std::deque<Sighting> seen;  // when seen alone, oldest first
+    double maneuver_s = -std::numeric_limits<double>::infinity();  // when its velocity last changed abruptly
   };
+  // Records the track's sighting at stamp_s and updates its velocity from its own positions and the cluster's.
+  void See(Track& track, double stamp_s, const Cluster& cluster) const;
   bool OnMap(const Eigen::Vector2d& p) const;
   std::vector<Cluster> FindClusters() const;
   void UpdateTracks(double stamp_s, const std::vector<Cluster>& clusters);
@@ -113,7 +131,11 @@ class MovingObjectTracker {
   MovingObjectOptions options_;
   std::shared_ptr<const OccupancyGrid> map_;
   int map_reach_ = 0;
-  std::deque<std::vector<Point>> scans_;  // oldest first
+  struct Scan {
+    double stamp_s;
+    std::vector<Point> points;
+  };
+  std::deque<Scan> scans_;  // oldest first
   double newest_stamp_s_ = 0.0;
   std::vector<Eigen::Vector2d> newest_on_map_;  // the newest scan's points on the map's walls
   Surroundings now_;

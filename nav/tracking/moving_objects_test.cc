@@ -190,6 +190,55 @@ TEST(MovingObjectTrackerTest, TwoPeoplePassingCloseKeepTheirTracksAndVelocities)
   EXPECT_LT((b->velocity - Eigen::Vector2d(-0.8, 0.0)).norm(), 0.15);
 }
 
+struct TurnSeen {
+  double after_s = std::numeric_limits<double>::infinity();  // infinity: never
+  bool lost = false;  // the walker's track stopped counting as moving at some scan after the first second
+};
+
+// How long after a person walking at 0.8 m/s along +x turns round on the spot the nearest track's velocity points
+// back (x below -0.4 m/s).
+TurnSeen SeeATurn(const MovingObjectOptions& options) {
+  std::mt19937 rng(5);
+  MovingObjectTracker tracker{options};
+  tracker.SetMap(std::make_shared<const OccupancyGrid>(Room(10.0)));
+  const Eigen::Vector2d sensor(2.0, 2.0);
+  const double turn_s = 3.0;
+  TurnSeen seen;
+  const auto at = [&](double t) {
+    return Eigen::Vector2d(3.0 + 0.8 * (t < turn_s ? t : 2.0 * turn_s - t), 5.0);
+  };
+  for (int k = 0; k <= 60; ++k) {
+    const double t = 0.1 * k;
+    const auto ranges = Scan(sensor, {{at(t), 0.25}}, 10.0, rng);
+    tracker.Update(t, sensor, ScanToWorld({sensor.x(), sensor.y(), 0.0}, -std::numbers::pi, std::numbers::pi / 180.0, 0.1, 8.0, ranges));
+    const TrackedObject* person = nullptr;
+    for (const TrackedObject& o : tracker.objects()) {
+      if (!person || (o.position - at(t)).norm() < (person->position - at(t)).norm()) person = &o;
+    }
+    if (t < 1.0) continue;
+    seen.lost = seen.lost || person == nullptr || !person->moving;
+    if (t > turn_s && person != nullptr && person->velocity.x() < -0.4) {
+      seen.after_s = t - turn_s;
+      return seen;
+    }
+  }
+  return seen;
+}
+
+TEST(MovingObjectTrackerTest, APersonTurningRoundIsSeenWalkingBackWithinAFewScans) {
+  // At a walk's end people turn round on the spot. The window's halves straddle the turn for a second; the track's
+  // own last positions show it within a few scans.
+  const TurnSeen seen = SeeATurn(MovingObjectOptions{});
+  EXPECT_LE(seen.after_s, 0.35);
+  EXPECT_FALSE(seen.lost) << "the walker stopped counting as moving";
+  // The window's halves alone take longer, and the walker seems to stand still in between.
+  MovingObjectOptions halves_only;
+  halves_only.maneuver_mps = std::numeric_limits<double>::infinity();
+  const TurnSeen slow = SeeATurn(halves_only);
+  EXPECT_GT(slow.after_s, seen.after_s + 0.2) << "the turn test does not test the turn";
+  EXPECT_TRUE(slow.lost);
+}
+
 TEST(MovingObjectTrackerTest, BadOptionsAreRefused) {
   MovingObjectOptions o;
   o.window_scans = 1;
