@@ -21,6 +21,9 @@ Evasion::Evasion(const EvasionOptions& options) : options_(options) {
   if (options.static_horizon_s < 0.0 || options.static_horizon_s > options.horizon_s) {
     throw std::invalid_argument("evasion: static_horizon_s must be within [0, horizon_s]");
   }
+  if (options.turn_reach_m < 0.0 || options.turn_horizon_s < 0.0) {
+    throw std::invalid_argument("evasion: turn_reach_m and turn_horizon_s must not be negative");
+  }
   if (options.first_s < 0.0 || options.first_s > options.horizon_s) {
     throw std::invalid_argument("evasion: first_s must be within [0, horizon_s]");
   }
@@ -29,6 +32,7 @@ Evasion::Evasion(const EvasionOptions& options) : options_(options) {
   }
   steps_ = static_cast<int>(std::round(options.horizon_s / options.step_s));
   first_steps_ = static_cast<int>(std::round(options.first_s / options.step_s));
+  turn_steps_ = std::min(steps_, static_cast<int>(std::round(options.turn_horizon_s / options.step_s)));
 }
 
 void Evasion::Trace(const Pose2& start, const Twist2& twist, int from_step, std::vector<Eigen::Vector2d>& at) const {
@@ -44,7 +48,7 @@ Evasion::Score Evasion::Predict(const Pose2& robot, const std::vector<Eigen::Vec
   for (const Mover& m : movers) {
     double previous = (m.position - robot.translation()).norm() - m.clearance_m;
     score.closest_m = std::min(score.closest_m, previous);
-    for (int k = 1; k <= steps_; ++k) {
+    for (int k = 1; k <= m.steps; ++k) {
       const double t = k * options_.step_s;
       const double gap =
           (m.position + t * m.velocity - at[k - 1]).norm() - m.clearance_m - options_.uncertainty_mps * t;
@@ -82,7 +86,16 @@ EvasionResult Evasion::Check(const Pose2& robot, const Twist2& command, const Ei
     const Eigen::Vector2d away = object.position - robot.translation();
     const Eigen::Vector2d centre = object.position + (away.norm() > 1e-6 ? away.normalized() : Eigen::Vector2d::Zero()) *
                                                          o.far_side_fraction * radius;
-    movers.push_back({centre, object.velocity, o.robot_radius_m + radius + o.margin_m});
+    const double clearance = o.robot_radius_m + radius + o.margin_m;
+    movers.push_back({centre, object.velocity, clearance, steps_});
+    // Walking away with the robot in their wake (on their line, behind them): should they turn round, they walk
+    // straight into it.
+    const double speed = object.velocity.norm();
+    const double behind = speed > 1e-6 ? object.velocity.dot(away) / speed : 0.0;
+    const double aside = speed > 1e-6 ? std::abs(object.velocity.x() * away.y() - object.velocity.y() * away.x()) / speed : 0.0;
+    if (behind > 0.0 && aside < clearance && behind - clearance < o.turn_reach_m) {
+      movers.push_back({centre, -object.velocity, clearance, turn_steps_});
+    }
   }
   const std::optional<Twist2> last = std::exchange(last_, std::nullopt);
   EvasionResult result{command, false, kInfinity};

@@ -38,6 +38,12 @@ struct EvasionOptions {
   // People change course (around each other, at the ends of their walks): the margin grows by this much per
   // second of prediction, so that the robot steps farther out of the way of what is farther ahead.
   double uncertainty_mps = 0.1;
+  // A person walking away may turn round at any moment (at the end of their walk; people pace): one walking away
+  // with the robot in their wake (within the clearance of their line) and within turn_reach_m of it is also
+  // predicted walking back at the same speed, for turn_horizon_s, so that the robot does not follow closer than it
+  // could get out of the way (0: off).
+  double turn_reach_m = 2.0;
+  double turn_horizon_s = 1.5;
   double static_horizon_s = 1.0;     // static points are swept this far
   double static_margin_m = 0.05;
   double step_s = 0.1;
@@ -78,6 +84,7 @@ class Evasion {
     Eigen::Vector2d position;
     Eigen::Vector2d velocity;
     double clearance_m;
+    int steps;  // predicted this many steps of the horizon
   };
   struct Score {
     double conflict_s;   // first conflict time; infinity when none
@@ -92,6 +99,7 @@ class Evasion {
 
   int steps_;        // prediction steps over the horizon
   int first_steps_;  // of them, the first part's
+  int turn_steps_;   // of them, those a person walking away is also predicted walking back
   std::optional<Twist2> last_;  // the previous call's evasive twist; none when it did not evade
   EvasionOptions options_;
 };

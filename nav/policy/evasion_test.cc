@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -23,13 +24,15 @@ TrackedObject Person(const Eigen::Vector2d& at, const Eigen::Vector2d& velocity)
 }
 
 // The closest distance between the robot's and a person's centres while the robot, driven by Evasion on every
-// 1/18 s step from `command`, and the person, walking straight at constant velocity, move for `seconds`.
+// 1/18 s step from `command`, and the person, walking straight at constant velocity (and turning round at turn_s),
+// move for `seconds`.
 double ClosestApproach(Evasion evasion, Pose2 robot, const Twist2& command, Eigen::Vector2d person,
-                       const Eigen::Vector2d& velocity, const std::vector<Eigen::Vector2d>& walls, double seconds,
-                       bool* evaded = nullptr) {
+                       Eigen::Vector2d velocity, const std::vector<Eigen::Vector2d>& walls, double seconds,
+                       bool* evaded = nullptr, double turn_s = std::numeric_limits<double>::infinity()) {
   const double dt = 1.0 / 18.0;
   double closest = (person - robot.translation()).norm();
   for (double t = 0.0; t < seconds; t += dt) {
+    if (t >= turn_s && t < turn_s + dt) velocity = -velocity;
     // The laser sees the near side of the person: report the centroid there, as the tracker would.
     const Eigen::Vector2d seen = person - 0.16 * (person - robot.translation()).normalized();
     const EvasionResult r = evasion.Check(robot, command, kTarget, {Person(seen, velocity)}, walls, nullptr);
@@ -48,8 +51,9 @@ TEST(EvasionTest, NothingMovingOrNothingComingLeavesTheCommandAlone) {
   EXPECT_FALSE(evasion.Check(robot, command, kTarget, {}, {}, nullptr).evading);
   // Standing people are walls' business (static points), not evasion's.
   EXPECT_FALSE(evasion.Check(robot, command, kTarget, {Person({1.0, 0.0}, {0.0, 0.0})}, {}, nullptr).evading);
-  // Walking away, or crossing well ahead.
-  EXPECT_FALSE(evasion.Check(robot, command, kTarget, {Person({2.0, 0.0}, {0.8, 0.0})}, {}, nullptr).evading);
+  // Walking away (beyond turn_reach_m, or not with the robot in their wake), or crossing well ahead.
+  EXPECT_FALSE(evasion.Check(robot, command, kTarget, {Person({3.5, 0.0}, {0.8, 0.0})}, {}, nullptr).evading);
+  EXPECT_FALSE(evasion.Check(robot, command, kTarget, {Person({1.0, 1.0}, {0.0, 0.8})}, {}, nullptr).evading);
   EXPECT_FALSE(evasion.Check(robot, command, kTarget, {Person({4.0, -3.0}, {0.0, 0.8})}, {}, nullptr).evading);
   const EvasionResult unchanged = evasion.Check(robot, command, kTarget, {Person({4.0, -3.0}, {0.0, 0.8})}, {}, nullptr);
   EXPECT_EQ(unchanged.twist.linear_mps, command.linear_mps);
@@ -108,6 +112,25 @@ TEST(EvasionTest, WithoutEvasionTheSameEncountersCollide) {
     hits += closest < 0.45 ? 1 : 0;
   }
   EXPECT_EQ(hits, 16);
+}
+
+TEST(EvasionTest, TheRobotDoesNotFollowSomeoneSoCloselyThatTheirTurningRoundHitsIt) {
+  // Someone has just crossed into the robot's way 0.9 m ahead and walks on along it; a second later they turn
+  // round on the spot (the end of their walk) and come straight back.
+  EvasionOptions o;
+  o.max_reverse_mps = 0.26;
+  const double touching = o.robot_radius_m + 0.25;
+  const Pose2 robot{0.0, 0.0, 0.0};
+  for (const double turn_s : {1.0, 1.5, 2.5}) {
+    EXPECT_GT(ClosestApproach(Evasion{o}, robot, {0.26, 0.0}, {0.9, 0.0}, {0.8, 0.0}, {}, 6.0, nullptr, turn_s),
+              touching)
+        << "turning after " << turn_s << " s";
+  }
+  // Seeing the turn only once it happens is too late for a robot at a third of a person's speed.
+  EvasionOptions no_turns = o;
+  no_turns.turn_reach_m = 0.0;
+  EXPECT_LT(ClosestApproach(Evasion{no_turns}, robot, {0.26, 0.0}, {0.9, 0.0}, {0.8, 0.0}, {}, 6.0, nullptr, 1.0),
+            touching);
 }
 
 TEST(EvasionTest, TheWayOutDoesNotBackIntoAWall) {
