@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 namespace corridor::nav {
 namespace {
@@ -41,9 +42,13 @@ const char* ToString(PlanError error) {
 }
 
 SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
-                   const std::atomic<bool>* cancel) {
+                   const std::atomic<bool>* cancel, std::span<const float> extra_cost) {
   SearchResult result;
   const OccupancyGrid& grid = costmap.grid();
+  if (!extra_cost.empty() && extra_cost.size() != grid.cells().size()) {
+    throw std::invalid_argument("AStar: extra_cost has " + std::to_string(extra_cost.size()) + " cells, the costmap " +
+                                std::to_string(grid.cells().size()));
+  }
   const auto start_cell = grid.WorldToCell(start);
   if (!start_cell) return {PlanError::kStartOutsideMap, "start " + Where(start) + " is outside the map", {}};
   const auto goal_cell = grid.WorldToCell(goal);
@@ -110,7 +115,8 @@ SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const E
         if (costmap.IsObstacle(side_a) || costmap.IsObstacle(side_b)) continue;
         if (!escaping && (!costmap.Traversable(side_a) || !costmap.Traversable(side_b))) continue;
       }
-      const float candidate = cost[cur] + step_length[k] * costmap.step_factor(next);
+      const float factor = costmap.step_factor(next) + (extra_cost.empty() ? 0.0f : extra_cost[next]);
+      const float candidate = cost[cur] + step_length[k] * factor;
       if (candidate < cost[next]) {
         cost[next] = candidate;
         parent[next] = static_cast<int>(cur);

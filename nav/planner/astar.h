@@ -5,6 +5,7 @@
 #pragma once
 
 #include <atomic>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -40,8 +41,11 @@ struct SearchResult {
 // Searches from `start` to `goal` (map-frame metres). A start inside the inflated band around obstacles (a robot
 // that drove close to a wall) may leave it along increasing clearance; a start on an obstacle cell may not.
 // `cancel`, when non-null, is polled; setting it makes the search return kCancelled. Thread-compatible: one search
-// per Costmap at a time is not required (the costmap is read-only).
+// per Costmap at a time is not required (the costmap is read-only). `extra_cost`, when not empty, holds one
+// non-negative value per cell (costmap.Index) added to the cell's step factor: costs that change faster than the
+// costmap is rebuilt, such as where people have been walking (nav/tracking/traffic_map.h). Its size must be the
+// costmap's (std::invalid_argument otherwise).
 SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
-                   const std::atomic<bool>* cancel = nullptr);
+                   const std::atomic<bool>* cancel = nullptr, std::span<const float> extra_cost = {});
 
 }  // namespace corridor::nav

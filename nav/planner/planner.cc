@@ -44,9 +44,29 @@ bool SegmentTraversable(const Costmap& costmap, const Eigen::Vector2d& a, const 
   return true;
 }
 
+bool PathsDiverge(const std::vector<Eigen::Vector2d>& candidate, const std::vector<Eigen::Vector2d>& current,
+                  double along_m, double tolerance_m) {
+  if (current.empty()) return !candidate.empty();
+  const auto distance_to_current = [&](const Eigen::Vector2d& p) {
+    double best = (p - current.front()).norm();
+    for (std::size_t i = 1; i < current.size(); ++i) {
+      const Eigen::Vector2d ab = current[i] - current[i - 1];
+      const double t = ab.squaredNorm() > 0.0 ? std::clamp((p - current[i - 1]).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+      best = std::min(best, (p - (current[i - 1] + t * ab)).norm());
+    }
+    return best;
+  };
+  double travelled = 0.0;
+  for (std::size_t i = 0; i < candidate.size() && travelled <= along_m; ++i) {
+    if (i > 0) travelled += (candidate[i] - candidate[i - 1]).norm();
+    if (distance_to_current(candidate[i]) > tolerance_m) return true;
+  }
+  return false;
+}
+
 PlanResult PlanPath(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
                     std::optional<double> goal_yaw, const std::atomic<bool>* cancel, const PathOptions& options) {
-  SearchResult search = AStar(costmap, start, goal, cancel);
+  SearchResult search = AStar(costmap, start, goal, cancel, options.extra_cost);
   PlanResult result{search.error, search.detail, {}};
   if (!result.ok()) return result;
   Plan& plan = result.plan;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <optional>
+#include <span>
 
 #include "nav/planner/astar.h"
 
@@ -31,12 +32,18 @@ struct PlanResult {
 
 struct PathOptions {
   double simplify_tolerance_m = 0.1;   // how far a simplified path may stray from the searched one
+  std::span<const float> extra_cost;   // per cell, added to the step factor: see AStar
 };
 
 // Plans from `start` to `goal`; when goal_yaw is set the last waypoint takes it. See AStar for `cancel`.
 PlanResult PlanPath(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
                     std::optional<double> goal_yaw = std::nullopt, const std::atomic<bool>* cancel = nullptr,
                     const PathOptions& options = {});
+
+// True when a point of the polyline `candidate` within its first along_m metres lies farther than tolerance_m from
+// the polyline `current`: a replanned path that goes another way, not the same way from a new start.
+bool PathsDiverge(const std::vector<Eigen::Vector2d>& candidate, const std::vector<Eigen::Vector2d>& current,
+                  double along_m, double tolerance_m);
 
 // True when every cell the straight segment a-b passes is traversable.
 bool SegmentTraversable(const Costmap& costmap, const Eigen::Vector2d& a, const Eigen::Vector2d& b);
