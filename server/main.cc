@@ -170,8 +170,9 @@ int Run(const CommandLine& cl) {
   // The laser's tracker, when there is a laser: the map's walls are not objects to track.
   std::unique_ptr<TrackingNode> tracking_node;
   if (config.tracking.enabled && config.sim.robot.laser.enabled) {
-    tracking_node = std::make_unique<TrackingNode>(executors.mapping, bus, wall_clock, robot.base_T_laser(),
-                                                   config.tracking.objects);
+    tracking_node = std::make_unique<TrackingNode>(
+        executors.mapping, bus, wall_clock, robot.base_T_laser(), config.tracking.objects, config.tracking.traffic,
+        [&planner](std::shared_ptr<const std::vector<float>> cost) { planner.SetTraffic(std::move(cost)); });
   }
   TrackingNode* const tracking = tracking_node.get();
   // Each active map goes to the planner and, for its walls, to the tracker.

@@ -101,6 +101,8 @@ describe('simulated people', () => {
     daemon = await startDaemon({ config: roomConfig(`
   camera: {width: 160, height: 120}
   pedestrians: 2
+tracking:
+  traffic: {weight: 10, lane_half_width_m: 0.5}  # decisive on the short stretch the plan test watches
 `) });
   });
   after(async () => { await daemon?.stop(); });
@@ -125,5 +127,31 @@ describe('simulated people', () => {
     api.check('State', last);
     const tracking = last.nodes.find((n) => n.name === 'tracking');
     assert.equal(tracking?.health, 'ok', JSON.stringify(tracking));
+  });
+
+  test('leave their mark on plans: a path along where someone walks keeps beside their way', async () => {
+    // Watch a walking person for 3 s: every place they pass is on their way. A plan from one end of what they
+    // walked to the other would run straight along it; with the laser's traffic costs it keeps to one side.
+    const walking = await waitFor(() => state(daemon.url), (st) => st.sim_pedestrians.some((p) => Math.hypot(p.vx, p.vy) > 0.5),
+      8000, 'a walking person');
+    const who = walking.sim_pedestrians.findIndex((p) => Math.hypot(p.vx, p.vy) > 0.5);
+    const seen = [];
+    for (let i = 0; i < 12; i += 1) {
+      const p = (await state(daemon.url)).sim_pedestrians[who];
+      seen.push({ x: p.x, y: p.y });
+      await sleep(250);
+    }
+    let a = seen[0];
+    let b = seen[0];
+    for (const p of seen) for (const q of seen) if (Math.hypot(p.x - q.x, p.y - q.y) > Math.hypot(a.x - b.x, a.y - b.y)) [a, b] = [p, q];
+    const walked = Math.hypot(a.x - b.x, a.y - b.y);
+    assert.ok(walked > 1.2, `the person walked only ${walked.toFixed(2)} m`);
+    await sleep(1500);  // the tracker hands its traffic costs to the planner every second
+    const plan = await postJson(`${daemon.url}/api/v1/plan`, { start: a, goal: b });
+    assert.equal(plan.status, 200, JSON.stringify(plan.body));
+    // How far the path's corners stray from the straight line a-b.
+    const off = (p) => Math.abs((b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x)) / walked;
+    const farthest = Math.max(...plan.body.path.map(off));
+    assert.ok(farthest > 0.4, `the plan runs along their way: ${JSON.stringify(plan.body.path)}`);
   });
 });

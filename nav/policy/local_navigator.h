@@ -37,6 +37,11 @@ struct LocalNavigatorOptions {
   // every lane's dead-end.
   double corridor_half_width_m = 0.3;
   double replan_distance_m = 1.0;  // farther than this from the path: plan again from where the robot is
+  // Where people's ways are known (nav/tracking/traffic_map.h), the path is planned again this often and taken
+  // when it goes another way (0: never). Used by whoever plans: the mission node, the scenario runner.
+  double reroute_s = 2.0;
+  double reroute_look_m = 4.0;       // a new path is taken when, within this much of it, it strays from the
+  double reroute_tolerance_m = 0.4;  // current one by more than this: another way, not the same from a new start
   double detour_m = 0.6;
 };
 

@@ -18,6 +18,7 @@ constexpr double kNoFramesS = 0.2;
 // the robot with MORP and the obstacle memory, as without a laser.
 constexpr double kStaleTrackingS = 0.3;
 
+
 json PoseJson(const nav::Pose2& p) { return {{"x", p.x_m}, {"y", p.y_m}, {"yaw", p.yaw_rad}}; }
 
 }  // namespace
@@ -133,7 +134,37 @@ void MissionNode::RequestPlan(const nav::Pose2& from) {
       }
       navigator_.SetPath(reply.result.plan.waypoints);
       path_version_ = reply.version;
+      routed_ns_ = clock().Now();
       leg_length_m_ = remaining_m_ = reply.result.plan.length_m;
+      Changed();
+    });
+  });
+}
+
+void MissionNode::Reroute(const nav::Pose2& from) {
+  rerouting_ = true;
+  routed_ns_ = clock().Now();
+  const nav::MissionGoal& goal = mission_->current_goal();
+  PlanRequest request{from.translation(), goal.pose.translation(),
+                      goal.has_yaw ? std::optional<double>(goal.pose.yaw_rad) : std::nullopt, nullptr};
+  const std::uint64_t generation = generation_;
+  planner_.Plan(std::move(request), [this, generation](PlanReply reply) {
+    executor().Post([this, generation, reply = std::move(reply)] {
+      std::lock_guard lock(mutex_);
+      rerouting_ = false;
+      // A failed reroute leaves the current path: it is still the best known way.
+      if (generation != generation_ || !mission_ || mission_->finished() || !navigator_.has_path() ||
+          !reply.result.ok()) {
+        return;
+      }
+      std::vector<Eigen::Vector2d> current;
+      for (const nav::Waypoint& w : navigator_.path()) current.push_back(w.pose.translation());
+      const nav::LocalNavigatorOptions& o = navigator_.options();
+      if (!nav::PathsDiverge(reply.result.plan.dense, current, o.reroute_look_m, o.reroute_tolerance_m)) return;
+      spdlog::info("mission {}: another way, around where people walk", mission_->id());
+      navigator_.SetPath(reply.result.plan.waypoints);
+      path_version_ = reply.version;
+      remaining_m_ = reply.result.plan.length_m;
       Changed();
     });
   });
@@ -184,6 +215,11 @@ void MissionNode::Tick() {
     return stop();
   }
   if (path_version_ != planner_.version() && !checking_) CheckPath(pose->pose);
+  const double reroute_s = navigator_.options().reroute_s;
+  if (reroute_s > 0.0 && !rerouting_ && mission_->status() == nav::MissionStatus::kActive && planner_.has_traffic() &&
+      clock().Now() - routed_ns_ > drivers::FromSeconds(reroute_s)) {
+    Reroute(pose->pose);
+  }
   // Driving waits for depth frames; without them there is nothing safe to do but stand still.
   if (last_drive_ns_ < 0 || clock().Now() - last_drive_ns_ > drivers::FromSeconds(kNoFramesS)) {
     if (policy_mode_ != "waiting_for_depth") {

@@ -45,6 +45,9 @@ class MissionNode final : public PeriodicNode {
   // Applies a Mission transition to mission `id`; drop_path: the current path no longer applies.
   Outcome Transition(const std::string& id, bool (nav::Mission::*transition)(), bool drop_path);
   void RequestPlan(const nav::Pose2& from);
+  // Plans the leg again from `from` with the planner's newest traffic costs; takes the new path if it goes another
+  // way than the current one.
+  void Reroute(const nav::Pose2& from);
   void CheckPath(const nav::Pose2& from);
   nlohmann::json DescribeLocked() const;
   void Changed();  // status changed: persist and publish
@@ -62,6 +65,8 @@ class MissionNode final : public PeriodicNode {
   std::uint64_t generation_ = 0;    // bumped per leg and mission, to drop answers to stale requests
   bool planning_ = false;
   bool checking_ = false;
+  bool rerouting_ = false;
+  drivers::TimeNs routed_ns_ = 0;   // when the current path was planned or last checked against people's ways
   std::uint64_t path_version_ = 0;  // planner version the current path was made or checked with
   double leg_length_m_ = 0.0;
   double remaining_m_ = 0.0;

@@ -17,7 +17,18 @@ PlannerService::PlannerService(Executor& planning, const nav::CostmapOptions& op
 void PlannerService::SetMap(std::shared_ptr<const nav::OccupancyGrid> map) {
   std::lock_guard lock(mutex_);
   map_ = std::move(map);
+  traffic_ = nullptr;  // it was the old map's
   ++version_;
+}
+
+void PlannerService::SetTraffic(std::shared_ptr<const std::vector<float>> cost) {
+  std::lock_guard lock(mutex_);
+  traffic_ = std::move(cost);
+}
+
+bool PlannerService::has_traffic() const {
+  std::lock_guard lock(mutex_);
+  return traffic_ != nullptr;
 }
 
 void PlannerService::SetZones(std::vector<nav::Zone> zones) {
@@ -50,8 +61,16 @@ void PlannerService::Plan(PlanRequest request, std::function<void(PlanReply)> do
     PlanReply reply;
     const auto costmap = Current(&reply.costmap_ms);
     reply.version = costmap_version_;
+    std::shared_ptr<const std::vector<float>> traffic;
+    {
+      std::lock_guard lock(mutex_);
+      traffic = traffic_;
+    }
+    nav::PathOptions path_options;
+    if (traffic && traffic->size() == costmap->grid().cells().size()) path_options.extra_cost = *traffic;
     const auto start = std::chrono::steady_clock::now();
-    reply.result = nav::PlanPath(*costmap, request.start, request.goal, request.goal_yaw, request.cancel.get());
+    reply.result = nav::PlanPath(*costmap, request.start, request.goal, request.goal_yaw, request.cancel.get(),
+                                 path_options);
     reply.planning_ms = MsSince(start);
     done(std::move(reply));
   });

@@ -34,6 +34,11 @@ class PlannerService {
   // Thread-safe. Each change bumps the version; the costmap is rebuilt on the next request.
   void SetMap(std::shared_ptr<const nav::OccupancyGrid> map);
   void SetZones(std::vector<nav::Zone> zones);
+  // Thread-safe. Where people have been walking, per cell of the current map (nav::TrafficMap::StepCost): added to
+  // every plan's step costs from now on. Does not change the version (it is not the map); a cost whose size is not
+  // the map's (made for a map since replaced) is not used. Null: none.
+  void SetTraffic(std::shared_ptr<const std::vector<float>> cost);
+  bool has_traffic() const;
   std::uint64_t version() const { return version_.load(); }
   const nav::CostmapOptions& options() const { return options_; }
 
@@ -52,6 +57,7 @@ class PlannerService {
   mutable std::mutex mutex_;
   std::shared_ptr<const nav::OccupancyGrid> map_;
   std::vector<nav::Zone> zones_;
+  std::shared_ptr<const std::vector<float>> traffic_;
   std::atomic<std::uint64_t> version_{1};
   std::shared_ptr<const nav::Costmap> costmap_;  // planning executor only
   std::uint64_t costmap_version_ = 0;             // planning executor only

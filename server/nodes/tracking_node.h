@@ -1,14 +1,19 @@
 // Tracks moving objects from the 2D laser (nav/tracking/moving_objects.h): each scan is put in the map frame with the
 // newest pose estimate and added to the tracker, whose objects and static points go out on tracking/objects for the
 // mission's evasion and the console. On the mapping executor, off the camera's control path. Walls of the active
-// map are not objects: the map library hands each new map to SetMap.
+// map are not objects: the map library hands each new map to SetMap. The tracks also mark where people walk
+// (nav/tracking/traffic_map.h); every second the costs of those ways go to `on_traffic`, for the planner.
 #pragma once
 
+#include <functional>
 #include <memory>
+#include <optional>
+#include <vector>
 
 #include "nav/geometry/pose2.h"
 #include "nav/map/occupancy_grid.h"
 #include "nav/tracking/moving_objects.h"
+#include "nav/tracking/traffic_map.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
 
@@ -17,8 +22,10 @@ namespace corridor::server {
 class TrackingNode final : public Node {
  public:
   // `base_T_laser`: the laser's pose on the robot. Throws std::invalid_argument for bad options.
+  // `on_traffic` (may be empty) is called on the node's executor; with traffic.weight 0 it is never called.
   TrackingNode(Executor& mapping, Bus& bus, const drivers::Clock& clock, const nav::Pose2& base_T_laser,
-               const nav::MovingObjectOptions& options);
+               const nav::MovingObjectOptions& options, const nav::TrafficOptions& traffic,
+               std::function<void(std::shared_ptr<const std::vector<float>>)> on_traffic);
   void Activate() override;
   // Thread-safe: takes effect on the node's executor.
   void SetMap(std::shared_ptr<const nav::OccupancyGrid> map);
@@ -30,6 +37,10 @@ class TrackingNode final : public Node {
   Bus& bus_;
   nav::Pose2 base_T_laser_;
   nav::MovingObjectTracker tracker_;
+  nav::TrafficOptions traffic_options_;
+  std::function<void(std::shared_ptr<const std::vector<float>>)> on_traffic_;
+  std::optional<nav::TrafficMap> traffic_;  // over the current map
+  double traffic_sent_s_ = -1e300;          // scan time of the last costs handed on
 };
 
 }  // namespace corridor::server

@@ -138,6 +138,11 @@ void ReadTracking(ConfigReader& r, TrackingOptions& t) {
   r.Read("map_clearance_m", o.map_clearance_m, 0.0, 1.0);
   r.Read("range_m", o.range_m, 0.5, 100.0);
   r.Read("coast_s", o.coast_s, 0.0, 10.0);
+  r.Section("traffic", [&](ConfigReader& s) {
+    s.Read("weight", t.traffic.weight, 0.0, 100.0);
+    s.Read("lane_half_width_m", t.traffic.lane_half_width_m, 0.0, 5.0);
+    s.Read("memory_s", t.traffic.memory_s, 1.0, 86400.0);
+  });
 }
 
 void ReadMission(ConfigReader& r, nav::LocalNavigatorOptions& navigator) {
@@ -160,6 +165,7 @@ void ReadMission(ConfigReader& r, nav::LocalNavigatorOptions& navigator) {
   r.Read("yaw_tolerance_deg", yaw_tolerance_deg, 0.1, 45.0);
   o.yaw_tolerance_rad = yaw_tolerance_deg * kDegToRad;
   r.Read("replan_distance_m", navigator.replan_distance_m, 0.1, 100.0);
+  r.Read("reroute_s", navigator.reroute_s, 0.0, 600.0);
   r.Section("avoid", [&](ConfigReader& a) { ReadAvoid(a, navigator.avoid); });
   r.Section("evade", [&](ConfigReader& e) { ReadEvade(e, navigator.evade); });
 }

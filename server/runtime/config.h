@@ -13,6 +13,7 @@
 #include "nav/safety/stopping.h"
 #include "nav/policy/local_navigator.h"
 #include "nav/tracking/moving_objects.h"
+#include "nav/tracking/traffic_map.h"
 #include "server/runtime/config_reader.h"  // ConfigError
 
 namespace corridor::server {
@@ -64,6 +65,7 @@ struct SimulatorOptions {
 struct TrackingOptions {
   bool enabled = true;
   nav::MovingObjectOptions objects;
+  nav::TrafficOptions traffic;  // where people walk, for the planner (weight 0: not used)
 };
 
 // ground: nav::MorpOptions; planner: nav::CostmapOptions; mission: nav::LocalNavigatorOptions (the follower's
