@@ -17,6 +17,7 @@
 #include "nav/policy/local_navigator.h"
 #include "nav/policy/reactive.h"
 #include "nav/tracking/moving_objects.h"
+#include "nav/tracking/traffic_map.h"
 
 namespace corridor::scenario {
 namespace {
@@ -77,7 +78,8 @@ World BaseWorld(const ScenarioOptions& options, int world_index, nav::OccupancyG
 
 // --trace output: one line per morp-rb decision, and what surrounded a collision.
 void TraceDecision(double now_s, const nav::Pose2& pose, const nav::LocalStep& step,
-                   const std::vector<nav::LaneResult>& lanes, const nav::Surroundings* around) {
+                   const std::vector<nav::LaneResult>& lanes, const nav::Surroundings* around,
+                   const std::vector<drivers::sim::Pedestrian>& people) {
   std::fprintf(stderr, "t %.2f pose %.2f %.2f %.2f mode %s%s%s nearest %.2f twist %.2f %.2f lanes", now_s, pose.x_m,
                pose.y_m, pose.yaw_rad, nav::ToString(step.mode), step.guarded ? " guarded" : "",
                step.evading ? " evading" : "", step.nearest_m, step.twist.linear_mps, step.twist.angular_rps);
@@ -90,6 +92,10 @@ void TraceDecision(double now_s, const nav::Pose2& pose, const nav::LocalStep& s
                      o.velocity.y(), o.radius_m);
       }
     }
+  }
+  std::fprintf(stderr, " people");  // the simulator's truth, to compare with what was tracked
+  for (const auto& p : people) {
+    std::fprintf(stderr, " (%.2f %.2f v %.2f %.2f)", p.position.x(), p.position.y(), p.velocity.x(), p.velocity.y());
   }
   std::fprintf(stderr, "\n");
 }
@@ -247,6 +253,9 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   // pose).
   nav::MovingObjectTracker tracker{nav::MovingObjectOptions{}};
   const nav::Surroundings* around = nullptr;
+  std::optional<nav::TrafficMap> traffic;
+  nav::TrafficOptions traffic_options;
+  if (sim.laser.enabled && traffic_options.weight > 0.0) traffic.emplace(layout.map, traffic_options);
   if (sim.laser.enabled) {
     tracker.SetMap(std::make_shared<const nav::OccupancyGrid>(layout.map));
     robot.SetScanHandler([&](std::shared_ptr<const drivers::LaserScan> scan) {
@@ -255,6 +264,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       tracker.Update(drivers::ToSeconds(scan->stamp_ns), laser.translation(),
                      nav::ScanToWorld(laser, scan->angle_min_rad, scan->angle_increment_rad, scan->range_min_m,
                                       scan->range_max_m, scan->ranges));
+      if (traffic) traffic->Add(drivers::ToSeconds(scan->stamp_ns), tracker.objects());
       result.tracking_ms.push_back(ms(t0, Clock::now()));
     });
     around = &tracker.surroundings();
@@ -262,7 +272,16 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   const nav::PinholeCamera camera = robot.info().camera;
 
   const nav::Costmap costmap = RobotCostmap(layout.map);
-  const auto plan_from = [&](const Eigen::Vector2d& from) { return nav::PlanPath(costmap, from, layout.goal); };
+  const auto plan_from = [&](const Eigen::Vector2d& from) {
+    nav::PathOptions path_options;
+    std::vector<float> extra;
+    if (traffic) {
+      extra = traffic->StepCost(drivers::ToSeconds(robot.now_ns()));
+      path_options.extra_cost = extra;
+    }
+    return nav::PlanPath(costmap, from, layout.goal, std::nullopt, nullptr, path_options);
+  };
+  double planned_s = 0.0;
   nav::PlanResult plan = plan_from(layout.start.translation());
   if (!plan.ok()) {
     result.outcome = Outcome::kNoPath;
@@ -341,6 +360,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       if (step->replan) {
         plan = plan_from(pose.translation());
         if (plan.ok()) navigator.SetPath(plan.plan.waypoints);
+        planned_s = now_s;
       }
       twist = step->twist;
     } else {
@@ -357,7 +377,19 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
     const auto t2 = Clock::now();
     result.depth_ms.push_back(ms(t0, t1));
     result.policy_ms.push_back(ms(t1, t2));
-    if (options.trace && step) TraceDecision(now_s, pose, *step, morp.results(), around);
+    // People's ways change the best path: plan again now and then and take a path that goes elsewhere (the
+    // planner's work, as in the daemon, where it runs beside the control loop: not in the per-frame times).
+    if (traffic && navigator_options.reroute_s > 0.0 && now_s - planned_s >= navigator_options.reroute_s) {
+      nav::PlanResult again = plan_from(pose.translation());
+      if (again.ok() && (!plan.ok() || nav::PathsDiverge(again.plan.dense, plan.plan.dense,
+                                                          navigator_options.reroute_look_m,
+                                                          navigator_options.reroute_tolerance_m))) {
+        plan = std::move(again);
+        navigator.SetPath(plan.plan.waypoints);
+      }
+      planned_s = now_s;
+    }
+    if (options.trace && step) TraceDecision(now_s, pose, *step, morp.results(), around, robot.pedestrians());
     robot.SetVelocity(twist);
   }
   return result;
