@@ -5,11 +5,13 @@
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
 #include "nav/map/map_io.h"
 #include "nav/planner/planner.h"
+#include "nav/tracking/traffic_map.h"
 
 namespace corridor::nav {
 namespace {
@@ -85,6 +87,46 @@ void BM_Plan(benchmark::State& state) {
   state.SetLabel(state.range(0) == 0 ? "plain A*" : "modified A*");
 }
 BENCHMARK(BM_Plan)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// People's ways on the planner: five people walking 10 m lines across the query's way for a minute.
+TrafficMap WillowTraffic() {
+  TrafficMap traffic(Willow(), TrafficOptions{});
+  const Eigen::Vector2d from = Queries()[1].first;
+  const Eigen::Vector2d to = Queries()[1].second;
+  for (int k = 0; k < 600; ++k) {
+    const double t = 0.1 * k;
+    std::vector<TrackedObject> walkers;
+    for (int i = 1; i <= 5; ++i) {
+      TrackedObject o;
+      o.position = from + (to - from) * (i / 6.0) + Eigen::Vector2d(0.0, std::fmod(0.8 * t, 10.0) - 5.0);
+      o.velocity = {0.0, 0.8};
+      o.moving = true;
+      walkers.push_back(o);
+    }
+    traffic.Add(t, walkers);
+  }
+  return traffic;
+}
+
+// The tracking node's work every second: the traffic costs of the whole map.
+void BM_TrafficStepCost(benchmark::State& state) {
+  const TrafficMap traffic = WillowTraffic();
+  for (auto _ : state) benchmark::DoNotOptimize(traffic.StepCost(60.0).data());
+  state.SetLabel(std::to_string(Willow().width()) + " x " + std::to_string(Willow().height()) + " cells");
+}
+BENCHMARK(BM_TrafficStepCost)->Unit(benchmark::kMillisecond);
+
+// The same query as BM_Plan's, with those costs added to every step.
+void BM_PlanWithTraffic(benchmark::State& state) {
+  const Costmap c(Willow(), {}, g_modified);
+  const std::vector<float> cost = WillowTraffic().StepCost(60.0);
+  PathOptions options;
+  options.extra_cost = cost;
+  const Eigen::Vector2d s = Snap(c, Queries()[1].first);
+  const Eigen::Vector2d g = Snap(c, Queries()[1].second);
+  for (auto _ : state) benchmark::DoNotOptimize(PlanPath(c, s, g, std::nullopt, nullptr, options).plan.length_m);
+}
+BENCHMARK(BM_PlanWithTraffic)->Unit(benchmark::kMillisecond);
 
 // What a goal costs when the map has just changed: costmap and search together (the 50 ms budget).
 void BM_CostmapAndPlan(benchmark::State& state) {
