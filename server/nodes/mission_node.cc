@@ -18,7 +18,6 @@ constexpr double kNoFramesS = 0.2;
 // the robot with MORP and the obstacle memory, as without a laser.
 constexpr double kStaleTrackingS = 0.3;
 
-
 json PoseJson(const nav::Pose2& p) { return {{"x", p.x_m}, {"y", p.y_m}, {"yaw", p.yaw_rad}}; }
 
 }  // namespace

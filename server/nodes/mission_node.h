@@ -1,6 +1,7 @@
 // Runs missions: plans each leg from the robot's pose with the planner service, drives it with the local navigator
 // (the path follower, and MORP-RB around what the map does not show), and goes on to the next waypoint. Replans
-// when the map or zones change across the rest of the path and when the robot has strayed far from it; fails the
+// when the map or zones change across the rest of the path and when the robot has strayed far from it, and, where the
+// laser has shown where people walk, every reroute_s, taking the new path when it goes another way; fails the
 // mission with the planner's reason when there is no way. On the control executor.
 //
 // Driving runs once per depth frame, as soon as its lanes arrive (ground/lanes), so the command answers the newest
