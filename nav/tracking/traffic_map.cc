@@ -20,6 +20,7 @@ TrafficMap::TrafficMap(const OccupancyGrid& geometry, const TrafficOptions& opti
 void TrafficMap::Clear() {
   last_walked_s_.assign(static_cast<std::size_t>(geometry_.width()) * static_cast<std::size_t>(geometry_.height()),
                         -std::numeric_limits<double>::infinity());
+  last_any_s_ = -std::numeric_limits<double>::infinity();
 }
 
 void TrafficMap::Add(double stamp_s, const std::vector<TrackedObject>& objects) {
@@ -34,6 +35,7 @@ void TrafficMap::Add(double stamp_s, const std::vector<TrackedObject>& objects) 
         if (!geometry_.Contains(c) || (geometry_.CellCenter(c) - o.position).squaredNorm() > reach2) continue;
         double& last = last_walked_s_[static_cast<std::size_t>(c.y) * geometry_.width() + c.x];
         last = std::max(last, stamp_s);
+        last_any_s_ = std::max(last_any_s_, stamp_s);
       }
     }
   }
@@ -43,7 +45,7 @@ std::vector<float> TrafficMap::StepCost(double stamp_s) const {
   std::vector<float> cost(last_walked_s_.size(), 0.0f);
   for (std::size_t i = 0; i < cost.size(); ++i) {
     const double age = stamp_s - last_walked_s_[i];
-    if (age < 10.0 * options_.memory_s) {
+    if (age < kFadedAfter * options_.memory_s) {
       cost[i] = static_cast<float>(options_.weight * std::exp(-std::max(0.0, age) / options_.memory_s));
     }
   }

@@ -32,13 +32,17 @@ class TrafficMap {
 
   // Per cell (row-major, as the geometry's cells), the extra step cost at stamp_s: for AStar's extra_cost.
   std::vector<float> StepCost(double stamp_s) const;
+  // True when no cell has a cost at stamp_s: nobody has walked, or it has faded.
+  bool Empty(double stamp_s) const { return stamp_s - last_any_s_ >= kFadedAfter * options_.memory_s; }
 
   void Clear();
 
  private:
   OccupancyGrid geometry_;  // cells unused: width, height, resolution and origin
   TrafficOptions options_;
+  static constexpr double kFadedAfter = 10.0;  // memory_s: costs older than this are 0 (below 5e-5 of the weight)
   std::vector<double> last_walked_s_;  // -infinity: never
+  double last_any_s_;                  // the newest of them
   int reach_cells_;
 };
 

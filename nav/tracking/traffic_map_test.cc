@@ -84,13 +84,17 @@ TEST(TrafficMapTest, PlansKeepOutOfTheWayPeopleWalkUntilItFades) {
   EXPECT_LT(Beside(again.plan).second, 0.1);
 }
 
-TEST(TrafficMapTest, StandingObjectsAreNotTrafficAndBadInputIsRefused) {
+TEST(TrafficMapTest, OnlyWalkersMakeTrafficItFadesAndBadInputIsRefused) {
   const OccupancyGrid room = Room();
   TrafficMap traffic(room, TrafficOptions{});
   TrackedObject standing = Walker({5.0, 5.0}, {0.0, 0.0});
   standing.moving = false;
   traffic.Add(1.0, {standing, Walker({-3.0, 5.0}, {0.8, 0.0})});  // the second is off the map
   for (const float c : traffic.StepCost(1.0)) ASSERT_EQ(c, 0.0f);
+  EXPECT_TRUE(traffic.Empty(1.0));
+  traffic.Add(2.0, {Walker({5.0, 5.0}, {0.8, 0.0})});
+  EXPECT_FALSE(traffic.Empty(2.0));
+  EXPECT_TRUE(traffic.Empty(2.0 + 10.0 * TrafficOptions{}.memory_s));
 
   TrafficOptions bad;
   bad.memory_s = 0.0;

@@ -36,7 +36,7 @@ class PlannerService {
   void SetZones(std::vector<nav::Zone> zones);
   // Thread-safe. Where people have been walking, per cell of the current map (nav::TrafficMap::StepCost): added to
   // every plan's step costs from now on. Does not change the version (it is not the map); a cost whose size is not
-  // the map's (made for a map since replaced) is not used. Null: none.
+  // the map's (made for a map since replaced) is not used. Null: none (nobody has walked): missions do not reroute.
   void SetTraffic(std::shared_ptr<const std::vector<float>> cost);
   bool has_traffic() const;
   std::uint64_t version() const { return version_.load(); }

@@ -47,7 +47,9 @@ void TrackingNode::OnScan(const drivers::LaserScan& scan) {
     traffic_->Add(stamp_s, tracker_.objects());
     if (stamp_s - traffic_sent_s_ >= kTrafficEveryS || stamp_s < traffic_sent_s_) {
       traffic_sent_s_ = stamp_s;
-      on_traffic_(std::make_shared<const std::vector<float>>(traffic_->StepCost(stamp_s)));
+      // Nobody walking (or long gone): no costs, and missions keep their paths.
+      on_traffic_(traffic_->Empty(stamp_s) ? nullptr
+                                           : std::make_shared<const std::vector<float>>(traffic_->StepCost(stamp_s)));
     }
   }
   stats().Record(start);

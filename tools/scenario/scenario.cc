@@ -379,7 +379,8 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
     result.policy_ms.push_back(ms(t1, t2));
     // People's ways change the best path: plan again now and then and take a path that goes elsewhere (the
     // planner's work, as in the daemon, where it runs beside the control loop: not in the per-frame times).
-    if (traffic && navigator_options.reroute_s > 0.0 && now_s - planned_s >= navigator_options.reroute_s) {
+    if (traffic && !traffic->Empty(now_s) && navigator_options.reroute_s > 0.0 &&
+        now_s - planned_s >= navigator_options.reroute_s) {
       nav::PlanResult again = plan_from(pose.translation());
       if (again.ok() && (!plan.ok() || nav::PathsDiverge(again.plan.dense, plan.plan.dense,
                                                           navigator_options.reroute_look_m,
