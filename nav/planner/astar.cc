@@ -87,6 +87,14 @@ SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const E
                                 static_cast<float>(res),         static_cast<float>(res),
                                 static_cast<float>(kSqrt2 * res), static_cast<float>(kSqrt2 * res),
                                 static_cast<float>(kSqrt2 * res), static_cast<float>(kSqrt2 * res)};
+  // A start inside the inflated band may cross the band's cells near it.
+  const bool start_inside = !costmap.Traversable(s);
+  const double escape_cells = kEscapeRadiusM / res;
+  const auto near_start = [&](int nx, int ny) {
+    const double dx = nx - start_cell->x;
+    const double dy = ny - start_cell->y;
+    return dx * dx + dy * dy <= escape_cells * escape_cells;
+  };
   for (int top = open.Pop(); top >= 0; top = open.Pop()) {
     const std::size_t cur = static_cast<std::size_t>(top);
     if (closed[cur]) continue;
@@ -99,14 +107,15 @@ SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const E
     const int y = top / width;
     // Inside the grid's one-cell rim every neighbour exists: no bounds checks (nearly every expansion).
     const bool interior = x > 0 && y > 0 && x < width - 1 && y < height - 1;
-    const bool escaping = !costmap.Traversable(cur);  // only the start can be here
+    const bool escaping = !costmap.Traversable(cur);  // the start, or a cell on its way out of the band
     for (int k = 0; k < 8; ++k) {
       const int nx = x + kDx[k];
       const int ny = y + kDy[k];
       if (!interior && (nx < 0 || ny < 0 || nx >= width || ny >= height)) continue;
       const std::size_t next = cur + static_cast<std::ptrdiff_t>(kDy[k]) * width + kDx[k];
       if (closed[next] || costmap.IsObstacle(next)) continue;
-      const bool ok = costmap.Traversable(next) || (escaping && costmap.clearance_m(next) > costmap.clearance_m(cur));
+      const bool ok = costmap.Traversable(next) || (escaping && costmap.clearance_m(next) > costmap.clearance_m(cur)) ||
+                      (start_inside && near_start(nx, ny));
       if (!ok) continue;
       if (k >= 4) {
         // No cutting corners: both cells beside the diagonal must be passable too.

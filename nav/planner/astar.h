@@ -15,6 +15,8 @@
 
 namespace corridor::nav {
 
+inline constexpr double kEscapeRadiusM = 0.5;
+
 enum class PlanError {
   kNone,
   kStartOutsideMap,
@@ -39,7 +41,9 @@ struct SearchResult {
 };
 
 // Searches from `start` to `goal` (map-frame metres). A start inside the inflated band around obstacles (a robot
-// that drove close to a wall) may leave it along increasing clearance; a start on an obstacle cell may not.
+// that drove close to a wall, or into a tight spot among a map's specks) may leave it along increasing clearance,
+// and through any cell of the band within kEscapeRadiusM of it (the robot got there, so it can back out); a start on
+// an obstacle cell may not.
 // `cancel`, when non-null, is polled; setting it makes the search return kCancelled. Thread-compatible: one search
 // per Costmap at a time is not required (the costmap is read-only). `extra_cost`, when not empty, holds one
 // non-negative value per cell (costmap.Index) added to the cell's step factor: costs that change faster than the

@@ -212,6 +212,26 @@ TEST(PlannerTest, StartTooCloseToAWallCanStillLeave) {
   EXPECT_LT(r.plan.waypoints.back().pose.x_m, 0.6);
 }
 
+TEST(PlannerTest, ARobotInATightSpotAmongAMapsSpecksCanPlanItsWayOut) {
+  // Where a robot drove (avoiding what its camera saw) near the default world's start: inside the inflated band of
+  // the map's specks, at a spot from which clearance falls in every direction before it rises. Leaving along rising
+  // clearance alone found no way; crossing the band near the start (the robot got in, it can back out) does.
+  const OccupancyGrid& g = Map(kWillow);
+  const Costmap c(g, {}, CostmapOptions{});
+  for (const Eigen::Vector2d& start : {Eigen::Vector2d(24.25, 25.3), Eigen::Vector2d(23.85, 25.77)}) {
+    ASSERT_FALSE(c.Traversable(c.Index(*g.WorldToCell(start))));
+    const PlanResult r = PlanPath(c, start, {24.4, 26.5});
+    ASSERT_TRUE(r.ok()) << r.detail;
+    // Only the way out crosses the band (past kEscapeRadiusM along rising clearance); the rest keeps the robot's
+    // clearance.
+    for (const Eigen::Vector2d& p : r.plan.dense) {
+      if ((p - start).norm() > 2.0 * kEscapeRadiusM) {
+        EXPECT_TRUE(c.Traversable(c.Index(*g.WorldToCell(p)))) << p.transpose() << " at " << (p - start).norm();
+      }
+    }
+  }
+}
+
 TEST(PlannerTest, CancelStopsALongSearch) {
   const OccupancyGrid& g = Map(kWillow);
   const Costmap c(g, {}, CostmapOptions{});
