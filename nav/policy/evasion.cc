@@ -90,9 +90,9 @@ EvasionResult Evasion::Check(const Pose2& robot, const Twist2& command, const Ei
     movers.push_back({centre, object.velocity, clearance, steps_});
     // Walking away with the robot in their wake (on their line, behind them): should they turn round, they walk
     // straight into it.
-    const double speed = object.velocity.norm();
-    const double behind = speed > 1e-6 ? object.velocity.dot(away) / speed : 0.0;
-    const double aside = speed > 1e-6 ? std::abs(object.velocity.x() * away.y() - object.velocity.y() * away.x()) / speed : 0.0;
+    const Eigen::Vector2d heading = object.velocity.normalized();  // zero stays zero: no turn predicted
+    const double behind = heading.dot(away);
+    const double aside = std::abs(heading.x() * away.y() - heading.y() * away.x());
     if (behind > 0.0 && aside < clearance && behind - clearance < o.turn_reach_m) {
       movers.push_back({centre, -object.velocity, clearance, turn_steps_});
     }

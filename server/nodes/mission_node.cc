@@ -114,58 +114,54 @@ std::optional<json> MissionNode::Describe(const std::string& id) const {
   return DescribeLocked();
 }
 
-void MissionNode::RequestPlan(const nav::Pose2& from) {
-  planning_ = true;
+void MissionNode::PlanLeg(const nav::Pose2& from, std::function<void(const PlanReply&, bool current)> done) {
   const nav::MissionGoal& goal = mission_->current_goal();
   PlanRequest request{from.translation(), goal.pose.translation(),
                       goal.has_yaw ? std::optional<double>(goal.pose.yaw_rad) : std::nullopt, nullptr};
   const std::uint64_t generation = generation_;
-  planner_.Plan(std::move(request), [this, generation](PlanReply reply) {
-    executor().Post([this, generation, reply = std::move(reply)] {
+  planner_.Plan(std::move(request), [this, generation, done = std::move(done)](PlanReply reply) {
+    executor().Post([this, generation, done, reply = std::move(reply)] {
       std::lock_guard lock(mutex_);
-      if (generation != generation_ || !mission_ || mission_->finished()) return;  // overtaken
-      planning_ = false;
-      if (!reply.result.ok()) {
-        spdlog::warn("mission {}: {}", mission_->id(), reply.result.detail);
-        mission_->Fail(reply.result.detail);
-        Changed();
-        return;
-      }
-      navigator_.SetPath(reply.result.plan.waypoints);
-      path_version_ = reply.version;
-      routed_ns_ = clock().Now();
-      leg_length_m_ = remaining_m_ = reply.result.plan.length_m;
-      Changed();
+      done(reply, generation == generation_ && mission_ && !mission_->finished());
     });
+  });
+}
+
+void MissionNode::RequestPlan(const nav::Pose2& from) {
+  planning_ = true;
+  PlanLeg(from, [this](const PlanReply& reply, bool current) {
+    if (!current) return;  // overtaken
+    planning_ = false;
+    if (!reply.result.ok()) {
+      spdlog::warn("mission {}: {}", mission_->id(), reply.result.detail);
+      mission_->Fail(reply.result.detail);
+      Changed();
+      return;
+    }
+    navigator_.SetPath(reply.result.plan.waypoints);
+    path_version_ = reply.version;
+    routed_ns_ = clock().Now();
+    leg_length_m_ = remaining_m_ = reply.result.plan.length_m;
+    Changed();
   });
 }
 
 void MissionNode::Reroute(const nav::Pose2& from) {
   rerouting_ = true;
   routed_ns_ = clock().Now();
-  const nav::MissionGoal& goal = mission_->current_goal();
-  PlanRequest request{from.translation(), goal.pose.translation(),
-                      goal.has_yaw ? std::optional<double>(goal.pose.yaw_rad) : std::nullopt, nullptr};
-  const std::uint64_t generation = generation_;
-  planner_.Plan(std::move(request), [this, generation](PlanReply reply) {
-    executor().Post([this, generation, reply = std::move(reply)] {
-      std::lock_guard lock(mutex_);
-      rerouting_ = false;
-      // A failed reroute leaves the current path: it is still the best known way.
-      if (generation != generation_ || !mission_ || mission_->finished() || !navigator_.has_path() ||
-          !reply.result.ok()) {
-        return;
-      }
-      std::vector<Eigen::Vector2d> current;
-      for (const nav::Waypoint& w : navigator_.path()) current.push_back(w.pose.translation());
-      const nav::LocalNavigatorOptions& o = navigator_.options();
-      if (!nav::PathsDiverge(reply.result.plan.dense, current, o.reroute_look_m, o.reroute_tolerance_m)) return;
-      spdlog::info("mission {}: another way, around where people walk", mission_->id());
-      navigator_.SetPath(reply.result.plan.waypoints);
-      path_version_ = reply.version;
-      remaining_m_ = reply.result.plan.length_m;
-      Changed();
-    });
+  PlanLeg(from, [this](const PlanReply& reply, bool current) {
+    rerouting_ = false;
+    // A failed reroute leaves the current path: it is still the best known way.
+    if (!current || !navigator_.has_path() || !reply.result.ok()) return;
+    std::vector<Eigen::Vector2d> path;
+    for (const nav::Waypoint& w : navigator_.path()) path.push_back(w.pose.translation());
+    const nav::LocalNavigatorOptions& o = navigator_.options();
+    if (!nav::PathsDiverge(reply.result.plan.dense, path, o.reroute_look_m, o.reroute_tolerance_m)) return;
+    spdlog::info("mission {}: another way, around where people walk", mission_->id());
+    navigator_.SetPath(reply.result.plan.waypoints);
+    path_version_ = reply.version;
+    remaining_m_ = reply.result.plan.length_m;
+    Changed();
   });
 }
 

@@ -45,6 +45,9 @@ class MissionNode final : public PeriodicNode {
   void Drive(const GroundLanes& lanes);  // one local navigation step on this frame's lanes
   // Applies a Mission transition to mission `id`; drop_path: the current path no longer applies.
   Outcome Transition(const std::string& id, bool (nav::Mission::*transition)(), bool drop_path);
+  // Plans the current leg from `from`; `done` runs on the node's executor with the lock held, told whether the
+  // answer is still for this leg of this mission.
+  void PlanLeg(const nav::Pose2& from, std::function<void(const PlanReply&, bool current)> done);
   void RequestPlan(const nav::Pose2& from);
   // Plans the leg again from `from` with the planner's newest traffic costs; takes the new path if it goes another
   // way than the current one.

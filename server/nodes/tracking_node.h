@@ -6,6 +6,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -40,7 +41,7 @@ class TrackingNode final : public Node {
   nav::TrafficOptions traffic_options_;
   std::function<void(std::shared_ptr<const std::vector<float>>)> on_traffic_;
   std::optional<nav::TrafficMap> traffic_;  // over the current map
-  double traffic_sent_s_ = -1e300;          // scan time of the last costs handed on
+  double traffic_sent_s_ = -std::numeric_limits<double>::infinity();  // scan time of the last costs handed on
 };
 
 }  // namespace corridor::server

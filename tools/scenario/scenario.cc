@@ -275,8 +275,9 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   const auto plan_from = [&](const Eigen::Vector2d& from) {
     nav::PathOptions path_options;
     std::vector<float> extra;
-    if (traffic) {
-      extra = traffic->StepCost(drivers::ToSeconds(robot.now_ns()));
+    const double now_s = drivers::ToSeconds(robot.now_ns());
+    if (traffic && !traffic->Empty(now_s)) {
+      extra = traffic->StepCost(now_s);
       path_options.extra_cost = extra;
     }
     return nav::PlanPath(costmap, from, layout.goal, std::nullopt, nullptr, path_options);
