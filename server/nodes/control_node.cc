@@ -13,6 +13,9 @@ namespace {
 // A mission command older than this is not acted on: the mission node has stopped talking.
 constexpr double kMissionFreshS = 0.3;
 constexpr double kLatencyPublishS = 0.5;
+// After the bumper is released, forward motion waits this long: the mission has time to turn away from what it
+// touched instead of pushing on at once.
+constexpr double kBumpHoldS = 1.0;
 
 nav::Twist2 Limit(const nav::Twist2& t, const SafetyOptions& o) {
   return {std::clamp(t.linear_mps, -o.max_linear_mps, o.max_linear_mps),
@@ -36,6 +39,11 @@ BaseCommand DecideCommand(const ControlInputs& in, const SafetyOptions& options)
     out.mode = "mission";
     out.twist = Limit(in.mission->twist, options);
   }
+  if (out.twist.linear_mps > 0.0 && in.last_bump_ns >= 0 &&
+      in.now_ns - in.last_bump_ns <= drivers::FromSeconds(kBumpHoldS)) {
+    out.twist.linear_mps = 0.0;
+    out.reason = "bumper pressed: not driving forward";
+  }
   if (out.twist.linear_mps > 0.0) {
     // Forward: only as fast as stops before the nearest dead-end the camera sees, and not at all without sight.
     const bool fresh = in.lanes != nullptr && in.last_lanes_ns >= 0 &&
@@ -56,7 +64,10 @@ ControlNode::ControlNode(Executor& executor, Bus& bus, drivers::DiffDriveBase& b
     : PeriodicNode("control", executor, clock, options.control_rate_hz), bus_(bus), base_(base), options_(options) {}
 
 void ControlNode::Activate() {
-  bus_.Get(topics::kOdometry).Subscribe(executor(), [this](const auto&) { last_odometry_ns_ = clock().Now(); });
+  bus_.Get(topics::kOdometry).Subscribe(executor(), [this](const auto& odometry) {
+    last_odometry_ns_ = clock().Now();
+    if (odometry->bumper_pressed) last_bump_ns_ = clock().Now();
+  });
   bus_.Get(topics::kGroundLanes).Subscribe(executor(), [this](const auto&) { last_lanes_ns_ = clock().Now(); });
   bus_.Get(topics::kMissionCommand).Subscribe(executor(), [this](const auto&) { Act(); });
   PeriodicNode::Activate();
@@ -86,7 +97,9 @@ void ControlNode::Act() {
   const auto mission = bus_.Get(topics::kMissionCommand).latest();
   const auto lanes = bus_.Get(topics::kGroundLanes).latest();
   const BaseCommand command = DecideCommand(
-      {clock().Now(), teleop.get(), last_odometry_ns_.load(), mission.get(), lanes.get(), last_lanes_ns_.load()}, options_);
+      {clock().Now(), teleop.get(), last_odometry_ns_.load(), mission.get(), lanes.get(), last_lanes_ns_.load(),
+       last_bump_ns_.load()},
+      options_);
   base_.SetVelocity(command.twist);
   const drivers::TimeNs sent_ns = clock().Now();
   if (command.mode == "mission" && mission->frame_arrival_ns >= 0 && mission->frame_arrival_ns != answered_frame_ns_) {

@@ -77,6 +77,27 @@ TEST(DecideCommandTest, ForwardSpeedStopsBeforeWhatTheCameraSeesAndNeedsFreshDep
   EXPECT_DOUBLE_EQ(reversing.twist.angular_rps, 0.5);
 }
 
+TEST(DecideCommandTest, AfterABumpNothingDrivesForwardForASecondButItMayTurnAndBackAway) {
+  SafetyOptions o;
+  const MissionCommand push{FromSeconds(10.0), {0.2, 0.3}};
+  const auto at = [&](double now_s, const MissionCommand& command, drivers::TimeNs bump_ns) {
+    return DecideCommand({FromSeconds(now_s), nullptr, FromSeconds(now_s), &command, &kClear, FromSeconds(now_s),
+                          bump_ns},
+                         o);
+  };
+  const BaseCommand held = at(10.05, push, FromSeconds(10.0));
+  EXPECT_EQ(held.mode, "mission");
+  EXPECT_EQ(held.twist.linear_mps, 0.0);
+  EXPECT_DOUBLE_EQ(held.twist.angular_rps, 0.3);
+  EXPECT_EQ(held.reason, "bumper pressed: not driving forward");
+  const MissionCommand back{FromSeconds(10.0), {-0.1, 0.0}};
+  EXPECT_DOUBLE_EQ(at(10.05, back, FromSeconds(10.0)).twist.linear_mps, -0.1);
+  // A second after the bumper let go, forward again; never bumped: forward.
+  const MissionCommand later{FromSeconds(11.2), {0.2, 0.3}};
+  EXPECT_DOUBLE_EQ(at(11.25, later, FromSeconds(10.0)).twist.linear_mps, 0.2);
+  EXPECT_DOUBLE_EQ(at(11.25, later, -1).twist.linear_mps, 0.2);
+}
+
 TEST(DecideCommandTest, NoOdometryMeansStopWithAReason) {
   SafetyOptions o;
   const TeleopCommand teleop{{0.3, 0.0}, FromSeconds(10.0), "rest"};
