@@ -42,7 +42,7 @@ const char* ToString(PlanError error) {
 }
 
 SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
-                   const std::atomic<bool>* cancel, std::span<const float> extra_cost) {
+                   const std::atomic<bool>* cancel, std::span<const float> extra_cost, bool robot_at_start) {
   SearchResult result;
   const OccupancyGrid& grid = costmap.grid();
   if (!extra_cost.empty() && extra_cost.size() != grid.cells().size()) {
@@ -55,7 +55,7 @@ SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const E
   if (!goal_cell) return {PlanError::kGoalOutsideMap, "goal " + Where(goal) + " is outside the map", {}};
   const std::size_t s = costmap.Index(*start_cell);
   const std::size_t g = costmap.Index(*goal_cell);
-  if (costmap.IsObstacle(s)) {
+  if (costmap.IsObstacle(s) && (costmap.InKeepOut(s) || !robot_at_start)) {
     return {PlanError::kStartOccupied,
             "start " + Where(start) + (costmap.InKeepOut(s) ? " is in a keep-out zone" : " is on an obstacle"), {}};
   }
@@ -87,13 +87,19 @@ SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const E
                                 static_cast<float>(res),         static_cast<float>(res),
                                 static_cast<float>(kSqrt2 * res), static_cast<float>(kSqrt2 * res),
                                 static_cast<float>(kSqrt2 * res), static_cast<float>(kSqrt2 * res)};
-  // A start inside the inflated band may cross the band's cells near it.
+  // A start inside the inflated band may cross the band's cells near it; with the robot at the start, whatever lies
+  // under its footprint is passable: it stands on it, whatever the map says (a speck, unknown space, a wall a few
+  // centimetres off after a localization error). Keep-out zones stay closed.
   const bool start_inside = !costmap.Traversable(s);
-  const double escape_cells = kEscapeRadiusM / res;
-  const auto near_start = [&](int nx, int ny) {
-    const double dx = nx - start_cell->x;
-    const double dy = ny - start_cell->y;
-    return dx * dx + dy * dy <= escape_cells * escape_cells;
+  const auto within = [&](int nx, int ny, double radius_m) {
+    const double dx = (nx - start_cell->x) * res;
+    const double dy = (ny - start_cell->y) * res;
+    return dx * dx + dy * dy <= radius_m * radius_m;
+  };
+  const double footprint_m = costmap.options().robot_radius_m;
+  const auto near_start = [&](int nx, int ny) { return within(nx, ny, kEscapeRadiusM); };
+  const auto blocked = [&](std::size_t i, int nx, int ny) {
+    return costmap.IsObstacle(i) && (!robot_at_start || costmap.InKeepOut(i) || !within(nx, ny, footprint_m));
   };
   for (int top = open.Pop(); top >= 0; top = open.Pop()) {
     const std::size_t cur = static_cast<std::size_t>(top);
@@ -113,7 +119,7 @@ SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const E
       const int ny = y + kDy[k];
       if (!interior && (nx < 0 || ny < 0 || nx >= width || ny >= height)) continue;
       const std::size_t next = cur + static_cast<std::ptrdiff_t>(kDy[k]) * width + kDx[k];
-      if (closed[next] || costmap.IsObstacle(next)) continue;
+      if (closed[next] || blocked(next, nx, ny)) continue;
       const bool ok = costmap.Traversable(next) || (escaping && costmap.clearance_m(next) > costmap.clearance_m(cur)) ||
                       (start_inside && near_start(nx, ny));
       if (!ok) continue;
@@ -121,7 +127,7 @@ SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const E
         // No cutting corners: both cells beside the diagonal must be passable too.
         const std::size_t side_a = cur + kDx[k];
         const std::size_t side_b = cur + static_cast<std::ptrdiff_t>(kDy[k]) * width;
-        if (costmap.IsObstacle(side_a) || costmap.IsObstacle(side_b)) continue;
+        if (blocked(side_a, nx, y) || blocked(side_b, x, ny)) continue;
         if (!escaping && (!costmap.Traversable(side_a) || !costmap.Traversable(side_b))) continue;
       }
       const float factor = costmap.step_factor(next) + (extra_cost.empty() ? 0.0f : extra_cost[next]);

@@ -42,14 +42,17 @@ struct SearchResult {
 
 // Searches from `start` to `goal` (map-frame metres). A start inside the inflated band around obstacles (a robot
 // that drove close to a wall, or into a tight spot among a map's specks) may leave it along increasing clearance,
-// and through any cell of the band within kEscapeRadiusM of it (the robot got there, so it can back out); a start on
-// an obstacle cell may not.
+// and through any cell of the band within kEscapeRadiusM of it (the robot got there, so it can back out). With
+// robot_at_start (the robot stands at `start`, as when a mission plans from its pose), obstacle and unknown cells
+// under its footprint (robot_radius_m) are passable too: the map is wrong there, or the pose a little off. Otherwise a
+// start on an obstacle cell is refused, and a start in a keep-out zone always is.
 // `cancel`, when non-null, is polled; setting it makes the search return kCancelled. Thread-compatible: one search
 // per Costmap at a time is not required (the costmap is read-only). `extra_cost`, when not empty, holds one
 // non-negative value per cell (costmap.Index) added to the cell's step factor: costs that change faster than the
 // costmap is rebuilt, such as where people have been walking (nav/tracking/traffic_map.h). Its size must be the
 // costmap's (std::invalid_argument otherwise).
 SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
-                   const std::atomic<bool>* cancel = nullptr, std::span<const float> extra_cost = {});
+                   const std::atomic<bool>* cancel = nullptr, std::span<const float> extra_cost = {},
+                   bool robot_at_start = false);
 
 }  // namespace corridor::nav

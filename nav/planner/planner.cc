@@ -66,7 +66,7 @@ bool PathsDiverge(const std::vector<Eigen::Vector2d>& candidate, const std::vect
 
 PlanResult PlanPath(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
                     std::optional<double> goal_yaw, const std::atomic<bool>* cancel, const PathOptions& options) {
-  SearchResult search = AStar(costmap, start, goal, cancel, options.extra_cost);
+  SearchResult search = AStar(costmap, start, goal, cancel, options.extra_cost, options.robot_at_start);
   PlanResult result{search.error, search.detail, {}};
   if (!result.ok()) return result;
   Plan& plan = result.plan;

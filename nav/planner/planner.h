@@ -33,6 +33,7 @@ struct PlanResult {
 struct PathOptions {
   double simplify_tolerance_m = 0.1;   // how far a simplified path may stray from the searched one
   std::span<const float> extra_cost;   // per cell, added to the step factor: see AStar
+  bool robot_at_start = false;         // the robot stands at the start: see AStar
 };
 
 // Plans from `start` to `goal`; when goal_yaw is set the last waypoint takes it. See AStar for `cancel`.

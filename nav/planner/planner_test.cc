@@ -232,6 +232,39 @@ TEST(PlannerTest, ARobotInATightSpotAmongAMapsSpecksCanPlanItsWayOut) {
   }
 }
 
+TEST(PlannerTest, WhatIsUnderTheRobotIsPassableWhenItPlansFromWhereItStands) {
+  // Where a mission's robot stood in the default world after swerving across a band of the map's unknown (grey)
+  // cells, which the simulated building does not have: its centre on an unknown cell, free floor 5 cm east.
+  const OccupancyGrid& g = Map(kWillow);
+  const Costmap c(g, {}, CostmapOptions{});
+  const Eigen::Vector2d robot{23.7, 26.28};
+  ASSERT_TRUE(c.IsObstacle(c.Index(*g.WorldToCell(robot))));
+  EXPECT_EQ(PlanPath(c, robot, {24.4, 26.5}).error, PlanError::kStartOccupied);  // a start given, not stood on
+  PathOptions stood;
+  stood.robot_at_start = true;
+  const PlanResult r = PlanPath(c, robot, {24.4, 26.5}, std::nullopt, nullptr, stood);
+  ASSERT_TRUE(r.ok()) << r.detail;
+  EXPECT_LT(r.plan.length_m, 1.5);  // out to the east and on: not round the building
+  // Obstacle cells only under the footprint.
+  for (const Eigen::Vector2d& p : r.plan.dense) {
+    if (c.IsObstacle(c.Index(*g.WorldToCell(p)))) {
+      EXPECT_LE((p - robot).norm(), c.options().robot_radius_m);
+    }
+  }
+  // Deep in a wall, the footprint reaches no free cell: still no way.
+  OccupancyGrid walled(50, 40, 0.05, {}, kOccupiedCell);
+  for (int y = 0; y < 40; ++y) {
+    for (int x = 28; x < 50; ++x) walled.at({x, y}) = kFreeCell;  // free east of x = 1.4 m
+  }
+  const Costmap solid(walled, {}, CostmapOptions{});
+  EXPECT_EQ(PlanPath(solid, {0.5, 1.0}, {2.0, 1.0}, std::nullopt, nullptr, stood).error, PlanError::kNoPath);
+  // A keep-out zone is never left that way.
+  OccupancyGrid open(60, 60, 0.05, {}, kFreeCell);
+  const std::vector<Zone> zones = {Zone{"z", "fence", ZoneKind::kKeepOut, {{1.0, 1.0}, {2.0, 1.0}, {2.0, 2.0}, {1.0, 2.0}}}};
+  const Costmap fenced(open, zones, CostmapOptions{});
+  EXPECT_EQ(PlanPath(fenced, {1.5, 1.5}, {0.5, 0.5}, std::nullopt, nullptr, stood).error, PlanError::kStartOccupied);
+}
+
 TEST(PlannerTest, CancelStopsALongSearch) {
   const OccupancyGrid& g = Map(kWillow);
   const Costmap c(g, {}, CostmapOptions{});

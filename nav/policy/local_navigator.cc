@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace corridor::nav {
 
@@ -9,8 +10,10 @@ LocalNavigator::LocalNavigator(const LocalNavigatorOptions& options)
     : options_(options), follower_(options.follower), avoid_(options.avoid), memory_(options.memory),
       evade_(options.evade) {}
 
-void LocalNavigator::SetPath(std::vector<Waypoint> path) {
+void LocalNavigator::SetPath(std::vector<Waypoint> path, std::shared_ptr<const Costmap> map) {
   follower_.SetPath(std::move(path));
+  memory_.SetMap(map);
+  map_ = std::move(map);
   avoid_ = MorpRb(options_.avoid);  // a new path: no side committed, no overtaking in progress
 }
 
@@ -38,15 +41,20 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
   }
   const Eigen::Vector2d to_target = follow.target - robot.translation();
   const double heading_error = WrapAngle(std::atan2(to_target.y(), to_target.x()) - robot.yaw_rad);
+  // MORP-RB sees the lanes in the corridor with the map's own obstacles taken out; the speed, all of them.
   ahead_.clear();
+  out.nearest_m = std::numeric_limits<double>::infinity();
   for (const LaneResult& lane : lanes) {
-    if (std::abs(lane.offset_m) <= options_.corridor_half_width_m) ahead_.push_back(lane);
+    if (std::abs(lane.offset_m) > options_.corridor_half_width_m) continue;
+    ahead_.push_back(lane);
+    if (!lane.dead_end) continue;
+    out.nearest_m = std::min(out.nearest_m, lane.free_distance_m);
+    if (OnMap(robot, lane)) ahead_.back().dead_end = false;
   }
   const MorpRbDecision decision = avoid_.Decide(ahead_, heading_error, dt_s);
-  out.nearest_m = decision.nearest_m;
   out.mode = decision.mode;
   const double v_free =
-      ahead_.empty() ? 0.0 : SpeedForFreeDistance(decision.nearest_m - options_.avoid.front_offset_m, options_.avoid.stopping);
+      ahead_.empty() ? 0.0 : SpeedForFreeDistance(out.nearest_m - options_.avoid.front_offset_m, options_.avoid.stopping);
 
   if (!follow.final_approach && decision.mode == MorpRbMode::kFollow && detour_left_m_ > 0.0) {
     // Away from what the memory refused, straight on.
@@ -60,18 +68,36 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
       out.twist = {v_free, out.twist.angular_rps * (follow.final_approach ? 1.0 : scale)};
     }
     out.mode = MorpRbMode::kFollow;
+    if (follow.final_approach && follow.twist.linear_mps > 0.0 && v_free <= 0.0 &&
+        follow.remaining_m <= options_.blocked_arrival_m) {
+      follower_.AcceptPosition();
+    }
   } else {
     out.avoiding = true;
     out.twist = decision.twist;
     out.twist.linear_mps = std::min(out.twist.linear_mps, follow.speed_limit_mps);
   }
-  const Twist2 guarded = memory_.Guard(robot, out.twist);
+  const Twist2 guarded = memory_.Guard(robot, out.twist, follow.final_approach);
   out.guarded = guarded.linear_mps != out.twist.linear_mps || guarded.angular_rps != out.twist.angular_rps;
   if (out.guarded && !follow.final_approach) detour_left_m_ = options_.detour_m;
   out.twist = guarded;
   Evade(robot, follow.target, around, out);
   last_speed_mps_ = std::max(0.0, out.twist.linear_mps);
   return out;
+}
+
+bool LocalNavigator::OnMap(const Pose2& robot, const LaneResult& lane) const {
+  if (!map_) return false;
+  const auto near_map_obstacle = [&](double x, double y) {
+    const auto cell = map_->grid().WorldToCell(robot.Transform(Eigen::Vector2d(x, y)));
+    return cell && map_->clearance_m(map_->Index(*cell)) <= options_.mapped_tolerance_m;
+  };
+  if (!lane.blind) return near_map_obstacle(lane.point.x(), lane.point.y());
+  const double step = map_->grid().resolution_m();
+  for (double x = 0.0; x <= options_.blind_mapped_m; x += step) {
+    if (near_map_obstacle(x, lane.offset_m)) return true;
+  }
+  return false;
 }
 
 void LocalNavigator::Evade(const Pose2& robot, const Eigen::Vector2d& target, const Surroundings* around,

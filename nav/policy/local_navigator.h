@@ -3,12 +3,16 @@
 //   - on the way, while the lanes ahead are clear, the path follower steers toward its look-ahead point, its speed
 //     capped by what the robot can stop within;
 //   - when they are not, MORP-RB takes over with the look-ahead point as its waypoint (change lane, overtake, turn
-//     back), at no more than the path's speed limit;
+//     back), at no more than the path's speed limit. Only for what the map does not show: a dead-end on an obstacle
+//     of the map the path was planned on (a wall the path turns before, a mapped speck it passes) is the path's
+//     business; swerving for it takes the robot off its path, in cluttered maps into space the planner would not
+//     enter. It still caps the speed, and the memory still guards against it;
 //   - the final approach is the polar controller's alone (MORP-RB would swerve around the goal's own
 //     surroundings), still capped by the free distance ahead;
 //   - a robot pushed (or swerved) far from the path asks for a new one;
-//   - every command is checked against a short memory of dead-ends (nav/safety/obstacle_memory.h), so that turning
-//     back to the path does not sweep into an obstacle that has left the camera's view. When the memory had to
+//   - every command is checked against a short memory of dead-ends and the map's obstacles
+//     (nav/safety/obstacle_memory.h), so that turning back to the path does not sweep into an obstacle that has
+//     left the camera's view, nor into a mapped one it never saw. When the memory had to
 //     refuse the way toward the path, the robot drives on straight (detour_m) before heading for the path again;
 //     otherwise it would turn back toward the hidden obstacle at once, be refused again, and dither in place;
 //   - with a laser, moving objects tracked around the robot (nav/tracking) are predicted, and a command that would
@@ -17,9 +21,11 @@
 // Pure logic: the caller supplies the pose, this frame's lanes and the time step.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "nav/ground/morp.h"
+#include "nav/planner/costmap.h"
 #include "nav/policy/evasion.h"
 #include "nav/policy/morp_rb.h"
 #include "nav/policy/path_follower.h"
@@ -36,6 +42,13 @@ struct LocalNavigatorOptions {
   // MORP-RB steers on the lanes within this of the centre line (the footprint and a margin); the memory keeps
   // every lane's dead-end.
   double corridor_half_width_m = 0.3;
+  double mapped_tolerance_m = 0.15;  // a dead-end this near an obstacle of the path's map is the map's
+  // A lane blind (too near something to measure) with a map obstacle within this ahead of the robot's centre on
+  // its line is the map's too: the camera cannot see a mapped speck the robot stands close to.
+  double blind_mapped_m = 0.6;
+  // On the final approach, a goal this near that the robot cannot drive nearer to (something right in front, seen
+  // or too near to see) counts as reached: it turns to the goal's heading there instead of waiting.
+  double blocked_arrival_m = 0.05;
   double replan_distance_m = 1.0;  // farther than this from the path: plan again from where the robot is
   // Where people's ways are known (nav/tracking/traffic_map.h), the path is planned again this often and taken
   // when it goes another way (0: never). Used by whoever plans: the mission node, the scenario runner.
@@ -62,7 +75,11 @@ class LocalNavigator {
  public:
   explicit LocalNavigator(const LocalNavigatorOptions& options);  // throws std::invalid_argument for bad gains
 
-  void SetPath(std::vector<Waypoint> path);
+  // `map`, when not null, is the costmap the path was planned on (see mapped_tolerance_m); the memory keeps clear
+  // of its obstacles too.
+  void SetPath(std::vector<Waypoint> path, std::shared_ptr<const Costmap> map = nullptr);
+  // The bumper is pressed: what touched the front is remembered, so that the next commands turn away from it.
+  void Touched(const Pose2& robot) { memory_.Touched(robot); }
   const std::vector<Waypoint>& path() const { return follower_.path(); }
   bool has_path() const { return follower_.has_path(); }
   void Clear() { follower_.Clear(); }
@@ -78,12 +95,15 @@ class LocalNavigator {
   // Replaces the step's twist when a tracked moving object would meet the robot on it; `target`: where the robot
   // is heading (world frame).
   void Evade(const Pose2& robot, const Eigen::Vector2d& target, const Surroundings* around, LocalStep& step);
+  // True when the lane's dead-end (seen from `robot`) lies on an obstacle of the path's map.
+  bool OnMap(const Pose2& robot, const LaneResult& lane) const;
 
   LocalNavigatorOptions options_;
   PathFollower follower_;
   MorpRb avoid_;
   ObstacleMemory memory_;
   Evasion evade_;
+  std::shared_ptr<const Costmap> map_;
   std::vector<LaneResult> ahead_;  // this frame's lanes in the corridor
   double detour_left_m_ = 0.0;
   double last_speed_mps_ = 0.0;

@@ -25,6 +25,16 @@ std::vector<LaneResult> Lanes(std::initializer_list<double> dead_ends) {
   return lanes;
 }
 
+// A lane whose dead-end is the base-frame point (x, y).
+LaneResult DeadEndAt(double offset, double x, double y) {
+  LaneResult lane;
+  lane.offset_m = offset;
+  lane.dead_end = true;
+  lane.free_distance_m = x;
+  lane.point = {x, y, 0.1};
+  return lane;
+}
+
 TEST(MorpRbTest, ClearLanesFollowTheWaypoint) {
   const MorpRbOptions o;
   const auto straight = MorpRb(o).Decide(Lanes({-1, -1, -1, -1}), 0.0, 0.1);
@@ -120,6 +130,70 @@ TEST(LocalNavigatorTest, AnObstacleOnThePathIsPassedByMorpRbWithinTheSpeedLimit)
   EXPECT_NEAR(step.nearest_m, 0.7, 1e-9);
 }
 
+TEST(LocalNavigatorTest, WhatTheMapShowsIsThePathsBusinessWhatItDoesNotIsMorpRbs) {
+  // The robot at (1, 0) on a straight path; its two left lanes end 0.7 m ahead, at about (1.7, 0.1).
+  std::vector<LaneResult> lanes = Lanes({-1, -1, -1, -1});
+  lanes[0] = DeadEndAt(0.15, 0.7, 0.15);
+  lanes[1] = DeadEndAt(0.05, 0.7, 0.05);
+  OccupancyGrid grid(160, 60, 0.05, Pose2{-1.0, -1.5, 0.0}, kFreeCell);
+  const auto costmap_with = [&](Eigen::Vector2d speck) {
+    OccupancyGrid g = grid;
+    g.at(*g.WorldToCell(speck)) = kOccupiedCell;
+    return std::make_shared<const Costmap>(g, std::span<const Zone>{}, CostmapOptions{});
+  };
+  const LocalNavigatorOptions o;
+  // On the map (a speck the path passes, a wall it turns before): follow the path, slowed for it.
+  LocalNavigator mapped(o);
+  mapped.SetPath(StraightPath(), costmap_with({1.72, 0.12}));
+  const LocalStep follow = mapped.Update(Pose2{1.0, 0.0, 0.0}, lanes, 1e9, 0.05);
+  EXPECT_FALSE(follow.avoiding);
+  EXPECT_EQ(follow.mode, MorpRbMode::kFollow);
+  EXPECT_NEAR(follow.nearest_m, 0.7, 1e-9);
+  EXPECT_GT(follow.twist.linear_mps, 0.0);
+  EXPECT_LT(follow.twist.linear_mps, o.follower.max_linear_mps);
+  // Not on it (the map's speck is elsewhere, or no map): change lane.
+  for (const auto& map : {costmap_with({3.0, -1.0}), std::shared_ptr<const Costmap>()}) {
+    LocalNavigator unmapped(o);
+    unmapped.SetPath(StraightPath(), map);
+    const LocalStep avoid = unmapped.Update(Pose2{1.0, 0.0, 0.0}, lanes, 1e9, 0.05);
+    EXPECT_TRUE(avoid.avoiding);
+    EXPECT_EQ(avoid.mode, MorpRbMode::kChangeLaneRight);
+  }
+  // Blind lanes (too near something to measure) in front of a mapped speck 0.35 m ahead are the map's; in open
+  // floor, something unseen: stop and turn.
+  std::vector<LaneResult> blind = Lanes({0.2, 0.2, -1, -1});
+  blind[0].blind = blind[1].blind = true;
+  LaneResult& first = blind[0];
+  EXPECT_TRUE(first.dead_end);
+  LocalNavigator near_speck(o);
+  near_speck.SetPath(StraightPath(), costmap_with({1.35, 0.1}));
+  EXPECT_FALSE(near_speck.Update(Pose2{1.0, 0.0, 0.0}, blind, 1e9, 0.05).avoiding);
+  LocalNavigator open_floor(o);
+  open_floor.SetPath(StraightPath(), costmap_with({3.0, -1.0}));
+  EXPECT_EQ(open_floor.Update(Pose2{1.0, 0.0, 0.0}, blind, 1e9, 0.05).mode, MorpRbMode::kStopAndTurn);
+}
+
+TEST(LocalNavigatorTest, AGoalItCannotGetNearerToThanAFewCentimetresIsReachedThere) {
+  LocalNavigator nav(LocalNavigatorOptions{});
+  std::vector<Waypoint> path = StraightPath();
+  path.back().pose.yaw_rad = 0.5;
+  nav.SetPath(path);
+  for (double x = 1.0; x < 5.0; x += 1.0) nav.Update(Pose2{x, 0.0, 0.0}, Lanes({-1, -1, -1, -1}), 1e9, 0.05);
+  // 3 cm short of the goal with something right in front: no forward motion, and the position counts as reached.
+  const std::vector<LaneResult> touching = Lanes({0.2, 0.2, 0.2, 0.2});
+  EXPECT_EQ(nav.Update(Pose2{5.97, 0.0, 0.0}, touching, 1e9, 0.05).twist.linear_mps, 0.0);
+  const LocalStep turn = nav.Update(Pose2{5.97, 0.0, 0.0}, touching, 1e9, 0.05);
+  EXPECT_EQ(turn.twist.linear_mps, 0.0);
+  EXPECT_GT(turn.twist.angular_rps, 0.0);  // to the goal's heading
+  EXPECT_TRUE(nav.Update(Pose2{5.97, 0.0, 0.5}, touching, 1e9, 0.05).done);
+  // 10 cm short it waits instead.
+  LocalNavigator far(LocalNavigatorOptions{});
+  far.SetPath(path);
+  for (double x = 1.0; x < 5.0; x += 1.0) far.Update(Pose2{x, 0.0, 0.0}, Lanes({-1, -1, -1, -1}), 1e9, 0.05);
+  far.Update(Pose2{5.9, 0.0, 0.0}, touching, 1e9, 0.05);
+  EXPECT_FALSE(far.Update(Pose2{5.9, 0.0, 0.5}, touching, 1e9, 0.05).done);
+}
+
 TEST(LocalNavigatorTest, FarFromThePathAsksForANewOne) {
   LocalNavigator nav(LocalNavigatorOptions{});
   nav.SetPath(StraightPath());
@@ -159,15 +233,6 @@ TEST(LocalNavigatorTest, AtTheGoalItIsDone) {
 }
 
 
-// A lane whose dead-end is the base-frame point (x, y).
-LaneResult DeadEndAt(double offset, double x, double y) {
-  LaneResult lane;
-  lane.offset_m = offset;
-  lane.dead_end = true;
-  lane.free_distance_m = x;
-  lane.point = {x, y, 0.1};
-  return lane;
-}
 
 TEST(ObstacleMemoryTest, AnObstacleThatLeftTheViewStillStopsATurnIntoIt) {
   ObstacleMemory memory(ObstacleMemoryOptions{});

@@ -42,6 +42,9 @@ class PathFollower {
   const std::vector<Waypoint>& path() const { return path_; }
   bool has_path() const { return !path_.empty(); }
   void Clear() { path_.clear(); }
+  // Takes the robot's position as the goal's (it cannot get nearer): from the next update on it only turns to the
+  // goal heading. Undone, like a reached position, when the robot is pushed away.
+  void AcceptPosition() { final_turn_ = true; }
 
   // One control step from the robot's pose; speed_limit_mps caps the whole mission (+infinity for none).
   FollowStep Update(const Pose2& robot, double speed_limit_mps);

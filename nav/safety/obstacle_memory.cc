@@ -6,6 +6,12 @@
 #include <optional>
 
 namespace corridor::nav {
+namespace {
+
+constexpr double kMapQuantumM = 0.03;
+
+}  // namespace
+
 void ObstacleMemory::Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double dt_s) {
   const ObstacleMemoryOptions& o = options_;
   for (Point& p : points_) p.age_s += std::max(0.0, dt_s);
@@ -25,28 +31,51 @@ void ObstacleMemory::Update(const Pose2& robot, const std::vector<LaneResult>& l
   for (const LaneResult& lane : lanes) {
     if (!lane.dead_end || lane.blind) continue;
     const Eigen::Vector2d world = robot.Transform(Eigen::Vector2d(lane.point.x(), lane.point.y()));
-    if ((world - robot.translation()).norm() > o.keep_radius_m) continue;
-    const auto near = std::find_if(points_.begin(), points_.end(),
-                                   [&](const Point& p) { return (p.world - world).norm() < o.cell_m; });
-    if (near != points_.end()) {
-      *near = {world, 0.0};
-    } else {
-      points_.push_back({world, 0.0});
-    }
+    if ((world - robot.translation()).norm() <= o.keep_radius_m) Remember(world);
   }
+}
+
+void ObstacleMemory::Remember(const Eigen::Vector2d& world) {
+  const auto near = std::find_if(points_.begin(), points_.end(),
+                                 [&](const Point& p) { return (p.world - world).norm() < options_.cell_m; });
+  if (near != points_.end()) {
+    *near = {world, 0.0};
+  } else {
+    points_.push_back({world, 0.0});
+  }
+}
+
+void ObstacleMemory::Touched(const Pose2& robot) {
+  // Across the front half of the round footprint, just outside it: a bumper says "in front", not where.
+  for (const double bearing : {-0.8, -0.4, 0.0, 0.4, 0.8}) {
+    const double r = options_.robot_radius_m + 0.02;
+    Remember(robot.Transform(Eigen::Vector2d(r * std::cos(bearing), r * std::sin(bearing))));
+  }
+}
+
+double ObstacleMemory::MapClearance(const Eigen::Vector2d& at) const {
+  if (!map_) return std::numeric_limits<double>::infinity();
+  const auto cell = map_->grid().WorldToCell(at);
+  return cell ? map_->clearance_m(map_->Index(*cell)) : std::numeric_limits<double>::infinity();
 }
 
 void ObstacleMemory::Forget(const Eigen::Vector2d& centre, double radius_m) {
   std::erase_if(points_, [&](const Point& p) { return (p.world - centre).norm() <= radius_m; });
 }
 
-bool ObstacleMemory::Blocks(const Pose2& robot, const Twist2& command) const {
+bool ObstacleMemory::Blocks(const Pose2& robot, const Twist2& command, bool approach) const {
   const ObstacleMemoryOptions& o = options_;
-  const double clearance = o.robot_radius_m + o.margin_m;
+  const double clearance = o.robot_radius_m + (approach ? o.approach_margin_m : o.margin_m);
+  const double map_clearance = o.robot_radius_m + o.map_margin_m;
+  const double map_now = MapClearance(robot.translation());
   double now = std::numeric_limits<double>::infinity();
   for (const Point& p : points_) now = std::min(now, (p.world - robot.translation()).norm());
   for (double t = o.sweep_step_s; t <= o.horizon_s + 1e-9; t += o.sweep_step_s) {
     const Eigen::Vector2d at = DriveArc(robot, command, t).translation();
+    // Closing in on the map's obstacles by more than the field's steps between neighbouring cells (driving along a
+    // wall is not closing in).
+    const double to_map = MapClearance(at);
+    if (to_map < map_clearance && to_map < map_now - kMapQuantumM) return true;
     for (const Point& p : points_) {
       const double d = (p.world - at).norm();
       // Inside the clearance and closing in: blocked. Already inside and moving away is how the robot gets out.
@@ -56,8 +85,8 @@ bool ObstacleMemory::Blocks(const Pose2& robot, const Twist2& command) const {
   return false;
 }
 
-Twist2 ObstacleMemory::Guard(const Pose2& robot, const Twist2& command) const {
-  if (points_.empty() || !Blocks(robot, command)) return command;
+Twist2 ObstacleMemory::Guard(const Pose2& robot, const Twist2& command, bool approach) const {
+  if ((points_.empty() && !map_) || !Blocks(robot, command, approach)) return command;
   // Keeping the speed matters more than keeping the turn: a robot that bends away keeps going.
   const auto cost = [&](const Twist2& t) {
     return 2.0 * std::abs(t.linear_mps - command.linear_mps) + std::abs(t.angular_rps - command.angular_rps);
@@ -65,18 +94,25 @@ Twist2 ObstacleMemory::Guard(const Pose2& robot, const Twist2& command) const {
   const double w_max = options_.max_turn_rps;
   std::optional<Twist2> best;
   for (const double v : {command.linear_mps, 0.5 * command.linear_mps}) {
-    if (v <= 0.0) continue;
+    if (v == 0.0) continue;
     for (const double dw : {0.0, 0.25, -0.25, 0.5, -0.5, 0.75, -0.75, 1.0, -1.0, 1.5, -1.5, 2.0, -2.0}) {
       const Twist2 candidate{v, std::clamp(command.angular_rps + dw, -w_max, w_max)};
-      if ((!best || cost(candidate) < cost(*best)) && !Blocks(robot, candidate)) best = candidate;
+      if ((!best || cost(candidate) < cost(*best)) && !Blocks(robot, candidate, approach)) best = candidate;
     }
   }
   if (best) return *best;
-  const Pose2 robot_inverse = robot.Inverse();
-  const auto nearest = std::min_element(points_.begin(), points_.end(), [&](const Point& a, const Point& b) {
-    return (a.world - robot.translation()).squaredNorm() < (b.world - robot.translation()).squaredNorm();
-  });
-  const double side = robot_inverse.Transform(nearest->world).y();
+  // Turn away from the nearest remembered point, or else from the map's nearer side.
+  double side = 0.0;  // > 0: it is on the left
+  if (!points_.empty()) {
+    const auto nearest = std::min_element(points_.begin(), points_.end(), [&](const Point& a, const Point& b) {
+      return (a.world - robot.translation()).squaredNorm() < (b.world - robot.translation()).squaredNorm();
+    });
+    side = robot.Inverse().Transform(nearest->world).y();
+  } else {
+    const double aside = options_.robot_radius_m;
+    side = MapClearance(robot.Transform(Eigen::Vector2d(0.0, -aside))) -
+           MapClearance(robot.Transform(Eigen::Vector2d(0.0, aside)));
+  }
   return {0.0, side > 0.0 ? -0.7 * w_max : 0.7 * w_max};
 }
 

@@ -6,14 +6,21 @@
 // Without it, a robot that has just passed an obstacle (now beside it, out of the camera's 85-degree view) turns back
 // toward its path and into the obstacle's side. This is corridor's addition to MORP-RB; the paper's policy sees only
 // the current frame.
+//
+// The map's own obstacles are known without being seen: with a costmap set, a sweep that closes in on them (its
+// clearance field, nearer than robot_radius_m + map_margin_m) is refused the same way, so that a turn does not
+// swing the robot into a mapped speck or into unknown space beside it. What the bumper touched is remembered like a
+// dead-end (Touched).
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "nav/geometry/pose2.h"
 #include "nav/ground/morp.h"
+#include "nav/planner/costmap.h"
 
 namespace corridor::nav {
 
@@ -29,6 +36,12 @@ struct ObstacleMemoryOptions {
   // Kept between the footprint and a remembered point: more than a lane's width, since the surface between two
   // lanes' dead-ends (never sampled) may reach that much nearer.
   double margin_m = 0.15;
+  // Kept from the map's obstacles: their cells are exact (no unsampled surface between lanes), and paths keep
+  // robot_radius_m plus a cell from them.
+  double map_margin_m = 0.03;
+  // Kept from remembered points on a goal's final approach, at a crawl: the goal itself may lie within margin_m of
+  // what the camera saw around it (the planner let it be that close to the map's obstacles).
+  double approach_margin_m = 0.05;
   double horizon_s = 1.2;       // how far ahead a command is swept
   double sweep_step_s = 0.1;
   double max_turn_rps = 1.0;    // the sharpest arc the guard may substitute
@@ -43,13 +56,21 @@ class ObstacleMemory {
   void Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double dt_s);
 
   // `command` if its sweep stays clear of every remembered point (or moves away from them), else the clear
-  // candidate nearest to it: the same or half the speed on arcs bending up to max_turn_rps either way; else turning
-  // in place away from the nearest point (it comes into the camera's view, which clears it or confirms it).
-  Twist2 Guard(const Pose2& robot, const Twist2& command) const;
+  // candidate nearest to it: the same or half the speed (forward or back, as commanded) on arcs bending up to
+  // max_turn_rps either way; else turning in place away from the nearest point (it comes into the camera's view,
+  // which clears it or confirms it). `approach`: the final approach to a goal (approach_margin_m).
+  Twist2 Guard(const Pose2& robot, const Twist2& command, bool approach = false) const;
 
   // True when driving `command` from `robot` for the horizon brings the footprint within the margin of a
-  // remembered point, nearer than it is now.
-  bool Blocks(const Pose2& robot, const Twist2& command) const;
+  // remembered point, or of the map's obstacles, nearer than it is now.
+  bool Blocks(const Pose2& robot, const Twist2& command, bool approach = false) const;
+
+  // The costmap of the map the robot drives in (null: none).
+  void SetMap(std::shared_ptr<const Costmap> map) { map_ = std::move(map); }
+
+  // The bumper is pressed with the robot at `robot`: something is touching its front, seen or not. Remembers
+  // points on the front of the footprint.
+  void Touched(const Pose2& robot);
 
   // Forgets the points within radius_m of `centre` (world frame): something known to have moved on.
   void Forget(const Eigen::Vector2d& centre, double radius_m);
@@ -62,8 +83,13 @@ class ObstacleMemory {
     Eigen::Vector2d world;
     double age_s;
   };
+  // The map's clearance at `at` (+infinity without a map or outside it).
+  double MapClearance(const Eigen::Vector2d& at) const;
+  void Remember(const Eigen::Vector2d& world);
+
   ObstacleMemoryOptions options_;
   std::vector<Point> points_;
+  std::shared_ptr<const Costmap> map_;
 };
 
 }  // namespace corridor::nav

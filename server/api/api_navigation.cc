@@ -94,6 +94,7 @@ void Api::Plan(const Request& request, Reply reply) const {
     const auto pose = c_.bus.Get(topics::kPose).latest();
     if (!pose) throw ApiError(http::status::service_unavailable, "No pose", "the robot does not know where it is yet");
     plan.start = pose->pose.translation();
+    plan.robot_at_start = true;
   }
   c_.planner.Plan(std::move(plan), [this, request, reply](PlanReply r) {
     Answer(request, reply, [&]() -> Response {

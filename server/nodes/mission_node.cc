@@ -117,7 +117,7 @@ std::optional<json> MissionNode::Describe(const std::string& id) const {
 void MissionNode::PlanLeg(const nav::Pose2& from, std::function<void(const PlanReply&, bool current)> done) {
   const nav::MissionGoal& goal = mission_->current_goal();
   PlanRequest request{from.translation(), goal.pose.translation(),
-                      goal.has_yaw ? std::optional<double>(goal.pose.yaw_rad) : std::nullopt, nullptr};
+                      goal.has_yaw ? std::optional<double>(goal.pose.yaw_rad) : std::nullopt, nullptr, true};
   const std::uint64_t generation = generation_;
   planner_.Plan(std::move(request), [this, generation, done = std::move(done)](PlanReply reply) {
     executor().Post([this, generation, done, reply = std::move(reply)] {
@@ -138,7 +138,7 @@ void MissionNode::RequestPlan(const nav::Pose2& from) {
       Changed();
       return;
     }
-    navigator_.SetPath(reply.result.plan.waypoints);
+    navigator_.SetPath(reply.result.plan.waypoints, reply.costmap);
     path_version_ = reply.version;
     routed_ns_ = clock().Now();
     leg_length_m_ = remaining_m_ = reply.result.plan.length_m;
@@ -158,7 +158,7 @@ void MissionNode::Reroute(const nav::Pose2& from) {
     const nav::LocalNavigatorOptions& o = navigator_.options();
     if (!nav::PathsDiverge(reply.result.plan.dense, path, o.reroute_look_m, o.reroute_tolerance_m)) return;
     spdlog::info("mission {}: another way, around where people walk", mission_->id());
-    navigator_.SetPath(reply.result.plan.waypoints);
+    navigator_.SetPath(reply.result.plan.waypoints, reply.costmap);
     path_version_ = reply.version;
     remaining_m_ = reply.result.plan.length_m;
     Changed();
@@ -238,6 +238,8 @@ void MissionNode::Drive(const GroundLanes& lanes) {
   // The laser's tracked objects, while they are fresh: people to step out of the way of.
   const auto tracked = bus_.Get(topics::kTrackedObjects).latest();
   const bool fresh = tracked && drivers::ToSeconds(now - tracked->received_ns) < kStaleTrackingS;
+  const auto odometry = bus_.Get(topics::kOdometry).latest();
+  if (odometry && odometry->bumper_pressed) navigator_.Touched(pose->pose);
   const nav::LocalStep step = navigator_.Update(pose->pose, lanes.lanes, mission_->speed_limit_mps(), dt_s,
                                                 fresh ? &tracked->surroundings : nullptr);
   remaining_m_ = step.remaining_m;

@@ -18,6 +18,7 @@ struct PlanRequest {
   Eigen::Vector2d goal;
   std::optional<double> goal_yaw;
   std::shared_ptr<std::atomic<bool>> cancel;  // may be null
+  bool robot_at_start = false;  // the start is the robot's pose: what is under its footprint is passable
 };
 
 struct PlanReply {
@@ -25,6 +26,7 @@ struct PlanReply {
   std::uint64_t version = 0;   // of the map and zones it was planned on
   double planning_ms = 0.0;    // search and path processing
   double costmap_ms = 0.0;     // 0 when the cached costmap was used
+  std::shared_ptr<const nav::Costmap> costmap;  // what it was planned on
 };
 
 class PlannerService {

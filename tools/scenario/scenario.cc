@@ -271,7 +271,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   }
   const nav::PinholeCamera camera = robot.info().camera;
 
-  const nav::Costmap costmap = RobotCostmap(layout.map);
+  const auto costmap = std::make_shared<const nav::Costmap>(RobotCostmap(layout.map));
   const auto plan_from = [&](const Eigen::Vector2d& from) {
     nav::PathOptions path_options;
     std::vector<float> extra;
@@ -280,7 +280,8 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       extra = traffic->StepCost(now_s);
       path_options.extra_cost = extra;
     }
-    return nav::PlanPath(costmap, from, layout.goal, std::nullopt, nullptr, path_options);
+    path_options.robot_at_start = true;
+    return nav::PlanPath(*costmap, from, layout.goal, std::nullopt, nullptr, path_options);
   };
   double planned_s = 0.0;
   nav::PlanResult plan = plan_from(layout.start.translation());
@@ -298,7 +299,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   navigator_options.evade.max_linear_mps = options.max_speed_mps;
   navigator_options.evade.max_reverse_mps = options.max_speed_mps;
   nav::LocalNavigator navigator(navigator_options);
-  navigator.SetPath(plan.plan.waypoints);
+  navigator.SetPath(plan.plan.waypoints, costmap);
   nav::Morp morp(camera, nav::MorpOptions{});
 
   nav::PathFollower follower(navigator_options.follower);
@@ -360,7 +361,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       step = navigator.Update(pose, lanes, std::numeric_limits<double>::infinity(), dt_s, around);
       if (step->replan) {
         plan = plan_from(pose.translation());
-        if (plan.ok()) navigator.SetPath(plan.plan.waypoints);
+        if (plan.ok()) navigator.SetPath(plan.plan.waypoints, costmap);
         planned_s = now_s;
       }
       twist = step->twist;
@@ -387,7 +388,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
                                                           navigator_options.reroute_look_m,
                                                           navigator_options.reroute_tolerance_m))) {
         plan = std::move(again);
-        navigator.SetPath(plan.plan.waypoints);
+        navigator.SetPath(plan.plan.waypoints, costmap);
       }
       planned_s = now_s;
     }
