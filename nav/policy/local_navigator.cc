@@ -12,8 +12,7 @@ LocalNavigator::LocalNavigator(const LocalNavigatorOptions& options)
 
 void LocalNavigator::SetPath(std::vector<Waypoint> path, std::shared_ptr<const Costmap> map) {
   follower_.SetPath(std::move(path));
-  memory_.SetMap(map);
-  map_ = std::move(map);
+  SetMap(std::move(map));
   avoid_ = MorpRb(options_.avoid);  // a new path: no side committed, no overtaking in progress
 }
 
@@ -84,6 +83,11 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
   Evade(robot, follow.target, around, out);
   last_speed_mps_ = std::max(0.0, out.twist.linear_mps);
   return out;
+}
+
+void LocalNavigator::SetMap(std::shared_ptr<const Costmap> map) {
+  memory_.SetMap(map);
+  map_ = std::move(map);
 }
 
 bool LocalNavigator::OnMap(const Pose2& robot, const LaneResult& lane) const {

@@ -78,6 +78,8 @@ class LocalNavigator {
   // `map`, when not null, is the costmap the path was planned on (see mapped_tolerance_m); the memory keeps clear
   // of its obstacles too.
   void SetPath(std::vector<Waypoint> path, std::shared_ptr<const Costmap> map = nullptr);
+  // The map changed under a path that still stands (see SetPath).
+  void SetMap(std::shared_ptr<const Costmap> map);
   // The bumper is pressed: what touched the front is remembered, so that the next commands turn away from it.
   void Touched(const Pose2& robot) { memory_.Touched(robot); }
   const std::vector<Waypoint>& path() const { return follower_.path(); }

@@ -134,8 +134,9 @@ void Api::StartMission(const Request& request, Reply reply) const {
     if (speed_limit <= 0.0) throw ApiError(http::status::bad_request, "Invalid request", "'speed_limit_mps' must be > 0");
   }
   // Every waypoint must be somewhere the robot can stand; say which one is not before anything moves.
-  c_.planner.WithCostmap([this, request, reply, goals = std::move(goals), speed_limit](const nav::Costmap& costmap,
-                                                                                         std::uint64_t) mutable {
+  c_.planner.WithCostmap([this, request, reply, goals = std::move(goals), speed_limit](
+                                 std::shared_ptr<const nav::Costmap> map, std::uint64_t) mutable {
+    const nav::Costmap& costmap = *map;
     Answer(request, reply, [&]() -> Response {
       for (std::size_t i = 0; i < goals.size(); ++i) {
         const std::string where = "waypoints[" + std::to_string(i) + "]";

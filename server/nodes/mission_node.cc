@@ -169,7 +169,7 @@ void MissionNode::CheckPath(const nav::Pose2& from) {
   checking_ = true;
   const std::uint64_t generation = generation_;
   std::vector<nav::Waypoint> path = navigator_.path();
-  planner_.WithCostmap([this, generation, from, path = std::move(path)](const nav::Costmap& costmap,
+  planner_.WithCostmap([this, generation, from, path = std::move(path)](std::shared_ptr<const nav::Costmap> costmap,
                                                                         std::uint64_t version) {
     // Is the rest of the path still free? The legs from the waypoint nearest the robot onward.
     std::size_t nearest = 0;
@@ -181,14 +181,15 @@ void MissionNode::CheckPath(const nav::Pose2& from) {
     }
     bool free = true;
     for (std::size_t i = std::max<std::size_t>(nearest, 1); i < path.size() && free; ++i) {
-      free = nav::SegmentTraversable(costmap, path[i - 1].pose.translation(), path[i].pose.translation());
+      free = nav::SegmentTraversable(*costmap, path[i - 1].pose.translation(), path[i].pose.translation());
     }
-    executor().Post([this, generation, free, version] {
+    executor().Post([this, generation, free, version, costmap = std::move(costmap)] {
       std::lock_guard lock(mutex_);
       if (generation != generation_) return;
       checking_ = false;
       if (free) {
         path_version_ = version;
+        navigator_.SetMap(costmap);  // the path stands; what is mapped and what the memory keeps clear of change
       } else {
         spdlog::info("mission {}: the map or zones changed across the path; replanning", mission_->id());
         navigator_.Clear();

@@ -78,11 +78,10 @@ void PlannerService::Plan(PlanRequest request, std::function<void(PlanReply)> do
   });
 }
 
-void PlannerService::WithCostmap(std::function<void(const nav::Costmap&, std::uint64_t)> work) {
+void PlannerService::WithCostmap(std::function<void(std::shared_ptr<const nav::Costmap>, std::uint64_t)> work) {
   planning_.Post([this, work = std::move(work)] {
     double build_ms = 0.0;
-    const auto costmap = Current(&build_ms);
-    work(*costmap, costmap_version_);
+    work(Current(&build_ms), costmap_version_);
   });
 }
 

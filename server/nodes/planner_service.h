@@ -48,7 +48,7 @@ class PlannerService {
   void Plan(PlanRequest request, std::function<void(PlanReply)> done);
   // Queues `work` with the current costmap on the planning executor (for checks such as "is the rest of my path
   // still free?").
-  void WithCostmap(std::function<void(const nav::Costmap&, std::uint64_t version)> work);
+  void WithCostmap(std::function<void(std::shared_ptr<const nav::Costmap>, std::uint64_t version)> work);
 
  private:
   // On the planning executor: the costmap for the current map and zones, and how long building it took.
