@@ -7,7 +7,9 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
-import { getJson, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor, writeRoom } from './daemon.mjs';
+import {
+  getJson, launchBrowser, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor, writeRoom,
+} from './daemon.mjs';
 
 const state = async (url) => (await getJson(`${url}/api/v1/state`)).body;
 
@@ -127,6 +129,20 @@ tracking:
     api.check('State', last);
     const tracking = last.nodes.find((n) => n.name === 'tracking');
     assert.equal(tracking?.health, 'ok', JSON.stringify(tracking));
+  });
+
+  test('are drawn in the console: the people, and the moving tracks of the laser', async () => {
+    const browser = await launchBrowser();
+    try {
+      const page = await browser.newPage({ viewport: { width: 1024, height: 700 } });
+      page.on('pageerror', (e) => { throw e; });
+      await page.goto(daemon.url);
+      await page.getByTestId('connection').filter({ hasText: 'connected' }).waitFor({ timeout: 15000 });
+      await page.waitForFunction(() => document.querySelectorAll('path.sim-person').length === 2, null, { timeout: 10000 });
+      await page.waitForFunction(() => document.querySelectorAll('path.tracked-moving').length > 0, null, { timeout: 10000 });
+    } finally {
+      await browser.close();
+    }
   });
 
   test('leave their mark on plans: a path along where someone walks keeps beside their way', async () => {
