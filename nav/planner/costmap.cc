@@ -53,6 +53,11 @@ Costmap::Costmap(const OccupancyGrid& grid, std::span<const Zone> zones, const C
   }
 }
 
+double Costmap::ClearanceAt(const Eigen::Vector2d& p) const {
+  const auto cell = grid_.WorldToCell(p);
+  return cell ? clearance_m(Index(*cell)) : std::numeric_limits<double>::infinity();
+}
+
 std::optional<Eigen::Vector2d> MostOpenCell(const Costmap& costmap, const Eigen::Vector2d& near, double radius_m) {
   const OccupancyGrid& grid = costmap.grid();
   const Eigen::Vector2d local = grid.origin().Inverse().Transform(near) / grid.resolution_m();

@@ -46,6 +46,8 @@ class Costmap {
   bool Traversable(std::size_t i) const { return traversable_[i] != 0; }
   // Distance to the nearest obstacle cell, centre to centre, in metres (+infinity when farther than the march).
   float clearance_m(std::size_t i) const { return field_.distance_m[i]; }
+  // The same at a map-frame point: +infinity outside the map (nothing known there to keep clear of).
+  double ClearanceAt(const Eigen::Vector2d& p) const;
   // The multiplier on step length: 1 + d(n).
   float step_factor(std::size_t i) const { return step_factor_[i]; }
   float speed_limit_mps(std::size_t i) const { return speed_limit_[i]; }

@@ -93,8 +93,7 @@ void LocalNavigator::SetMap(std::shared_ptr<const Costmap> map) {
 bool LocalNavigator::OnMap(const Pose2& robot, const LaneResult& lane) const {
   if (!map_) return false;
   const auto near_map_obstacle = [&](double x, double y) {
-    const auto cell = map_->grid().WorldToCell(robot.Transform(Eigen::Vector2d(x, y)));
-    return cell && map_->clearance_m(map_->Index(*cell)) <= options_.mapped_tolerance_m;
+    return map_->ClearanceAt(robot.Transform(Eigen::Vector2d(x, y))) <= options_.mapped_tolerance_m;
   };
   if (!lane.blind) return near_map_obstacle(lane.point.x(), lane.point.y());
   const double step = map_->grid().resolution_m();

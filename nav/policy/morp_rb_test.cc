@@ -277,6 +277,37 @@ TEST(ObstacleMemoryTest, WhenEveryArcIsBlockedItTurnsInPlaceAwayFromTheNearestPo
   EXPECT_LT(t.angular_rps, 0.0);  // away from the nearer, left side
 }
 
+TEST(ObstacleMemoryTest, TheMapsObstaclesAreKeptClearOfWithoutBeingSeen) {
+  // A mapped wall along y = 0.5 (cells 0.50-0.55), the robot heading along it, 0.3 m from it.
+  OccupancyGrid grid(120, 60, 0.05, Pose2{-1.0, -1.5, 0.0}, kFreeCell);
+  for (int x = 0; x < 120; ++x) grid.at({x, 40}) = kOccupiedCell;
+  ObstacleMemory memory(ObstacleMemoryOptions{});
+  memory.SetMap(std::make_shared<const Costmap>(grid, std::span<const Zone>{}, CostmapOptions{}));
+  const Pose2 robot{0.0, 0.2, 0.0};
+  EXPECT_FALSE(memory.Blocks(robot, {0.26, 0.0}));   // along it
+  EXPECT_FALSE(memory.Blocks(robot, {0.26, -0.5}));  // away from it
+  EXPECT_TRUE(memory.Blocks(robot, {0.26, 1.0}));    // a turn that would swing into it
+  const Twist2 guarded = memory.Guard(robot, {0.26, 1.0});
+  EXPECT_FALSE(memory.Blocks(robot, guarded));
+  EXPECT_TRUE(guarded.linear_mps < 0.26 || guarded.angular_rps < 1.0);  // a gentler or slower arc
+  // Backing toward it: the substitute still backs (away along another arc), it does not swap direction.
+  const Pose2 facing_away{0.0, 0.2, -1.5707963};
+  ASSERT_TRUE(memory.Blocks(facing_away, {-0.2, 0.0}));
+  EXPECT_LT(memory.Guard(facing_away, {-0.2, 0.0}).linear_mps, 0.0);
+  // Without the map nothing is known there.
+  EXPECT_FALSE(ObstacleMemory(ObstacleMemoryOptions{}).Blocks(robot, {0.26, 1.0}));
+}
+
+TEST(ObstacleMemoryTest, WhatTheBumperTouchedIsNotDrivenIntoAgain) {
+  ObstacleMemory memory(ObstacleMemoryOptions{});
+  const Pose2 robot{1.0, 2.0, 0.3};
+  EXPECT_FALSE(memory.Blocks(robot, {0.2, 0.0}));
+  memory.Touched(robot);
+  EXPECT_TRUE(memory.Blocks(robot, {0.2, 0.0}));
+  EXPECT_FALSE(memory.Blocks(robot, {-0.2, 0.0}));  // backing away
+  EXPECT_EQ(memory.Guard(robot, {0.2, 0.0}).linear_mps, 0.0);  // forward is refused: it turns away instead
+}
+
 TEST(ReactiveTest, ClearCorridorFollowsBlockedSlowsAndTurnsAwayTooCloseStops) {
   const ReactiveOptions o;
   const Twist2 clear = ReactiveCommand({{2.0f, 0.0f}, {0.5f, 0.6f}}, 0.0, o);

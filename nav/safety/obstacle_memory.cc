@@ -54,9 +54,7 @@ void ObstacleMemory::Touched(const Pose2& robot) {
 }
 
 double ObstacleMemory::MapClearance(const Eigen::Vector2d& at) const {
-  if (!map_) return std::numeric_limits<double>::infinity();
-  const auto cell = map_->grid().WorldToCell(at);
-  return cell ? map_->clearance_m(map_->Index(*cell)) : std::numeric_limits<double>::infinity();
+  return map_ ? map_->ClearanceAt(at) : std::numeric_limits<double>::infinity();
 }
 
 void ObstacleMemory::Forget(const Eigen::Vector2d& centre, double radius_m) {
