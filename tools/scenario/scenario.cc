@@ -283,6 +283,10 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
     path_options.robot_at_start = true;
     return nav::PlanPath(*costmap, from, layout.goal, std::nullopt, nullptr, path_options);
   };
+  if (options.trace) {
+    std::fprintf(stderr, "run world %d run %d start %.2f %.2f goal %.2f %.2f\n", layout.world_index, layout.run_index,
+                 layout.start.x_m, layout.start.y_m, layout.goal.x(), layout.goal.y());
+  }
   double planned_s = 0.0;
   nav::PlanResult plan = plan_from(layout.start.translation());
   if (!plan.ok()) {
