@@ -81,7 +81,7 @@ class LocalNavigator {
   // The map changed under a path that still stands (see SetPath).
   void SetMap(std::shared_ptr<const Costmap> map);
   // The bumper is pressed: what touched the front is remembered, so that the next commands turn away from it.
-  void Touched(const Pose2& robot) { memory_.Touched(robot); }
+  void Touched(const Pose2& robot, bool backing) { memory_.Touched(robot, backing); }
   const std::vector<Waypoint>& path() const { return follower_.path(); }
   bool has_path() const { return follower_.has_path(); }
   void Clear() { follower_.Clear(); }

@@ -306,6 +306,10 @@ TEST(ObstacleMemoryTest, WhatTheBumperTouchedIsNotDrivenIntoAgain) {
   EXPECT_TRUE(memory.Blocks(robot, {0.2, 0.0}));
   EXPECT_FALSE(memory.Blocks(robot, {-0.2, 0.0}));  // backing away
   EXPECT_EQ(memory.Guard(robot, {0.2, 0.0}).linear_mps, 0.0);  // forward is refused: it turns away instead
+  ObstacleMemory behind(ObstacleMemoryOptions{});
+  behind.Touched(robot, /*backing=*/true);
+  EXPECT_TRUE(behind.Blocks(robot, {-0.2, 0.0}));
+  EXPECT_FALSE(behind.Blocks(robot, {0.2, 0.0}));
 }
 
 TEST(ReactiveTest, ClearCorridorFollowsBlockedSlowsAndTurnsAwayTooCloseStops) {

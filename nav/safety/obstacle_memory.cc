@@ -45,10 +45,10 @@ void ObstacleMemory::Remember(const Eigen::Vector2d& world) {
   }
 }
 
-void ObstacleMemory::Touched(const Pose2& robot) {
-  // Across the front half of the round footprint, just outside it: a bumper says "in front", not where.
+void ObstacleMemory::Touched(const Pose2& robot, bool backing) {
+  // Across the front (or back) half of the round footprint, just outside it: a bumper says "in front", not where.
+  const double r = (backing ? -1.0 : 1.0) * (options_.robot_radius_m + 0.02);
   for (const double bearing : {-0.8, -0.4, 0.0, 0.4, 0.8}) {
-    const double r = options_.robot_radius_m + 0.02;
     Remember(robot.Transform(Eigen::Vector2d(r * std::cos(bearing), r * std::sin(bearing))));
   }
 }

@@ -68,9 +68,9 @@ class ObstacleMemory {
   // The costmap of the map the robot drives in (null: none).
   void SetMap(std::shared_ptr<const Costmap> map) { map_ = std::move(map); }
 
-  // The bumper is pressed with the robot at `robot`: something is touching its front, seen or not. Remembers
-  // points on the front of the footprint.
-  void Touched(const Pose2& robot);
+  // The bumper is pressed with the robot at `robot`: something is touching its front (its back when `backing`), seen
+  // or not. Remembers points on that side of the footprint.
+  void Touched(const Pose2& robot, bool backing = false);
 
   // Forgets the points within radius_m of `centre` (world frame): something known to have moved on.
   void Forget(const Eigen::Vector2d& centre, double radius_m);

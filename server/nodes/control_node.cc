@@ -39,10 +39,10 @@ BaseCommand DecideCommand(const ControlInputs& in, const SafetyOptions& options)
     out.mode = "mission";
     out.twist = Limit(in.mission->twist, options);
   }
-  if (out.twist.linear_mps > 0.0 && in.last_bump_ns >= 0 &&
+  if (out.twist.linear_mps * in.bump_direction > 0.0 && in.last_bump_ns >= 0 &&
       in.now_ns - in.last_bump_ns <= drivers::FromSeconds(kBumpHoldS)) {
     out.twist.linear_mps = 0.0;
-    out.reason = "bumper pressed: not driving forward";
+    out.reason = in.bump_direction > 0 ? "bumper pressed: not driving forward" : "bumper pressed: not backing";
   }
   if (out.twist.linear_mps > 0.0) {
     // Forward: only as fast as stops before the nearest dead-end the camera sees, and not at all without sight.
@@ -66,7 +66,10 @@ ControlNode::ControlNode(Executor& executor, Bus& bus, drivers::DiffDriveBase& b
 void ControlNode::Activate() {
   bus_.Get(topics::kOdometry).Subscribe(executor(), [this](const auto& odometry) {
     last_odometry_ns_ = clock().Now();
-    if (odometry->bumper_pressed) last_bump_ns_ = clock().Now();
+    if (odometry->bumper_pressed) {
+      last_bump_ns_ = clock().Now();
+      if (last_linear_mps_.load() != 0.0) bump_direction_ = last_linear_mps_.load() > 0.0 ? 1 : -1;
+    }
   });
   bus_.Get(topics::kGroundLanes).Subscribe(executor(), [this](const auto&) { last_lanes_ns_ = clock().Now(); });
   bus_.Get(topics::kMissionCommand).Subscribe(executor(), [this](const auto&) { Act(); });
@@ -98,9 +101,10 @@ void ControlNode::Act() {
   const auto lanes = bus_.Get(topics::kGroundLanes).latest();
   const BaseCommand command = DecideCommand(
       {clock().Now(), teleop.get(), last_odometry_ns_.load(), mission.get(), lanes.get(), last_lanes_ns_.load(),
-       last_bump_ns_.load()},
+       last_bump_ns_.load(), bump_direction_.load()},
       options_);
   base_.SetVelocity(command.twist);
+  last_linear_mps_ = command.twist.linear_mps;
   const drivers::TimeNs sent_ns = clock().Now();
   if (command.mode == "mission" && mission->frame_arrival_ns >= 0 && mission->frame_arrival_ns != answered_frame_ns_) {
     answered_frame_ns_ = mission->frame_arrival_ns;

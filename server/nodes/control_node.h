@@ -1,7 +1,8 @@
 // The control loop: picks the command for the base (teleop over a mission over standing still), applies the
 // safety limits and watchdogs, and sends it. Stops the robot when the teleop deadman lapses, when the base's
 // odometry stops arriving (the base is not answering), and when the node is deactivated (shutdown). While the
-// bumper is pressed, and for a second after, nothing drives forward (turning and reversing away are allowed).
+// bumper is pressed, and for a second after, nothing drives on in the direction the robot bumped in (turning and
+// driving away are allowed).
 //
 // It decides on a timer (control_rate_hz, the watchdogs' clock) and at once whenever the mission sends a command,
 // which it does once per depth frame: the robot answers a frame without waiting for the next tick. The latency
@@ -27,6 +28,7 @@ struct ControlInputs {
   const GroundLanes* lanes = nullptr;        // the latest, or null
   drivers::TimeNs last_lanes_ns = -1;        // arrival time of the latest lanes; -1 never
   drivers::TimeNs last_bump_ns = -1;         // arrival time of the latest odometry with the bumper pressed
+  int bump_direction = 1;                    // +1 it bumped driving forward, -1 backing
 };
 BaseCommand DecideCommand(const ControlInputs& in, const SafetyOptions& options);
 
@@ -48,6 +50,8 @@ class ControlNode final : public PeriodicNode {
   std::atomic<drivers::TimeNs> last_odometry_ns_{-1};
   std::atomic<drivers::TimeNs> last_lanes_ns_{-1};
   std::atomic<drivers::TimeNs> last_bump_ns_{-1};
+  std::atomic<int> bump_direction_{1};
+  std::atomic<double> last_linear_mps_{0.0};  // of the command last sent
   // On the control executor only:
   LatencyStats latency_;
   drivers::TimeNs answered_frame_ns_ = -1;  // arrival of the last frame a command answered

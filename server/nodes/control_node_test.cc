@@ -77,12 +77,12 @@ TEST(DecideCommandTest, ForwardSpeedStopsBeforeWhatTheCameraSeesAndNeedsFreshDep
   EXPECT_DOUBLE_EQ(reversing.twist.angular_rps, 0.5);
 }
 
-TEST(DecideCommandTest, AfterABumpNothingDrivesForwardForASecondButItMayTurnAndBackAway) {
+TEST(DecideCommandTest, AfterABumpNothingDrivesOnThatWayForASecondButItMayTurnAndDriveAway) {
   SafetyOptions o;
   const MissionCommand push{FromSeconds(10.0), {0.2, 0.3}};
-  const auto at = [&](double now_s, const MissionCommand& command, drivers::TimeNs bump_ns) {
+  const auto at = [&](double now_s, const MissionCommand& command, drivers::TimeNs bump_ns, int direction = 1) {
     return DecideCommand({FromSeconds(now_s), nullptr, FromSeconds(now_s), &command, &kClear, FromSeconds(now_s),
-                          bump_ns},
+                          bump_ns, direction},
                          o);
   };
   const BaseCommand held = at(10.05, push, FromSeconds(10.0));
@@ -96,6 +96,11 @@ TEST(DecideCommandTest, AfterABumpNothingDrivesForwardForASecondButItMayTurnAndB
   const MissionCommand later{FromSeconds(11.2), {0.2, 0.3}};
   EXPECT_DOUBLE_EQ(at(11.25, later, FromSeconds(10.0)).twist.linear_mps, 0.2);
   EXPECT_DOUBLE_EQ(at(11.25, later, -1).twist.linear_mps, 0.2);
+  // Bumped backing into something: it may drive forward away from it, not back on.
+  EXPECT_DOUBLE_EQ(at(10.05, push, FromSeconds(10.0), -1).twist.linear_mps, 0.2);
+  const BaseCommand no_back = at(10.05, back, FromSeconds(10.0), -1);
+  EXPECT_EQ(no_back.twist.linear_mps, 0.0);
+  EXPECT_EQ(no_back.reason, "bumper pressed: not backing");
 }
 
 TEST(DecideCommandTest, NoOdometryMeansStopWithAReason) {
