@@ -172,7 +172,9 @@ int Run(const CommandLine& cl) {
   if (config.tracking.enabled && config.sim.robot.laser.enabled) {
     tracking_node = std::make_unique<TrackingNode>(
         executors.mapping, bus, wall_clock, robot.base_T_laser(), config.tracking.objects, config.tracking.traffic,
-        [&planner](std::shared_ptr<const std::vector<float>> cost) { planner.SetTraffic(std::move(cost)); });
+        [&planner](std::shared_ptr<const std::vector<float>> cost, const nav::OccupancyGrid* map) {
+          planner.SetTraffic(std::move(cost), map);
+        });
   }
   TrackingNode* const tracking = tracking_node.get();
   // Each active map goes to the planner and, for its walls, to the tracker.

@@ -21,8 +21,9 @@ void PlannerService::SetMap(std::shared_ptr<const nav::OccupancyGrid> map) {
   ++version_;
 }
 
-void PlannerService::SetTraffic(std::shared_ptr<const std::vector<float>> cost) {
+void PlannerService::SetTraffic(std::shared_ptr<const std::vector<float>> cost, const nav::OccupancyGrid* map) {
   std::lock_guard lock(mutex_);
+  if (map != map_.get()) return;  // the tracker had not yet heard of the new map
   traffic_ = std::move(cost);
 }
 

@@ -36,10 +36,10 @@ class PlannerService {
   // Thread-safe. Each change bumps the version; the costmap is rebuilt on the next request.
   void SetMap(std::shared_ptr<const nav::OccupancyGrid> map);
   void SetZones(std::vector<nav::Zone> zones);
-  // Thread-safe. Where people have been walking, per cell of the current map (nav::TrafficMap::StepCost): added to
-  // every plan's step costs from now on. Does not change the version (it is not the map); a cost whose size is not
-  // the map's (made for a map since replaced) is not used. Null: none (nobody has walked): missions do not reroute.
-  void SetTraffic(std::shared_ptr<const std::vector<float>> cost);
+  // Thread-safe. Where people have been walking, per cell of `map` (nav::TrafficMap::StepCost): added to every
+  // plan's step costs from now on, when `map` is the current map; a cost made for a map since replaced is dropped.
+  // Does not change the version (it is not the map). Null: none (nobody has walked): missions do not reroute.
+  void SetTraffic(std::shared_ptr<const std::vector<float>> cost, const nav::OccupancyGrid* map);
   bool has_traffic() const;
   std::uint64_t version() const { return version_.load(); }
   const nav::CostmapOptions& options() const { return options_; }

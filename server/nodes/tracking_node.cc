@@ -12,7 +12,7 @@ constexpr double kTrafficEveryS = 1.0;  // how often the planner gets new traffi
 
 TrackingNode::TrackingNode(Executor& mapping, Bus& bus, const drivers::Clock& clock, const nav::Pose2& base_T_laser,
                            const nav::MovingObjectOptions& options, const nav::TrafficOptions& traffic,
-                           std::function<void(std::shared_ptr<const std::vector<float>>)> on_traffic)
+                           TrafficCallback on_traffic)
     : Node("tracking", mapping.name(), clock), executor_(mapping), bus_(bus), base_T_laser_(base_T_laser),
       tracker_(options), traffic_options_(traffic), on_traffic_(std::move(on_traffic)) {}
 
@@ -27,6 +27,7 @@ void TrackingNode::SetMap(std::shared_ptr<const nav::OccupancyGrid> map) {
   executor_.Post([this, map = std::move(map)]() mutable {
     traffic_.reset();
     if (map && traffic_options_.weight > 0.0 && on_traffic_) traffic_.emplace(*map, traffic_options_);
+    map_ = map;
     tracker_.SetMap(std::move(map));
   });
 }
@@ -49,7 +50,8 @@ void TrackingNode::OnScan(const drivers::LaserScan& scan) {
       traffic_sent_s_ = stamp_s;
       // Nobody walking (or long gone): no costs, and missions keep their paths.
       on_traffic_(traffic_->Empty(stamp_s) ? nullptr
-                                           : std::make_shared<const std::vector<float>>(traffic_->StepCost(stamp_s)));
+                                           : std::make_shared<const std::vector<float>>(traffic_->StepCost(stamp_s)),
+                  map_.get());
     }
   }
   stats().Record(start);

@@ -20,13 +20,17 @@
 
 namespace corridor::server {
 
+// Where people walk, per cell of `map` (the map the costs were made over): for PlannerService::SetTraffic.
+using TrafficCallback =
+    std::function<void(std::shared_ptr<const std::vector<float>> cost, const nav::OccupancyGrid* map)>;
+
 class TrackingNode final : public Node {
  public:
   // `base_T_laser`: the laser's pose on the robot. Throws std::invalid_argument for bad options.
   // `on_traffic` (may be empty) is called on the node's executor; with traffic.weight 0 it is never called.
   TrackingNode(Executor& mapping, Bus& bus, const drivers::Clock& clock, const nav::Pose2& base_T_laser,
                const nav::MovingObjectOptions& options, const nav::TrafficOptions& traffic,
-               std::function<void(std::shared_ptr<const std::vector<float>>)> on_traffic);
+               TrafficCallback on_traffic);
   void Activate() override;
   // Thread-safe: takes effect on the node's executor.
   void SetMap(std::shared_ptr<const nav::OccupancyGrid> map);
@@ -39,8 +43,9 @@ class TrackingNode final : public Node {
   nav::Pose2 base_T_laser_;
   nav::MovingObjectTracker tracker_;
   nav::TrafficOptions traffic_options_;
-  std::function<void(std::shared_ptr<const std::vector<float>>)> on_traffic_;
+  TrafficCallback on_traffic_;
   std::optional<nav::TrafficMap> traffic_;  // over the current map
+  std::shared_ptr<const nav::OccupancyGrid> map_;  // the current map
   double traffic_sent_s_ = -std::numeric_limits<double>::infinity();  // scan time of the last costs handed on
 };
 
