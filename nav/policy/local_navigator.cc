@@ -85,18 +85,14 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
   return out;
 }
 
-void LocalNavigator::SetMap(std::shared_ptr<const Costmap> map) {
-  memory_.SetMap(map);
-  map_ = std::move(map);
-}
-
 bool LocalNavigator::OnMap(const Pose2& robot, const LaneResult& lane) const {
-  if (!map_) return false;
+  const Costmap* map = memory_.map();  // the path's map
+  if (map == nullptr) return false;
   const auto near_map_obstacle = [&](double x, double y) {
-    return map_->ClearanceAt(robot.Transform(Eigen::Vector2d(x, y))) <= options_.mapped_tolerance_m;
+    return map->ClearanceAt(robot.Transform(Eigen::Vector2d(x, y))) <= options_.mapped_tolerance_m;
   };
   if (!lane.blind) return near_map_obstacle(lane.point.x(), lane.point.y());
-  const double step = map_->grid().resolution_m();
+  const double step = map->grid().resolution_m();
   for (double x = 0.0; x <= options_.blind_mapped_m; x += step) {
     if (near_map_obstacle(x, lane.offset_m)) return true;
   }

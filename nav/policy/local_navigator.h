@@ -79,7 +79,7 @@ class LocalNavigator {
   // of its obstacles too.
   void SetPath(std::vector<Waypoint> path, std::shared_ptr<const Costmap> map = nullptr);
   // The map changed under a path that still stands (see SetPath).
-  void SetMap(std::shared_ptr<const Costmap> map);
+  void SetMap(std::shared_ptr<const Costmap> map) { memory_.SetMap(std::move(map)); }
   // The bumper is pressed: what touched the front is remembered, so that the next commands turn away from it.
   void Touched(const Pose2& robot, bool backing) { memory_.Touched(robot, backing); }
   const std::vector<Waypoint>& path() const { return follower_.path(); }
@@ -105,7 +105,6 @@ class LocalNavigator {
   MorpRb avoid_;
   ObstacleMemory memory_;
   Evasion evade_;
-  std::shared_ptr<const Costmap> map_;
   std::vector<LaneResult> ahead_;  // this frame's lanes in the corridor
   double detour_left_m_ = 0.0;
   double last_speed_mps_ = 0.0;

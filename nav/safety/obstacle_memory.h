@@ -67,6 +67,7 @@ class ObstacleMemory {
 
   // The costmap of the map the robot drives in (null: none).
   void SetMap(std::shared_ptr<const Costmap> map) { map_ = std::move(map); }
+  const Costmap* map() const { return map_.get(); }
 
   // The bumper is pressed with the robot at `robot`: something is touching its front (its back when `backing`), seen
   // or not. Remembers points on that side of the footprint.

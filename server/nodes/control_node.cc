@@ -68,7 +68,9 @@ void ControlNode::Activate() {
     last_odometry_ns_ = clock().Now();
     if (odometry->bumper_pressed) {
       last_bump_ns_ = clock().Now();
-      if (last_linear_mps_.load() != 0.0) bump_direction_ = last_linear_mps_.load() > 0.0 ? 1 : -1;
+      // The way it bumped: that of the command last sent (none while held: the direction stays).
+      const auto sent = bus_.Get(topics::kCmdVel).latest();
+      if (sent && sent->twist.linear_mps != 0.0) bump_direction_ = sent->twist.linear_mps > 0.0 ? 1 : -1;
     }
   });
   bus_.Get(topics::kGroundLanes).Subscribe(executor(), [this](const auto&) { last_lanes_ns_ = clock().Now(); });
@@ -104,7 +106,6 @@ void ControlNode::Act() {
        last_bump_ns_.load(), bump_direction_.load()},
       options_);
   base_.SetVelocity(command.twist);
-  last_linear_mps_ = command.twist.linear_mps;
   const drivers::TimeNs sent_ns = clock().Now();
   if (command.mode == "mission" && mission->frame_arrival_ns >= 0 && mission->frame_arrival_ns != answered_frame_ns_) {
     answered_frame_ns_ = mission->frame_arrival_ns;

@@ -51,7 +51,6 @@ class ControlNode final : public PeriodicNode {
   std::atomic<drivers::TimeNs> last_lanes_ns_{-1};
   std::atomic<drivers::TimeNs> last_bump_ns_{-1};
   std::atomic<int> bump_direction_{1};
-  std::atomic<double> last_linear_mps_{0.0};  // of the command last sent
   // On the control executor only:
   LatencyStats latency_;
   drivers::TimeNs answered_frame_ns_ = -1;  // arrival of the last frame a command answered

@@ -240,7 +240,10 @@ void MissionNode::Drive(const GroundLanes& lanes) {
   const auto tracked = bus_.Get(topics::kTrackedObjects).latest();
   const bool fresh = tracked && drivers::ToSeconds(now - tracked->received_ns) < kStaleTrackingS;
   const auto odometry = bus_.Get(topics::kOdometry).latest();
-  if (odometry && odometry->bumper_pressed) navigator_.Touched(pose->pose, last_linear_mps_ < 0.0);
+  if (odometry && odometry->bumper_pressed) {
+    const auto sent = bus_.Get(topics::kCmdVel).latest();  // the way it was going when it bumped
+    navigator_.Touched(pose->pose, sent && sent->twist.linear_mps < 0.0);
+  }
   const nav::LocalStep step = navigator_.Update(pose->pose, lanes.lanes, mission_->speed_limit_mps(), dt_s,
                                                 fresh ? &tracked->surroundings : nullptr);
   remaining_m_ = step.remaining_m;
@@ -263,7 +266,6 @@ void MissionNode::Drive(const GroundLanes& lanes) {
     command.Publish(MissionCommand{now, step.twist});  // still, unless stepping out of someone's way
     return;
   }
-  last_linear_mps_ = step.twist.linear_mps;
   command.Publish(MissionCommand{now, step.twist, true, lanes.arrival_ns});
   bus_.Get(topics::kMission).Publish(MissionState{DescribeLocked()});
 }

@@ -65,7 +65,6 @@ class MissionNode final : public PeriodicNode {
   std::unique_ptr<nav::Mission> mission_;
   nav::LocalNavigator navigator_;
   drivers::TimeNs last_drive_ns_ = -1;  // the last Drive, on the node's clock
-  double last_linear_mps_ = 0.0;        // of the last command Drive published: which way a bump came from
   std::string policy_mode_;
   std::uint64_t generation_ = 0;    // bumped per leg and mission, to drop answers to stale requests
   bool planning_ = false;
