@@ -1,5 +1,7 @@
 #include "server/nodes/face_node.h"
 
+#include <utility>
+
 #include "server/runtime/topics.h"
 
 namespace corridor::server {
@@ -14,12 +16,20 @@ constexpr double kMovingRps = 0.05;
 FaceNode::FaceNode(Executor& executor, Bus& bus, const drivers::Clock& clock, const face::ExpressionOptions& options)
     : PeriodicNode("face", executor, clock, kRateHz), bus_(bus), machine_(options) {}
 
+void FaceNode::Activate() {
+  bus_.Get(topics::kOdometry).Subscribe(executor(), [this](const auto& odometry) {
+    if (odometry->bumper_pressed) bumped_since_tick_ = true;
+  });
+  PeriodicNode::Activate();
+}
+
 void FaceNode::Tick() {
   face::Situation s{.now_ns = clock().Now()};
   if (const auto odometry = bus_.Get(topics::kOdometry).latest()) {
     s.moving = std::abs(odometry->velocity.linear_mps) > kMovingMps ||
                std::abs(odometry->velocity.angular_rps) > kMovingRps;
-    s.bumped = odometry->bumper_pressed;
+    const bool pressed_between_ticks = std::exchange(bumped_since_tick_, false);
+    s.bumped = odometry->bumper_pressed || pressed_between_ticks;
   }
   if (const auto command = bus_.Get(topics::kCmdVel).latest()) {
     s.driven = command->mode == "teleop";
