@@ -145,6 +145,25 @@ tracking:
     }
   });
 
+  test('turning round at the ends of their walks is remembered, and drawn where someone walks to one', async () => {
+    // People pace between their two points: once a person has turned round at an end, walking back to it they are
+    // reported with it ahead (the robot expects them to turn there), and the console draws a dotted line to it.
+    const ahead = (st) => st.tracked_objects.some((o) => o.moving && o.walk_end &&
+      (o.walk_end.x - o.x) * o.vx + (o.walk_end.y - o.y) * o.vy > 0);
+    const st = await waitFor(() => state(daemon.url), ahead, 40000, 'a person with the end of their walk ahead');
+    api.check('State', st);
+    const browser = await launchBrowser();
+    try {
+      const page = await browser.newPage({ viewport: { width: 1024, height: 700 } });
+      page.on('pageerror', (e) => { throw e; });
+      await page.goto(daemon.url);
+      await page.waitForFunction(() => document.querySelectorAll('path.tracked-walk-end').length > 0, null,
+        { timeout: 20000 });
+    } finally {
+      await browser.close();
+    }
+  });
+
   test('leave their mark on plans: a path along where someone walks keeps beside their way', async () => {
     // Watch a walking person for 3 s: every place they pass is on their way. A plan from one end of what they
     // walked to the other would run straight along it; with the laser's traffic costs it keeps to one side.

@@ -21,8 +21,8 @@ Evasion::Evasion(const EvasionOptions& options) : options_(options) {
   if (options.static_horizon_s < 0.0 || options.static_horizon_s > options.horizon_s) {
     throw std::invalid_argument("evasion: static_horizon_s must be within [0, horizon_s]");
   }
-  if (options.turn_reach_m < 0.0 || options.turn_horizon_s < 0.0) {
-    throw std::invalid_argument("evasion: turn_reach_m and turn_horizon_s must not be negative");
+  if (options.turn_reach_m < 0.0 || options.turn_horizon_s < 0.0 || options.walk_end_slack_m < 0.0) {
+    throw std::invalid_argument("evasion: turn_reach_m, turn_horizon_s and walk_end_slack_m must not be negative");
   }
   if (options.first_s < 0.0 || options.first_s > options.horizon_s) {
     throw std::invalid_argument("evasion: first_s must be within [0, horizon_s]");
@@ -50,8 +50,7 @@ Evasion::Score Evasion::Predict(const Pose2& robot, const std::vector<Eigen::Vec
     score.closest_m = std::min(score.closest_m, previous);
     for (int k = 1; k <= m.steps; ++k) {
       const double t = k * options_.step_s;
-      const double gap =
-          (m.position + t * m.velocity - at[k - 1]).norm() - m.clearance_m - options_.uncertainty_mps * t;
+      const double gap = (m.At(t) - at[k - 1]).norm() - m.clearance_m - options_.uncertainty_mps * t;
       // Overlapping and still closing in; overlapping while separating is how the robot gets out.
       if (gap < 0.0 && gap < previous - 1e-6) score.conflict_s = std::min(score.conflict_s, t);
       score.closest_m = std::min(score.closest_m, gap);
@@ -87,14 +86,19 @@ EvasionResult Evasion::Check(const Pose2& robot, const Twist2& command, const Ei
     const Eigen::Vector2d centre = object.position + (away.norm() > 1e-6 ? away.normalized() : Eigen::Vector2d::Zero()) *
                                                          o.far_side_fraction * radius;
     const double clearance = o.robot_radius_m + radius + o.margin_m;
-    movers.push_back({centre, object.velocity, clearance, steps_});
+    const Eigen::Vector2d heading = object.velocity.normalized();  // zero stays zero: no turn predicted
+    if (object.turn_at) {
+      const double ahead = std::max(0.0, heading.dot(*object.turn_at - object.position) + o.walk_end_slack_m);
+      movers.push_back({centre, object.velocity, clearance, steps_, ahead / object.velocity.norm()});
+      continue;
+    }
+    movers.push_back({centre, object.velocity, clearance, steps_, kInfinity});
     // Walking away with the robot in their wake (on their line, behind them): should they turn round, they walk
     // straight into it.
-    const Eigen::Vector2d heading = object.velocity.normalized();  // zero stays zero: no turn predicted
     const double behind = heading.dot(away);
     const double aside = std::abs(heading.x() * away.y() - heading.y() * away.x());
     if (behind > 0.0 && aside < clearance && behind - clearance < o.turn_reach_m) {
-      movers.push_back({centre, -object.velocity, clearance, turn_steps_});
+      movers.push_back({centre, -object.velocity, clearance, turn_steps_, kInfinity});
     }
   }
   const std::optional<Twist2> last = std::exchange(last_, std::nullopt);

@@ -44,6 +44,10 @@ struct EvasionOptions {
   // could get out of the way (0: off).
   double turn_reach_m = 2.0;
   double turn_horizon_s = 1.5;
+  // A person walking toward the known end of their walk (TrackedObject::turn_at) is predicted to turn round there,
+  // this far beyond it (people do not turn at the very same spot), and walk back; for them the guess above is not
+  // made.
+  double walk_end_slack_m = 0.2;
   double static_horizon_s = 1.0;     // static points are swept this far
   double static_margin_m = 0.05;
   double step_s = 0.1;
@@ -84,7 +88,9 @@ class Evasion {
     Eigen::Vector2d position;
     Eigen::Vector2d velocity;
     double clearance_m;
-    int steps;  // predicted this many steps of the horizon
+    int steps;      // predicted this many steps of the horizon
+    double turn_s;  // turning round (walking back at the same speed) after this long; infinity: never
+    Eigen::Vector2d At(double t) const { return position + velocity * (t <= turn_s ? t : 2.0 * turn_s - t); }
   };
   struct Score {
     double conflict_s;   // first conflict time; infinity when none

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <random>
 
 namespace corridor::nav {
@@ -131,6 +132,36 @@ TEST(EvasionTest, TheRobotDoesNotFollowSomeoneSoCloselyThatTheirTurningRoundHits
   no_turns.turn_reach_m = 0.0;
   EXPECT_LT(ClosestApproach(Evasion{no_turns}, robot, {0.26, 0.0}, {0.9, 0.0}, {0.8, 0.0}, {}, 6.0, nullptr, 1.0),
             touching);
+}
+
+TEST(EvasionTest, SomeoneWalkingToTheKnownEndOfTheirWalkIsExpectedToTurnThere) {
+  // People pace: the tracker reports where a person turned round before (TrackedObject::turn_at).
+  Evasion evasion{EvasionOptions{}};
+  const Pose2 robot{0.0, 0.0, 0.0};
+  const Twist2 command{0.26, 0.0};
+  const auto pacing = [](const Eigen::Vector2d& at, const Eigen::Vector2d& velocity,
+                         const std::optional<Eigen::Vector2d>& end) {
+    TrackedObject o = Person(at, velocity);
+    o.turn_at = end;
+    return std::vector<TrackedObject>{o};
+  };
+  // Walking at the robot's way from the side, but their walk ends 1.2 m short of it: the robot drives on.
+  const Eigen::Vector2d side(1.5, -2.5);
+  const Eigen::Vector2d up(0.0, 0.8);
+  EXPECT_TRUE(evasion.Check(robot, command, kTarget, pacing(side, up, std::nullopt), {}, nullptr).evading);
+  const EvasionResult on =
+      evasion.Check(robot, command, kTarget, pacing(side, up, Eigen::Vector2d(1.5, -1.2)), {}, nullptr);
+  EXPECT_FALSE(on.evading);
+  EXPECT_EQ(on.twist.linear_mps, command.linear_mps);
+  // Walking away along the robot's way 1 m ahead: with the end of their walk far off the robot follows, with it
+  // just ahead of them it does not (they are about to come back).
+  const Eigen::Vector2d ahead(1.0, 0.0);
+  const Eigen::Vector2d away(0.8, 0.0);
+  const auto follows = [&](const Eigen::Vector2d& end) {
+    return !evasion.Check(robot, command, kTarget, pacing(ahead, away, end), {}, nullptr).evading;
+  };
+  EXPECT_TRUE(follows({6.0, 0.0}));
+  EXPECT_FALSE(follows({1.6, 0.0}));
 }
 
 TEST(EvasionTest, TheWayOutDoesNotBackIntoAWall) {

@@ -55,6 +55,7 @@ void MovingObjectTracker::SetMap(std::shared_ptr<const OccupancyGrid> map) {
 void MovingObjectTracker::Clear() {
   scans_.clear();
   tracks_.clear();
+  walk_ends_.clear();
   newest_on_map_.clear();
   now_.objects.clear();
   now_.static_points.clear();
@@ -214,6 +215,7 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
     t.points = c.points;
     t.last_seen_s = stamp_s;
     See(t, stamp_s, c);
+    NoteTurn(t, stamp_s);
   }
   // New clusters start tracks.
   for (std::size_t j = 0; j < clusters.size(); ++j) {
@@ -236,6 +238,10 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
   }
   tracks_.resize(kept);
   cluster_of.resize(kept);
+  // Ends of walks are forgotten after a while.
+  walk_ends_.erase(std::remove_if(walk_ends_.begin(), walk_ends_.end(),
+                                  [&](const WalkEnd& e) { return stamp_s - e.stamp_s > o.walk_end_memory_s; }),
+                   walk_ends_.end());
 
   now_.objects.clear();
   now_.static_points.clear();
@@ -251,6 +257,7 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
     if (t.velocity.norm() >= o.moving_speed_mps) {
       object.velocity = t.velocity;
       object.moving = true;
+      object.turn_at = WalkEndAhead(t);
     }
     if (cluster_of[i] >= 0 && object.moving) cluster_moves[static_cast<std::size_t>(cluster_of[i])] = true;
     now_.objects.push_back(object);
@@ -316,6 +323,52 @@ void MovingObjectTracker::See(Track& t, double stamp_s, const Cluster& c) const 
     tp += (s.stamp_s - t_mean) * (s.position - p_mean);
   }
   if (tt > 1e-9) t.velocity = tp / tt;
+}
+
+void MovingObjectTracker::NoteTurn(Track& t, double stamp_s) {
+  const MovingObjectOptions& o = options_;
+  const double speed = t.velocity.norm();
+  if (speed < o.moving_speed_mps) return;
+  const double walked = t.walked.norm();
+  if (walked > 0.0 && t.velocity.dot(t.walked) < o.turn_cos * speed * walked) {
+    // The turn was seen within recent_s: the farthest whole sighting along the old heading is where it was.
+    const Eigen::Vector2d heading = t.walked / walked;
+    std::optional<Eigen::Vector2d> apex;
+    for (const Sighting& s : t.seen) {
+      if (s.whole && (!apex || s.position.dot(heading) > apex->dot(heading))) apex = s.position;
+    }
+    if (apex) {
+      // The same end found again replaces the old one.
+      const auto same = std::find_if(walk_ends_.begin(), walk_ends_.end(), [&](const WalkEnd& e) {
+        return (e.position - *apex).norm() < 2.0 * o.walk_end_lateral_m && e.heading.dot(heading) > 0.7;
+      });
+      if (same != walk_ends_.end()) walk_ends_.erase(same);
+      walk_ends_.push_back({*apex, heading, stamp_s, t.id});
+    }
+  }
+  t.walked = t.velocity;
+}
+
+std::optional<Eigen::Vector2d> MovingObjectTracker::WalkEndAhead(const Track& t) const {
+  const MovingObjectOptions& o = options_;
+  const Eigen::Vector2d heading = t.velocity.normalized();
+  std::optional<Eigen::Vector2d> nearest;
+  double nearest_ahead = o.walk_end_reach_m;
+  for (const WalkEnd& e : walk_ends_) {
+    // Another track's end only once that track is gone (the same person, lost and found again): two people pacing
+    // side by side each have their own.
+    const auto alive = [&](const Track& u) { return u.id == e.track; };
+    if (e.track != t.id && std::any_of(tracks_.begin(), tracks_.end(), alive)) continue;
+    if (e.heading.dot(heading) < 0.8) continue;
+    const Eigen::Vector2d to = e.position - t.position;
+    const double ahead = to.dot(heading);
+    const double aside = std::abs(heading.x() * to.y() - heading.y() * to.x());
+    if (ahead > 0.0 && ahead <= nearest_ahead && aside <= o.walk_end_lateral_m) {
+      nearest = e.position;
+      nearest_ahead = ahead;
+    }
+  }
+  return nearest;
 }
 
 }  // namespace corridor::nav

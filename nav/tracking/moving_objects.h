@@ -49,6 +49,14 @@ struct MovingObjectOptions {
   double recent_s = 0.3;
   double maneuver_mps = 0.5;
   double partial_fraction = 0.6;     // a sighting narrower than this part of the track's recent ones is partly hidden
+  // People pace back and forth: where a track turned round (its heading changed by more than acos(turn_cos)) is
+  // remembered for walk_end_memory_s as the end of a walk, and a person walking toward a remembered end the way it
+  // was walked into (within walk_end_lateral_m of their line, at most walk_end_reach_m ahead) is reported with it,
+  // so that a prediction can have them turn there rather than walk on through.
+  double turn_cos = -0.5;
+  double walk_end_memory_s = 60.0;
+  double walk_end_lateral_m = 0.5;
+  double walk_end_reach_m = 12.0;
 };
 
 struct TrackedObject {
@@ -60,6 +68,9 @@ struct TrackedObject {
   bool moving = false;
   int points = 0;                    // over the whole window
   bool seen = true;                  // false: coasting on its prediction (merged with another, or hidden)
+  // Moving objects only: the remembered end of a walk ahead, where this object (or a track since lost) turned
+  // round before when walking this way.
+  std::optional<Eigen::Vector2d> turn_at;
 };
 
 // What the laser shows around the robot after one scan: the objects and the points that stay where they are.
@@ -121,9 +132,19 @@ class MovingObjectTracker {
     double last_seen_s;   // alone in a cluster
     std::deque<Sighting> seen;  // when seen alone, oldest first
     double maneuver_s = -std::numeric_limits<double>::infinity();  // when its velocity last changed abruptly
+    Eigen::Vector2d walked = Eigen::Vector2d::Zero();  // its last velocity at walking speed
+  };
+  struct WalkEnd {
+    Eigen::Vector2d position;  // the farthest the track got before turning
+    Eigen::Vector2d heading;   // unit: the way it walked into the end
+    double stamp_s;
+    int track;                 // whose turn it was
   };
   // Records the track's sighting at stamp_s and updates its velocity from its own positions and the cluster's.
   void See(Track& track, double stamp_s, const Cluster& cluster) const;
+  // Remembers the end of a walk when the track has just turned round.
+  void NoteTurn(Track& track, double stamp_s);
+  std::optional<Eigen::Vector2d> WalkEndAhead(const Track& track) const;
   bool OnMap(const Eigen::Vector2d& p) const;
   std::vector<Cluster> FindClusters() const;
   void UpdateTracks(double stamp_s, const std::vector<Cluster>& clusters);
@@ -140,6 +161,7 @@ class MovingObjectTracker {
   std::vector<Eigen::Vector2d> newest_on_map_;  // the newest scan's points on the map's walls
   Surroundings now_;
   std::vector<Track> tracks_;
+  std::vector<WalkEnd> walk_ends_;  // oldest first
   int next_id_ = 1;
 };
 

@@ -239,6 +239,44 @@ TEST(MovingObjectTrackerTest, APersonTurningRoundIsSeenWalkingBackWithinAFewScan
   EXPECT_TRUE(slow.lost);
 }
 
+TEST(MovingObjectTrackerTest, WhereSomeonePacingTurnedRoundIsTheEndOfTheirWalk) {
+  // A person paces between x = 2 and x = 7 at 0.8 m/s (6.25 s each way), starting at x = 2. Until they have turned
+  // at an end, walking toward it tells nothing; once they have, walking toward it again reports it.
+  std::mt19937 rng(3);
+  MovingObjectTracker tracker{MovingObjectOptions{}};
+  tracker.SetMap(std::make_shared<const OccupancyGrid>(Room(10.0)));
+  const Eigen::Vector2d sensor(4.5, 3.0);
+  const double leg_s = 6.25;
+  const auto at = [&](double t) {
+    const double phase = std::fmod(t, 2.0 * leg_s);
+    return Eigen::Vector2d(2.0 + 0.8 * (phase < leg_s ? phase : 2.0 * leg_s - phase), 5.0);
+  };
+  int early_ends = 0;       // reported in the first walk out and back (away from the far turn)
+  int walks_seen = 0;       // scans of the third and fourth legs, mid-walk, with the person tracked as moving
+  int right_ends = 0;       // of them, with the end ahead within 0.3 m of where they turn
+  for (int k = 0; k <= 250; ++k) {
+    const double t = 0.1 * k;
+    const auto ranges = Scan(sensor, {{at(t), 0.25}}, 10.0, rng);
+    tracker.Update(t, sensor,
+                   ScanToWorld({sensor.x(), sensor.y(), 0.0}, -std::numbers::pi, std::numbers::pi / 180.0, 0.1, 8.0, ranges));
+    const TrackedObject* person = nullptr;
+    for (const TrackedObject& o : tracker.objects()) {
+      if (!person || (o.position - at(t)).norm() < (person->position - at(t)).norm()) person = &o;
+    }
+    ASSERT_NE(person, nullptr);
+    if (t > 1.0 && t < 2.0 * leg_s - 0.5 && std::abs(t - leg_s) > 1.0 && person->turn_at) ++early_ends;
+    const double phase = std::fmod(t, leg_s);
+    if (t > 2.0 * leg_s && phase > 1.0 && phase < leg_s - 1.0 && person->moving) {
+      ++walks_seen;
+      const Eigen::Vector2d end(t < 3.0 * leg_s ? 7.0 : 2.0, 5.0);
+      if (person->turn_at && (*person->turn_at - end).norm() < 0.3) ++right_ends;
+    }
+  }
+  EXPECT_EQ(early_ends, 0) << "an end reported before anyone turned there";
+  EXPECT_GT(walks_seen, 60);
+  EXPECT_EQ(right_ends, walks_seen);
+}
+
 TEST(MovingObjectTrackerTest, BadOptionsAreRefused) {
   MovingObjectOptions o;
   o.window_scans = 1;

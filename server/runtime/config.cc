@@ -138,6 +138,7 @@ void ReadTracking(ConfigReader& r, TrackingOptions& t) {
   r.Read("map_clearance_m", o.map_clearance_m, 0.0, 1.0);
   r.Read("range_m", o.range_m, 0.5, 100.0);
   r.Read("coast_s", o.coast_s, 0.0, 10.0);
+  r.Read("walk_end_memory_s", o.walk_end_memory_s, 0.0, 86400.0);
   r.Section("traffic", [&](ConfigReader& s) {
     s.Read("weight", t.traffic.weight, 0.0, 100.0);
     s.Read("lane_half_width_m", t.traffic.lane_half_width_m, 0.0, 5.0);

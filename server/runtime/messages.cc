@@ -24,8 +24,10 @@ nlohmann::json ToJson(const SimPedestrians& p) {
 nlohmann::json ToJson(const TrackedObjects& t) {
   nlohmann::json objects = nlohmann::json::array();
   for (const nav::TrackedObject& o : t.surroundings.objects) {
-    objects.push_back({{"x", o.position.x()}, {"y", o.position.y()}, {"vx", o.velocity.x()}, {"vy", o.velocity.y()},
-                       {"radius_m", o.radius_m}, {"moving", o.moving}});
+    nlohmann::json object = {{"x", o.position.x()}, {"y", o.position.y()}, {"vx", o.velocity.x()},
+                              {"vy", o.velocity.y()}, {"radius_m", o.radius_m}, {"moving", o.moving}};
+    if (o.turn_at) object["walk_end"] = {{"x", o.turn_at->x()}, {"y", o.turn_at->y()}};
+    objects.push_back(std::move(object));
   }
   return objects;
 }

@@ -27,7 +27,7 @@ Runs the DPoom evaluation protocol: a DPoom-like robot (0.26 m/s, camera 85.2 x 
   --pedestrians N     0 to 5, default 0
   --static N          static obstacles, 0 to 9, default 0
   --policy NAME       morp-rb or voxel-reactive; repeat for several; default both
- --laser             give the robot corridor's optional 2D laser: morp-rb tracks moving objects and evades them
+  --laser             give the robot corridor's optional 2D laser: morp-rb tracks moving objects and evades them
   --timeout S         per run, default 3 x straight-line time + 20 s
   --json              machine-readable results (every run and the summaries) on stdout
   --trace             every morp-rb decision (pose, mode, lanes) and each collision's surroundings on stderr

@@ -25,7 +25,10 @@ export interface State {
   control_latency: ControlLatency | null;
 }
 export interface SimPerson { x: number; y: number; vx: number; vy: number; radius_m: number; }
-export interface TrackedObject { x: number; y: number; vx: number; vy: number; radius_m: number; moving: boolean; }
+export interface TrackedObject {
+  x: number; y: number; vx: number; vy: number; radius_m: number; moving: boolean;
+  walk_end?: { x: number; y: number };  // where they turned round before, walking this way
+}
 export interface SimObstacle { shape: 'cylinder' | 'box'; x: number; y: number; size_m: number; yaw: number; }
 export interface ControlLatency { rate_hz: number; p50_ms: number; p99_ms: number; max_ms: number; samples: number; }
 export interface MapInfo {

@@ -106,6 +106,11 @@ export class MapView {
         className: 'tracked-moving' }).addTo(this.tracked);
       L.polyline([toLatLng(o.x, o.y), toLatLng(o.x + o.vx, o.y + o.vy)], { color: '#cf222e', weight: 2 })
         .addTo(this.tracked);
+      // Where they are expected to turn round: a dotted line to the end of their walk.
+      if (o.walk_end) {
+        L.polyline([toLatLng(o.x, o.y), toLatLng(o.walk_end.x, o.walk_end.y)], { color: '#cf222e', weight: 1,
+          dashArray: '1 4', className: 'tracked-walk-end' }).addTo(this.tracked);
+      }
     }
   }
 
