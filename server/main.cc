@@ -122,6 +122,8 @@ int Run(const CommandLine& cl) {
   const Config config = [&] {
     Config c = LoadConfig(cl.config, cl.overrides);
     c.server.web_root = FindWebRoot(c.server.web_root);
+    // Evasion backs away only when a laser sees behind; without one, people are tracked in the forward camera's view.
+    if (!c.sim.robot.laser.enabled) c.mission.evade.max_reverse_mps = 0.0;
     return c;
   }();
   spdlog::set_level(spdlog::level::from_str(config.log.level));
@@ -167,11 +169,15 @@ int Run(const CommandLine& cl) {
   Bus bus;
   Executors executors;
   PlannerService planner(executors.planning, config.planner);
-  // The laser's tracker, when there is a laser: the map's walls are not objects to track.
+  // The tracker of moving objects, from the laser when there is one, else from the depth camera: the map's walls are
+  // not objects to track.
   std::unique_ptr<TrackingNode> tracking_node;
-  if (config.tracking.enabled && config.sim.robot.laser.enabled) {
+  if (config.tracking.enabled && (config.sim.robot.laser.enabled || config.tracking.camera)) {
+    TrackingSource source;
+    if (config.sim.robot.laser.enabled) source.base_T_laser = robot.base_T_laser();
+    source.camera = robot.info().camera;
     tracking_node = std::make_unique<TrackingNode>(
-        executors.mapping, bus, wall_clock, robot.base_T_laser(), config.tracking.objects, config.tracking.traffic,
+        executors.mapping, bus, wall_clock, source, config.tracking.objects, config.tracking.traffic,
         [&planner](std::shared_ptr<const std::vector<float>> cost, const nav::OccupancyGrid* map) {
           planner.SetTraffic(std::move(cost), map);
         });

@@ -11,6 +11,7 @@
 #include "drivers/sim/sensors.h"
 #include "drivers/sim/sim_robot.h"
 #include "nav/policy/morp_rb.h"
+#include "nav/ground/depth_scan.h"
 #include "nav/ground/floor_fit.h"
 #include "nav/ground/morp.h"
 #include "nav/ground/voxel_obstacles.h"
@@ -84,6 +85,34 @@ TEST(VoxelObstaclesTest, TheComparisonFrontEndFindsTheWallAndTheBoxButNotTheFloo
   }
   EXPECT_GT(wall, 50);
   EXPECT_GT(box, 5);
+}
+
+TEST(DepthScanTest, EachColumnGivesItsNearestObstacleOnTheFloorPlaneAndTheFloorIsNone) {
+  // A wall 3 m ahead and, in front of it on the left, a person-sized cylinder's box stand-in 1.5 m ahead; a low
+  // step (5 cm) on the right that the robot drives over is not an obstacle, nor is the tilted camera's floor.
+  const auto o = Camera();
+  TriangleMesh mesh = Floor();
+  mesh.AddBox({3.0f, -4.0f, 0.0f}, {3.2f, 4.0f, 1.5f}, kGrey);
+  mesh.AddBox({1.5f, 0.2f, 0.0f}, {1.9f, 0.6f, 1.7f}, kGrey);
+  mesh.AddBox({1.0f, -1.0f, 0.0f}, {1.4f, -0.3f, 0.05f}, kGrey);
+  nav::DepthScan scan(drivers::sim::MakeCameraInfo(o).camera, nav::DepthScanOptions{});
+  const auto& points = scan.Process(Render(mesh, o));
+  ASSERT_GT(points.size(), 600u);  // nearly every column of 640 sees the wall or the box
+  int person = 0;
+  for (const Eigen::Vector2d& p : points) {
+    const bool in_box_shadow = p.y() > 0.15 && p.y() < 0.65 && p.x() < 2.0;
+    if (in_box_shadow) {
+      ++person;
+      EXPECT_NEAR(p.x(), 1.7, 0.25) << p.transpose();  // the box's near face, or its side seen at an angle
+    } else {
+      // The wall's face (the nearest of a column's noisy pixels): not the floor, not the step.
+      EXPECT_NEAR(p.x(), 3.0, 0.1) << p.transpose();
+    }
+  }
+  EXPECT_GT(person, 40);
+  // Holes give nothing; a frame of the wrong size is refused.
+  EXPECT_TRUE(scan.Process(cv::Mat::zeros(o.height, o.width, CV_16UC1)).empty());
+  EXPECT_THROW(scan.Process(cv::Mat::zeros(10, 10, CV_16UC1)), std::invalid_argument);
 }
 
 TEST(MorpTest, OpenFloorHasNoDeadEnds) {

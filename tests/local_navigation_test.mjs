@@ -191,6 +191,36 @@ tracking:
   });
 });
 
+describe('simulated people, a robot without a laser tracking them with its camera (tracking.camera)', () => {
+  let daemon;
+  before(async () => {
+    daemon = await startDaemon({ config: roomConfig(`
+  camera: {width: 160, height: 120}
+  laser: {enabled: false}
+  pedestrians: 2
+tracking: {camera: true}
+`) });
+  });
+  after(async () => { await daemon?.stop(); });
+
+  test('are tracked in the depth camera\'s view, with their velocities', async () => {
+    // The robot looks down the room: a person walking in front of it shows as a moving object near them, going their
+    // way (the camera sees a person's near side, and the state's two lists are a frame apart: hence the tolerances).
+    const inView = (st, p) => {
+      const pose = st.sim_true_pose;
+      const bearing = Math.atan2(p.y - pose.y, p.x - pose.x) - pose.yaw;
+      return Math.abs(Math.atan2(Math.sin(bearing), Math.cos(bearing))) < 0.6 && Math.hypot(p.x - pose.x, p.y - pose.y) < 5;
+    };
+    const matches = (st) => st.sim_pedestrians.some((p) => inView(st, p) && Math.hypot(p.vx, p.vy) > 0.4 &&
+      st.tracked_objects.some((o) => o.moving && Math.hypot(o.x - p.x, o.y - p.y) < 0.6 &&
+        Math.hypot(o.vx - p.vx, o.vy - p.vy) < 0.4));
+    const last = await waitFor(() => state(daemon.url), matches, 20000, 'a person tracked by the camera');
+    api.check('State', last);
+    const tracking = last.nodes.find((n) => n.name === 'tracking');
+    assert.equal(tracking?.health, 'ok', JSON.stringify(tracking));
+  });
+});
+
 describe('the default world', () => {
   let daemon;
   before(async () => { daemon = await startDaemon(); });

@@ -14,8 +14,8 @@ using nlohmann::json;
 constexpr double kRateHz = 20.0;
 // No depth frame for this long: the mission holds the robot still (the control loop also refuses forward motion).
 constexpr double kNoFramesS = 0.2;
-// Tracked objects older than this (three scans of a 10 Hz laser) are not used: a laser that stops answering leaves
-// the robot with MORP and the obstacle memory, as without a laser.
+// Tracked objects older than this (three scans of a 10 Hz laser) are not used: a sensor that stops answering leaves
+// the robot with MORP and the obstacle memory, as without tracking.
 constexpr double kStaleTrackingS = 0.3;
 
 json PoseJson(const nav::Pose2& p) { return {{"x", p.x_m}, {"y", p.y_m}, {"yaw", p.yaw_rad}}; }
@@ -236,7 +236,7 @@ void MissionNode::Drive(const GroundLanes& lanes) {
   const auto pose = bus_.Get(topics::kPose).latest();
   if (!pose) return;
   auto& command = bus_.Get(topics::kMissionCommand);
-  // The laser's tracked objects, while they are fresh: people to step out of the way of.
+  // The tracker's objects (from the laser, or the camera without one), while fresh: people to step out of the way of.
   const auto tracked = bus_.Get(topics::kTrackedObjects).latest();
   const bool fresh = tracked && drivers::ToSeconds(now - tracked->received_ns) < kStaleTrackingS;
   const auto odometry = bus_.Get(topics::kOdometry).latest();

@@ -1,5 +1,7 @@
 #include "server/nodes/tracking_node.h"
 
+#include <stdexcept>
+
 #include "server/runtime/topics.h"
 
 namespace corridor::server {
@@ -10,17 +12,26 @@ constexpr double kTrafficEveryS = 1.0;  // how often the planner gets new traffi
 
 }  // namespace
 
-TrackingNode::TrackingNode(Executor& mapping, Bus& bus, const drivers::Clock& clock, const nav::Pose2& base_T_laser,
+TrackingNode::TrackingNode(Executor& mapping, Bus& bus, const drivers::Clock& clock, const TrackingSource& source,
                            const nav::MovingObjectOptions& options, const nav::TrafficOptions& traffic,
                            TrafficCallback on_traffic)
-    : Node("tracking", mapping.name(), clock), executor_(mapping), bus_(bus), base_T_laser_(base_T_laser),
-      tracker_(options), traffic_options_(traffic), on_traffic_(std::move(on_traffic)) {}
+    : Node("tracking", mapping.name(), clock), executor_(mapping), bus_(bus), source_(source), tracker_(options),
+      traffic_options_(traffic), on_traffic_(std::move(on_traffic)) {
+  if (!source.base_T_laser) depth_scan_.emplace(source.camera, source.depth);
+}
 
 void TrackingNode::Activate() {
-  bus_.Get(topics::kScan).Subscribe(executor_, [this](const std::shared_ptr<const drivers::LaserScan>& scan) {
-    OnScan(*scan);
-  });
-  SetHealth(Health::kOk, "waiting for scans");
+  if (source_.base_T_laser) {
+    bus_.Get(topics::kScan).Subscribe(executor_, [this](const std::shared_ptr<const drivers::LaserScan>& scan) {
+      OnScan(*scan);
+    });
+    SetHealth(Health::kOk, "waiting for scans");
+  } else {
+    bus_.Get(topics::kRgbd).Subscribe(executor_, [this](const std::shared_ptr<const drivers::RgbdFrame>& frame) {
+      OnFrame(*frame);
+    });
+    SetHealth(Health::kOk, "waiting for depth frames (no laser: people are tracked in the camera's view)");
+  }
 }
 
 void TrackingNode::SetMap(std::shared_ptr<const nav::OccupancyGrid> map) {
@@ -39,11 +50,34 @@ void TrackingNode::OnScan(const drivers::LaserScan& scan) {
     SetHealth(Health::kDegraded, "no pose yet: scans cannot be placed in the map");
     return;
   }
-  const nav::Pose2 laser = pose->pose * base_T_laser_;
-  tracker_.Update(drivers::ToSeconds(scan.stamp_ns), laser.translation(),
-                  nav::ScanToWorld(laser, scan.angle_min_rad, scan.angle_increment_rad, scan.range_min_m,
-                                   scan.range_max_m, scan.ranges));
-  const double stamp_s = drivers::ToSeconds(scan.stamp_ns);
+  const nav::Pose2 laser = pose->pose * *source_.base_T_laser;
+  Track(scan.stamp_ns, laser.translation(),
+        nav::ScanToWorld(laser, scan.angle_min_rad, scan.angle_increment_rad, scan.range_min_m, scan.range_max_m,
+                         scan.ranges),
+        start);
+}
+
+void TrackingNode::OnFrame(const drivers::RgbdFrame& frame) {
+  const drivers::TimeNs start = clock().Now();
+  const auto pose = bus_.Get(topics::kPose).latest();
+  if (!pose) {
+    SetHealth(Health::kDegraded, "no pose yet: depth frames cannot be placed in the map");
+    return;
+  }
+  std::vector<Eigen::Vector2d> points;
+  try {
+    for (const Eigen::Vector2d& p : depth_scan_->Process(frame.depth_mm)) points.push_back(pose->pose.Transform(p));
+  } catch (const std::invalid_argument& e) {
+    SetHealth(Health::kDegraded, e.what());
+    return;
+  }
+  Track(frame.stamp_ns, pose->pose.Transform(source_.camera.base_T_camera.translation().head<2>()), points, start);
+}
+
+void TrackingNode::Track(drivers::TimeNs stamp_ns, const Eigen::Vector2d& sensor,
+                         const std::vector<Eigen::Vector2d>& points, drivers::TimeNs start) {
+  tracker_.Update(drivers::ToSeconds(stamp_ns), sensor, points);
+  const double stamp_s = drivers::ToSeconds(stamp_ns);
   if (traffic_) {
     traffic_->Add(stamp_s, tracker_.objects());
     if (stamp_s - traffic_sent_s_ >= kTrafficEveryS || stamp_s < traffic_sent_s_) {
@@ -58,7 +92,7 @@ void TrackingNode::OnScan(const drivers::LaserScan& scan) {
   std::size_t moving = 0;
   for (const nav::TrackedObject& o : tracker_.objects()) moving += o.moving ? 1 : 0;
   SetHealth(Health::kOk, std::to_string(tracker_.objects().size()) + " objects, " + std::to_string(moving) + " moving");
-  bus_.Get(topics::kTrackedObjects).Publish(TrackedObjects{scan.stamp_ns, clock().Now(), tracker_.surroundings()});
+  bus_.Get(topics::kTrackedObjects).Publish(TrackedObjects{stamp_ns, clock().Now(), tracker_.surroundings()});
 }
 
 }  // namespace corridor::server

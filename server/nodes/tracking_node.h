@@ -1,8 +1,10 @@
-// Tracks moving objects from the 2D laser (nav/tracking/moving_objects.h): each scan is put in the map frame with the
-// newest pose estimate and added to the tracker, whose objects and static points go out on tracking/objects for the
-// mission's evasion and the console. On the mapping executor, off the camera's control path. Walls of the active
-// map are not objects: the map library hands each new map to SetMap. The tracks also mark where people walk
-// (nav/tracking/traffic_map.h); every second the costs of those ways go to `on_traffic`, for the planner.
+// Tracks moving objects (nav/tracking/moving_objects.h) from the 2D laser, or, on a robot without one, from the depth
+// camera's frames turned into scans (nav/ground/depth_scan.h: people are followed within the camera's view). Each
+// scan is put in the map frame with the newest pose estimate and added to the tracker, whose objects and static
+// points go out on tracking/objects for the mission's evasion and the console. On the mapping executor, off the
+// camera's control path. Walls of the active map are not objects: the map library hands each new map to SetMap. The
+// tracks also mark where people walk (nav/tracking/traffic_map.h); every second the costs of those ways go to
+// `on_traffic`, for the planner.
 #pragma once
 
 #include <functional>
@@ -11,7 +13,11 @@
 #include <optional>
 #include <vector>
 
+#include "drivers/depth_camera.h"
+#include "drivers/laser2d.h"
+#include "nav/geometry/camera_model.h"
 #include "nav/geometry/pose2.h"
+#include "nav/ground/depth_scan.h"
 #include "nav/map/occupancy_grid.h"
 #include "nav/tracking/moving_objects.h"
 #include "nav/tracking/traffic_map.h"
@@ -24,11 +30,18 @@ namespace corridor::server {
 using TrafficCallback =
     std::function<void(std::shared_ptr<const std::vector<float>> cost, const nav::OccupancyGrid* map)>;
 
+// What the tracker reads: the laser's scans when there is a laser, else the depth camera's frames.
+struct TrackingSource {
+  std::optional<nav::Pose2> base_T_laser;  // the laser's pose on the robot; none: no laser
+  nav::PinholeCamera camera;               // used without a laser
+  nav::DepthScanOptions depth;
+};
+
 class TrackingNode final : public Node {
  public:
-  // `base_T_laser`: the laser's pose on the robot. Throws std::invalid_argument for bad options.
+  // Throws std::invalid_argument for bad options (or, without a laser, a camera without size or focal length).
   // `on_traffic` (may be empty) is called on the node's executor; with traffic.weight 0 it is never called.
-  TrackingNode(Executor& mapping, Bus& bus, const drivers::Clock& clock, const nav::Pose2& base_T_laser,
+  TrackingNode(Executor& mapping, Bus& bus, const drivers::Clock& clock, const TrackingSource& source,
                const nav::MovingObjectOptions& options, const nav::TrafficOptions& traffic,
                TrafficCallback on_traffic);
   void Activate() override;
@@ -37,10 +50,16 @@ class TrackingNode final : public Node {
 
  private:
   void OnScan(const drivers::LaserScan& scan);
+  void OnFrame(const drivers::RgbdFrame& frame);
+  // Adds one scan, taken at stamp_ns from `sensor` (map frame), its points already in the map frame; hands on the
+  // traffic costs when due and publishes the objects.
+  void Track(drivers::TimeNs stamp_ns, const Eigen::Vector2d& sensor, const std::vector<Eigen::Vector2d>& points,
+             drivers::TimeNs start);
 
   Executor& executor_;
   Bus& bus_;
-  nav::Pose2 base_T_laser_;
+  TrackingSource source_;
+  std::optional<nav::DepthScan> depth_scan_;  // without a laser
   nav::MovingObjectTracker tracker_;
   nav::TrafficOptions traffic_options_;
   TrafficCallback on_traffic_;

@@ -130,6 +130,7 @@ void ReadEvade(ConfigReader& r, nav::EvasionOptions& o) {
 void ReadTracking(ConfigReader& r, TrackingOptions& t) {
   nav::MovingObjectOptions& o = t.objects;
   r.Read("enabled", t.enabled);
+  r.Read("camera", t.camera);
   r.Read("window_scans", o.window_scans, 2, 100);
   r.Read("cluster_distance_m", o.cluster_distance_m, 0.01, 2.0);
   r.Read("time_scale_mps", o.time_scale_mps, 0.01, 10.0);

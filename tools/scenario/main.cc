@@ -28,6 +28,7 @@ Runs the DPoom evaluation protocol: a DPoom-like robot (0.26 m/s, camera 85.2 x 
   --static N          static obstacles, 0 to 9, default 0
   --policy NAME       morp-rb or voxel-reactive; repeat for several; default both
   --laser             give the robot corridor's optional 2D laser: morp-rb tracks moving objects and evades them
+  --camera-tracking   without the laser, morp-rb tracks people in the depth camera's view and evades them
   --timeout S         per run, default 3 x straight-line time + 20 s
   --json              machine-readable results (every run and the summaries) on stdout
   --trace             every morp-rb decision (pose, mode, lanes) and each collision's surroundings on stderr
@@ -100,6 +101,8 @@ int main(int argc, char** argv) {
         options.timeout_s = ParseInt(flag, value(), 1, 100000);
       } else if (flag == "--laser") {
         options.laser = true;
+      } else if (flag == "--camera-tracking") {
+        options.camera_tracking = true;
       } else if (flag == "--json") {
         json = true;
       } else if (flag == "--trace") {
@@ -139,6 +142,7 @@ int main(int argc, char** argv) {
                       {"pedestrians", options.pedestrians},
                       {"static", options.static_obstacles},
                       {"laser", options.laser},
+                      {"camera_tracking", options.camera_tracking},
                       {"max_speed_mps", options.max_speed_mps},
                       {"camera_rate_hz", options.camera_rate_hz}};
     for (const auto& r : results) {

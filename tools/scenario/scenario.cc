@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "drivers/sim/sim_robot.h"
+#include "nav/ground/depth_scan.h"
 #include "nav/ground/morp.h"
 #include "nav/ground/voxel_obstacles.h"
 #include "nav/planner/planner.h"
@@ -249,15 +250,19 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   const auto ms = [](Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double, std::milli>(b - a).count();
   };
-  // With the laser, its scans feed the tracker as they come (the simulator calls back inside Step, at the scan's
-  // pose).
+  // morp-rb tracks moving objects: with the laser, its scans feed the tracker as they come (the simulator calls back
+  // inside Step, at the scan's pose); without, each depth frame's scan does (below).
+  const bool tracking = policy == Policy::kMorpRb && (sim.laser.enabled || options.camera_tracking);
   nav::MovingObjectTracker tracker{nav::MovingObjectOptions{}};
   const nav::Surroundings* around = nullptr;
   std::optional<nav::TrafficMap> traffic;
   nav::TrafficOptions traffic_options;
-  if (sim.laser.enabled && traffic_options.weight > 0.0) traffic.emplace(layout.map, traffic_options);
-  if (sim.laser.enabled) {
+  if (tracking && traffic_options.weight > 0.0) traffic.emplace(layout.map, traffic_options);
+  if (tracking) {
     tracker.SetMap(std::make_shared<const nav::OccupancyGrid>(layout.map));
+    around = &tracker.surroundings();
+  }
+  if (sim.laser.enabled) {
     robot.SetScanHandler([&](std::shared_ptr<const drivers::LaserScan> scan) {
       const auto t0 = Clock::now();
       const nav::Pose2 laser = robot.true_pose() * robot.base_T_laser();
@@ -267,9 +272,10 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       if (traffic) traffic->Add(drivers::ToSeconds(scan->stamp_ns), tracker.objects());
       result.tracking_ms.push_back(ms(t0, Clock::now()));
     });
-    around = &tracker.surroundings();
   }
   const nav::PinholeCamera camera = robot.info().camera;
+  std::optional<nav::DepthScan> depth_scan;
+  if (tracking && !sim.laser.enabled) depth_scan.emplace(camera, nav::DepthScanOptions{});
 
   const auto costmap = std::make_shared<const nav::Costmap>(RobotCostmap(layout.map));
   const auto plan_from = [&](const Eigen::Vector2d& from) {
@@ -301,7 +307,8 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   navigator_options.memory.robot_radius_m = kRobotRadiusM;
   navigator_options.evade.robot_radius_m = kRobotRadiusM;
   navigator_options.evade.max_linear_mps = options.max_speed_mps;
-  navigator_options.evade.max_reverse_mps = options.max_speed_mps;
+  // Backing away is the laser's to allow: a forward camera cannot see what is behind.
+  navigator_options.evade.max_reverse_mps = sim.laser.enabled ? options.max_speed_mps : 0.0;
   nav::LocalNavigator navigator(navigator_options);
   navigator.SetPath(plan.plan.waypoints, costmap);
   nav::Morp morp(camera, nav::MorpOptions{});
@@ -355,6 +362,16 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
     pending = nullptr;
     const double dt_s = now_s - last_frame_s;
     last_frame_s = now_s;
+    if (depth_scan) {
+      // Tracking from the depth frame, as the daemon's tracking node does beside the control loop: not in the
+      // per-frame times.
+      const auto t_scan = Clock::now();
+      std::vector<Eigen::Vector2d> points;
+      for (const Eigen::Vector2d& p : depth_scan->Process(frame->depth_mm)) points.push_back(pose.Transform(p));
+      tracker.Update(now_s, pose.Transform(camera.base_T_camera.translation().head<2>()), points);
+      if (traffic) traffic->Add(now_s, tracker.objects());
+      result.tracking_ms.push_back(ms(t_scan, Clock::now()));
+    }
     nav::Twist2 twist;
     std::optional<nav::LocalStep> step;  // morp-rb's, for --trace after the timings
     const auto t0 = Clock::now();

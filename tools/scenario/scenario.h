@@ -54,6 +54,9 @@ struct ScenarioOptions {
   // corridor's optional 2D laser (360 beams, 10 Hz) on the robot: morp-rb then tracks moving objects around it
   // and steps out of their way. Off: DPoom's camera only.
   bool laser = false;
+  // Without the laser, morp-rb tracks people in the depth camera's view instead (nav/ground/depth_scan.h) and
+  // evades them, never backing (docs/benchmarks.md: it helps without static obstacles, not yet with them).
+  bool camera_tracking = false;
   bool trace = false;               // every morp-rb decision and every collision's surroundings on stderr
 };
 

@@ -1,0 +1,59 @@
+#include "nav/ground/depth_scan.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+
+namespace corridor::nav {
+
+DepthScan::DepthScan(const PinholeCamera& camera, const DepthScanOptions& options)
+    : camera_(camera), options_(options) {
+  if (camera.width <= 0 || camera.height <= 0 || camera.fx <= 0.0 || camera.fy <= 0.0) {
+    throw std::invalid_argument("DepthScan: the camera needs a positive size and focal length");
+  }
+  if (options.row_step < 1 || !(options.max_height_m > options.min_height_m) ||
+      !(options.max_range_m > options.min_range_m)) {
+    throw std::invalid_argument("DepthScan: need row_step >= 1, min_height_m < max_height_m, min_range_m < max_range_m");
+  }
+  const Eigen::Matrix3d rotation = camera.base_T_camera.linear();
+  for (int v = 0; v < camera.height; v += options.row_step) {
+    for (int u = 0; u < camera.width; ++u) rays_.push_back((rotation * camera.Ray(u, v)).cast<float>());
+  }
+  nearest_.resize(static_cast<std::size_t>(camera.width));
+  at_.resize(static_cast<std::size_t>(camera.width));
+}
+
+const std::vector<Eigen::Vector2d>& DepthScan::Process(const cv::Mat& depth) {
+  if (depth.type() != CV_16UC1 || depth.cols != camera_.width || depth.rows != camera_.height) {
+    throw std::invalid_argument("DepthScan: expected a CV_16UC1 depth image of the camera's size");
+  }
+  const Eigen::Vector3f origin = camera_.base_T_camera.translation().cast<float>();
+  const auto low = static_cast<float>(options_.min_height_m);
+  const auto high = static_cast<float>(options_.max_height_m);
+  const auto min_d = static_cast<float>(options_.min_range_m);
+  const auto max_d = static_cast<float>(options_.max_range_m);
+  std::fill(nearest_.begin(), nearest_.end(), std::numeric_limits<float>::infinity());
+  const Eigen::Vector3f* ray = rays_.data();
+  for (int v = 0; v < depth.rows; v += options_.row_step) {
+    const auto* row = depth.ptr<std::uint16_t>(v);
+    for (int u = 0; u < depth.cols; ++u, ++ray) {
+      const float d = static_cast<float>(row[u]) * 0.001f;
+      if (d < min_d || d > max_d) continue;  // also holes (0)
+      const Eigen::Vector3f p = origin + *ray * d;
+      if (p.z() < low || p.z() > high) continue;
+      const float range2 = p.x() * p.x() + p.y() * p.y();
+      if (range2 < nearest_[u]) {
+        nearest_[u] = range2;
+        at_[u] = p.head<2>();
+      }
+    }
+  }
+  points_.clear();
+  for (std::size_t u = 0; u < nearest_.size(); ++u) {
+    if (nearest_[u] < std::numeric_limits<float>::infinity()) points_.push_back(at_[u].cast<double>());
+  }
+  return points_;
+}
+
+}  // namespace corridor::nav

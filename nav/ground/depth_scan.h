@@ -1,0 +1,45 @@
+// A depth frame as a laser scan: for each image column, the nearest point that stands between min_height_m and
+// max_height_m above the floor, on the floor plane in the base frame (what depthimage_to_laserscan does in ROS, with
+// the camera's mounting height and tilt taken into account, so that a tilted camera's floor is not an obstacle).
+//
+// It lets the moving-object tracker (nav/tracking/moving_objects.h) follow people with the robot's only camera when
+// no laser is fitted: the same clustering in (x, y, t) works on these points, within the camera's field of view.
+// Written here: Debian packages no depthimage_to_laserscan outside ROS, and the loop is a few lines.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "nav/geometry/camera_model.h"
+
+namespace corridor::nav {
+
+struct DepthScanOptions {
+  double min_height_m = 0.1;   // lower: the floor and what the robot drives over
+  double max_height_m = 1.8;   // higher: passed under
+  double min_range_m = 0.2;
+  double max_range_m = 6.0;    // farther pixels are too noisy to track with
+  int row_step = 2;            // every row_step-th row is read (a person is many rows tall)
+};
+
+class DepthScan {
+ public:
+  // Throws std::invalid_argument for a camera without size or focal length, or bad options.
+  DepthScan(const PinholeCamera& camera, const DepthScanOptions& options);
+
+  // The nearest point of each column that has one, base frame (x forward, y left), in column order. `depth` is
+  // CV_16UC1 in millimetres of the camera's size (else std::invalid_argument); 0 is a hole.
+  const std::vector<Eigen::Vector2d>& Process(const cv::Mat& depth);
+
+ private:
+  PinholeCamera camera_;
+  DepthScanOptions options_;
+  std::vector<Eigen::Vector3f> rays_;  // per read pixel (row-major over the rows read), base frame, z-depth 1
+  std::vector<float> nearest_;         // per column: squared horizontal range of its nearest point so far
+  std::vector<Eigen::Vector2f> at_;    // per column: that point
+  std::vector<Eigen::Vector2d> points_;
+};
+
+}  // namespace corridor::nav
