@@ -87,7 +87,7 @@ TEST(VoxelObstaclesTest, TheComparisonFrontEndFindsTheWallAndTheBoxButNotTheFloo
   EXPECT_GT(box, 5);
 }
 
-TEST(DepthScanTest, EachColumnGivesItsNearestObstacleOnTheFloorPlaneAndTheFloorIsNone) {
+TEST(DepthScanTest, EachColumnGivesItsNearestObstacleOnTheFloorPlaneAndWhatTheSidesCutIsLeftOut) {
   // A wall 3 m ahead and, in front of it on the left, a person-sized cylinder's box stand-in 1.5 m ahead; a low
   // step (5 cm) on the right that the robot drives over is not an obstacle, nor is the tilted camera's floor.
   const auto o = Camera();
@@ -95,8 +95,11 @@ TEST(DepthScanTest, EachColumnGivesItsNearestObstacleOnTheFloorPlaneAndTheFloorI
   mesh.AddBox({3.0f, -4.0f, 0.0f}, {3.2f, 4.0f, 1.5f}, kGrey);
   mesh.AddBox({1.5f, 0.2f, 0.0f}, {1.9f, 0.6f, 1.7f}, kGrey);
   mesh.AddBox({1.0f, -1.0f, 0.0f}, {1.4f, -0.3f, 0.05f}, kGrey);
-  nav::DepthScan scan(drivers::sim::MakeCameraInfo(o).camera, nav::DepthScanOptions{});
-  const auto& points = scan.Process(Render(mesh, o));
+  nav::DepthScanOptions keep_all;
+  keep_all.segment_gap_m = 0.0;
+  nav::DepthScan scan(drivers::sim::MakeCameraInfo(o).camera, keep_all);
+  const cv::Mat depth = Render(mesh, o);
+  const auto& points = scan.Process(depth);
   ASSERT_GT(points.size(), 600u);  // nearly every column of 640 sees the wall or the box
   int person = 0;
   for (const Eigen::Vector2d& p : points) {
@@ -110,6 +113,11 @@ TEST(DepthScanTest, EachColumnGivesItsNearestObstacleOnTheFloorPlaneAndTheFloorI
     }
   }
   EXPECT_GT(person, 40);
+  // By default what the image's sides cut (the wall, seen from side to side) is left out: only the box is whole.
+  nav::DepthScan whole(drivers::sim::MakeCameraInfo(o).camera, nav::DepthScanOptions{});
+  const auto& kept = whole.Process(depth);
+  EXPECT_EQ(static_cast<int>(kept.size()), person);
+  for (const Eigen::Vector2d& p : kept) EXPECT_LT(p.x(), 2.0) << p.transpose();
   // Holes give nothing; a frame of the wrong size is refused.
   EXPECT_TRUE(scan.Process(cv::Mat::zeros(o.height, o.width, CV_16UC1)).empty());
   EXPECT_THROW(scan.Process(cv::Mat::zeros(10, 10, CV_16UC1)), std::invalid_argument);

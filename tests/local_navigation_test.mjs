@@ -191,14 +191,13 @@ tracking:
   });
 });
 
-describe('simulated people, a robot without a laser tracking them with its camera (tracking.camera)', () => {
+describe('simulated people, a robot without a laser: tracked with its camera', () => {
   let daemon;
   before(async () => {
     daemon = await startDaemon({ config: roomConfig(`
   camera: {width: 160, height: 120}
   laser: {enabled: false}
   pedestrians: 2
-tracking: {camera: true}
 `) });
   });
   after(async () => { await daemon?.stop(); });

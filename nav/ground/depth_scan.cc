@@ -53,6 +53,25 @@ const std::vector<Eigen::Vector2d>& DepthScan::Process(const cv::Mat& depth) {
   for (std::size_t u = 0; u < nearest_.size(); ++u) {
     if (nearest_[u] < std::numeric_limits<float>::infinity()) points_.push_back(at_[u].cast<double>());
   }
+  if (options_.segment_gap_m > 0.0 && !points_.empty()) {
+    // The first and last columns must have a point for a run to touch a side; a hole there means nothing is cut.
+    const auto touching = [&](std::size_t column) { return nearest_[column] < std::numeric_limits<float>::infinity(); };
+    const auto joined = [&](std::size_t a, std::size_t b) {
+      return (points_[a] - points_[b]).norm() <= options_.segment_gap_m;
+    };
+    std::size_t begin = 0;
+    std::size_t end = points_.size();
+    if (touching(0)) {
+      while (begin + 1 < end && joined(begin, begin + 1)) ++begin;
+      ++begin;
+    }
+    if (touching(nearest_.size() - 1) && end > begin) {
+      while (end - 1 > begin && joined(end - 1, end - 2)) --end;
+      --end;
+    }
+    points_.erase(points_.begin() + static_cast<std::ptrdiff_t>(end), points_.end());
+    points_.erase(points_.begin(), points_.begin() + static_cast<std::ptrdiff_t>(begin));
+  }
   return points_;
 }
 

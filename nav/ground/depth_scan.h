@@ -20,8 +20,12 @@ struct DepthScanOptions {
   double min_height_m = 0.1;   // lower: the floor and what the robot drives over
   double max_height_m = 1.8;   // higher: passed under
   double min_range_m = 0.2;
-  double max_range_m = 6.0;    // farther pixels are too noisy to track with
+  double max_range_m = 4.0;    // farther, depth noise (and the nearest of a column's noisy pixels) puts walls off the map
   int row_step = 2;            // every row_step-th row is read (a person is many rows tall)
+  // An object cut by the side of the image shows a part that slides as the robot turns, which a tracker takes for
+  // motion: the run of neighbouring columns (points within segment_gap_m of each other) that touches either side
+  // is dropped (0: kept). MORP still sees it; the tracker picks it up once it is wholly in view.
+  double segment_gap_m = 0.15;
 };
 
 class DepthScan {
@@ -29,8 +33,9 @@ class DepthScan {
   // Throws std::invalid_argument for a camera without size or focal length, or bad options.
   DepthScan(const PinholeCamera& camera, const DepthScanOptions& options);
 
-  // The nearest point of each column that has one, base frame (x forward, y left), in column order. `depth` is
-  // CV_16UC1 in millimetres of the camera's size (else std::invalid_argument); 0 is a hole.
+  // The nearest point of each column that has one, base frame (x forward, y left), in column order, less the runs
+  // touching the image's sides. `depth` is CV_16UC1 in millimetres of the camera's size (else
+  // std::invalid_argument); 0 is a hole.
   const std::vector<Eigen::Vector2d>& Process(const cv::Mat& depth);
 
  private:

@@ -39,6 +39,12 @@ std::vector<Eigen::Vector2d> ScanToWorld(const Pose2& world_T_sensor, double ang
   return points;
 }
 
+MovingObjectOptions ForDepthCamera(MovingObjectOptions options) {
+  options.map_clearance_m = std::max(options.map_clearance_m, 0.25);
+  options.moving_speed_mps = std::max(options.moving_speed_mps, 0.35);
+  return options;
+}
+
 MovingObjectTracker::MovingObjectTracker(const MovingObjectOptions& options) : options_(options) {
   if (options.window_scans < 2) throw std::invalid_argument("tracking: window_scans must be at least 2");
   if (!(options.cluster_distance_m > 0.0)) throw std::invalid_argument("tracking: cluster_distance_m must be > 0");

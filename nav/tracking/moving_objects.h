@@ -73,6 +73,13 @@ struct TrackedObject {
   std::optional<Eigen::Vector2d> turn_at;
 };
 
+// The options for scans made from a depth camera (nav/ground/depth_scan.h) instead of a laser: its depth noise grows
+// with the square of the range, so that points on a wall stray farther from the map (map_clearance_m at least
+// 0.25 m), and what is cut by the image's edges or hidden in part shows a centroid that slides with the robot's
+// motion (moving_speed_mps at least 0.35: people walk at about 0.8 m/s; the scenario traces showed most standing
+// objects and wall pieces seen moving below it).
+MovingObjectOptions ForDepthCamera(MovingObjectOptions options);
+
 // What the laser shows around the robot after one scan: the objects and the points that stay where they are.
 struct Surroundings {
   std::vector<TrackedObject> objects;

@@ -15,7 +15,8 @@ constexpr double kTrafficEveryS = 1.0;  // how often the planner gets new traffi
 TrackingNode::TrackingNode(Executor& mapping, Bus& bus, const drivers::Clock& clock, const TrackingSource& source,
                            const nav::MovingObjectOptions& options, const nav::TrafficOptions& traffic,
                            TrafficCallback on_traffic)
-    : Node("tracking", mapping.name(), clock), executor_(mapping), bus_(bus), source_(source), tracker_(options),
+    : Node("tracking", mapping.name(), clock), executor_(mapping), bus_(bus), source_(source),
+      tracker_(source.base_T_laser ? options : nav::ForDepthCamera(options)),
       traffic_options_(traffic), on_traffic_(std::move(on_traffic)) {
   if (!source.base_T_laser) depth_scan_.emplace(source.camera, source.depth);
 }

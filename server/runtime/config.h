@@ -64,7 +64,7 @@ struct SimulatorOptions {
 // The laser's moving-object tracker (nav/tracking); without a laser it has nothing to do.
 struct TrackingOptions {
   bool enabled = true;
-  bool camera = false;  // without a laser, track people in the depth camera's view (docs/benchmarks.md)
+  bool camera = true;  // without a laser, track people in the depth camera's view (docs/benchmarks.md)
   nav::MovingObjectOptions objects;
   nav::TrafficOptions traffic;  // where people walk, for the planner (weight 0: not used)
 };

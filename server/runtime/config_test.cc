@@ -91,12 +91,12 @@ TEST_F(ConfigTest, PolarGainsAreCheckedForConvergence) {
 
 TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
   std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n"
-                                    "tracking: {enabled: false, camera: true, window_scans: 6, coast_s: 0.5, walk_end_memory_s: 20,"
+                                    "tracking: {enabled: false, camera: false, window_scans: 6, coast_s: 0.5, walk_end_memory_s: 20,"
                                     " traffic: {weight: 3}}\n"
                                     "mission: {max_linear_mps: 0.4, reroute_s: 5, evade: {margin_m: 0.25, horizon_s: 4}}\n";
   const Config c = LoadConfig(dir_ / "c.yaml");
   EXPECT_FALSE(c.tracking.enabled);
-  EXPECT_TRUE(c.tracking.camera);
+  EXPECT_FALSE(c.tracking.camera);
   EXPECT_EQ(c.tracking.objects.window_scans, 6);
   EXPECT_DOUBLE_EQ(c.tracking.objects.coast_s, 0.5);
   EXPECT_DOUBLE_EQ(c.tracking.objects.walk_end_memory_s, 20.0);

@@ -253,7 +253,8 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   // morp-rb tracks moving objects: with the laser, its scans feed the tracker as they come (the simulator calls back
   // inside Step, at the scan's pose); without, each depth frame's scan does (below).
   const bool tracking = policy == Policy::kMorpRb && (sim.laser.enabled || options.camera_tracking);
-  nav::MovingObjectTracker tracker{nav::MovingObjectOptions{}};
+  nav::MovingObjectTracker tracker{sim.laser.enabled ? nav::MovingObjectOptions{}
+                                                    : nav::ForDepthCamera(nav::MovingObjectOptions{})};
   const nav::Surroundings* around = nullptr;
   std::optional<nav::TrafficMap> traffic;
   nav::TrafficOptions traffic_options;

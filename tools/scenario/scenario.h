@@ -55,7 +55,7 @@ struct ScenarioOptions {
   // and steps out of their way. Off: DPoom's camera only.
   bool laser = false;
   // Without the laser, morp-rb tracks people in the depth camera's view instead (nav/ground/depth_scan.h) and
-  // evades them, never backing (docs/benchmarks.md: it helps without static obstacles, not yet with them).
+  // evades them, never backing, as the daemon does by default (tracking.camera). Off: DPoom's robot as published.
   bool camera_tracking = false;
   bool trace = false;               // every morp-rb decision and every collision's surroundings on stderr
 };
