@@ -2,8 +2,9 @@
 // base command that drives on it (the issue's target: <= 5 ms at the 99th percentile), while a mission drives
 // across a 12 x 8 m room with unmapped pillars and three walking people, the simulator rendering 320 x 240 depth
 // at 15 Hz on the same two cores.
-//   node bench/control_latency.mjs [--console]
+//   node bench/control_latency.mjs [--console] [--no-laser]
 // --console: with a console's load as well (a stream client and the depth view fetched five times a second).
+// --no-laser: a robot without the laser, whose tracking node then reads every depth frame (tracking.camera).
 import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -11,6 +12,7 @@ import { join } from 'node:path';
 import { getJson, postJson, require, sleep, startDaemon, writeRoom } from '../tests/daemon.mjs';
 
 const withConsole = process.argv.includes('--console');
+const withLaser = !process.argv.includes('--no-laser');
 const dir = mkdtempSync(join(tmpdir(), 'corridor-bench-'));
 const daemon = await startDaemon({ config: `
 sim:
@@ -20,6 +22,7 @@ sim:
     - {shape: cylinder, x_m: 4.0, y_m: 4.1, size_m: 0.3, height_m: 1.0}
     - {shape: box, x_m: 8.0, y_m: 3.8, size_m: 0.3, height_m: 1.0}
   pedestrians: 3
+  laser: {enabled: ${withLaser}}
 ` });
 let ws = null;
 let camera = null;
