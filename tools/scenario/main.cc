@@ -179,8 +179,8 @@ int main(int argc, char** argv) {
   }
   for (const auto& s : summaries) {
     if (s.scans == 0) continue;
-    std::printf("\n%s: moving-object tracking %.3f ms per laser scan (%llu scans)\n", ToString(s.policy),
-                s.tracking_ms, static_cast<unsigned long long>(s.scans));
+    std::printf("\n%s: moving-object tracking %.3f ms per scan (%llu scans: laser, or depth frames)\n",
+                ToString(s.policy), s.tracking_ms, static_cast<unsigned long long>(s.scans));
   }
   return 0;
 }

@@ -263,15 +263,20 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
     tracker.SetMap(std::make_shared<const nav::OccupancyGrid>(layout.map));
     around = &tracker.surroundings();
   }
+  // One scan (world frame) into the tracker and the traffic map, timed: `points` is made by the caller inside `t0`.
+  const auto track = [&](Clock::time_point t0, double stamp_s, const Eigen::Vector2d& sensor,
+                         const std::vector<Eigen::Vector2d>& points) {
+    tracker.Update(stamp_s, sensor, points);
+    if (traffic) traffic->Add(stamp_s, tracker.objects());
+    result.tracking_ms.push_back(ms(t0, Clock::now()));
+  };
   if (sim.laser.enabled) {
     robot.SetScanHandler([&](std::shared_ptr<const drivers::LaserScan> scan) {
       const auto t0 = Clock::now();
       const nav::Pose2 laser = robot.true_pose() * robot.base_T_laser();
-      tracker.Update(drivers::ToSeconds(scan->stamp_ns), laser.translation(),
-                     nav::ScanToWorld(laser, scan->angle_min_rad, scan->angle_increment_rad, scan->range_min_m,
-                                      scan->range_max_m, scan->ranges));
-      if (traffic) traffic->Add(drivers::ToSeconds(scan->stamp_ns), tracker.objects());
-      result.tracking_ms.push_back(ms(t0, Clock::now()));
+      track(t0, drivers::ToSeconds(scan->stamp_ns), laser.translation(),
+            nav::ScanToWorld(laser, scan->angle_min_rad, scan->angle_increment_rad, scan->range_min_m,
+                             scan->range_max_m, scan->ranges));
     });
   }
   const nav::PinholeCamera camera = robot.info().camera;
@@ -369,9 +374,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       const auto t_scan = Clock::now();
       std::vector<Eigen::Vector2d> points;
       for (const Eigen::Vector2d& p : depth_scan->Process(frame->depth_mm)) points.push_back(pose.Transform(p));
-      tracker.Update(now_s, pose.Transform(camera.base_T_camera.translation().head<2>()), points);
-      if (traffic) traffic->Add(now_s, tracker.objects());
-      result.tracking_ms.push_back(ms(t_scan, Clock::now()));
+      track(t_scan, now_s, pose.Transform(camera.base_T_camera.translation().head<2>()), points);
     }
     nav::Twist2 twist;
     std::optional<nav::LocalStep> step;  // morp-rb's, for --trace after the timings

@@ -14,7 +14,7 @@
 // was closing in faster than the person), and the tables count those separately. Localization is the simulator's
 // ground truth: the scenarios measure local navigation, as the paper's do. With `laser`, the robot also carries
 // corridor's optional 2D laser and morp-rb evades the moving objects it tracks (nav/tracking, nav/policy/evasion.h);
-// the voxel-reactive baseline does not use it.
+// with `camera_tracking` it tracks them in the depth camera's view instead; the voxel-reactive baseline does neither.
 #pragma once
 
 #include <cstdint>
@@ -90,7 +90,7 @@ struct RunResult {
   bool robot_drove_into_it = false;  // a collision the robot closed in on (always, for walls and obstacles)
   std::vector<double> depth_ms;      // per frame: the front end (MORP, or cloud + voxel grid + extraction)
   std::vector<double> policy_ms;     // per frame: the local policy
-  std::vector<double> tracking_ms;   // per laser scan (with `laser`): the moving-object tracker
+  std::vector<double> tracking_ms;   // per laser scan, or depth frame with camera_tracking: the moving-object tracker
 };
 
 // One run of `policy` in `layout`. Deterministic for a layout and policy (timings aside).
@@ -109,7 +109,7 @@ struct PolicySummary {
   double total_ms = 0.0;
   double total_p99_ms = 0.0;
   std::uint64_t frames = 0;
-  double tracking_ms = 0.0;          // mean per laser scan; 0 without the laser
+  double tracking_ms = 0.0;          // mean per laser scan (or depth frame); 0 without tracking
   std::uint64_t scans = 0;
 };
 
