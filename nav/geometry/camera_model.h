@@ -2,6 +2,8 @@
 // z up, origin on the floor under the robot's centre). The optical frame is x right, y down, z forward.
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Geometry>
 
 namespace corridor::nav {
@@ -15,6 +17,8 @@ struct PinholeCamera {
   double cy = 0.0;
   Eigen::Isometry3d base_T_camera = Eigen::Isometry3d::Identity();
 
+  // A size and focal lengths a projection can use (positive).
+  bool Valid() const { return width > 0 && height > 0 && fx > 0.0 && fy > 0.0; }
   // The ray through pixel (u, v) in the optical frame, scaled so that its z is 1: depth times it is the point.
   Eigen::Vector3d Ray(double u, double v) const { return {(u - cx) / fx, (v - cy) / fy, 1.0}; }
   // Projects a base-frame point; false when it is behind the camera.
@@ -25,5 +29,18 @@ struct PinholeCamera {
     return true;
   }
 };
+
+// The rays through the pixels of every row_step-th row (row-major), turned into the base frame and scaled like Ray:
+// the camera's position plus depth times a ray is the pixel's point in the base frame. Precomputed once by those
+// that read every frame's pixels.
+inline std::vector<Eigen::Vector3f> BaseFrameRays(const PinholeCamera& camera, int row_step = 1) {
+  const Eigen::Matrix3d rotation = camera.base_T_camera.linear();
+  std::vector<Eigen::Vector3f> rays;
+  rays.reserve(static_cast<std::size_t>(camera.width) * ((camera.height + row_step - 1) / row_step));
+  for (int v = 0; v < camera.height; v += row_step) {
+    for (int u = 0; u < camera.width; ++u) rays.push_back((rotation * camera.Ray(u, v)).cast<float>());
+  }
+  return rays;
+}
 
 }  // namespace corridor::nav

@@ -9,17 +9,12 @@ namespace corridor::nav {
 
 DepthScan::DepthScan(const PinholeCamera& camera, const DepthScanOptions& options)
     : camera_(camera), options_(options) {
-  if (camera.width <= 0 || camera.height <= 0 || camera.fx <= 0.0 || camera.fy <= 0.0) {
-    throw std::invalid_argument("DepthScan: the camera needs a positive size and focal length");
-  }
+  if (!camera.Valid()) throw std::invalid_argument("DepthScan: the camera needs a positive size and focal length");
   if (options.row_step < 1 || !(options.max_height_m > options.min_height_m) ||
       !(options.max_range_m > options.min_range_m)) {
     throw std::invalid_argument("DepthScan: need row_step >= 1, min_height_m < max_height_m, min_range_m < max_range_m");
   }
-  const Eigen::Matrix3d rotation = camera.base_T_camera.linear();
-  for (int v = 0; v < camera.height; v += options.row_step) {
-    for (int u = 0; u < camera.width; ++u) rays_.push_back((rotation * camera.Ray(u, v)).cast<float>());
-  }
+  rays_ = BaseFrameRays(camera, options.row_step);
   nearest_.resize(static_cast<std::size_t>(camera.width));
   at_.resize(static_cast<std::size_t>(camera.width));
 }

@@ -23,9 +23,7 @@ constexpr double kExtraHeightM = 0.2;
 }  // namespace
 
 Morp::Morp(const PinholeCamera& camera, const MorpOptions& options) : camera_(camera), options_(options) {
-  if (camera.width <= 0 || camera.height <= 0 || !(camera.fx > 0.0) || !(camera.fy > 0.0)) {
-    throw std::invalid_argument("Morp: the camera needs a positive size and focal length");
-  }
+  if (!camera.Valid()) throw std::invalid_argument("Morp: the camera needs a positive size and focal length");
   if (!(options.span_m > 0.0) || !(options.lane_width_m > 0.0) || !(options.max_range_m > options.min_range_m)) {
     throw std::invalid_argument("Morp: widths must be positive and max_range_m above min_range_m");
   }

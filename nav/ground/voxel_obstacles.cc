@@ -19,15 +19,9 @@ std::uint64_t Key(const Eigen::Vector3f& p, float inverse_leaf) {
 
 VoxelObstacles::VoxelObstacles(const PinholeCamera& camera, const VoxelObstacleOptions& options)
     : camera_(camera), options_(options) {
-  if (camera.width <= 0 || camera.height <= 0 || camera.fx <= 0.0 || camera.fy <= 0.0) {
-    throw std::invalid_argument("VoxelObstacles: the camera needs a positive size and focal length");
-  }
+  if (!camera.Valid()) throw std::invalid_argument("VoxelObstacles: the camera needs a positive size and focal length");
   if (options.voxel_m <= 0.0) throw std::invalid_argument("VoxelObstacles: voxel_m must be positive");
-  const Eigen::Matrix3d rotation = camera.base_T_camera.linear();
-  rays_.reserve(static_cast<std::size_t>(camera.width) * camera.height);
-  for (int v = 0; v < camera.height; ++v) {
-    for (int u = 0; u < camera.width; ++u) rays_.push_back((rotation * camera.Ray(u, v)).cast<float>());
-  }
+  rays_ = BaseFrameRays(camera);
   cloud_.reserve(rays_.size());
 }
 

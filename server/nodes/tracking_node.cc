@@ -1,6 +1,8 @@
 #include "server/nodes/tracking_node.h"
 
+#include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "server/runtime/topics.h"
 
@@ -44,14 +46,20 @@ void TrackingNode::SetMap(std::shared_ptr<const nav::OccupancyGrid> map) {
   });
 }
 
-void TrackingNode::OnScan(const drivers::LaserScan& scan) {
-  const drivers::TimeNs start = clock().Now();
+std::optional<nav::Pose2> TrackingNode::RobotPose(const char* what) {
   const auto pose = bus_.Get(topics::kPose).latest();
   if (!pose) {
-    SetHealth(Health::kDegraded, "no pose yet: scans cannot be placed in the map");
-    return;
+    SetHealth(Health::kDegraded, std::string("no pose yet: ") + what + " cannot be placed in the map");
+    return std::nullopt;
   }
-  const nav::Pose2 laser = pose->pose * *source_.base_T_laser;
+  return pose->pose;
+}
+
+void TrackingNode::OnScan(const drivers::LaserScan& scan) {
+  const drivers::TimeNs start = clock().Now();
+  const std::optional<nav::Pose2> robot = RobotPose("scans");
+  if (!robot) return;
+  const nav::Pose2 laser = *robot * *source_.base_T_laser;
   Track(scan.stamp_ns, laser.translation(),
         nav::ScanToWorld(laser, scan.angle_min_rad, scan.angle_increment_rad, scan.range_min_m, scan.range_max_m,
                          scan.ranges),
@@ -60,19 +68,16 @@ void TrackingNode::OnScan(const drivers::LaserScan& scan) {
 
 void TrackingNode::OnFrame(const drivers::RgbdFrame& frame) {
   const drivers::TimeNs start = clock().Now();
-  const auto pose = bus_.Get(topics::kPose).latest();
-  if (!pose) {
-    SetHealth(Health::kDegraded, "no pose yet: depth frames cannot be placed in the map");
-    return;
-  }
+  const std::optional<nav::Pose2> robot = RobotPose("depth frames");
+  if (!robot) return;
   std::vector<Eigen::Vector2d> points;
   try {
-    for (const Eigen::Vector2d& p : depth_scan_->Process(frame.depth_mm)) points.push_back(pose->pose.Transform(p));
+    for (const Eigen::Vector2d& p : depth_scan_->Process(frame.depth_mm)) points.push_back(robot->Transform(p));
   } catch (const std::invalid_argument& e) {
     SetHealth(Health::kDegraded, e.what());
     return;
   }
-  Track(frame.stamp_ns, pose->pose.Transform(source_.camera.base_T_camera.translation().head<2>()), points, start);
+  Track(frame.stamp_ns, robot->Transform(source_.camera.base_T_camera.translation().head<2>()), points, start);
 }
 
 void TrackingNode::Track(drivers::TimeNs stamp_ns, const Eigen::Vector2d& sensor,

@@ -49,6 +49,8 @@ class TrackingNode final : public Node {
   void SetMap(std::shared_ptr<const nav::OccupancyGrid> map);
 
  private:
+  // The newest pose estimate; none before the first, and the node says that `what` cannot be placed.
+  std::optional<nav::Pose2> RobotPose(const char* what);
   void OnScan(const drivers::LaserScan& scan);
   void OnFrame(const drivers::RgbdFrame& frame);
   // Adds one scan, taken at stamp_ns from `sensor` (map frame), its points already in the map frame; hands on the
