@@ -123,6 +123,27 @@ TEST(DepthScanTest, EachColumnGivesItsNearestObstacleOnTheFloorPlaneAndWhatTheSi
   EXPECT_THROW(scan.Process(cv::Mat::zeros(10, 10, CV_16UC1)), std::invalid_argument);
 }
 
+TEST(DepthScanTest, ItsViewIsTheImagesWidthOnTheFloorOutToItsRange) {
+  // The simulator's camera: 85.2 degrees wide, at the base's origin looking forward, tilted down 10 degrees (its top
+  // row's sides lean in to about 40.3 degrees). With the robot at (2, 1) facing +y, the view covers what is ahead
+  // within that either side and 4 m (the scan's range).
+  const nav::DepthScan scan(drivers::sim::MakeCameraInfo(Camera()).camera, nav::DepthScanOptions{});
+  const nav::SensorView view = scan.View({2.0, 1.0, std::numbers::pi / 2.0});
+  EXPECT_NEAR(view.half_angle_rad * 180.0 / std::numbers::pi, 40.3, 0.5);
+  EXPECT_NEAR(view.range_m, 4.0, 1e-9);
+  const auto at = [](double bearing_deg, double range) {
+    const double a = std::numbers::pi / 2.0 + bearing_deg * std::numbers::pi / 180.0;
+    return Eigen::Vector2d(2.0 + range * std::cos(a), 1.0 + range * std::sin(a));
+  };
+  EXPECT_TRUE(view.Covers(at(0.0, 2.0), 0.3));
+  EXPECT_TRUE(view.Covers(at(-25.0, 2.0), 0.3));
+  EXPECT_FALSE(view.Covers(at(40.0, 2.0), 0.3)) << "cut by the image's side";
+  EXPECT_FALSE(view.Covers(at(60.0, 2.0), 0.3));
+  EXPECT_FALSE(view.Covers(at(0.0, 3.9), 0.3)) << "beyond the range";
+  EXPECT_FALSE(view.Covers(at(180.0, 1.0), 0.3));
+  EXPECT_FALSE(view.Covers(at(0.0, 0.2), 0.3)) << "around the camera itself";
+}
+
 TEST(MorpTest, OpenFloorHasNoDeadEnds) {
   const auto o = Camera();
   nav::Morp morp = MakeMorp(o);

@@ -218,6 +218,20 @@ describe('simulated people, a robot without a laser: tracked with its camera', (
     const tracking = last.nodes.find((n) => n.name === 'tracking');
     assert.equal(tracking?.health, 'ok', JSON.stringify(tracking));
   });
+
+  test('who walks out of the camera\'s view is still there, where they are expected, not seen', async () => {
+    // A person beside the robot, out of the camera's 85 degrees, with a moving track near them that says it is not
+    // seen: kept on its prediction (tracking.unseen_coast_s) rather than forgotten.
+    const outOfView = (st, p) => {
+      const pose = st.sim_true_pose;
+      const bearing = Math.atan2(p.y - pose.y, p.x - pose.x) - pose.yaw;
+      return Math.abs(Math.atan2(Math.sin(bearing), Math.cos(bearing))) > 0.9 && Math.hypot(p.x - pose.x, p.y - pose.y) < 4;
+    };
+    const kept = (st) => st.sim_pedestrians.some((p) => outOfView(st, p) &&
+      st.tracked_objects.some((o) => o.moving && !o.seen && Math.hypot(o.x - p.x, o.y - p.y) < 0.8));
+    const last = await waitFor(() => state(daemon.url), kept, 40000, 'a person out of view, still tracked');
+    api.check('State', last);
+  });
 });
 
 describe('the default world', () => {

@@ -1,8 +1,10 @@
 #include "nav/ground/depth_scan.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 namespace corridor::nav {
@@ -17,6 +19,22 @@ DepthScan::DepthScan(const PinholeCamera& camera, const DepthScanOptions& option
   rays_ = BaseFrameRays(camera, options.row_step);
   nearest_.resize(static_cast<std::size_t>(camera.width));
   at_.resize(static_cast<std::size_t>(camera.width));
+  // The optical axis and the image's first and last columns, flattened onto the floor: a tilted camera's columns
+  // lean, so the view is as wide as the narrowest of its rows.
+  const Eigen::Matrix3d rotation = camera.base_T_camera.linear();
+  const auto flat = [&](const Eigen::Vector3d& ray) -> Eigen::Vector2d { return (rotation * ray).head<2>(); };
+  const Eigen::Vector2d axis = flat(Eigen::Vector3d::UnitZ());
+  const Eigen::Vector3d origin = camera.base_T_camera.translation();
+  base_T_view_ = {origin.x(), origin.y(), std::atan2(axis.y(), axis.x())};
+  const auto angle_to_axis = [&](const Eigen::Vector2d& v) {
+    return std::abs(std::atan2(axis.x() * v.y() - axis.y() * v.x(), axis.dot(v)));
+  };
+  half_angle_rad_ = std::numbers::pi;
+  for (int v = 0; v < camera.height; v += options.row_step) {
+    for (const double u : {0.0, camera.width - 1.0}) {
+      half_angle_rad_ = std::min(half_angle_rad_, angle_to_axis(flat(camera.Ray(u, v))));
+    }
+  }
 }
 
 const std::vector<Eigen::Vector2d>& DepthScan::Process(const cv::Mat& depth) {

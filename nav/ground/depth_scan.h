@@ -13,6 +13,8 @@
 #include <opencv2/core.hpp>
 
 #include "nav/geometry/camera_model.h"
+#include "nav/geometry/pose2.h"
+#include "nav/geometry/sensor_view.h"
 
 namespace corridor::nav {
 
@@ -38,6 +40,11 @@ class DepthScan {
   // std::invalid_argument); 0 is a hole.
   const std::vector<Eigen::Vector2d>& Process(const cv::Mat& depth);
 
+  // The floor the scans cover (the image's width on the floor, out to max_range_m) with the robot at world_T_base.
+  SensorView View(const Pose2& world_T_base) const {
+    return {world_T_base * base_T_view_, half_angle_rad_, options_.max_range_m};
+  }
+
  private:
   PinholeCamera camera_;
   DepthScanOptions options_;
@@ -45,6 +52,8 @@ class DepthScan {
   std::vector<float> nearest_;         // per column: squared horizontal range of its nearest point so far
   std::vector<Eigen::Vector2f> at_;    // per column: that point
   std::vector<Eigen::Vector2d> points_;
+  Pose2 base_T_view_;            // the camera on the floor, x along its optical axis
+  double half_angle_rad_ = 0.0;  // to the nearer side of the image, on the floor
 };
 
 }  // namespace corridor::nav

@@ -51,6 +51,9 @@ MovingObjectTracker::MovingObjectTracker(const MovingObjectOptions& options) : o
   if (!(options.time_scale_mps > 0.0)) throw std::invalid_argument("tracking: time_scale_mps must be > 0");
   if (options.min_points < 2) throw std::invalid_argument("tracking: min_points must be at least 2");
   if (!(options.range_m > 0.0)) throw std::invalid_argument("tracking: range_m must be > 0");
+  if (options.unseen_coast_s < options.coast_s || options.unseen_edge_m < 0.0) {
+    throw std::invalid_argument("tracking: need unseen_coast_s >= coast_s and unseen_edge_m >= 0");
+  }
 }
 
 void MovingObjectTracker::SetMap(std::shared_ptr<const OccupancyGrid> map) {
@@ -81,9 +84,11 @@ bool MovingObjectTracker::OnMap(const Eigen::Vector2d& p) const {
 }
 
 const std::vector<TrackedObject>& MovingObjectTracker::Update(double stamp_s, const Eigen::Vector2d& sensor,
-                                                              const std::vector<Eigen::Vector2d>& world_points) {
+                                                              const std::vector<Eigen::Vector2d>& world_points,
+                                                              const std::optional<SensorView>& view) {
   if (!scans_.empty() && stamp_s < newest_stamp_s_) Clear();
   newest_stamp_s_ = stamp_s;
+  view_ = view;
   newest_on_map_.clear();
   std::vector<Point> scan;
   for (const Eigen::Vector2d& p : world_points) {
@@ -184,8 +189,11 @@ std::vector<MovingObjectTracker::Cluster> MovingObjectTracker::FindClusters() co
 void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster>& clusters) {
   const MovingObjectOptions& o = options_;
   for (Track& t : tracks_) {
+    // Out of view, someone walking toward the known end of their walk turns round there.
+    const std::optional<Eigen::Vector2d> end = t.out_of_view ? WalkEndAhead(t) : std::nullopt;
     t.position += (stamp_s - t.stamp_s) * t.velocity;
     t.stamp_s = stamp_s;
+    if (end && (t.position - *end).dot(t.velocity) > 0.0) t.velocity = -t.velocity;
   }
   // Nearest-neighbour association, closest pairs first; a cluster may take several tracks (people side by side),
   // a track one cluster.
@@ -234,10 +242,15 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
     tracks_.push_back(std::move(t));
     cluster_of.push_back(static_cast<int>(j));
   }
-  // Tracks not seen alone for a while end (with their cluster index, kept alongside).
+  // Tracks not seen alone for a while end (with their cluster index, kept alongside); moving ones outside the view
+  // later.
   std::size_t kept = 0;
   for (std::size_t i = 0; i < tracks_.size(); ++i) {
-    if (stamp_s - tracks_[i].last_seen_s > o.coast_s) continue;
+    Track& t = tracks_[i];
+    t.out_of_view = view_ && t.velocity.norm() >= o.moving_speed_mps && !view_->Covers(t.position, o.unseen_edge_m);
+    // A turn made out of view is not seen: where the track was last seen is not the end of its walk.
+    if (t.out_of_view) t.walked = Eigen::Vector2d::Zero();
+    if (stamp_s - t.last_seen_s > (t.out_of_view ? o.unseen_coast_s : o.coast_s)) continue;
     tracks_[kept] = tracks_[i];
     cluster_of[kept] = cluster_of[i];
     ++kept;

@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 
 #include "nav/geometry/pose2.h"
+#include "nav/geometry/sensor_view.h"
 #include "nav/map/occupancy_grid.h"
 
 namespace corridor::nav {
@@ -57,7 +58,14 @@ struct MovingObjectOptions {
   double walk_end_memory_s = 60.0;
   double walk_end_lateral_m = 0.5;
   double walk_end_reach_m = 12.0;
+  // A sensor that does not see all round (a camera: SensorView) cannot see that someone who walked out of its view
+  // is gone: a moving track predicted outside the view (nearer than unseen_edge_m to its edge counts as outside: an
+  // object cut by the edge is not seen whole) is kept on its prediction for unseen_coast_s instead of coast_s, turning
+  // round at the known end of its walk. One predicted inside the view and not seen is dropped after coast_s.
+  double unseen_coast_s = 4.0;
+  double unseen_edge_m = 0.3;
 };
+
 
 struct TrackedObject {
   int id = 0;                        // the track's, the same from scan to scan
@@ -67,7 +75,8 @@ struct TrackedObject {
   double radius_m = 0.0;             // the newest scan's points' largest distance from `position`
   bool moving = false;
   int points = 0;                    // over the whole window
-  bool seen = true;                  // false: coasting on its prediction (merged with another, or hidden)
+  bool seen = true;                  // false: coasting on its prediction (merged with another, hidden, or out of
+                                     // the sensor's view)
   // Moving objects only: the remembered end of a walk ahead, where this object (or a track since lost) turned
   // round before when walking this way.
   std::optional<Eigen::Vector2d> turn_at;
@@ -100,9 +109,11 @@ class MovingObjectTracker {
 
   // Adds one scan taken at stamp_s from `sensor` (world frame), its points already in the world frame, drops the
   // oldest beyond the window, and clusters the window again. A stamp older than the newest scan clears the window
-  // first (a clock reset or a replayed log). Returns the objects seen in the newest scan.
+  // first (a clock reset or a replayed log). `view`: what the scan covers when it is not all round. Returns the
+  // objects seen in the newest scan, and those kept on their predictions.
   const std::vector<TrackedObject>& Update(double stamp_s, const Eigen::Vector2d& sensor,
-                                           const std::vector<Eigen::Vector2d>& world_points);
+                                           const std::vector<Eigen::Vector2d>& world_points,
+                                           const std::optional<SensorView>& view = std::nullopt);
 
   const std::vector<TrackedObject>& objects() const { return now_.objects; }
   // The newest scan's points that are not part of a moving object (walls included): what stays where it is.
@@ -140,6 +151,7 @@ class MovingObjectTracker {
     std::deque<Sighting> seen;  // when seen alone, oldest first
     double maneuver_s = -std::numeric_limits<double>::infinity();  // when its velocity last changed abruptly
     Eigen::Vector2d walked = Eigen::Vector2d::Zero();  // its last velocity at walking speed
+    bool out_of_view = false;  // moving, and predicted outside the sensor's view at the last scan
   };
   struct WalkEnd {
     Eigen::Vector2d position;  // the farthest the track got before turning
@@ -165,6 +177,7 @@ class MovingObjectTracker {
   };
   std::deque<Scan> scans_;  // oldest first
   double newest_stamp_s_ = 0.0;
+  std::optional<SensorView> view_;  // the newest scan's
   std::vector<Eigen::Vector2d> newest_on_map_;  // the newest scan's points on the map's walls
   Surroundings now_;
   std::vector<Track> tracks_;

@@ -277,12 +277,136 @@ TEST(MovingObjectTrackerTest, WhereSomeonePacingTurnedRoundIsTheEndOfTheirWalk) 
   EXPECT_EQ(right_ends, walks_seen);
 }
 
+// A camera-like scan: the beams of Scan within half_angle of the sensor's x axis (yaw 0), none beyond; a disc cut by
+// the view's edge is left out, as nav/ground/depth_scan.h leaves out what touches the image's sides.
+std::vector<Eigen::Vector2d> NarrowScan(const Eigen::Vector2d& sensor, const std::vector<Disc>& discs,
+                                        double half_angle, std::mt19937& rng) {
+  std::vector<Disc> whole;
+  for (const Disc& d : discs) {
+    const Eigen::Vector2d to = d.centre - sensor;
+    if (std::abs(std::atan2(to.y(), to.x())) + std::asin(d.radius / to.norm()) <= half_angle) whole.push_back(d);
+  }
+  std::vector<float> ranges = Scan(sensor, whole, 10.0, rng);
+  for (int i = 0; i < 360; ++i) {
+    if (std::abs(-std::numbers::pi + i * std::numbers::pi / 180.0) > half_angle) ranges[i] = -1.0f;
+  }
+  return ScanToWorld({sensor.x(), sensor.y(), 0.0}, -std::numbers::pi, std::numbers::pi / 180.0, 0.1, 8.0, ranges);
+}
+
+const TrackedObject* Nearest(const std::vector<TrackedObject>& objects, const Eigen::Vector2d& p) {
+  const TrackedObject* nearest = nullptr;
+  for (const TrackedObject& o : objects) {
+    if (!nearest || (o.position - p).norm() < (nearest->position - p).norm()) nearest = &o;
+  }
+  return nearest;
+}
+
+TEST(MovingObjectTrackerTest, SomeoneWhoWalksOutOfACamerasViewIsKeptOnTheirPrediction) {
+  // A camera at (1, 5) looking along x, 40 degrees either side; a person crosses its view at x = 4 walking +y and
+  // leaves it at about y = 7. They are still there: predicted, not seen, for unseen_coast_s; with a view all round
+  // (nothing said), after coast_s they are gone.
+  const Eigen::Vector2d sensor(1.0, 5.0);
+  const double half = 40.0 * std::numbers::pi / 180.0;
+  const SensorView view{{sensor.x(), sensor.y(), 0.0}, half, 6.0};
+  const auto at = [](double t) { return Eigen::Vector2d(4.0, 3.5 + 0.8 * t); };
+  for (const bool narrow : {true, false}) {
+    SCOPED_TRACE(narrow ? "camera view" : "no view given");
+    std::mt19937 rng(5);
+    MovingObjectOptions options;
+    options.coast_s = 0.8;
+    options.unseen_coast_s = 4.0;
+    MovingObjectTracker tracker{options};
+    tracker.SetMap(std::make_shared<const OccupancyGrid>(Room(10.0)));
+    double left_s = -1.0;  // when the person left the view (their track stopped being seen)
+    double last_s = -1.0;  // the last scan the track was reported in
+    for (int k = 0; k <= 100; ++k) {
+      const double t = 0.1 * k;
+      tracker.Update(t, sensor, NarrowScan(sensor, {{at(t), 0.25}}, half, rng),
+                     narrow ? std::optional<SensorView>(view) : std::nullopt);
+      const TrackedObject* person = Nearest(tracker.objects(), at(t));
+      if (person == nullptr || (person->position - at(t)).norm() > 0.4) continue;
+      if (!person->seen && left_s < 0.0) left_s = t;
+      if (person->seen) left_s = -1.0;
+      last_s = t;
+      if (!person->seen) {
+        EXPECT_TRUE(person->moving);
+      }
+    }
+    ASSERT_GT(left_s, 4.0);
+    EXPECT_LT(left_s, 5.5);
+    EXPECT_NEAR(last_s - left_s, (narrow ? 4.0 : 0.8) - 0.1, 0.25);
+  }
+}
+
+TEST(MovingObjectTrackerTest, SomeoneNotSeenWhereTheCameraLooksIsGone) {
+  // The person stops being in the scans (sat down behind something low, say) in the middle of the view: a view
+  // that covers where they should be says they are gone, after coast_s as without one.
+  const Eigen::Vector2d sensor(1.0, 5.0);
+  const double half = 40.0 * std::numbers::pi / 180.0;
+  const SensorView view{{sensor.x(), sensor.y(), 0.0}, half, 6.0};
+  std::mt19937 rng(6);
+  MovingObjectTracker tracker{MovingObjectOptions{}};
+  tracker.SetMap(std::make_shared<const OccupancyGrid>(Room(10.0)));
+  const auto at = [](double t) { return Eigen::Vector2d(4.0, 4.0 + 0.8 * t); };
+  double last_s = -1.0;
+  for (int k = 0; k <= 40; ++k) {
+    const double t = 0.1 * k;
+    const std::vector<Disc> people = t < 1.5 ? std::vector<Disc>{{at(t), 0.25}} : std::vector<Disc>{};
+    tracker.Update(t, sensor, NarrowScan(sensor, people, half, rng), view);
+    if (!tracker.objects().empty()) last_s = t;
+  }
+  EXPECT_NEAR(last_s - 1.5, MovingObjectOptions{}.coast_s, 0.15);
+}
+
+TEST(MovingObjectTrackerTest, SomeonePacingOutOfViewTurnsAtTheEndOfTheirWalkAndIsTheSameTrackBack) {
+  // A person paces between y = 3.5 and y = 8 at x = 4 (5.6 s each way). The camera at (1, 5) first sees all round,
+  // long enough to see both ends; then only 40 degrees either side of x, so the end at y = 8 is out of view. Each
+  // time the person walks out of view there, they are predicted turning round at the end and coming back, and are
+  // taken up again as the same track when they come back into view.
+  const Eigen::Vector2d sensor(1.0, 5.0);
+  const double half = 40.0 * std::numbers::pi / 180.0;
+  const SensorView view{{sensor.x(), sensor.y(), 0.0}, half, 6.0};
+  const double leg_s = 4.5 / 0.8;
+  const auto at = [&](double t) {
+    const double phase = std::fmod(t, 2.0 * leg_s);
+    return Eigen::Vector2d(4.0, 3.5 + 0.8 * (phase < leg_s ? phase : 2.0 * leg_s - phase));
+  };
+  std::mt19937 rng(8);
+  MovingObjectTracker tracker{MovingObjectOptions{}};
+  tracker.SetMap(std::make_shared<const OccupancyGrid>(Room(10.0)));
+  int unseen = 0;       // scans with the person out of view and reported on their prediction
+  int turned = 0;       // of them, walking back (-y) after the end
+  std::optional<int> id;
+  for (int k = 0; k <= 400; ++k) {
+    const double t = 0.1 * k;
+    const bool narrow = t > 2.0 * leg_s + 1.0;
+    const auto points = narrow ? NarrowScan(sensor, {{at(t), 0.25}}, half, rng)
+                               : NarrowScan(sensor, {{at(t), 0.25}}, std::numbers::pi, rng);
+    tracker.Update(t, sensor, points, narrow ? std::optional<SensorView>(view) : std::nullopt);
+    if (!narrow) continue;
+    const TrackedObject* person = Nearest(tracker.objects(), at(t));
+    ASSERT_NE(person, nullptr) << "t " << t;
+    EXPECT_LT((person->position - at(t)).norm(), 0.5) << "t " << t;
+    if (!id) id = person->id;
+    EXPECT_EQ(person->id, *id) << "t " << t << ": the person was lost and taken for someone new";
+    if (!person->seen) {
+      ++unseen;
+      if (std::fmod(t, 2.0 * leg_s) > leg_s + 0.3) turned += person->velocity.y() < -0.5 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(unseen, 25);  // three walks out of view
+  EXPECT_GT(turned, 10);
+}
+
 TEST(MovingObjectTrackerTest, BadOptionsAreRefused) {
   MovingObjectOptions o;
   o.window_scans = 1;
   EXPECT_THROW(MovingObjectTracker{o}, std::invalid_argument);
   o = {};
   o.cluster_distance_m = 0.0;
+  EXPECT_THROW(MovingObjectTracker{o}, std::invalid_argument);
+  o = {};
+  o.unseen_coast_s = 0.5 * o.coast_s;
   EXPECT_THROW(MovingObjectTracker{o}, std::invalid_argument);
 }
 

@@ -63,7 +63,7 @@ void TrackingNode::OnScan(const drivers::LaserScan& scan) {
   Track(scan.stamp_ns, laser.translation(),
         nav::ScanToWorld(laser, scan.angle_min_rad, scan.angle_increment_rad, scan.range_min_m, scan.range_max_m,
                          scan.ranges),
-        start);
+        std::nullopt, start);
 }
 
 void TrackingNode::OnFrame(const drivers::RgbdFrame& frame) {
@@ -77,12 +77,14 @@ void TrackingNode::OnFrame(const drivers::RgbdFrame& frame) {
     SetHealth(Health::kDegraded, e.what());
     return;
   }
-  Track(frame.stamp_ns, robot->Transform(source_.camera.base_T_camera.translation().head<2>()), points, start);
+  Track(frame.stamp_ns, robot->Transform(source_.camera.base_T_camera.translation().head<2>()), points,
+        depth_scan_->View(*robot), start);
 }
 
 void TrackingNode::Track(drivers::TimeNs stamp_ns, const Eigen::Vector2d& sensor,
-                         const std::vector<Eigen::Vector2d>& points, drivers::TimeNs start) {
-  tracker_.Update(drivers::ToSeconds(stamp_ns), sensor, points);
+                         const std::vector<Eigen::Vector2d>& points, const std::optional<nav::SensorView>& view,
+                         drivers::TimeNs start) {
+  tracker_.Update(drivers::ToSeconds(stamp_ns), sensor, points, view);
   const double stamp_s = drivers::ToSeconds(stamp_ns);
   if (traffic_) {
     traffic_->Add(stamp_s, tracker_.objects());

@@ -53,10 +53,10 @@ class TrackingNode final : public Node {
   std::optional<nav::Pose2> RobotPose(const char* what);
   void OnScan(const drivers::LaserScan& scan);
   void OnFrame(const drivers::RgbdFrame& frame);
-  // Adds one scan, taken at stamp_ns from `sensor` (map frame), its points already in the map frame; hands on the
-  // traffic costs when due and publishes the objects.
+  // Adds one scan, taken at stamp_ns from `sensor` (map frame; `view`: what it covers when not all round), its points
+  // already in the map frame; hands on the traffic costs when due and publishes the objects.
   void Track(drivers::TimeNs stamp_ns, const Eigen::Vector2d& sensor, const std::vector<Eigen::Vector2d>& points,
-             drivers::TimeNs start);
+             const std::optional<nav::SensorView>& view, drivers::TimeNs start);
 
   Executor& executor_;
   Bus& bus_;

@@ -139,6 +139,12 @@ void ReadTracking(ConfigReader& r, TrackingOptions& t) {
   r.Read("map_clearance_m", o.map_clearance_m, 0.0, 1.0);
   r.Read("range_m", o.range_m, 0.5, 100.0);
   r.Read("coast_s", o.coast_s, 0.0, 10.0);
+  r.Read("unseen_coast_s", o.unseen_coast_s, 0.0, 60.0);
+  if (o.unseen_coast_s < o.coast_s) {
+    throw ConfigError(r.PathOf("unseen_coast_s") +
+                      ": must be at least coast_s (someone out of the camera's view is not forgotten sooner than "
+                      "someone in it)");
+  }
   r.Read("walk_end_memory_s", o.walk_end_memory_s, 0.0, 86400.0);
   r.Section("traffic", [&](ConfigReader& s) {
     s.Read("weight", t.traffic.weight, 0.0, 100.0);

@@ -25,7 +25,8 @@ nlohmann::json ToJson(const TrackedObjects& t) {
   nlohmann::json objects = nlohmann::json::array();
   for (const nav::TrackedObject& o : t.surroundings.objects) {
     nlohmann::json object = {{"x", o.position.x()}, {"y", o.position.y()}, {"vx", o.velocity.x()},
-                              {"vy", o.velocity.y()}, {"radius_m", o.radius_m}, {"moving", o.moving}};
+                              {"vy", o.velocity.y()}, {"radius_m", o.radius_m}, {"moving", o.moving},
+                              {"seen", o.seen}};
     if (o.turn_at) object["walk_end"] = {{"x", o.turn_at->x()}, {"y", o.turn_at->y()}};
     objects.push_back(std::move(object));
   }

@@ -89,9 +89,13 @@ void TraceDecision(double now_s, const nav::Pose2& pose, const nav::LocalStep& s
     std::fprintf(stderr, " movers");
     for (const auto& o : around->objects) {
       if (o.moving) {
-        std::fprintf(stderr, " (%.2f %.2f v %.2f %.2f r %.2f)", o.position.x(), o.position.y(), o.velocity.x(),
-                     o.velocity.y(), o.radius_m);
+        std::fprintf(stderr, " (%.2f %.2f v %.2f %.2f r %.2f%s)", o.position.x(), o.position.y(), o.velocity.x(),
+                     o.velocity.y(), o.radius_m, o.seen ? "" : " unseen");
       }
+    }
+    std::fprintf(stderr, " standing");
+    for (const auto& o : around->objects) {
+      if (!o.moving) std::fprintf(stderr, " (%.2f %.2f r %.2f)", o.position.x(), o.position.y(), o.radius_m);
     }
   }
   std::fprintf(stderr, " people");  // the simulator's truth, to compare with what was tracked
@@ -265,8 +269,8 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   }
   // One scan (world frame) into the tracker and the traffic map, timed: `points` is made by the caller inside `t0`.
   const auto track = [&](Clock::time_point t0, double stamp_s, const Eigen::Vector2d& sensor,
-                         const std::vector<Eigen::Vector2d>& points) {
-    tracker.Update(stamp_s, sensor, points);
+                         const std::vector<Eigen::Vector2d>& points, const std::optional<nav::SensorView>& view) {
+    tracker.Update(stamp_s, sensor, points, view);
     if (traffic) traffic->Add(stamp_s, tracker.objects());
     result.tracking_ms.push_back(ms(t0, Clock::now()));
   };
@@ -276,7 +280,8 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       const nav::Pose2 laser = robot.true_pose() * robot.base_T_laser();
       track(t0, drivers::ToSeconds(scan->stamp_ns), laser.translation(),
             nav::ScanToWorld(laser, scan->angle_min_rad, scan->angle_increment_rad, scan->range_min_m,
-                             scan->range_max_m, scan->ranges));
+                             scan->range_max_m, scan->ranges),
+            std::nullopt);
     });
   }
   const nav::PinholeCamera camera = robot.info().camera;
@@ -374,7 +379,8 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       const auto t_scan = Clock::now();
       std::vector<Eigen::Vector2d> points;
       for (const Eigen::Vector2d& p : depth_scan->Process(frame->depth_mm)) points.push_back(pose.Transform(p));
-      track(t_scan, now_s, pose.Transform(camera.base_T_camera.translation().head<2>()), points);
+      track(t_scan, now_s, pose.Transform(camera.base_T_camera.translation().head<2>()), points,
+            depth_scan->View(pose));
     }
     nav::Twist2 twist;
     std::optional<nav::LocalStep> step;  // morp-rb's, for --trace after the timings

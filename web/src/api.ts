@@ -27,6 +27,7 @@ export interface State {
 export interface SimPerson { x: number; y: number; vx: number; vy: number; radius_m: number; }
 export interface TrackedObject {
   x: number; y: number; vx: number; vy: number; radius_m: number; moving: boolean;
+  seen: boolean;  // false: kept on its prediction (hidden, or walked out of the camera's view)
   walk_end?: { x: number; y: number };  // where they turned round before, walking this way
 }
 export interface SimObstacle { shape: 'cylinder' | 'box'; x: number; y: number; size_m: number; yaw: number; }

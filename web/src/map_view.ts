@@ -91,8 +91,8 @@ export class MapView {
     }
   }
 
-  // What the laser tracks: moving objects as dashed rings with their velocity over the next second, standing ones
-  // as small grey rings.
+  // What the tracker follows: moving objects as dashed rings with their velocity over the next second (paler while
+  // not seen), standing ones as small grey rings.
   showTracked(objects: TrackedObject[]): void {
     this.tracked.clearLayers();
     for (const o of objects) {
@@ -102,9 +102,11 @@ export class MapView {
           .addTo(this.tracked);
         continue;
       }
-      L.circle(toLatLng(o.x, o.y), { radius, color: '#cf222e', weight: 2, dashArray: '4 3', fill: false,
-        className: 'tracked-moving' }).addTo(this.tracked);
-      L.polyline([toLatLng(o.x, o.y), toLatLng(o.x + o.vx, o.y + o.vy)], { color: '#cf222e', weight: 2 })
+      // Not seen (out of the camera's view, or hidden): where they are expected, paler.
+      const opacity = o.seen ? 1 : 0.4;
+      L.circle(toLatLng(o.x, o.y), { radius, color: '#cf222e', weight: 2, dashArray: '4 3', fill: false, opacity,
+        className: o.seen ? 'tracked-moving' : 'tracked-moving tracked-unseen' }).addTo(this.tracked);
+      L.polyline([toLatLng(o.x, o.y), toLatLng(o.x + o.vx, o.y + o.vy)], { color: '#cf222e', weight: 2, opacity })
         .addTo(this.tracked);
       // Where they are expected to turn round: a dotted line to the end of their walk.
       if (o.walk_end) {
