@@ -12,6 +12,7 @@
 
 #include "drivers/sim/sim_robot.h"
 #include "nav/map/map_io.h"
+#include "nav/policy/evasion.h"
 #include "server/api/http_server.h"
 #include "server/nodes/control_node.h"
 #include "server/nodes/driver_bridge.h"
@@ -123,7 +124,7 @@ int Run(const CommandLine& cl) {
     Config c = LoadConfig(cl.config, cl.overrides);
     c.server.web_root = FindWebRoot(c.server.web_root);
     // Evasion backs away only when a laser sees behind; without one, people are tracked in the forward camera's view.
-    if (!c.sim.robot.laser.enabled) c.mission.evade.max_reverse_mps = 0.0;
+    if (!c.sim.robot.laser.enabled) c.mission.evade = nav::ForForwardView(c.mission.evade);
     return c;
   }();
   spdlog::set_level(spdlog::level::from_str(config.log.level));

@@ -14,6 +14,11 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 }  // namespace
 
+EvasionOptions ForForwardView(EvasionOptions options) {
+  options.max_reverse_mps = 0.0;
+  return options;
+}
+
 Evasion::Evasion(const EvasionOptions& options) : options_(options) {
   if (!(options.horizon_s > 0.0) || !(options.step_s > 0.0) || options.step_s > options.horizon_s) {
     throw std::invalid_argument("evasion: need 0 < step_s <= horizon_s");

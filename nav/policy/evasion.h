@@ -69,6 +69,10 @@ struct EvasionResult {
   double conflict_s = 0.0;           // when the chosen twist's conflict begins (infinity: none within the horizon)
 };
 
+// The options for a robot that sees only ahead (a depth camera and no laser): what is behind it is unknown, so
+// evasion never backs.
+EvasionOptions ForForwardView(EvasionOptions options);
+
 class Evasion {
  public:
   explicit Evasion(const EvasionOptions& options);  // throws std::invalid_argument for bad options

@@ -178,6 +178,25 @@ TEST(EvasionTest, TheWayOutDoesNotBackIntoAWall) {
   EXPECT_GT((ClosestApproach(evasion, robot, {0.0, 0.0}, {2.6, 0.05}, {-0.8, 0.0}, wall, 6.0)), o.robot_radius_m + 0.25);
 }
 
+TEST(EvasionTest, ARobotThatSeesOnlyAheadNeverBacks) {
+  // Someone coming head-on: with a laser, backing away is one way out; seeing only ahead (a depth camera), what is
+  // behind is unknown and the robot steps aside instead, and still keeps clear.
+  EvasionOptions o;
+  o.max_reverse_mps = 0.26;
+  const EvasionOptions forward = ForForwardView(o);
+  EXPECT_EQ(forward.max_reverse_mps, 0.0);
+  EXPECT_EQ(forward.max_linear_mps, o.max_linear_mps);
+  Evasion evasion{forward};
+  const Pose2 robot{0.0, 0.0, 0.0};
+  for (int k = 0; k < 18; ++k) {
+    const EvasionResult r = evasion.Check(robot, {0.0, 0.0}, kTarget, {Person({2.4 - 0.05 * k, 0.0}, {-0.8, 0.0})},
+                                          {}, nullptr);
+    EXPECT_GE(r.twist.linear_mps, 0.0);
+  }
+  EXPECT_GT((ClosestApproach(Evasion{forward}, robot, {0.0, 0.0}, {2.6, 0.05}, {-0.8, 0.0}, {}, 6.0)),
+            o.robot_radius_m + 0.25);
+}
+
 TEST(EvasionTest, BadOptionsAreRefused) {
   EvasionOptions o;
   o.step_s = 0.0;

@@ -15,6 +15,7 @@
 #include "nav/ground/morp.h"
 #include "nav/ground/voxel_obstacles.h"
 #include "nav/planner/planner.h"
+#include "nav/policy/evasion.h"
 #include "nav/policy/local_navigator.h"
 #include "nav/policy/reactive.h"
 #include "nav/tracking/moving_objects.h"
@@ -319,7 +320,8 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   navigator_options.evade.robot_radius_m = kRobotRadiusM;
   navigator_options.evade.max_linear_mps = options.max_speed_mps;
   // Backing away is the laser's to allow: a forward camera cannot see what is behind.
-  navigator_options.evade.max_reverse_mps = sim.laser.enabled ? options.max_speed_mps : 0.0;
+  navigator_options.evade.max_reverse_mps = options.max_speed_mps;
+  if (!sim.laser.enabled) navigator_options.evade = nav::ForForwardView(navigator_options.evade);
   nav::LocalNavigator navigator(navigator_options);
   navigator.SetPath(plan.plan.waypoints, costmap);
   nav::Morp morp(camera, nav::MorpOptions{});
