@@ -71,6 +71,7 @@ void ControlNode::Activate() {
       // The way it bumped: that of the command last sent (none while held: the direction stays).
       const auto sent = bus_.Get(topics::kCmdVel).latest();
       if (sent && sent->twist.linear_mps != 0.0) bump_direction_ = sent->twist.linear_mps > 0.0 ? 1 : -1;
+      bus_.Get(topics::kBumped).Publish(Bumped{last_bump_ns_.load(), bump_direction_ < 0});
     }
   });
   bus_.Get(topics::kGroundLanes).Subscribe(executor(), [this](const auto&) { last_lanes_ns_ = clock().Now(); });

@@ -17,6 +17,8 @@ constexpr double kNoFramesS = 0.2;
 // Tracked objects older than this (three scans of a 10 Hz laser) are not used: a sensor that stops answering leaves
 // the robot with MORP and the obstacle memory, as without tracking.
 constexpr double kStaleTrackingS = 0.3;
+// A bump older than this (from before the mission, say) is not where the robot is now.
+constexpr double kFreshBumpS = 0.5;
 
 json PoseJson(const nav::Pose2& p) { return {{"x", p.x_m}, {"y", p.y_m}, {"yaw", p.yaw_rad}}; }
 
@@ -239,10 +241,11 @@ void MissionNode::Drive(const GroundLanes& lanes) {
   // The tracker's objects (from the laser, or the camera without one), while fresh: people to step out of the way of.
   const auto tracked = bus_.Get(topics::kTrackedObjects).latest();
   const bool fresh = tracked && drivers::ToSeconds(now - tracked->received_ns) < kStaleTrackingS;
-  const auto odometry = bus_.Get(topics::kOdometry).latest();
-  if (odometry && odometry->bumper_pressed) {
-    const auto sent = bus_.Get(topics::kCmdVel).latest();  // the way it was going when it bumped
-    navigator_.Touched(pose->pose, sent && sent->twist.linear_mps < 0.0);
+  // A bump since the last frame: remembered where it was, the way the control node says the base was driving.
+  const auto bump = bus_.Get(topics::kBumped).latest();
+  if (bump && bump->stamp_ns > bump_seen_ns_ && now - bump->stamp_ns < drivers::FromSeconds(kFreshBumpS)) {
+    bump_seen_ns_ = bump->stamp_ns;
+    navigator_.Touched(pose->pose, bump->backing);
   }
   const nav::LocalStep step = navigator_.Update(pose->pose, lanes.lanes, mission_->speed_limit_mps(), dt_s,
                                                 fresh ? &tracked->surroundings : nullptr);

@@ -65,6 +65,7 @@ class MissionNode final : public PeriodicNode {
   std::unique_ptr<nav::Mission> mission_;
   nav::LocalNavigator navigator_;
   drivers::TimeNs last_drive_ns_ = -1;  // the last Drive, on the node's clock
+  drivers::TimeNs bump_seen_ns_ = -1;   // the latest bump remembered
   std::string policy_mode_;
   std::uint64_t generation_ = 0;    // bumped per leg and mission, to drop answers to stale requests
   bool planning_ = false;

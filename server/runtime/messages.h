@@ -36,6 +36,13 @@ struct BaseCommand {
   std::string reason;  // for "stopped": what made the robot stop
 };
 
+// The bumper was pressed (published by the control node with every odometry that says so): which way the base was
+// driving, that of the last moving command sent (a held zero command keeps the direction it bumped in).
+struct Bumped {
+  drivers::TimeNs stamp_ns = 0;  // the control node's clock
+  bool backing = false;
+};
+
 // A velocity the mission wants, valid for a short time from its stamp (the control node's clock).
 struct MissionCommand {
   drivers::TimeNs stamp_ns = 0;

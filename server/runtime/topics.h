@@ -14,6 +14,7 @@ inline constexpr TopicName<StampedPose> kSimTruePose{"sim/true_pose"};  // groun
 inline constexpr TopicName<SimPedestrians> kSimPedestrians{"sim/pedestrians"};  // simulator only
 inline constexpr TopicName<TeleopCommand> kTeleop{"teleop"};
 inline constexpr TopicName<BaseCommand> kCmdVel{"cmd_vel"};
+inline constexpr TopicName<Bumped> kBumped{"safety/bumped"};
 inline constexpr TopicName<FaceState> kFaceExpression{"face/expression"};
 inline constexpr TopicName<MissionCommand> kMissionCommand{"mission/command"};
 inline constexpr TopicName<MissionState> kMission{"mission"};
