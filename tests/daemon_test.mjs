@@ -68,6 +68,10 @@ describe('corridord in the Willow Garage building', () => {
     assert.equal(png.readUInt32BE(16), 1165);  // IHDR width
     assert.equal(png.readUInt32BE(20), 945);
 
+    // Nobody walks in the default world: no traffic overlay, and a problem that says so.
+    const traffic = await expectProblem(getJson(`${daemon.url}/api/v1/map/traffic`), 404);
+    assert.match(traffic.detail, /nobody has been seen walking/);
+
     const topics = await getJson(`${daemon.url}/api/v1/topics`);
     api.check('Topics', topics.body);
     for (const t of ['odom', 'pose', 'cmd_vel', 'camera/rgbd', 'scan', 'ground/lanes']) assert.ok(topics.body.topics.includes(t), t);

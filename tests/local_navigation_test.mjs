@@ -189,6 +189,27 @@ tracking:
     const farthest = Math.max(...plan.body.path.map(off));
     assert.ok(farthest > 0.4, `the plan runs along their way: ${JSON.stringify(plan.body.path)}`);
   });
+
+  test('where they walk is laid over the console\'s map', async () => {
+    // The planner's traffic costs as a PNG the map image's size (people have walked by now: the test above); the
+    // console shows it over the map.
+    const map = (await getJson(`${daemon.url}/api/v1/map`)).body;
+    const res = await fetch(`${daemon.url}/api/v1/map/traffic`);
+    const png = Buffer.from(await res.arrayBuffer());
+    assert.equal(res.status, 200, png.toString());
+    assert.equal(res.headers.get('content-type'), 'image/png');
+    assert.deepEqual([png.readUInt32BE(16), png.readUInt32BE(20)], [map.width, map.height], 'the PNG header\'s size');
+    const browser = await launchBrowser();
+    try {
+      const page = await browser.newPage({ viewport: { width: 1024, height: 700 } });
+      page.on('pageerror', (e) => { throw e; });
+      await page.goto(daemon.url);
+      await page.waitForFunction((w) => [...document.querySelectorAll('img.traffic-image')].some((img) =>
+        img.complete && img.naturalWidth === w && img.style.opacity === '1'), map.width, { timeout: 15000 });
+    } finally {
+      await browser.close();
+    }
+  });
 });
 
 describe('simulated people, a robot without a laser: tracked with its camera', () => {

@@ -1,5 +1,11 @@
 // Routes for the map and what is drawn on it: the active map, its editing and selection, zones and places.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "server/api/api.h"
 #include "server/runtime/topics.h"
@@ -18,6 +24,23 @@ json ZoneJson(const nav::Zone& z) {
   json j = {{"id", z.id}, {"name", z.name}, {"kind", nav::ToString(z.kind)}, {"polygon", polygon}};
   if (z.kind == nav::ZoneKind::kSpeedLimit) j["max_speed_mps"] = z.max_speed_mps;
   return j;
+}
+
+// Traffic costs (per cell, row-major from the map's origin) as a BGRA PNG over the map image: one red, its alpha
+// from 0 (no cost) to 200 at the highest cost, so that the map stays readable under it.
+std::string TrafficImage(const std::vector<float>& cost, int width, int height) {
+  const float highest = std::max(*std::max_element(cost.begin(), cost.end()), 1e-6f);
+  cv::Mat image(height, width, CV_8UC4, cv::Scalar(0x2e, 0x22, 0xcf, 0));
+  for (int y = 0; y < height; ++y) {
+    auto* row = image.ptr<cv::Vec4b>(height - 1 - y);
+    for (int x = 0; x < width; ++x) {
+      const float c = cost[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)];
+      row[x][3] = static_cast<std::uint8_t>(std::lround(200.0f * std::clamp(c / highest, 0.0f, 1.0f)));
+    }
+  }
+  std::vector<std::uint8_t> png;
+  cv::imencode(".png", image, png);
+  return {png.begin(), png.end()};
 }
 
 json PlaceJson(const nav::Place& p) {
@@ -90,6 +113,16 @@ void Api::AddMapRoutes() {
       }));
   Add(http::verb::get, "/api/v1/map/image", Sync([this](const Request& r, const Params&) {
         return MakeResponse(r, http::status::ok, "image/png", c_.maps.active()->png);
+      }));
+  // Where people have been walking, as the planner weighs it: a red overlay for the map image (its size, row 0 at
+  // the top), most opaque where the extra cost is highest.
+  Add(http::verb::get, "/api/v1/map/traffic", Sync([this](const Request& r, const Params&) {
+        const auto cost = c_.planner.traffic();
+        const nav::OccupancyGrid& grid = c_.maps.active()->grid;
+        if (!cost || cost->size() != static_cast<std::size_t>(grid.width()) * static_cast<std::size_t>(grid.height())) {
+          throw ApiError(http::status::not_found, "No traffic", "nobody has been seen walking on this map lately");
+        }
+        return MakeResponse(r, http::status::ok, "image/png", TrafficImage(*cost, grid.width(), grid.height()));
       }));
   Add(http::verb::put, "/api/v1/map/image", Sync([this](const Request& r, const Params&) {
         ExpectMapEdit([&] { c_.maps.ReplaceImage(r.body()); });

@@ -27,9 +27,11 @@ void PlannerService::SetTraffic(std::shared_ptr<const std::vector<float>> cost, 
   traffic_ = std::move(cost);
 }
 
-bool PlannerService::has_traffic() const {
+bool PlannerService::has_traffic() const { return traffic() != nullptr; }
+
+std::shared_ptr<const std::vector<float>> PlannerService::traffic() const {
   std::lock_guard lock(mutex_);
-  return traffic_ != nullptr;
+  return traffic_;
 }
 
 void PlannerService::SetZones(std::vector<nav::Zone> zones) {

@@ -41,6 +41,8 @@ class PlannerService {
   // Does not change the version (it is not the map). Null: none (nobody has walked): missions do not reroute.
   void SetTraffic(std::shared_ptr<const std::vector<float>> cost, const nav::OccupancyGrid* map);
   bool has_traffic() const;
+  // Thread-safe. The traffic costs plans add now, per cell of the current map (null: none).
+  std::shared_ptr<const std::vector<float>> traffic() const;
   std::uint64_t version() const { return version_.load(); }
   const nav::CostmapOptions& options() const { return options_; }
 

@@ -66,6 +66,7 @@ function showState(state: State, view: MapView | null): void {
   view?.showRobot(state.pose, state.sim_true_pose);
   view?.showSimulation(state.sim_pedestrians, state.sim_obstacles);
   view?.showTracked(state.tracked_objects);
+  view?.showTraffic();
   view?.showMission(state.mission);
 }
 

@@ -23,6 +23,8 @@ export class MapView {
   private readonly simPeople = L.layerGroup();
   private readonly tracked = L.layerGroup();
   private readonly simObstacles = L.layerGroup();
+  private readonly traffic: L.ImageOverlay;
+  private trafficAt = 0;
   private shownObstacles = '';
   private followed = false;
 
@@ -30,6 +32,11 @@ export class MapView {
     this.info = info;
     this.map = L.map(element, { crs: L.CRS.Simple, minZoom: -3, maxZoom: 7, zoomSnap: 0.25, attributionControl: false });
     this.image = L.imageOverlay(info.image_url, this.bounds(info), { className: 'map-image' }).addTo(this.map);
+    // Where people have been walking (the planner's traffic costs), over the map; hidden while there is none.
+    this.traffic = L.imageOverlay('/api/v1/map/traffic', this.bounds(info), { className: 'traffic-image', opacity: 0 })
+      .addTo(this.map);
+    this.traffic.on('load', () => this.traffic.setOpacity(1));
+    this.traffic.on('error', () => this.traffic.setOpacity(0));
     this.map.fitBounds(this.bounds(info));
     this.trail = L.polyline([], { color: '#58a6ff', weight: 2, opacity: 0.6, className: 'robot-trail' }).addTo(this.map);
     this.missionPath = L.polyline([], { color: '#2ea043', weight: 4, opacity: 0.8, className: 'mission-path' })
@@ -53,6 +60,16 @@ export class MapView {
     this.info = info;
     this.image.setUrl(info.image_url);
     this.image.setBounds(this.bounds(info));
+    this.traffic.setBounds(this.bounds(info));
+  }
+
+  // Fetches the traffic overlay again, at most every two seconds (the tracker hands the planner new costs every
+  // second).
+  showTraffic(): void {
+    const now = Date.now();
+    if (now - this.trafficAt < 2000) return;
+    this.trafficAt = now;
+    this.traffic.setUrl(`/api/v1/map/traffic?t=${now}`);
   }
 
   // The map cell under a map-frame point, or null outside the map.
