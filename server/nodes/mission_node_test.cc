@@ -1,0 +1,85 @@
+#include "server/nodes/mission_node.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+#include "server/runtime/topics.h"
+
+namespace corridor::server {
+namespace {
+
+// A mission across an empty 10 x 10 m room, driven on free lanes; the robot's pose is held still, so that what the
+// mission remembers stays where it is.
+class MissionNodeTest : public ::testing::Test {
+ protected:
+  MissionNodeTest()
+      : control_("control"),
+        planning_("planning"),
+        planner_(planning_, nav::CostmapOptions{}),
+        node_(control_, bus_, clock_, planner_, nav::LocalNavigatorOptions{}, [](const nlohmann::json&) {}) {
+    planner_.SetMap(std::make_shared<const nav::OccupancyGrid>(200, 200, 0.05, nav::Pose2{}, nav::kFreeCell));
+    control_.Start();
+    planning_.Start();
+    node_.Activate();
+    bus_.Get(topics::kPose).Publish(StampedPose{clock_.Now(), nav::Pose2{2.0, 5.0, 0.0}});
+    nav::MissionGoal goal;
+    goal.pose = {8.0, 5.0, 0.0};
+    node_.Start({goal}, 0.5);
+  }
+  ~MissionNodeTest() override {
+    control_.Stop();
+    planning_.Stop();
+  }
+
+  // One depth frame's free lanes; returns the mission's command that answers it.
+  MissionCommand Frame() {
+    std::vector<nav::LaneResult> lanes;
+    for (const double offset : {-0.15, -0.05, 0.05, 0.15}) {
+      nav::LaneResult lane;
+      lane.offset_m = offset;
+      lane.free_distance_m = 4.0;
+      lanes.push_back(lane);
+    }
+    const drivers::TimeNs now = clock_.Now();
+    bus_.Get(topics::kGroundLanes).Publish(GroundLanes{now, now, ++sequence_, 0.0, lanes});
+    std::this_thread::sleep_for(std::chrono::milliseconds(55));
+    const auto command = bus_.Get(topics::kMissionCommand).latest();
+    return command ? *command : MissionCommand{};
+  }
+
+  // The fastest forward command over `frames` frames.
+  double FastestOver(int frames) {
+    double fastest = -1.0;
+    for (int i = 0; i < frames; ++i) fastest = std::max(fastest, Frame().twist.linear_mps);
+    return fastest;
+  }
+
+  Executor control_;
+  Executor planning_;
+  Bus bus_;
+  const drivers::SteadyClock clock_;
+  PlannerService planner_;
+  MissionNode node_;
+  std::uint64_t sequence_ = 0;
+};
+
+TEST_F(MissionNodeTest, ABumpTheControlNodeReportsIsRememberedOnTheSideTheBaseWasDriving) {
+  ASSERT_GT(FastestOver(40), 0.1) << "the mission never drove forward";
+  // Bumped while backing: something behind; forward stays free.
+  bus_.Get(topics::kBumped).Publish(Bumped{clock_.Now(), true});
+  EXPECT_GT(FastestOver(10), 0.1);
+  // Bumped driving forward: something in front, seen or not; the mission no longer drives into it.
+  bus_.Get(topics::kBumped).Publish(Bumped{clock_.Now(), false});
+  EXPECT_LE(FastestOver(10), 0.0);
+}
+
+TEST_F(MissionNodeTest, AnOldBumpIsNotWhereTheRobotIsNow) {
+  ASSERT_GT(FastestOver(40), 0.1) << "the mission never drove forward";
+  bus_.Get(topics::kBumped).Publish(Bumped{clock_.Now() - drivers::FromSeconds(5.0), false});
+  EXPECT_GT(FastestOver(10), 0.1);
+}
+
+}  // namespace
+}  // namespace corridor::server
