@@ -19,21 +19,19 @@ DepthScan::DepthScan(const PinholeCamera& camera, const DepthScanOptions& option
   rays_ = BaseFrameRays(camera, options.row_step);
   nearest_.resize(static_cast<std::size_t>(camera.width));
   at_.resize(static_cast<std::size_t>(camera.width));
-  // The optical axis and the image's first and last columns, flattened onto the floor: a tilted camera's columns
-  // lean, so the view is as wide as the narrowest of its rows.
-  const Eigen::Matrix3d rotation = camera.base_T_camera.linear();
-  const auto flat = [&](const Eigen::Vector3d& ray) -> Eigen::Vector2d { return (rotation * ray).head<2>(); };
-  const Eigen::Vector2d axis = flat(Eigen::Vector3d::UnitZ());
+  // The optical axis and the rays of the image's first and last columns, flattened onto the floor: a tilted camera's
+  // columns lean, so the view is as wide as the narrowest of the rows read.
+  const Eigen::Vector2d axis = (camera.base_T_camera.linear() * Eigen::Vector3d::UnitZ()).head<2>();
   const Eigen::Vector3d origin = camera.base_T_camera.translation();
   base_T_view_ = {origin.x(), origin.y(), std::atan2(axis.y(), axis.x())};
-  const auto angle_to_axis = [&](const Eigen::Vector2d& v) {
+  const auto angle_to_axis = [&](const Eigen::Vector3f& ray) {
+    const Eigen::Vector2d v = ray.head<2>().cast<double>();
     return std::abs(std::atan2(axis.x() * v.y() - axis.y() * v.x(), axis.dot(v)));
   };
   half_angle_rad_ = std::numbers::pi;
-  for (int v = 0; v < camera.height; v += options.row_step) {
-    for (const double u : {0.0, camera.width - 1.0}) {
-      half_angle_rad_ = std::min(half_angle_rad_, angle_to_axis(flat(camera.Ray(u, v))));
-    }
+  const auto width = static_cast<std::size_t>(camera.width);
+  for (std::size_t first = 0; first < rays_.size(); first += width) {
+    half_angle_rad_ = std::min({half_angle_rad_, angle_to_axis(rays_[first]), angle_to_axis(rays_[first + width - 1])});
   }
 }
 

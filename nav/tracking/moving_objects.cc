@@ -88,7 +88,6 @@ const std::vector<TrackedObject>& MovingObjectTracker::Update(double stamp_s, co
                                                               const std::optional<SensorView>& view) {
   if (!scans_.empty() && stamp_s < newest_stamp_s_) Clear();
   newest_stamp_s_ = stamp_s;
-  view_ = view;
   newest_on_map_.clear();
   std::vector<Point> scan;
   for (const Eigen::Vector2d& p : world_points) {
@@ -102,7 +101,7 @@ const std::vector<TrackedObject>& MovingObjectTracker::Update(double stamp_s, co
   // An empty scan (everything on the map) still takes its place in the window.
   scans_.push_back({stamp_s, std::move(scan)});
   while (static_cast<int>(scans_.size()) > options_.window_scans) scans_.pop_front();
-  UpdateTracks(stamp_s, FindClusters());
+  UpdateTracks(stamp_s, FindClusters(), view);
   return now_.objects;
 }
 
@@ -186,7 +185,8 @@ std::vector<MovingObjectTracker::Cluster> MovingObjectTracker::FindClusters() co
   return clusters;
 }
 
-void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster>& clusters) {
+void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster>& clusters,
+                                       const std::optional<SensorView>& view) {
   const MovingObjectOptions& o = options_;
   for (Track& t : tracks_) {
     // Out of view, someone walking toward the known end of their walk turns round there.
@@ -247,7 +247,7 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
   std::size_t kept = 0;
   for (std::size_t i = 0; i < tracks_.size(); ++i) {
     Track& t = tracks_[i];
-    t.out_of_view = view_ && t.velocity.norm() >= o.moving_speed_mps && !view_->Covers(t.position, o.unseen_edge_m);
+    t.out_of_view = view && t.velocity.norm() >= o.moving_speed_mps && !view->Covers(t.position, o.unseen_edge_m);
     // A turn made out of view is not seen: where the track was last seen is not the end of its walk.
     if (t.out_of_view) t.walked = Eigen::Vector2d::Zero();
     if (stamp_s - t.last_seen_s > (t.out_of_view ? o.unseen_coast_s : o.coast_s)) continue;

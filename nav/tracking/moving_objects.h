@@ -66,7 +66,6 @@ struct MovingObjectOptions {
   double unseen_edge_m = 0.3;
 };
 
-
 struct TrackedObject {
   int id = 0;                        // the track's, the same from scan to scan
   Eigen::Vector2d position = Eigen::Vector2d::Zero();  // world frame: centroid of the newest scan's points (or the
@@ -166,7 +165,8 @@ class MovingObjectTracker {
   std::optional<Eigen::Vector2d> WalkEndAhead(const Track& track) const;
   bool OnMap(const Eigen::Vector2d& p) const;
   std::vector<Cluster> FindClusters() const;
-  void UpdateTracks(double stamp_s, const std::vector<Cluster>& clusters);
+  // `view`: what the newest scan covers, when not all round.
+  void UpdateTracks(double stamp_s, const std::vector<Cluster>& clusters, const std::optional<SensorView>& view);
 
   MovingObjectOptions options_;
   std::shared_ptr<const OccupancyGrid> map_;
@@ -177,7 +177,6 @@ class MovingObjectTracker {
   };
   std::deque<Scan> scans_;  // oldest first
   double newest_stamp_s_ = 0.0;
-  std::optional<SensorView> view_;  // the newest scan's
   std::vector<Eigen::Vector2d> newest_on_map_;  // the newest scan's points on the map's walls
   Surroundings now_;
   std::vector<Track> tracks_;

@@ -77,8 +77,8 @@ void TrackingNode::OnFrame(const drivers::RgbdFrame& frame) {
     SetHealth(Health::kDegraded, e.what());
     return;
   }
-  Track(frame.stamp_ns, robot->Transform(source_.camera.base_T_camera.translation().head<2>()), points,
-        depth_scan_->View(*robot), start);
+  const nav::SensorView view = depth_scan_->View(*robot);
+  Track(frame.stamp_ns, view.world_T_sensor.translation(), points, view, start);
 }
 
 void TrackingNode::Track(drivers::TimeNs stamp_ns, const Eigen::Vector2d& sensor,

@@ -381,8 +381,8 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       const auto t_scan = Clock::now();
       std::vector<Eigen::Vector2d> points;
       for (const Eigen::Vector2d& p : depth_scan->Process(frame->depth_mm)) points.push_back(pose.Transform(p));
-      track(t_scan, now_s, pose.Transform(camera.base_T_camera.translation().head<2>()), points,
-            depth_scan->View(pose));
+      const nav::SensorView view = depth_scan->View(pose);
+      track(t_scan, now_s, view.world_T_sensor.translation(), points, view);
     }
     nav::Twist2 twist;
     std::optional<nav::LocalStep> step;  // morp-rb's, for --trace after the timings
