@@ -2,6 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <functional>
+#include <mutex>
+#include <thread>
+
+#include "server/runtime/topics.h"
+
 namespace corridor::server {
 namespace {
 
@@ -112,6 +119,85 @@ TEST(DecideCommandTest, NoOdometryMeansStopWithAReason) {
     EXPECT_EQ(c.twist.linear_mps, 0.0);
     EXPECT_EQ(c.reason, "no odometry from the base");
   }
+}
+
+// A base that only remembers the last command it was given: the hardware is not here.
+class RecordingBase final : public drivers::DiffDriveBase {
+ public:
+  drivers::BaseLimits limits() const override { return {0.5, 1.5, 1.0, 3.0, 0.2}; }
+  void SetVelocity(const nav::Twist2& command) override {
+    const std::lock_guard lock(mutex_);
+    last_ = command;
+  }
+  void SetOdometryHandler(OdometryHandler) override {}
+  nav::Twist2 last() const {
+    const std::lock_guard lock(mutex_);
+    return last_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  nav::Twist2 last_;
+};
+
+// True once `done` holds, false after two seconds.
+bool Eventually(const std::function<bool()>& done) {
+  for (int i = 0; i < 200; ++i) {
+    if (done()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
+TEST(ControlNodeTest, EachBumpIsPublishedWithTheWayTheBaseWasDrivingAndHoldsThatWay) {
+  Executor executor("control");
+  Bus bus;
+  const drivers::SteadyClock clock;
+  RecordingBase base;
+  ControlNode node(executor, bus, base, clock, SafetyOptions{});
+  executor.Start();
+  node.Activate();
+  const auto odometry = [&](bool pressed) {
+    bus.Get(topics::kOdometry).Publish(drivers::WheelOdometry{clock.Now(), {}, {}, pressed});
+  };
+  // Teleop at `linear_mps` with fresh odometry and clear lanes; true once the base is sent `expected_mps`.
+  const auto drive = [&](double linear_mps, double expected_mps) {
+    return Eventually([&] {
+      odometry(false);
+      bus.Get(topics::kGroundLanes).Publish(LanesAt(-1.0));
+      bus.Get(topics::kTeleop).Publish(TeleopCommand{{linear_mps, 0.0}, clock.Now(), "test"});
+      const auto sent = bus.Get(topics::kCmdVel).latest();
+      return sent && sent->twist.linear_mps == expected_mps && base.last().linear_mps == expected_mps;
+    });
+  };
+  const auto bump = [&](drivers::TimeNs after_ns) {
+    odometry(true);
+    std::shared_ptr<const Bumped> bumped;
+    Eventually([&] {
+      bumped = bus.Get(topics::kBumped).latest();
+      return bumped && bumped->stamp_ns > after_ns;
+    });
+    return bumped;
+  };
+
+  ASSERT_TRUE(drive(-0.1, -0.1));
+  const auto backing = bump(clock.Now() - 1);
+  ASSERT_TRUE(backing);
+  EXPECT_TRUE(backing->backing);
+  // Backing on into it is held; driving away forward is not.
+  EXPECT_TRUE(drive(-0.1, 0.0));
+  EXPECT_EQ(bus.Get(topics::kCmdVel).latest()->reason, "bumper pressed: not backing");
+  ASSERT_TRUE(drive(0.2, 0.2));
+
+  const auto forward = bump(backing->stamp_ns);
+  ASSERT_TRUE(forward);
+  EXPECT_FALSE(forward->backing);
+  EXPECT_TRUE(drive(0.2, 0.0));
+  EXPECT_EQ(bus.Get(topics::kCmdVel).latest()->reason, "bumper pressed: not driving forward");
+
+  node.Deactivate();
+  executor.Stop();
+  EXPECT_EQ(base.last().linear_mps, 0.0);
 }
 
 }  // namespace
