@@ -14,7 +14,8 @@
 //     (nav/safety/obstacle_memory.h), so that turning back to the path does not sweep into an obstacle that has
 //     left the camera's view, nor into a mapped one it never saw. When the memory had to
 //     refuse the way toward the path, the robot drives on straight (detour_m) before heading for the path again;
-//     otherwise it would turn back toward the hidden obstacle at once, be refused again, and dither in place;
+//     otherwise it would turn back toward the hidden obstacle at once, be refused again, and dither in place. Not
+//     when the map alone refused it: the path keeps clear of the map, the follower's arc cut a corner of it;
 //   - with a laser, moving objects tracked around the robot (nav/tracking) are predicted, and a command that would
 //     meet one is replaced by a way out of its path (nav/policy/evasion.h): people who do not see the robot walk
 //     into it from the sides and from behind, where the camera cannot see.

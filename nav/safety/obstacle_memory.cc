@@ -61,26 +61,27 @@ void ObstacleMemory::Forget(const Eigen::Vector2d& centre, double radius_m) {
   std::erase_if(points_, [&](const Point& p) { return (p.world - centre).norm() <= radius_m; });
 }
 
-bool ObstacleMemory::Blocks(const Pose2& robot, const Twist2& command, bool approach) const {
+ObstacleMemory::Blocker ObstacleMemory::BlockedBy(const Pose2& robot, const Twist2& command, bool approach) const {
   const ObstacleMemoryOptions& o = options_;
   const double clearance = o.robot_radius_m + (approach ? o.approach_margin_m : o.margin_m);
   const double map_clearance = o.robot_radius_m + o.map_margin_m;
   const double map_now = MapClearance(robot.translation());
   double now = std::numeric_limits<double>::infinity();
   for (const Point& p : points_) now = std::min(now, (p.world - robot.translation()).norm());
+  Blocker blocker = Blocker::kNone;
   for (double t = o.sweep_step_s; t <= o.horizon_s + 1e-9; t += o.sweep_step_s) {
     const Eigen::Vector2d at = DriveArc(robot, command, t).translation();
     // Closing in on the map's obstacles by more than the field's steps between neighbouring cells (driving along a
     // wall is not closing in).
     const double to_map = MapClearance(at);
-    if (to_map < map_clearance && to_map < map_now - kMapQuantumM) return true;
+    if (to_map < map_clearance && to_map < map_now - kMapQuantumM) blocker = Blocker::kMap;
     for (const Point& p : points_) {
       const double d = (p.world - at).norm();
       // Inside the clearance and closing in: blocked. Already inside and moving away is how the robot gets out.
-      if (d < clearance && d < now - 1e-6) return true;
+      if (d < clearance && d < now - 1e-6) return Blocker::kSeen;
     }
   }
-  return false;
+  return blocker;
 }
 
 Twist2 ObstacleMemory::Guard(const Pose2& robot, const Twist2& command, bool approach) const {

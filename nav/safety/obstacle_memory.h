@@ -61,9 +61,14 @@ class ObstacleMemory {
   // which clears it or confirms it). `approach`: the final approach to a goal (approach_margin_m).
   Twist2 Guard(const Pose2& robot, const Twist2& command, bool approach = false) const;
 
-  // True when driving `command` from `robot` for the horizon brings the footprint within the margin of a
-  // remembered point, or of the map's obstacles, nearer than it is now.
-  bool Blocks(const Pose2& robot, const Twist2& command, bool approach = false) const;
+  // What driving `command` from `robot` for the horizon brings the footprint within the margin of, nearer than it is
+  // now: a remembered point (kSeen, also when the map's obstacles are too), the map's obstacles alone (kMap), or
+  // nothing (kNone).
+  enum class Blocker { kNone, kSeen, kMap };
+  Blocker BlockedBy(const Pose2& robot, const Twist2& command, bool approach = false) const;
+  bool Blocks(const Pose2& robot, const Twist2& command, bool approach = false) const {
+    return BlockedBy(robot, command, approach) != Blocker::kNone;
+  }
 
   // The costmap of the map the robot drives in (null: none).
   void SetMap(std::shared_ptr<const Costmap> map) { map_ = std::move(map); }
