@@ -237,6 +237,31 @@ TEST(LocalNavigatorTest, ACornerOfThePathBesideTheMapsSpecksIsFollowedNotLeftFor
   EXPECT_LT(driven, 1.3 * plan.plan.length_m);
 }
 
+TEST(LocalNavigatorTest, ACentimetreFromTheGoalWithSomethingJustInFrontItTurnsToTheGoalsHeading) {
+  // As in the daemon at the default world's first goal: 1.02 cm from the goal, which lies to the robot's side, with
+  // what the bumper touched remembered across its front. The polar controller creeps a few millimetres while it
+  // turns; the memory used to refuse every such turn as closing in on the points, and the robot dithered on the spot
+  // (or spun round and round) until they were forgotten 30 s later.
+  std::vector<Waypoint> path = {{Pose2{-0.525, 0.625, -0.872}}, {Pose2{0.0, 0.0, -0.872}}};
+  LocalNavigatorOptions o;
+  o.follower.max_linear_mps = 0.5;
+  LocalNavigator nav(o);
+  nav.SetPath(path);
+  Pose2 robot{-0.010213, 0.000452, -1.6126816};
+  nav.Touched(robot, /*backing=*/false);
+  double turned = 0.0;
+  bool done = false;
+  for (int i = 0; i < 3 * 15 && !done; ++i) {
+    const LocalStep step = nav.Update(robot, Lanes({-1, -1, -1, -1}), 1e9, 1.0 / 15.0);
+    done = step.done;
+    turned += std::abs(step.twist.angular_rps) / 15.0;
+    robot = DriveArc(robot, step.twist, 1.0 / 15.0);
+  }
+  EXPECT_TRUE(done);
+  EXPECT_NEAR(robot.yaw_rad, -0.872, o.follower.yaw_tolerance_rad + 1e-3);
+  EXPECT_LT(turned, 1.0);  // the short way round: 0.74 rad
+}
+
 TEST(LocalNavigatorTest, FarFromThePathAsksForANewOne) {
   LocalNavigator nav(LocalNavigatorOptions{});
   nav.SetPath(StraightPath());

@@ -9,6 +9,10 @@ namespace corridor::nav {
 namespace {
 
 constexpr double kMapQuantumM = 0.03;
+// Closing in on a remembered point by less than this over the whole sweep is not driving into it: a robot creeping
+// a few millimetres while it turns on the spot (the final approach, a centimetre from its goal) would otherwise have
+// every turn refused while anything lies within the margin, and dither or spin in place until the point is forgotten.
+constexpr double kCreepM = 0.005;
 
 }  // namespace
 
@@ -78,7 +82,7 @@ ObstacleMemory::Blocker ObstacleMemory::BlockedBy(const Pose2& robot, const Twis
     for (const Point& p : points_) {
       const double d = (p.world - at).norm();
       // Inside the clearance and closing in: blocked. Already inside and moving away is how the robot gets out.
-      if (d < clearance && d < now - 1e-6) return Blocker::kSeen;
+      if (d < clearance && d < now - kCreepM) return Blocker::kSeen;
     }
   }
   return blocker;

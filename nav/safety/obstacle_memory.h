@@ -62,8 +62,9 @@ class ObstacleMemory {
   Twist2 Guard(const Pose2& robot, const Twist2& command, bool approach = false) const;
 
   // What driving `command` from `robot` for the horizon brings the footprint within the margin of, nearer than it is
-  // now: a remembered point (kSeen, also when the map's obstacles are too), the map's obstacles alone (kMap), or
-  // nothing (kNone).
+  // now (by more than a few millimetres: creeping while turning on the spot is not driving into anything): a
+  // remembered point (kSeen, also when the map's obstacles are too), the map's obstacles alone (kMap), or nothing
+  // (kNone).
   enum class Blocker { kNone, kSeen, kMap };
   Blocker BlockedBy(const Pose2& robot, const Twist2& command, bool approach = false) const;
   bool Blocks(const Pose2& robot, const Twist2& command, bool approach = false) const {
