@@ -76,13 +76,13 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
     out.twist = decision.twist;
     out.twist.linear_mps = std::min(out.twist.linear_mps, follow.speed_limit_mps);
   }
-  const Twist2 guarded = memory_.Guard(robot, out.twist, follow.final_approach);
+  ObstacleMemory::Blocker refused_by = ObstacleMemory::Blocker::kNone;
+  const Twist2 guarded = memory_.Guard(robot, out.twist, follow.final_approach, &refused_by);
   out.guarded = guarded.linear_mps != out.twist.linear_mps || guarded.angular_rps != out.twist.angular_rps;
   // A detour drives on away from what was refused, out of the camera's view, before heading for the path again. Not
   // when only the map refused the way: the path keeps its clearance from the map, and the follower's arc cut a
   // corner of it; driving on would leave the path for a loop back to it.
-  if (out.guarded && !follow.final_approach &&
-      memory_.BlockedBy(robot, out.twist) != ObstacleMemory::Blocker::kMap) {
+  if (out.guarded && !follow.final_approach && refused_by != ObstacleMemory::Blocker::kMap) {
     detour_left_m_ = options_.detour_m;
   }
   out.twist = guarded;

@@ -88,8 +88,10 @@ ObstacleMemory::Blocker ObstacleMemory::BlockedBy(const Pose2& robot, const Twis
   return blocker;
 }
 
-Twist2 ObstacleMemory::Guard(const Pose2& robot, const Twist2& command, bool approach) const {
-  if ((points_.empty() && !map_) || !Blocks(robot, command, approach)) return command;
+Twist2 ObstacleMemory::Guard(const Pose2& robot, const Twist2& command, bool approach, Blocker* refused_by) const {
+  const Blocker blocker = points_.empty() && !map_ ? Blocker::kNone : BlockedBy(robot, command, approach);
+  if (refused_by != nullptr) *refused_by = blocker;
+  if (blocker == Blocker::kNone) return command;
   // Keeping the speed matters more than keeping the turn: a robot that bends away keeps going.
   const auto cost = [&](const Twist2& t) {
     return 2.0 * std::abs(t.linear_mps - command.linear_mps) + std::abs(t.angular_rps - command.angular_rps);

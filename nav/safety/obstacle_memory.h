@@ -59,13 +59,14 @@ class ObstacleMemory {
   // candidate nearest to it: the same or half the speed (forward or back, as commanded) on arcs bending up to
   // max_turn_rps either way; else turning in place away from the nearest point (it comes into the camera's view,
   // which clears it or confirms it). `approach`: the final approach to a goal (approach_margin_m).
-  Twist2 Guard(const Pose2& robot, const Twist2& command, bool approach = false) const;
+  // `refused_by` (may be null) is set to what refused `command` (kNone: it passed).
+  enum class Blocker { kNone, kSeen, kMap };
+  Twist2 Guard(const Pose2& robot, const Twist2& command, bool approach = false, Blocker* refused_by = nullptr) const;
 
   // What driving `command` from `robot` for the horizon brings the footprint within the margin of, nearer than it is
   // now (by more than a few millimetres: creeping while turning on the spot is not driving into anything): a
   // remembered point (kSeen, also when the map's obstacles are too), the map's obstacles alone (kMap), or nothing
   // (kNone).
-  enum class Blocker { kNone, kSeen, kMap };
   Blocker BlockedBy(const Pose2& robot, const Twist2& command, bool approach = false) const;
   bool Blocks(const Pose2& robot, const Twist2& command, bool approach = false) const {
     return BlockedBy(robot, command, approach) != Blocker::kNone;

@@ -2,17 +2,16 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
-#include <functional>
 #include <mutex>
-#include <thread>
 
 #include "server/runtime/topics.h"
+#include "testing/eventually.h"
 
 namespace corridor::server {
 namespace {
 
 using drivers::FromSeconds;
+using testing::Eventually;
 
 // Four lanes, each blocked at `dead_end_m` (or clear when negative).
 GroundLanes LanesAt(double dead_end_m) {
@@ -139,15 +138,6 @@ class RecordingBase final : public drivers::DiffDriveBase {
   mutable std::mutex mutex_;
   nav::Twist2 last_;
 };
-
-// True once `done` holds, false after two seconds.
-bool Eventually(const std::function<bool()>& done) {
-  for (int i = 0; i < 200; ++i) {
-    if (done()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  return false;
-}
 
 TEST(ControlNodeTest, EachBumpIsPublishedWithTheWayTheBaseWasDrivingAndHoldsThatWay) {
   Executor executor("control");

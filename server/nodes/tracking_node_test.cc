@@ -2,10 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
-#include <thread>
-
 #include "server/runtime/topics.h"
+#include "testing/eventually.h"
 
 namespace corridor::server {
 namespace {
@@ -25,11 +23,11 @@ nav::PinholeCamera ForwardCamera() {
 // Waits until the node's health message satisfies `done` (at most 2 s); returns the last status.
 template <typename Done>
 nlohmann::json WaitForStatus(const Node& node, Done done) {
-  nlohmann::json status = node.Status();
-  for (int i = 0; i < 200 && !done(status); ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  nlohmann::json status;
+  testing::Eventually([&] {
     status = node.Status();
-  }
+    return done(status);
+  });
   return status;
 }
 
@@ -65,11 +63,10 @@ TEST(TrackingNodeTest, WithoutALaserItTracksFromDepthFramesAndSaysWhenAFrameIsWr
     frame.depth_mm(cv::Rect(left, 20, 20, 50)).setTo(1500);
     bus.Get(topics::kRgbd).Publish(frame);
     // One frame at a time: the node's mailbox keeps only the newest, and this test wants every frame tracked.
-    for (int i = 0; i < 200; ++i) {
+    testing::Eventually([&] {
       const auto done = bus.Get(topics::kTrackedObjects).latest();
-      if (done && done->stamp_ns == frame.stamp_ns) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
+      return done && done->stamp_ns == frame.stamp_ns;
+    });
   }
   const nlohmann::json ok = WaitForStatus(node, [](const nlohmann::json& s) {
     return s["health"] == "ok" && s["message"].get<std::string>().find("1 moving") != std::string::npos;
