@@ -18,7 +18,7 @@ namespace corridor::nav {
 struct TrafficOptions {
   double lane_half_width_m = 0.75;  // cells this near a walking person are on their way (their radius, the robot's
                                     // and a margin)
-  double weight = 2.0;              // extra step cost (per metre, as the costmap's d(n)) of a cell just walked
+  double weight = 3.0;              // extra step cost (per metre, as the costmap's d(n)) of a cell just walked
   double memory_s = 30.0;           // the cost fades with this time constant
 };
 

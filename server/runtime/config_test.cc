@@ -93,7 +93,7 @@ TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
   std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n"
                                     "tracking: {enabled: false, camera: false, window_scans: 6, coast_s: 0.5,"
                                     " unseen_coast_s: 3, walk_end_memory_s: 20,"
-                                    " traffic: {weight: 3}}\n"
+                                    " traffic: {weight: 5}}\n"
                                     "mission: {max_linear_mps: 0.4, reroute_s: 5, evade: {margin_m: 0.25, horizon_s: 4}}\n";
   const Config c = LoadConfig(dir_ / "c.yaml");
   EXPECT_FALSE(c.tracking.enabled);
@@ -105,7 +105,7 @@ TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
                 .find("tracking.unseen_coast_s"),
             std::string::npos);
   EXPECT_DOUBLE_EQ(c.tracking.objects.walk_end_memory_s, 20.0);
-  EXPECT_DOUBLE_EQ(c.tracking.traffic.weight, 3.0);
+  EXPECT_DOUBLE_EQ(c.tracking.traffic.weight, 5.0);
   EXPECT_DOUBLE_EQ(c.mission.reroute_s, 5.0);
   EXPECT_DOUBLE_EQ(c.mission.evade.margin_m, 0.25);
   EXPECT_DOUBLE_EQ(c.mission.evade.horizon_s, 4.0);
