@@ -237,6 +237,32 @@ TEST(LocalNavigatorTest, ACornerOfThePathBesideTheMapsSpecksIsFollowedNotLeftFor
   EXPECT_LT(driven, 1.3 * plan.plan.length_m);
 }
 
+TEST(LocalNavigatorTest, BesideACornerOfTheMapATurnRefusedByTheMapIsMadeOnTheSpot) {
+  // The same mission, where the daemon's robot stood for a minute (under load, after swerving north past the corner
+  // for what the camera saw of the specks): facing north-north-east, the follower turning right for the goal. Its
+  // arc closes in on an unknown cell to the north; the memory refused it and turned the robot left on the spot, away
+  // from the map's nearer side, and the follower turned it right again, for ever.
+  const OccupancyGrid grid = LoadMap(testing::SourceDir() / "config/worlds/willow_garage/willow-full-0.05.yaml");
+  const auto costmap = std::make_shared<const Costmap>(grid, std::span<const Zone>{}, CostmapOptions{});
+  const std::vector<Waypoint> path = {{Pose2{24.394, 26.507, 1.616}}, {Pose2{24.375, 26.925, 0.785}},
+                                      {Pose2{24.675, 27.225, -0.077}}, {Pose2{25.0, 27.2, -0.077}}};
+  LocalNavigatorOptions o;
+  o.follower.max_linear_mps = 0.5;
+  LocalNavigator nav(o);
+  nav.SetPath(path, costmap);
+  Pose2 robot{24.318, 27.124, 1.3};
+  const double dt = 1.0 / 15.0;
+  bool done = false;
+  for (int i = 0; i < 20 * 15 && !done; ++i) {
+    const LocalStep step = nav.Update(robot, Lanes({-1, -1, -1, -1}), 1e9, dt);
+    done = step.done;
+    robot = DriveArc(robot, step.twist, dt);
+    EXPECT_GT(costmap->ClearanceAt(robot.translation()), o.memory.robot_radius_m) << "touched the map at " << i;
+  }
+  EXPECT_TRUE(done);
+  EXPECT_LT((robot.translation() - Eigen::Vector2d(25.0, 27.2)).norm(), 0.05);
+}
+
 TEST(LocalNavigatorTest, ACentimetreFromTheGoalWithSomethingJustInFrontItTurnsToTheGoalsHeading) {
   // As in the daemon at the default world's first goal: 1.02 cm from the goal, which lies to the robot's side, with
   // what the bumper touched remembered across its front. The polar controller creeps a few millimetres while it
@@ -364,6 +390,26 @@ TEST(ObstacleMemoryTest, TheMapsObstaclesAreKeptClearOfWithoutBeingSeen) {
   EXPECT_LT(memory.Guard(facing_away, {-0.2, 0.0}).linear_mps, 0.0);
   // Without the map nothing is known there.
   EXPECT_FALSE(ObstacleMemory(ObstacleMemoryOptions{}).Blocks(robot, {0.26, 1.0}));
+}
+
+TEST(ObstacleMemoryTest, WhenTheMapAloneRefusesEveryArcATurningCommandTurnsOnTheSpotItsOwnWay) {
+  // A mapped corner ahead and to the right of the robot: a wall across x = 0.5 and one along y = -0.4.
+  OccupancyGrid grid(60, 60, 0.05, Pose2{-1.5, -1.5, 0.0}, kFreeCell);
+  for (int i = 0; i < 60; ++i) grid.at({40, i}) = grid.at({i, 22}) = kOccupiedCell;
+  ObstacleMemory memory(ObstacleMemoryOptions{});
+  memory.SetMap(std::make_shared<const Costmap>(grid, std::span<const Zone>{}, CostmapOptions{}));
+  const Pose2 robot{0.2, -0.05, 0.0};
+  ObstacleMemory::Blocker by = ObstacleMemory::Blocker::kNone;
+  // Straight on: no arc is clear, and it turns away from the nearer side (the right).
+  const Twist2 straight = memory.Guard(robot, {0.3, 0.0}, false, &by);
+  EXPECT_EQ(by, ObstacleMemory::Blocker::kMap);
+  EXPECT_EQ(straight.linear_mps, 0.0);
+  EXPECT_GT(straight.angular_rps, 0.0);
+  // Turning right: it goes on turning right, toward where it was going, rather than being turned back.
+  const Twist2 right = memory.Guard(robot, {0.3, -1.0}, false, &by);
+  EXPECT_EQ(by, ObstacleMemory::Blocker::kMap);
+  EXPECT_EQ(right.linear_mps, 0.0);
+  EXPECT_LT(right.angular_rps, 0.0);
 }
 
 TEST(ObstacleMemoryTest, WhatTheBumperTouchedIsNotDrivenIntoAgain) {

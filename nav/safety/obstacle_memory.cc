@@ -106,6 +106,11 @@ Twist2 ObstacleMemory::Guard(const Pose2& robot, const Twist2& command, bool app
     }
   }
   if (best) return *best;
+  // Refused by the map alone, a turning command turns on the spot the way it was turning: the robot comes to face
+  // where it is going and the next arc is straighter. (Turning away from the map's nearer side instead fought the
+  // follower's own turn beside a corner of the map, each undoing the other for as long as the mission lasted.)
+  const double w_spot = 0.7 * w_max;
+  if (blocker == Blocker::kMap && command.angular_rps != 0.0) return {0.0, std::copysign(w_spot, command.angular_rps)};
   // Turn away from the nearest remembered point, or else from the map's nearer side.
   double side = 0.0;  // > 0: it is on the left
   if (!points_.empty()) {
@@ -118,7 +123,7 @@ Twist2 ObstacleMemory::Guard(const Pose2& robot, const Twist2& command, bool app
     side = MapClearance(robot.Transform(Eigen::Vector2d(0.0, -aside))) -
            MapClearance(robot.Transform(Eigen::Vector2d(0.0, aside)));
   }
-  return {0.0, side > 0.0 ? -0.7 * w_max : 0.7 * w_max};
+  return {0.0, side > 0.0 ? -w_spot : w_spot};
 }
 
 }  // namespace corridor::nav

@@ -57,8 +57,9 @@ class ObstacleMemory {
 
   // `command` if its sweep stays clear of every remembered point (or moves away from them), else the clear
   // candidate nearest to it: the same or half the speed (forward or back, as commanded) on arcs bending up to
-  // max_turn_rps either way; else turning in place away from the nearest point (it comes into the camera's view,
-  // which clears it or confirms it). `approach`: the final approach to a goal (approach_margin_m).
+  // max_turn_rps either way; else turning in place: the way `command` turns when only the map refused it (toward
+  // where the robot is going), otherwise away from the nearest point (it comes into the camera's view, which clears
+  // it or confirms it). `approach`: the final approach to a goal (approach_margin_m).
   // `refused_by` (may be null) is set to what refused `command` (kNone: it passed).
   enum class Blocker { kNone, kSeen, kMap };
   Twist2 Guard(const Pose2& robot, const Twist2& command, bool approach = false, Blocker* refused_by = nullptr) const;
