@@ -51,8 +51,9 @@ MovingObjectTracker::MovingObjectTracker(const MovingObjectOptions& options) : o
   if (!(options.time_scale_mps > 0.0)) throw std::invalid_argument("tracking: time_scale_mps must be > 0");
   if (options.min_points < 2) throw std::invalid_argument("tracking: min_points must be at least 2");
   if (!(options.range_m > 0.0)) throw std::invalid_argument("tracking: range_m must be > 0");
-  if (options.unseen_coast_s < options.coast_s || options.unseen_edge_m < 0.0) {
-    throw std::invalid_argument("tracking: need unseen_coast_s >= coast_s and unseen_edge_m >= 0");
+  if (options.unseen_coast_s < options.coast_s || options.merged_hold_s < options.coast_s ||
+      options.unseen_edge_m < 0.0) {
+    throw std::invalid_argument("tracking: need unseen_coast_s >= coast_s, merged_hold_s >= coast_s and unseen_edge_m >= 0");
   }
 }
 
@@ -105,6 +106,14 @@ const std::vector<TrackedObject>& MovingObjectTracker::Update(double stamp_s, co
   return now_.objects;
 }
 
+void MovingObjectTracker::Cluster::Measure() {
+  position = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& p : newest) position += p;
+  position /= static_cast<double>(newest.size());
+  radius_m = 0.0;
+  for (const Eigen::Vector2d& p : newest) radius_m = std::max(radius_m, (p - position).norm());
+}
+
 std::vector<MovingObjectTracker::Cluster> MovingObjectTracker::FindClusters() const {
   const MovingObjectOptions& o = options_;
   std::vector<Point> points;
@@ -152,10 +161,7 @@ std::vector<MovingObjectTracker::Cluster> MovingObjectTracker::FindClusters() co
     }
     if (c.newest.empty()) continue;  // gone from view: nothing to report
     c.points = static_cast<int>(members.size());
-    c.position = Eigen::Vector2d::Zero();
-    for (const auto& p : c.newest) c.position += p;
-    c.position /= static_cast<double>(c.newest.size());
-    for (const auto& p : c.newest) c.radius_m = std::max(c.radius_m, (p - c.position).norm());
+    c.Measure();
     const double span = points[members.back()].t - points[members.front()].t;
     if (span < o.min_span_s) {
       clusters.push_back(std::move(c));
@@ -231,6 +237,17 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
     See(t, stamp_s, c);
     NoteTurn(t, stamp_s);
   }
+  // A cluster several tracks share (people walking together, or crossing) is split among them: each track takes the
+  // newest scan's points nearer its own centre than the others' (a few k-means steps from the predictions), so that
+  // it follows its own person rather than drifting on its prediction.
+  for (std::size_t j = 0; j < clusters.size(); ++j) {
+    if (tracks_in[j] < 2) continue;
+    std::vector<std::size_t> sharing;
+    for (std::size_t i = 0; i < tracks_.size(); ++i) {
+      if (cluster_of[i] == static_cast<int>(j)) sharing.push_back(i);
+    }
+    SplitAmong(stamp_s, clusters[j], sharing);
+  }
   // New clusters start tracks.
   for (std::size_t j = 0; j < clusters.size(); ++j) {
     if (tracks_in[j] > 0) continue;
@@ -250,7 +267,9 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
     t.out_of_view = view && t.velocity.norm() >= o.moving_speed_mps && !view->Covers(t.position, o.unseen_edge_m);
     // A turn made out of view is not seen: where the track was last seen is not the end of its walk.
     if (t.out_of_view) t.walked = Eigen::Vector2d::Zero();
-    if (stamp_s - t.last_seen_s > (t.out_of_view ? o.unseen_coast_s : o.coast_s)) continue;
+    const double unseen_s = stamp_s - t.last_seen_s;
+    const bool held = cluster_of[i] >= 0 && unseen_s <= o.merged_hold_s;
+    if (!held && unseen_s > (t.out_of_view ? o.unseen_coast_s : o.coast_s)) continue;
     tracks_[kept] = tracks_[i];
     cluster_of[kept] = cluster_of[i];
     ++kept;
@@ -289,6 +308,40 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
   std::sort(now_.objects.begin(), now_.objects.end(), [](const TrackedObject& a, const TrackedObject& b) {
     return a.position.x() != b.position.x() ? a.position.x() < b.position.x() : a.position.y() < b.position.y();
   });
+}
+
+void MovingObjectTracker::SplitAmong(double stamp_s, const Cluster& cluster, const std::vector<std::size_t>& sharing) {
+  constexpr int kSteps = 3;
+  constexpr std::size_t kMinPoints = 3;  // a share smaller than this is a sliver: the track coasts on
+  std::vector<Eigen::Vector2d> centres;
+  for (const std::size_t i : sharing) centres.push_back(tracks_[i].position);
+  std::vector<std::vector<Eigen::Vector2d>> shares(centres.size());
+  for (int step = 0; step < kSteps; ++step) {
+    for (auto& share : shares) share.clear();
+    for (const Eigen::Vector2d& p : cluster.newest) {
+      std::size_t nearest = 0;
+      for (std::size_t k = 1; k < centres.size(); ++k) {
+        if ((p - centres[k]).squaredNorm() < (p - centres[nearest]).squaredNorm()) nearest = k;
+      }
+      shares[nearest].push_back(p);
+    }
+    for (std::size_t k = 0; k < centres.size(); ++k) {
+      if (shares[k].empty()) continue;
+      centres[k] = Eigen::Vector2d::Zero();
+      for (const Eigen::Vector2d& p : shares[k]) centres[k] += p;
+      centres[k] /= static_cast<double>(shares[k].size());
+    }
+  }
+  for (std::size_t k = 0; k < sharing.size(); ++k) {
+    if (shares[k].size() < kMinPoints) continue;
+    Cluster own;
+    own.newest = std::move(shares[k]);
+    own.Measure();
+    Track& t = tracks_[sharing[k]];
+    t.position = own.position;
+    t.radius_m = own.radius_m;
+    See(t, stamp_s, own);  // no velocity of its own: the track's is kept unless its positions show a turn
+  }
 }
 
 void MovingObjectTracker::See(Track& t, double stamp_s, const Cluster& c) const {

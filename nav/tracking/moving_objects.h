@@ -7,9 +7,9 @@
 // corridor's additions: points on the map's walls are dropped before clustering (they are not objects to
 // track); each object carries the newest scan's extent, so that a caller can keep clear of it; and the clusters
 // feed tracks kept from scan to scan (nearest-neighbour association, constant-velocity prediction), so that two
-// people passing close to each other, whose points join into one cluster with a meaningless velocity for a moment,
-// keep their own positions and velocities through it (each track coasts on its prediction while it is not seen
-// alone), and so that a person hidden behind another is still there for a short while.
+// people passing close to each other or walking together, whose points join into one cluster with a meaningless
+// velocity, keep their own positions and velocities through it (the cluster's points are split among the tracks it
+// holds, each keeping its velocity), and so that a person hidden behind another is still there for a short while.
 //
 // Clustering is written here (a uniform grid with union-find: only points in neighbouring cells are compared) rather
 // than taken from OpenCV: cv::partition compares every pair, so its cost grows with the square of the window's
@@ -41,7 +41,10 @@ struct MovingObjectOptions {
   double range_m = 6.0;              // points farther from the sensor are ignored
   double gate_m = 0.35;              // a cluster within this of a track's prediction (to its nearest point) is it
   double merged_radius_m = 0.45;     // a cluster this wide is taken for several objects: no velocity from it
-  double coast_s = 0.8;              // a track not seen alone for this long is dropped
+  double coast_s = 0.8;              // a track not seen alone for this long is dropped...
+  // ...unless it is in a cluster it shares with other tracks (people walking together or crossing): it takes its
+  // own part of the cluster's points and is kept for up to this long without being seen alone.
+  double merged_hold_s = 3.0;
   double velocity_gain = 0.6;        // weight of a new velocity measurement against the track's
   // A person who turns round or sets off shows it in their own last few positions long before the window's halves
   // agree: when the track's velocity over the last recent_s differs from its estimate by more than maneuver_mps,
@@ -132,6 +135,7 @@ class MovingObjectTracker {
     double radius_m = 0.0;
     int points = 0;
     std::optional<Eigen::Vector2d> velocity;  // lower/upper-half estimate, when the cluster spans enough time
+    void Measure();  // position and radius_m from `newest` (not empty)
   };
   struct Sighting {
     double stamp_s;
@@ -160,6 +164,8 @@ class MovingObjectTracker {
   };
   // Records the track's sighting at stamp_s and updates its velocity from its own positions and the cluster's.
   void See(Track& track, double stamp_s, const Cluster& cluster) const;
+  // Gives each of the tracks `sharing` (indices into tracks_) its own part of a cluster they share.
+  void SplitAmong(double stamp_s, const Cluster& cluster, const std::vector<std::size_t>& sharing);
   // Remembers the end of a walk when the track has just turned round.
   void NoteTurn(Track& track, double stamp_s);
   std::optional<Eigen::Vector2d> WalkEndAhead(const Track& track) const;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -188,6 +189,41 @@ TEST(MovingObjectTrackerTest, TwoPeoplePassingCloseKeepTheirTracksAndVelocities)
   EXPECT_EQ(b->id, b_id);
   EXPECT_LT((a->velocity - Eigen::Vector2d(0.8, 0.0)).norm(), 0.15);
   EXPECT_LT((b->velocity - Eigen::Vector2d(-0.8, 0.0)).norm(), 0.15);
+}
+
+TEST(MovingObjectTrackerTest, TwoPeopleWalkingSideBySideAreStillTwoPeopleWalking) {
+  // Two people walking the same way 1 m apart close up to walk shoulder to shoulder for 2.5 s: their points are one
+  // cluster all that while, too wide for one person, so it gives no velocity. Each keeps its track, walking, rather
+  // than both being dropped after coast_s and the pair taken for something standing (which the robot would not step
+  // out of the way of).
+  std::mt19937 rng(3);
+  MovingObjectTracker tracker{MovingObjectOptions{}};
+  tracker.SetMap(std::make_shared<const OccupancyGrid>(Room(10.0)));
+  const Eigen::Vector2d sensor(8.5, 5.3);  // ahead of them: neither hides the other
+  const auto a_at = [](double t) { return Eigen::Vector2d(1.5 + 0.8 * t, 5.0); };
+  const auto b_at = [](double t) { return Eigen::Vector2d(1.5 + 0.8 * t, t < 1.5 ? 6.0 : std::max(5.55, 6.0 - 0.9 * (t - 1.5))); };
+  bool merged = false;
+  for (int k = 0; k <= 45; ++k) {
+    const double t = 0.1 * k;
+    const auto ranges = Scan(sensor, {{a_at(t), 0.25}, {b_at(t), 0.25}}, 10.0, rng);
+    tracker.Update(t, sensor, ScanToWorld({sensor.x(), sensor.y(), 0.0}, -std::numbers::pi, std::numbers::pi / 180.0, 0.1, 8.0, ranges));
+    if (t < 1.5) continue;
+    for (const auto& person : {a_at(t), b_at(t)}) {
+      // The laser sees their near sides, 0.16 m ahead of their centres; B's velocity is right again a few scans
+      // after B stopped stepping toward A.
+      const Eigen::Vector2d seen_at = person + Eigen::Vector2d(0.16, 0.0);
+      const auto walking = std::find_if(tracker.objects().begin(), tracker.objects().end(), [&](const TrackedObject& o) {
+        return o.moving && (o.position - seen_at).norm() < 0.15 &&
+               (t < 2.5 || (o.velocity - Eigen::Vector2d(0.8, 0.0)).norm() < 0.15);
+      });
+      EXPECT_NE(walking, tracker.objects().end()) << "nobody walking at " << person.transpose() << ", t = " << t;
+    }
+    for (const TrackedObject& o : tracker.objects()) {
+      EXPECT_FALSE(!o.moving && (o.position - a_at(t)).norm() < 0.8) << "something standing at t = " << t;
+      merged = merged || (o.moving && !o.seen);
+    }
+  }
+  EXPECT_TRUE(merged) << "the two were never one cluster: the test does not test walking together";
 }
 
 struct TurnSeen {
@@ -407,6 +443,9 @@ TEST(MovingObjectTrackerTest, BadOptionsAreRefused) {
   EXPECT_THROW(MovingObjectTracker{o}, std::invalid_argument);
   o = {};
   o.unseen_coast_s = 0.5 * o.coast_s;
+  EXPECT_THROW(MovingObjectTracker{o}, std::invalid_argument);
+  o = {};
+  o.merged_hold_s = 0.5 * o.coast_s;
   EXPECT_THROW(MovingObjectTracker{o}, std::invalid_argument);
 }
 

@@ -145,6 +145,12 @@ void ReadTracking(ConfigReader& r, TrackingOptions& t) {
                       ": must be at least coast_s (someone out of the camera's view is not forgotten sooner than "
                       "someone in it)");
   }
+  r.Read("merged_hold_s", o.merged_hold_s, 0.0, 60.0);
+  if (o.merged_hold_s < o.coast_s) {
+    throw ConfigError(r.PathOf("merged_hold_s") +
+                      ": must be at least coast_s (someone walking beside another is not forgotten sooner than "
+                      "someone hidden)");
+  }
   r.Read("walk_end_memory_s", o.walk_end_memory_s, 0.0, 86400.0);
   r.Section("traffic", [&](ConfigReader& s) {
     s.Read("weight", t.traffic.weight, 0.0, 100.0);

@@ -92,7 +92,7 @@ TEST_F(ConfigTest, PolarGainsAreCheckedForConvergence) {
 TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
   std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n"
                                     "tracking: {enabled: false, camera: false, window_scans: 6, coast_s: 0.5,"
-                                    " unseen_coast_s: 3, walk_end_memory_s: 20,"
+                                    " unseen_coast_s: 3, merged_hold_s: 2, walk_end_memory_s: 20,"
                                     " traffic: {weight: 5}}\n"
                                     "mission: {max_linear_mps: 0.4, reroute_s: 5, evade: {margin_m: 0.25, horizon_s: 4}}\n";
   const Config c = LoadConfig(dir_ / "c.yaml");
@@ -101,6 +101,9 @@ TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
   EXPECT_EQ(c.tracking.objects.window_scans, 6);
   EXPECT_DOUBLE_EQ(c.tracking.objects.coast_s, 0.5);
   EXPECT_DOUBLE_EQ(c.tracking.objects.unseen_coast_s, 3.0);
+  EXPECT_DOUBLE_EQ(c.tracking.objects.merged_hold_s, 2.0);
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\ntracking: {coast_s: 2, merged_hold_s: 1}\n").find("tracking.merged_hold_s"),
+            std::string::npos);
   EXPECT_NE(ErrorOf("sim: {enabled: false}\ntracking: {coast_s: 2, unseen_coast_s: 1}\n")
                 .find("tracking.unseen_coast_s"),
             std::string::npos);
