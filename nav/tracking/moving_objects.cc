@@ -53,7 +53,8 @@ MovingObjectTracker::MovingObjectTracker(const MovingObjectOptions& options) : o
   if (!(options.range_m > 0.0)) throw std::invalid_argument("tracking: range_m must be > 0");
   if (options.unseen_coast_s < options.coast_s || options.merged_hold_s < options.coast_s ||
       options.unseen_edge_m < 0.0) {
-    throw std::invalid_argument("tracking: need unseen_coast_s >= coast_s, merged_hold_s >= coast_s and unseen_edge_m >= 0");
+    throw std::invalid_argument(
+        "tracking: need unseen_coast_s >= coast_s, merged_hold_s >= coast_s and unseen_edge_m >= 0");
   }
 }
 
@@ -303,7 +304,8 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
   // Static points: the newest scan's on the map, and those of every cluster that no moving track holds.
   now_.static_points = newest_on_map_;
   for (std::size_t j = 0; j < clusters.size(); ++j) {
-    if (!cluster_moves[j]) now_.static_points.insert(now_.static_points.end(), clusters[j].newest.begin(), clusters[j].newest.end());
+    if (cluster_moves[j]) continue;
+    now_.static_points.insert(now_.static_points.end(), clusters[j].newest.begin(), clusters[j].newest.end());
   }
   std::sort(now_.objects.begin(), now_.objects.end(), [](const TrackedObject& a, const TrackedObject& b) {
     return a.position.x() != b.position.x() ? a.position.x() < b.position.x() : a.position.y() < b.position.y();

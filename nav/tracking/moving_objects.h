@@ -42,8 +42,8 @@ struct MovingObjectOptions {
   double gate_m = 0.35;              // a cluster within this of a track's prediction (to its nearest point) is it
   double merged_radius_m = 0.45;     // a cluster this wide is taken for several objects: no velocity from it
   double coast_s = 0.8;              // a track not seen alone for this long is dropped...
-  // ...unless it is in a cluster it shares with other tracks (people walking together or crossing): it takes its
-  // own part of the cluster's points and is kept for up to this long without being seen alone.
+  // ...unless it is in a cluster shared with other tracks (people walking together or crossing; it takes its own
+  // part of the cluster's points) or too wide for one object: it is kept up to this long without being seen alone.
   double merged_hold_s = 3.0;
   double velocity_gain = 0.6;        // weight of a new velocity measurement against the track's
   // A person who turns round or sets off shows it in their own last few positions long before the window's halves

@@ -47,6 +47,11 @@ std::vector<float> Scan(const Eigen::Vector2d& sensor, const std::vector<Disc>& 
   return ranges;
 }
 
+// The world-frame points of a scan from Scan() taken at `sensor` (yaw 0).
+std::vector<Eigen::Vector2d> ToWorld(const Eigen::Vector2d& sensor, const std::vector<float>& ranges) {
+  return ScanToWorld({sensor.x(), sensor.y(), 0.0}, -std::numbers::pi, std::numbers::pi / 180.0, 0.1, 8.0, ranges);
+}
+
 OccupancyGrid Room(double size) {
   const double res = 0.05;
   const int n = static_cast<int>(std::round(size / res));
@@ -71,7 +76,7 @@ MovingObjectTracker Watch(const Eigen::Vector2d& start, const Eigen::Vector2d& v
     const double t = 0.1 * k;
     const Eigen::Vector2d sensor = sensor_start + t * sensor_velocity;
     const auto ranges = Scan(sensor, {{start + t * velocity, 0.25}}, 10.0, rng);
-    tracker.Update(t, sensor, ScanToWorld({sensor.x(), sensor.y(), 0.0}, -std::numbers::pi, std::numbers::pi / 180.0, 0.1, 8.0, ranges));
+    tracker.Update(t, sensor, ToWorld(sensor, ranges));
     if (last_t != nullptr) *last_t = t;
   }
   return tracker;
@@ -136,7 +141,7 @@ TEST(MovingObjectTrackerTest, TwoPeopleApartAreTwoObjectsAndATimeResetStartsAgai
   const Eigen::Vector2d sensor(5.0, 2.0);
   const auto scan_at = [&](double t) {
     const auto ranges = Scan(sensor, {{{3.0 + 0.8 * t, 5.0}, 0.25}, {{7.0, 6.0 - 0.6 * t}, 0.25}}, 10.0, rng);
-    return ScanToWorld({sensor.x(), sensor.y(), 0.0}, -std::numbers::pi, std::numbers::pi / 180.0, 0.1, 8.0, ranges);
+    return ToWorld(sensor, ranges);
   };
   for (int k = 0; k < 10; ++k) tracker.Update(0.1 * k, sensor, scan_at(0.1 * k));
   ASSERT_EQ(tracker.objects().size(), 2u);
@@ -169,7 +174,7 @@ TEST(MovingObjectTrackerTest, TwoPeoplePassingCloseKeepTheirTracksAndVelocities)
   for (int k = 0; k <= 60; ++k) {
     const double t = 0.1 * k;
     const auto ranges = Scan(sensor, {{a_at(t), 0.25}, {b_at(t), 0.25}}, 10.0, rng);
-    tracker.Update(t, sensor, ScanToWorld({sensor.x(), sensor.y(), 0.0}, -std::numbers::pi, std::numbers::pi / 180.0, 0.1, 8.0, ranges));
+    tracker.Update(t, sensor, ToWorld(sensor, ranges));
     std::size_t seen_moving = 0;
     for (const TrackedObject& o : tracker.objects()) seen_moving += o.moving && o.seen ? 1 : 0;
     merged = merged || seen_moving < 2;
@@ -201,22 +206,25 @@ TEST(MovingObjectTrackerTest, TwoPeopleWalkingSideBySideAreStillTwoPeopleWalking
   tracker.SetMap(std::make_shared<const OccupancyGrid>(Room(10.0)));
   const Eigen::Vector2d sensor(8.5, 5.3);  // ahead of them: neither hides the other
   const auto a_at = [](double t) { return Eigen::Vector2d(1.5 + 0.8 * t, 5.0); };
-  const auto b_at = [](double t) { return Eigen::Vector2d(1.5 + 0.8 * t, t < 1.5 ? 6.0 : std::max(5.55, 6.0 - 0.9 * (t - 1.5))); };
+  const auto b_at = [](double t) {
+    return Eigen::Vector2d(1.5 + 0.8 * t, t < 1.5 ? 6.0 : std::max(5.55, 6.0 - 0.9 * (t - 1.5)));
+  };
   bool merged = false;
   for (int k = 0; k <= 45; ++k) {
     const double t = 0.1 * k;
     const auto ranges = Scan(sensor, {{a_at(t), 0.25}, {b_at(t), 0.25}}, 10.0, rng);
-    tracker.Update(t, sensor, ScanToWorld({sensor.x(), sensor.y(), 0.0}, -std::numbers::pi, std::numbers::pi / 180.0, 0.1, 8.0, ranges));
+    tracker.Update(t, sensor, ToWorld(sensor, ranges));
     if (t < 1.5) continue;
     for (const auto& person : {a_at(t), b_at(t)}) {
       // The laser sees their near sides, 0.16 m ahead of their centres; B's velocity is right again a few scans
       // after B stopped stepping toward A.
       const Eigen::Vector2d seen_at = person + Eigen::Vector2d(0.16, 0.0);
-      const auto walking = std::find_if(tracker.objects().begin(), tracker.objects().end(), [&](const TrackedObject& o) {
+      const auto& objects = tracker.objects();
+      const auto walking = std::find_if(objects.begin(), objects.end(), [&](const TrackedObject& o) {
         return o.moving && (o.position - seen_at).norm() < 0.15 &&
                (t < 2.5 || (o.velocity - Eigen::Vector2d(0.8, 0.0)).norm() < 0.15);
       });
-      EXPECT_NE(walking, tracker.objects().end()) << "nobody walking at " << person.transpose() << ", t = " << t;
+      EXPECT_NE(walking, objects.end()) << "nobody walking at " << person.transpose() << ", t = " << t;
     }
     for (const TrackedObject& o : tracker.objects()) {
       EXPECT_FALSE(!o.moving && (o.position - a_at(t)).norm() < 0.8) << "something standing at t = " << t;
@@ -246,7 +254,7 @@ TurnSeen SeeATurn(const MovingObjectOptions& options) {
   for (int k = 0; k <= 60; ++k) {
     const double t = 0.1 * k;
     const auto ranges = Scan(sensor, {{at(t), 0.25}}, 10.0, rng);
-    tracker.Update(t, sensor, ScanToWorld({sensor.x(), sensor.y(), 0.0}, -std::numbers::pi, std::numbers::pi / 180.0, 0.1, 8.0, ranges));
+    tracker.Update(t, sensor, ToWorld(sensor, ranges));
     const TrackedObject* person = nullptr;
     for (const TrackedObject& o : tracker.objects()) {
       if (!person || (o.position - at(t)).norm() < (person->position - at(t)).norm()) person = &o;
@@ -293,8 +301,7 @@ TEST(MovingObjectTrackerTest, WhereSomeonePacingTurnedRoundIsTheEndOfTheirWalk) 
   for (int k = 0; k <= 250; ++k) {
     const double t = 0.1 * k;
     const auto ranges = Scan(sensor, {{at(t), 0.25}}, 10.0, rng);
-    tracker.Update(t, sensor,
-                   ScanToWorld({sensor.x(), sensor.y(), 0.0}, -std::numbers::pi, std::numbers::pi / 180.0, 0.1, 8.0, ranges));
+    tracker.Update(t, sensor, ToWorld(sensor, ranges));
     const TrackedObject* person = nullptr;
     for (const TrackedObject& o : tracker.objects()) {
       if (!person || (o.position - at(t)).norm() < (person->position - at(t)).norm()) person = &o;
@@ -326,7 +333,7 @@ std::vector<Eigen::Vector2d> NarrowScan(const Eigen::Vector2d& sensor, const std
   for (int i = 0; i < 360; ++i) {
     if (std::abs(-std::numbers::pi + i * std::numbers::pi / 180.0) > half_angle) ranges[i] = -1.0f;
   }
-  return ScanToWorld({sensor.x(), sensor.y(), 0.0}, -std::numbers::pi, std::numbers::pi / 180.0, 0.1, 8.0, ranges);
+  return ToWorld(sensor, ranges);
 }
 
 const TrackedObject* Nearest(const std::vector<TrackedObject>& objects, const Eigen::Vector2d& p) {
