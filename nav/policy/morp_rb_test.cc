@@ -198,13 +198,40 @@ TEST(LocalNavigatorTest, AGoalItCannotGetNearerToThanAFewCentimetresIsReachedThe
   EXPECT_FALSE(far.Update(Pose2{5.9, 0.0, 0.5}, touching, 1e9, 0.05).done);
 }
 
+// The default world's map, Willow Garage.
+std::shared_ptr<const Costmap> WillowGarage() {
+  const OccupancyGrid grid = LoadMap(testing::SourceDir() / "config/worlds/willow_garage/willow-full-0.05.yaml");
+  return std::make_shared<const Costmap>(grid, std::span<const Zone>{}, CostmapOptions{});
+}
+
+struct Drive {
+  bool done = false;
+  double driven_m = 0.0;
+};
+
+// Drives `robot` by `nav`'s commands, 15 frames a second with the same `lanes`, until it is done or `seconds` have
+// passed; every pose must keep `radius_m` clear of the map's obstacles.
+Drive DriveOnMap(LocalNavigator& nav, Pose2& robot, const std::vector<LaneResult>& lanes, const Costmap& map,
+                 double radius_m, double seconds) {
+  const double dt = 1.0 / 15.0;
+  Drive drive;
+  for (int i = 0; i < static_cast<int>(seconds / dt) && !drive.done; ++i) {
+    const LocalStep step = nav.Update(robot, lanes, 1e9, dt);
+    drive.done = step.done;
+    const Pose2 next = DriveArc(robot, step.twist, dt);
+    drive.driven_m += (next.translation() - robot.translation()).norm();
+    robot = next;
+    EXPECT_GT(map.ClearanceAt(robot.translation()), radius_m) << "touched the map at " << i;
+  }
+  return drive;
+}
+
 TEST(LocalNavigatorTest, ACornerOfThePathBesideTheMapsSpecksIsFollowedNotLeftForALoop) {
   // The default world's second mission: from beside the specks north of the start to a goal 0.9 m away, round a
   // corner of the path 0.25 m from the map's unknown cells. The follower's arc cuts the corner, the memory refuses it
   // for the map, and the robot used to drive on away from the path (a detour, meant for what the camera saw) and
   // loop back: 2.9 m driven in the daemon, or stuck 1 m west of the path here.
-  const OccupancyGrid grid = LoadMap(testing::SourceDir() / "config/worlds/willow_garage/willow-full-0.05.yaml");
-  const auto costmap = std::make_shared<const Costmap>(grid, std::span<const Zone>{}, CostmapOptions{});
+  const auto costmap = WillowGarage();
   Pose2 robot{24.39, 26.50, -0.89};
   PathOptions stood;
   stood.robot_at_start = true;
@@ -221,20 +248,10 @@ TEST(LocalNavigatorTest, ACornerOfThePathBesideTheMapsSpecksIsFollowedNotLeftFor
     lane.free_distance_m = 4.0;
     lanes.push_back(lane);
   }
-  const double dt = 1.0 / 15.0;
-  double driven = 0.0;
-  bool done = false;
-  for (int i = 0; i < 30 * 15 && !done; ++i) {
-    const LocalStep step = nav.Update(robot, lanes, 1e9, dt);
-    done = step.done;
-    const Pose2 next = DriveArc(robot, step.twist, dt);
-    driven += (next.translation() - robot.translation()).norm();
-    robot = next;
-    EXPECT_GT(costmap->ClearanceAt(robot.translation()), o.memory.robot_radius_m) << "touched the map at " << i;
-  }
-  EXPECT_TRUE(done);
+  const Drive drive = DriveOnMap(nav, robot, lanes, *costmap, o.memory.robot_radius_m, 30.0);
+  EXPECT_TRUE(drive.done);
   EXPECT_LT((robot.translation() - Eigen::Vector2d(25.0, 27.2)).norm(), 0.05);
-  EXPECT_LT(driven, 1.3 * plan.plan.length_m);
+  EXPECT_LT(drive.driven_m, 1.3 * plan.plan.length_m);
 }
 
 TEST(LocalNavigatorTest, BesideACornerOfTheMapATurnRefusedByTheMapIsMadeOnTheSpot) {
@@ -242,8 +259,7 @@ TEST(LocalNavigatorTest, BesideACornerOfTheMapATurnRefusedByTheMapIsMadeOnTheSpo
   // for what the camera saw of the specks): facing north-north-east, the follower turning right for the goal. Its
   // arc closes in on an unknown cell to the north; the memory refused it and turned the robot left on the spot, away
   // from the map's nearer side, and the follower turned it right again, for ever.
-  const OccupancyGrid grid = LoadMap(testing::SourceDir() / "config/worlds/willow_garage/willow-full-0.05.yaml");
-  const auto costmap = std::make_shared<const Costmap>(grid, std::span<const Zone>{}, CostmapOptions{});
+  const auto costmap = WillowGarage();
   const std::vector<Waypoint> path = {{Pose2{24.394, 26.507, 1.616}}, {Pose2{24.375, 26.925, 0.785}},
                                       {Pose2{24.675, 27.225, -0.077}}, {Pose2{25.0, 27.2, -0.077}}};
   LocalNavigatorOptions o;
@@ -251,15 +267,7 @@ TEST(LocalNavigatorTest, BesideACornerOfTheMapATurnRefusedByTheMapIsMadeOnTheSpo
   LocalNavigator nav(o);
   nav.SetPath(path, costmap);
   Pose2 robot{24.318, 27.124, 1.3};
-  const double dt = 1.0 / 15.0;
-  bool done = false;
-  for (int i = 0; i < 20 * 15 && !done; ++i) {
-    const LocalStep step = nav.Update(robot, Lanes({-1, -1, -1, -1}), 1e9, dt);
-    done = step.done;
-    robot = DriveArc(robot, step.twist, dt);
-    EXPECT_GT(costmap->ClearanceAt(robot.translation()), o.memory.robot_radius_m) << "touched the map at " << i;
-  }
-  EXPECT_TRUE(done);
+  EXPECT_TRUE(DriveOnMap(nav, robot, Lanes({-1, -1, -1, -1}), *costmap, o.memory.robot_radius_m, 20.0).done);
   EXPECT_LT((robot.translation() - Eigen::Vector2d(25.0, 27.2)).norm(), 0.05);
 }
 

@@ -315,30 +315,25 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
 void MovingObjectTracker::SplitAmong(double stamp_s, const Cluster& cluster, const std::vector<std::size_t>& sharing) {
   constexpr int kSteps = 3;
   constexpr std::size_t kMinPoints = 3;  // a share smaller than this is a sliver: the track coasts on
-  std::vector<Eigen::Vector2d> centres;
-  for (const std::size_t i : sharing) centres.push_back(tracks_[i].position);
-  std::vector<std::vector<Eigen::Vector2d>> shares(centres.size());
+  // Each track's share, centred first on its prediction.
+  std::vector<Cluster> shares(sharing.size());
+  for (std::size_t k = 0; k < sharing.size(); ++k) shares[k].position = tracks_[sharing[k]].position;
   for (int step = 0; step < kSteps; ++step) {
-    for (auto& share : shares) share.clear();
+    for (Cluster& share : shares) share.newest.clear();
     for (const Eigen::Vector2d& p : cluster.newest) {
       std::size_t nearest = 0;
-      for (std::size_t k = 1; k < centres.size(); ++k) {
-        if ((p - centres[k]).squaredNorm() < (p - centres[nearest]).squaredNorm()) nearest = k;
+      for (std::size_t k = 1; k < shares.size(); ++k) {
+        if ((p - shares[k].position).squaredNorm() < (p - shares[nearest].position).squaredNorm()) nearest = k;
       }
-      shares[nearest].push_back(p);
+      shares[nearest].newest.push_back(p);
     }
-    for (std::size_t k = 0; k < centres.size(); ++k) {
-      if (shares[k].empty()) continue;
-      centres[k] = Eigen::Vector2d::Zero();
-      for (const Eigen::Vector2d& p : shares[k]) centres[k] += p;
-      centres[k] /= static_cast<double>(shares[k].size());
+    for (Cluster& share : shares) {
+      if (!share.newest.empty()) share.Measure();
     }
   }
   for (std::size_t k = 0; k < sharing.size(); ++k) {
-    if (shares[k].size() < kMinPoints) continue;
-    Cluster own;
-    own.newest = std::move(shares[k]);
-    own.Measure();
+    const Cluster& own = shares[k];
+    if (own.newest.size() < kMinPoints) continue;
     Track& t = tracks_[sharing[k]];
     t.position = own.position;
     t.radius_m = own.radius_m;
