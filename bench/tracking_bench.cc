@@ -31,7 +31,10 @@ const Recording& Record() {
     drivers::sim::SimOptions options;
     options.start = {6.0, 6.0, 0.0};
     std::mt19937 rng(4);
-    options.pedestrians = drivers::sim::RandomRoutes(world->collision, 5, 0.25, {6.0, 6.0}, 1e3, 1.5, rng);
+    drivers::sim::RouteArea area;
+    area.center = {6.0, 6.0};
+    area.clearance_m = 1.5;
+    options.pedestrians = drivers::sim::RandomRoutes(world->collision, 5, 0.25, area, rng);
     drivers::sim::SimRobot robot(world, options);
     robot.SetScanHandler([&](std::shared_ptr<const drivers::LaserScan> scan) {
       const nav::Pose2 laser = robot.true_pose() * robot.base_T_laser();

@@ -146,8 +146,12 @@ int Run(const CommandLine& cl) {
   drivers::sim::SimOptions sim_options = config.sim.robot;
   if (config.sim.pedestrians > 0) {
     std::mt19937 rng(config.sim.robot.seed);
-    sim_options.pedestrians = drivers::sim::RandomRoutes(world->collision, config.sim.pedestrians, sim_options.crowd.radius_m,
-                                                         start.translation(), config.sim.pedestrians_within_m, 1.5, rng);
+    drivers::sim::RouteArea area;
+    area.center = start.translation();
+    area.within_m = config.sim.pedestrians_within_m;
+    area.clearance_m = 1.5;
+    sim_options.pedestrians =
+        drivers::sim::RandomRoutes(world->collision, config.sim.pedestrians, sim_options.crowd.radius_m, area, rng);
     spdlog::info("simulator: {} pedestrian(s) walking near the start", sim_options.pedestrians.size());
   }
   drivers::sim::SimRobot robot(world, sim_options);

@@ -193,12 +193,19 @@ bool Crowd::Free(const Eigen::Vector2d& p) const {
 
 void Crowd::Step(double dt_s) {
   const CrowdOptions& o = options_;
-  std::vector<Eigen::Vector2d> next(pedestrians_.size());
+  std::vector<Eigen::Vector2d> next(pedestrians_.size(), Eigen::Vector2d::Zero());
   std::vector<OrcaNeighbour> neighbours;
   for (std::size_t i = 0; i < pedestrians_.size(); ++i) {
     Pedestrian& p = pedestrians_[i];
     const Eigen::Vector2d& goal = p.returning ? p.route.start : p.route.goal;
-    if ((goal - p.position).norm() < o.goal_tolerance_m) p.returning = !p.returning;
+    if ((goal - p.position).norm() < o.goal_tolerance_m) {
+      if (o.turn_back) {
+        p.returning = !p.returning;
+      } else {
+        p.arrived = true;
+      }
+    }
+    if (p.arrived) continue;  // stands: next[i] stays zero
     const Eigen::Vector2d to_goal = (p.returning ? p.route.start : p.route.goal) - p.position;
     const double distance = to_goal.norm();
     const Eigen::Vector2d preferred =
@@ -207,8 +214,10 @@ void Crowd::Step(double dt_s) {
                             : Eigen::Vector2d::Zero();
     neighbours.clear();
     for (std::size_t j = 0; j < pedestrians_.size(); ++j) {
-      if (j == i || (pedestrians_[j].position - p.position).norm() > o.neighbour_distance_m) continue;
-      neighbours.push_back({pedestrians_[j].position, pedestrians_[j].velocity, o.radius_m, true});
+      const Pedestrian& other = pedestrians_[j];
+      if (j == i || (other.position - p.position).norm() > o.neighbour_distance_m) continue;
+      // Someone standing for good takes no part in the avoidance: they are passed like an obstacle.
+      neighbours.push_back({other.position, other.velocity, o.radius_m, !other.arrived});
     }
     for (const StaticObstacle& s : obstacles_) {
       if ((s.center - p.position).norm() > o.neighbour_distance_m) continue;
@@ -246,13 +255,13 @@ TriangleMesh Crowd::Mesh() const {
 }
 
 std::vector<PedestrianRoute> RandomRoutes(const nav::OccupancyGrid& collision, int count, double radius_m,
-                                          const Eigen::Vector2d& center, double within_m, double clearance_m,
-                                          std::mt19937& rng) {
+                                          const RouteArea& area, std::mt19937& rng) {
   // Free cells with room for a person and a margin.
   const double margin = radius_m + 0.15;
   const double res = collision.resolution_m();
   const int reach = static_cast<int>(std::ceil(margin / res));
   const auto clear_at = [&](const Eigen::Vector2d& p) {
+    if (area.contains && !area.contains(p)) return false;
     const auto c = collision.WorldToCell(p);
     if (!c) return false;
     for (int dy = -reach; dy <= reach; ++dy) {
@@ -271,17 +280,18 @@ std::vector<PedestrianRoute> RandomRoutes(const nav::OccupancyGrid& collision, i
     return true;
   };
   const auto in_range = [&](const Eigen::Vector2d& p) {
-    const double d = (p - center).norm();
-    return d >= clearance_m && d <= within_m;
+    const double d = (p - area.center).norm();
+    return d >= area.clearance_m && d <= area.within_m;
   };
+  const auto apart = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return (a - b).norm() > 2.0 * margin + 0.2; };
   // Sampled over the part of the grid within reach of the centre.
   const double x0 = collision.origin().x_m;
   const double y0 = collision.origin().y_m;
-  std::uniform_real_distribution<double> ux(std::max(x0, center.x() - within_m),
-                                            std::min(x0 + collision.width() * res, center.x() + within_m));
-  std::uniform_real_distribution<double> uy(std::max(y0, center.y() - within_m),
-                                            std::min(y0 + collision.height() * res, center.y() + within_m));
-  std::uniform_real_distribution<double> length(4.0, 10.0);
+  std::uniform_real_distribution<double> ux(std::max(x0, area.center.x() - area.within_m),
+                                            std::min(x0 + collision.width() * res, area.center.x() + area.within_m));
+  std::uniform_real_distribution<double> uy(std::max(y0, area.center.y() - area.within_m),
+                                            std::min(y0 + collision.height() * res, area.center.y() + area.within_m));
+  std::uniform_real_distribution<double> length(area.min_length_m, area.max_length_m);
   std::uniform_real_distribution<double> angle(-std::numbers::pi, std::numbers::pi);
   std::vector<PedestrianRoute> routes;
   for (int attempt = 0; attempt < 20000 && static_cast<int>(routes.size()) < count; ++attempt) {
@@ -290,10 +300,10 @@ std::vector<PedestrianRoute> RandomRoutes(const nav::OccupancyGrid& collision, i
     const double a = angle(rng);
     const Eigen::Vector2d goal = start + length(rng) * Eigen::Vector2d(std::cos(a), std::sin(a));
     if (!clear_at(goal) || !line_clear(start, goal)) continue;
-    const bool apart = std::all_of(routes.begin(), routes.end(), [&](const PedestrianRoute& r) {
-      return (r.start - start).norm() > 2.0 * margin + 0.2;
+    const bool ok = std::all_of(routes.begin(), routes.end(), [&](const PedestrianRoute& r) {
+      return apart(r.start, start) && (!area.goals_apart || apart(r.goal, goal));
     });
-    if (apart) routes.push_back({start, goal});
+    if (ok) routes.push_back({start, goal});
   }
   return routes;
 }

@@ -1,5 +1,6 @@
 // Simulated people and unmapped objects for the simulator: static obstacles (cylinders and boxes standing on the
-// floor) and pedestrians walking back and forth between their own two points.
+// floor) and pedestrians walking between their own two points: back and forth for ever, or once and then standing
+// at the end (the DPoom evaluation's agents).
 //
 // Pedestrians avoid each other and the static obstacles with ORCA, optimal reciprocal collision avoidance (van den
 // Berg, Guy, Lin and Manocha, "Reciprocal n-body collision avoidance", ISRR 2011): each one's new velocity is the
@@ -13,6 +14,7 @@
 // programs in the velocity plane) is about two hundred lines; see docs/design.md.
 #pragma once
 
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -35,7 +37,10 @@ struct CrowdOptions {
   double max_speed_mps = 1.2;
   double time_horizon_s = 2.0;     // ORCA: velocities are kept collision-free this far ahead
   double neighbour_distance_m = 5.0;
-  double goal_tolerance_m = 0.3;   // at a route's end a person turns back
+  double goal_tolerance_m = 0.3;   // this near a route's end a person has reached it
+  // At a route's end a person turns back, walking it to and fro for ever; false: stands there for good, as the
+  // agents of the DPoom evaluation stop at their targets.
+  bool turn_back = true;
   // People aim this much to the right of their goal, as people keep right: it breaks the symmetric standoffs in
   // which ORCA agents walking straight at each other would slow to a stop face to face.
   double keep_right_rad = 0.1;
@@ -46,6 +51,7 @@ struct Pedestrian {
   Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
   PedestrianRoute route;
   bool returning = false;          // walking from goal back to start
+  bool arrived = false;            // standing at the goal for good (CrowdOptions::turn_back false)
 };
 
 class Crowd {
@@ -83,11 +89,22 @@ Eigen::Vector2d OrcaVelocity(const Eigen::Vector2d& position, const Eigen::Vecto
                              const Eigen::Vector2d& preferred, double max_speed, double time_horizon_s, double dt_s,
                              const std::vector<OrcaNeighbour>& neighbours);
 
-// Random routes for `count` people in free space of `collision`, each between 4 and 10 m long with a clear straight
-// line (the person's radius plus a margin), starting within `within_m` of `center` but no nearer than
-// `clearance_m` to it (people do not appear on the robot). Fewer when the world has no room.
+// Where RandomRoutes puts routes.
+struct RouteArea {
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();
+  double within_m = 1e3;     // starts within this distance of `center`
+  double clearance_m = 0.0;  // ... but no nearer than this (people do not appear on the robot)
+  double min_length_m = 4.0;
+  double max_length_m = 10.0;
+  // Where starts and goals may lie besides free space (a band across the robot's way, say); empty: anywhere.
+  std::function<bool(const Eigen::Vector2d&)> contains;
+  // Goals kept as far apart as starts are, for people who stand at their goals (CrowdOptions::turn_back false).
+  bool goals_apart = false;
+};
+
+// Random routes for `count` people of `radius_m` in free space of `collision`, in `area`, each along a clear
+// straight line (the person's radius plus a margin), their starts apart. Fewer when the area has no room.
 std::vector<PedestrianRoute> RandomRoutes(const nav::OccupancyGrid& collision, int count, double radius_m,
-                                          const Eigen::Vector2d& center, double within_m, double clearance_m,
-                                          std::mt19937& rng);
+                                          const RouteArea& area, std::mt19937& rng);
 
 }  // namespace corridor::drivers::sim

@@ -77,6 +77,30 @@ TEST(CrowdTest, PeopleWalkAroundStaticObstaclesAndTurnBackAtTheirGoal) {
   EXPECT_TRUE(returned);
 }
 
+// The DPoom evaluation's agents: each walks once to its goal and stands there; the others pass them like an obstacle.
+TEST(CrowdTest, PeopleWhoDoNotTurnBackStandAtTheirGoalAndAreWalkedRound) {
+  const World world = Room(12, 6);
+  CrowdOptions options;
+  options.turn_back = false;
+  options.preferred_speed_mps = 0.35;
+  // A stands at (6, 3) after 1.5 m; B, behind A's goal, walks through it to (11, 3) once A is standing.
+  Crowd crowd(world, {{{4.5, 3}, {6, 3}}, {{1, 3}, {11, 3}}}, options);
+  double closest = std::numeric_limits<double>::infinity();
+  for (int step = 0; step < 5000; ++step) {
+    crowd.Step(0.01);
+    const auto& people = crowd.pedestrians();
+    closest = std::min(closest, (people[0].position - people[1].position).norm());
+  }
+  const auto& people = crowd.pedestrians();
+  EXPECT_TRUE(people[0].arrived);
+  EXPECT_FALSE(people[0].returning);
+  EXPECT_LT((people[0].position - Eigen::Vector2d(6, 3)).norm(), options.goal_tolerance_m + 0.05);
+  EXPECT_EQ(people[0].velocity, Eigen::Vector2d::Zero());
+  EXPECT_TRUE(people[1].arrived);
+  EXPECT_LT((people[1].position - Eigen::Vector2d(11, 3)).norm(), options.goal_tolerance_m + 0.05);
+  EXPECT_GE(closest, 2 * options.radius_m - 0.02);
+}
+
 TEST(CrowdTest, OrcaKeepsThePreferredVelocityWhenNothingIsNear) {
   const Eigen::Vector2d v = OrcaVelocity({0, 0}, {0.5, 0}, 0.25, {0.8, 0}, 1.2, 2.0, 0.01,
                                          {{{0, 5}, {0, 0}, 0.25, true}});
@@ -87,7 +111,11 @@ TEST(CrowdTest, OrcaKeepsThePreferredVelocityWhenNothingIsNear) {
 TEST(CrowdTest, RandomRoutesAreInFreeSpaceAwayFromTheRobot) {
   const World world = Room(10, 10);
   std::mt19937 rng(3);
-  const auto routes = RandomRoutes(world.collision, 5, 0.25, {5, 5}, 4.0, 1.5, rng);
+  RouteArea area;
+  area.center = {5, 5};
+  area.within_m = 4.0;
+  area.clearance_m = 1.5;
+  const auto routes = RandomRoutes(world.collision, 5, 0.25, area, rng);
   ASSERT_EQ(routes.size(), 5u);
   for (const auto& r : routes) {
     EXPECT_GE((r.start - Eigen::Vector2d(5, 5)).norm(), 1.5);
