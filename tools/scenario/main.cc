@@ -24,11 +24,17 @@ Runs the DPoom evaluation protocol: a DPoom-like robot (0.26 m/s, camera 85.2 x 
   --worlds N          worlds (layouts) to run, default 10
   --runs N            runs per world, default 3
   --seed N            default 1; the same seed gives the same scenarios
+  --only W/R          only world W's run R (from 0; within --worlds and --runs), e.g. to --trace it
   --pedestrians N     0 to 5, default 0
+  --crowd KIND        how they walk: paper (default: placed in the robot's way, each walks once 2.5-5 m at 0.35 m/s
+                      and stands, as in DPoom's evaluation) or pacing (harder: routes anywhere, walked back and
+                      forth at 0.8 m/s for the whole run)
   --static N          static obstacles, 0 to 9, default 0
   --policy NAME       morp-rb or voxel-reactive; repeat for several; default both
   --laser             give the robot corridor's optional 2D laser: morp-rb tracks moving objects and evades them
-  --camera-tracking   without the laser, morp-rb tracks people in the depth camera's view and evades them
+  --no-camera-tracking
+                      without the laser, morp-rb does not track people in the depth camera's view (DPoom's robot as
+                      published); by default it tracks and evades them, as the daemon does
   --timeout S         per run, default 3 x straight-line time + 20 s
   --json              machine-readable results (every run and the summaries) on stdout
   --trace             every morp-rb decision (pose, mode, lanes) and each collision's surroundings on stderr
@@ -88,8 +94,18 @@ int main(int argc, char** argv) {
         options.runs = ParseInt(flag, value(), 1, 1000);
       } else if (flag == "--seed") {
         options.seed = static_cast<std::uint32_t>(ParseInt(flag, value(), 0, 1 << 30));
+      } else if (flag == "--only") {
+        const std::string text = value();
+        const auto slash = text.find('/');
+        if (slash == std::string::npos) throw std::invalid_argument("--only: expected W/R, got '" + text + "'");
+        options.only = {ParseInt(flag, text.substr(0, slash), 0, 999), ParseInt(flag, text.substr(slash + 1), 0, 999)};
       } else if (flag == "--pedestrians") {
         options.pedestrians = ParseInt(flag, value(), 0, 20);
+      } else if (flag == "--crowd") {
+        const std::string name = value();
+        const auto kind = corridor::scenario::ParseCrowdKind(name);
+        if (!kind) throw std::invalid_argument("--crowd: unknown kind '" + name + "' (paper, pacing)");
+        options.crowd = *kind;
       } else if (flag == "--static") {
         options.static_obstacles = ParseInt(flag, value(), 0, 30);
       } else if (flag == "--policy") {
@@ -102,7 +118,9 @@ int main(int argc, char** argv) {
       } else if (flag == "--laser") {
         options.laser = true;
       } else if (flag == "--camera-tracking") {
-        options.camera_tracking = true;
+        options.camera_tracking = true;  // the default; kept for older commands
+      } else if (flag == "--no-camera-tracking") {
+        options.camera_tracking = false;
       } else if (flag == "--json") {
         json = true;
       } else if (flag == "--trace") {
@@ -140,6 +158,7 @@ int main(int argc, char** argv) {
                       {"runs", options.runs},
                       {"seed", options.seed},
                       {"pedestrians", options.pedestrians},
+                      {"crowd", ToString(options.crowd)},
                       {"static", options.static_obstacles},
                       {"laser", options.laser},
                       {"camera_tracking", options.camera_tracking},
@@ -160,10 +179,12 @@ int main(int argc, char** argv) {
     std::cout << doc.dump(2) << "\n";
     return 0;
   }
-  std::printf("%d worlds x %d runs, %d pedestrians, %d static obstacles, seed %u, %s, %s\n\n", options.worlds,
-              options.runs, options.pedestrians, options.static_obstacles, options.seed,
+  std::printf("%d worlds x %d runs, %d pedestrians (%s), %d static obstacles, seed %u, %s, %s\n\n", options.worlds,
+              options.runs, options.pedestrians, ToString(options.crowd), options.static_obstacles, options.seed,
               options.world.empty() ? "generated rooms" : options.world.c_str(),
-              options.laser ? "camera and laser" : "camera only");
+              options.laser             ? "camera and laser"
+              : options.camera_tracking ? "camera only, tracking people in its view"
+                                        : "camera only, no tracking");
   std::printf("Table 4: outcomes (robot-caused: collisions the robot drove into, not people walking into it)\n"
               "%-16s %5s %8s %10s %14s %8s %18s\n",
               "policy", "runs", "success", "collision", "robot-caused", "timeout", "time to goal (s)");

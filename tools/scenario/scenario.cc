@@ -146,6 +146,21 @@ std::optional<Policy> ParsePolicy(const std::string& name) {
   return std::nullopt;
 }
 
+const char* ToString(CrowdKind kind) {
+  switch (kind) {
+    case CrowdKind::kPaper: return "paper";
+    case CrowdKind::kPacing: return "pacing";
+  }
+  return "unknown";
+}
+
+std::optional<CrowdKind> ParseCrowdKind(const std::string& name) {
+  for (CrowdKind k : {CrowdKind::kPaper, CrowdKind::kPacing}) {
+    if (name == ToString(k)) return k;
+  }
+  return std::nullopt;
+}
+
 const char* ToString(Outcome outcome) {
   switch (outcome) {
     case Outcome::kSuccess: return "success";
@@ -190,8 +205,11 @@ Layout MakeLayout(const ScenarioOptions& options, int world_index, int run_index
   layout.goal = goal;
   const Eigen::Vector2d way = goal - start;
   const Eigen::Vector2d across(-way.y() / way.norm(), way.x() / way.norm());
-  // Facing roughly toward the goal, as a robot would after turning to its path.
-  layout.start = {start.x(), start.y(), std::atan2(way.y(), way.x()) + (unit(rng) - 0.5) * std::numbers::pi / 3.0};
+  // Facing the goal, as DPoom's evaluation starts the robot; with the pacing crowd, facing it roughly (within 30
+  // degrees), as a robot would after turning to its path.
+  const double heading_offset = (unit(rng) - 0.5) * std::numbers::pi / 3.0;
+  layout.start = {start.x(), start.y(),
+                  std::atan2(way.y(), way.x()) + (options.crowd == CrowdKind::kPaper ? 0.0 : heading_offset)};
 
   // Static obstacles near the way (so that they matter), apart enough for the robot to pass between them, never
   // closing the way: each is kept only while a path remains.
@@ -226,10 +244,34 @@ Layout MakeLayout(const ScenarioOptions& options, int world_index, int run_index
   }
   drivers::sim::AddObstacles(layout.world, obstacles);
 
-  // People walking their own routes anywhere in the world, not starting near the robot. They cross the robot's
-  // way when their routes happen to, as in the paper's worlds; they never see it.
-  layout.routes = drivers::sim::RandomRoutes(layout.world.collision, options.pedestrians, kPersonRadiusM, start, 1e3,
-                                             2.0, rng);
+  layout.crowd.radius_m = kPersonRadiusM;
+  drivers::sim::RouteArea area;
+  if (options.crowd == CrowdKind::kPaper) {
+    // In the area the robot must cross, 3 to 7 m before its goal (and at least 1.5 m ahead of the robot), within
+    // 2.5 m of the straight way; walked once, slowly, then stood at.
+    const double length = way.norm();
+    const Eigen::Vector2d along = way / length;
+    const double near = std::max(1.5, length - 7.0);
+    const double far = length - 3.0;
+    constexpr double kHalfWidthM = 2.5;
+    area.center = start + 0.5 * (near + far) * along;
+    area.within_m = std::hypot(0.5 * (far - near), kHalfWidthM);
+    area.min_length_m = 2.5;
+    area.max_length_m = 5.0;
+    area.contains = [start, along, across, near, far](const Eigen::Vector2d& p) {
+      const double a = (p - start).dot(along);
+      return a >= near && a <= far && std::abs((p - start).dot(across)) <= kHalfWidthM;
+    };
+    area.goals_apart = true;
+    layout.crowd.preferred_speed_mps = 0.35;
+    layout.crowd.max_speed_mps = 0.35;
+    layout.crowd.turn_back = false;
+  } else {
+    // Anywhere in the world, not starting near the robot: they cross the robot's way when their routes happen to.
+    area.center = start;
+    area.clearance_m = 2.0;
+  }
+  layout.routes = drivers::sim::RandomRoutes(layout.world.collision, options.pedestrians, kPersonRadiusM, area, rng);
   return layout;
 }
 
@@ -246,7 +288,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   sim.camera.rate_hz = options.camera_rate_hz;
   sim.laser.enabled = options.laser && policy == Policy::kMorpRb;
   sim.pedestrians = layout.routes;
-  sim.crowd.radius_m = kPersonRadiusM;
+  sim.crowd = layout.crowd;
   sim.base.limits.footprint_radius_m = kRobotRadiusM;
   drivers::sim::SimRobot robot(std::make_shared<const World>(layout.world), sim);
   std::shared_ptr<const drivers::RgbdFrame> pending;
@@ -435,6 +477,7 @@ std::vector<RunResult> RunAll(const ScenarioOptions& options, const std::functio
   std::vector<RunResult> results;
   for (int w = 0; w < options.worlds; ++w) {
     for (int r = 0; r < options.runs; ++r) {
+      if (options.only && *options.only != std::pair{w, r}) continue;
       const Layout layout = MakeLayout(options, w, r);
       for (Policy policy : options.policies) {
         results.push_back(RunOnce(layout, policy, options));

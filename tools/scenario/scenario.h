@@ -2,7 +2,8 @@
 // 4) on the simulator in lockstep, faster than real time.
 //
 // A scenario is a world (a generated room, or any map or world file), a start and a goal 7 to 11 m apart, static
-// obstacles the robot's map does not show and pedestrians walking routes across the way, all drawn from one seed.
+// obstacles the robot's map does not show and pedestrians, all drawn from one seed. The pedestrians follow the paper's
+// protocol (CrowdKind::kPaper, the default) or a harder one of our own (kPacing); see CrowdKind.
 // A DPoom-like robot (0.26 m/s, a depth camera of 85.2 x 58 degrees) follows a global path planned on its map, with
 // one of the local policies on every depth frame:
 //   - morp-rb: MORP lanes and MORP-RB (corridor's navigator, exactly as the daemon runs it);
@@ -14,7 +15,8 @@
 // was closing in faster than the person), and the tables count those separately. Localization is the simulator's
 // ground truth: the scenarios measure local navigation, as the paper's do. With `laser`, the robot also carries
 // corridor's optional 2D laser and morp-rb evades the moving objects it tracks (nav/tracking, nav/policy/evasion.h);
-// with `camera_tracking` it tracks them in the depth camera's view instead; the voxel-reactive baseline does neither.
+// without, it tracks them in the depth camera's view (`camera_tracking`, as the daemon does; off: MORP-RB alone, DPoom's
+// robot as published); the voxel-reactive baseline does neither.
 #pragma once
 
 #include <cstdint>
@@ -22,6 +24,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -37,12 +40,27 @@ enum class Policy { kMorpRb, kVoxelReactive };
 const char* ToString(Policy policy);
 std::optional<Policy> ParsePolicy(const std::string& name);
 
+// How the pedestrians walk. Neither kind sees the robot; both avoid each other and the obstacles with ORCA.
+enum class CrowdKind {
+  // The paper's, as DPoom's authors set up their Gazebo evaluation (github.com/SeunghyunLim/Dpoom_gazebo: five
+  // agents placed in the area the robot must cross, each driven once to its own target a few metres away at about
+  // 0.35 m/s, then stopped): people start 3 to 7 m before the robot's goal within 2.5 m of the straight way, walk
+  // once 2.5 to 5 m at up to 0.35 m/s, and stand at the end of their walk for the rest of the run.
+  kPaper,
+  // Ours, harder: people on routes 4 to 10 m long anywhere in the world, walking them back and forth at 0.8 m/s
+  // (three times the robot's speed) for the whole run, reaching the robot from any side.
+  kPacing,
+};
+const char* ToString(CrowdKind kind);
+std::optional<CrowdKind> ParseCrowdKind(const std::string& name);
+
 struct ScenarioOptions {
   std::filesystem::path world;      // a .yaml map or a mesh world; empty: generated rooms of 12 to 15 m
   int worlds = 10;
   int runs = 3;                     // per world
   std::uint32_t seed = 1;
   int pedestrians = 0;              // 0 to 5 in the paper's protocol
+  CrowdKind crowd = CrowdKind::kPaper;
   int static_obstacles = 0;         // 0 to 9: unit cubes and cylinders of 0.5 m radius
   double min_goal_m = 7.0;
   double max_goal_m = 11.0;
@@ -56,8 +74,10 @@ struct ScenarioOptions {
   bool laser = false;
   // Without the laser, morp-rb tracks people in the depth camera's view instead (nav/ground/depth_scan.h) and
   // evades them, never backing, as the daemon does by default (tracking.camera). Off: DPoom's robot as published.
-  bool camera_tracking = false;
+  bool camera_tracking = true;
   bool trace = false;               // every morp-rb decision and every collision's surroundings on stderr
+  // Only this world and run (indices from 0), to look into one with `trace`; the same layout as in the full set.
+  std::optional<std::pair<int, int>> only;
 };
 
 // Everything one run needs, drawn from the seed.
@@ -70,6 +90,7 @@ struct Layout {
   nav::Pose2 start;
   Eigen::Vector2d goal = Eigen::Vector2d::Zero();
   std::vector<drivers::sim::PedestrianRoute> routes;
+  drivers::sim::CrowdOptions crowd;                // how they walk
 };
 
 // Throws std::runtime_error when the world has no room for the protocol (no start and goal 7-11 m apart).

@@ -2,11 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <string>
+
 namespace corridor::scenario {
 namespace {
 
-// The CI scenario: one seeded run of the paper's protocol with people and unmapped obstacles. corridor's navigator
-// must reach the goal without touching anything.
+// The CI scenario: one seeded run of the paper's protocol with people and unmapped obstacles. corridor's navigator,
+// as the daemon runs it on a robot without a laser (tracking people in the camera's view), must reach the goal
+// without touching anything.
 TEST(ScenarioTest, ASeededRunAmongPeopleAndObstaclesReachesItsGoalWithoutCollision) {
   ScenarioOptions options;
   options.seed = 7;
@@ -23,13 +27,15 @@ TEST(ScenarioTest, ASeededRunAmongPeopleAndObstaclesReachesItsGoalWithoutCollisi
   EXPECT_GT(result.depth_ms.size(), 50u);  // it drove on depth frames
 }
 
-// Five people who do not see the robot, no obstacles: in this seeded layout a person walks into the camera-only
+// Five people pacing, who do not see the robot, no obstacles: in this seeded layout a person walks into the camera-only
 // robot from outside the camera's view within seconds; with the laser the robot tracks them, steps out of the way
 // and reaches its goal. (A regression check on one layout; the rates over 30 runs are in docs/benchmarks.md.)
 TEST(ScenarioTest, WithTheLaserTheRobotStepsOutOfTheWayOfSomeoneItCannotSee) {
   ScenarioOptions options;
   options.seed = 1;
   options.pedestrians = 5;
+  options.crowd = CrowdKind::kPacing;
+  options.camera_tracking = false;  // MORP-RB alone, as DPoom's robot
   const Layout layout = MakeLayout(options, 2, 1);
   const RunResult camera_only = RunOnce(layout, Policy::kMorpRb, options);
   EXPECT_EQ(ToString(camera_only.outcome), std::string("collision"));
@@ -39,6 +45,39 @@ TEST(ScenarioTest, WithTheLaserTheRobotStepsOutOfTheWayOfSomeoneItCannotSee) {
   const RunResult with_laser = RunOnce(layout, Policy::kMorpRb, options);
   EXPECT_EQ(ToString(with_laser.outcome), std::string("success")) << with_laser.collided_with;
   EXPECT_GT(with_laser.tracking_ms.size(), 100u);  // it tracked on laser scans
+}
+
+// The paper's crowd: the robot faces its goal; each person starts and ends their walk in the area the robot must
+// cross (3 to 7 m before the goal, at least 1.5 m ahead of the robot, within 2.5 m of the straight way), walks it
+// once, slowly, and stands at its end.
+TEST(ScenarioTest, ThePapersPeopleWalkOnceAcrossTheRobotsWayAndStand) {
+  ScenarioOptions options;
+  options.pedestrians = 5;
+  for (int world = 0; world < 4; ++world) {
+    const Layout layout = MakeLayout(options, world, 0);
+    SCOPED_TRACE("world " + std::to_string(world));
+    const Eigen::Vector2d start = layout.start.translation();
+    const Eigen::Vector2d way = layout.goal - start;
+    const Eigen::Vector2d along = way.normalized();
+    EXPECT_NEAR(layout.start.yaw_rad, std::atan2(way.y(), way.x()), 1e-9);
+    EXPECT_EQ(layout.routes.size(), 5u);
+    for (const auto& route : layout.routes) {
+      for (const Eigen::Vector2d& p : {route.start, route.goal}) {
+        const double a = (p - start).dot(along);
+        EXPECT_GE(a, std::max(1.5, way.norm() - 7.0) - 1e-9);
+        EXPECT_LE(a, way.norm() - 3.0 + 1e-9);
+        EXPECT_LE(std::abs((p - start).dot(Eigen::Vector2d(-along.y(), along.x()))), 2.5 + 1e-9);
+      }
+      EXPECT_GE((route.goal - route.start).norm(), 2.5);
+      EXPECT_LE((route.goal - route.start).norm(), 5.0);
+    }
+    EXPECT_FALSE(layout.crowd.turn_back);
+    EXPECT_LE(layout.crowd.max_speed_mps, 0.35);
+  }
+  options.crowd = CrowdKind::kPacing;
+  const Layout pacing = MakeLayout(options, 0, 0);
+  EXPECT_TRUE(pacing.crowd.turn_back);
+  EXPECT_GT(pacing.crowd.preferred_speed_mps, 0.7);
 }
 
 TEST(ScenarioTest, TheSameSeedGivesTheSameScenario) {
