@@ -41,7 +41,6 @@ std::vector<Eigen::Vector2d> ScanToWorld(const Pose2& world_T_sensor, double ang
 
 MovingObjectOptions ForDepthCamera(MovingObjectOptions options) {
   options.map_clearance_m = std::max(options.map_clearance_m, 0.25);
-  options.moving_speed_mps = std::max(options.moving_speed_mps, 0.35);
   return options;
 }
 
@@ -55,6 +54,9 @@ MovingObjectTracker::MovingObjectTracker(const MovingObjectOptions& options) : o
       options.unseen_edge_m < 0.0) {
     throw std::invalid_argument(
         "tracking: need unseen_coast_s >= coast_s, merged_hold_s >= coast_s and unseen_edge_m >= 0");
+  }
+  if (options.gate_growth_mps < 0.0 || options.max_gate_m < options.gate_m) {
+    throw std::invalid_argument("tracking: need gate_growth_mps >= 0 and max_gate_m >= gate_m");
   }
 }
 
@@ -211,10 +213,12 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
   };
   std::vector<Pair> pairs;
   for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    const double unseen_s = stamp_s - tracks_[i].last_seen_s;
+    const double gate = std::min(o.gate_m + o.gate_growth_mps * unseen_s, o.max_gate_m);
     for (std::size_t j = 0; j < clusters.size(); ++j) {
       double d = std::numeric_limits<double>::infinity();
       for (const auto& p : clusters[j].newest) d = std::min(d, (p - tracks_[i].position).norm());
-      if (d <= o.gate_m) pairs.push_back({d, i, j});
+      if (d <= gate) pairs.push_back({d, i, j});
     }
   }
   std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.distance < b.distance; });
@@ -266,11 +270,16 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
   for (std::size_t i = 0; i < tracks_.size(); ++i) {
     Track& t = tracks_[i];
     t.out_of_view = view && t.velocity.norm() >= o.moving_speed_mps && !view->Covers(t.position, o.unseen_edge_m);
-    // A turn made out of view is not seen: where the track was last seen is not the end of its walk.
-    if (t.out_of_view) t.walked = Eigen::Vector2d::Zero();
+    if (t.out_of_view) {
+      t.out_of_view_s = stamp_s;
+      t.walked = Eigen::Vector2d::Zero();  // a turn made out of view is not seen: not the end of its walk
+    }
     const double unseen_s = stamp_s - t.last_seen_s;
     const bool held = cluster_of[i] >= 0 && unseen_s <= o.merged_hold_s;
-    if (!held && unseen_s > (t.out_of_view ? o.unseen_coast_s : o.coast_s)) continue;
+    // Out of view, kept on its prediction; in view, not seen there for coast_s is gone.
+    const bool gone = t.out_of_view ? unseen_s > o.unseen_coast_s
+                                    : stamp_s - std::max(t.last_seen_s, t.out_of_view_s) > o.coast_s;
+    if (!held && gone) continue;
     tracks_[kept] = tracks_[i];
     cluster_of[kept] = cluster_of[i];
     ++kept;

@@ -40,6 +40,10 @@ struct MovingObjectOptions {
   double map_clearance_m = 0.1;      // points this near an occupied map cell belong to the map
   double range_m = 6.0;              // points farther from the sensor are ignored
   double gate_m = 0.35;              // a cluster within this of a track's prediction (to its nearest point) is it
+  // ...and a prediction grows less sure the longer the track has not been seen: its gate widens by this much per
+  // second unseen, up to max_gate_m (someone who walked out of a camera's view and back into it is still them).
+  double gate_growth_mps = 0.1;
+  double max_gate_m = 0.8;
   double merged_radius_m = 0.45;     // a cluster this wide is taken for several objects: no velocity from it
   double coast_s = 0.8;              // a track not seen alone for this long is dropped...
   // ...unless it is in a cluster shared with other tracks (people walking together or crossing; it takes its own
@@ -64,8 +68,9 @@ struct MovingObjectOptions {
   // A sensor that does not see all round (a camera: SensorView) cannot see that someone who walked out of its view
   // is gone: a moving track predicted outside the view (nearer than unseen_edge_m to its edge counts as outside: an
   // object cut by the edge is not seen whole) is kept on its prediction for unseen_coast_s instead of coast_s, turning
-  // round at the known end of its walk. One predicted inside the view and not seen is dropped after coast_s.
-  double unseen_coast_s = 4.0;
+  // round at the known end of its walk. One predicted inside the view and not seen there for coast_s is dropped
+  // (since it was last seen, or last predicted outside the view: coming back into view, it gets coast_s to be seen).
+  double unseen_coast_s = 8.0;
   double unseen_edge_m = 0.3;
 };
 
@@ -86,9 +91,9 @@ struct TrackedObject {
 
 // The options for scans made from a depth camera (nav/ground/depth_scan.h) instead of a laser: its depth noise grows
 // with the square of the range, so that points on a wall stray farther from the map (map_clearance_m at least
-// 0.25 m), and what is cut by the image's edges or hidden in part shows a centroid that slides with the robot's
-// motion (moving_speed_mps at least 0.35: people walk at about 0.8 m/s; the scenario traces showed most standing
-// objects and wall pieces seen moving below it).
+// 0.25 m). The moving threshold stays the laser's: objects cut by the image's edges are left out of the scan, and
+// with them the centroids that slid with the robot's motion (a threshold of 0.35 m/s, once needed, took people
+// walking slowly, at 0.35 m/s, for standing objects; docs/benchmarks.md).
 MovingObjectOptions ForDepthCamera(MovingObjectOptions options);
 
 // What the laser shows around the robot after one scan: the objects and the points that stay where they are.
@@ -155,6 +160,7 @@ class MovingObjectTracker {
     double maneuver_s = -std::numeric_limits<double>::infinity();  // when its velocity last changed abruptly
     Eigen::Vector2d walked = Eigen::Vector2d::Zero();  // its last velocity at walking speed
     bool out_of_view = false;  // moving, and predicted outside the sensor's view at the last scan
+    double out_of_view_s = -std::numeric_limits<double>::infinity();  // the last scan at which it was
   };
   struct WalkEnd {
     Eigen::Vector2d position;  // the farthest the track got before turning

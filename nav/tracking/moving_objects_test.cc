@@ -320,18 +320,19 @@ TEST(MovingObjectTrackerTest, WhereSomeonePacingTurnedRoundIsTheEndOfTheirWalk) 
   EXPECT_EQ(right_ends, walks_seen);
 }
 
-// A camera-like scan: the beams of Scan within half_angle of the sensor's x axis (yaw 0), none beyond; a disc cut by
-// the view's edge is left out, as nav/ground/depth_scan.h leaves out what touches the image's sides.
+// A camera-like scan: the beams of Scan within half_angle of the direction `yaw` the camera looks in, none beyond; a
+// disc cut by the view's edge is left out, as nav/ground/depth_scan.h leaves out what touches the image's sides.
 std::vector<Eigen::Vector2d> NarrowScan(const Eigen::Vector2d& sensor, const std::vector<Disc>& discs,
-                                        double half_angle, std::mt19937& rng) {
+                                        double half_angle, std::mt19937& rng, double yaw = 0.0) {
+  const auto off_axis = [yaw](double a) { return std::abs(std::remainder(a - yaw, 2.0 * std::numbers::pi)); };
   std::vector<Disc> whole;
   for (const Disc& d : discs) {
     const Eigen::Vector2d to = d.centre - sensor;
-    if (std::abs(std::atan2(to.y(), to.x())) + std::asin(d.radius / to.norm()) <= half_angle) whole.push_back(d);
+    if (off_axis(std::atan2(to.y(), to.x())) + std::asin(d.radius / to.norm()) <= half_angle) whole.push_back(d);
   }
   std::vector<float> ranges = Scan(sensor, whole, 10.0, rng);
   for (int i = 0; i < 360; ++i) {
-    if (std::abs(-std::numbers::pi + i * std::numbers::pi / 180.0) > half_angle) ranges[i] = -1.0f;
+    if (off_axis(-std::numbers::pi + i * std::numbers::pi / 180.0) > half_angle) ranges[i] = -1.0f;
   }
   return ToWorld(sensor, ranges);
 }
@@ -441,6 +442,45 @@ TEST(MovingObjectTrackerTest, SomeonePacingOutOfViewTurnsAtTheEndOfTheirWalkAndI
   EXPECT_GT(turned, 10);
 }
 
+TEST(MovingObjectTrackerTest, SomeoneBackInViewBehindTheirPredictionIsStillTheSameTrack) {
+  // A camera at (1, 5) sees a person walking +y at x = 4 at 0.8 m/s, then looks away (down -y) for 4 s, in which
+  // the person slows to 0.65 m/s, then looks at them again (40 degrees up): they are 0.6 m behind their prediction.
+  // The prediction's gate has widened with the time unseen, so they are taken up as the same track; with a gate
+  // that does not widen, the prediction matches nobody and is dropped, and they become a new track.
+  const Eigen::Vector2d sensor(1.0, 5.0);
+  const double half = 40.0 * std::numbers::pi / 180.0;
+  const auto at = [](double t) {
+    return Eigen::Vector2d(4.0, t < 2.0 ? 3.5 + 0.8 * t : 5.1 + 0.55 * (t - 2.0));
+  };
+  const auto looking = [](double t) { return t < 2.0 ? 0.0 : t < 6.0 ? -std::numbers::pi / 2.0 : 0.7; };
+  for (const double growth : {MovingObjectOptions{}.gate_growth_mps, 0.0}) {
+    SCOPED_TRACE(growth > 0.0 ? "gate widening" : "fixed gate");
+    std::mt19937 rng(9);
+    MovingObjectOptions options;
+    options.gate_growth_mps = growth;
+    MovingObjectTracker tracker{options};
+    tracker.SetMap(std::make_shared<const OccupancyGrid>(Room(10.0)));
+    int before = -1;  // the person's track when the camera looked away
+    int after = -1;   // and when it is seen again
+    for (int k = 0; k <= 70; ++k) {
+      const double t = 0.1 * k;
+      const double yaw = looking(t);
+      tracker.Update(t, sensor, NarrowScan(sensor, {{at(t), 0.25}}, half, rng, yaw),
+                     SensorView{{sensor.x(), sensor.y(), yaw}, half, 6.0});
+      const TrackedObject* person = Nearest(tracker.objects(), at(t));
+      if (person == nullptr || !person->seen || (person->position - at(t)).norm() > 0.4) continue;
+      (t < 2.0 ? before : after) = person->id;
+    }
+    ASSERT_GE(before, 0);
+    ASSERT_GE(after, 0);
+    if (growth > 0.0) {
+      EXPECT_EQ(after, before);
+    } else {
+      EXPECT_NE(after, before);
+    }
+  }
+}
+
 TEST(MovingObjectTrackerTest, BadOptionsAreRefused) {
   MovingObjectOptions o;
   o.window_scans = 1;
@@ -453,6 +493,12 @@ TEST(MovingObjectTrackerTest, BadOptionsAreRefused) {
   EXPECT_THROW(MovingObjectTracker{o}, std::invalid_argument);
   o = {};
   o.merged_hold_s = 0.5 * o.coast_s;
+  EXPECT_THROW(MovingObjectTracker{o}, std::invalid_argument);
+  o = {};
+  o.gate_growth_mps = -0.1;
+  EXPECT_THROW(MovingObjectTracker{o}, std::invalid_argument);
+  o = {};
+  o.max_gate_m = 0.5 * o.gate_m;
   EXPECT_THROW(MovingObjectTracker{o}, std::invalid_argument);
 }
 
