@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace corridor::nav {
 namespace {
@@ -62,6 +63,31 @@ bool PathsDiverge(const std::vector<Eigen::Vector2d>& candidate, const std::vect
     if (distance_to_current(candidate[i]) > tolerance_m) return true;
   }
   return false;
+}
+
+void AddPointCost(const Costmap& costmap, std::span<const Eigen::Vector2d> points, double radius_m, float cost,
+                  std::vector<float>& extra) {
+  const std::size_t cells = static_cast<std::size_t>(costmap.width()) * static_cast<std::size_t>(costmap.height());
+  if (extra.empty()) extra.assign(cells, 0.0f);
+  if (extra.size() != cells) throw std::invalid_argument("AddPointCost: extra costs must have one value per cell");
+  if (!(cost >= 0.0f)) throw std::invalid_argument("AddPointCost: cost must be non-negative");
+  const OccupancyGrid& grid = costmap.grid();
+  const int reach = static_cast<int>(std::ceil(radius_m / grid.resolution_m()));
+  std::vector<bool> done(cells, false);  // a cell near several points takes the cost once
+  for (const Eigen::Vector2d& p : points) {
+    const auto centre = grid.WorldToCell(p);
+    if (!centre) continue;
+    for (int dy = -reach; dy <= reach; ++dy) {
+      for (int dx = -reach; dx <= reach; ++dx) {
+        const CellIndex c{centre->x + dx, centre->y + dy};
+        if (!grid.Contains(c) || (grid.CellCenter(c) - p).norm() > radius_m) continue;
+        const std::size_t i = costmap.Index(c);
+        if (done[i]) continue;
+        done[i] = true;
+        extra[i] += cost;
+      }
+    }
+  }
 }
 
 PlanResult PlanPath(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,

@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "nav/planner/astar.h"
 
@@ -35,6 +36,14 @@ struct PathOptions {
   std::span<const float> extra_cost;   // per cell, added to the step factor: see AStar
   bool robot_at_start = false;         // the robot stands at the start: see AStar
 };
+
+// Adds `cost` (a step-factor addition, see PathOptions::extra_cost) to every cell of `costmap` whose centre lies
+// within radius_m of one of `points` (world frame; those off the map are skipped), into `extra`, which is sized to
+// the costmap's cells (zeros) when empty. For obstacles the map does not show that the robot found in its way: a path
+// planned with them goes round them where there is room, and still through them where there is not. Throws
+// std::invalid_argument when `extra` has another size than the costmap's cells or `cost` is negative.
+void AddPointCost(const Costmap& costmap, std::span<const Eigen::Vector2d> points, double radius_m, float cost,
+                  std::vector<float>& extra);
 
 // Plans from `start` to `goal`; when goal_yaw is set the last waypoint takes it. See AStar for `cancel`.
 PlanResult PlanPath(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,

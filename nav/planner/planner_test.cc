@@ -265,6 +265,47 @@ TEST(PlannerTest, WhatIsUnderTheRobotIsPassableWhenItPlansFromWhereItStands) {
   EXPECT_EQ(PlanPath(fenced, {1.5, 1.5}, {0.5, 0.5}, std::nullopt, nullptr, stood).error, PlanError::kStartOccupied);
 }
 
+TEST(PlannerTest, PointsCostingExtraAreGoneRoundWhereThereIsRoomAndThroughWhereThereIsNot) {
+  // 5 m x 3 m of open floor; something the map does not show stands on the straight way across it.
+  OccupancyGrid open(100, 60, 0.05, {}, kFreeCell);
+  const Costmap c(open, {}, CostmapOptions{});
+  const std::vector<Eigen::Vector2d> seen = {{2.5, 1.5}, {2.5, 1.6}, {2.5, 1.4}, {99.0, 99.0}};  // the last off the map
+  PathOptions options;
+  std::vector<float> extra;
+  AddPointCost(c, seen, 0.4, 20.0f, extra);
+  ASSERT_EQ(extra.size(), c.grid().cells().size());
+  EXPECT_FLOAT_EQ(extra[c.Index(*open.WorldToCell({2.5, 1.5}))], 20.0f);  // once, though near three points
+  EXPECT_FLOAT_EQ(extra[c.Index(*open.WorldToCell({2.5, 2.2}))], 0.0f);
+  options.extra_cost = extra;
+  const PlanResult straight = PlanPath(c, {0.5, 1.5}, {4.5, 1.5});
+  const PlanResult round = PlanPath(c, {0.5, 1.5}, {4.5, 1.5}, std::nullopt, nullptr, options);
+  ASSERT_TRUE(straight.ok() && round.ok());
+  const auto farthest = [](const Plan& plan) {
+    double d = 0.0;
+    for (const Eigen::Vector2d& p : plan.dense) d = std::max(d, std::abs(p.y() - 1.5));
+    return d;
+  };
+  EXPECT_LT(farthest(straight.plan), 0.05);
+  EXPECT_GT(farthest(round.plan), 0.5);  // round the 0.4 m and the points' own 0.1 m
+  for (const Eigen::Vector2d& p : round.plan.dense) EXPECT_GT((p - Eigen::Vector2d{2.5, 1.5}).norm(), 0.4);
+  // In a corridor 0.9 m wide there is no way round: the path still goes through.
+  OccupancyGrid corridor(100, 60, 0.05, {}, kOccupiedCell);
+  for (int y = 21; y < 39; ++y) {
+    for (int x = 0; x < 100; ++x) corridor.at({x, y}) = kFreeCell;
+  }
+  const Costmap narrow(corridor, {}, CostmapOptions{});
+  std::vector<float> narrow_extra;
+  AddPointCost(narrow, seen, 0.4, 20.0f, narrow_extra);
+  PathOptions through;
+  through.extra_cost = narrow_extra;
+  EXPECT_TRUE(PlanPath(narrow, {0.5, 1.5}, {4.5, 1.5}, std::nullopt, nullptr, through).ok());
+  // Bad arguments.
+  std::vector<float> wrong(10, 0.0f);
+  EXPECT_THROW(AddPointCost(c, seen, 0.4, 20.0f, wrong), std::invalid_argument);
+  std::vector<float> none;
+  EXPECT_THROW(AddPointCost(c, seen, 0.4, -1.0f, none), std::invalid_argument);
+}
+
 TEST(PlannerTest, CancelStopsALongSearch) {
   const OccupancyGrid& g = Map(kWillow);
   const Costmap c(g, {}, CostmapOptions{});

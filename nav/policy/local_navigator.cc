@@ -3,17 +3,30 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace corridor::nav {
 
 LocalNavigator::LocalNavigator(const LocalNavigatorOptions& options)
     : options_(options), follower_(options.follower), avoid_(options.avoid), memory_(options.memory),
-      evade_(options.evade) {}
+      evade_(options.evade) {
+  if (!(options.stuck_s >= 0.0) || !(options.stuck_distance_m > 0.0) || !(options.blocked_radius_m >= 0.0) ||
+      !(options.blocked_cost >= 0.0) || !(options.blocked_hold_s >= 0.0) || !(options.reorient_done_rad > 0.0) ||
+      !(options.reorient_max_s >= 0.0)) {
+    throw std::invalid_argument(
+        "local navigator: need stuck_s >= 0, stuck_distance_m > 0, reorient_done_rad > 0, and blocked_radius_m, "
+        "blocked_cost, blocked_hold_s and reorient_max_s >= 0");
+  }
+}
 
 void LocalNavigator::SetPath(std::vector<Waypoint> path, std::shared_ptr<const Costmap> map) {
   follower_.SetPath(std::move(path));
   SetMap(std::move(map));
   avoid_ = MorpRb(options_.avoid);  // a new path: no side committed, no overtaking in progress
+  headway_from_.reset();             // and stuck_s to make headway on it
+  // The first path after a blocked way may lead off another way: turn to it on the spot first.
+  reorient_s_ = reorient_next_path_ ? 0.0 : -1.0;
+  reorient_next_path_ = false;
 }
 
 LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double speed_limit_mps,
@@ -33,6 +46,22 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
     out.done = true;
     return out;
   }
+  // Headway: farther than stuck_distance_m from where it last made some. Without it for stuck_s, the way is blocked.
+  if (!headway_from_ || (robot.translation() - *headway_from_).norm() > options_.stuck_distance_m) {
+    headway_from_ = robot.translation();
+    without_headway_s_ = 0.0;
+  } else {
+    without_headway_s_ += std::max(0.0, dt_s);
+  }
+  blocked_s_ += std::max(0.0, dt_s);
+  if (blocked_s_ > options_.blocked_hold_s) blocking_.clear();
+  if (options_.stuck_s > 0.0 && without_headway_s_ >= options_.stuck_s) {
+    out.blocked = true;
+    without_headway_s_ = 0.0;  // asks again after another stuck_s
+    blocking_ = memory_.Points();
+    blocked_s_ = 0.0;
+    reorient_next_path_ = true;
+  }
   if (follow.off_path_m > options_.replan_distance_m) {
     out.replan = true;
     Evade(robot, robot.translation(), around, out);  // standing still is not safe from someone walking into it
@@ -40,6 +69,22 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
   }
   const Eigen::Vector2d to_target = follow.target - robot.translation();
   const double heading_error = WrapAngle(std::atan2(to_target.y(), to_target.x()) - robot.yaw_rad);
+  if (reorient_s_ >= 0.0) {
+    reorient_s_ += std::max(0.0, dt_s);
+    if (std::abs(heading_error) <= options_.reorient_done_rad || reorient_s_ > options_.reorient_max_s) {
+      reorient_s_ = -1.0;
+    } else {
+      // MORP-RB would turn toward the free lanes ahead, which is the way that blocked the robot.
+      out.mode = MorpRbMode::kStopAndTurn;
+      out.twist = {0.0, std::copysign(options_.avoid.max_angular_rps, heading_error)};
+      const Twist2 guarded = memory_.Guard(robot, out.twist);
+      out.guarded = guarded.linear_mps != out.twist.linear_mps || guarded.angular_rps != out.twist.angular_rps;
+      out.twist = guarded;
+      Evade(robot, follow.target, around, out);
+      last_speed_mps_ = std::max(0.0, out.twist.linear_mps);
+      return out;
+    }
+  }
   // MORP-RB sees the lanes in the corridor with the map's own obstacles taken out; the speed, all of them.
   ahead_.clear();
   out.nearest_m = std::numeric_limits<double>::infinity();

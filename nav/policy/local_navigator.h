@@ -9,7 +9,10 @@
 //     enter. It still caps the speed, and the memory still guards against it;
 //   - the final approach is the polar controller's alone (MORP-RB would swerve around the goal's own
 //     surroundings), still capped by the free distance ahead;
-//   - a robot pushed (or swerved) far from the path asks for a new one;
+//   - a robot pushed (or swerved) far from the path asks for a new one; so does one that has made no headway for a
+//     while (boxed in by what the map does not show: dithering between two obstacles the path passes between), for
+//     paths planned round what it remembered then (Blocking, AddPointCost), the first of which it turns to on the
+//     spot before following it;
 //   - every command is checked against a short memory of dead-ends and the map's obstacles
 //     (nav/safety/obstacle_memory.h), so that turning back to the path does not sweep into an obstacle that has
 //     left the camera's view, nor into a mapped one it never saw. When the memory had to
@@ -23,6 +26,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "nav/ground/morp.h"
@@ -57,6 +61,20 @@ struct LocalNavigatorOptions {
   double reroute_look_m = 4.0;       // a new path is taken when, within this much of it, it strays from the
   double reroute_tolerance_m = 0.4;  // current one by more than this: another way, not the same from a new start
   double detour_m = 0.6;
+  // No headway (never farther than stuck_distance_m from where it was) for stuck_s: the way is blocked (0: never).
+  double stuck_s = 10.0;
+  double stuck_distance_m = 0.3;
+  // Paths planned round what blocked the robot (for blocked_hold_s after, the memory's keep_s: reroutes too, lest
+  // they lead back through it) add blocked_cost to the cells within blocked_radius_m of each point it remembered
+  // then (the footprint and the memory's margin, and a cell): see AddPointCost.
+  double blocked_radius_m = 0.4;
+  double blocked_cost = 20.0;
+  double blocked_hold_s = 30.0;
+  // The first path after a blocked report is turned to on the spot until the robot heads within reorient_done_rad of
+  // it (or for reorient_max_s at most): one that leads back out of a gap too narrow to pass is followed, instead of
+  // MORP-RB turning toward the free lanes in the gap, back and forth.
+  double reorient_done_rad = 0.35;
+  double reorient_max_s = 10.0;
 };
 
 struct LocalStep {
@@ -64,6 +82,8 @@ struct LocalStep {
   bool done = false;
   bool replan = false;            // strayed from the path: the caller should plan again (the twist is zero
                                   // unless it evades someone)
+  bool blocked = false;           // no headway for stuck_s: the caller should plan again round Blocking()
+                                  // (the twist is this step's as usual)
   double remaining_m = 0.0;
   MorpRbMode mode = MorpRbMode::kFollow;
   bool avoiding = false;          // MORP-RB, not the path follower, chose the twist
@@ -84,6 +104,9 @@ class LocalNavigator {
   // The bumper is pressed: what touched the front is remembered, so that the next commands turn away from it.
   void Touched(const Pose2& robot, bool backing) { memory_.Touched(robot, backing); }
   const std::vector<Waypoint>& path() const { return follower_.path(); }
+  // What blocked the robot (world frame: the points it remembered seeing when it last reported `blocked`), for
+  // blocked_hold_s after; empty otherwise. Every path planned meanwhile should go round them (AddPointCost).
+  const std::vector<Eigen::Vector2d>& Blocking() const { return blocking_; }
   bool has_path() const { return follower_.has_path(); }
   void Clear() { follower_.Clear(); }
   const LocalNavigatorOptions& options() const { return options_; }
@@ -109,6 +132,12 @@ class LocalNavigator {
   std::vector<LaneResult> ahead_;  // this frame's lanes in the corridor
   double detour_left_m_ = 0.0;
   double last_speed_mps_ = 0.0;
+  std::optional<Eigen::Vector2d> headway_from_;  // where the robot was when it last made headway
+  double without_headway_s_ = 0.0;
+  std::vector<Eigen::Vector2d> blocking_;
+  double blocked_s_ = 0.0;  // since blocking_ was taken
+  bool reorient_next_path_ = false;
+  double reorient_s_ = -1.0;  // turning to a new path on the spot for this long; negative: not turning
 };
 
 }  // namespace corridor::nav

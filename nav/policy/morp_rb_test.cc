@@ -305,6 +305,99 @@ TEST(LocalNavigatorTest, FarFromThePathAsksForANewOne) {
   EXPECT_EQ(step.twist.angular_rps, 0.0);
 }
 
+TEST(LocalNavigatorTest, NoHeadwayForStuckSecondsReportsTheWayBlockedOnceAndWhatBlockedIt) {
+  LocalNavigatorOptions o;
+  LocalNavigator nav(o);
+  nav.SetPath(StraightPath());
+  // Something across the whole way 0.3 m ahead of the robot at (1, 0): too close to pass, it turns on the spot.
+  std::vector<LaneResult> lanes;
+  for (double offset : {0.15, 0.05, -0.05, -0.15}) lanes.push_back(DeadEndAt(offset, 0.3, offset));
+  const double dt = 0.05;
+  int blocked_at = -1;
+  int reports = 0;
+  for (int i = 0; i < static_cast<int>((o.stuck_s + 1.0) / dt); ++i) {
+    const LocalStep step = nav.Update(Pose2{1.0, 0.0, 0.0}, lanes, 1e9, dt);
+    if (!step.blocked) continue;
+    ++reports;
+    if (blocked_at < 0) blocked_at = i;
+  }
+  EXPECT_EQ(reports, 1);  // and again only after another stuck_s
+  EXPECT_NEAR(blocked_at * dt, o.stuck_s, 2 * dt);
+  ASSERT_FALSE(nav.Blocking().empty());
+  for (const Eigen::Vector2d& p : nav.Blocking()) {
+    EXPECT_NEAR(p.x(), 1.3, 0.05);  // what it saw, in the world frame
+    EXPECT_LT(std::abs(p.y()), 0.2);
+  }
+  // A new path gives stuck_s again to make headway on it; what blocked the robot is kept for paths planned meanwhile.
+  nav.SetPath(StraightPath());
+  EXPECT_FALSE(nav.Update(Pose2{1.0, 0.0, 0.0}, lanes, 1e9, dt).blocked);
+  EXPECT_FALSE(nav.Blocking().empty());
+}
+
+TEST(LocalNavigatorTest, TheFirstPathAfterABlockedWayIsTurnedToOnTheSpotNotAvoidedAway) {
+  LocalNavigatorOptions o;
+  o.stuck_s = 1.0;
+  LocalNavigator nav(o);
+  nav.SetPath(StraightPath());
+  // The left lanes end 0.3 m ahead, the right ones are free: MORP-RB turns right, toward the free lanes.
+  std::vector<LaneResult> lanes = Lanes({-1, -1, -1, -1});
+  lanes[0] = DeadEndAt(0.15, 0.3, 0.15);
+  lanes[1] = DeadEndAt(0.05, 0.3, 0.05);
+  bool blocked = false;
+  for (int i = 0; i < 40 && !blocked; ++i) {
+    const LocalStep step = nav.Update(Pose2{1.0, 0.0, 0.0}, lanes, 1e9, 0.05);
+    EXPECT_TRUE(step.blocked || step.twist.angular_rps < 0.0);
+    blocked = step.blocked;
+  }
+  ASSERT_TRUE(blocked);
+  // The new path leads back and round to the left: the robot turns left on the spot until it heads along it...
+  std::vector<Waypoint> back;
+  for (int i = 0; i <= 6; ++i) back.push_back({Pose2{1.0 - 0.5 * i, 0.5 * i, 2.36}});
+  nav.SetPath(back);
+  double yaw = 0.0;
+  for (int i = 0; i < 100 && yaw < 2.36 - o.reorient_done_rad; ++i) {
+    const LocalStep step = nav.Update(Pose2{1.0, 0.0, yaw}, lanes, 1e9, 0.05);
+    EXPECT_EQ(step.mode, MorpRbMode::kStopAndTurn);
+    EXPECT_EQ(step.twist.linear_mps, 0.0);
+    ASSERT_GT(step.twist.angular_rps, 0.0);
+    yaw += step.twist.angular_rps * 0.05;
+  }
+  // ...then MORP-RB has the lanes again (these, which no longer turn with the robot, it turns right from).
+  EXPECT_LT(nav.Update(Pose2{1.0, 0.0, yaw}, lanes, 1e9, 0.05).twist.angular_rps, 0.0);
+  // A path set without a blocked report since is not turned to first.
+  LocalNavigator fresh(o);
+  fresh.SetPath(back);
+  EXPECT_LT(fresh.Update(Pose2{1.0, 0.0, 0.0}, lanes, 1e9, 0.05).twist.angular_rps, 0.0);
+}
+
+TEST(LocalNavigatorTest, ARobotMakingHeadwayIsNeverBlockedAndForgetsWhatBlockedItAfterTheHold) {
+  LocalNavigatorOptions o;
+  o.stuck_s = 2.0;
+  o.blocked_hold_s = 5.0;
+  LocalNavigator nav(o);
+  nav.SetPath(StraightPath());
+  std::vector<LaneResult> wall;
+  for (double offset : {0.15, 0.05, -0.05, -0.15}) wall.push_back(DeadEndAt(offset, 0.3, offset));
+  bool blocked = false;
+  for (int i = 0; i < 50 && !blocked; ++i) blocked = nav.Update(Pose2{1.0, 0.0, 0.0}, wall, 1e9, 0.05).blocked;
+  ASSERT_TRUE(blocked);
+  ASSERT_FALSE(nav.Blocking().empty());
+  // Going on at 0.2 m/s (0.3 m in 1.5 s: headway) for longer than the hold.
+  for (int i = 0; i < 120; ++i) {
+    EXPECT_FALSE(nav.Update(Pose2{1.0 + 0.01 * i, 0.0, 0.0}, Lanes({-1, -1, -1, -1}), 1e9, 0.05).blocked);
+  }
+  EXPECT_TRUE(nav.Blocking().empty());
+}
+
+TEST(LocalNavigatorTest, BadStuckOptionsAreRefused) {
+  LocalNavigatorOptions o;
+  o.stuck_distance_m = 0.0;
+  EXPECT_THROW(LocalNavigator{o}, std::invalid_argument);
+  o = LocalNavigatorOptions{};
+  o.blocked_cost = -1.0;
+  EXPECT_THROW(LocalNavigator{o}, std::invalid_argument);
+}
+
 TEST(LocalNavigatorTest, TheFinalApproachIsThePolarControllersButStopsForWhatIsAhead) {
   LocalNavigator nav(LocalNavigatorOptions{});
   nav.SetPath(StraightPath());

@@ -61,6 +61,13 @@ double ObstacleMemory::MapClearance(const Eigen::Vector2d& at) const {
   return map_ ? map_->ClearanceAt(at) : std::numeric_limits<double>::infinity();
 }
 
+std::vector<Eigen::Vector2d> ObstacleMemory::Points() const {
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(points_.size());
+  for (const Point& p : points_) out.push_back(p.world);
+  return out;
+}
+
 void ObstacleMemory::Forget(const Eigen::Vector2d& centre, double radius_m) {
   std::erase_if(points_, [&](const Point& p) { return (p.world - centre).norm() <= radius_m; });
 }

@@ -85,6 +85,8 @@ class ObstacleMemory {
   void Forget(const Eigen::Vector2d& centre, double radius_m);
 
   std::size_t size() const { return points_.size(); }
+  // Every remembered point (world frame).
+  std::vector<Eigen::Vector2d> Points() const;
   void Clear() { points_.clear(); }
 
  private:

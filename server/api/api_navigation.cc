@@ -87,7 +87,9 @@ void Api::Plan(const Request& request, Reply reply) const {
   AllowOnlyKeys(body, {"start", "goal"}, "");
   if (!body.contains("goal")) throw ApiError(http::status::bad_request, "Invalid request", "missing 'goal'");
   const nav::MissionGoal goal = ParseGoal(body["goal"], "goal");
-  PlanRequest plan{{}, goal.pose.translation(), goal.has_yaw ? std::optional(goal.pose.yaw_rad) : std::nullopt, {}};
+  PlanRequest plan;
+  plan.goal = goal.pose.translation();
+  if (goal.has_yaw) plan.goal_yaw = goal.pose.yaw_rad;
   if (body.contains("start")) {
     plan.start = ParseGoal(body["start"], "start").pose.translation();
   } else {

@@ -118,8 +118,15 @@ std::optional<json> MissionNode::Describe(const std::string& id) const {
 
 void MissionNode::PlanLeg(const nav::Pose2& from, std::function<void(const PlanReply&, bool current)> done) {
   const nav::MissionGoal& goal = mission_->current_goal();
-  PlanRequest request{from.translation(), goal.pose.translation(),
-                      goal.has_yaw ? std::optional<double>(goal.pose.yaw_rad) : std::nullopt, nullptr, true};
+  PlanRequest request;
+  request.start = from.translation();
+  request.goal = goal.pose.translation();
+  if (goal.has_yaw) request.goal_yaw = goal.pose.yaw_rad;
+  request.robot_at_start = true;
+  // Round what blocked the robot lately, if anything did.
+  request.blocking = navigator_.Blocking();
+  request.blocking_radius_m = navigator_.options().blocked_radius_m;
+  request.blocking_cost = static_cast<float>(navigator_.options().blocked_cost);
   const std::uint64_t generation = generation_;
   planner_.Plan(std::move(request), [this, generation, done = std::move(done)](PlanReply reply) {
     executor().Post([this, generation, done, reply = std::move(reply)] {
@@ -148,18 +155,19 @@ void MissionNode::RequestPlan(const nav::Pose2& from) {
   });
 }
 
-void MissionNode::Reroute(const nav::Pose2& from) {
+void MissionNode::Reroute(const nav::Pose2& from, bool blocked) {
   rerouting_ = true;
   routed_ns_ = clock().Now();
-  PlanLeg(from, [this](const PlanReply& reply, bool current) {
+  PlanLeg(from, [this, blocked](const PlanReply& reply, bool current) {
     rerouting_ = false;
     // A failed reroute leaves the current path: it is still the best known way.
     if (!current || !navigator_.has_path() || !reply.result.ok()) return;
     std::vector<Eigen::Vector2d> path;
     for (const nav::Waypoint& w : navigator_.path()) path.push_back(w.pose.translation());
     const nav::LocalNavigatorOptions& o = navigator_.options();
-    if (!nav::PathsDiverge(reply.result.plan.dense, path, o.reroute_look_m, o.reroute_tolerance_m)) return;
-    spdlog::info("mission {}: another way, around where people walk", mission_->id());
+    if (!blocked && !nav::PathsDiverge(reply.result.plan.dense, path, o.reroute_look_m, o.reroute_tolerance_m)) return;
+    spdlog::info("mission {}: another way, {}", mission_->id(),
+                 blocked ? "around what blocked the robot" : "around where people walk");
     navigator_.SetPath(reply.result.plan.waypoints, reply.costmap);
     path_version_ = reply.version;
     remaining_m_ = reply.result.plan.length_m;
@@ -268,6 +276,11 @@ void MissionNode::Drive(const GroundLanes& lanes) {
     planning_ = false;
     command.Publish(MissionCommand{now, step.twist});  // still, unless stepping out of someone's way
     return;
+  }
+  if (step.blocked && !rerouting_) {
+    spdlog::info("mission {}: no headway for {} s; planning around what the camera saw", mission_->id(),
+                 navigator_.options().stuck_s);
+    Reroute(pose->pose, true);
   }
   command.Publish(MissionCommand{now, step.twist, true, lanes.arrival_ns});
   bus_.Get(topics::kMission).Publish(MissionState{DescribeLocked()});

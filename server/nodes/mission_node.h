@@ -50,8 +50,9 @@ class MissionNode final : public PeriodicNode {
   void PlanLeg(const nav::Pose2& from, std::function<void(const PlanReply&, bool current)> done);
   void RequestPlan(const nav::Pose2& from);
   // Plans the leg again from `from` with the planner's newest traffic costs; takes the new path if it goes another
-  // way than the current one.
-  void Reroute(const nav::Pose2& from);
+  // way than the current one, or in any case when `blocked` (the navigator made no headway: the new path goes round
+  // what blocked it). A failed plan leaves the current path.
+  void Reroute(const nav::Pose2& from, bool blocked = false);
   void CheckPath(const nav::Pose2& from);
   nlohmann::json DescribeLocked() const;
   void Changed();  // status changed: persist and publish

@@ -14,11 +14,11 @@ namespace {
 // mission remembers stays where it is.
 class MissionNodeTest : public ::testing::Test {
  protected:
-  MissionNodeTest()
+  explicit MissionNodeTest(const nav::LocalNavigatorOptions& options = {})
       : control_("control"),
         planning_("planning"),
         planner_(planning_, nav::CostmapOptions{}),
-        node_(control_, bus_, clock_, planner_, nav::LocalNavigatorOptions{}, [](const nlohmann::json&) {}) {
+        node_(control_, bus_, clock_, planner_, options, [](const nlohmann::json&) {}) {
     planner_.SetMap(std::make_shared<const nav::OccupancyGrid>(200, 200, 0.05, nav::Pose2{}, nav::kFreeCell));
     control_.Start();
     planning_.Start();
@@ -33,13 +33,15 @@ class MissionNodeTest : public ::testing::Test {
     planning_.Stop();
   }
 
-  // One depth frame's free lanes; returns the mission's command that answers it.
-  MissionCommand Frame() {
+  // One depth frame's lanes, free or (`wall`) each ending 0.3 m ahead; returns the mission's command that answers it.
+  MissionCommand Frame(bool wall = false) {
     std::vector<nav::LaneResult> lanes;
     for (const double offset : {-0.15, -0.05, 0.05, 0.15}) {
       nav::LaneResult lane;
       lane.offset_m = offset;
-      lane.free_distance_m = 4.0;
+      lane.free_distance_m = wall ? 0.3 : 4.0;
+      lane.dead_end = wall;
+      lane.point = {0.3, offset, 0.1};
       lanes.push_back(lane);
     }
     const drivers::TimeNs now = clock_.Now();
@@ -79,6 +81,40 @@ TEST_F(MissionNodeTest, AnOldBumpIsNotWhereTheRobotIsNow) {
   ASSERT_GT(FastestOver(40), 0.1) << "the mission never drove forward";
   bus_.Get(topics::kBumped).Publish(Bumped{clock_.Now() - drivers::FromSeconds(5.0), false});
   EXPECT_GT(FastestOver(10), 0.1);
+}
+
+// The same with a navigator that gives up on making headway after a second.
+nav::LocalNavigatorOptions QuicklyStuck() {
+  nav::LocalNavigatorOptions o;
+  o.stuck_s = 1.0;
+  return o;
+}
+
+class StuckMissionNodeTest : public MissionNodeTest {
+ protected:
+  StuckMissionNodeTest() : MissionNodeTest(QuicklyStuck()) {}
+};
+
+TEST_F(StuckMissionNodeTest, ARobotThatMakesNoHeadwayGetsAPathRoundWhatBlocksIt) {
+  const auto farthest_off_the_line = [this] {
+    const auto state = bus_.Get(topics::kMission).latest();
+    double farthest = 0.0;
+    if (state) {
+      for (const nlohmann::json& p : state->document["path"]) {
+        farthest = std::max(farthest, std::abs(p["y"].get<double>() - 5.0));
+      }
+    }
+    return farthest;
+  };
+  for (int i = 0; i < 10; ++i) Frame();
+  ASSERT_LT(farthest_off_the_line(), 0.05) << "the first path goes straight across the room";
+  // Something across the way 0.3 m in front of the robot, which is held still: after a second, a path round it.
+  double farthest = 0.0;
+  for (int i = 0; i < 60 && farthest < 0.3; ++i) {
+    Frame(true);
+    farthest = farthest_off_the_line();
+  }
+  EXPECT_GT(farthest, 0.3);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <vector>
 
 #include "nav/planner/planner.h"
 #include "server/runtime/executor.h"
@@ -14,11 +15,16 @@
 namespace corridor::server {
 
 struct PlanRequest {
-  Eigen::Vector2d start;
-  Eigen::Vector2d goal;
+  Eigen::Vector2d start = Eigen::Vector2d::Zero();
+  Eigen::Vector2d goal = Eigen::Vector2d::Zero();
   std::optional<double> goal_yaw;
   std::shared_ptr<std::atomic<bool>> cancel;  // may be null
   bool robot_at_start = false;  // the start is the robot's pose: what is under its footprint is passable
+  // Obstacles the map does not show, to go round where there is room (nav::LocalNavigator::Blocking): each adds
+  // blocking_cost to the cells within blocking_radius_m of it (nav::AddPointCost).
+  std::vector<Eigen::Vector2d> blocking;
+  double blocking_radius_m = 0.0;
+  float blocking_cost = 0.0f;
 };
 
 struct PlanReply {

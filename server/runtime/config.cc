@@ -180,6 +180,7 @@ void ReadMission(ConfigReader& r, nav::LocalNavigatorOptions& navigator) {
   o.yaw_tolerance_rad = yaw_tolerance_deg * kDegToRad;
   r.Read("replan_distance_m", navigator.replan_distance_m, 0.1, 100.0);
   r.Read("reroute_s", navigator.reroute_s, 0.0, 600.0);
+  r.Read("stuck_s", navigator.stuck_s, 0.0, 600.0);
   r.Section("avoid", [&](ConfigReader& a) { ReadAvoid(a, navigator.avoid); });
   r.Section("evade", [&](ConfigReader& e) { ReadEvade(e, navigator.evade); });
 }

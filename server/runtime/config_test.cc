@@ -94,7 +94,8 @@ TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
                                     "tracking: {enabled: false, camera: false, window_scans: 6, coast_s: 0.5,"
                                     " unseen_coast_s: 3, merged_hold_s: 2, walk_end_memory_s: 20,"
                                     " traffic: {weight: 5}}\n"
-                                    "mission: {max_linear_mps: 0.4, reroute_s: 5, evade: {margin_m: 0.25, horizon_s: 4}}\n";
+                                    "mission: {max_linear_mps: 0.4, reroute_s: 5, stuck_s: 20,"
+                                    " evade: {margin_m: 0.25, horizon_s: 4}}\n";
   const Config c = LoadConfig(dir_ / "c.yaml");
   EXPECT_FALSE(c.tracking.enabled);
   EXPECT_FALSE(c.tracking.camera);
@@ -110,6 +111,7 @@ TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
   EXPECT_DOUBLE_EQ(c.tracking.objects.walk_end_memory_s, 20.0);
   EXPECT_DOUBLE_EQ(c.tracking.traffic.weight, 5.0);
   EXPECT_DOUBLE_EQ(c.mission.reroute_s, 5.0);
+  EXPECT_DOUBLE_EQ(c.mission.stuck_s, 20.0);
   EXPECT_DOUBLE_EQ(c.mission.evade.margin_m, 0.25);
   EXPECT_DOUBLE_EQ(c.mission.evade.horizon_s, 4.0);
   EXPECT_DOUBLE_EQ(c.mission.evade.max_linear_mps, 0.4);  // the mission's own top speed

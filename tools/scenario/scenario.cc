@@ -332,28 +332,6 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   if (tracking && !sim.laser.enabled) depth_scan.emplace(camera, nav::DepthScanOptions{});
 
   const auto costmap = std::make_shared<const nav::Costmap>(RobotCostmap(layout.map));
-  const auto plan_from = [&](const Eigen::Vector2d& from) {
-    nav::PathOptions path_options;
-    std::vector<float> extra;
-    const double now_s = drivers::ToSeconds(robot.now_ns());
-    if (traffic && !traffic->Empty(now_s)) {
-      extra = traffic->StepCost(now_s);
-      path_options.extra_cost = extra;
-    }
-    path_options.robot_at_start = true;
-    return nav::PlanPath(*costmap, from, layout.goal, std::nullopt, nullptr, path_options);
-  };
-  if (options.trace) {
-    std::fprintf(stderr, "run world %d run %d start %.2f %.2f goal %.2f %.2f\n", layout.world_index, layout.run_index,
-                 layout.start.x_m, layout.start.y_m, layout.goal.x(), layout.goal.y());
-  }
-  double planned_s = 0.0;
-  nav::PlanResult plan = plan_from(layout.start.translation());
-  if (!plan.ok()) {
-    result.outcome = Outcome::kNoPath;
-    return result;
-  }
-
   nav::LocalNavigatorOptions navigator_options;
   navigator_options.follower.max_linear_mps = options.max_speed_mps;
   navigator_options.avoid.max_linear_mps = options.max_speed_mps;
@@ -364,6 +342,31 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   // Backing away is the laser's to allow: a forward camera cannot see what is behind.
   navigator_options.evade.max_reverse_mps = options.max_speed_mps;
   if (!sim.laser.enabled) navigator_options.evade = nav::ForForwardView(navigator_options.evade);
+  // Round where people walk, and round what blocked the robot (`blocking`: LocalNavigator::Blocking).
+  const auto plan_from = [&](const Eigen::Vector2d& from, const std::vector<Eigen::Vector2d>& blocking) {
+    nav::PathOptions path_options;
+    std::vector<float> extra;
+    const double now_s = drivers::ToSeconds(robot.now_ns());
+    if (traffic && !traffic->Empty(now_s)) extra = traffic->StepCost(now_s);
+    if (!blocking.empty()) {
+      nav::AddPointCost(*costmap, blocking, navigator_options.blocked_radius_m,
+                        static_cast<float>(navigator_options.blocked_cost), extra);
+    }
+    path_options.extra_cost = extra;
+    path_options.robot_at_start = true;
+    return nav::PlanPath(*costmap, from, layout.goal, std::nullopt, nullptr, path_options);
+  };
+  if (options.trace) {
+    std::fprintf(stderr, "run world %d run %d start %.2f %.2f goal %.2f %.2f\n", layout.world_index, layout.run_index,
+                 layout.start.x_m, layout.start.y_m, layout.goal.x(), layout.goal.y());
+  }
+  double planned_s = 0.0;
+  nav::PlanResult plan = plan_from(layout.start.translation(), {});
+  if (!plan.ok()) {
+    result.outcome = Outcome::kNoPath;
+    return result;
+  }
+
   nav::LocalNavigator navigator(navigator_options);
   navigator.SetPath(plan.plan.waypoints, costmap);
   nav::Morp morp(camera, nav::MorpOptions{});
@@ -434,10 +437,21 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       const std::vector<nav::LaneResult>& lanes = morp.Process(frame->depth_mm);
       t1 = Clock::now();
       step = navigator.Update(pose, lanes, std::numeric_limits<double>::infinity(), dt_s, around);
-      if (step->replan) {
-        plan = plan_from(pose.translation());
+      if (step->replan || step->blocked) {
+        plan = plan_from(pose.translation(), navigator.Blocking());
         if (plan.ok()) navigator.SetPath(plan.plan.waypoints, costmap);
         planned_s = now_s;
+        if (options.trace && step->blocked) {
+          // Where the new path leads: its length, and its point 1 m on, in the robot's frame.
+          Eigen::Vector2d ahead = Eigen::Vector2d::Zero();
+          double along = 0.0;
+          for (std::size_t i = 1; plan.ok() && i < plan.plan.dense.size() && along < 1.0; ++i) {
+            along += (plan.plan.dense[i] - plan.plan.dense[i - 1]).norm();
+            ahead = pose.Inverse().Transform(plan.plan.dense[i]);
+          }
+          std::fprintf(stderr, "t %.2f blocked: planned round what it saw (%zu points): %.1f m, 1 m on at %.2f %.2f\n",
+                       now_s, navigator.Blocking().size(), plan.ok() ? plan.plan.length_m : -1.0, ahead.x(), ahead.y());
+        }
       }
       twist = step->twist;
     } else {
@@ -445,7 +459,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       t1 = Clock::now();
       const nav::FollowStep follow = follower.Update(pose, std::numeric_limits<double>::infinity());
       if (follow.off_path_m > navigator_options.replan_distance_m) {
-        plan = plan_from(pose.translation());
+        plan = plan_from(pose.translation(), {});
         if (plan.ok()) follower.SetPath(plan.plan.waypoints);
       }
       const Eigen::Vector2d to_target = follow.target - pose.translation();
@@ -458,7 +472,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
     // planner's work, as in the daemon, where it runs beside the control loop: not in the per-frame times).
     if (traffic && !traffic->Empty(now_s) && navigator_options.reroute_s > 0.0 &&
         now_s - planned_s >= navigator_options.reroute_s) {
-      nav::PlanResult again = plan_from(pose.translation());
+      nav::PlanResult again = plan_from(pose.translation(), navigator.Blocking());
       if (again.ok() && (!plan.ok() || nav::PathsDiverge(again.plan.dense, plan.plan.dense,
                                                           navigator_options.reroute_look_m,
                                                           navigator_options.reroute_tolerance_m))) {
