@@ -30,6 +30,14 @@ struct DepthScanOptions {
   double segment_gap_m = 0.15;
 };
 
+// The scan the local navigator's obstacle memory takes (nav/safety/obstacle_memory.h): the image's sides kept (what
+// the side cuts is still there to drive into) and out to 2 m (the memory keeps 1.5 m).
+inline DepthScanOptions ForObstacleMemory(DepthScanOptions options) {
+  options.segment_gap_m = 0.0;
+  options.max_range_m = 2.0;
+  return options;
+}
+
 class DepthScan {
  public:
   // Throws std::invalid_argument for a camera without size or focal length, or bad options.

@@ -103,10 +103,17 @@ class LocalNavigator {
   void SetMap(std::shared_ptr<const Costmap> map) { memory_.SetMap(std::move(map)); }
   // The bumper is pressed: what touched the front is remembered, so that the next commands turn away from it.
   void Touched(const Pose2& robot, bool backing) { memory_.Touched(robot, backing); }
+  // The frame's depth scan, before Update with its lanes: what the camera saw beside the lanes is remembered too
+  // (ObstacleMemory::See).
+  void See(const Pose2& robot, const std::vector<Eigen::Vector2d>& scan, const SensorView& view) {
+    memory_.See(robot, scan, view);
+  }
   const std::vector<Waypoint>& path() const { return follower_.path(); }
   // What blocked the robot (world frame: the points it remembered seeing when it last reported `blocked`), for
   // blocked_hold_s after; empty otherwise. Every path planned meanwhile should go round them (AddPointCost).
   const std::vector<Eigen::Vector2d>& Blocking() const { return blocking_; }
+  // What the obstacle memory holds now (world frame), for traces.
+  std::vector<Eigen::Vector2d> Remembered() const { return memory_.Points(); }
   bool has_path() const { return follower_.has_path(); }
   void Clear() { follower_.Clear(); }
   const LocalNavigatorOptions& options() const { return options_; }

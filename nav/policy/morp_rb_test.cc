@@ -461,6 +461,65 @@ TEST(ObstacleMemoryTest, FreeFloorSeenPastAPointClearsItAndDistanceForgetsIt) {
   EXPECT_EQ(memory.size(), 0u);
 }
 
+// A depth scan's points along y = `y` from x = x0 to x1 (base frame), a column every 2 cm; and a camera 0.1 m ahead
+// of the base seeing 40 degrees either way out to 2 m.
+std::vector<Eigen::Vector2d> ScanAlong(double y, double x0, double x1) {
+  std::vector<Eigen::Vector2d> scan;
+  for (double x = x0; x <= x1 + 1e-9; x += 0.02) scan.emplace_back(x, y);
+  return scan;
+}
+const SensorView kScanView{Pose2{0.1, 0.0, 0.0}, 0.7, 2.0};
+
+TEST(ObstacleMemoryTest, WhatTheCameraSawBesideTheLanesIsKeptClearOfOnceBesideTheRobot) {
+  // The side of something 0.45 m to the left, 0.5-1.3 m ahead: in the camera's view, in no lane's.
+  ObstacleMemory memory(ObstacleMemoryOptions{});
+  ObstacleMemory lanes_only(ObstacleMemoryOptions{});
+  memory.See(Pose2{0, 0, 0}, ScanAlong(0.45, 0.5, 1.3), kScanView);
+  EXPECT_GT(memory.size(), 10u);
+  EXPECT_LT(memory.size(), 20u);  // one point a cell: 0.8 m of it in 5 cm cells
+  // Driven on until it is beside the robot, out of view: a turn toward it is bent away, keeping the speed.
+  const Pose2 beside{0.9, 0.0, 0.0};
+  memory.Update(beside, {}, 2.0);
+  lanes_only.Update(beside, {}, 2.0);
+  const Twist2 left{0.26, 0.8};
+  const Twist2 guarded = memory.Guard(beside, left);
+  EXPECT_NEAR(guarded.linear_mps, 0.26, 1e-9);
+  EXPECT_LT(guarded.angular_rps, 0.8);
+  EXPECT_EQ(lanes_only.Guard(beside, left).angular_rps, 0.8);  // the lanes never saw it
+  EXPECT_EQ(memory.Guard(beside, {0.26, 0.0}).angular_rps, 0.0);  // driving on beside it is not driving into it
+}
+
+TEST(ObstacleMemoryTest, AScanPointSeenPastIsForgottenOneHiddenOrALowOneTheLanesSawIsNot) {
+  ObstacleMemory memory(ObstacleMemoryOptions{});
+  const Pose2 robot{2.0, 1.0, 0.5};
+  memory.See(robot, {{1.0, 0.0}}, kScanView);
+  memory.Update(robot, {DeadEndAt(0.3, 1.0, 0.3)}, 0.05);  // a step, below the scan's heights
+  ASSERT_EQ(memory.size(), 2u);
+  // Something nearer on the same bearing hides the point: it is kept.
+  memory.See(robot, {{0.8, 0.0}}, kScanView);
+  EXPECT_EQ(memory.size(), 3u);
+  // Then the scan sees 1.45 m on that bearing: both scan points went (someone walked off); the step stays.
+  memory.See(robot, {{1.45, 0.0}}, kScanView);
+  EXPECT_EQ(memory.size(), 2u);  // the step and the new point
+  memory.See(robot, {}, kScanView);  // nothing on that bearing within the scan's range
+  EXPECT_EQ(memory.size(), 1u);
+  // Nothing is cleared outside the view or nearer than the lanes see the floor.
+  memory.See(robot, {{0.4, 0.0}, {0.5, 1.2}}, kScanView);
+  memory.See(robot, {}, kScanView);
+  EXPECT_EQ(memory.size(), 3u);
+}
+
+TEST(ObstacleMemoryTest, ScanPointsOnTheMapsWallsAreTheMapsNotRemembered) {
+  OccupancyGrid grid(120, 60, 0.05, Pose2{-1.0, -1.5, 0.0}, kFreeCell);
+  for (int x = 0; x < 120; ++x) grid.at({x, 40}) = kOccupiedCell;  // y = 0.50-0.55
+  ObstacleMemory memory(ObstacleMemoryOptions{});
+  memory.SetMap(std::make_shared<const Costmap>(grid, std::span<const Zone>{}, CostmapOptions{}));
+  memory.See(Pose2{0, 0, 0}, ScanAlong(0.5, 0.5, 1.0), kScanView);
+  EXPECT_EQ(memory.size(), 0u);
+  memory.See(Pose2{0, 0, 0}, ScanAlong(0.3, 0.5, 1.0), kScanView);  // something standing in front of the wall
+  EXPECT_GT(memory.size(), 0u);
+}
+
 TEST(ObstacleMemoryTest, WhenEveryArcIsBlockedItTurnsInPlaceAwayFromTheNearestPoint) {
   ObstacleMemory memory(ObstacleMemoryOptions{});
   // A wall of points just ahead, nearer on the left.

@@ -39,13 +39,51 @@ void ObstacleMemory::Update(const Pose2& robot, const std::vector<LaneResult>& l
   }
 }
 
-void ObstacleMemory::Remember(const Eigen::Vector2d& world) {
+void ObstacleMemory::See(const Pose2& robot, const std::vector<Eigen::Vector2d>& scan, const SensorView& view) {
+  const ObstacleMemoryOptions& o = options_;
+  // The scan's nearest range from the camera in each bearing bin across the view; an empty bin saw nothing.
+  const double bin_rad = o.scan_bearing_rad;
+  const int bins = std::max(1, static_cast<int>(std::ceil(2.0 * view.half_angle_rad / bin_rad)));
+  const auto bin_of = [&](const Eigen::Vector2d& in_view) {
+    return static_cast<int>(std::floor((std::atan2(in_view.y(), in_view.x()) + view.half_angle_rad) / bin_rad));
+  };
+  std::vector<double> nearest(static_cast<std::size_t>(bins), std::numeric_limits<double>::infinity());
+  const Pose2 view_T_base = view.world_T_sensor.Inverse();
+  for (const Eigen::Vector2d& p : scan) {
+    const Eigen::Vector2d in_view = view_T_base.Transform(p);
+    const int b = bin_of(in_view);
+    if (b >= 0 && b < bins) nearest[b] = std::min(nearest[b], in_view.norm());
+  }
+  // Seen past: forgotten. Not nearer than clear_from_m (below the image's bottom edge) and not in the outermost
+  // bins (partly out of view).
+  const Pose2 view_T_world = (robot * view.world_T_sensor).Inverse();
+  std::erase_if(points_, [&](const Point& p) {
+    if (!p.scanned) return false;
+    const Eigen::Vector2d in_view = view_T_world.Transform(p.world);
+    const double range = in_view.norm();
+    if (range < o.clear_from_m || range > view.range_m) return false;
+    const int b = bin_of(in_view);
+    return b > 0 && b < bins - 1 && nearest[b] > range + o.scan_clear_m;
+  });
+  // Neighbouring columns a cell apart or less are one point; the map's own obstacles are known without it.
+  const Eigen::Vector2d* last = nullptr;
+  for (const Eigen::Vector2d& p : scan) {
+    if (last != nullptr && (p - *last).norm() < o.cell_m) continue;
+    last = &p;
+    const Eigen::Vector2d world = robot.Transform(p);
+    if ((world - robot.translation()).norm() > o.keep_radius_m) continue;
+    if (MapClearance(world) < o.scan_map_tolerance_m) continue;
+    Remember(world, true);
+  }
+}
+
+void ObstacleMemory::Remember(const Eigen::Vector2d& world, bool scanned) {
   const auto near = std::find_if(points_.begin(), points_.end(),
                                  [&](const Point& p) { return (p.world - world).norm() < options_.cell_m; });
   if (near != points_.end()) {
-    *near = {world, 0.0};
+    *near = {world, 0.0, scanned};
   } else {
-    points_.push_back({world, 0.0});
+    points_.push_back({world, 0.0, scanned});
   }
 }
 

@@ -11,6 +11,12 @@
 // clearance field, nearer than robot_radius_m + map_margin_m) is refused the same way, so that a turn does not
 // swing the robot into a mapped speck or into unknown space beside it. What the bumper touched is remembered like a
 // dead-end (Touched).
+//
+// The lanes look straight ahead, so of an obstacle the robot passes they sample only the face toward it: the side it
+// passes beside was never in a lane (a 0.5 m cylinder passed on the left showed two points 0.6 m apart, and a lane
+// change toward it crept the footprint into the unsampled arc between them, in a scenario run). The depth camera sees
+// more than the lanes: with See, each frame's depth scan (the nearest point of each column, nav/ground/depth_scan.h)
+// is remembered too, and forgotten when a later scan sees past it.
 #pragma once
 
 #include <memory>
@@ -19,6 +25,7 @@
 #include <Eigen/Core>
 
 #include "nav/geometry/pose2.h"
+#include "nav/geometry/sensor_view.h"
 #include "nav/ground/morp.h"
 #include "nav/planner/costmap.h"
 
@@ -45,6 +52,12 @@ struct ObstacleMemoryOptions {
   double horizon_s = 1.2;       // how far ahead a command is swept
   double sweep_step_s = 0.1;
   double max_turn_rps = 1.0;    // the sharpest arc the guard may substitute
+  // A remembered scan point is forgotten when the scan's nearest point at its bearing (within scan_bearing_rad) lies
+  // farther than it by more than scan_clear_m: seen past.
+  double scan_bearing_rad = 0.0175;
+  double scan_clear_m = 0.1;
+  // Scan points this near the map's obstacles are the map's (walls): not remembered.
+  double scan_map_tolerance_m = 0.1;
 };
 
 class ObstacleMemory {
@@ -54,6 +67,12 @@ class ObstacleMemory {
   // Ages the memory by dt_s, forgets what is too old or too far, and remembers this frame's dead-ends (lanes taken
   // at `robot`). Blind lanes are not obstacles to remember.
   void Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double dt_s);
+
+  // Remembers the same frame's depth scan (`scan`: base frame, the nearest point of each column, the image's sides
+  // kept; `view`: what the scan covers, in the base frame: DepthScan::View of the identity) with the robot at
+  // `robot`, and forgets the scan points remembered before that it now sees past. Points the lanes remembered are
+  // left to the lanes: a scan starts above the steps the lanes see.
+  void See(const Pose2& robot, const std::vector<Eigen::Vector2d>& scan, const SensorView& view);
 
   // `command` if its sweep stays clear of every remembered point (or moves away from them), else the clear
   // candidate nearest to it: the same or half the speed (forward or back, as commanded) on arcs bending up to
@@ -93,10 +112,11 @@ class ObstacleMemory {
   struct Point {
     Eigen::Vector2d world;
     double age_s;
+    bool scanned;  // from a depth scan: a later scan may clear it
   };
   // The map's clearance at `at` (+infinity without a map or outside it).
   double MapClearance(const Eigen::Vector2d& at) const;
-  void Remember(const Eigen::Vector2d& world);
+  void Remember(const Eigen::Vector2d& world, bool scanned = false);
 
   ObstacleMemoryOptions options_;
   std::vector<Point> points_;

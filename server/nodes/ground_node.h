@@ -1,8 +1,9 @@
 // Runs MORP ground segmentation (nav/ground/morp.h) on every depth frame, on the control executor, and publishes the
-// lanes on ground/lanes with the time from the frame's arrival. The local policy and the safety limits read them.
+// lanes on ground/lanes with the time from the frame's arrival, with the frame's depth scan for the obstacle memory. The local policy and the safety limits read them.
 #pragma once
 
 #include "drivers/depth_camera.h"
+#include "nav/ground/depth_scan.h"
 #include "nav/ground/morp.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
@@ -19,6 +20,7 @@ class GroundNode final : public Node {
   Executor& executor_;
   Bus& bus_;
   nav::Morp morp_;
+  nav::DepthScan scan_;  // for the obstacle memory (nav::ForObstacleMemory)
 };
 
 }  // namespace corridor::server

@@ -255,6 +255,7 @@ void MissionNode::Drive(const GroundLanes& lanes) {
     bump_seen_ns_ = bump->stamp_ns;
     navigator_.Touched(pose->pose, bump->backing);
   }
+  if (lanes.scan_view.range_m > 0.0) navigator_.See(pose->pose, lanes.scan, lanes.scan_view);
   const nav::LocalStep step = navigator_.Update(pose->pose, lanes.lanes, mission_->speed_limit_mps(), dt_s,
                                                 fresh ? &tracked->surroundings : nullptr);
   remaining_m_ = step.remaining_m;

@@ -45,7 +45,7 @@ class MissionNodeTest : public ::testing::Test {
       lanes.push_back(lane);
     }
     const drivers::TimeNs now = clock_.Now();
-    bus_.Get(topics::kGroundLanes).Publish(GroundLanes{now, now, ++sequence_, 0.0, lanes});
+    bus_.Get(topics::kGroundLanes).Publish(GroundLanes{now, now, ++sequence_, 0.0, lanes, {}, {}});
     std::this_thread::sleep_for(std::chrono::milliseconds(55));
     const auto command = bus_.Get(topics::kMissionCommand).latest();
     return command ? *command : MissionCommand{};

@@ -10,6 +10,7 @@
 #include "drivers/diff_drive_base.h"
 #include "drivers/laser2d.h"
 #include "nav/geometry/pose2.h"
+#include "nav/geometry/sensor_view.h"
 #include "nav/ground/morp.h"
 #include "nav/tracking/moving_objects.h"
 
@@ -73,6 +74,10 @@ struct GroundLanes {
   std::uint64_t frame_sequence = 0;
   double latency_ms = 0.0;           // from the control executor taking the frame up to the lanes being ready
   std::vector<nav::LaneResult> lanes;
+  // The same frame's depth scan (the nearest point of each column, base frame) and the floor it covers (base frame,
+  // SensorView of the identity): the local navigator's obstacle memory keeps what the camera saw beside the lanes.
+  std::vector<Eigen::Vector2d> scan;
+  nav::SensorView scan_view;
 };
 
 // What the laser's moving-object tracker (nav/tracking) shows after one scan, in the map frame.

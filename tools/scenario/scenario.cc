@@ -106,7 +106,8 @@ void TraceDecision(double now_s, const nav::Pose2& pose, const nav::LocalStep& s
   std::fprintf(stderr, "\n");
 }
 
-void TraceCollision(const Layout& layout, const nav::Pose2& pose, const std::vector<drivers::sim::Pedestrian>& people) {
+void TraceCollision(const Layout& layout, const nav::Pose2& pose, const std::vector<drivers::sim::Pedestrian>& people,
+                    const std::vector<Eigen::Vector2d>& remembered) {
   std::fprintf(stderr, "collision at %.2f %.2f yaw %.2f; goal %.2f %.2f\n", pose.x_m, pose.y_m, pose.yaw_rad,
                layout.goal.x(), layout.goal.y());
   for (const auto& p : people) {
@@ -119,6 +120,12 @@ void TraceCollision(const Layout& layout, const nav::Pose2& pose, const std::vec
                  o.shape == StaticObstacle::Shape::kBox ? "box" : "cylinder", o.center.x(), o.center.y(), o.size_m,
                  (o.center - pose.translation()).norm());
   }
+  std::fprintf(stderr, "  remembered within 1 m (robot frame):");
+  for (const Eigen::Vector2d& p : remembered) {
+    const Eigen::Vector2d local = pose.Inverse().Transform(p);
+    if (local.norm() <= 1.0) std::fprintf(stderr, " (%.2f %.2f)", local.x(), local.y());
+  }
+  std::fprintf(stderr, "\n");
 }
 
 template <typename Fn>
@@ -330,6 +337,10 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   const nav::PinholeCamera camera = robot.info().camera;
   std::optional<nav::DepthScan> depth_scan;
   if (tracking && !sim.laser.enabled) depth_scan.emplace(camera, nav::DepthScanOptions{});
+  // morp-rb's obstacle memory takes each frame's whole scan (the image's sides kept), as the daemon's ground node
+  // gives it: part of the depth processing.
+  nav::DepthScan memory_scan(camera, nav::ForObstacleMemory(nav::DepthScanOptions{}));
+  const nav::SensorView memory_view = memory_scan.View(nav::Pose2{});
 
   const auto costmap = std::make_shared<const nav::Costmap>(RobotCostmap(layout.map));
   nav::LocalNavigatorOptions navigator_options;
@@ -404,7 +415,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
         const double robot_closing = robot_velocity.dot(toward);
         result.robot_drove_into_it = robot_closing > 0.02 && robot_closing >= -person->velocity.dot(toward);
       }
-      if (options.trace) TraceCollision(layout, pose, people);
+      if (options.trace) TraceCollision(layout, pose, people, navigator.Remembered());
       break;
     }
     if ((pose.translation() - layout.goal).norm() <= options.goal_tolerance_m) {
@@ -435,7 +446,9 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
     Clock::time_point t1;
     if (policy == Policy::kMorpRb) {
       const std::vector<nav::LaneResult>& lanes = morp.Process(frame->depth_mm);
+      const std::vector<Eigen::Vector2d>& seen = memory_scan.Process(frame->depth_mm);
       t1 = Clock::now();
+      navigator.See(pose, seen, memory_view);
       step = navigator.Update(pose, lanes, std::numeric_limits<double>::infinity(), dt_s, around);
       if (step->replan || step->blocked) {
         plan = plan_from(pose.translation(), navigator.Blocking());
