@@ -1,5 +1,6 @@
 // Runs MORP ground segmentation (nav/ground/morp.h) on every depth frame, on the control executor, and publishes the
-// lanes on ground/lanes with the time from the frame's arrival, with the frame's depth scan for the obstacle memory. The local policy and the safety limits read them.
+// lanes on ground/lanes with the time from the frame's arrival, and the frame's depth scan for the obstacle memory.
+// The local policy and the safety limits read them.
 #pragma once
 
 #include "drivers/depth_camera.h"
