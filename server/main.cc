@@ -10,18 +10,9 @@
 #include <fstream>
 #include <iostream>
 
-#include "drivers/sim/sim_robot.h"
-#include "nav/map/map_io.h"
-#include "nav/policy/evasion.h"
 #include "server/api/http_server.h"
-#include "server/nodes/control_node.h"
-#include "server/nodes/driver_bridge.h"
-#include "server/nodes/face_node.h"
-#include "server/nodes/ground_node.h"
-#include "server/nodes/tracking_node.h"
-#include "server/nodes/localization_node.h"
-#include "server/nodes/mission_node.h"
-#include "server/nodes/sim_node.h"
+#include "server/app/graph.h"
+#include "server/app/simulator.h"
 #include "server/runtime/config.h"
 
 namespace corridor::server {
@@ -110,21 +101,10 @@ void PrepareStateDir(const fs::path& dir) {
   fs::remove(probe);
 }
 
-// The map to work in and its name: the configured map file, else the simulator's world when it is a map, else
-// the world's collision slice (what the robot can bump into).
-std::pair<std::string, nav::OccupancyGrid> InitialMap(const Config& config, const drivers::sim::World* world) {
-  if (!config.map.file.empty()) return {config.map.file.stem().string(), nav::LoadMap(config.map.file)};
-  if (world != nullptr && world->source_map) return {config.sim.world.stem().string(), *world->source_map};
-  if (world != nullptr) return {config.sim.world.stem().string() + "-collision", world->collision};
-  throw std::runtime_error("map.file: required when the simulator is disabled");
-}
-
 int Run(const CommandLine& cl) {
   const Config config = [&] {
     Config c = LoadConfig(cl.config, cl.overrides);
     c.server.web_root = FindWebRoot(c.server.web_root);
-    // Evasion backs away only when a laser sees behind; without one, people are tracked in the forward camera's view.
-    if (!c.sim.robot.laser.enabled) c.mission.evade = nav::ForForwardView(c.mission.evade);
     return c;
   }();
   spdlog::set_level(spdlog::level::from_str(config.log.level));
@@ -133,35 +113,7 @@ int Run(const CommandLine& cl) {
   if (!config.sim.enabled) {
     throw std::runtime_error("sim.enabled: false needs real drivers, and none is built yet; run with the simulator");
   }
-
-  auto world = [&] {
-    drivers::sim::World w = drivers::sim::LoadWorld(config.sim.world, config.sim.world_options);
-    drivers::sim::AddObstacles(w, config.sim.obstacles);  // in the world, not in its map
-    return std::make_shared<const drivers::sim::World>(std::move(w));
-  }();
-  auto [map_name, map_grid] = InitialMap(config, world.get());
-  Store store(config.store.state_dir / "corridor.db");
-
-  const nav::Pose2 start = config.sim.robot.start;
-  drivers::sim::SimOptions sim_options = config.sim.robot;
-  if (config.sim.pedestrians > 0) {
-    std::mt19937 rng(config.sim.robot.seed);
-    drivers::sim::RouteArea area;
-    area.center = start.translation();
-    area.within_m = config.sim.pedestrians_within_m;
-    area.clearance_m = 1.5;
-    sim_options.pedestrians =
-        drivers::sim::RandomRoutes(world->collision, config.sim.pedestrians, sim_options.crowd.radius_m, area, rng);
-    spdlog::info("simulator: {} pedestrian(s) walking near the start", sim_options.pedestrians.size());
-  }
-  drivers::sim::SimRobot robot(world, sim_options);
-  {
-    drivers::sim::DiffDriveSim probe(world->collision, config.sim.robot.base, start);
-    if (probe.Collides(start)) {
-      throw std::runtime_error("sim.start: the robot at (" + std::to_string(start.x_m) + ", " +
-                               std::to_string(start.y_m) + ") overlaps an obstacle or is outside the world");
-    }
-  }
+  const Simulator sim = MakeSimulator(config);
 
   // Signals are taken by the main thread only: block them before any other thread starts.
   sigset_t signals;
@@ -170,78 +122,18 @@ int Run(const CommandLine& cl) {
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
-  const drivers::SteadyClock wall_clock;
-  Bus bus;
-  Executors executors;
-  PlannerService planner(executors.planning, config.planner);
-  // The tracker of moving objects, from the laser when there is one, else from the depth camera: the map's walls are
-  // not objects to track.
-  std::unique_ptr<TrackingNode> tracking_node;
-  if (config.tracking.enabled && (config.sim.robot.laser.enabled || config.tracking.camera)) {
-    TrackingSource source;
-    if (config.sim.robot.laser.enabled) source.base_T_laser = robot.base_T_laser();
-    source.camera = robot.info().camera;
-    tracking_node = std::make_unique<TrackingNode>(
-        executors.mapping, bus, wall_clock, source, config.tracking.objects, config.tracking.traffic,
-        [&planner](std::shared_ptr<const std::vector<float>> cost, const nav::OccupancyGrid* map) {
-          planner.SetTraffic(std::move(cost), map);
-        });
-  }
-  TrackingNode* const tracking = tracking_node.get();
-  // Each active map goes to the planner and, for its walls, to the tracker.
-  const auto use_map = [&planner, tracking](const std::shared_ptr<const ActiveMap>& map) {
-    const std::shared_ptr<const nav::OccupancyGrid> grid(map, &map->grid);
-    planner.SetMap(grid);
-    if (tracking != nullptr) tracking->SetMap(grid);
-  };
-  MapLibrary maps(config.store.state_dir, map_name, std::move(map_grid), use_map);
-  {
-    const auto map = maps.active();
-    use_map(map);
-    planner.SetZones(store.Zones(map->name));
-    spdlog::info("map '{}': {} x {} cells at {} m", map->name, map->grid.width(), map->grid.height(),
-                 map->grid.resolution_m());
-  }
-  ConnectDrivers(bus, wall_clock, robot, robot, &robot);
-  Lifecycle lifecycle;
-  // Mission documents are written to the database on the io executor, off the control path.
-  const auto persist = [&store, &executors](nlohmann::json doc) {
-    executors.io.Post([&store, doc = std::move(doc)] {
-      try {
-        store.PutMission(doc["id"].get<std::string>(), doc);
-      } catch (const StoreError& e) {
-        spdlog::error("{}", e.what());
-      }
-    });
-  };
-  auto mission_node =
-      std::make_unique<MissionNode>(executors.control, bus, wall_clock, planner, config.mission, persist);
-  MissionNode& missions = *mission_node;
-  // Brought up in this order and down in reverse: control goes first at shutdown, so the robot stops first.
-  lifecycle.Add(std::make_unique<SimNode>(executors.sim, bus, robot, wall_clock));
-  lifecycle.Add(std::make_unique<LocalizationNode>(executors.mapping, bus, wall_clock, start));
-  lifecycle.Add(std::make_unique<FaceNode>(executors.perception, bus, wall_clock));
-  lifecycle.Add(std::make_unique<GroundNode>(executors.control, bus, wall_clock, robot.info(), config.ground));
-  if (tracking_node) lifecycle.Add(std::move(tracking_node));
-  lifecycle.Add(std::move(mission_node));
-  lifecycle.Add(std::make_unique<ControlNode>(executors.control, bus, robot, wall_clock, config.safety));
-  lifecycle.ConfigureAll();
-
-  const Api api({bus, lifecycle, maps, store, planner, missions, config, wall_clock, executors.io, &robot});
-  HttpServer server(executors.io, api, config.server);
+  Graph graph(config, sim.devices(config), InitialMap(config, sim.world.get()), Schedule::kThreads);
+  HttpServer server(graph.executors().io, graph.api(), config.server);
   server.Start();
-  executors.StartAll();
-  lifecycle.ActivateAll();
+  graph.Start();
   spdlog::info("listening on http://{}:{}", config.server.bind_address, server.port());
   std::cerr << std::flush;
 
   int signal_number = 0;
   sigwait(&signals, &signal_number);
   spdlog::info("{}: stopping the robot, then shutting down", strsignal(signal_number));
-  lifecycle.DeactivateAll();
+  graph.Stop();
   server.Stop();
-  executors.StopAll();
-  lifecycle.CleanupAll();
   spdlog::info("stopped");
   return 0;
 }

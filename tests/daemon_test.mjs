@@ -187,6 +187,30 @@ describe('corridord in the Willow Garage building', () => {
     assert.equal((await getJson(`${daemon.url}/api/v1/health`)).status, 200);
   });
 
+  test('stream messages of any shape get an error reply; other clients and the daemon go on', async () => {
+    const bystander = await openStream(daemon.url);
+    const { ws, messages } = await openStream(daemon.url);
+    const bad = ['{"type":1}', '{"type":null}', '{"type":[]}', '{"type":{"a":1}}', '[]', '"subscribe"', '{}',
+      '{"type":"subscribe"}', '{"type":"subscribe","topics":"state"}', '{"type":"subscribe","topics":[1,null]}',
+      '{"type":"teleop","linear_mps":1e400,"angular_rps":0}', '{"type":"teleop","linear_mps":null,"angular_rps":0}',
+      '{"type":"teleop","linear_mps":0,"angular_rps":0,"extra":{}}', '\u0000\u00ff', '{"type":"\ud800"}'];
+    for (const text of bad) ws.send(text);
+    await sleep(500);
+    const errors = messages.filter((m) => m.message.type === 'error');
+    assert.equal(errors.length, bad.length, JSON.stringify(errors.map((e) => e.message.detail)));
+    for (const e of errors) assert.ok(e.message.status >= 400 && e.message.status < 500, JSON.stringify(e.message));
+    assert.equal(ws.readyState, WebSocket.OPEN);
+    // The other client still gets its state, and every node is as healthy as before.
+    const before = bystander.messages.length;
+    await sleep(300);
+    assert.ok(bystander.messages.length > before, 'the other client is still served');
+    const s = await state(daemon.url);
+    for (const node of s.nodes) assert.notEqual(node.health, 'error', `${node.name}: ${node.message}`);
+    assert.equal((await getJson(`${daemon.url}/api/v1/health`)).status, 200);
+    ws.close();
+    bystander.ws.close();
+  });
+
   test('the console is served at /', async () => {
     const res = await fetch(`${daemon.url}/`);
     assert.equal(res.status, 200);

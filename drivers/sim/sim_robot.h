@@ -40,6 +40,8 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D 
   // caller's thread. Must be called from one thread at a time.
   void Step();
   TimeNs now_ns() const { return clock_.Now(); }
+  // Simulated time: what a graph run in lockstep with this robot takes as its clock.
+  const Clock& clock() const { return clock_; }
   double step_s() const { return 1.0 / options_.physics_rate_hz; }
 
   // Ground truth, for the console and for tests. Thread-safe.

@@ -240,8 +240,8 @@ json Api::State() const {
   state["velocity"] = odometry ? ToJson(odometry->velocity) : ToJson(nav::Twist2{});
   state["bumper_pressed"] = odometry && odometry->bumper_pressed;
   const auto command = c_.bus.Get(topics::kCmdVel).latest();
-  state["mode"] = command ? command->mode : "starting";
-  state["stop_reason"] = command ? command->reason : "";
+  state["mode"] = command ? nav::ToString(command->mode) : "starting";
+  state["stop_reason"] = command ? StopReason(*command) : "";
   state["command"] = command ? ToJson(command->twist) : ToJson(nav::Twist2{});
   const auto truth = c_.bus.Get(topics::kSimTruePose).latest();
   state["sim_true_pose"] = truth ? ToJson(truth->pose) : json(nullptr);
@@ -258,7 +258,7 @@ json Api::State() const {
   const auto latency = c_.bus.Get(topics::kControlLatency).latest();
   state["control_latency"] = latency ? ToJson(*latency) : json(nullptr);
   const auto face = c_.bus.Get(topics::kFaceExpression).latest();
-  state["face"] = face ? face->expression : "neutral";
+  state["face"] = std::string(face::ToString(face ? face->expression : face::Expression::kNeutral));
   const auto mission = c_.bus.Get(topics::kMission).latest();
   state["mission"] = mission ? mission->document : json(nullptr);
   const auto map = c_.maps.active();
@@ -295,7 +295,12 @@ json Api::StreamMessage(const std::string& text, std::vector<std::string>& subsc
   if (message.is_discarded() || !message.is_object()) {
     throw ApiError(http::status::bad_request, "Malformed message", "stream messages are JSON objects");
   }
-  const std::string type = message.value("type", "");
+  const auto type_field = message.find("type");
+  if (type_field == message.end() || !type_field->is_string()) {
+    throw ApiError(http::status::bad_request, "Malformed message",
+                   "'type' must be one of \"subscribe\", \"teleop\"");
+  }
+  const std::string type = type_field->get<std::string>();
   if (type == "teleop") return {{"type", "teleop_ack"}, {"data", Teleop(message, "websocket")}};
   if (type == "subscribe") {
     const auto topics = message.find("topics");

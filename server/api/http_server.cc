@@ -50,6 +50,10 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
         reply = self->api_.StreamMessage(text, self->subscriptions_);
       } catch (const ApiError& e) {
         reply = {{"type", "error"}, {"status", static_cast<int>(e.status())}, {"title", e.title()}, {"detail", e.what()}};
+      } catch (const std::exception& e) {
+        // A message the API did not foresee: this client gets an error, the others and the daemon go on.
+        spdlog::error("stream message: {}", e.what());
+        reply = {{"type", "error"}, {"status", 500}, {"title", "Internal error"}, {"detail", e.what()}};
       }
       self->Send(reply.dump());
       self->Read();

@@ -13,11 +13,11 @@ constexpr double kMovingRps = 0.05;
 
 }  // namespace
 
-FaceNode::FaceNode(Executor& executor, Bus& bus, const drivers::Clock& clock, const face::ExpressionOptions& options)
-    : PeriodicNode("face", executor, clock, kRateHz), bus_(bus), machine_(options) {}
+FaceNode::FaceNode(Executor& executor, Bus& bus, const face::ExpressionOptions& options)
+    : PeriodicNode("face", executor, bus, kRateHz), machine_(options) {}
 
 void FaceNode::Activate() {
-  bus_.Get(topics::kOdometry).Subscribe(executor(), [this](const auto& odometry) {
+  Subscribe(topics::kOdometry, "odometry", [this](const auto& odometry) {
     if (odometry->bumper_pressed) bumped_since_tick_ = true;
   });
   PeriodicNode::Activate();
@@ -25,17 +25,17 @@ void FaceNode::Activate() {
 
 void FaceNode::Tick() {
   face::Situation s{.now_ns = clock().Now()};
-  if (const auto odometry = bus_.Get(topics::kOdometry).latest()) {
+  if (const auto odometry = bus().Get(topics::kOdometry).latest()) {
     s.moving = std::abs(odometry->velocity.linear_mps) > kMovingMps ||
                std::abs(odometry->velocity.angular_rps) > kMovingRps;
     const bool pressed_between_ticks = std::exchange(bumped_since_tick_, false);
     s.bumped = odometry->bumper_pressed || pressed_between_ticks;
   }
-  if (const auto command = bus_.Get(topics::kCmdVel).latest()) {
-    s.driven = command->mode == "teleop";
-    s.fault = command->mode == "stopped";
+  if (const auto command = bus().Get(topics::kCmdVel).latest()) {
+    s.driven = command->mode == nav::ControlMode::kTeleop;
+    s.fault = command->mode == nav::ControlMode::kStopped;
   }
-  bus_.Get(topics::kFaceExpression).Publish(FaceState{std::string(face::ToString(machine_.Update(s)))});
+  bus().Get(topics::kFaceExpression).Publish(FaceState{machine_.Update(s)});
 }
 
 }  // namespace corridor::server

@@ -11,13 +11,12 @@ namespace corridor::server {
 
 class FaceNode final : public PeriodicNode {
  public:
-  FaceNode(Executor& executor, Bus& bus, const drivers::Clock& clock, const face::ExpressionOptions& options = {});
+  FaceNode(Executor& executor, Bus& bus, const face::ExpressionOptions& options = {});
   void Activate() override;
 
  private:
   void Tick() override;
 
-  Bus& bus_;
   face::ExpressionMachine machine_;
   bool bumped_since_tick_ = false;  // on the node's executor
 };

@@ -1,6 +1,6 @@
 // Runs MORP ground segmentation (nav/ground/morp.h) on every depth frame, on the control executor, and publishes the
 // lanes on ground/lanes with the time from the frame's arrival, and the frame's depth scan for the obstacle memory.
-// The local policy and the safety limits read them.
+// The local policy and the command gate read them.
 #pragma once
 
 #include "drivers/depth_camera.h"
@@ -13,13 +13,10 @@ namespace corridor::server {
 
 class GroundNode final : public Node {
  public:
-  GroundNode(Executor& control, Bus& bus, const drivers::Clock& clock, const drivers::CameraInfo& camera,
-             const nav::MorpOptions& options);
+  GroundNode(Executor& control, Bus& bus, const drivers::CameraInfo& camera, const nav::MorpOptions& options);
   void Activate() override;
 
  private:
-  Executor& executor_;
-  Bus& bus_;
   nav::Morp morp_;
   nav::DepthScan scan_;  // for the obstacle memory (nav::ForObstacleMemory)
 };

@@ -9,12 +9,10 @@ namespace corridor::server {
 
 class LocalizationNode final : public Node {
  public:
-  LocalizationNode(Executor& executor, Bus& bus, const drivers::Clock& clock, nav::Pose2 initial_pose);
+  LocalizationNode(Executor& executor, Bus& bus, nav::Pose2 initial_pose);
   void Activate() override;
 
  private:
-  Executor& executor_;
-  Bus& bus_;
   nav::Pose2 map_T_odom_;
 };
 

@@ -24,19 +24,16 @@ json PoseJson(const nav::Pose2& p) { return {{"x", p.x_m}, {"y", p.y_m}, {"yaw",
 
 }  // namespace
 
-MissionNode::MissionNode(Executor& control, Bus& bus, const drivers::Clock& clock, PlannerService& planner,
+MissionNode::MissionNode(Executor& control, Bus& bus, PlannerService& planner,
                          const nav::LocalNavigatorOptions& navigator, std::function<void(json)> on_change)
-    : PeriodicNode("mission", control, clock, kRateHz),
-      bus_(bus),
+    : PeriodicNode("mission", control, bus, kRateHz),
       planner_(planner),
       on_change_(std::move(on_change)),
       nominal_speed_mps_(navigator.follower.max_linear_mps),
       navigator_(navigator) {}
 
 void MissionNode::Activate() {
-  bus_.Get(topics::kGroundLanes).Subscribe(executor(), [this](const std::shared_ptr<const GroundLanes>& lanes) {
-    Drive(*lanes);
-  });
+  Subscribe(topics::kGroundLanes, "frame", [this](const auto& lanes) { Drive(*lanes); });
   PeriodicNode::Activate();
 }
 
@@ -70,9 +67,9 @@ void MissionNode::Changed() {
   const json doc = DescribeLocked();
   if (mission_->finished()) {
     // Tell the control node at once, rather than letting the last command go stale.
-    bus_.Get(topics::kMissionCommand).Publish(MissionCommand{clock().Now(), {}, false});
+    bus().Get(topics::kMissionCommand).Publish(MissionCommand{clock().Now(), {}, false});
   }
-  bus_.Get(topics::kMission).Publish(MissionState{doc});
+  bus().Get(topics::kMission).Publish(MissionState{doc});
   if (on_change_) on_change_(doc);
 }
 
@@ -212,8 +209,8 @@ void MissionNode::CheckPath(const nav::Pose2& from) {
 void MissionNode::Tick() {
   std::lock_guard lock(mutex_);
   if (!mission_ || mission_->finished()) return;
-  const auto pose = bus_.Get(topics::kPose).latest();
-  const auto stop = [&] { bus_.Get(topics::kMissionCommand).Publish(MissionCommand{clock().Now(), {}}); };
+  const auto pose = bus().Get(topics::kPose).latest();
+  const auto stop = [&] { bus().Get(topics::kMissionCommand).Publish(MissionCommand{clock().Now(), {}}); };
   if (!pose) return stop();
   if (mission_->status() == nav::MissionStatus::kPaused) return stop();
   if (!navigator_.has_path()) {
@@ -230,7 +227,7 @@ void MissionNode::Tick() {
   if (last_drive_ns_ < 0 || clock().Now() - last_drive_ns_ > drivers::FromSeconds(kNoFramesS)) {
     if (policy_mode_ != "waiting_for_depth") {
       policy_mode_ = "waiting_for_depth";
-      bus_.Get(topics::kMission).Publish(MissionState{DescribeLocked()});
+      bus().Get(topics::kMission).Publish(MissionState{DescribeLocked()});
     }
     stop();
   }
@@ -243,14 +240,14 @@ void MissionNode::Drive(const GroundLanes& lanes) {
   last_drive_ns_ = now;
   if (!mission_ || mission_->finished() || mission_->status() == nav::MissionStatus::kPaused) return;
   if (!navigator_.has_path()) return;
-  const auto pose = bus_.Get(topics::kPose).latest();
+  const auto pose = bus().Get(topics::kPose).latest();
   if (!pose) return;
-  auto& command = bus_.Get(topics::kMissionCommand);
+  auto& command = bus().Get(topics::kMissionCommand);
   // The tracker's objects (from the laser, or the camera without one), while fresh: people to step out of the way of.
-  const auto tracked = bus_.Get(topics::kTrackedObjects).latest();
+  const auto tracked = bus().Get(topics::kTrackedObjects).latest();
   const bool fresh = tracked && drivers::ToSeconds(now - tracked->received_ns) < kStaleTrackingS;
   // A bump since the last frame: remembered where it was, the way the control node says the base was driving.
-  const auto bump = bus_.Get(topics::kBumped).latest();
+  const auto bump = bus().Get(topics::kBumped).latest();
   if (bump && bump->stamp_ns > bump_seen_ns_ && now - bump->stamp_ns < drivers::FromSeconds(kFreshBumpS)) {
     bump_seen_ns_ = bump->stamp_ns;
     navigator_.Touched(pose->pose, bump->backing);
@@ -284,7 +281,7 @@ void MissionNode::Drive(const GroundLanes& lanes) {
     Reroute(pose->pose, true);
   }
   command.Publish(MissionCommand{now, step.twist, true, lanes.arrival_ns});
-  bus_.Get(topics::kMission).Publish(MissionState{DescribeLocked()});
+  bus().Get(topics::kMission).Publish(MissionState{DescribeLocked()});
 }
 
 }  // namespace corridor::server

@@ -28,7 +28,7 @@ class MissionNode final : public PeriodicNode {
 
   // `on_change` receives the mission's document whenever its status changes (to persist it); called on the
   // control executor, so it must hand the work elsewhere.
-  MissionNode(Executor& control, Bus& bus, const drivers::Clock& clock, PlannerService& planner,
+  MissionNode(Executor& control, Bus& bus, PlannerService& planner,
               const nav::LocalNavigatorOptions& navigator, std::function<void(nlohmann::json)> on_change);
   void Activate() override;
 
@@ -57,7 +57,6 @@ class MissionNode final : public PeriodicNode {
   nlohmann::json DescribeLocked() const;
   void Changed();  // status changed: persist and publish
 
-  Bus& bus_;
   PlannerService& planner_;
   std::function<void(nlohmann::json)> on_change_;
   double nominal_speed_mps_;

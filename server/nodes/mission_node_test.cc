@@ -2,9 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
-#include <thread>
-
 #include "server/runtime/topics.h"
 
 namespace corridor::server {
@@ -15,24 +12,16 @@ namespace {
 class MissionNodeTest : public ::testing::Test {
  protected:
   explicit MissionNodeTest(const nav::LocalNavigatorOptions& options = {})
-      : control_("control"),
-        planning_("planning"),
-        planner_(planning_, nav::CostmapOptions{}),
-        node_(control_, bus_, clock_, planner_, options, [](const nlohmann::json&) {}) {
+      : executors_(clock_, Schedule::kLockstep),
+        planner_(executors_.planning, nav::CostmapOptions{}),
+        node_(executors_.control, bus_, planner_, options, [](const nlohmann::json&) {}) {
     planner_.SetMap(std::make_shared<const nav::OccupancyGrid>(200, 200, 0.05, nav::Pose2{}, nav::kFreeCell));
-    control_.Start();
-    planning_.Start();
     node_.Activate();
     bus_.Get(topics::kPose).Publish(StampedPose{clock_.Now(), nav::Pose2{2.0, 5.0, 0.0}});
     nav::MissionGoal goal;
     goal.pose = {8.0, 5.0, 0.0};
     node_.Start({goal}, 0.5);
   }
-  ~MissionNodeTest() override {
-    control_.Stop();
-    planning_.Stop();
-  }
-
   // One depth frame's lanes, free or (`wall`) each ending 0.3 m ahead; returns the mission's command that answers it.
   MissionCommand Frame(bool wall = false) {
     std::vector<nav::LaneResult> lanes;
@@ -44,9 +33,10 @@ class MissionNodeTest : public ::testing::Test {
       lane.point = {0.3, offset, 0.1};
       lanes.push_back(lane);
     }
+    clock_.Set(clock_.Now() + drivers::FromSeconds(0.055));
     const drivers::TimeNs now = clock_.Now();
-    bus_.Get(topics::kGroundLanes).Publish(GroundLanes{now, now, ++sequence_, 0.0, lanes, {}, {}});
-    std::this_thread::sleep_for(std::chrono::milliseconds(55));
+    bus_.Get(topics::kGroundLanes).Publish(GroundLanes{now, now, ++sequence_, 0.0, lanes, {}, {}, {}});
+    executors_.RunUntilIdle();
     const auto command = bus_.Get(topics::kMissionCommand).latest();
     return command ? *command : MissionCommand{};
   }
@@ -58,10 +48,9 @@ class MissionNodeTest : public ::testing::Test {
     return fastest;
   }
 
-  Executor control_;
-  Executor planning_;
+  drivers::ManualClock clock_;
+  Executors executors_;
   Bus bus_;
-  const drivers::SteadyClock clock_;
   PlannerService planner_;
   MissionNode node_;
   std::uint64_t sequence_ = 0;

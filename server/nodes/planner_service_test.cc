@@ -6,7 +6,8 @@ namespace corridor::server {
 namespace {
 
 TEST(PlannerServiceTest, TrafficMadeForAReplacedMapIsDropped) {
-  Executor planning("planning");  // SetMap, SetTraffic and has_traffic do not run on it
+  const drivers::ManualClock clock;
+  Executor planning("planning", clock, Schedule::kLockstep);  // SetMap, SetTraffic and has_traffic do not run on it
   PlannerService planner(planning, nav::CostmapOptions{});
   const auto first = std::make_shared<const nav::OccupancyGrid>(20, 20, 0.05, nav::Pose2{}, nav::kFreeCell);
   const auto second = std::make_shared<const nav::OccupancyGrid>(20, 20, 0.05, nav::Pose2{}, nav::kFreeCell);

@@ -11,19 +11,34 @@ constexpr drivers::TimeNs kMaxCatchUpNs = drivers::kNsPerSecond / 10;
 
 }  // namespace
 
-SimNode::SimNode(Executor& executor, Bus& bus, drivers::sim::SimRobot& robot, const drivers::Clock& wall_clock)
-    : PeriodicNode("sim", executor, wall_clock, 1.0 / robot.step_s()), bus_(bus), robot_(robot) {}
+SimNode::SimNode(Executor& executor, Bus& bus, drivers::sim::SimRobot& robot)
+    : Node("sim", executor, bus), robot_(robot), loop_(Loop("step")) {}
 
 void SimNode::Activate() {
   wall_start_ns_ = clock().Now();
   sim_start_ns_ = robot_.now_ns();
-  bus_.Get(topics::kSimTruePose).Publish(StampedPose{robot_.now_ns(), robot_.true_pose()});
   has_pedestrians_ = !robot_.pedestrians().empty();
-  PublishPedestrians();  // once even when there are none: the topic then says so
-  PeriodicNode::Activate();
+  PublishTruth();  // the people once even when there are none: the topic then says so
+  if (executor().schedule() == Schedule::kThreads) {
+    timer_ = std::make_unique<PeriodicTimer>(executor(), std::chrono::nanoseconds(drivers::FromSeconds(robot_.step_s())),
+                                             [this] { Run(loop_, [this] { KeepUp(); }); });
+  }
+  SetHealth(Health::kOk, "");
 }
 
-void SimNode::Tick() {
+void SimNode::Deactivate() {
+  if (timer_) timer_->Stop();
+  SetHealth(Health::kInactive, "");
+}
+
+void SimNode::Step() {
+  Run(loop_, [this] {
+    robot_.Step();
+    PublishTruth();
+  });
+}
+
+void SimNode::KeepUp() {
   const drivers::TimeNs target = sim_start_ns_ + (clock().Now() - wall_start_ns_);
   const drivers::TimeNs limit = robot_.now_ns() + kMaxCatchUpNs;
   while (robot_.now_ns() < target && robot_.now_ns() < limit) robot_.Step();
@@ -32,14 +47,15 @@ void SimNode::Tick() {
     sim_start_ns_ -= target - robot_.now_ns();
     SetHealth(Health::kDegraded, "slower than real time");
   }
-  bus_.Get(topics::kSimTruePose).Publish(StampedPose{robot_.now_ns(), robot_.true_pose()});
-  if (has_pedestrians_) PublishPedestrians();
+  PublishTruth();
 }
 
-void SimNode::PublishPedestrians() {
+void SimNode::PublishTruth() {
+  bus().Get(topics::kSimTruePose).Publish(StampedPose{robot_.now_ns(), robot_.true_pose()});
+  if (!has_pedestrians_ && bus().Get(topics::kSimPedestrians).latest()) return;
   SimPedestrians out{robot_.pedestrian_radius_m(), {}};
   for (const drivers::sim::Pedestrian& p : robot_.pedestrians()) out.people.push_back({p.position, p.velocity});
-  bus_.Get(topics::kSimPedestrians).Publish(std::move(out));
+  bus().Get(topics::kSimPedestrians).Publish(std::move(out));
 }
 
 }  // namespace corridor::server

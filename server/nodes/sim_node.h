@@ -1,6 +1,10 @@
-// Runs the simulator in real time on the sim executor: each tick steps the simulated robot until simulated time
-// catches up with wall time. The SimRobot's sensors publish through the driver bridge as real devices would.
+// Runs the simulator. With threads (corridord) a timer on the sim executor steps the simulated robot until simulated
+// time catches up with the wall clock; in lockstep the graph's owner calls Step, and the graph's clock is the
+// simulator's own (server/app/graph.h). Either way the SimRobot's sensors publish through the driver bridge as real
+// devices would, and the node publishes the simulator's ground truth (the robot's pose, the people) for the console.
 #pragma once
+
+#include <memory>
 
 #include "drivers/sim/sim_robot.h"
 #include "server/runtime/bus.h"
@@ -8,17 +12,21 @@
 
 namespace corridor::server {
 
-class SimNode final : public PeriodicNode {
+class SimNode final : public Node {
  public:
-  SimNode(Executor& executor, Bus& bus, drivers::sim::SimRobot& robot, const drivers::Clock& wall_clock);
+  SimNode(Executor& executor, Bus& bus, drivers::sim::SimRobot& robot);
   void Activate() override;
+  void Deactivate() override;
+  // Lockstep: one physics step, on the caller's thread, and the ground truth after it.
+  void Step();
 
  private:
-  void Tick() override;
-  void PublishPedestrians();
+  void KeepUp();  // threads: steps until simulated time has caught up with the wall clock
+  void PublishTruth();
 
-  Bus& bus_;
   drivers::sim::SimRobot& robot_;
+  std::unique_ptr<PeriodicTimer> timer_;
+  LoopStats& loop_;
   drivers::TimeNs wall_start_ns_ = 0;
   drivers::TimeNs sim_start_ns_ = 0;
   bool has_pedestrians_ = false;

@@ -14,10 +14,10 @@ constexpr double kTrafficEveryS = 1.0;  // how often the planner gets new traffi
 
 }  // namespace
 
-TrackingNode::TrackingNode(Executor& mapping, Bus& bus, const drivers::Clock& clock, const TrackingSource& source,
+TrackingNode::TrackingNode(Executor& mapping, Bus& bus, const TrackingSource& source,
                            const nav::MovingObjectOptions& options, const nav::TrafficOptions& traffic,
                            TrafficCallback on_traffic)
-    : Node("tracking", mapping.name(), clock), executor_(mapping), bus_(bus), source_(source),
+    : Node("tracking", mapping, bus), source_(source),
       tracker_(source.base_T_laser ? options : nav::ForDepthCamera(options)),
       traffic_options_(traffic), on_traffic_(std::move(on_traffic)) {
   if (!source.base_T_laser) depth_scan_.emplace(source.camera, source.depth);
@@ -25,20 +25,16 @@ TrackingNode::TrackingNode(Executor& mapping, Bus& bus, const drivers::Clock& cl
 
 void TrackingNode::Activate() {
   if (source_.base_T_laser) {
-    bus_.Get(topics::kScan).Subscribe(executor_, [this](const std::shared_ptr<const drivers::LaserScan>& scan) {
-      OnScan(*scan);
-    });
+    Subscribe(topics::kScan, "scan", [this](const auto& scan) { OnScan(*scan); });
     SetHealth(Health::kOk, "waiting for scans");
   } else {
-    bus_.Get(topics::kRgbd).Subscribe(executor_, [this](const std::shared_ptr<const drivers::RgbdFrame>& frame) {
-      OnFrame(*frame);
-    });
+    Subscribe(topics::kRgbd, "frame", [this](const auto& frame) { OnFrame(*frame); });
     SetHealth(Health::kOk, "waiting for depth frames (no laser: people are tracked in the camera's view)");
   }
 }
 
 void TrackingNode::SetMap(std::shared_ptr<const nav::OccupancyGrid> map) {
-  executor_.Post([this, map = std::move(map)]() mutable {
+  executor().Post([this, map = std::move(map)]() mutable {
     traffic_.reset();
     if (map && traffic_options_.weight > 0.0 && on_traffic_) traffic_.emplace(*map, traffic_options_);
     map_ = map;
@@ -47,7 +43,7 @@ void TrackingNode::SetMap(std::shared_ptr<const nav::OccupancyGrid> map) {
 }
 
 std::optional<nav::Pose2> TrackingNode::RobotPose(const char* what) {
-  const auto pose = bus_.Get(topics::kPose).latest();
+  const auto pose = bus().Get(topics::kPose).latest();
   if (!pose) {
     SetHealth(Health::kDegraded, std::string("no pose yet: ") + what + " cannot be placed in the map");
     return std::nullopt;
@@ -56,18 +52,16 @@ std::optional<nav::Pose2> TrackingNode::RobotPose(const char* what) {
 }
 
 void TrackingNode::OnScan(const drivers::LaserScan& scan) {
-  const drivers::TimeNs start = clock().Now();
   const std::optional<nav::Pose2> robot = RobotPose("scans");
   if (!robot) return;
   const nav::Pose2 laser = *robot * *source_.base_T_laser;
   Track(scan.stamp_ns, laser.translation(),
         nav::ScanToWorld(laser, scan.angle_min_rad, scan.angle_increment_rad, scan.range_min_m, scan.range_max_m,
                          scan.ranges),
-        std::nullopt, start);
+        std::nullopt);
 }
 
 void TrackingNode::OnFrame(const drivers::RgbdFrame& frame) {
-  const drivers::TimeNs start = clock().Now();
   const std::optional<nav::Pose2> robot = RobotPose("depth frames");
   if (!robot) return;
   std::vector<Eigen::Vector2d> points;
@@ -78,12 +72,11 @@ void TrackingNode::OnFrame(const drivers::RgbdFrame& frame) {
     return;
   }
   const nav::SensorView view = depth_scan_->View(*robot);
-  Track(frame.stamp_ns, view.world_T_sensor.translation(), points, view, start);
+  Track(frame.stamp_ns, view.world_T_sensor.translation(), points, view);
 }
 
 void TrackingNode::Track(drivers::TimeNs stamp_ns, const Eigen::Vector2d& sensor,
-                         const std::vector<Eigen::Vector2d>& points, const std::optional<nav::SensorView>& view,
-                         drivers::TimeNs start) {
+                         const std::vector<Eigen::Vector2d>& points, const std::optional<nav::SensorView>& view) {
   tracker_.Update(drivers::ToSeconds(stamp_ns), sensor, points, view);
   const double stamp_s = drivers::ToSeconds(stamp_ns);
   if (traffic_) {
@@ -96,11 +89,10 @@ void TrackingNode::Track(drivers::TimeNs stamp_ns, const Eigen::Vector2d& sensor
                   map_.get());
     }
   }
-  stats().Record(start);
   std::size_t moving = 0;
   for (const nav::TrackedObject& o : tracker_.objects()) moving += o.moving ? 1 : 0;
   SetHealth(Health::kOk, std::to_string(tracker_.objects().size()) + " objects, " + std::to_string(moving) + " moving");
-  bus_.Get(topics::kTrackedObjects).Publish(TrackedObjects{stamp_ns, clock().Now(), tracker_.surroundings()});
+  bus().Get(topics::kTrackedObjects).Publish(TrackedObjects{stamp_ns, clock().Now(), tracker_.surroundings()});
 }
 
 }  // namespace corridor::server

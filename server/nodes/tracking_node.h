@@ -41,7 +41,7 @@ class TrackingNode final : public Node {
  public:
   // Throws std::invalid_argument for bad options (or, without a laser, a camera without size or focal length).
   // `on_traffic` (may be empty) is called on the node's executor; with traffic.weight 0 it is never called.
-  TrackingNode(Executor& mapping, Bus& bus, const drivers::Clock& clock, const TrackingSource& source,
+  TrackingNode(Executor& mapping, Bus& bus, const TrackingSource& source,
                const nav::MovingObjectOptions& options, const nav::TrafficOptions& traffic,
                TrafficCallback on_traffic);
   void Activate() override;
@@ -56,10 +56,8 @@ class TrackingNode final : public Node {
   // Adds one scan, taken at stamp_ns from `sensor` (map frame; `view`: what it covers when not all round), its points
   // already in the map frame; hands on the traffic costs when due and publishes the objects.
   void Track(drivers::TimeNs stamp_ns, const Eigen::Vector2d& sensor, const std::vector<Eigen::Vector2d>& points,
-             const std::optional<nav::SensorView>& view, drivers::TimeNs start);
+             const std::optional<nav::SensorView>& view);
 
-  Executor& executor_;
-  Bus& bus_;
   TrackingSource source_;
   std::optional<nav::DepthScan> depth_scan_;  // without a laser
   nav::MovingObjectTracker tracker_;

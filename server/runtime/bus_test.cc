@@ -12,7 +12,8 @@ constexpr TopicName<StampedPose> kWrongType{"twist"};
 
 TEST(BusTest, SubscriberGetsMessagesOnItsExecutorAndLatestIsKept) {
   Bus bus;
-  Executor executor("test");
+  const drivers::SteadyClock clock;
+  Executor executor("test", clock, Schedule::kThreads);
   executor.Start();
   std::promise<std::pair<double, std::thread::id>> got;
   bus.Get(kTwist).Subscribe(executor, [&](const auto& m) { got.set_value({m->linear_mps, std::this_thread::get_id()}); });
@@ -28,7 +29,8 @@ TEST(BusTest, SubscriberGetsMessagesOnItsExecutorAndLatestIsKept) {
 
 TEST(BusTest, SlowSubscriberSkipsToTheNewestMessage) {
   Bus bus;
-  Executor executor("test");
+  const drivers::SteadyClock clock;
+  Executor executor("test", clock, Schedule::kThreads);
   // Publish 100 messages before the executor runs: the subscriber sees only the newest.
   std::vector<double> seen;
   bus.Get(kTwist).Subscribe(executor, [&](const auto& m) { seen.push_back(m->linear_mps); });

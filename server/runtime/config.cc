@@ -37,6 +37,7 @@ void ReadSafety(ConfigReader& r, SafetyOptions& o) {
   r.Read("max_decel_mps2", o.stopping.max_decel_mps2, 0.05, 10.0);
   r.Read("reaction_time_s", o.stopping.reaction_time_s, 0.0, 2.0);
   r.Read("stop_margin_m", o.stopping.margin_m, 0.0, 1.0);
+  r.Read("fault_hold_s", o.fault_hold_s, 0.1, 60.0);
 }
 
 void ReadBase(ConfigReader& r, drivers::sim::SimBaseOptions& o) {

@@ -10,7 +10,7 @@
 #include "drivers/sim/world.h"
 #include "nav/ground/morp.h"
 #include "nav/planner/costmap.h"
-#include "nav/safety/stopping.h"
+#include "nav/safety/command_gate.h"
 #include "nav/policy/local_navigator.h"
 #include "nav/tracking/moving_objects.h"
 #include "nav/tracking/traffic_map.h"
@@ -35,19 +35,8 @@ struct MapOptions {
   std::filesystem::path file;
 };
 
-struct SafetyOptions {
-  double teleop_deadman_s = 0.5;       // a teleop command stops mattering this long after it arrived
-  double max_linear_mps = 0.5;         // limits on every command sent to the base
-  double max_angular_rps = 1.5;
-  double odometry_timeout_s = 0.5;     // no odometry for this long: the base is not answering; stop
-  double control_rate_hz = 50.0;
-  // Forward motion is limited to what stops before the nearest dead-end the depth camera sees (ground/lanes),
-  // measured from the robot's front; without a fresh depth frame the robot does not drive forward.
-  double depth_timeout_s = 0.15;       // lanes older than this are stale
-  double front_offset_m = 0.2;         // from the base's centre to its front
-  double corridor_half_width_m = 0.3;  // lanes whose centre is this close to the centre line are in the robot's way
-  nav::StoppingModel stopping{.max_decel_mps2 = 0.8, .reaction_time_s = 0.1, .margin_m = 0.05};
-};
+// safety: the command gate's options (nav/safety/command_gate.h).
+using SafetyOptions = nav::CommandGateOptions;
 
 struct SimulatorOptions {
   bool enabled = true;

@@ -1,23 +1,91 @@
 #include "server/runtime/executor.h"
 
 #include <boost/asio/post.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <pthread.h>
+#include <spdlog/spdlog.h>
 
-#include <atomic>
+#include <optional>
+
+#include "server/runtime/demand.h"
 
 namespace corridor::server {
 
-Executor::Executor(std::string name) : name_(std::move(name)) {}
+struct Executor::TimerState {
+  Executor& executor;
+  drivers::TimeNs period_ns;
+  std::function<void()> tick;
+  std::atomic<bool> stopped{false};
+  drivers::TimeNs next_ns = 0;                      // on the executor's clock
+  std::optional<boost::asio::steady_timer> timer;  // kThreads
+
+  TimerState(Executor& e, drivers::TimeNs period, std::function<void()> t)
+      : executor(e), period_ns(period), tick(std::move(t)), next_ns(e.clock().Now() + period) {}
+
+  // One tick, guarded; the next is one period on, or one period from now when it fell behind.
+  void Fire(drivers::TimeNs now) {
+    try {
+      tick();
+    } catch (const std::exception& e) {
+      executor.Escaped(e.what());
+    } catch (...) {
+      executor.Escaped("an exception that is not a std::exception");
+    }
+    next_ns += period_ns;
+    if (next_ns <= now) next_ns = now + period_ns;
+  }
+
+  // kThreads: waits in real time for the clock to reach next_ns.
+  static void Arm(const std::shared_ptr<TimerState>& self) {
+    const drivers::TimeNs wait = std::max<drivers::TimeNs>(0, self->next_ns - self->executor.clock().Now());
+    self->timer->expires_after(std::chrono::nanoseconds(wait));
+    self->timer->async_wait([self](const boost::system::error_code& ec) {
+      if (ec || self->stopped) return;
+      self->Fire(self->executor.clock().Now());
+      Arm(self);
+    });
+  }
+};
+
+Executor::Executor(std::string name, const drivers::Clock& clock, Schedule schedule)
+    : name_(std::move(name)), clock_(clock), schedule_(schedule) {}
 
 Executor::~Executor() { Stop(); }
 
-void Executor::Post(std::function<void()> work) { boost::asio::post(context_, std::move(work)); }
+void Executor::Escaped(const char* what) {
+  ++escaped_;
+  spdlog::error("executor {}: a handler failed and was dropped: {}", name_, what);
+}
+
+void Executor::Post(std::function<void()> work) {
+  boost::asio::post(context_, [this, work = std::move(work)] {
+    try {
+      work();
+    } catch (const std::exception& e) {
+      Escaped(e.what());
+    } catch (...) {
+      Escaped("an exception that is not a std::exception");
+    }
+  });
+}
 
 void Executor::Start() {
-  if (thread_.joinable()) return;
+  if (schedule_ == Schedule::kLockstep || thread_.joinable()) return;
   guard_ = std::make_unique<boost::asio::executor_work_guard<boost::asio::io_context::executor_type>>(
       context_.get_executor());
-  thread_ = std::thread([this] { context_.run(); });
+  thread_ = std::thread([this] {
+    // Asio's own handlers (sockets, timers) may throw too; the executor logs it and runs on.
+    while (true) {
+      try {
+        context_.run();
+        return;
+      } catch (const std::exception& e) {
+        Escaped(e.what());
+      } catch (...) {
+        Escaped("an exception that is not a std::exception");
+      }
+    }
+  });
   // Name the thread so that top -H and gdb show which executor is busy (15 characters at most).
   pthread_setname_np(thread_.native_handle(), name_.substr(0, 15).c_str());
 }
@@ -28,48 +96,86 @@ void Executor::Stop() {
   if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id()) thread_.join();
 }
 
+void Executor::AddLockstepTimer(std::shared_ptr<TimerState> timer) {
+  std::lock_guard lock(timers_mutex_);
+  lockstep_timers_.push_back(std::move(timer));
+}
+
+std::size_t Executor::Poll() {
+  DEMAND(schedule_ == Schedule::kLockstep);
+  std::size_t ran = 0;
+  const drivers::TimeNs now = clock_.Now();
+  std::vector<std::shared_ptr<TimerState>> due;
+  {
+    std::lock_guard lock(timers_mutex_);
+    std::erase_if(lockstep_timers_, [](const auto& t) { return t->stopped.load(); });
+    for (const auto& t : lockstep_timers_) {
+      if (t->next_ns <= now) due.push_back(t);
+    }
+  }
+  for (const auto& t : due) {
+    if (t->stopped) continue;
+    t->Fire(now);
+    ++ran;
+  }
+  context_.restart();
+  while (true) {
+    try {
+      ran += context_.poll();
+      return ran;
+    } catch (const std::exception& e) {
+      Escaped(e.what());
+    } catch (...) {
+      Escaped("an exception that is not a std::exception");
+    }
+  }
+}
+
+Executors::Executors(const drivers::Clock& clock, Schedule schedule)
+    : control("control", clock, schedule),
+      mapping("mapping", clock, schedule),
+      planning("planning", clock, schedule),
+      perception("perception", clock, schedule),
+      io("io", clock, schedule),
+      sim("sim", clock, schedule) {}
+
+std::vector<Executor*> Executors::all() { return {&sim, &control, &mapping, &planning, &perception, &io}; }
+
 void Executors::StartAll() {
-  for (Executor* e : {&control, &mapping, &planning, &perception, &io, &sim}) e->Start();
+  for (Executor* e : all()) e->Start();
 }
 
 void Executors::StopAll() {
+  // The control loop's executor last but io: what drives the robot outlives what feeds it.
   for (Executor* e : {&sim, &perception, &planning, &mapping, &control, &io}) e->Stop();
 }
 
-struct PeriodicTimer::State {
-  boost::asio::steady_timer timer;
-  std::chrono::nanoseconds period;
-  std::function<void()> tick;
-  std::atomic<bool> stopped{false};
-  std::chrono::steady_clock::time_point next;
-
-  State(Executor& e, std::chrono::nanoseconds p, std::function<void()> t)
-      : timer(e.context()), period(p), tick(std::move(t)) {}
-
-  static void Arm(const std::shared_ptr<State>& self) {
-    self->timer.expires_at(self->next);
-    self->timer.async_wait([self](const boost::system::error_code& ec) {
-      if (ec || self->stopped) return;
-      self->tick();
-      const auto now = std::chrono::steady_clock::now();
-      self->next += self->period;
-      if (self->next < now) self->next = now + self->period;  // fell behind: skip, do not burst
-      Arm(self);
-    });
+std::size_t Executors::RunUntilIdle() {
+  std::size_t total = 0;
+  while (true) {
+    std::size_t ran = 0;
+    for (Executor* e : all()) ran += e->Poll();
+    if (ran == 0) return total;
+    total += ran;
   }
-};
+}
 
 PeriodicTimer::PeriodicTimer(Executor& executor, std::chrono::nanoseconds period, std::function<void()> tick)
-    : state_(std::make_shared<State>(executor, period, std::move(tick))) {
-  state_->next = std::chrono::steady_clock::now() + period;
-  boost::asio::post(executor.context(), [s = state_] { State::Arm(s); });
+    : state_(std::make_shared<Executor::TimerState>(executor, period.count(), std::move(tick))) {
+  DEMAND(period.count() > 0);
+  if (executor.schedule() == Schedule::kLockstep) {
+    executor.AddLockstepTimer(state_);
+  } else {
+    state_->timer.emplace(executor.context());
+    boost::asio::post(executor.context(), [s = state_] { Executor::TimerState::Arm(s); });
+  }
 }
 
 PeriodicTimer::~PeriodicTimer() { Stop(); }
 
 void PeriodicTimer::Stop() {
   state_->stopped = true;
-  boost::asio::post(state_->timer.get_executor(), [s = state_] { s->timer.cancel(); });
+  if (state_->timer) boost::asio::post(state_->timer->get_executor(), [s = state_] { s->timer->cancel(); });
 }
 
 }  // namespace corridor::server

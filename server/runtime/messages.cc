@@ -33,7 +33,7 @@ nlohmann::json ToJson(const TrackedObjects& t) {
   return objects;
 }
 
-nlohmann::json ToJson(const FaceState& face) { return {{"expression", face.expression}}; }
+nlohmann::json ToJson(const FaceState& face) { return {{"expression", std::string(face::ToString(face.expression))}}; }
 
 nlohmann::json ToJson(const GroundLanes& g) {
   nlohmann::json lanes = nlohmann::json::array();
@@ -94,9 +94,21 @@ nlohmann::json ToJson(const TeleopCommand& command) {
 
 nlohmann::json ToJson(const BaseCommand& command) {
   nlohmann::json j = ToJson(command.twist);
-  j["mode"] = command.mode;
-  j["reason"] = command.reason;
+  j["mode"] = nav::ToString(command.mode);
+  j["reason"] = StopReason(command);
   return j;
+}
+
+std::string StopReason(const BaseCommand& command) {
+  if (command.reason == nav::GateReason::kProtectiveStop && !command.detail.empty()) {
+    return std::string("protective stop: ") + command.detail;
+  }
+  return nav::ToString(command.reason);
+}
+
+nlohmann::json ToJson(const Fault& fault) {
+  return {{"stamp_s", drivers::ToSeconds(fault.stamp_ns)}, {"node", fault.node}, {"loop", fault.loop},
+          {"what", fault.what}};
 }
 
 }  // namespace corridor::server

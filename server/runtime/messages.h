@@ -9,9 +9,11 @@
 #include "drivers/depth_camera.h"
 #include "drivers/diff_drive_base.h"
 #include "drivers/laser2d.h"
+#include "face/expression.h"
 #include "nav/geometry/pose2.h"
 #include "nav/geometry/sensor_view.h"
 #include "nav/ground/morp.h"
+#include "nav/safety/command_gate.h"
 #include "nav/tracking/moving_objects.h"
 
 namespace corridor::server {
@@ -29,12 +31,21 @@ struct StampedPose {
   nav::Pose2 pose;
 };
 
-// What the control loop sent to the base, and why.
+// What the control loop sent to the base, and why (nav/safety/command_gate.h).
 struct BaseCommand {
   drivers::TimeNs stamp_ns = 0;
   nav::Twist2 twist;
-  std::string mode;    // "idle", "teleop", "stopped"
-  std::string reason;  // for "stopped": what made the robot stop
+  nav::ControlMode mode = nav::ControlMode::kIdle;
+  nav::GateReason reason = nav::GateReason::kNone;  // why it is not what was asked for
+  std::string detail;  // for a protective stop: what failed
+};
+
+// A node's callback threw (node.h): what failed, for the control node's protective stop and the console.
+struct Fault {
+  drivers::TimeNs stamp_ns = 0;
+  std::string node;
+  std::string loop;
+  std::string what;
 };
 
 // The bumper was pressed (published by the control node with every odometry that says so): which way the base was
@@ -78,6 +89,8 @@ struct GroundLanes {
   // SensorView of the identity): the local navigator's obstacle memory keeps what the camera saw beside the lanes.
   std::vector<Eigen::Vector2d> scan;
   nav::SensorView scan_view;
+  // With the voxel-reactive comparison policy, its front end's obstacle points (base frame) instead of lanes.
+  std::vector<Eigen::Vector2f> obstacles;
 };
 
 // What the laser's moving-object tracker (nav/tracking) shows after one scan, in the map frame.
@@ -97,9 +110,9 @@ struct SimPedestrians {
   std::vector<Person> people;
 };
 
-// The face's current expression (face/expression.h names them).
+// The face's current expression.
 struct FaceState {
-  std::string expression;
+  face::Expression expression = face::Expression::kNeutral;
 };
 
 nlohmann::json ToJson(const ControlLatency& latency);
@@ -115,5 +128,8 @@ nlohmann::json ToJson(const drivers::WheelOdometry& odometry);
 nlohmann::json ToJson(const drivers::LaserScan& scan);
 nlohmann::json ToJson(const TeleopCommand& command);
 nlohmann::json ToJson(const BaseCommand& command);
+nlohmann::json ToJson(const Fault& fault);
+// What the console and the API show as the reason the command is not what was asked ("" when it is).
+std::string StopReason(const BaseCommand& command);
 
 }  // namespace corridor::server

@@ -2,6 +2,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include <chrono>
+
+#include "server/runtime/topics.h"
+
 namespace corridor::server {
 
 void LoopStats::Roll(drivers::TimeNs now) const {
@@ -11,14 +15,13 @@ void LoopStats::Roll(drivers::TimeNs now) const {
   current_ = Window{.begin_ns = now};
 }
 
-void LoopStats::Record(drivers::TimeNs start_ns) {
+void LoopStats::Record(double duration_ms) {
   const drivers::TimeNs now = clock_.Now();
-  const double ms = static_cast<double>(now - start_ns) * 1e-6;
   std::lock_guard lock(mutex_);
   Roll(now);
   ++current_.count;
-  current_.total_ms += ms;
-  current_.worst_ms = std::max(current_.worst_ms, ms);
+  current_.total_ms += duration_ms;
+  current_.worst_ms = std::max(current_.worst_ms, duration_ms);
   ++loops_;
 }
 
@@ -47,8 +50,15 @@ const char* ToString(Health health) {
   return "unknown";
 }
 
-Node::Node(std::string name, std::string executor, const drivers::Clock& clock)
-    : name_(std::move(name)), executor_(std::move(executor)), clock_(clock), stats_(clock) {}
+Node::Node(std::string name, Executor& executor, Bus& bus)
+    : name_(std::move(name)), executor_(executor), bus_(bus) {}
+
+LoopStats& Node::Loop(std::string_view loop) {
+  std::lock_guard lock(mutex_);
+  auto it = loops_.find(loop);
+  if (it == loops_.end()) it = loops_.emplace(std::string(loop), std::make_unique<LoopStats>(std::string(loop), clock())).first;
+  return *it->second;
+}
 
 void Node::SetHealth(Health health, std::string message) {
   std::lock_guard lock(mutex_);
@@ -63,28 +73,72 @@ void Node::SetHealth(Health health, std::string message) {
   message_ = std::move(message);
 }
 
-nlohmann::json Node::Status() const {
-  const LoopStats::Snapshot s = stats_.snapshot();
-  std::lock_guard lock(mutex_);
-  return {{"name", name_},
-          {"executor", executor_},
-          {"health", ToString(health_)},
-          {"message", message_},
-          {"rate_hz", s.rate_hz},
-          {"mean_loop_ms", s.mean_ms},
-          {"worst_loop_ms", s.worst_ms},
-          {"loops", s.loops}};
+bool Node::Run(LoopStats& loop, const std::function<void()>& work) {
+  using Wall = std::chrono::steady_clock;
+  const Wall::time_point start = Wall::now();
+  std::string what;
+  try {
+    work();
+  } catch (const std::exception& e) {
+    what = e.what();
+    if (what.empty()) what = "an exception without a message";
+  } catch (...) {
+    what = "an exception that is not a std::exception";
+  }
+  loop.Record(std::chrono::duration<double, std::milli>(Wall::now() - start).count());
+  if (what.empty()) return true;
+  const std::string& loop_name = loop.name();
+  spdlog::error("{}: {} failed: {}", name_, loop_name, what);
+  SetHealth(Health::kError, loop_name + " failed: " + what);
+  try {
+    bus_.Get(topics::kFaults).Publish(Fault{clock().Now(), name_, loop_name, what});
+    OnFault();
+  } catch (const std::exception& e) {
+    spdlog::critical("{}: handling the fault failed too: {}", name_, e.what());
+  }
+  return false;
 }
 
-PeriodicNode::PeriodicNode(std::string name, Executor& executor, const drivers::Clock& clock, double rate_hz)
-    : Node(std::move(name), executor.name(), clock), executor_(executor), rate_hz_(rate_hz) {}
+nlohmann::json Node::Status() const {
+  nlohmann::json loops = nlohmann::json::array();
+  double rate_hz = 0.0;
+  double total_ms = 0.0;
+  double worst_ms = 0.0;
+  std::uint64_t count = 0;
+  Health health;
+  std::string message;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& [name, stats] : loops_) {
+      const LoopStats::Snapshot s = stats->snapshot();
+      loops.push_back({{"name", name}, {"rate_hz", s.rate_hz}, {"mean_ms", s.mean_ms}, {"worst_ms", s.worst_ms},
+                       {"count", s.loops}});
+      rate_hz += s.rate_hz;
+      total_ms += s.mean_ms * s.rate_hz;
+      worst_ms = std::max(worst_ms, s.worst_ms);
+      count += s.loops;
+    }
+    health = health_;
+    message = message_;
+  }
+  return {{"name", name_},
+          {"executor", executor_.name()},
+          {"health", ToString(health)},
+          {"message", message},
+          {"rate_hz", rate_hz},
+          {"mean_loop_ms", rate_hz > 0.0 ? total_ms / rate_hz : 0.0},
+          {"worst_loop_ms", worst_ms},
+          {"loops", count},
+          {"callbacks", std::move(loops)}};
+}
+
+PeriodicNode::PeriodicNode(std::string name, Executor& executor, Bus& bus, double rate_hz)
+    : Node(std::move(name), executor, bus), rate_hz_(rate_hz) {}
 
 void PeriodicNode::Activate() {
-  timer_ = std::make_unique<PeriodicTimer>(executor_, std::chrono::nanoseconds(drivers::FromSeconds(1.0 / rate_hz_)),
-                                           [this] {
-                                             LoopTimer timer(stats(), clock());
-                                             Tick();
-                                           });
+  LoopStats& tick = Loop("tick");
+  timer_ = std::make_unique<PeriodicTimer>(executor(), std::chrono::nanoseconds(drivers::FromSeconds(1.0 / rate_hz_)),
+                                           [this, &tick] { Run(tick, [this] { Tick(); }); });
   SetHealth(Health::kOk, "");
 }
 

@@ -15,6 +15,7 @@ inline constexpr TopicName<SimPedestrians> kSimPedestrians{"sim/pedestrians"};  
 inline constexpr TopicName<TeleopCommand> kTeleop{"teleop"};
 inline constexpr TopicName<BaseCommand> kCmdVel{"cmd_vel"};
 inline constexpr TopicName<Bumped> kBumped{"safety/bumped"};
+inline constexpr TopicName<Fault> kFaults{"safety/faults"};  // a node's callback threw
 inline constexpr TopicName<FaceState> kFaceExpression{"face/expression"};
 inline constexpr TopicName<MissionCommand> kMissionCommand{"mission/command"};
 inline constexpr TopicName<MissionState> kMission{"mission"};

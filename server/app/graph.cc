@@ -1,0 +1,122 @@
+#include "server/app/graph.h"
+
+#include <spdlog/spdlog.h>
+
+#include "nav/policy/evasion.h"
+#include "server/nodes/control_node.h"
+#include "server/nodes/driver_bridge.h"
+#include "server/nodes/face_node.h"
+#include "server/nodes/ground_node.h"
+#include "server/nodes/localization_node.h"
+#include "server/nodes/tracking_node.h"
+#include "server/runtime/demand.h"
+
+namespace corridor::server {
+namespace {
+
+// The configuration as the graph runs it: evasion backs away only when a laser sees behind; without one, people are
+// tracked in the forward camera's view.
+Config Adjusted(Config config, const Devices& devices) {
+  if (devices.laser == nullptr) config.mission.evade = nav::ForForwardView(config.mission.evade);
+  return config;
+}
+
+const drivers::Clock& ClockFor(Schedule schedule, const Devices& devices, const drivers::Clock& wall) {
+  if (schedule == Schedule::kThreads) return wall;
+  if (devices.sim == nullptr) throw std::runtime_error("a graph in lockstep needs the simulator: its clock is the graph's");
+  return devices.sim->clock();
+}
+
+}  // namespace
+
+Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule schedule)
+    : config_(Adjusted(config, devices)),
+      clock_(ClockFor(schedule, devices, wall_clock_)),
+      devices_(devices),
+      executors_(clock_, schedule),
+      store_(config_.store.state_dir / "corridor.db"),
+      planner_(executors_.planning, config_.planner) {
+  // The tracker of moving objects, from the laser when there is one, else from the depth camera.
+  std::unique_ptr<TrackingNode> tracking_node;
+  if (config_.tracking.enabled && (devices_.laser != nullptr || config_.tracking.camera)) {
+    TrackingSource source;
+    if (devices_.laser != nullptr) source.base_T_laser = devices_.laser->base_T_laser();
+    source.camera = devices_.camera.info().camera;
+    tracking_node = std::make_unique<TrackingNode>(
+        executors_.mapping, bus_, source, config_.tracking.objects, config_.tracking.traffic,
+        [this](std::shared_ptr<const std::vector<float>> cost, const nav::OccupancyGrid* grid) {
+          planner_.SetTraffic(std::move(cost), grid);
+        });
+  }
+  TrackingNode* const tracking = tracking_node.get();
+  // Each active map goes to the planner and, for its walls, to the tracker.
+  const auto use_map = [this, tracking](const std::shared_ptr<const ActiveMap>& active) {
+    const std::shared_ptr<const nav::OccupancyGrid> grid(active, &active->grid);
+    planner_.SetMap(grid);
+    if (tracking != nullptr) tracking->SetMap(grid);
+  };
+  maps_ = std::make_unique<MapLibrary>(config_.store.state_dir, std::move(map.name), std::move(map.grid), use_map);
+  {
+    const auto active = maps_->active();
+    use_map(active);
+    planner_.SetZones(store_.Zones(active->name));
+    spdlog::info("map '{}': {} x {} cells at {} m", active->name, active->grid.width(), active->grid.height(),
+                 active->grid.resolution_m());
+  }
+  ConnectDrivers(bus_, clock_, devices_.camera, devices_.base, devices_.laser);
+
+  // Mission documents are written to the database on the io executor, off the control path.
+  const auto persist = [this](nlohmann::json doc) {
+    executors_.io.Post([this, doc = std::move(doc)] {
+      try {
+        store_.PutMission(doc["id"].get<std::string>(), doc);
+      } catch (const StoreError& e) {
+        spdlog::error("{}", e.what());
+      }
+    });
+  };
+  auto mission_node = std::make_unique<MissionNode>(executors_.control, bus_, planner_, config_.mission, persist);
+  missions_ = mission_node.get();
+  // Brought up in this order and down in reverse: control goes first at shutdown, so the robot stops first.
+  if (devices_.sim != nullptr) {
+    auto sim_node = std::make_unique<SimNode>(executors_.sim, bus_, *devices_.sim);
+    sim_node_ = sim_node.get();
+    lifecycle_.Add(std::move(sim_node));
+  }
+  lifecycle_.Add(std::make_unique<LocalizationNode>(executors_.mapping, bus_, config_.sim.robot.start));
+  lifecycle_.Add(std::make_unique<FaceNode>(executors_.perception, bus_));
+  lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.camera.info(), config_.ground));
+  if (tracking_node) lifecycle_.Add(std::move(tracking_node));
+  lifecycle_.Add(std::move(mission_node));
+  lifecycle_.Add(std::make_unique<ControlNode>(executors_.control, bus_, devices_.base, config_.safety));
+  lifecycle_.ConfigureAll();
+
+  api_ = std::make_unique<Api>(
+      ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, config_, clock_, executors_.io, devices_.sim});
+}
+
+Graph::~Graph() { Stop(); }
+
+void Graph::Start() {
+  if (started_) return;
+  started_ = true;
+  executors_.StartAll();
+  lifecycle_.ActivateAll();
+}
+
+void Graph::Stop() {
+  if (!started_ || stopped_) return;
+  stopped_ = true;
+  lifecycle_.DeactivateAll();
+  if (executors_.schedule() == Schedule::kLockstep) executors_.RunUntilIdle();
+  executors_.StopAll();
+  lifecycle_.CleanupAll();
+}
+
+void Graph::Step() {
+  DEMAND(executors_.schedule() == Schedule::kLockstep && sim_node_ != nullptr && started_ && !stopped_);
+  sim_node_->Step();
+  executors_.RunUntilIdle();
+}
+
+}  // namespace corridor::server

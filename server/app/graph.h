@@ -1,0 +1,94 @@
+// The daemon's node graph, built in one place from the configuration and the devices: corridord, the scenario runner
+// and the daemon-level tests all build this, so there is one wiring of the navigation. It holds the bus, the
+// executors, the store and map library, the planner, every node in the order they come up, and the API (without its
+// HTTP transport, which corridord adds).
+//
+// With Schedule::kThreads the graph runs in real time on the wall clock (corridord). With Schedule::kLockstep it runs
+// on the simulator's clock: the owner calls Step(), which advances the simulator by one physics step and then runs
+// everything that fell due, executors polled in a fixed order, on the caller's thread. A lockstep run is faster than
+// real time and the same every time for the same configuration and seed.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "drivers/depth_camera.h"
+#include "drivers/diff_drive_base.h"
+#include "drivers/laser2d.h"
+#include "drivers/sim/sim_robot.h"
+#include "nav/map/occupancy_grid.h"
+#include "server/api/api.h"
+#include "server/nodes/mission_node.h"
+#include "server/nodes/planner_service.h"
+#include "server/nodes/sim_node.h"
+#include "server/runtime/bus.h"
+#include "server/runtime/config.h"
+#include "server/runtime/executor.h"
+#include "server/runtime/node.h"
+#include "server/store/map_library.h"
+#include "server/store/store.h"
+
+namespace corridor::server {
+
+// What the graph drives. All must outlive the graph.
+struct Devices {
+  drivers::DepthCamera& camera;
+  drivers::DiffDriveBase& base;
+  drivers::Laser2D* laser = nullptr;      // null: no laser fitted
+  drivers::sim::SimRobot* sim = nullptr;  // the simulator, when the devices are simulated (its faults, its truth)
+};
+
+// The map to start in: the map library's first map.
+struct NamedMap {
+  std::string name;
+  nav::OccupancyGrid grid;
+};
+
+class Graph {
+ public:
+  // Builds everything, nothing running yet. `config.store.state_dir` must exist and be writable. With kLockstep,
+  // `devices.sim` is required: its clock is the graph's. Throws std::runtime_error (or ConfigError, StoreError) for a
+  // configuration that cannot be built.
+  Graph(const Config& config, Devices devices, NamedMap map, Schedule schedule);
+  Graph(const Graph&) = delete;
+  Graph& operator=(const Graph&) = delete;
+  ~Graph();
+
+  // Activates the nodes and starts the executors (threads: their threads; lockstep: nothing runs until Step).
+  void Start();
+  // Deactivates the nodes in reverse order (the control node first: the robot stops first), stops the executors and
+  // cleans up. Idempotent.
+  void Stop();
+  // Lockstep: one physics step of the simulator, then every timer and handler that fell due.
+  void Step();
+
+  const Config& config() const { return config_; }
+  const drivers::Clock& clock() const { return clock_; }
+  Bus& bus() { return bus_; }
+  Executors& executors() { return executors_; }
+  const Lifecycle& lifecycle() const { return lifecycle_; }
+  MissionNode& missions() { return *missions_; }
+  PlannerService& planner() { return planner_; }
+  MapLibrary& maps() { return *maps_; }
+  Store& store() { return store_; }
+  const Api& api() const { return *api_; }
+
+ private:
+  Config config_;
+  drivers::SteadyClock wall_clock_;
+  const drivers::Clock& clock_;
+  Devices devices_;
+  Bus bus_;
+  Executors executors_;
+  Store store_;
+  PlannerService planner_;
+  std::unique_ptr<MapLibrary> maps_;
+  Lifecycle lifecycle_;
+  SimNode* sim_node_ = nullptr;  // owned by lifecycle_
+  MissionNode* missions_ = nullptr;
+  std::unique_ptr<Api> api_;
+  bool started_ = false;
+  bool stopped_ = false;
+};
+
+}  // namespace corridor::server

@@ -1,0 +1,29 @@
+// The built-in simulator as the configuration describes it (sim.*): the world with its obstacles and people, and the
+// robot at its start; and the map the daemon starts in.
+#pragma once
+
+#include <memory>
+
+#include "drivers/sim/sim_robot.h"
+#include "drivers/sim/world.h"
+#include "server/app/graph.h"
+#include "server/runtime/config.h"
+
+namespace corridor::server {
+
+struct Simulator {
+  std::shared_ptr<const drivers::sim::World> world;
+  std::unique_ptr<drivers::sim::SimRobot> robot;
+
+  // The simulated robot as the graph's devices (with its laser when sim.laser.enabled).
+  Devices devices(const Config& config) const;
+};
+
+// Throws std::runtime_error when the world cannot be loaded or the robot's start overlaps an obstacle.
+Simulator MakeSimulator(const Config& config);
+
+// The configured map file, else the simulator's world when it is a map, else the world's collision slice (what the
+// robot can bump into). Throws when there is neither a map nor a world.
+NamedMap InitialMap(const Config& config, const drivers::sim::World* world);
+
+}  // namespace corridor::server
