@@ -45,6 +45,26 @@ bool SegmentTraversable(const Costmap& costmap, const Eigen::Vector2d& a, const 
   return true;
 }
 
+bool RestOfPathTraversable(const Costmap& costmap, const std::vector<Waypoint>& path, const Eigen::Vector2d& from) {
+  std::size_t nearest = 0;
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    if ((path[i].pose.translation() - from).norm() < (path[nearest].pose.translation() - from).norm()) nearest = i;
+  }
+  for (std::size_t i = std::max<std::size_t>(nearest, 1); i < path.size(); ++i) {
+    if (!SegmentTraversable(costmap, path[i - 1].pose.translation(), path[i].pose.translation())) return false;
+  }
+  return true;
+}
+
+std::vector<float> ExtraCosts(const Costmap& costmap, std::span<const float> traffic,
+                              std::span<const Eigen::Vector2d> blocking, double radius_m, float cost) {
+  const std::size_t cells = static_cast<std::size_t>(costmap.width()) * static_cast<std::size_t>(costmap.height());
+  std::vector<float> extra;
+  if (traffic.size() == cells) extra.assign(traffic.begin(), traffic.end());
+  if (!blocking.empty()) AddPointCost(costmap, blocking, radius_m, cost, extra);
+  return extra;
+}
+
 bool PathsDiverge(const std::vector<Eigen::Vector2d>& candidate, const std::vector<Eigen::Vector2d>& current,
                   double along_m, double tolerance_m) {
   if (current.empty()) return !candidate.empty();

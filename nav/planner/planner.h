@@ -45,6 +45,12 @@ struct PathOptions {
 void AddPointCost(const Costmap& costmap, std::span<const Eigen::Vector2d> points, double radius_m, float cost,
                   std::vector<float>& extra);
 
+// The extra step costs of one plan (PathOptions::extra_cost): where people walk (`traffic`, per cell; ignored unless
+// it has one value per cell of `costmap`, as when made for another map) plus `cost` within radius_m of each of
+// `blocking` (AddPointCost). Empty when there is neither.
+std::vector<float> ExtraCosts(const Costmap& costmap, std::span<const float> traffic,
+                              std::span<const Eigen::Vector2d> blocking, double radius_m, float cost);
+
 // Plans from `start` to `goal`; when goal_yaw is set the last waypoint takes it. See AStar for `cancel`.
 PlanResult PlanPath(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
                     std::optional<double> goal_yaw = std::nullopt, const std::atomic<bool>* cancel = nullptr,
@@ -57,5 +63,9 @@ bool PathsDiverge(const std::vector<Eigen::Vector2d>& candidate, const std::vect
 
 // True when every cell the straight segment a-b passes is traversable.
 bool SegmentTraversable(const Costmap& costmap, const Eigen::Vector2d& a, const Eigen::Vector2d& b);
+
+// True when the rest of `path` for a robot at `from` is traversable: its legs from the waypoint nearest `from` on.
+// For a path planned on an older map or zones: does it still stand?
+bool RestOfPathTraversable(const Costmap& costmap, const std::vector<Waypoint>& path, const Eigen::Vector2d& from);
 
 }  // namespace corridor::nav

@@ -306,6 +306,41 @@ TEST(PlannerTest, PointsCostingExtraAreGoneRoundWhereThereIsRoomAndThroughWhereT
   EXPECT_THROW(AddPointCost(c, seen, 0.4, -1.0f, none), std::invalid_argument);
 }
 
+TEST(PlannerTest, ExtraCostsAddWhereBlockedToWherePeopleWalkAndIgnoreAnotherMapsTraffic) {
+  OccupancyGrid open(100, 60, 0.05, {}, kFreeCell);
+  const Costmap c(open, {}, CostmapOptions{});
+  const std::size_t cells = c.grid().cells().size();
+  std::vector<float> traffic(cells, 0.0f);
+  const std::size_t walked = c.Index(*open.WorldToCell({2.5, 1.5}));
+  const std::size_t aside = c.Index(*open.WorldToCell({4.0, 0.5}));
+  traffic[walked] = 3.0f;
+  traffic[aside] = 3.0f;
+  const std::vector<Eigen::Vector2d> blocking = {{2.5, 1.5}};
+  EXPECT_TRUE(ExtraCosts(c, {}, {}, 0.4, 20.0f).empty());
+  const std::vector<float> both = ExtraCosts(c, traffic, blocking, 0.4, 20.0f);
+  ASSERT_EQ(both.size(), cells);
+  EXPECT_FLOAT_EQ(both[walked], 23.0f);
+  EXPECT_FLOAT_EQ(both[aside], 3.0f);
+  EXPECT_EQ(ExtraCosts(c, traffic, {}, 0.4, 20.0f), traffic);
+  // Traffic made over another map (another size) is not this map's: only the blocking points count.
+  const std::vector<float> stale(10, 5.0f);
+  const std::vector<float> blocked = ExtraCosts(c, stale, blocking, 0.4, 20.0f);
+  EXPECT_FLOAT_EQ(blocked[walked], 20.0f);
+  EXPECT_FLOAT_EQ(blocked[aside], 0.0f);
+}
+
+TEST(PlannerTest, TheRestOfAPathStandsUntilAnObstacleIsDrawnAcrossItAhead) {
+  OccupancyGrid open(100, 60, 0.05, {}, kFreeCell);
+  const PlanResult plan = PlanPath(Costmap(open, {}, CostmapOptions{}), {0.5, 1.5}, {4.5, 1.5});
+  ASSERT_TRUE(plan.ok());
+  // A wall across the way at x = 1.5 m.
+  OccupancyGrid walled = open;
+  for (int y = 0; y < 60; ++y) walled.at({30, y}) = kOccupiedCell;
+  const Costmap now(walled, {}, CostmapOptions{});
+  EXPECT_TRUE(RestOfPathTraversable(Costmap(open, {}, CostmapOptions{}), plan.plan.waypoints, {0.5, 1.5}));
+  EXPECT_FALSE(RestOfPathTraversable(now, plan.plan.waypoints, {0.5, 1.5}));
+}
+
 TEST(PlannerTest, CancelStopsALongSearch) {
   const OccupancyGrid& g = Map(kWillow);
   const Costmap c(g, {}, CostmapOptions{});

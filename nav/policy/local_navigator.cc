@@ -29,6 +29,13 @@ void LocalNavigator::SetPath(std::vector<Waypoint> path, std::shared_ptr<const C
   reorient_next_path_ = false;
 }
 
+LocalStep LocalNavigator::Update(const Pose2& robot, const FrameView& frame, double speed_limit_mps, double dt_s,
+                                 const Surroundings* around) {
+  if (frame.scan != nullptr && frame.scan_view.range_m > 0.0) See(robot, *frame.scan, frame.scan_view);
+  static const std::vector<LaneResult> kNone;
+  return Update(robot, frame.lanes != nullptr ? *frame.lanes : kNone, speed_limit_mps, dt_s, around);
+}
+
 LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double speed_limit_mps,
                                  double dt_s, const Surroundings* around) {
   LocalStep out;

@@ -32,6 +32,7 @@
 #include "nav/ground/morp.h"
 #include "nav/planner/costmap.h"
 #include "nav/policy/evasion.h"
+#include "nav/policy/local_policy.h"
 #include "nav/policy/morp_rb.h"
 #include "nav/policy/path_follower.h"
 #include "nav/safety/obstacle_memory.h"
@@ -77,45 +78,30 @@ struct LocalNavigatorOptions {
   double reorient_max_s = 10.0;
 };
 
-struct LocalStep {
-  Twist2 twist;
-  bool done = false;
-  bool replan = false;            // strayed from the path: the caller should plan again (the twist is zero
-                                  // unless it evades someone)
-  bool blocked = false;           // no headway for stuck_s: the caller should plan again round Blocking()
-                                  // (the twist is this step's as usual)
-  double remaining_m = 0.0;
-  MorpRbMode mode = MorpRbMode::kFollow;
-  bool avoiding = false;          // MORP-RB, not the path follower, chose the twist
-  bool guarded = false;           // the obstacle memory replaced the chosen twist
-  bool evading = false;           // a moving object's predicted path did
-  double nearest_m = 0.0;         // the nearest dead-end ahead
-};
 
-class LocalNavigator {
+class LocalNavigator final : public LocalPolicy {
  public:
   explicit LocalNavigator(const LocalNavigatorOptions& options);  // throws std::invalid_argument for bad gains
 
   // `map`, when not null, is the costmap the path was planned on (see mapped_tolerance_m); the memory keeps clear
   // of its obstacles too.
-  void SetPath(std::vector<Waypoint> path, std::shared_ptr<const Costmap> map = nullptr);
+  void SetPath(std::vector<Waypoint> path, std::shared_ptr<const Costmap> map = nullptr) override;
   // The map changed under a path that still stands (see SetPath).
-  void SetMap(std::shared_ptr<const Costmap> map) { memory_.SetMap(std::move(map)); }
+  void SetMap(std::shared_ptr<const Costmap> map) override { memory_.SetMap(std::move(map)); }
   // The bumper is pressed: what touched the front is remembered, so that the next commands turn away from it.
-  void Touched(const Pose2& robot, bool backing) { memory_.Touched(robot, backing); }
+  void Touched(const Pose2& robot, bool backing) override { memory_.Touched(robot, backing); }
   // The frame's depth scan, before Update with its lanes: what the camera saw beside the lanes is remembered too
   // (ObstacleMemory::See).
   void See(const Pose2& robot, const std::vector<Eigen::Vector2d>& scan, const SensorView& view) {
     memory_.See(robot, scan, view);
   }
-  const std::vector<Waypoint>& path() const { return follower_.path(); }
+  const std::vector<Waypoint>& path() const override { return follower_.path(); }
   // What blocked the robot (world frame: the points it remembered seeing when it last reported `blocked`), for
   // blocked_hold_s after; empty otherwise. Every path planned meanwhile should go round them (AddPointCost).
-  const std::vector<Eigen::Vector2d>& Blocking() const { return blocking_; }
+  const std::vector<Eigen::Vector2d>& Blocking() const override { return blocking_; }
   // What the obstacle memory holds now (world frame), for traces.
-  std::vector<Eigen::Vector2d> Remembered() const { return memory_.Points(); }
-  bool has_path() const { return follower_.has_path(); }
-  void Clear() { follower_.Clear(); }
+  std::vector<Eigen::Vector2d> Remembered() const override { return memory_.Points(); }
+  void Clear() override { follower_.Clear(); }
   const LocalNavigatorOptions& options() const { return options_; }
 
   // One step from the robot's pose and this frame's lanes (empty: nothing seen, the robot stops). dt_s is the time
@@ -123,6 +109,9 @@ class LocalNavigator {
   // scans are stale) is what the laser shows around the robot, in the same frame as `robot`.
   LocalStep Update(const Pose2& robot, const std::vector<LaneResult>& lanes, double speed_limit_mps, double dt_s,
                    const Surroundings* around = nullptr);
+  // The frame's depth scan (See), then its lanes (Update above).
+  LocalStep Update(const Pose2& robot, const FrameView& frame, double speed_limit_mps, double dt_s,
+                   const Surroundings* around) override;
 
  private:
   // Replaces the step's twist when a tracked moving object would meet the robot on it; `target`: where the robot

@@ -260,7 +260,7 @@ json Api::State() const {
   const auto face = c_.bus.Get(topics::kFaceExpression).latest();
   state["face"] = std::string(face::ToString(face ? face->expression : face::Expression::kNeutral));
   const auto mission = c_.bus.Get(topics::kMission).latest();
-  state["mission"] = mission ? mission->document : json(nullptr);
+  state["mission"] = mission ? ToJson(*mission) : json(nullptr);
   const auto map = c_.maps.active();
   state["map"] = {{"name", map->name}, {"revision", map->revision}};
   json nodes = json::array();

@@ -176,8 +176,7 @@ void Api::AddMapRoutes() {
           throw ApiError(http::status::bad_request, "Invalid request", "'name' must be a map name");
         }
         const auto mission = c_.bus.Get(topics::kMission).latest();
-        const std::string status = mission ? mission->document.value("status", "") : "";
-        if (status == "active" || status == "paused") {
+        if (mission && (mission->status == nav::MissionStatus::kActive || mission->status == nav::MissionStatus::kPaused)) {
           throw ApiError(http::status::conflict, "Mission in progress", "cancel the mission before changing maps",
                          "mission_in_progress");
         }

@@ -73,7 +73,7 @@ void Api::AddNavigationRoutes() {
       }));
   Add(http::verb::get, "/api/v1/missions/{id}", Sync([this](const Request& r, const Params& p) {
         const std::string& id = p.at("id");
-        if (auto doc = c_.missions.Describe(id)) return JsonResponse(r, *doc);
+        if (auto state = c_.missions.Describe(id)) return JsonResponse(r, ToJson(*state));
         if (auto doc = c_.store.Mission(id)) return JsonResponse(r, *doc);
         throw ApiError(http::status::not_found, "Not found", "no mission " + id);
       }));
@@ -153,16 +153,16 @@ void Api::StartMission(const Request& request, Reply reply) const {
           throw ApiError(http::status::unprocessable_entity, "Goal occupied", where + why, "goal_occupied");
         }
       }
-      json doc = c_.missions.Start(std::move(goals), speed_limit);
-      Response res = JsonResponse(request, doc, http::status::created);
-      res.set(http::field::location, "/api/v1/missions/" + doc["id"].get<std::string>());
+      const MissionState state = c_.missions.Start(std::move(goals), speed_limit);
+      Response res = JsonResponse(request, ToJson(state), http::status::created);
+      res.set(http::field::location, "/api/v1/missions/" + state.id);
       return res;
     });
   });
 }
 
 Response Api::MissionAction(const Request& request, const std::string& id, const std::string& action) const {
-  MissionNode::Outcome outcome;
+  nav::TransitionOutcome outcome;
   if (action == "pause") {
     outcome = c_.missions.Pause(id);
   } else if (action == "resume") {
@@ -172,15 +172,16 @@ Response Api::MissionAction(const Request& request, const std::string& id, const
   } else {
     throw ApiError(http::status::not_found, "Not found", "missions have no action '" + action + "'");
   }
-  if (outcome == MissionNode::Outcome::kNotFound) {
+  if (outcome == nav::TransitionOutcome::kNotFound) {
     throw ApiError(http::status::not_found, "Not found", "no mission " + id + " in progress");
   }
-  const json doc = *c_.missions.Describe(id);
-  if (outcome == MissionNode::Outcome::kConflict) {
+  const MissionState state = *c_.missions.Describe(id);
+  if (outcome == nav::TransitionOutcome::kConflict) {
     throw ApiError(http::status::conflict, "Not allowed now",
-                   "cannot " + action + " a mission that is " + doc["status"].get<std::string>(), "invalid_transition");
+                   std::string("cannot ") + action + " a mission that is " + nav::ToString(state.status),
+                   "invalid_transition");
   }
-  return JsonResponse(request, doc);
+  return JsonResponse(request, ToJson(state));
 }
 
 }  // namespace corridor::server

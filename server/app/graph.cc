@@ -17,7 +17,8 @@ namespace {
 // The configuration as the graph runs it: evasion backs away only when a laser sees behind; without one, people are
 // tracked in the forward camera's view.
 Config Adjusted(Config config, const Devices& devices) {
-  if (devices.laser == nullptr) config.mission.evade = nav::ForForwardView(config.mission.evade);
+  nav::EvasionOptions& evade = config.mission.navigator.evade;
+  if (devices.laser == nullptr) evade = nav::ForForwardView(evade);
   return config;
 }
 
@@ -66,10 +67,10 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   ConnectDrivers(bus_, clock_, devices_.camera, devices_.base, devices_.laser);
 
   // Mission documents are written to the database on the io executor, off the control path.
-  const auto persist = [this](nlohmann::json doc) {
-    executors_.io.Post([this, doc = std::move(doc)] {
+  const auto persist = [this](const MissionState& state) {
+    executors_.io.Post([this, id = state.id, doc = ToJson(state)] {
       try {
-        store_.PutMission(doc["id"].get<std::string>(), doc);
+        store_.PutMission(id, doc);
       } catch (const StoreError& e) {
         spdlog::error("{}", e.what());
       }
@@ -85,7 +86,8 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   }
   lifecycle_.Add(std::make_unique<LocalizationNode>(executors_.mapping, bus_, config_.sim.robot.start));
   lifecycle_.Add(std::make_unique<FaceNode>(executors_.perception, bus_));
-  lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.camera.info(), config_.ground));
+  lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.camera.info(), config_.ground,
+                                              config_.mission.policy));
   if (tracking_node) lifecycle_.Add(std::move(tracking_node));
   lifecycle_.Add(std::move(mission_node));
   lifecycle_.Add(std::make_unique<ControlNode>(executors_.control, bus_, devices_.base, config_.safety));

@@ -23,7 +23,7 @@ void ControlNode::Activate() {
   });
   Subscribe(topics::kGroundLanes, "sight", [this](const auto& ground) {
     const double now_s = drivers::ToSeconds(clock().Now());
-    if (ground->obstacles.empty() && !ground->lanes.empty()) {
+    if (!ground->lanes.empty()) {
       gate_.Sight(now_s, ground->lanes);
     } else {
       gate_.Sight(now_s, ground->obstacles);

@@ -11,10 +11,10 @@ namespace {
 // mission remembers stays where it is.
 class MissionNodeTest : public ::testing::Test {
  protected:
-  explicit MissionNodeTest(const nav::LocalNavigatorOptions& options = {})
+  explicit MissionNodeTest(const nav::MissionRunnerOptions& options = {})
       : executors_(clock_, Schedule::kLockstep),
         planner_(executors_.planning, nav::CostmapOptions{}),
-        node_(executors_.control, bus_, planner_, options, [](const nlohmann::json&) {}) {
+        node_(executors_.control, bus_, planner_, options, [](const MissionState&) {}) {
     planner_.SetMap(std::make_shared<const nav::OccupancyGrid>(200, 200, 0.05, nav::Pose2{}, nav::kFreeCell));
     node_.Activate();
     bus_.Get(topics::kPose).Publish(StampedPose{clock_.Now(), nav::Pose2{2.0, 5.0, 0.0}});
@@ -73,9 +73,9 @@ TEST_F(MissionNodeTest, AnOldBumpIsNotWhereTheRobotIsNow) {
 }
 
 // The same with a navigator that gives up on making headway after a second.
-nav::LocalNavigatorOptions QuicklyStuck() {
-  nav::LocalNavigatorOptions o;
-  o.stuck_s = 1.0;
+nav::MissionRunnerOptions QuicklyStuck() {
+  nav::MissionRunnerOptions o;
+  o.navigator.stuck_s = 1.0;
   return o;
 }
 
@@ -89,8 +89,8 @@ TEST_F(StuckMissionNodeTest, ARobotThatMakesNoHeadwayGetsAPathRoundWhatBlocksIt)
     const auto state = bus_.Get(topics::kMission).latest();
     double farthest = 0.0;
     if (state) {
-      for (const nlohmann::json& p : state->document["path"]) {
-        farthest = std::max(farthest, std::abs(p["y"].get<double>() - 5.0));
+      for (const nav::Pose2& p : state->path) {
+        farthest = std::max(farthest, std::abs(p.y_m - 5.0));
       }
     }
     return farthest;

@@ -69,15 +69,11 @@ void PlannerService::Plan(PlanRequest request, std::function<void(PlanReply)> do
       std::lock_guard lock(mutex_);
       traffic = traffic_;
     }
+    const std::vector<float> extra =
+        nav::ExtraCosts(*costmap, traffic ? std::span<const float>(*traffic) : std::span<const float>(),
+                        request.blocking, request.blocking_radius_m, request.blocking_cost);
     nav::PathOptions path_options;
-    const bool use_traffic = traffic && traffic->size() == costmap->grid().cells().size();
-    if (use_traffic) path_options.extra_cost = *traffic;
-    std::vector<float> extra;  // traffic and blocking costs together, when there are blocking points
-    if (!request.blocking.empty()) {
-      if (use_traffic) extra = *traffic;
-      nav::AddPointCost(*costmap, request.blocking, request.blocking_radius_m, request.blocking_cost, extra);
-      path_options.extra_cost = extra;
-    }
+    path_options.extra_cost = extra;
     path_options.robot_at_start = request.robot_at_start;
     const auto start = std::chrono::steady_clock::now();
     reply.result = nav::PlanPath(*costmap, request.start, request.goal, request.goal_yaw, request.cancel.get(),

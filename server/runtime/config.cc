@@ -160,7 +160,13 @@ void ReadTracking(ConfigReader& r, TrackingOptions& t) {
   });
 }
 
-void ReadMission(ConfigReader& r, nav::LocalNavigatorOptions& navigator) {
+void ReadMission(ConfigReader& r, nav::MissionRunnerOptions& mission) {
+  std::string policy = nav::ToString(mission.policy);
+  r.Read("policy", policy);
+  const auto kind = nav::ParseLocalPolicy(policy);
+  if (!kind) throw ConfigError(r.PathOf("policy") + ": must be morp-rb or voxel-reactive, got '" + policy + "'");
+  mission.policy = *kind;
+  nav::LocalNavigatorOptions& navigator = mission.navigator;
   nav::FollowerOptions& o = navigator.follower;
   r.Read("k_rho", o.gains.k_rho, -100.0, 100.0);
   r.Read("k_alpha", o.gains.k_alpha, -100.0, 100.0);
@@ -274,12 +280,18 @@ Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();
     // MORP-RB brakes by the control loop's model.
-    config.mission.avoid.stopping = config.safety.stopping;
-    config.mission.avoid.front_offset_m = config.safety.front_offset_m;
-    config.mission.memory.robot_radius_m = config.safety.front_offset_m;
-    config.mission.evade.robot_radius_m = config.safety.front_offset_m;
-    config.mission.evade.max_linear_mps = config.mission.follower.max_linear_mps;
-    config.mission.corridor_half_width_m = config.safety.corridor_half_width_m;
+    // MORP-RB and the comparison policy brake by the control loop's model.
+    nav::LocalNavigatorOptions& navigator = config.mission.navigator;
+    navigator.avoid.stopping = config.safety.stopping;
+    navigator.avoid.front_offset_m = config.safety.front_offset_m;
+    navigator.memory.robot_radius_m = config.safety.front_offset_m;
+    navigator.evade.robot_radius_m = config.safety.front_offset_m;
+    navigator.evade.max_linear_mps = navigator.follower.max_linear_mps;
+    navigator.corridor_half_width_m = config.safety.corridor_half_width_m;
+    nav::ReactiveOptions& reactive = config.mission.reactive;
+    reactive.max_linear_mps = navigator.follower.max_linear_mps;
+    reactive.front_offset_m = config.safety.front_offset_m;
+    reactive.stopping = config.safety.stopping;
   } catch (const ConfigError& e) {
     throw ConfigError(file.string() + ": " + e.what());
   }

@@ -11,6 +11,7 @@
 #include "nav/ground/morp.h"
 #include "nav/planner/costmap.h"
 #include "nav/safety/command_gate.h"
+#include "nav/mission/mission_runner.h"
 #include "nav/policy/local_navigator.h"
 #include "nav/tracking/moving_objects.h"
 #include "nav/tracking/traffic_map.h"
@@ -58,8 +59,9 @@ struct TrackingOptions {
   nav::TrafficOptions traffic;  // where people walk, for the planner (weight 0: not used)
 };
 
-// ground: nav::MorpOptions; planner: nav::CostmapOptions; mission: nav::LocalNavigatorOptions (the follower's
-// fields at the top, MORP-RB's under avoid, evasion's under evade; their fields are the keys, with units).
+// ground: nav::MorpOptions; planner: nav::CostmapOptions; mission: nav::MissionRunnerOptions (the local policy, the
+// navigator's and the follower's fields at the top, MORP-RB's under avoid, evasion's under evade; their fields are the
+// keys, with units).
 
 struct LogOptions {
   std::string level = "info";           // trace, debug, info, warn, error
@@ -73,7 +75,7 @@ struct Config {
   SimulatorOptions sim;
   nav::MorpOptions ground;
   nav::CostmapOptions planner;
-  nav::LocalNavigatorOptions mission;
+  nav::MissionRunnerOptions mission;
   TrackingOptions tracking;
   LogOptions log;
 };

@@ -110,11 +110,11 @@ TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
             std::string::npos);
   EXPECT_DOUBLE_EQ(c.tracking.objects.walk_end_memory_s, 20.0);
   EXPECT_DOUBLE_EQ(c.tracking.traffic.weight, 5.0);
-  EXPECT_DOUBLE_EQ(c.mission.reroute_s, 5.0);
-  EXPECT_DOUBLE_EQ(c.mission.stuck_s, 20.0);
-  EXPECT_DOUBLE_EQ(c.mission.evade.margin_m, 0.25);
-  EXPECT_DOUBLE_EQ(c.mission.evade.horizon_s, 4.0);
-  EXPECT_DOUBLE_EQ(c.mission.evade.max_linear_mps, 0.4);  // the mission's own top speed
+  EXPECT_DOUBLE_EQ(c.mission.navigator.reroute_s, 5.0);
+  EXPECT_DOUBLE_EQ(c.mission.navigator.stuck_s, 20.0);
+  EXPECT_DOUBLE_EQ(c.mission.navigator.evade.margin_m, 0.25);
+  EXPECT_DOUBLE_EQ(c.mission.navigator.evade.horizon_s, 4.0);
+  EXPECT_DOUBLE_EQ(c.mission.navigator.evade.max_linear_mps, 0.4);  // the mission's own top speed
   EXPECT_NE(ErrorOf("sim: {enabled: false}\ntracking: {window_scans: 1}\n").find("tracking.window_scans"),
             std::string::npos);
   EXPECT_NE(ErrorOf("sim: {enabled: false}\ntracking: {traffic: {memory_s: 0}}\n").find("tracking.traffic.memory_s"),

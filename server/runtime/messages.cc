@@ -51,7 +51,42 @@ nlohmann::json ToJson(const GroundLanes& g) {
   return {{"frame_sequence", g.frame_sequence}, {"latency_ms", g.latency_ms}, {"lanes", std::move(lanes)}};
 }
 
-nlohmann::json ToJson(const MissionState& mission) { return mission.document; }
+nlohmann::json ToJson(const MissionState& m) {
+  nlohmann::json goals = nlohmann::json::array();
+  for (const nav::MissionGoal& g : m.goals) {
+    nlohmann::json goal = {{"x", g.pose.x_m}, {"y", g.pose.y_m}};
+    if (g.has_yaw) goal["yaw"] = g.pose.yaw_rad;
+    if (!g.place.empty()) goal["place"] = g.place;
+    goals.push_back(std::move(goal));
+  }
+  nlohmann::json path = nlohmann::json::array();
+  for (const nav::Pose2& p : m.path) path.push_back(ToJson(p));
+  return {{"id", m.id},
+          {"status", nav::ToString(m.status)},
+          {"waypoints", std::move(goals)},
+          {"current_waypoint", m.current},
+          {"progress", m.progress},
+          {"eta_s", m.eta_s},
+          {"remaining_on_leg_m", m.remaining_on_leg_m},
+          {"path", std::move(path)},
+          {"policy", nav::ToString(m.policy)},
+          {"error", m.error},
+          {"speed_limit_mps", std::isfinite(m.speed_limit_mps) ? nlohmann::json(m.speed_limit_mps) : nullptr}};
+}
+
+nlohmann::json ToJson(const LocalStepState& s) {
+  nlohmann::json remembered = nlohmann::json::array();
+  for (const Eigen::Vector2d& p : s.remembered) remembered.push_back({p.x(), p.y()});
+  return {{"stamp_s", drivers::ToSeconds(s.stamp_ns)},
+          {"twist", ToJson(s.step.twist)},
+          {"mode", nav::ToString(s.step.mode)},
+          {"avoiding", s.step.avoiding},
+          {"guarded", s.step.guarded},
+          {"evading", s.step.evading},
+          {"nearest_m", std::isfinite(s.step.nearest_m) ? nlohmann::json(s.step.nearest_m) : nullptr},
+          {"remaining_m", s.step.remaining_m},
+          {"remembered", std::move(remembered)}};
+}
 
 nlohmann::json ToJson(const nav::Twist2& twist) {
   return {{"linear_mps", twist.linear_mps}, {"angular_rps", twist.angular_rps}};

@@ -13,6 +13,7 @@
 #include "nav/geometry/pose2.h"
 #include "nav/geometry/sensor_view.h"
 #include "nav/ground/morp.h"
+#include "nav/mission/mission_runner.h"
 #include "nav/safety/command_gate.h"
 #include "nav/tracking/moving_objects.h"
 
@@ -74,8 +75,14 @@ struct ControlLatency {
 };
 
 // The mission in progress (or the last one), as the console and the API show it.
-struct MissionState {
-  nlohmann::json document;  // see MissionNode::Describe
+using MissionState = nav::MissionSnapshot;
+
+// One local step of a mission on a depth frame (nav/policy/local_policy.h), and what the policy remembers of obstacles
+// then (world frame): for traces and the console.
+struct LocalStepState {
+  drivers::TimeNs stamp_ns = 0;
+  nav::LocalStep step;
+  std::vector<Eigen::Vector2d> remembered;
 };
 
 // MORP's lanes for one depth frame (nav/ground/morp.h), and how long after the frame they were ready.
@@ -121,6 +128,7 @@ nlohmann::json ToJson(const SimPedestrians& pedestrians);
 nlohmann::json ToJson(const TrackedObjects& tracked);  // the objects only, not the static points
 nlohmann::json ToJson(const GroundLanes& lanes);
 nlohmann::json ToJson(const MissionState& mission);
+nlohmann::json ToJson(const LocalStepState& step);
 nlohmann::json ToJson(const nav::Pose2& pose);
 nlohmann::json ToJson(const nav::Twist2& twist);
 nlohmann::json ToJson(const StampedPose& pose);

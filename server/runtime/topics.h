@@ -19,6 +19,7 @@ inline constexpr TopicName<Fault> kFaults{"safety/faults"};  // a node's callbac
 inline constexpr TopicName<FaceState> kFaceExpression{"face/expression"};
 inline constexpr TopicName<MissionCommand> kMissionCommand{"mission/command"};
 inline constexpr TopicName<MissionState> kMission{"mission"};
+inline constexpr TopicName<LocalStepState> kLocalStep{"mission/step"};  // each local step, on a depth frame
 inline constexpr TopicName<GroundLanes> kGroundLanes{"ground/lanes"};
 inline constexpr TopicName<TrackedObjects> kTrackedObjects{"tracking/objects"};
 inline constexpr TopicName<ControlLatency> kControlLatency{"control/latency"};

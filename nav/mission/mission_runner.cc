@@ -1,0 +1,266 @@
+#include "nav/mission/mission_runner.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "nav/policy/reactive_navigator.h"
+
+namespace corridor::nav {
+namespace {
+
+std::unique_ptr<LocalPolicy> MakePolicy(const MissionRunnerOptions& o) {
+  if (o.policy == LocalPolicyKind::kVoxelReactive) {
+    return std::make_unique<ReactiveNavigator>(o.navigator.follower, o.reactive, o.navigator.replan_distance_m);
+  }
+  return std::make_unique<LocalNavigator>(o.navigator);
+}
+
+PolicyMode ModeOf(MorpRbMode mode) {
+  switch (mode) {
+    case MorpRbMode::kFollow: return PolicyMode::kFollow;
+    case MorpRbMode::kChangeLaneLeft: return PolicyMode::kChangeLaneLeft;
+    case MorpRbMode::kChangeLaneRight: return PolicyMode::kChangeLaneRight;
+    case MorpRbMode::kStopAndTurn: return PolicyMode::kStopAndTurn;
+    case MorpRbMode::kOvertake: return PolicyMode::kOvertake;
+  }
+  return PolicyMode::kNone;
+}
+
+std::vector<Eigen::Vector2d> Positions(const std::vector<Waypoint>& path) {
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(path.size());
+  for (const Waypoint& w : path) out.push_back(w.pose.translation());
+  return out;
+}
+
+}  // namespace
+
+const char* ToString(PolicyMode mode) {
+  switch (mode) {
+    case PolicyMode::kNone: return "";
+    case PolicyMode::kFollow: return "follow";
+    case PolicyMode::kChangeLaneLeft: return "change_lane_left";
+    case PolicyMode::kChangeLaneRight: return "change_lane_right";
+    case PolicyMode::kStopAndTurn: return "stop_and_turn";
+    case PolicyMode::kOvertake: return "overtake";
+    case PolicyMode::kEvade: return "evade";
+    case PolicyMode::kReactive: return "reactive";
+    case PolicyMode::kWaitingForDepth: return "waiting_for_depth";
+  }
+  return "unknown";
+}
+
+MissionRunner::MissionRunner(const MissionRunnerOptions& options)
+    : options_(options), policy_(MakePolicy(options)) {}
+
+const std::string& MissionRunner::id() const {
+  static const std::string kNone;
+  return mission_ ? mission_->id() : kNone;
+}
+
+MissionSnapshot MissionRunner::Snapshot() const {
+  const Mission& m = *mission_;
+  MissionSnapshot s;
+  s.id = m.id();
+  s.status = m.status();
+  s.goals = m.goals();
+  s.current = m.current();
+  s.progress = m.Progress(remaining_m_, leg_length_m_);
+  const double speed = std::min(options_.navigator.follower.max_linear_mps, m.speed_limit_mps());
+  s.eta_s = m.EtaSeconds(remaining_m_, speed);
+  s.remaining_on_leg_m = remaining_m_;
+  for (const Waypoint& w : policy_->path()) s.path.push_back(w.pose);
+  s.policy = mode_;
+  s.error = m.error();
+  s.speed_limit_mps = m.speed_limit_mps();
+  return s;
+}
+
+void MissionRunner::DropPath() {
+  policy_->Clear();
+  ++generation_;
+  planning_ = false;
+}
+
+MissionUpdate MissionRunner::Start(Mission mission, std::optional<MissionSnapshot>* cancelled) {
+  if (mission_ && mission_->Cancel() && cancelled != nullptr) *cancelled = Snapshot();
+  mission_.emplace(std::move(mission));
+  DropPath();
+  checking_ = false;
+  leg_length_m_ = remaining_m_ = 0.0;
+  mode_ = PolicyMode::kNone;
+  MissionUpdate update;
+  update.persist = true;
+  return update;
+}
+
+TransitionOutcome MissionRunner::Transition(const std::string& id, bool (Mission::*transition)(), bool drop_path,
+                                            MissionUpdate* update) {
+  if (!mission_ || mission_->id() != id) return TransitionOutcome::kNotFound;
+  if (!((*mission_).*transition)()) return TransitionOutcome::kConflict;
+  if (drop_path) DropPath();
+  update->persist = true;
+  update->over = mission_->finished();
+  return TransitionOutcome::kOk;
+}
+
+TransitionOutcome MissionRunner::Pause(const std::string& id, MissionUpdate* update) {
+  return Transition(id, &Mission::Pause, false, update);
+}
+TransitionOutcome MissionRunner::Resume(const std::string& id, MissionUpdate* update) {
+  return Transition(id, &Mission::Resume, true, update);
+}
+TransitionOutcome MissionRunner::Cancel(const std::string& id, MissionUpdate* update) {
+  return Transition(id, &Mission::Cancel, true, update);
+}
+
+LegPlanQuery MissionRunner::LegQuery(const Pose2& from, bool reroute, bool blocked) const {
+  const MissionGoal& goal = mission_->current_goal();
+  LegPlanQuery q;
+  q.ticket = generation_;
+  q.reroute = reroute;
+  q.blocked = blocked;
+  q.start = from.translation();
+  q.goal = goal.pose.translation();
+  if (goal.has_yaw) q.goal_yaw = goal.pose.yaw_rad;
+  // Round what blocked the robot lately, if anything did.
+  q.blocking = policy_->Blocking();
+  q.blocking_radius_m = options_.navigator.blocked_radius_m;
+  q.blocking_cost = static_cast<float>(options_.navigator.blocked_cost);
+  return q;
+}
+
+MissionUpdate MissionRunner::Tick(double now_s, const std::optional<Pose2>& pose, std::uint64_t planner_version,
+                                  bool has_traffic) {
+  MissionUpdate update;
+  if (!mission_ || mission_->finished()) return update;
+  const Twist2 still;
+  if (!pose || mission_->status() == MissionStatus::kPaused) {
+    update.command = still;
+    return update;
+  }
+  if (!policy_->has_path()) {
+    if (!planning_) {
+      planning_ = true;
+      update.plan = LegQuery(*pose, false, false);
+    }
+    update.command = still;
+    return update;
+  }
+  if (path_version_ != planner_version && !checking_) {
+    checking_ = true;
+    update.check = PathCheckQuery{generation_, policy_->path(), pose->translation()};
+  }
+  const double reroute_s = options_.navigator.reroute_s;
+  if (reroute_s > 0.0 && !rerouting_ && mission_->status() == MissionStatus::kActive && has_traffic &&
+      now_s - routed_s_ > reroute_s) {
+    rerouting_ = true;
+    routed_s_ = now_s;
+    update.plan = LegQuery(*pose, true, false);
+  }
+  // Driving waits for depth frames; without them there is nothing safe to do but stand still.
+  if (last_frame_s_ < 0.0 || now_s - last_frame_s_ > options_.no_frames_s) {
+    if (mode_ != PolicyMode::kWaitingForDepth) {
+      mode_ = PolicyMode::kWaitingForDepth;
+      update.publish = true;
+    }
+    update.command = still;
+  }
+  return update;
+}
+
+MissionUpdate MissionRunner::Frame(const FrameInput& frame) {
+  MissionUpdate update;
+  const double dt_s = last_frame_s_ < 0.0 ? 0.0 : frame.now_s - last_frame_s_;
+  last_frame_s_ = frame.now_s;
+  if (!mission_ || mission_->finished() || mission_->status() == MissionStatus::kPaused) return update;
+  if (!policy_->has_path() || !frame.pose) return update;
+  const Pose2& pose = *frame.pose;
+  // The tracker's objects, while fresh: people to step out of the way of.
+  const bool fresh = frame.tracked != nullptr && frame.now_s - frame.tracked_received_s < options_.stale_tracking_s;
+  // A bump since the last frame: remembered where it was, the way the control node says the base was driving.
+  if (frame.bump_s && *frame.bump_s > bump_seen_s_ && frame.now_s - *frame.bump_s < options_.fresh_bump_s) {
+    bump_seen_s_ = *frame.bump_s;
+    policy_->Touched(pose, frame.bump_backing);
+  }
+  const LocalStep step = policy_->Update(pose, frame.view, mission_->speed_limit_mps(), dt_s,
+                                         fresh ? frame.tracked : nullptr);
+  update.step = step;
+  remaining_m_ = step.remaining_m;
+  mode_ = options_.policy == LocalPolicyKind::kVoxelReactive ? PolicyMode::kReactive
+          : step.evading                                       ? PolicyMode::kEvade
+                                                               : ModeOf(step.mode);
+  if (step.done) {
+    mission_->GoalReached();
+    policy_->Clear();
+    ++generation_;
+    remaining_m_ = leg_length_m_ = 0.0;
+    update.persist = true;
+    update.over = mission_->finished();
+    if (!update.over) update.command = Twist2{};  // a brief stop before the next leg
+    return update;
+  }
+  if (step.replan) {
+    DropPath();
+    update.command = step.twist;  // still, unless stepping out of someone's way
+    return update;
+  }
+  if (step.blocked && !rerouting_) {
+    rerouting_ = true;
+    routed_s_ = frame.now_s;
+    update.plan = LegQuery(pose, true, true);
+  }
+  update.command = step.twist;
+  update.answers_frame = true;
+  update.publish = true;
+  return update;
+}
+
+MissionUpdate MissionRunner::OnPlan(const LegPlanQuery& query, const PlanResult& result,
+                                    std::shared_ptr<const Costmap> costmap, std::uint64_t version, double now_s) {
+  MissionUpdate update;
+  if (query.reroute) {
+    rerouting_ = false;
+    // A failed reroute leaves the current path: it is still the best known way.
+    if (!Current(query.ticket) || !policy_->has_path() || !result.ok()) return update;
+    const LocalNavigatorOptions& o = options_.navigator;
+    if (!query.blocked &&
+        !PathsDiverge(result.plan.dense, Positions(policy_->path()), o.reroute_look_m, o.reroute_tolerance_m)) {
+      return update;
+    }
+    policy_->SetPath(result.plan.waypoints, std::move(costmap));
+    path_version_ = version;
+    remaining_m_ = result.plan.length_m;
+    update.persist = true;
+    return update;
+  }
+  if (!Current(query.ticket)) return update;  // overtaken
+  planning_ = false;
+  if (!result.ok()) {
+    mission_->Fail(result.detail);
+    update.persist = true;
+    update.over = true;
+    return update;
+  }
+  policy_->SetPath(result.plan.waypoints, std::move(costmap));
+  path_version_ = version;
+  routed_s_ = now_s;
+  leg_length_m_ = remaining_m_ = result.plan.length_m;
+  update.persist = true;
+  return update;
+}
+
+MissionUpdate MissionRunner::OnCheck(const PathCheckQuery& query, bool still_free,
+                                     std::shared_ptr<const Costmap> costmap, std::uint64_t version) {
+  checking_ = false;
+  if (query.ticket != generation_) return {};
+  if (still_free) {
+    path_version_ = version;
+    policy_->SetMap(std::move(costmap));  // the path stands; what is mapped and what the memory keeps clear of change
+  } else {
+    DropPath();
+  }
+  return {};
+}
+
+}  // namespace corridor::nav

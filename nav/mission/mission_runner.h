@@ -1,0 +1,164 @@
+// Runs a mission's legs: plans each leg from the robot's pose, drives it with the local policy (local_policy.h) on
+// every depth frame, and goes on to the next waypoint. It plans the leg again when the map or zones have changed
+// across the rest of the path, when the robot has strayed far from it, and, where people's ways are known, every
+// reroute_s, taking the new path when it goes another way; when the robot made no headway for stuck_s it plans round
+// what blocked it. It fails the mission with the planner's reason when there is no way, and holds the robot still
+// when it has no pose, no path or no depth frames.
+//
+// Pure logic: the caller (server/nodes/mission_node.h) hands in the clock's time, the robot's pose, each frame and
+// what the tracker shows; carries out the plans and path checks an update asks for, handing the answers back
+// (OnPlan, OnCheck); and sends the commands. Not thread-safe: one owner.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nav/mission/mission.h"
+#include "nav/planner/costmap.h"
+#include "nav/planner/planner.h"
+#include "nav/policy/local_navigator.h"
+#include "nav/policy/local_policy.h"
+#include "nav/policy/reactive.h"
+#include "nav/tracking/moving_objects.h"
+
+namespace corridor::nav {
+
+struct MissionRunnerOptions {
+  LocalNavigatorOptions navigator;  // morp-rb's, and the replanning rules both policies follow
+  LocalPolicyKind policy = LocalPolicyKind::kMorpRb;
+  ReactiveOptions reactive;         // voxel-reactive's controller
+  double no_frames_s = 0.2;         // no depth frame for this long: hold the robot still
+  double stale_tracking_s = 0.3;    // tracked objects older than this are not used (three scans of a 10 Hz laser)
+  double fresh_bump_s = 0.5;        // a bump older than this (from before the mission, say) is not where it is now
+};
+
+// How the robot is driving its mission, as the console shows it.
+enum class PolicyMode {
+  kNone,
+  kFollow,            // morp-rb's modes (MorpRbMode)
+  kChangeLaneLeft,
+  kChangeLaneRight,
+  kStopAndTurn,
+  kOvertake,
+  kEvade,             // stepping out of a tracked person's way
+  kReactive,          // voxel-reactive
+  kWaitingForDepth,   // no depth frames: holding still
+};
+const char* ToString(PolicyMode mode);
+
+// The mission as the console and the API show it.
+struct MissionSnapshot {
+  std::string id;
+  MissionStatus status = MissionStatus::kActive;
+  std::vector<MissionGoal> goals;
+  std::size_t current = 0;
+  double progress = 0.0;
+  double eta_s = 0.0;
+  double remaining_on_leg_m = 0.0;
+  std::vector<Pose2> path;  // the current leg's waypoints
+  PolicyMode policy = PolicyMode::kNone;
+  std::string error;
+  double speed_limit_mps = 0.0;  // +infinity: none
+};
+
+// A path for the current leg, to plan on the current costmap with ExtraCosts(traffic, blocking...).
+struct LegPlanQuery {
+  std::uint64_t ticket = 0;
+  bool reroute = false;  // a second opinion on a path the robot has: taken when it goes another way, or `blocked`
+  bool blocked = false;  // round what blocked the robot: taken whatever its way
+  Eigen::Vector2d start = Eigen::Vector2d::Zero();  // the robot's position: what is under it is passable
+  Eigen::Vector2d goal = Eigen::Vector2d::Zero();
+  std::optional<double> goal_yaw;
+  std::vector<Eigen::Vector2d> blocking;  // LocalPolicy::Blocking
+  double blocking_radius_m = 0.0;
+  float blocking_cost = 0.0f;
+};
+
+// Does the current path still stand on the newest map and zones? RestOfPathTraversable on the current costmap.
+struct PathCheckQuery {
+  std::uint64_t ticket = 0;
+  std::vector<Waypoint> path;
+  Eigen::Vector2d from = Eigen::Vector2d::Zero();
+};
+
+// What a call asks of the caller.
+struct MissionUpdate {
+  std::optional<Twist2> command;   // for the command gate; none: send nothing
+  bool answers_frame = false;      // the command answers the frame given (its latency counts)
+  bool publish = false;            // the snapshot changed: publish it
+  bool persist = false;            // the mission's status, leg or path changed: publish and store it
+  bool over = false;               // the mission has just finished: the robot is no longer driven by it
+  std::optional<LegPlanQuery> plan;
+  std::optional<PathCheckQuery> check;
+  std::optional<LocalStep> step;   // this frame's local step (traces)
+};
+
+// One depth frame, as the runner takes it.
+struct FrameInput {
+  double now_s = 0.0;
+  std::optional<Pose2> pose;             // the robot in the map frame; none yet
+  FrameView view;
+  const Surroundings* tracked = nullptr; // the tracker's latest (may be null)
+  double tracked_received_s = 0.0;       // when the tracker made it
+  std::optional<double> bump_s;          // the latest bump the control node reported, and which way
+  bool bump_backing = false;
+};
+
+enum class TransitionOutcome { kOk, kNotFound, kConflict };
+
+class MissionRunner {
+ public:
+  // Throws std::invalid_argument for bad navigator options.
+  explicit MissionRunner(const MissionRunnerOptions& options);
+
+  // Starts `mission`, cancelling the one in progress (its snapshot is then published and stored first: `cancelled`).
+  MissionUpdate Start(Mission mission, std::optional<MissionSnapshot>* cancelled = nullptr);
+  // Pausing keeps the path; resuming plans the leg again from where the robot is (it may have been pushed or driven
+  // while paused); cancelling drops it.
+  TransitionOutcome Pause(const std::string& id, MissionUpdate* update);
+  TransitionOutcome Resume(const std::string& id, MissionUpdate* update);
+  TransitionOutcome Cancel(const std::string& id, MissionUpdate* update);
+
+  // The periodic check (the node's timer): plans, path checks, reroutes, and holding still without frames.
+  MissionUpdate Tick(double now_s, const std::optional<Pose2>& pose, std::uint64_t planner_version, bool has_traffic);
+  // One local step on a depth frame.
+  MissionUpdate Frame(const FrameInput& frame);
+  // The answer to a plan query: `version` is the map and zones' it was planned on, `costmap` what it was planned on.
+  MissionUpdate OnPlan(const LegPlanQuery& query, const PlanResult& result, std::shared_ptr<const Costmap> costmap,
+                       std::uint64_t version, double now_s);
+  MissionUpdate OnCheck(const PathCheckQuery& query, bool still_free, std::shared_ptr<const Costmap> costmap,
+                        std::uint64_t version);
+
+  bool has_mission() const { return mission_.has_value(); }
+  const std::string& id() const;  // "" without a mission
+  MissionSnapshot Snapshot() const;  // requires has_mission()
+  const LocalPolicy& policy() const { return *policy_; }
+
+ private:
+  LegPlanQuery LegQuery(const Pose2& from, bool reroute, bool blocked) const;
+  // The current path is dropped: the next tick plans the leg again.
+  void DropPath();
+  TransitionOutcome Transition(const std::string& id, bool (Mission::*transition)(), bool drop_path,
+                               MissionUpdate* update);
+  bool Current(std::uint64_t ticket) const { return ticket == generation_ && mission_ && !mission_->finished(); }
+
+  MissionRunnerOptions options_;
+  std::unique_ptr<LocalPolicy> policy_;
+  std::optional<Mission> mission_;
+  std::uint64_t generation_ = 0;  // bumped per leg and mission, to drop answers to stale queries
+  bool planning_ = false;
+  bool checking_ = false;
+  bool rerouting_ = false;
+  double routed_s_ = 0.0;          // when the current path was planned or last checked against people's ways
+  std::uint64_t path_version_ = 0;  // planner version the current path was made or checked with
+  double leg_length_m_ = 0.0;
+  double remaining_m_ = 0.0;
+  double last_frame_s_ = -1.0;     // negative: none yet
+  double bump_seen_s_ = -1e300;
+  PolicyMode mode_ = PolicyMode::kNone;
+};
+
+}  // namespace corridor::nav

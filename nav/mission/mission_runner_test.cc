@@ -1,0 +1,216 @@
+#include "nav/mission/mission_runner.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace corridor::nav {
+namespace {
+
+// An empty 10 x 10 m room at 5 cm.
+std::shared_ptr<const Costmap> Room(const std::vector<Zone>& zones = {}) {
+  return std::make_shared<const Costmap>(OccupancyGrid(200, 200, 0.05, Pose2{}, kFreeCell), zones, CostmapOptions{});
+}
+
+std::vector<LaneResult> FreeLanes() {
+  std::vector<LaneResult> lanes;
+  for (const double offset : {-0.15, -0.05, 0.05, 0.15}) {
+    LaneResult lane;
+    lane.offset_m = offset;
+    lane.free_distance_m = 4.0;
+    lanes.push_back(lane);
+  }
+  return lanes;
+}
+
+Mission ToGoal(const std::string& id, double x, double y) {
+  MissionGoal goal;
+  goal.pose = {x, y, 0.0};
+  return Mission(id, {goal}, std::numeric_limits<double>::infinity());
+}
+
+// Drives a runner as the mission node does: a tick every 50 ms, a frame every 55 ms with free lanes, plans answered on
+// `costmap` at once, the robot's pose integrated from the commands.
+class Drive {
+ public:
+  explicit Drive(MissionRunner& runner, std::shared_ptr<const Costmap> costmap, Pose2 start)
+      : runner_(runner), costmap_(std::move(costmap)), pose_(start) {}
+
+  // Runs for `seconds`, or until the mission is over; returns whether it is over.
+  bool For(double seconds, std::uint64_t version = 1, bool has_traffic = false) {
+    for (const double end = now_ + seconds; now_ < end;) {
+      now_ += 0.005;
+      if (now_ >= next_tick_) {
+        next_tick_ += 0.05;
+        if (Handle(runner_.Tick(now_, pose_, version, has_traffic))) return true;
+      }
+      if (frames_ && now_ >= next_frame_) {
+        next_frame_ += 0.055;
+        FrameInput in;
+        in.now_s = now_;
+        in.pose = pose_;
+        in.view.lanes = &lanes_;
+        if (Handle(runner_.Frame(in))) return true;
+      }
+      pose_ = pose_ * Pose2{twist_.linear_mps * 0.005, 0.0, twist_.angular_rps * 0.005};
+    }
+    return false;
+  }
+
+  // Carries out what an update asks; true when the mission is over.
+  bool Handle(const MissionUpdate& u) {
+    if (u.command) twist_ = *u.command;
+    persisted_ += u.persist ? 1 : 0;
+    if (u.check) {
+      const bool free = RestOfPathTraversable(*costmap_, u.check->path, u.check->from);
+      Handle(runner_.OnCheck(*u.check, free, costmap_, version_));
+    }
+    if (u.plan) {
+      ++plans_;
+      PathOptions options;
+      const std::vector<float> extra =
+          ExtraCosts(*costmap_, traffic_, u.plan->blocking, u.plan->blocking_radius_m, u.plan->blocking_cost);
+      options.extra_cost = extra;
+      options.robot_at_start = true;
+      const PlanResult result = PlanPath(*costmap_, u.plan->start, u.plan->goal, u.plan->goal_yaw, nullptr, options);
+      if (Handle(runner_.OnPlan(*u.plan, result, costmap_, version_, now_))) return true;
+    }
+    if (u.over) twist_ = {};
+    return u.over;
+  }
+
+  MissionRunner& runner_;
+  std::shared_ptr<const Costmap> costmap_;
+  std::uint64_t version_ = 1;
+  std::vector<float> traffic_;
+  Pose2 pose_;
+  Twist2 twist_;
+  bool frames_ = true;
+  std::vector<LaneResult> lanes_ = FreeLanes();
+  double now_ = 0.0;
+  double next_tick_ = 0.05;
+  double next_frame_ = 0.055;
+  int persisted_ = 0;
+  int plans_ = 0;
+};
+
+TEST(MissionRunnerTest, PlansItsLegAndDrivesItToTheGoal) {
+  MissionRunner runner(MissionRunnerOptions{});
+  EXPECT_TRUE(runner.Start(ToGoal("m1", 6.0, 5.0)).persist);
+  Drive drive(runner, Room(), {2.0, 5.0, 0.0});
+  ASSERT_TRUE(drive.For(60.0));
+  const MissionSnapshot s = runner.Snapshot();
+  EXPECT_EQ(s.status, MissionStatus::kSucceeded);
+  EXPECT_LT((drive.pose_.translation() - Eigen::Vector2d(6.0, 5.0)).norm(), 0.02);
+  EXPECT_EQ(drive.plans_, 1);
+  EXPECT_DOUBLE_EQ(s.progress, 1.0);
+}
+
+TEST(MissionRunnerTest, NoWayFailsTheMissionWithThePlannersReason) {
+  MissionRunner runner(MissionRunnerOptions{});
+  runner.Start(ToGoal("m1", 6.0, 5.0));
+  // A keep-out zone round the goal.
+  const Zone fence{"z", "fence", ZoneKind::kKeepOut, {{5.0, 4.0}, {7.0, 4.0}, {7.0, 6.0}, {5.0, 6.0}}};
+  Drive drive(runner, Room({fence}), {2.0, 5.0, 0.0});
+  ASSERT_TRUE(drive.For(1.0));
+  EXPECT_EQ(runner.Snapshot().status, MissionStatus::kFailed);
+  EXPECT_FALSE(runner.Snapshot().error.empty());
+  EXPECT_EQ(drive.twist_.linear_mps, 0.0);
+}
+
+TEST(MissionRunnerTest, WithoutDepthFramesItHoldsStillAndSaysSo) {
+  MissionRunner runner(MissionRunnerOptions{});
+  runner.Start(ToGoal("m1", 6.0, 5.0));
+  Drive drive(runner, Room(), {2.0, 5.0, 0.0});
+  drive.frames_ = false;
+  EXPECT_FALSE(drive.For(2.0));
+  EXPECT_EQ(runner.Snapshot().policy, PolicyMode::kWaitingForDepth);
+  EXPECT_NEAR(drive.pose_.x_m, 2.0, 1e-9);
+  drive.frames_ = true;
+  drive.next_frame_ = drive.now_;
+  EXPECT_FALSE(drive.For(1.0));
+  EXPECT_EQ(runner.Snapshot().policy, PolicyMode::kFollow);
+  EXPECT_GT(drive.pose_.x_m, 2.05);
+}
+
+TEST(MissionRunnerTest, AWallDrawnAcrossThePathMakesItPlanAgainAroundIt) {
+  MissionRunner runner(MissionRunnerOptions{});
+  runner.Start(ToGoal("m1", 8.0, 5.0));
+  Drive drive(runner, Room(), {1.0, 5.0, 0.0});
+  ASSERT_FALSE(drive.For(1.0));
+  ASSERT_EQ(drive.plans_, 1);
+  // A wall across the way at x = 5 m from y = 3 to 7 m: the map's version changes.
+  OccupancyGrid walled(200, 200, 0.05, Pose2{}, kFreeCell);
+  for (int y = 60; y < 140; ++y) walled.at({100, y}) = kOccupiedCell;
+  drive.costmap_ = std::make_shared<const Costmap>(walled, std::vector<Zone>{}, CostmapOptions{});
+  drive.version_ = 2;
+  ASSERT_TRUE(drive.For(90.0, 2));
+  EXPECT_EQ(runner.Snapshot().status, MissionStatus::kSucceeded);
+  EXPECT_EQ(drive.plans_, 2);
+}
+
+TEST(MissionRunnerTest, WherePeopleWalkItTakesAPathThatGoesAnotherWayAndKeepsOneThatDoesNot) {
+  MissionRunnerOptions options;
+  options.navigator.reroute_s = 1.0;
+  MissionRunner runner(options);
+  runner.Start(ToGoal("m1", 8.0, 5.0));
+  Drive drive(runner, Room(), {1.0, 5.0, 0.0});
+  ASSERT_FALSE(drive.For(0.5));
+  const auto farthest_off_the_line = [&] {
+    double farthest = 0.0;
+    for (const Pose2& p : runner.Snapshot().path) farthest = std::max(farthest, std::abs(p.y_m - 5.0));
+    return farthest;
+  };
+  // Traffic everywhere alike: the reroutes find the same way, which is kept.
+  drive.traffic_.assign(200 * 200, 1.0f);
+  ASSERT_FALSE(drive.For(2.5, 1, true));
+  EXPECT_GE(drive.plans_, 3);
+  EXPECT_LT(farthest_off_the_line(), 0.05);
+  // People walk across the middle of the room along y = 5: the next reroute goes round.
+  for (int y = 90; y < 110; ++y) {
+    for (int x = 0; x < 200; ++x) drive.traffic_[static_cast<std::size_t>(y * 200 + x)] = 0.0f;
+  }
+  for (int y = 80; y < 120; ++y) {
+    for (int x = 90; x < 110; ++x) drive.traffic_[static_cast<std::size_t>(y * 200 + x)] = 50.0f;
+  }
+  ASSERT_FALSE(drive.For(1.5, 1, true));
+  EXPECT_GT(farthest_off_the_line(), 0.5);
+}
+
+TEST(MissionRunnerTest, StartingAMissionCancelsTheOneInProgressAndStaleAnswersAreDropped) {
+  MissionRunner runner(MissionRunnerOptions{});
+  runner.Start(ToGoal("m1", 6.0, 5.0));
+  const MissionUpdate first = runner.Tick(0.1, Pose2{2.0, 5.0, 0.0}, 1, false);
+  ASSERT_TRUE(first.plan);
+  std::optional<MissionSnapshot> cancelled;
+  runner.Start(ToGoal("m2", 3.0, 3.0), &cancelled);
+  ASSERT_TRUE(cancelled);
+  EXPECT_EQ(cancelled->id, "m1");
+  EXPECT_EQ(cancelled->status, MissionStatus::kCanceled);
+  // The answer to m1's query arrives after m2 started: it is not m2's path.
+  const auto room = Room();
+  const PlanResult m1_path = PlanPath(*room, first.plan->start, first.plan->goal);
+  EXPECT_FALSE(runner.OnPlan(*first.plan, m1_path, room, 1, 0.2).persist);
+  EXPECT_TRUE(runner.Snapshot().path.empty());
+  MissionUpdate update;
+  EXPECT_EQ(runner.Pause("m1", &update), TransitionOutcome::kNotFound);
+  EXPECT_EQ(runner.Pause("m2", &update), TransitionOutcome::kOk);
+  EXPECT_EQ(runner.Pause("m2", &update), TransitionOutcome::kConflict);
+  EXPECT_EQ(runner.Cancel("m2", &update), TransitionOutcome::kOk);
+  EXPECT_TRUE(update.over);
+}
+
+TEST(MissionRunnerTest, TheVoxelReactivePolicyDrivesTheSameMissionsOnObstaclePoints) {
+  MissionRunnerOptions options;
+  options.policy = LocalPolicyKind::kVoxelReactive;
+  MissionRunner runner(options);
+  runner.Start(ToGoal("m1", 6.0, 5.0));
+  Drive drive(runner, Room(), {2.0, 5.0, 0.0});
+  drive.For(2.0);
+  EXPECT_EQ(runner.Snapshot().policy, PolicyMode::kReactive);
+  drive.For(20.0);
+  EXPECT_LT((drive.pose_.translation() - Eigen::Vector2d(6.0, 5.0)).norm(), 0.3);
+}
+
+}  // namespace
+}  // namespace corridor::nav
