@@ -84,7 +84,11 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
     sim_node_ = sim_node.get();
     lifecycle_.Add(std::move(sim_node));
   }
-  lifecycle_.Add(std::make_unique<LocalizationNode>(executors_.mapping, bus_, config_.sim.robot.start));
+  const bool sim_truth = config_.localization.source == LocalizationOptions::Source::kSimTruth;
+  if (sim_truth && devices_.sim == nullptr) {
+    throw std::runtime_error("localization.source: sim_truth needs the simulator");
+  }
+  lifecycle_.Add(std::make_unique<LocalizationNode>(executors_.mapping, bus_, config_.sim.robot.start, sim_truth));
   lifecycle_.Add(std::make_unique<FaceNode>(executors_.perception, bus_));
   lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.camera.info(), config_.ground,
                                               config_.mission.policy));

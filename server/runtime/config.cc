@@ -244,6 +244,21 @@ void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
 
 }  // namespace
 
+void ApplyDerivedOptions(Config& config) {
+  // MORP-RB and the comparison policy brake by the control loop's model.
+  nav::LocalNavigatorOptions& navigator = config.mission.navigator;
+  navigator.avoid.stopping = config.safety.stopping;
+  navigator.avoid.front_offset_m = config.safety.front_offset_m;
+  navigator.memory.robot_radius_m = config.safety.front_offset_m;
+  navigator.evade.robot_radius_m = config.safety.front_offset_m;
+  navigator.evade.max_linear_mps = navigator.follower.max_linear_mps;
+  navigator.corridor_half_width_m = config.safety.corridor_half_width_m;
+  nav::ReactiveOptions& reactive = config.mission.reactive;
+  reactive.max_linear_mps = navigator.follower.max_linear_mps;
+  reactive.front_offset_m = config.safety.front_offset_m;
+  reactive.stopping = config.safety.stopping;
+}
+
 Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
   YAML::Node root;
   try {
@@ -277,21 +292,20 @@ Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
     r.Section("planner", [&](ConfigReader& s) { ReadPlanner(s, config.planner); });
     r.Section("mission", [&](ConfigReader& s) { ReadMission(s, config.mission); });
     r.Section("tracking", [&](ConfigReader& s) { ReadTracking(s, config.tracking); });
+    r.Section("localization", [&](ConfigReader& s) {
+      std::string source = config.localization.source == LocalizationOptions::Source::kSimTruth ? "sim_truth"
+                                                                                                : "odometry";
+      s.Read("source", source);
+      if (source != "odometry" && source != "sim_truth") {
+        throw ConfigError(s.PathOf("source") + ": must be odometry or sim_truth, got '" + source + "'");
+      }
+      config.localization.source =
+          source == "sim_truth" ? LocalizationOptions::Source::kSimTruth : LocalizationOptions::Source::kOdometry;
+    });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();
     // MORP-RB brakes by the control loop's model.
-    // MORP-RB and the comparison policy brake by the control loop's model.
-    nav::LocalNavigatorOptions& navigator = config.mission.navigator;
-    navigator.avoid.stopping = config.safety.stopping;
-    navigator.avoid.front_offset_m = config.safety.front_offset_m;
-    navigator.memory.robot_radius_m = config.safety.front_offset_m;
-    navigator.evade.robot_radius_m = config.safety.front_offset_m;
-    navigator.evade.max_linear_mps = navigator.follower.max_linear_mps;
-    navigator.corridor_half_width_m = config.safety.corridor_half_width_m;
-    nav::ReactiveOptions& reactive = config.mission.reactive;
-    reactive.max_linear_mps = navigator.follower.max_linear_mps;
-    reactive.front_offset_m = config.safety.front_offset_m;
-    reactive.stopping = config.safety.stopping;
+    ApplyDerivedOptions(config);
   } catch (const ConfigError& e) {
     throw ConfigError(file.string() + ": " + e.what());
   }

@@ -63,6 +63,14 @@ struct TrackingOptions {
 // navigator's and the follower's fields at the top, MORP-RB's under avoid, evasion's under evade; their fields are the
 // keys, with units).
 
+// Where the robot's pose in the map comes from: its wheel odometry placed at the start pose (dead reckoning, until
+// map-based localization lands), or, in the simulator only, the simulator's ground truth (the scenario runner: it
+// measures local navigation, as DPoom's evaluation does).
+struct LocalizationOptions {
+  enum class Source { kOdometry, kSimTruth };
+  Source source = Source::kOdometry;
+};
+
 struct LogOptions {
   std::string level = "info";           // trace, debug, info, warn, error
 };
@@ -77,6 +85,7 @@ struct Config {
   nav::CostmapOptions planner;
   nav::MissionRunnerOptions mission;
   TrackingOptions tracking;
+  LocalizationOptions localization;
   LogOptions log;
 };
 
@@ -87,6 +96,11 @@ struct ConfigOverrides {
   std::optional<std::filesystem::path> map;
   std::optional<std::filesystem::path> world;
 };
+
+// Sets the options one module takes from another's: MORP-RB, the obstacle memory, evasion and the comparison policy
+// brake by the command gate's model, from the robot's front, at the mission's top speed. LoadConfig applies it; a
+// program that fills a Config itself (the scenario runner) applies it after.
+void ApplyDerivedOptions(Config& config);
 
 // Loads and validates `file`. Relative paths in it are resolved against the file's folder; override paths against
 // the working directory. Throws ConfigError with the key path for any problem.

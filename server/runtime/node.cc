@@ -22,6 +22,7 @@ void LoopStats::Record(double duration_ms) {
   ++current_.count;
   current_.total_ms += duration_ms;
   current_.worst_ms = std::max(current_.worst_ms, duration_ms);
+  last_ms_ = duration_ms;
   ++loops_;
 }
 
@@ -36,6 +37,7 @@ LoopStats::Snapshot LoopStats::snapshot() const {
   s.rate_hz = span_s > 0.1 ? static_cast<double>(count) / span_s : 0.0;
   s.mean_ms = count > 0 ? (previous_.total_ms + current_.total_ms) / static_cast<double>(count) : 0.0;
   s.worst_ms = std::max(previous_.worst_ms, current_.worst_ms);
+  s.last_ms = last_ms_;
   s.loops = loops_;
   return s;
 }

@@ -32,6 +32,7 @@ class LoopStats {
     double rate_hz = 0.0;
     double mean_ms = 0.0;
     double worst_ms = 0.0;    // over the window
+    double last_ms = 0.0;     // the latest loop's
     std::uint64_t loops = 0;  // since start
   };
 
@@ -57,6 +58,7 @@ class LoopStats {
   mutable Window current_;
   mutable Window previous_;
   std::uint64_t loops_ = 0;
+  double last_ms_ = 0.0;
 };
 
 enum class Health { kOk, kDegraded, kError, kInactive };

@@ -7,6 +7,8 @@
 #include <iostream>
 #include <string>
 
+#include <spdlog/spdlog.h>
+
 #include "tools/scenario/scenario.h"
 
 namespace {
@@ -72,6 +74,8 @@ nlohmann::json ToJson(const corridor::scenario::PolicySummary& s) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The graph of each run logs as corridord does; only what goes wrong matters here.
+  spdlog::set_level(spdlog::level::warn);
   ScenarioOptions options;
   bool json = false;
   bool quiet = false;

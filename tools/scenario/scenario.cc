@@ -10,21 +10,21 @@
 #include <random>
 #include <stdexcept>
 
+#include <stdlib.h>
+
+#include <nlohmann/json.hpp>
+
 #include "drivers/sim/sim_robot.h"
-#include "nav/ground/depth_scan.h"
-#include "nav/ground/morp.h"
-#include "nav/ground/voxel_obstacles.h"
 #include "nav/planner/planner.h"
-#include "nav/policy/evasion.h"
-#include "nav/policy/local_navigator.h"
-#include "nav/policy/reactive.h"
-#include "nav/tracking/moving_objects.h"
-#include "nav/tracking/traffic_map.h"
+#include "server/app/graph.h"
+#include "server/runtime/topics.h"
 
 namespace corridor::scenario {
 namespace {
 
+namespace fs = std::filesystem;
 using drivers::sim::PedestrianRoute;
+using server::Bus;
 using drivers::sim::StaticObstacle;
 using drivers::sim::World;
 
@@ -128,6 +128,103 @@ void TraceCollision(const Layout& layout, const nav::Pose2& pose, const std::vec
   std::fprintf(stderr, "\n");
 }
 
+// A temporary state directory for one run's graph (its database and maps), removed afterwards.
+class StateDir {
+ public:
+  StateDir() {
+    std::string pattern = (fs::temp_directory_path() / "corridor-scenario-XXXXXX").string();
+    if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("cannot make a temporary state directory");
+    path_ = pattern;
+  }
+  StateDir(const StateDir&) = delete;
+  StateDir& operator=(const StateDir&) = delete;
+  ~StateDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// The daemon's configuration for a DPoom-like robot: 0.26 m/s, 0.2 m radius, the simulator's truth for its pose (the
+// scenarios measure local navigation), the policy under test, tracking as the options say.
+server::Config GraphConfig(const drivers::sim::SimOptions& sim, Policy policy, const ScenarioOptions& options,
+                           const fs::path& state_dir) {
+  server::Config config;
+  config.store.state_dir = state_dir;
+  config.sim.robot = sim;
+  config.localization.source = server::LocalizationOptions::Source::kSimTruth;
+  config.planner.robot_radius_m = kRobotRadiusM;
+  config.safety.front_offset_m = kRobotRadiusM;
+  config.mission.policy = policy;
+  nav::LocalNavigatorOptions& navigator = config.mission.navigator;
+  navigator.follower.max_linear_mps = options.max_speed_mps;
+  navigator.avoid.max_linear_mps = options.max_speed_mps;
+  // Backing away is the laser's to allow: the graph takes it away without one (a forward camera cannot see behind).
+  navigator.evade.max_reverse_mps = options.max_speed_mps;
+  config.tracking.enabled = policy == Policy::kMorpRb && (sim.laser.enabled || options.camera_tracking);
+  config.tracking.camera = options.camera_tracking;
+  server::ApplyDerivedOptions(config);
+  return config;
+}
+
+// Posts the mission to `goal` through the graph's API, as a building system does; returns the HTTP status.
+int PostMission(server::Graph& graph, const Eigen::Vector2d& goal) {
+  server::Request request{server::http::verb::post, "/api/v1/missions", 11};
+  request.set(server::http::field::content_type, "application/json");
+  request.body() = nlohmann::json{{"waypoints", {{{"x", goal.x()}, {"y", goal.y()}}}}}.dump();
+  request.prepare_payload();
+  std::optional<int> status;
+  graph.api().Handle(request, [&status](server::Response response) { status = response.result_int(); });
+  while (!status) {
+    if (graph.executors().RunUntilIdle() == 0 && !status) return 0;
+  }
+  return *status;
+}
+
+// Per frame: the depth front end's, the local policy's and the tracker's work, read from the nodes' own loop counters
+// (wall time on this computer) whenever a new frame has gone through the graph.
+class FrameTimes {
+ public:
+  explicit FrameTimes(server::Graph& graph) : bus_(graph.bus()) {
+    for (const auto& node : graph.lifecycle().nodes()) {
+      if (node->name() == "ground") front_end_ = &node->Loop("frame");
+      if (node->name() == "mission") policy_ = &node->Loop("frame");
+      if (node->name() == "tracking") tracking_ = &node->Loop(graph.config().sim.robot.laser.enabled ? "scan" : "frame");
+    }
+  }
+  // Adds this step's new frame's times, if a frame went through; true when one did.
+  bool Collect(RunResult& result) {
+    if (tracking_ != nullptr) {
+      const auto t = tracking_->snapshot();
+      if (t.loops > tracked_) {
+        tracked_ = t.loops;
+        result.tracking_ms.push_back(t.last_ms);
+      }
+    }
+    const auto ground = bus_.Get(server::topics::kGroundLanes).latest();
+    if (!ground || ground->frame_sequence == sequence_) return false;
+    sequence_ = ground->frame_sequence;
+    const auto decided = policy_->snapshot();
+    if (decided.loops == decided_) return false;  // no mission step on this frame (no path yet)
+    decided_ = decided.loops;
+    result.depth_ms.push_back(front_end_->snapshot().last_ms);
+    result.policy_ms.push_back(decided.last_ms);
+    return true;
+  }
+
+ private:
+  Bus& bus_;
+  server::LoopStats* front_end_ = nullptr;
+  server::LoopStats* policy_ = nullptr;
+  server::LoopStats* tracking_ = nullptr;
+  std::uint64_t sequence_ = std::numeric_limits<std::uint64_t>::max();
+  std::uint64_t decided_ = 0;
+  std::uint64_t tracked_ = 0;
+};
+
 template <typename Fn>
 auto Sample(Fn&& fn, int attempts) -> decltype(fn()) {
   for (int i = 0; i < attempts; ++i) {
@@ -137,21 +234,6 @@ auto Sample(Fn&& fn, int attempts) -> decltype(fn()) {
 }
 
 }  // namespace
-
-const char* ToString(Policy policy) {
-  switch (policy) {
-    case Policy::kMorpRb: return "morp-rb";
-    case Policy::kVoxelReactive: return "voxel-reactive";
-  }
-  return "unknown";
-}
-
-std::optional<Policy> ParsePolicy(const std::string& name) {
-  for (Policy p : {Policy::kMorpRb, Policy::kVoxelReactive}) {
-    if (name == ToString(p)) return p;
-  }
-  return std::nullopt;
-}
 
 const char* ToString(CrowdKind kind) {
   switch (kind) {
@@ -298,109 +380,42 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   sim.crowd = layout.crowd;
   sim.base.limits.footprint_radius_m = kRobotRadiusM;
   drivers::sim::SimRobot robot(std::make_shared<const World>(layout.world), sim);
-  std::shared_ptr<const drivers::RgbdFrame> pending;
-  robot.SetFrameHandler([&pending](std::shared_ptr<drivers::RgbdFrame> frame) { pending = std::move(frame); });
-  using Clock = std::chrono::steady_clock;
-  const auto ms = [](Clock::time_point a, Clock::time_point b) {
-    return std::chrono::duration<double, std::milli>(b - a).count();
-  };
-  // morp-rb tracks moving objects: with the laser, its scans feed the tracker as they come (the simulator calls back
-  // inside Step, at the scan's pose); without, each depth frame's scan does (below).
-  const bool tracking = policy == Policy::kMorpRb && (sim.laser.enabled || options.camera_tracking);
-  nav::MovingObjectTracker tracker{sim.laser.enabled ? nav::MovingObjectOptions{}
-                                                    : nav::ForDepthCamera(nav::MovingObjectOptions{})};
-  const nav::Surroundings* around = nullptr;
-  std::optional<nav::TrafficMap> traffic;
-  nav::TrafficOptions traffic_options;
-  if (tracking && traffic_options.weight > 0.0) traffic.emplace(layout.map, traffic_options);
-  if (tracking) {
-    tracker.SetMap(std::make_shared<const nav::OccupancyGrid>(layout.map));
-    around = &tracker.surroundings();
-  }
-  // One scan (world frame) into the tracker and the traffic map, timed: `points` is made by the caller inside `t0`.
-  const auto track = [&](Clock::time_point t0, double stamp_s, const Eigen::Vector2d& sensor,
-                         const std::vector<Eigen::Vector2d>& points, const std::optional<nav::SensorView>& view) {
-    tracker.Update(stamp_s, sensor, points, view);
-    if (traffic) traffic->Add(stamp_s, tracker.objects());
-    result.tracking_ms.push_back(ms(t0, Clock::now()));
-  };
-  if (sim.laser.enabled) {
-    robot.SetScanHandler([&](std::shared_ptr<const drivers::LaserScan> scan) {
-      const auto t0 = Clock::now();
-      const nav::Pose2 laser = robot.true_pose() * robot.base_T_laser();
-      track(t0, drivers::ToSeconds(scan->stamp_ns), laser.translation(),
-            nav::ScanToWorld(laser, scan->angle_min_rad, scan->angle_increment_rad, scan->range_min_m,
-                             scan->range_max_m, scan->ranges),
-            std::nullopt);
-    });
-  }
-  const nav::PinholeCamera camera = robot.info().camera;
-  std::optional<nav::DepthScan> depth_scan;
-  if (tracking && !sim.laser.enabled) depth_scan.emplace(camera, nav::DepthScanOptions{});
-  // morp-rb's obstacle memory takes each frame's whole scan (the image's sides kept), as the daemon's ground node
-  // gives it: part of the depth processing.
-  nav::DepthScan memory_scan(camera, nav::ForObstacleMemory(nav::DepthScanOptions{}));
-  const nav::SensorView memory_view = memory_scan.View(nav::Pose2{});
 
-  const auto costmap = std::make_shared<const nav::Costmap>(RobotCostmap(layout.map));
-  nav::LocalNavigatorOptions navigator_options;
-  navigator_options.follower.max_linear_mps = options.max_speed_mps;
-  navigator_options.avoid.max_linear_mps = options.max_speed_mps;
-  navigator_options.avoid.front_offset_m = kRobotRadiusM;
-  navigator_options.memory.robot_radius_m = kRobotRadiusM;
-  navigator_options.evade.robot_radius_m = kRobotRadiusM;
-  navigator_options.evade.max_linear_mps = options.max_speed_mps;
-  // Backing away is the laser's to allow: a forward camera cannot see what is behind.
-  navigator_options.evade.max_reverse_mps = options.max_speed_mps;
-  if (!sim.laser.enabled) navigator_options.evade = nav::ForForwardView(navigator_options.evade);
-  // Round where people walk, and round what blocked the robot (`blocking`: LocalNavigator::Blocking).
-  const auto plan_from = [&](const Eigen::Vector2d& from, const std::vector<Eigen::Vector2d>& blocking) {
-    nav::PathOptions path_options;
-    std::vector<float> extra;
-    const double now_s = drivers::ToSeconds(robot.now_ns());
-    if (traffic && !traffic->Empty(now_s)) extra = traffic->StepCost(now_s);
-    if (!blocking.empty()) {
-      nav::AddPointCost(*costmap, blocking, navigator_options.blocked_radius_m,
-                        static_cast<float>(navigator_options.blocked_cost), extra);
-    }
-    path_options.extra_cost = extra;
-    path_options.robot_at_start = true;
-    return nav::PlanPath(*costmap, from, layout.goal, std::nullopt, nullptr, path_options);
-  };
+  // The daemon's own graph, in lockstep with the simulator, in a state directory of its own.
+  const StateDir state_dir;
+  const server::Config config = GraphConfig(sim, policy, options, state_dir.path());
+  server::Graph graph(config, server::Devices{robot, robot, sim.laser.enabled ? &robot : nullptr, &robot},
+                      server::NamedMap{"scenario", layout.map}, server::Schedule::kLockstep);
+  graph.Start();
+  FrameTimes times(graph);
+  Bus& bus = graph.bus();
   if (options.trace) {
     std::fprintf(stderr, "run world %d run %d start %.2f %.2f goal %.2f %.2f\n", layout.world_index, layout.run_index,
                  layout.start.x_m, layout.start.y_m, layout.goal.x(), layout.goal.y());
   }
-  double planned_s = 0.0;
-  nav::PlanResult plan = plan_from(layout.start.translation(), {});
-  if (!plan.ok()) {
+  // The mission, posted as a building system would: POST /api/v1/missions.
+  const int status = PostMission(graph, layout.goal);
+  if (status != 201) {
     result.outcome = Outcome::kNoPath;
     return result;
   }
 
-  nav::LocalNavigator navigator(navigator_options);
-  navigator.SetPath(plan.plan.waypoints, costmap);
-  nav::Morp morp(camera, nav::MorpOptions{});
-
-  nav::PathFollower follower(navigator_options.follower);
-  follower.SetPath(plan.plan.waypoints);
-  nav::VoxelObstacles voxels(camera, nav::VoxelObstacleOptions{});
-  nav::ReactiveOptions reactive;
-  reactive.max_linear_mps = options.max_speed_mps;
-  reactive.front_offset_m = kRobotRadiusM;
-
   const double straight = (layout.goal - layout.start.translation()).norm();
   const double timeout_s = options.timeout_s > 0.0 ? options.timeout_s : 3.0 * straight / options.max_speed_mps + 20.0;
   nav::Pose2 last = layout.start;
-  double last_frame_s = 0.0;
   while (true) {
-    robot.Step();
+    graph.Step();
     const double now_s = drivers::ToSeconds(robot.now_ns());
     const nav::Pose2 pose = robot.true_pose();
     const Eigen::Vector2d robot_velocity = (pose.translation() - last.translation()) / robot.step_s();
     result.path_length_m += (pose.translation() - last.translation()).norm();
     last = pose;
     result.time_s = now_s;
+    if (const auto mission = bus.Get(server::topics::kMission).latest();
+        mission && mission->status == nav::MissionStatus::kFailed) {
+      result.outcome = Outcome::kNoPath;
+      break;
+    }
     if (robot.bumper_pressed()) {
       result.outcome = Outcome::kCollision;
       const auto people = robot.pedestrians();
@@ -415,7 +430,10 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
         const double robot_closing = robot_velocity.dot(toward);
         result.robot_drove_into_it = robot_closing > 0.02 && robot_closing >= -person->velocity.dot(toward);
       }
-      if (options.trace) TraceCollision(layout, pose, people, navigator.Remembered());
+      if (options.trace) {
+        const auto step = bus.Get(server::topics::kLocalStep).latest();
+        TraceCollision(layout, pose, people, step ? step->remembered : std::vector<Eigen::Vector2d>{});
+      }
       break;
     }
     if ((pose.translation() - layout.goal).norm() <= options.goal_tolerance_m) {
@@ -426,77 +444,17 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       result.outcome = Outcome::kTimeout;
       break;
     }
-    if (!pending) continue;
-    const std::shared_ptr<const drivers::RgbdFrame> frame = std::move(pending);
-    pending = nullptr;
-    const double dt_s = now_s - last_frame_s;
-    last_frame_s = now_s;
-    if (depth_scan) {
-      // Tracking from the depth frame, as the daemon's tracking node does beside the control loop: not in the
-      // per-frame times.
-      const auto t_scan = Clock::now();
-      std::vector<Eigen::Vector2d> points;
-      for (const Eigen::Vector2d& p : depth_scan->Process(frame->depth_mm)) points.push_back(pose.Transform(p));
-      const nav::SensorView view = depth_scan->View(pose);
-      track(t_scan, now_s, view.world_T_sensor.translation(), points, view);
-    }
-    nav::Twist2 twist;
-    std::optional<nav::LocalStep> step;  // morp-rb's, for --trace after the timings
-    const auto t0 = Clock::now();
-    Clock::time_point t1;
-    if (policy == Policy::kMorpRb) {
-      const std::vector<nav::LaneResult>& lanes = morp.Process(frame->depth_mm);
-      const std::vector<Eigen::Vector2d>& seen = memory_scan.Process(frame->depth_mm);
-      t1 = Clock::now();
-      navigator.See(pose, seen, memory_view);
-      step = navigator.Update(pose, lanes, std::numeric_limits<double>::infinity(), dt_s, around);
-      if (step->replan || step->blocked) {
-        plan = plan_from(pose.translation(), navigator.Blocking());
-        if (plan.ok()) navigator.SetPath(plan.plan.waypoints, costmap);
-        planned_s = now_s;
-        if (options.trace && step->blocked) {
-          // Where the new path leads: its length, and its point 1 m on, in the robot's frame.
-          Eigen::Vector2d ahead = Eigen::Vector2d::Zero();
-          double along = 0.0;
-          for (std::size_t i = 1; plan.ok() && i < plan.plan.dense.size() && along < 1.0; ++i) {
-            along += (plan.plan.dense[i] - plan.plan.dense[i - 1]).norm();
-            ahead = pose.Inverse().Transform(plan.plan.dense[i]);
-          }
-          std::fprintf(stderr, "t %.2f blocked: planned round what it saw (%zu points): %.1f m, 1 m on at %.2f %.2f\n",
-                       now_s, navigator.Blocking().size(), plan.ok() ? plan.plan.length_m : -1.0, ahead.x(), ahead.y());
-        }
+    if (times.Collect(result) && options.trace) {
+      const auto step = bus.Get(server::topics::kLocalStep).latest();
+      const auto ground = bus.Get(server::topics::kGroundLanes).latest();
+      const auto tracked = bus.Get(server::topics::kTrackedObjects).latest();
+      if (step && ground && step->stamp_ns == robot.now_ns()) {
+        TraceDecision(now_s, pose, step->step, ground->lanes, tracked ? &tracked->surroundings : nullptr,
+                      robot.pedestrians());
       }
-      twist = step->twist;
-    } else {
-      const std::vector<Eigen::Vector2f>& obstacles = voxels.Process(frame->depth_mm);
-      t1 = Clock::now();
-      const nav::FollowStep follow = follower.Update(pose, std::numeric_limits<double>::infinity());
-      if (follow.off_path_m > navigator_options.replan_distance_m) {
-        plan = plan_from(pose.translation(), {});
-        if (plan.ok()) follower.SetPath(plan.plan.waypoints);
-      }
-      const Eigen::Vector2d to_target = follow.target - pose.translation();
-      twist = nav::ReactiveCommand(obstacles, std::atan2(to_target.y(), to_target.x()) - pose.yaw_rad, reactive);
     }
-    const auto t2 = Clock::now();
-    result.depth_ms.push_back(ms(t0, t1));
-    result.policy_ms.push_back(ms(t1, t2));
-    // People's ways change the best path: plan again now and then and take a path that goes elsewhere (the
-    // planner's work, as in the daemon, where it runs beside the control loop: not in the per-frame times).
-    if (traffic && !traffic->Empty(now_s) && navigator_options.reroute_s > 0.0 &&
-        now_s - planned_s >= navigator_options.reroute_s) {
-      nav::PlanResult again = plan_from(pose.translation(), navigator.Blocking());
-      if (again.ok() && (!plan.ok() || nav::PathsDiverge(again.plan.dense, plan.plan.dense,
-                                                          navigator_options.reroute_look_m,
-                                                          navigator_options.reroute_tolerance_m))) {
-        plan = std::move(again);
-        navigator.SetPath(plan.plan.waypoints, costmap);
-      }
-      planned_s = now_s;
-    }
-    if (options.trace && step) TraceDecision(now_s, pose, *step, morp.results(), around, robot.pedestrians());
-    robot.SetVelocity(twist);
   }
+  graph.Stop();
   return result;
 }
 

@@ -1,22 +1,25 @@
 // The scenario runner's core: the DPoom evaluation protocol (Kim et al., IEEE Access 2022, section IV, Tables 3 and
-// 4) on the simulator in lockstep, faster than real time.
+// 4) driven through the daemon's own node graph (server/app/graph.h) in lockstep with the simulator, faster than real
+// time. There is no second wiring of the navigation here: the runner sets up the world, the people and the goal,
+// configures the graph as a DPoom-like robot, posts the mission through the API as a building system would, steps the
+// graph, and reads the outcome from the simulator and the per-frame work from the nodes' loop counters.
 //
 // A scenario is a world (a generated room, or any map or world file), a start and a goal 7 to 11 m apart, static
 // obstacles the robot's map does not show and pedestrians, all drawn from one seed. The pedestrians follow the paper's
 // protocol (CrowdKind::kPaper, the default) or a harder one of our own (kPacing); see CrowdKind.
-// A DPoom-like robot (0.26 m/s, a depth camera of 85.2 x 58 degrees) follows a global path planned on its map, with
-// one of the local policies on every depth frame:
-//   - morp-rb: MORP lanes and MORP-RB (corridor's navigator, exactly as the daemon runs it);
+// The robot (0.26 m/s, a depth camera of 85.2 x 58 degrees at 18 Hz) follows a global path planned on its map, with
+// the local policy the graph is configured with (mission.policy):
+//   - morp-rb: MORP lanes and corridor's local navigator;
 //   - voxel-reactive: the comparison pipeline, a point cloud downsampled in a voxel grid with obstacle extraction,
 //     feeding a simple reactive controller.
 // A run succeeds when the robot is within goal_tolerance_m of the goal, fails with a collision when its footprint
 // touches anything (wall, obstacle, person), and times out otherwise. People do not see the robot, so many contacts
 // are a person walking into it from its side or back; each collision also says whether the robot drove into it (it
-// was closing in faster than the person), and the tables count those separately. Localization is the simulator's
-// ground truth: the scenarios measure local navigation, as the paper's do. With `laser`, the robot also carries
-// corridor's optional 2D laser and morp-rb evades the moving objects it tracks (nav/tracking, nav/policy/evasion.h);
-// without, it tracks them in the depth camera's view (`camera_tracking`, as the daemon does; off: MORP-RB alone, DPoom's
-// robot as published); the voxel-reactive baseline does neither.
+// was closing in faster than the person), and the tables count those separately. The robot's pose is the simulator's
+// ground truth (localization.source: sim_truth): the scenarios measure local navigation, as the paper's do. With
+// `laser`, the robot also carries corridor's optional 2D laser and the graph tracks moving objects all round it;
+// without, it tracks them in the depth camera's view (`camera_tracking`, the daemon's default; off: MORP-RB alone,
+// DPoom's robot as published); the voxel-reactive baseline does neither.
 #pragma once
 
 #include <cstdint>
@@ -33,12 +36,14 @@
 #include "drivers/sim/world.h"
 #include "nav/geometry/pose2.h"
 #include "nav/map/occupancy_grid.h"
+#include "nav/policy/local_policy.h"
 
 namespace corridor::scenario {
 
-enum class Policy { kMorpRb, kVoxelReactive };
-const char* ToString(Policy policy);
-std::optional<Policy> ParsePolicy(const std::string& name);
+// The local policy the daemon's graph is configured with (mission.policy).
+using Policy = nav::LocalPolicyKind;
+using nav::ToString;
+inline std::optional<Policy> ParsePolicy(const std::string& name) { return nav::ParseLocalPolicy(name); }
 
 // How the pedestrians walk. Neither kind sees the robot; both avoid each other and the obstacles with ORCA.
 enum class CrowdKind {
@@ -109,9 +114,11 @@ struct RunResult {
   double path_length_m = 0.0;        // driven
   std::string collided_with;         // "wall or obstacle", "person"
   bool robot_drove_into_it = false;  // a collision the robot closed in on (always, for walls and obstacles)
-  std::vector<double> depth_ms;      // per frame: the front end (MORP, or cloud + voxel grid + extraction)
-  std::vector<double> policy_ms;     // per frame: the local policy
-  std::vector<double> tracking_ms;   // per laser scan, or depth frame with camera_tracking: the moving-object tracker
+  // Wall time per depth frame from the nodes' loop counters: the ground node's front end (MORP and the depth scan, or
+  // cloud + voxel grid + extraction) and the mission node's frame (the local policy, and publishing its step).
+  std::vector<double> depth_ms;
+  std::vector<double> policy_ms;
+  std::vector<double> tracking_ms;   // per laser scan, or depth frame with camera_tracking: the tracking node's
 };
 
 // One run of `policy` in `layout`. Deterministic for a layout and policy (timings aside).
