@@ -62,6 +62,8 @@ std::vector<std::string> Split(std::string_view path) {
 
 }  // namespace
 
+std::string Dump(const json& value) { return value.dump(-1, ' ', false, json::error_handler_t::replace); }
+
 Response MakeResponse(const Request& request, http::status status, std::string content_type, std::string body) {
   Response res{status, request.version()};
   res.set(http::field::server, "corridord");
@@ -74,7 +76,7 @@ Response MakeResponse(const Request& request, http::status status, std::string c
 }
 
 Response JsonResponse(const Request& request, const json& body, http::status status) {
-  return MakeResponse(request, status, "application/json", body.dump());
+  return MakeResponse(request, status, "application/json", Dump(body));
 }
 
 Response ProblemResponse(http::status status, const std::string& title, const std::string& detail, unsigned version,
@@ -85,7 +87,7 @@ Response ProblemResponse(http::status status, const std::string& title, const st
   res.keep_alive(keep_alive);
   json body = {{"type", "about:blank"}, {"title", title}, {"status", static_cast<int>(status)}, {"detail", detail}};
   if (!code.empty()) body["code"] = code;
-  res.body() = body.dump();
+  res.body() = Dump(body);
   res.prepare_payload();
   return res;
 }
@@ -288,6 +290,21 @@ std::optional<json> Api::TopicMessage(const std::string& topic) const {
   auto data = t->LatestJson();
   if (!data) return std::nullopt;
   return json{{"topic", topic}, {"data", std::move(*data)}};
+}
+
+json Api::StreamReply(const std::string& text, std::vector<std::string>& subscriptions) const {
+  const auto error = [](int status, const std::string& title, const std::string& detail) {
+    return json{{"type", "error"}, {"status", status}, {"title", title}, {"detail", detail}};
+  };
+  try {
+    return StreamMessage(text, subscriptions);
+  } catch (const ApiError& e) {
+    return error(static_cast<int>(e.status()), e.title(), e.what());
+  } catch (const std::exception& e) {
+    // A message the API did not foresee: this client gets an error, the others and the daemon go on.
+    spdlog::error("stream message: {}", e.what());
+    return error(500, "Internal error", e.what());
+  }
 }
 
 json Api::StreamMessage(const std::string& text, std::vector<std::string>& subscriptions) const {

@@ -71,7 +71,10 @@ class Api {
 
   nlohmann::json State() const;
   nlohmann::json Teleop(const nlohmann::json& body, const std::string& source) const;
-  nlohmann::json StreamMessage(const std::string& text, std::vector<std::string>& subscriptions) const;
+  // The reply to one message from a WebSocket client of /api/v1/stream: an acknowledgement, or {"type": "error",
+  // "status", "title", "detail"} for any message it cannot take. Never throws; `subscriptions` changes only on a
+  // valid subscribe message.
+  nlohmann::json StreamReply(const std::string& text, std::vector<std::string>& subscriptions) const;
   std::optional<nlohmann::json> TopicMessage(const std::string& topic) const;
 
  private:
@@ -87,6 +90,8 @@ class Api {
   // Runs `work` and replies with its response, or with the problem it throws, on the io executor.
   void Answer(const Request& request, Reply reply, const std::function<Response()>& work) const;
 
+  // StreamReply's work; throws ApiError for a message it cannot take.
+  nlohmann::json StreamMessage(const std::string& text, std::vector<std::string>& subscriptions) const;
   void AddCoreRoutes();
   void AddNavigationRoutes();
   void AddMapRoutes();
@@ -108,6 +113,8 @@ class Api {
 const std::string& OpenApiDocument();
 
 // Helpers shared by the route files.
+// JSON text of `value`; bytes that are not UTF-8 (a request's path, say) become U+FFFD instead of throwing.
+std::string Dump(const nlohmann::json& value);
 Response JsonResponse(const Request& request, const nlohmann::json& body, http::status status = http::status::ok);
 Response MakeResponse(const Request& request, http::status status, std::string content_type, std::string body);
 nlohmann::json ParseJsonBody(const Request& request);

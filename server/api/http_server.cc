@@ -45,17 +45,7 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
       }
       std::string text = beast::buffers_to_string(self->buffer_.data());
       self->buffer_.consume(self->buffer_.size());
-      nlohmann::json reply;
-      try {
-        reply = self->api_.StreamMessage(text, self->subscriptions_);
-      } catch (const ApiError& e) {
-        reply = {{"type", "error"}, {"status", static_cast<int>(e.status())}, {"title", e.title()}, {"detail", e.what()}};
-      } catch (const std::exception& e) {
-        // A message the API did not foresee: this client gets an error, the others and the daemon go on.
-        spdlog::error("stream message: {}", e.what());
-        reply = {{"type", "error"}, {"status", 500}, {"title", "Internal error"}, {"detail", e.what()}};
-      }
-      self->Send(reply.dump());
+      self->Send(Dump(self->api_.StreamReply(text, self->subscriptions_)));
       self->Read();
     });
   }
@@ -63,7 +53,7 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   void Push() {
     if (closed_) return;
     for (const std::string& topic : subscriptions_) {
-      if (auto message = api_.TopicMessage(topic)) Send(message->dump());
+      if (auto message = api_.TopicMessage(topic)) Send(Dump(*message));
     }
     timer_.expires_after(period_);
     timer_.async_wait([self = shared_from_this()](beast::error_code ec) {

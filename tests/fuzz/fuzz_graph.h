@@ -1,0 +1,75 @@
+// What the API fuzz targets share: the daemon's graph in lockstep with a simulated robot in a 10 x 10 m room, in a
+// temporary state directory, built once per fuzzing process, and one request answered through its API.
+#pragma once
+
+#include <boost/beast/http.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "drivers/sim/sim_robot.h"
+#include "drivers/sim/world.h"
+#include "server/app/graph.h"
+
+namespace corridor::fuzz {
+
+class FuzzGraph {
+ public:
+  static FuzzGraph& Get() {
+    static FuzzGraph* graph = new FuzzGraph();  // never destroyed: libFuzzer exits without unwinding
+    return *graph;
+  }
+
+  server::Graph& graph() { return *graph_; }
+
+  // Answers `request` through the API, running the graph until the reply comes. A handler that never replies, or
+  // a server error (other than "not available yet"), is a bug: abort, so that libFuzzer keeps the input.
+  server::Response Answer(const server::Request& request) {
+    std::optional<server::Response> reply;
+    int replies = 0;
+    graph_->api().Handle(request, [&](server::Response r) {
+      ++replies;
+      reply = std::move(r);
+    });
+    for (int i = 0; i < 1000 && !reply; ++i) graph_->executors().RunUntilIdle();
+    if (!reply || replies != 1) Fail("the API did not reply exactly once", request);
+    const int status = reply->result_int();
+    if (status >= 500 && status != 503) Fail("server error " + std::to_string(status) + ": " + reply->body(), request);
+    return std::move(*reply);
+  }
+
+  [[noreturn]] static void Fail(const std::string& what, const server::Request& request) {
+    std::fprintf(stderr, "fuzz: %s\nrequest: %s %s\n", what.c_str(), std::string(request.method_string()).c_str(),
+                 std::string(request.target()).c_str());
+    std::abort();
+  }
+
+ private:
+  FuzzGraph() {
+    char pattern[] = "/tmp/corridor-fuzz-XXXXXX";
+    if (mkdtemp(pattern) == nullptr) std::abort();
+    server::Config config;
+    config.store.state_dir = pattern;
+    config.sim.robot.start = {5.0, 5.0, 0.0};
+    config.sim.robot.camera.width = 64;
+    config.sim.robot.camera.height = 48;
+    server::ApplyDerivedOptions(config);
+    const nav::OccupancyGrid room = drivers::sim::RoomMap(10.0, 10.0, 0.05);
+    world_ = std::make_shared<const drivers::sim::World>(drivers::sim::WorldFromMap(room, {}));
+    robot_ = std::make_unique<drivers::sim::SimRobot>(world_, config.sim.robot);
+    graph_ = std::make_unique<server::Graph>(config, server::Devices{*robot_, *robot_, robot_.get(), robot_.get()},
+                                             server::NamedMap{"room", room}, server::Schedule::kLockstep);
+    graph_->Start();
+    for (int i = 0; i < 20; ++i) graph_->Step();  // a camera frame and odometry on the bus
+  }
+
+  std::shared_ptr<const drivers::sim::World> world_;
+  std::unique_ptr<drivers::sim::SimRobot> robot_;
+  std::unique_ptr<server::Graph> graph_;
+};
+
+}  // namespace corridor::fuzz

@@ -1,0 +1,25 @@
+// libFuzzer target: one message from a WebSocket client of /api/v1/stream, through the stream handler. Every message
+// gets a reply; a server error (an exception the handler did not foresee) is a bug.
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "tests/fuzz/fuzz_graph.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  auto& fuzz = corridor::fuzz::FuzzGraph::Get();
+  std::vector<std::string> subscriptions{"state"};
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  const nlohmann::json reply = fuzz.graph().api().StreamReply(text, subscriptions);
+  if (!reply.is_object() || !reply.contains("type")) std::abort();
+  if (reply["type"] == "error" && reply["status"].get<int>() >= 500) {
+    std::fprintf(stderr, "fuzz: server error: %s\n", corridor::server::Dump(reply).c_str());
+    std::abort();
+  }
+  corridor::server::Dump(reply);  // what the session sends
+  for (const std::string& topic : subscriptions) fuzz.graph().api().TopicMessage(topic);
+  fuzz.graph().executors().RunUntilIdle();
+  return 0;
+}
