@@ -154,6 +154,14 @@ void Api::Answer(const Request& request, Reply reply, const std::function<Respon
 
 void Api::Handle(const Request& request, Reply reply) const {
   const std::string_view target = request.target();
+  if (!target.starts_with('/')) {
+    // Only the origin form (RFC 9112, 3.2.1) names something here; "*", absolute URLs and "?x" do not.
+    Answer(request, std::move(reply), [target]() -> Response {
+      throw ApiError(http::status::bad_request, "Bad request target",
+                     "the request target must be a path starting with '/', got '" + std::string(target) + "'");
+    });
+    return;
+  }
   const std::string path(target.substr(0, target.find('?')));
   const std::vector<std::string> segments = Split(path);
   const http::verb method = request.method() == http::verb::head ? http::verb::get : request.method();

@@ -14,6 +14,7 @@
 #include "drivers/sim/sim_robot.h"
 #include "drivers/sim/world.h"
 #include "server/app/graph.h"
+#include "server/runtime/topics.h"
 
 namespace corridor::fuzz {
 
@@ -26,8 +27,9 @@ class FuzzGraph {
 
   server::Graph& graph() { return *graph_; }
 
-  // Answers `request` through the API, running the graph until the reply comes. A handler that never replies, or
-  // a server error (other than "not available yet"), is a bug: abort, so that libFuzzer keeps the input.
+  // Answers `request` through the API, running the graph until the reply comes and what it set off is done. A
+  // handler that never replies, a server error (other than "not available yet") or a daemon left unhealthy is a
+  // bug: abort, so that libFuzzer keeps the input.
   server::Response Answer(const server::Request& request) {
     std::optional<server::Response> reply;
     int replies = 0;
@@ -36,15 +38,35 @@ class FuzzGraph {
       reply = std::move(r);
     });
     for (int i = 0; i < 1000 && !reply; ++i) graph_->executors().RunUntilIdle();
-    if (!reply || replies != 1) Fail("the API did not reply exactly once", request);
+    if (!reply || replies != 1) Fail("the API did not reply exactly once", Describe(request));
     const int status = reply->result_int();
-    if (status >= 500 && status != 503) Fail("server error " + std::to_string(status) + ": " + reply->body(), request);
+    if (status >= 500 && status != 503) {
+      Fail("server error " + std::to_string(status) + ": " + reply->body(), Describe(request));
+    }
+    CheckHealthy(Describe(request));
     return std::move(*reply);
   }
 
-  [[noreturn]] static void Fail(const std::string& what, const server::Request& request) {
-    std::fprintf(stderr, "fuzz: %s\nrequest: %s %s\n", what.c_str(), std::string(request.method_string()).c_str(),
-                 std::string(request.target()).c_str());
+  // Runs what is pending; aborts if any node's callback failed (a fault on safety/faults) or an exception reached an
+  // executor: the input left the daemon unhealthy.
+  void CheckHealthy(const std::string& input) {
+    graph_->executors().RunUntilIdle();
+    if (const auto fault = graph_->bus().Get(server::topics::kFaults).latest()) {
+      Fail(fault->node + ": " + fault->loop + " failed: " + fault->what, input);
+    }
+    for (server::Executor* e : {&graph_->executors().control, &graph_->executors().mapping,
+                                &graph_->executors().planning, &graph_->executors().perception,
+                                &graph_->executors().io, &graph_->executors().sim}) {
+      if (e->escaped() > 0) Fail("an exception reached the " + e->name() + " executor", input);
+    }
+  }
+
+  static std::string Describe(const server::Request& request) {
+    return std::string(request.method_string()) + " " + std::string(request.target());
+  }
+
+  [[noreturn]] static void Fail(const std::string& what, const std::string& input) {
+    std::fprintf(stderr, "fuzz: %s\ninput: %s\n", what.c_str(), input.c_str());
     std::abort();
   }
 

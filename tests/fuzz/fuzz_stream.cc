@@ -2,7 +2,6 @@
 // gets a reply; a server error (an exception the handler did not foresee) is a bug.
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -13,13 +12,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::vector<std::string> subscriptions{"state"};
   const std::string text(reinterpret_cast<const char*>(data), size);
   const nlohmann::json reply = fuzz.graph().api().StreamReply(text, subscriptions);
-  if (!reply.is_object() || !reply.contains("type")) std::abort();
+  if (!reply.is_object() || !reply.contains("type")) fuzz.Fail("a reply without a type", text);
   if (reply["type"] == "error" && reply["status"].get<int>() >= 500) {
-    std::fprintf(stderr, "fuzz: server error: %s\n", corridor::server::Dump(reply).c_str());
-    std::abort();
+    fuzz.Fail("server error: " + corridor::server::Dump(reply), text);
   }
   corridor::server::Dump(reply);  // what the session sends
   for (const std::string& topic : subscriptions) fuzz.graph().api().TopicMessage(topic);
-  fuzz.graph().executors().RunUntilIdle();
+  fuzz.CheckHealthy(text);
   return 0;
 }
