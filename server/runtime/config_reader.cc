@@ -36,7 +36,12 @@ void ConfigReader::List(const char* key, const std::function<void(ConfigReader&)
 void ConfigReader::Finish() const {
   if (!node_ || !node_.IsMap()) return;
   for (const auto& entry : node_) {
-    const std::string key = entry.first.as<std::string>();
+    // YAML allows any node as a key ("? a: 1" makes a mapping one); ours are plain names.
+    if (!entry.first.IsScalar()) {
+      throw ConfigError((path_.empty() ? std::string("the file") : path_) + ": a key must be a plain name, got " +
+                        Text(entry.first) + " (line " + std::to_string(entry.first.Mark().line + 1) + ")");
+    }
+    const std::string key = entry.first.Scalar();
     if (!read_.contains(key)) throw ConfigError(PathOf(key.c_str()) + ": unknown key");
   }
 }

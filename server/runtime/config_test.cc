@@ -64,6 +64,15 @@ TEST_F(ConfigTest, UnknownKeysAreNamedWithTheirPath) {
   EXPECT_NE(ErrorOf("sim: {enabled: false}\nserverr: {}\n").find("serverr: unknown key"), std::string::npos);
 }
 
+// Found by fuzz_config: YAML allows a mapping as a key ("? {a: 1}: 2"), which used to throw yaml-cpp's own
+// exception out of LoadConfig instead of a ConfigError.
+TEST_F(ConfigTest, KeysThatAreNotNamesAreNamedWithTheirSection) {
+  const std::string e = ErrorOf("sim:\n  enabled: false\n  base:\n    ? max_angular_rps: 1.5\n    : 2\n");
+  EXPECT_NE(e.find("sim.base: a key must be a plain name, got a mapping (line 4)"), std::string::npos) << e;
+  const std::string top = ErrorOf("sim: {enabled: false}\n? [a, b]\n: 1\n");
+  EXPECT_NE(top.find("the file: a key must be a plain name, got a list (line 2)"), std::string::npos) << top;
+}
+
 TEST_F(ConfigTest, WrongTypesAreNamed) {
   const std::string e = ErrorOf("sim: {enabled: false}\nserver: {port: eighty}\n");
   EXPECT_NE(e.find("server.port: expected an integer, got 'eighty'"), std::string::npos) << e;
