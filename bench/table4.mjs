@@ -1,0 +1,91 @@
+// DPoom's Tables 3 and 4 through the daemon's graph: every setting docs/benchmarks.md reports, each seed one run of
+// tools/scenario (10 worlds x 3 runs), then one Markdown row per setting (success per seed and over all seeds,
+// collisions, those the robot drove into, timeouts, mean time to goal, milliseconds per depth frame).
+//   node bench/table4.mjs [--jobs N] [--only NAME[,NAME...]] [--out DIR]
+// --jobs: scenario processes at once (default 1: the per-frame times are then measured on an otherwise idle core).
+// --only: settings by name (see SETTINGS); default all. --out: where each run's JSON goes (default build/table4).
+// Needs ./dev build (build/tools/scenario/corridor-scenario).
+import { execFile } from 'node:child_process';
+import { existsSync, mkdirSync, writeFileSync } from 'node:fs';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const root = join(dirname(fileURLToPath(import.meta.url)), '..');
+const scenario = join(root, 'build/tools/scenario/corridor-scenario');
+
+// name, flags, seeds. The paper's crowd (5 people placed in the robot's way, walked once, then standing) is the
+// protocol of Table 4; the pacing crowd is our harder one.
+const SETTINGS = [
+  ['paper', ['--policy', 'morp-rb'], [1, 2, 3, 4, 5]],
+  ['paper-static', ['--policy', 'morp-rb', '--static', '9'], [1, 2]],
+  ['paper-laser', ['--policy', 'morp-rb', '--laser'], [1, 2]],
+  ['paper-no-tracking', ['--policy', 'morp-rb', '--no-camera-tracking'], [1, 2]],
+  ['paper-voxel', ['--policy', 'voxel-reactive'], [1, 2]],
+  ['paper-static-voxel', ['--policy', 'voxel-reactive', '--static', '9'], [1, 2]],
+  ['pacing', ['--policy', 'morp-rb', '--crowd', 'pacing'], [1, 2]],
+  ['pacing-laser', ['--policy', 'morp-rb', '--crowd', 'pacing', '--laser'], [1, 2]],
+];
+
+function option(name, fallback) {
+  const i = process.argv.indexOf(name);
+  return i >= 0 ? process.argv[i + 1] : fallback;
+}
+const jobs = Number(option('--jobs', '1'));
+const only = option('--only', null)?.split(',');
+const out = option('--out', join(root, 'build/table4'));
+if (!Number.isInteger(jobs) || jobs < 1) throw new Error('--jobs: expected a positive integer');
+if (!existsSync(scenario)) throw new Error(`${scenario} is not built: ./dev build`);
+const settings = SETTINGS.filter(([name]) => !only || only.includes(name));
+if (only && settings.length !== only.length) throw new Error(`--only: known settings are ${SETTINGS.map((s) => s[0])}`);
+mkdirSync(out, { recursive: true });
+
+const queue = settings.flatMap(([name, flags, seeds]) => seeds.map((seed) => ({ name, flags, seed })));
+const results = new Map();  // "name seed" -> the scenario's JSON
+async function worker() {
+  for (let job = queue.shift(); job; job = queue.shift()) {
+    const args = ['--pedestrians', '5', ...job.flags, '--seed', String(job.seed), '--json', '--quiet'];
+    const json = await new Promise((resolve, reject) => {
+      execFile(scenario, args, { maxBuffer: 1 << 26 }, (error, stdout, stderr) => {
+        if (error) reject(new Error(`${job.name} seed ${job.seed}: ${stderr || error.message}`));
+        else resolve(JSON.parse(stdout));
+      });
+    });
+    writeFileSync(join(out, `${job.name}-seed${job.seed}.json`), JSON.stringify(json, null, 1));
+    results.set(`${job.name} ${job.seed}`, json);
+    const s = json.summary[0];
+    console.error(`${job.name} seed ${job.seed}: success ${s.success.toFixed(2)}, collision ${s.collision.toFixed(2)}`);
+  }
+}
+await Promise.all(Array.from({ length: jobs }, worker));
+
+const f = (x, digits = 2) => x.toFixed(digits);
+console.log('| setting | seeds | success per seed | success | collision | robot-caused | timeout | time to goal | ' +
+            'depth ms | policy ms | total ms | p99 ms |');
+console.log('|---|---|---|---|---|---|---|---|---|---|---|---|');
+for (const [name, , seeds] of settings) {
+  const runs = seeds.flatMap((seed) => results.get(`${name} ${seed}`).runs);
+  const summaries = seeds.map((seed) => results.get(`${name} ${seed}`).summary[0]);
+  const count = (pred) => runs.filter(pred).length;
+  const successes = runs.filter((r) => r.outcome === 'success');
+  const time = successes.reduce((a, r) => a + r.time_s, 0) / Math.max(successes.length, 1);
+  // Per-frame times: means weighted by frames; the p99 is the worst seed's.
+  const frames = summaries.reduce((a, s) => a + s.frames, 0);
+  const mean = (key) => summaries.reduce((a, s) => a + s[key] * s.frames, 0) / Math.max(frames, 1);
+  console.log(`| ${name} | ${seeds.join(', ')} | ${summaries.map((s) => f(s.success)).join(' / ')} | ` +
+              `${f(successes.length / runs.length, 3)} (${successes.length} of ${runs.length}) | ` +
+              `${f(count((r) => r.outcome === 'collision') / runs.length, 3)} | ` +
+              `${f(count((r) => r.outcome === 'collision' && r.robot_drove_into_it) / runs.length, 3)} | ` +
+              `${f(count((r) => r.outcome === 'timeout' || r.outcome === 'no_path') / runs.length, 3)} | ` +
+              `${successes.length ? f(time, 1) + ' s' : '-'} | ${f(mean('depth_ms'), 3)} | ${f(mean('policy_ms'), 3)} | ` +
+              `${f(mean('total_ms'), 3)} | ${f(Math.max(...summaries.map((s) => s.total_p99_ms)), 2)} |`);
+}
+// Which runs failed, to look into with corridor-scenario --only W/R --trace.
+for (const [name, , seeds] of settings) {
+  for (const seed of seeds) {
+    for (const r of results.get(`${name} ${seed}`).runs.filter((r) => r.outcome !== 'success')) {
+      console.log(`${name} seed ${seed} world ${r.world} run ${r.run}: ${r.outcome}` +
+                  `${r.collided_with ? ` with ${r.collided_with}${r.robot_drove_into_it ? ', robot-caused' : ''}` : ''}` +
+                  ` at ${f(r.time_s, 1)} s`);
+    }
+  }
+}
