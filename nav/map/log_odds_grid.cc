@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "nav/map/grid_ray.h"
+
 namespace corridor::nav {
 namespace {
 
@@ -26,31 +28,10 @@ void LogOddsGrid::Update(CellIndex cell, bool hit) {
 }
 
 void LogOddsGrid::IntegrateRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to, bool hit) {
-  // Walk the cells the segment crosses (Amanatides and Woo's traversal), in grid units.
   const Pose2 grid_T_map = geometry_.origin().Inverse();
   const Eigen::Vector2d a = grid_T_map.Transform(from) / geometry_.resolution_m();
   const Eigen::Vector2d b = grid_T_map.Transform(to) / geometry_.resolution_m();
-  CellIndex cell{static_cast<int>(std::floor(a.x())), static_cast<int>(std::floor(a.y()))};
-  const CellIndex last{static_cast<int>(std::floor(b.x())), static_cast<int>(std::floor(b.y()))};
-  const Eigen::Vector2d d = b - a;
-  const int step_x = d.x() > 0 ? 1 : -1;
-  const int step_y = d.y() > 0 ? 1 : -1;
-  const double inf = std::numeric_limits<double>::infinity();
-  const double delta_x = d.x() != 0.0 ? std::abs(1.0 / d.x()) : inf;
-  const double delta_y = d.y() != 0.0 ? std::abs(1.0 / d.y()) : inf;
-  double next_x = d.x() != 0.0 ? ((step_x > 0 ? cell.x + 1 - a.x() : a.x() - cell.x) * delta_x) : inf;
-  double next_y = d.y() != 0.0 ? ((step_y > 0 ? cell.y + 1 - a.y() : a.y() - cell.y) * delta_y) : inf;
-  const int max_steps = std::abs(last.x - cell.x) + std::abs(last.y - cell.y);
-  for (int i = 0; i < max_steps && !(cell == last); ++i) {
-    Update(cell, false);
-    if (next_x < next_y) {
-      cell.x += step_x;
-      next_x += delta_x;
-    } else {
-      cell.y += step_y;
-      next_y += delta_y;
-    }
-  }
+  const CellIndex last = ForEachCellBefore(a, b, [this](CellIndex cell) { Update(cell, false); });
   Update(last, hit);
 }
 

@@ -1,0 +1,131 @@
+// Monte Carlo localization in a known map, of the AMCL class (Thrun, Burgard and Fox, "Probabilistic Robotics",
+// chapter 8; Fox, "Adapting the sample size in particle filters through KLD-sampling", IJRR 2003): particles moved by
+// the odometry motion model (section 5.4) and weighted by the likelihood field of the map (section 6.4, from the map's
+// distance field), resampled by low variance, their number adapted by KLD-sampling. A beam whose end is far from
+// every wall (a person, a moved chair) costs no more than the random-measurement floor, so what is not on the map
+// does not drag the estimate.
+//
+// The particles' mean is refined by scan matching against the map (CorrelativeMatch + RefineMatch), which is what is
+// reported, and the health (ok | uncertain | lost) follows from the particles' spread and how much of the scan the map
+// explains at the estimate. Global localization (Relocalize) searches the whole map by branch and bound for the scan
+// and seeds the particles there.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <random>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "nav/localization/branch_and_bound.h"
+#include "nav/localization/probability_grid.h"
+#include "nav/localization/range_scan.h"
+#include "nav/map/occupancy_grid.h"
+
+namespace corridor::nav {
+
+enum class LocalizationHealth { kOk, kUncertain, kLost };
+const char* ToString(LocalizationHealth health);
+
+struct MonteCarloOptions {
+  int min_particles = 300;
+  int max_particles = 3000;
+  // KLD-sampling: enough particles that the sampled distribution is within kld_error of the true one with
+  // probability kld_quantile, histogrammed in bins of bin_m x bin_m x bin_rad.
+  double kld_error = 0.05;
+  double kld_z = 2.33;  // upper 0.99 quantile of the standard normal
+  double bin_m = 0.1;
+  double bin_rad = 0.1;
+  // Odometry motion model (Thrun et al., table 5.6): standard deviations of sqrt(alpha * ...) per step.
+  double alpha_rot_from_rot = 0.01;
+  double alpha_rot_from_trans = 0.002;
+  double alpha_trans_from_trans = 0.01;
+  double alpha_trans_from_rot = 0.005;
+  // The filter updates once the odometry moved this far or turned this much.
+  double update_distance_m = 0.05;
+  double update_angle_rad = 0.05;
+  // Likelihood field.
+  double sigma_hit_m = 0.05;
+  double z_hit = 0.9;
+  double z_rand = 0.1;
+  double max_range_m = 25.0;  // for the random-measurement density
+  int max_beams = 90;           // beams used per update, spread evenly
+  double beam_exponent = 0.25;  // each beam's log-likelihood counts this much (beams are not independent)
+  // Scan matching refinement of the reported pose.
+  bool refine = true;
+  double refine_voxel_m = 0.05;
+  // Health.
+  double agree_distance_m = 0.15;    // a hit within this of a wall at the estimate agrees with the map
+  double ok_agreement = 0.5;         // at least this fraction agrees, and the spread is below ok_spread
+  double ok_spread_m = 0.2;
+  double lost_agreement = 0.2;       // below this for lost_after updates in a row: lost
+  int lost_after = 5;
+  // Global relocalization: the minimum mean probability of a match, and the particles seeded around it.
+  double relocalize_min_score = 0.5;
+  double relocalize_sigma_m = 0.1;
+  double relocalize_sigma_rad = 0.05;
+};
+
+struct Particle {
+  Pose2 pose;
+  double weight = 0.0;
+};
+
+struct LocalizationEstimate {
+  Pose2 pose;                                            // map frame
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  // of the particles, (x, y, yaw)
+  LocalizationHealth health = LocalizationHealth::kUncertain;
+  double agreement = 0.0;  // fraction of the last scan's hits within agree_distance_m of a wall
+  int particles = 0;
+};
+
+class MonteCarloLocalization {
+ public:
+  // Localizes in `map` (occupied cells are walls). Throws std::invalid_argument for an empty map or bad options.
+  MonteCarloLocalization(const OccupancyGrid& map, const MonteCarloOptions& options, std::uint64_t seed);
+  ~MonteCarloLocalization();
+
+  // Particles around `pose` with the given standard deviations (an initial pose, as RViz's "2D Pose Estimate").
+  void SetPose(const Pose2& pose, double sigma_m = 0.2, double sigma_rad = 0.1);
+  // Searches the whole map for `scan` (base frame) and seeds the particles at the best match. False (particles left
+  // as they were, health lost) when nothing in the map matches well enough.
+  bool Relocalize(const RangeScan& scan);
+
+  // The robot's odometry read `odom_pose` when `scan` was taken. Moves the particles by the odometry since the last
+  // call and, when it moved enough, weighs them by the scan and resamples. Returns the estimate.
+  const LocalizationEstimate& Update(const Pose2& odom_pose, const RangeScan& scan);
+
+  const LocalizationEstimate& estimate() const { return estimate_; }
+  std::span<const Particle> particles() const { return particles_; }
+  const OccupancyGrid& map() const { return map_; }
+
+ private:
+  void Move(const Pose2& from, const Pose2& to);
+  void Weigh(std::span<const Eigen::Vector2f> hits);
+  void Resample();
+  void Estimate(std::span<const Eigen::Vector2f> hits);
+  double Agreement(std::span<const Eigen::Vector2f> hits, const Pose2& pose) const;
+  float Likelihood(const Eigen::Vector2d& point) const;
+  float Distance(const Eigen::Vector2d& point) const;
+
+  OccupancyGrid map_;
+  MonteCarloOptions options_;
+  std::mt19937_64 random_;
+  std::vector<float> distance_m_;   // per map cell: to the nearest wall (+inf beyond the march limit)
+  std::vector<float> likelihood_;   // per map cell: the beam end density's log, floor included
+  float unknown_likelihood_ = 0.0f; // outside the map or in unknown cells
+  ProbabilityGrid match_grid_;
+  std::unique_ptr<BranchAndBoundMatcher> global_matcher_;  // built on the first relocalization
+  std::vector<Particle> particles_;
+  std::optional<Pose2> last_odom_;      // at the last call
+  std::optional<Pose2> last_update_odom_;  // at the last filter update
+  Pose2 update_pose_;                      // the estimate at the last filter update
+  LocalizationEstimate estimate_;
+  bool force_update_ = true;               // weigh by the next scan whatever the motion (after SetPose)
+  int bad_updates_ = 0;
+};
+
+}  // namespace corridor::nav

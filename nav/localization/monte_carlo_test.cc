@@ -1,0 +1,151 @@
+#include "nav/localization/monte_carlo.h"
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "nav/localization/graph_slam.h"
+#include "nav/localization/test_world.h"
+
+namespace corridor::nav {
+namespace {
+
+using testworld::Room;
+using testworld::ScanAt;
+using testworld::Wall;
+
+// The room's map as a robot would have made it: scans from a grid of poses rendered at their true poses.
+const OccupancyGrid& RoomMap() {
+  static const OccupancyGrid map = [] {
+    std::vector<RangeScan> scans;
+    std::vector<Pose2> poses;
+    for (double x = -3.5; x <= 5.5; x += 1.0) {
+      for (double y = -2.5; y <= 3.5; y += 1.0) {
+        poses.push_back({x, y, 0.0});
+        scans.push_back(ScanAt(Room(), poses.back()));
+      }
+    }
+    std::vector<const RangeScan*> pointers;
+    for (const RangeScan& s : scans) pointers.push_back(&s);
+    return RenderScans(pointers, poses, 0.05);
+  }();
+  return map;
+}
+
+bool Near(const Pose2& a, const Pose2& b, double metres, double radians) {
+  return (a.translation() - b.translation()).norm() <= metres && std::abs(WrapAngle(a.yaw_rad - b.yaw_rad)) <= radians;
+}
+
+// A drive around the room's inner wall: straight legs and turns, 5 cm per step.
+std::vector<Pose2> Drive() {
+  std::vector<Pose2> path{{-2.5, -2.0, 0.0}};
+  const auto go = [&](int steps, double forward, double turn) {
+    for (int i = 0; i < steps; ++i) path.push_back(path.back() * Pose2{forward, 0.0, turn});
+  };
+  go(60, 0.05, 0.0);                     // east along the south wall, north of the inner wall's end
+  go(20, 0.0, std::numbers::pi / 40);    // turn left
+  go(60, 0.05, 0.0);                     // north
+  go(20, 0.0, std::numbers::pi / 40);    // west
+  go(100, 0.05, 0.0);
+  return path;
+}
+
+// Odometry along `truth` with 5 % noise on each step and a heading drift, seeded.
+std::vector<Pose2> NoisyOdometry(const std::vector<Pose2>& truth, unsigned seed) {
+  std::mt19937 random(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<Pose2> odom{truth.front()};
+  for (std::size_t i = 1; i < truth.size(); ++i) {
+    const Pose2 step = truth[i - 1].Inverse() * truth[i];
+    const double length = step.translation().norm();
+    odom.push_back(odom.back() * Pose2{step.x_m * (1.03 + 0.05 * normal(random)), step.y_m,
+                                       step.yaw_rad * (1.0 + 0.05 * normal(random)) + 0.02 * length});
+  }
+  return odom;
+}
+
+TEST(MonteCarloLocalizationTest, FollowsADriveWithNoisyOdometryWithinCentimetres) {
+  const std::vector<Pose2> truth = Drive();
+  const std::vector<Pose2> odom = NoisyOdometry(truth, 3);
+  MonteCarloLocalization mcl(RoomMap(), MonteCarloOptions{}, 5);
+  mcl.SetPose(truth.front(), 0.1, 0.05);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const LocalizationEstimate& e = mcl.Update(odom[i], ScanAt(Room(), truth[i]));
+    if (i > 10) worst = std::max(worst, (e.pose.translation() - truth[i].translation()).norm());
+  }
+  // Dead reckoning alone ends far off; the filter stays on the map.
+  EXPECT_GT((odom.back().translation() - truth.back().translation()).norm(), 0.3);
+  EXPECT_LT(worst, 0.05);
+  EXPECT_TRUE(Near(mcl.estimate().pose, truth.back(), 0.03, 0.02));
+  EXPECT_EQ(mcl.estimate().health, LocalizationHealth::kOk);
+}
+
+TEST(MonteCarloLocalizationTest, APersonNotOnTheMapDoesNotDragTheEstimate) {
+  const std::vector<Pose2> truth = Drive();
+  const std::vector<Pose2> odom = NoisyOdometry(truth, 4);
+  MonteCarloLocalization mcl(RoomMap(), MonteCarloOptions{}, 6);
+  mcl.SetPose(truth.front(), 0.1, 0.05);
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    // Someone walking half a metre ahead of the robot the whole way, and a box by the north wall.
+    std::vector<Wall> world = Room();
+    const Eigen::Vector2d person = truth[i].Transform({0.6, 0.0});
+    world.push_back({person + Eigen::Vector2d(-0.2, -0.2), person + Eigen::Vector2d(0.2, 0.2)});
+    world.push_back({{0.0, 3.2}, {1.0, 3.2}});
+    mcl.Update(odom[i], ScanAt(world, truth[i]));
+  }
+  EXPECT_TRUE(Near(mcl.estimate().pose, truth.back(), 0.05, 0.03));
+}
+
+TEST(MonteCarloLocalizationTest, RelocalizesAKidnappedRobotFromOneScan) {
+  MonteCarloLocalization mcl(RoomMap(), MonteCarloOptions{}, 7);
+  std::mt19937 random(9);
+  std::uniform_real_distribution<double> x(-3.5, 5.5);
+  std::uniform_real_distribution<double> y(-2.5, 3.5);
+  std::uniform_real_distribution<double> yaw(-std::numbers::pi, std::numbers::pi);
+  int found = 0;
+  int tried = 0;
+  while (tried < 10) {
+    const Pose2 truth{x(random), y(random), yaw(random)};
+    if (truth.x_m > 1.2 && truth.x_m < 1.8 && truth.y_m < -0.8) continue;  // inside the inner wall
+    if (truth.x_m > 3.8 && truth.x_m < 4.7 && truth.y_m > 1.8 && truth.y_m < 2.7) continue;  // the pillar
+    if (truth.x_m < -2.8 && truth.y_m > 0.8 && truth.y_m < 2.7) continue;  // the alcove's wall
+    ++tried;
+    const RangeScan scan = ScanAt(Room(), truth);
+    if (!mcl.Relocalize(scan)) continue;
+    mcl.Update(Pose2{}, scan);
+    found += Near(mcl.estimate().pose, truth, 0.1, 0.05);
+  }
+  EXPECT_GE(found, 9);
+}
+
+TEST(MonteCarloLocalizationTest, ScansThatDoNotFitTheMapMakeItLost) {
+  MonteCarloLocalization mcl(RoomMap(), MonteCarloOptions{}, 8);
+  const Pose2 start{0.0, 0.0, 0.0};
+  mcl.SetPose(start, 0.05, 0.02);
+  // Another building: a long corridor 2 m wide.
+  const std::vector<Wall> corridor = {{{-20, -1}, {20, -1}}, {{-20, 1}, {20, 1}}};
+  Pose2 odom;
+  for (int i = 0; i < 20; ++i) {
+    odom = odom * Pose2{0.1, 0.0, 0.0};
+    mcl.Update(odom, ScanAt(corridor, Pose2{0.1 * i, 0.0, 0.0}));
+  }
+  EXPECT_EQ(mcl.estimate().health, LocalizationHealth::kLost);
+  // Back in the room, relocalization finds it again.
+  const Pose2 truth{2.5, 1.0, 0.7};
+  ASSERT_TRUE(mcl.Relocalize(ScanAt(Room(), truth)));
+  odom = odom * Pose2{0.1, 0.0, 0.0};
+  mcl.Update(odom, ScanAt(Room(), truth * Pose2{0.1, 0.0, 0.0}));
+  EXPECT_TRUE(Near(mcl.estimate().pose, truth * Pose2{0.1, 0.0, 0.0}, 0.05, 0.03));
+  EXPECT_EQ(mcl.estimate().health, LocalizationHealth::kOk);
+}
+
+TEST(MonteCarloLocalizationTest, RejectsAnEmptyMap) {
+  EXPECT_THROW(MonteCarloLocalization(OccupancyGrid(0, 0, 0.05, Pose2{}), MonteCarloOptions{}, 1),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace corridor::nav
