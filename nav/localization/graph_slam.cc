@@ -1,24 +1,15 @@
 #include "nav/localization/graph_slam.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
 namespace corridor::nav {
-namespace {
-
-double SecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-}  // namespace
 
 GraphSlam::GraphSlam(const GraphSlamOptions& options) : options_(options), graph_(options.graph) {}
 
 Pose2 GraphSlam::AddScan(const RangeScan& scan, const Pose2& odom_pose) {
-  const auto start = std::chrono::steady_clock::now();
   Scan added;
   added.points = VoxelFilter(scan.hits, options_.match_voxel_m);
   // Local SLAM: odometry's prediction, matched into the fuller of the active submaps.
@@ -76,14 +67,11 @@ Pose2 GraphSlam::AddScan(const RangeScan& scan, const Pose2& odom_pose) {
     active_.erase(active_.begin());
   }
   ++stats_.scans;
-  stats_.local_s += SecondsSince(start);
   if (++since_loop_search_ >= options_.loop_closure_every &&
       travel_since_search_m_ >= options_.loop_search_travel_m) {
     since_loop_search_ = 0;
     travel_since_search_m_ = 0.0;
-    const auto loop_start = std::chrono::steady_clock::now();
     SearchLoopClosures(added, global);
-    stats_.loop_s += SecondsSince(loop_start);
   }
   scans_.push_back(std::move(added));
   if (++since_optimized_ >= options_.optimize_every && new_loop_closures_) Optimize();
@@ -121,9 +109,7 @@ void GraphSlam::SearchLoopClosures(const Scan& scan, const Pose2& global_estimat
 }
 
 void GraphSlam::Optimize() {
-  const auto start = std::chrono::steady_clock::now();
   graph_.Optimize();
-  stats_.optimize_s += SecondsSince(start);
   ++stats_.optimizations;
   new_loop_closures_ = false;
   since_optimized_ = 0;

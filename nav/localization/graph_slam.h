@@ -72,10 +72,6 @@ struct GraphSlamStats {
   int loop_searches = 0;
   int loop_closures = 0;
   int optimizations = 0;
-  // CPU time spent (s): matching scans into submaps and inserting them, searching for loop closures, optimizing.
-  double local_s = 0.0;
-  double loop_s = 0.0;
-  double optimize_s = 0.0;
 };
 
 class GraphSlam {

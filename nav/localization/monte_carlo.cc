@@ -113,14 +113,16 @@ void MonteCarloLocalization::SetPose(const Pose2& pose, double sigma_m, double s
 }
 
 bool MonteCarloLocalization::Relocalize(const RangeScan& scan) {
-  const std::vector<Eigen::Vector2f> points = VoxelFilter(scan.hits, 2.0 * options_.refine_voxel_m);
-  if (!global_matcher_) global_matcher_ = std::make_unique<BranchAndBoundMatcher>(match_grid_);
+  // The search's cost grows with the points: a few dozen spread over the scan place it as well.
+  const std::vector<Eigen::Vector2f> thinned = VoxelFilter(scan.hits, 2.0 * options_.refine_voxel_m);
+  const std::vector<Eigen::Vector2f> points = SpreadBeams(thinned, options_.relocalize_points);
+  if (!global_matcher_) global_matcher_ = std::make_unique<BranchAndBoundMatcher>(match_grid_, 8);
   const std::optional<ScanMatch> found = global_matcher_->MatchEverywhere(points, options_.relocalize_min_score);
   if (!found) {
     estimate_.health = LocalizationHealth::kLost;
     return false;
   }
-  const Pose2 refined = RefineMatch(match_grid_, points, found->pose, found->pose);
+  const Pose2 refined = RefineMatch(match_grid_, thinned, found->pose, found->pose);
   SetPose(refined, options_.relocalize_sigma_m, options_.relocalize_sigma_rad);
   return true;
 }
@@ -226,7 +228,12 @@ void MonteCarloLocalization::Estimate(std::span<const Eigen::Vector2f> hits) {
   estimate_.pose = pose;
   estimate_.covariance = covariance;
   estimate_.particles = static_cast<int>(particles_.size());
-  estimate_.agreement = Agreement(hits, pose);
+  UpdateHealth(hits);
+}
+
+void MonteCarloLocalization::UpdateHealth(std::span<const Eigen::Vector2f> hits) {
+  estimate_.agreement = Agreement(hits, estimate_.pose);
+  const Eigen::Matrix3d& covariance = estimate_.covariance;
   const double spread = std::sqrt(covariance(0, 0) + covariance(1, 1));
   bad_updates_ = estimate_.agreement < options_.lost_agreement ? bad_updates_ + 1 : 0;
   if (bad_updates_ >= options_.lost_after) {
@@ -245,7 +252,9 @@ const LocalizationEstimate& MonteCarloLocalization::Update(const Pose2& odom_pos
   const bool moved = force_update_ || since.translation().norm() >= options_.update_distance_m ||
                      std::abs(since.yaw_rad) >= options_.update_angle_rad;
   if (!moved) {
+    // Standing still the filter does not change, but whether the scans still fit the map does (a kidnapped robot).
     estimate_.pose = update_pose_ * since;
+    UpdateHealth(scan.hits);
     return estimate_;
   }
   Move(*last_update_odom_, odom_pose);

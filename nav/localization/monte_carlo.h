@@ -61,10 +61,11 @@ struct MonteCarloOptions {
   double agree_distance_m = 0.15;    // a hit within this of a wall at the estimate agrees with the map
   double ok_agreement = 0.5;         // at least this fraction agrees, and the spread is below ok_spread
   double ok_spread_m = 0.2;
-  double lost_agreement = 0.2;       // below this for lost_after updates in a row: lost
+  double lost_agreement = 0.2;       // below this for lost_after scans in a row: lost
   int lost_after = 5;
   // Global relocalization: the minimum mean probability of a match, and the particles seeded around it.
   double relocalize_min_score = 0.5;
+  int relocalize_points = 80;  // the scan's hits searched with, at most
   double relocalize_sigma_m = 0.1;
   double relocalize_sigma_rad = 0.05;
 };
@@ -107,6 +108,7 @@ class MonteCarloLocalization {
   void Weigh(std::span<const Eigen::Vector2f> hits);
   void Resample();
   void Estimate(std::span<const Eigen::Vector2f> hits);
+  void UpdateHealth(std::span<const Eigen::Vector2f> hits);
   double Agreement(std::span<const Eigen::Vector2f> hits, const Pose2& pose) const;
   float Likelihood(const Eigen::Vector2d& point) const;
   float Distance(const Eigen::Vector2d& point) const;

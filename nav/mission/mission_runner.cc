@@ -85,6 +85,7 @@ void MissionRunner::DropPath() {
 MissionUpdate MissionRunner::Start(Mission mission, std::optional<MissionSnapshot>* cancelled) {
   if (mission_ && mission_->Cancel() && cancelled != nullptr) *cancelled = Snapshot();
   mission_.emplace(std::move(mission));
+  paused_unlocalized_ = false;
   DropPath();
   checking_ = false;
   leg_length_m_ = remaining_m_ = 0.0;
@@ -112,6 +113,18 @@ TransitionOutcome MissionRunner::Resume(const std::string& id, MissionUpdate* up
 }
 TransitionOutcome MissionRunner::Cancel(const std::string& id, MissionUpdate* update) {
   return Transition(id, &Mission::Cancel, true, update);
+}
+
+MissionUpdate MissionRunner::SetLocalized(bool localized) {
+  MissionUpdate update;
+  if (!mission_) return update;
+  if (!localized && mission_->status() == MissionStatus::kActive) {
+    paused_unlocalized_ = Pause(mission_->id(), &update) == TransitionOutcome::kOk;
+  } else if (localized && paused_unlocalized_) {
+    paused_unlocalized_ = false;
+    if (mission_->status() == MissionStatus::kPaused) Resume(mission_->id(), &update);
+  }
+  return update;
 }
 
 LegPlanQuery MissionRunner::LegQuery(const Pose2& from, bool reroute, bool blocked) const {

@@ -121,6 +121,9 @@ class MissionRunner {
   TransitionOutcome Pause(const std::string& id, MissionUpdate* update);
   TransitionOutcome Resume(const std::string& id, MissionUpdate* update);
   TransitionOutcome Cancel(const std::string& id, MissionUpdate* update);
+  // Localization lost (localized false) pauses an active mission: a robot that does not know where it is stops. Found
+  // again, the mission it paused resumes; a mission paused by a person stays paused.
+  MissionUpdate SetLocalized(bool localized);
 
   // The periodic check (the node's timer): plans, path checks, reroutes, and holding still without frames.
   MissionUpdate Tick(double now_s, const std::optional<Pose2>& pose, std::uint64_t planner_version, bool has_traffic);
@@ -138,6 +141,7 @@ class MissionRunner {
   const LocalPolicy& policy() const { return *policy_; }
 
  private:
+  bool paused_unlocalized_ = false;  // the current mission was paused by SetLocalized(false)
   LegPlanQuery LegQuery(const Pose2& from, bool reroute, bool blocked) const;
   // The current path is dropped: the next tick plans the leg again.
   void DropPath();

@@ -106,6 +106,33 @@ TEST(MissionRunnerTest, PlansItsLegAndDrivesItToTheGoal) {
   EXPECT_DOUBLE_EQ(s.progress, 1.0);
 }
 
+TEST(MissionRunnerTest, LostLocalizationPausesTheMissionUntilTheRobotIsFoundAgain) {
+  MissionRunner runner(MissionRunnerOptions{});
+  runner.Start(ToGoal("m1", 6.0, 5.0));
+  Drive drive(runner, Room(), {2.0, 5.0, 0.0});
+  ASSERT_FALSE(drive.For(2.0));
+  const MissionUpdate lost = runner.SetLocalized(false);
+  EXPECT_EQ(runner.Snapshot().status, MissionStatus::kPaused);
+  EXPECT_TRUE(lost.persist || lost.publish);
+  // Lost again and again while paused changes nothing; found, it drives on to the goal.
+  runner.SetLocalized(false);
+  EXPECT_EQ(runner.Snapshot().status, MissionStatus::kPaused);
+  drive.Handle(runner.SetLocalized(true));
+  EXPECT_EQ(runner.Snapshot().status, MissionStatus::kActive);
+  ASSERT_TRUE(drive.For(60.0));
+  EXPECT_EQ(runner.Snapshot().status, MissionStatus::kSucceeded);
+}
+
+TEST(MissionRunnerTest, AMissionPausedByAPersonIsNotResumedByLocalization) {
+  MissionRunner runner(MissionRunnerOptions{});
+  runner.Start(ToGoal("m1", 6.0, 5.0));
+  MissionUpdate update;
+  ASSERT_EQ(runner.Pause("m1", &update), TransitionOutcome::kOk);
+  runner.SetLocalized(false);
+  runner.SetLocalized(true);
+  EXPECT_EQ(runner.Snapshot().status, MissionStatus::kPaused);
+}
+
 TEST(MissionRunnerTest, NoWayFailsTheMissionWithThePlannersReason) {
   MissionRunner runner(MissionRunnerOptions{});
   runner.Start(ToGoal("m1", 6.0, 5.0));

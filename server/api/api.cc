@@ -125,6 +125,7 @@ void AllowOnlyKeys(const json& body, std::initializer_list<const char*> allowed,
 Api::Api(ApiContext context) : c_(context), start_ns_(context.clock.Now()) {
   AddCoreRoutes();
   AddNavigationRoutes();
+  AddLocalizationRoutes();
   AddMapRoutes();
 }
 

@@ -95,6 +95,11 @@ class Api {
   void AddCoreRoutes();
   void AddNavigationRoutes();
   void AddMapRoutes();
+  void AddLocalizationRoutes();
+  // {x, y, yaw} of `body`, on the active map (else 422 outside_map).
+  nav::Pose2 ParsePoseOnMap(const nlohmann::json& body, const std::string& where) const;
+  // 409 unless localization.source is mcl.
+  void RequireLocalizing() const;
 
   Response ServeFile(const Request& request, const std::string& target) const;
   Response CameraImage(const Request& request, bool depth) const;

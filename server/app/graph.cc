@@ -51,10 +51,16 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   }
   TrackingNode* const tracking = tracking_node.get();
   // Each active map goes to the planner and, for its walls, to the tracker.
-  const auto use_map = [this, tracking](const std::shared_ptr<const ActiveMap>& active) {
+  std::optional<nav::Pose2> base_T_laser;
+  if (devices_.laser != nullptr) base_T_laser = devices_.laser->base_T_laser();
+  auto localization_node = std::make_unique<LocalizationNode>(executors_.mapping, bus_, config_.localization,
+                                                              config_.sim.robot.start, base_T_laser);
+  LocalizationNode* const localization = localization_node.get();
+  const auto use_map = [this, tracking, localization](const std::shared_ptr<const ActiveMap>& active) {
     const std::shared_ptr<const nav::OccupancyGrid> grid(active, &active->grid);
     planner_.SetMap(grid);
     if (tracking != nullptr) tracking->SetMap(grid);
+    localization->SetMap(grid);
   };
   maps_ = std::make_unique<MapLibrary>(config_.store.state_dir, std::move(map.name), std::move(map.grid), use_map);
   {
@@ -88,7 +94,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   if (sim_truth && devices_.sim == nullptr) {
     throw std::runtime_error("localization.source: sim_truth needs the simulator");
   }
-  lifecycle_.Add(std::make_unique<LocalizationNode>(executors_.mapping, bus_, config_.sim.robot.start, sim_truth));
+  lifecycle_.Add(std::move(localization_node));
   lifecycle_.Add(std::make_unique<FaceNode>(executors_.perception, bus_));
   lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.camera.info(), config_.ground,
                                               config_.mission.policy));

@@ -1,25 +1,158 @@
 #include "server/nodes/localization_node.h"
 
+#include <algorithm>
+#include <chrono>
+#include <numbers>
+
+#include <spdlog/spdlog.h>
+
+#include "nav/localization/range_scan.h"
 #include "server/runtime/topics.h"
 
 namespace corridor::server {
+namespace {
 
-LocalizationNode::LocalizationNode(Executor& executor, Bus& bus, nav::Pose2 initial_pose, bool sim_truth)
-    : Node("localization", executor, bus), map_T_odom_(initial_pose), sim_truth_(sim_truth) {}
+constexpr drivers::TimeNs kOdometryKeptNs = 1'000'000'000;
+constexpr std::size_t kParticlesShown = 200;
+
+double Radians(double deg) { return deg * std::numbers::pi / 180.0; }
+
+}  // namespace
+
+LocalizationNode::LocalizationNode(Executor& executor, Bus& bus, const LocalizationOptions& options,
+                                   nav::Pose2 initial_pose, std::optional<nav::Pose2> base_T_laser)
+    : Node("localization", executor, bus),
+      options_(options),
+      base_T_laser_(base_T_laser),
+      map_T_odom_(initial_pose) {}
+
+void LocalizationNode::SetMap(std::shared_ptr<const nav::OccupancyGrid> map) {
+  executor().Post([this, map = std::move(map)]() mutable {
+    Run("map", [&] {
+      map_ = std::move(map);
+      if (options_.source != LocalizationOptions::Source::kMonteCarlo || !base_T_laser_ || !map_) return;
+      // Where the robot is now, by the last estimate: the filter restarts there in the new map.
+      const std::optional<nav::Pose2> odom = OdometryAt(odometry_.empty() ? 0 : odometry_.back().stamp_ns);
+      const nav::Pose2 pose = map_T_odom_ * odom.value_or(nav::Pose2{});
+      filter_ = std::make_unique<nav::MonteCarloLocalization>(*map_, options_.mcl, options_.seed);
+      ResetFilter(pose, options_.initial_sigma_m, Radians(options_.initial_sigma_deg));
+    });
+  });
+}
+
+void LocalizationNode::ResetFilter(const nav::Pose2& pose, double sigma_m, double sigma_rad) {
+  filter_->SetPose(pose, sigma_m, sigma_rad);
+  relocalize_ = false;
+}
 
 void LocalizationNode::Activate() {
   auto& pose = bus().Get(topics::kPose);
   // The configured initial pose is known before the first odometry arrives.
   pose.Publish(StampedPose{clock().Now(), map_T_odom_});
-  if (sim_truth_) {
+  using Source = LocalizationOptions::Source;
+  if (options_.source == Source::kSimTruth) {
     Subscribe(topics::kSimTruePose, "truth", [&pose](const auto& truth) { pose.Publish(truth); });
     SetHealth(Health::kOk, "the simulator's ground truth");
     return;
   }
-  Subscribe(topics::kOdometry, "odometry", [this, &pose](const auto& odometry) {
-    pose.Publish(StampedPose{odometry->stamp_ns, map_T_odom_ * odometry->odom_T_base});
-  });
-  SetHealth(Health::kOk, "dead reckoning from wheel odometry");
+  Subscribe(topics::kOdometry, "odometry", [this](const auto& odometry) { OnOdometry(*odometry); });
+  if (options_.source == Source::kOdometry) {
+    SetHealth(Health::kOk, "dead reckoning from wheel odometry");
+    return;
+  }
+  if (!base_T_laser_) {
+    SetHealth(Health::kDegraded, "localization.source is mcl but there is no laser: dead reckoning from wheel odometry");
+    return;
+  }
+  Subscribe(topics::kScan, "scan", [this](const auto& scan) { OnScan(*scan); });
+  Subscribe(topics::kLocalizationCommand, "command", [this](const auto& command) { OnCommand(*command); });
+  SetHealth(Health::kDegraded, "waiting for the first scan");
+}
+
+void LocalizationNode::OnOdometry(const drivers::WheelOdometry& odometry) {
+  odometry_.push_back(odometry);
+  while (odometry_.size() > 2 && odometry_.back().stamp_ns - odometry_.front().stamp_ns > kOdometryKeptNs) {
+    odometry_.pop_front();
+  }
+  bus().Get(topics::kPose).Publish(StampedPose{odometry.stamp_ns, map_T_odom_ * odometry.odom_T_base});
+}
+
+std::optional<nav::Pose2> LocalizationNode::OdometryAt(drivers::TimeNs stamp_ns) const {
+  if (odometry_.empty()) return std::nullopt;
+  if (stamp_ns >= odometry_.back().stamp_ns) return odometry_.back().odom_T_base;
+  if (stamp_ns <= odometry_.front().stamp_ns) return odometry_.front().odom_T_base;
+  const auto after = std::lower_bound(odometry_.begin(), odometry_.end(), stamp_ns,
+                                      [](const drivers::WheelOdometry& o, drivers::TimeNs t) { return o.stamp_ns < t; });
+  const auto before = std::prev(after);
+  const double f = static_cast<double>(stamp_ns - before->stamp_ns) /
+                   static_cast<double>(std::max<drivers::TimeNs>(1, after->stamp_ns - before->stamp_ns));
+  const nav::Pose2 step = before->odom_T_base.Inverse() * after->odom_T_base;
+  return before->odom_T_base * nav::Pose2{f * step.x_m, f * step.y_m, f * step.yaw_rad};
+}
+
+void LocalizationNode::OnScan(const drivers::LaserScan& scan) {
+  if (!filter_) {
+    SetHealth(Health::kDegraded, "no map to localize in");
+    return;
+  }
+  const std::optional<nav::Pose2> odom = OdometryAt(scan.stamp_ns);
+  if (!odom) return;  // no odometry yet: nothing to move the filter with
+  nav::RangeLimits limits;
+  limits.min_range_m = std::max(limits.min_range_m, scan.range_min_m);
+  limits.max_range_m = scan.range_max_m;
+  const nav::RangeScan range =
+      nav::ScanFromRanges(*base_T_laser_, scan.angle_min_rad, scan.angle_increment_rad, scan.ranges, limits);
+  const bool lost = filter_->estimate().health == nav::LocalizationHealth::kLost;
+  const bool search_due = lost && scan.stamp_ns - last_search_ns_ >=
+                                      static_cast<drivers::TimeNs>(options_.relocalize_every_s * 1e9);
+  if (relocalize_ || search_due) {
+    last_search_ns_ = scan.stamp_ns;
+    relocalize_ = false;
+    const auto start = std::chrono::steady_clock::now();
+    const bool found = filter_->Relocalize(range);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (found) {
+      spdlog::info("localization: found the robot at ({:.2f}, {:.2f}) by a search of the whole map in {:.0f} ms",
+                   filter_->estimate().pose.x_m, filter_->estimate().pose.y_m, ms);
+    } else {
+      spdlog::warn("localization: a search of the whole map ({:.0f} ms) found nothing that fits the scan", ms);
+    }
+  }
+  const nav::LocalizationEstimate& estimate = filter_->Update(*odom, range);
+  map_T_odom_ = estimate.pose * odom->Inverse();
+  Publish(scan.stamp_ns);
+  switch (estimate.health) {
+    case nav::LocalizationHealth::kOk: SetHealth(Health::kOk, "localized in the map"); break;
+    case nav::LocalizationHealth::kUncertain:
+      SetHealth(Health::kDegraded, "uncertain: the scans agree little with the map or the particles are spread");
+      break;
+    case nav::LocalizationHealth::kLost: SetHealth(Health::kError, "lost: searching the map for the robot"); break;
+  }
+}
+
+void LocalizationNode::OnCommand(const LocalizationCommand& command) {
+  if (!filter_) return;
+  if (command.kind == LocalizationCommand::Kind::kRelocalize) {
+    relocalize_ = true;
+    return;
+  }
+  ResetFilter(command.pose, command.sigma_m, command.sigma_rad);
+  const std::optional<nav::Pose2> odom = OdometryAt(odometry_.empty() ? 0 : odometry_.back().stamp_ns);
+  map_T_odom_ = command.pose * odom.value_or(nav::Pose2{}).Inverse();
+  Publish(clock().Now());
+}
+
+void LocalizationNode::Publish(drivers::TimeNs stamp_ns) {
+  LocalizationState state;
+  state.stamp_ns = stamp_ns;
+  state.source = "mcl";
+  state.estimate = filter_->estimate();
+  const auto particles = filter_->particles();
+  const std::size_t step = std::max<std::size_t>(1, particles.size() / kParticlesShown);
+  for (std::size_t i = 0; i < particles.size() && state.particles.size() < kParticlesShown; i += step) {
+    state.particles.push_back(particles[i].pose);
+  }
+  bus().Get(topics::kLocalization).Publish(std::move(state));
 }
 
 }  // namespace corridor::server

@@ -26,6 +26,15 @@ MissionNode::MissionNode(Executor& control, Bus& bus, PlannerService& planner,
 
 void MissionNode::Activate() {
   Subscribe(topics::kGroundLanes, "frame", [this](const auto& ground) { Frame(*ground); });
+  Subscribe(topics::kLocalization, "localization", [this](const auto& localization) {
+    std::lock_guard lock(mutex_);
+    const bool localized = localization->estimate.health != nav::LocalizationHealth::kLost;
+    const nav::MissionUpdate update = runner_.SetLocalized(localized);
+    if (update.persist || update.publish || update.over || update.command) {
+      spdlog::warn("mission {}: {}", runner_.id(), localized ? "localized again: resuming" : "localization lost: paused");
+    }
+    Carry(update);
+  });
   PeriodicNode::Activate();
 }
 

@@ -1,6 +1,9 @@
 #include "server/runtime/config.h"
 
+#include <map>
 #include <numbers>
+#include <set>
+#include <string>
 
 #include "server/runtime/config_reader.h"
 
@@ -126,6 +129,41 @@ void ReadEvade(ConfigReader& r, nav::EvasionOptions& o) {
   r.Read("max_reverse_mps", o.max_reverse_mps, 0.0, 2.0);
   r.Read("max_turn_rps", o.max_turn_rps, 0.1, 6.0);
   o.static_horizon_s = std::min(o.static_horizon_s, o.horizon_s);
+}
+
+void ReadLocalization(ConfigReader& r, LocalizationOptions& l) {
+  using Source = LocalizationOptions::Source;
+  static const std::map<std::string, Source> kSources = {
+      {"odometry", Source::kOdometry}, {"sim_truth", Source::kSimTruth}, {"mcl", Source::kMonteCarlo}};
+  std::string source;
+  for (const auto& [name, value] : kSources) {
+    if (value == l.source) source = name;
+  }
+  r.Read("source", source);
+  const auto it = kSources.find(source);
+  if (it == kSources.end()) {
+    throw ConfigError(r.PathOf("source") + ": must be odometry, sim_truth or mcl, got '" + source + "'");
+  }
+  l.source = it->second;
+  r.Read("initial_sigma_m", l.initial_sigma_m, 0.0, 10.0);
+  r.Read("initial_sigma_deg", l.initial_sigma_deg, 0.0, 180.0);
+  r.Read("relocalize_every_s", l.relocalize_every_s, 0.1, 3600.0);
+  r.Section("mcl", [&](ConfigReader& s) {
+    nav::MonteCarloOptions& o = l.mcl;
+    int seed = static_cast<int>(l.seed);
+    s.Read("seed", seed, 0, 1000000000);
+    l.seed = static_cast<std::uint64_t>(seed);
+    s.Read("min_particles", o.min_particles, 10, 100000);
+    s.Read("max_particles", o.max_particles, 10, 100000);
+    if (o.max_particles < o.min_particles) {
+      throw ConfigError(s.PathOf("max_particles") + ": must be at least min_particles");
+    }
+    s.Read("sigma_hit_m", o.sigma_hit_m, 0.01, 1.0);
+    s.Read("max_beams", o.max_beams, 1, 10000);
+    s.Read("update_distance_m", o.update_distance_m, 0.0, 5.0);
+    s.Read("update_angle_deg", o.update_angle_rad, 0.0, 180.0);
+    o.update_angle_rad *= std::numbers::pi / 180.0;
+  });
 }
 
 void ReadTracking(ConfigReader& r, TrackingOptions& t) {
@@ -292,16 +330,7 @@ Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
     r.Section("planner", [&](ConfigReader& s) { ReadPlanner(s, config.planner); });
     r.Section("mission", [&](ConfigReader& s) { ReadMission(s, config.mission); });
     r.Section("tracking", [&](ConfigReader& s) { ReadTracking(s, config.tracking); });
-    r.Section("localization", [&](ConfigReader& s) {
-      std::string source = config.localization.source == LocalizationOptions::Source::kSimTruth ? "sim_truth"
-                                                                                                : "odometry";
-      s.Read("source", source);
-      if (source != "odometry" && source != "sim_truth") {
-        throw ConfigError(s.PathOf("source") + ": must be odometry or sim_truth, got '" + source + "'");
-      }
-      config.localization.source =
-          source == "sim_truth" ? LocalizationOptions::Source::kSimTruth : LocalizationOptions::Source::kOdometry;
-    });
+    r.Section("localization", [&](ConfigReader& s) { ReadLocalization(s, config.localization); });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();
     // MORP-RB brakes by the control loop's model.

@@ -8,6 +8,7 @@
 
 #include "drivers/sim/sim_robot.h"
 #include "drivers/sim/world.h"
+#include "nav/localization/monte_carlo.h"
 #include "nav/ground/morp.h"
 #include "nav/planner/costmap.h"
 #include "nav/safety/command_gate.h"
@@ -67,8 +68,15 @@ struct TrackingOptions {
 // map-based localization lands), or, in the simulator only, the simulator's ground truth (the scenario runner: it
 // measures local navigation, as DPoom's evaluation does).
 struct LocalizationOptions {
-  enum class Source { kOdometry, kSimTruth };
+  // odometry: wheel odometry from the start pose (it drifts); sim_truth: the simulator's truth; mcl: Monte Carlo
+  // localization in the active map from the laser's scans (nav/localization/monte_carlo.h).
+  enum class Source { kOdometry, kSimTruth, kMonteCarlo };
   Source source = Source::kOdometry;
+  nav::MonteCarloOptions mcl;
+  std::uint64_t seed = 1;           // of the particle filter
+  double initial_sigma_m = 0.1;     // the start pose's spread
+  double initial_sigma_deg = 5.0;
+  double relocalize_every_s = 2.0;  // while lost, a global search this often
 };
 
 struct LogOptions {

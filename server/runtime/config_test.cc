@@ -132,6 +132,31 @@ TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
             std::string::npos);
 }
 
+TEST_F(ConfigTest, LocalizationKeysAreReadAndChecked) {
+  std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n"
+                                    "localization: {source: mcl, initial_sigma_m: 0.3, initial_sigma_deg: 10,"
+                                    " relocalize_every_s: 5, mcl: {seed: 7, min_particles: 100, max_particles: 500,"
+                                    " sigma_hit_m: 0.1, max_beams: 60, update_distance_m: 0.1, update_angle_deg: 6}}\n";
+  const Config c = LoadConfig(dir_ / "c.yaml");
+  EXPECT_EQ(c.localization.source, LocalizationOptions::Source::kMonteCarlo);
+  EXPECT_DOUBLE_EQ(c.localization.initial_sigma_m, 0.3);
+  EXPECT_DOUBLE_EQ(c.localization.initial_sigma_deg, 10.0);
+  EXPECT_DOUBLE_EQ(c.localization.relocalize_every_s, 5.0);
+  EXPECT_EQ(c.localization.seed, 7u);
+  EXPECT_EQ(c.localization.mcl.min_particles, 100);
+  EXPECT_EQ(c.localization.mcl.max_particles, 500);
+  EXPECT_DOUBLE_EQ(c.localization.mcl.sigma_hit_m, 0.1);
+  EXPECT_EQ(c.localization.mcl.max_beams, 60);
+  EXPECT_DOUBLE_EQ(c.localization.mcl.update_distance_m, 0.1);
+  EXPECT_NEAR(c.localization.mcl.update_angle_rad, 0.10472, 1e-5);
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\nlocalization: {source: amcl}\n")
+                .find("localization.source: must be odometry, sim_truth or mcl, got 'amcl'"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\nlocalization: {mcl: {min_particles: 500, max_particles: 100}}\n")
+                .find("localization.mcl.max_particles: must be at least min_particles"),
+            std::string::npos);
+}
+
 TEST_F(ConfigTest, SimulatedObstaclesAreAListCheckedItemByItem) {
   EXPECT_EQ(ErrorOf("sim:\n  enabled: false\n  obstacles:\n    - {shape: box, x_m: 1, y_m: 2, size_m: 0.3}\n"
                     "    - {x_m: 3, y_m: 2}\n"), "");

@@ -8,6 +8,24 @@ nlohmann::json ToJson(const nav::Pose2& pose) {
   return {{"x", pose.x_m}, {"y", pose.y_m}, {"yaw", pose.yaw_rad}};
 }
 
+nlohmann::json ToJson(const LocalizationState& localization) {
+  const nav::LocalizationEstimate& e = localization.estimate;
+  nlohmann::json particles = nlohmann::json::array();
+  for (const nav::Pose2& p : localization.particles) particles.push_back({p.x_m, p.y_m, p.yaw_rad});
+  nlohmann::json covariance = nlohmann::json::array();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) covariance.push_back(e.covariance(r, c));
+  }
+  return {{"stamp_ns", localization.stamp_ns},
+          {"source", localization.source},
+          {"pose", ToJson(e.pose)},
+          {"covariance", covariance},
+          {"health", nav::ToString(e.health)},
+          {"agreement", e.agreement},
+          {"particle_count", e.particles},
+          {"particles", particles}};
+}
+
 nlohmann::json ToJson(const ControlLatency& l) {
   return {{"rate_hz", l.rate_hz}, {"p50_ms", l.p50_ms}, {"p99_ms", l.p99_ms}, {"max_ms", l.max_ms}, {"samples", l.samples}};
 }

@@ -13,6 +13,7 @@
 #include "nav/geometry/pose2.h"
 #include "nav/geometry/sensor_view.h"
 #include "nav/ground/morp.h"
+#include "nav/localization/monte_carlo.h"
 #include "nav/mission/mission_runner.h"
 #include "nav/safety/command_gate.h"
 #include "nav/tracking/moving_objects.h"
@@ -117,12 +118,30 @@ struct SimPedestrians {
   std::vector<Person> people;
 };
 
+// Where localization puts the robot in the map, how sure it is, and a sample of its particles (for the console).
+struct LocalizationState {
+  drivers::TimeNs stamp_ns = 0;  // of the scan it last updated on
+  std::string source;            // "odometry", "sim_truth" or "mcl"
+  nav::LocalizationEstimate estimate;
+  std::vector<nav::Pose2> particles;  // at most 200
+};
+
+// A request to localization: take this pose (with its spread), or search the whole map for the robot.
+struct LocalizationCommand {
+  enum class Kind { kSetPose, kRelocalize };
+  Kind kind = Kind::kSetPose;
+  nav::Pose2 pose;
+  double sigma_m = 0.2;
+  double sigma_rad = 0.1;
+};
+
 // The face's current expression.
 struct FaceState {
   face::Expression expression = face::Expression::kNeutral;
 };
 
 nlohmann::json ToJson(const ControlLatency& latency);
+nlohmann::json ToJson(const LocalizationState& localization);
 nlohmann::json ToJson(const FaceState& face);
 nlohmann::json ToJson(const SimPedestrians& pedestrians);
 nlohmann::json ToJson(const TrackedObjects& tracked);  // the objects only, not the static points

@@ -10,6 +10,8 @@ inline constexpr TopicName<drivers::WheelOdometry> kOdometry{"odom"};
 inline constexpr TopicName<drivers::RgbdFrame> kRgbd{"camera/rgbd"};
 inline constexpr TopicName<drivers::LaserScan> kScan{"scan"};
 inline constexpr TopicName<StampedPose> kPose{"pose"};                 // the robot in the map frame
+inline constexpr TopicName<LocalizationState> kLocalization{"localization"};
+inline constexpr TopicName<LocalizationCommand> kLocalizationCommand{"localization/command"};
 inline constexpr TopicName<StampedPose> kSimTruePose{"sim/true_pose"};  // ground truth, simulator only
 inline constexpr TopicName<SimPedestrians> kSimPedestrians{"sim/pedestrians"};  // simulator only
 inline constexpr TopicName<TeleopCommand> kTeleop{"teleop"};

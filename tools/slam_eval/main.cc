@@ -134,12 +134,6 @@ std::string Row(const std::string& name, const nav::RelativeError& e) {
   return line;
 }
 
-std::string Seconds(double s) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.1f s", s);
-  return text;
-}
-
 nav::RangeScan ToScan(const nav::CarmenScan& s, double max_range_m) {
   nav::RangeLimits limits;
   limits.max_range_m = max_range_m;
@@ -202,14 +196,12 @@ int Run(const Options& o) {
     result["revisit"] = ToJson(revisit);
     result["odometry"] = {{"local", ToJson(odom_local)}, {"revisit", ToJson(odom_revisit)}};
     result["graph"] = {{"inserted", st.inserted}, {"submaps", st.submaps}, {"loop_searches", st.loop_searches},
-                       {"loop_closures", st.loop_closures}, {"optimizations", st.optimizations},
-                       {"local_s", st.local_s}, {"loop_s", st.loop_s}, {"optimize_s", st.optimize_s}};
+                       {"loop_closures", st.loop_closures}, {"optimizations", st.optimizations}};
     lines = {Row("local", local), Row("revisit", revisit), Row("odometry local", odom_local),
              Row("odometry revisit", odom_revisit),
              "  graph: " + std::to_string(st.submaps) + " submaps, " + std::to_string(st.loop_closures) +
                  " loop closures of " + std::to_string(st.loop_searches) + " searches, " +
-                 std::to_string(st.optimizations) + " optimizations; CPU: local " + Seconds(st.local_s) + ", loop search " +
-                 Seconds(st.loop_s) + ", optimization " + Seconds(st.optimize_s)};
+                 std::to_string(st.optimizations) + " optimizations"};
     if (!o.png.empty()) WritePng(o.png, slam.RenderMap(0.05));
   } else {
     const nav::OccupancyGrid map = ReferenceMap(log, truth, o.max_range_m);

@@ -1,0 +1,95 @@
+// Routes for localization: GET /api/v1/localization, PUT /api/v1/localization/pose, POST
+// /api/v1/localization/relocalize, and, with the simulator, PUT /api/v1/sim/pose (a kidnapped robot).
+#include <numbers>
+
+#include "server/api/api.h"
+#include "server/runtime/topics.h"
+
+namespace corridor::server {
+namespace {
+
+using nlohmann::json;
+
+const char* SourceName(LocalizationOptions::Source source) {
+  switch (source) {
+    case LocalizationOptions::Source::kOdometry: return "odometry";
+    case LocalizationOptions::Source::kSimTruth: return "sim_truth";
+    case LocalizationOptions::Source::kMonteCarlo: return "mcl";
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+nav::Pose2 Api::ParsePoseOnMap(const json& body, const std::string& where) const {
+  const nav::Pose2 pose{RequireNumber(body, "x", where), RequireNumber(body, "y", where),
+                        nav::WrapAngle(RequireNumber(body, "yaw", where))};
+  const auto map = c_.maps.active();
+  if (!map->grid.WorldToCell(pose.translation())) {
+    throw ApiError(http::status::unprocessable_entity, "Pose outside the map",
+                   "(" + std::to_string(pose.x_m) + ", " + std::to_string(pose.y_m) + ") is not on map '" + map->name +
+                       "'",
+                   "outside_map");
+  }
+  return pose;
+}
+
+void Api::AddLocalizationRoutes() {
+  Add(http::verb::get, "/api/v1/localization", Sync([this](const Request& r, const Params&) {
+        if (const auto state = c_.bus.Get(topics::kLocalization).latest()) return JsonResponse(r, ToJson(*state));
+        // Not the filter (or no scan yet): what the pose topic says.
+        json body{{"source", SourceName(c_.config.localization.source)},
+                  {"health", c_.config.localization.source == LocalizationOptions::Source::kSimTruth ? "ok" : "uncertain"},
+                  {"particle_count", 0},
+                  {"particles", json::array()}};
+        if (const auto pose = c_.bus.Get(topics::kPose).latest()) body["pose"] = ToJson(pose->pose);
+        return JsonResponse(r, body);
+      }));
+  Add(http::verb::put, "/api/v1/localization/pose", Sync([this](const Request& r, const Params&) {
+        RequireLocalizing();
+        const json body = ParseJsonBody(r);
+        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
+        AllowOnlyKeys(body, {"x", "y", "yaw", "sigma_m", "sigma_yaw"}, "");
+        LocalizationCommand command;
+        command.kind = LocalizationCommand::Kind::kSetPose;
+        command.pose = ParsePoseOnMap(body, "");
+        if (body.contains("sigma_m")) command.sigma_m = RequireNumber(body, "sigma_m", "");
+        if (body.contains("sigma_yaw")) command.sigma_rad = RequireNumber(body, "sigma_yaw", "");
+        if (!(command.sigma_m >= 0.0 && command.sigma_m <= 10.0) ||
+            !(command.sigma_rad >= 0.0 && command.sigma_rad <= std::numbers::pi)) {
+          throw ApiError(http::status::bad_request, "Invalid request",
+                         "sigma_m must be within [0, 10] m and sigma_yaw within [0, pi] rad");
+        }
+        c_.bus.Get(topics::kLocalizationCommand).Publish(command);
+        return JsonResponse(r, {{"pose", ToJson(command.pose)}, {"sigma_m", command.sigma_m},
+                                {"sigma_yaw", command.sigma_rad}},
+                            http::status::accepted);
+      }));
+  Add(http::verb::post, "/api/v1/localization/relocalize", Sync([this](const Request& r, const Params&) {
+        RequireLocalizing();
+        LocalizationCommand command;
+        command.kind = LocalizationCommand::Kind::kRelocalize;
+        c_.bus.Get(topics::kLocalizationCommand).Publish(command);
+        return JsonResponse(r, {{"relocalizing", true}}, http::status::accepted);
+      }));
+  Add(http::verb::put, "/api/v1/sim/pose", Sync([this](const Request& r, const Params&) {
+        if (c_.sim == nullptr) throw ApiError(http::status::not_found, "No simulator", "only a simulated robot can be moved");
+        const json body = ParseJsonBody(r);
+        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
+        AllowOnlyKeys(body, {"x", "y", "yaw"}, "");
+        const nav::Pose2 pose = ParsePoseOnMap(body, "");
+        c_.sim->Teleport(pose);
+        return JsonResponse(r, {{"pose", ToJson(pose)}});
+      }));
+}
+
+void Api::RequireLocalizing() const {
+  if (c_.config.localization.source != LocalizationOptions::Source::kMonteCarlo) {
+    throw ApiError(http::status::conflict, "Not localizing",
+                   std::string("localization.source is ") + SourceName(c_.config.localization.source) +
+                       ": only mcl takes a pose or relocalizes",
+                   "not_localizing");
+  }
+}
+
+}  // namespace corridor::server

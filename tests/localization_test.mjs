@@ -1,0 +1,114 @@
+// Localization in the daemon: Monte Carlo localization from the simulated laser in the default world (Willow
+// Garage), checked against the simulator's ground truth: it follows a mission within centimetres, a kidnapped robot
+// is noticed, its mission paused, and it is found again by a search of the map; an initial pose can be set.
+import assert from 'node:assert/strict';
+import { after, before, describe, test } from 'node:test';
+
+import { getJson, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor } from './daemon.mjs';
+
+const api = openApiValidator();
+const state = async (url) => (await getJson(`${url}/api/v1/state`)).body;
+const localization = async (url) => (await getJson(`${url}/api/v1/localization`)).body;
+const wrap = (a) => Math.atan2(Math.sin(a), Math.cos(a));
+// How far the daemon's pose is from the simulator's truth: metres and degrees.
+const errorOf = (s) => [Math.hypot(s.pose.x - s.sim_true_pose.x, s.pose.y - s.sim_true_pose.y),
+  Math.abs(wrap(s.pose.yaw - s.sim_true_pose.yaw)) * 180 / Math.PI];
+
+describe('localization from the laser in the default world', () => {
+  let daemon;
+  before(async () => { daemon = await startDaemon(); });
+  after(async () => { await daemon?.stop(); });
+
+  test('it localizes at the start and follows a mission within centimetres of the truth', async (t) => {
+    const first = await waitFor(() => localization(daemon.url), (l) => l.health === 'ok', 10000, 'localization ok');
+    api.check('Localization', first);
+    assert.equal(first.source, 'mcl');
+    assert.ok(first.particles.length > 0 && first.particle_count >= first.particles.length);
+    const res = await postJson(`${daemon.url}/api/v1/missions`,
+      { waypoints: [{ x: 24.4, y: 26.5 }, { x: 25.0, y: 27.2 }, { x: 24.4, y: 24.6 }] });
+    assert.equal(res.status, 201, JSON.stringify(res.body));
+    let worst = [0, 0];
+    let s;
+    const deadline = Date.now() + 120000;
+    do {
+      s = await state(daemon.url);
+      const [m, deg] = errorOf(s);
+      worst = [Math.max(worst[0], m), Math.max(worst[1], deg)];
+      assert.ok(Date.now() < deadline, `mission still ${s.mission?.status}`);
+      await sleep(100);
+    } while (s.mission?.status === 'active');
+    t.diagnostic(`worst error during the mission: ${(100 * worst[0]).toFixed(1)} cm, ${worst[1].toFixed(2)} deg`);
+    assert.equal(s.mission.status, 'succeeded', JSON.stringify(s.mission));
+    assert.ok(worst[0] < 0.05 && worst[1] < 3, `worst ${worst}`);
+  });
+
+  test('a kidnapped robot is noticed, its mission paused, and found again by a search of the map', async (t) => {
+    const moved = await sendJson('PUT', `${daemon.url}/api/v1/sim/pose`, { x: 25.0, y: 27.2, yaw: 0.5 });
+    assert.equal(moved.status, 200, JSON.stringify(moved.body));
+    api.check('SimPoseAccepted', moved.body);
+    // It believes it is still at the last goal; the mission's goal is 2 m from there.
+    const res = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 24.4, y: 26.5 }] });
+    assert.equal(res.status, 201, JSON.stringify(res.body));
+    const t0 = Date.now();
+    const found = await waitFor(async () => ({ l: await localization(daemon.url), s: await state(daemon.url) }),
+      ({ l, s }) => l.health === 'ok' && errorOf(s)[0] < 0.2, 15000, 'relocalized');
+    const [m, deg] = errorOf(found.s);
+    t.diagnostic(`found again ${Date.now() - t0} ms after the mission started, ${(100 * m).toFixed(1)} cm off`);
+    assert.ok(deg < 5, `${deg} degrees off`);
+    // Lost, the mission was paused (the robot stops); found, it went on.
+    assert.match(daemon.log(), /localization lost: paused/);
+    assert.match(daemon.log(), /found the robot at .* by a search of the whole map/);
+    const done = await waitFor(() => state(daemon.url), (s) => s.mission?.status !== 'active' &&
+      s.mission?.status !== 'paused', 60000, 'the mission resumed and over');
+    assert.equal(done.mission.status, 'succeeded', JSON.stringify(done.mission));
+  });
+
+  test('an initial pose is taken, relocalization on request, and bad requests change nothing', async () => {
+    const s = await state(daemon.url);
+    const near = { x: s.sim_true_pose.x + 0.15, y: s.sim_true_pose.y - 0.1, yaw: wrap(s.sim_true_pose.yaw + 0.1) };
+    const set = await sendJson('PUT', `${daemon.url}/api/v1/localization/pose`, { ...near, sigma_m: 0.3 });
+    assert.equal(set.status, 202, JSON.stringify(set.body));
+    api.check('LocalizationPoseAccepted', set.body);
+    // The filter starts around the given pose and settles on the truth.
+    await waitFor(async () => ({ l: await localization(daemon.url), s: await state(daemon.url) }),
+      ({ l, s: now }) => l.health === 'ok' && errorOf(now)[0] < 0.05, 15000, 'settled on the truth');
+    const re = await postJson(`${daemon.url}/api/v1/localization/relocalize`, {});
+    assert.equal(re.status, 202, JSON.stringify(re.body));
+    await waitFor(async () => ({ l: await localization(daemon.url), s: await state(daemon.url) }),
+      ({ l, s: now }) => l.health === 'ok' && errorOf(now)[0] < 0.05, 15000, 'relocalized on request');
+    const off = await sendJson('PUT', `${daemon.url}/api/v1/localization/pose`, { x: 500, y: 0, yaw: 0 });
+    assert.equal(off.status, 422);
+    assert.equal(off.body.code, 'outside_map');
+    for (const bad of [{ x: 24 }, { x: 24, y: 24, yaw: 'north' }, { x: 24, y: 24, yaw: 0, sigma_m: -1 }, [1, 2]]) {
+      const r = await sendJson('PUT', `${daemon.url}/api/v1/localization/pose`, bad);
+      assert.equal(r.status, 400, JSON.stringify(bad));
+      api.check('Problem', r.body);
+    }
+    assert.equal((await sendJson('PUT', `${daemon.url}/api/v1/sim/pose`, { x: 500, y: 0, yaw: 0 })).status, 422);
+    const after = await state(daemon.url);
+    assert.ok(errorOf(after)[0] < 0.05, 'still where it was');
+  });
+});
+
+describe('localization by odometry alone', () => {
+  let daemon;
+  before(async () => {
+    daemon = await startDaemon({ config: `
+sim:
+  world: "${new URL('../config/worlds/willow_garage/willow-full-0.05.yaml', import.meta.url).pathname}"
+  start: {x_m: 24.38, y_m: 24.07, yaw_deg: 90}
+localization: {source: odometry}
+` });
+  });
+  after(async () => { await daemon?.stop(); });
+
+  test('it says so, and does not take a pose it cannot use', async () => {
+    const l = await localization(daemon.url);
+    api.check('Localization', l);
+    assert.equal(l.source, 'odometry');
+    const r = await sendJson('PUT', `${daemon.url}/api/v1/localization/pose`, { x: 24, y: 24, yaw: 0 });
+    assert.equal(r.status, 409);
+    assert.equal(r.body.code, 'not_localizing');
+    assert.equal((await postJson(`${daemon.url}/api/v1/localization/relocalize`, {})).status, 409);
+  });
+});
