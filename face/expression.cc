@@ -17,9 +17,9 @@ std::string_view ToString(Expression expression) {
 Expression ExpressionMachine::Update(const Situation& s) {
   if (last_active_ns_ < 0) last_active_ns_ = s.now_ns;
   if (s.bumped) surprised_until_ns_ = s.now_ns + drivers::FromSeconds(options_.surprise_hold_s);
-  if (s.moving || s.driven || s.bumped || s.person_near || s.fault) last_active_ns_ = s.now_ns;
-  // In order of urgency: a fault outranks a bump, which outranks everything that is going well.
-  if (s.fault) {
+  if (s.moving || s.driven || s.bumped || s.person_near || s.fault || s.lost) last_active_ns_ = s.now_ns;
+  // In order of urgency: a fault or being lost outranks a bump, which outranks everything that is going well.
+  if (s.fault || s.lost) {
     current_ = Expression::kWorried;
   } else if (s.now_ns < surprised_until_ns_) {
     current_ = Expression::kSurprised;

@@ -20,6 +20,7 @@ struct Situation {
   bool bumped = false;          // the bumper is pressed
   bool fault = false;           // the robot stopped because something is wrong (a device not answering, ...)
   bool person_near = false;     // a person is close in front (from the detector, later)
+  bool lost = false;            // localization does not know where the robot is
 };
 
 struct ExpressionOptions {

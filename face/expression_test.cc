@@ -26,6 +26,14 @@ TEST(ExpressionMachineTest, AFaultOutranksEverything) {
             Expression::kWorried);
 }
 
+TEST(ExpressionMachineTest, ARobotThatDoesNotKnowWhereItIsIsWorriedUntilFound) {
+  ExpressionMachine m;
+  EXPECT_EQ(m.Update({.now_ns = 0, .moving = true}), Expression::kFocused);
+  EXPECT_EQ(m.Update({.now_ns = 1, .person_near = true, .lost = true}), Expression::kWorried);
+  EXPECT_EQ(m.Update({.now_ns = drivers::FromSeconds(120.0), .lost = true}), Expression::kWorried);  // not sleepy
+  EXPECT_EQ(m.Update({.now_ns = drivers::FromSeconds(121.0)}), Expression::kNeutral);
+}
+
 TEST(ExpressionMachineTest, IdleForAMinuteIsSleepyAndAPersonWakesIt) {
   ExpressionMachine m;
   EXPECT_EQ(m.Update({.now_ns = FromSeconds(0)}), Expression::kNeutral);

@@ -2,6 +2,9 @@
 // Garage), checked against the simulator's ground truth: it follows a mission within centimetres, a kidnapped robot
 // is noticed, its mission paused, and it is found again by a search of the map; an initial pose can be set.
 import assert from 'node:assert/strict';
+import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
 import { getJson, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor } from './daemon.mjs';
@@ -50,8 +53,13 @@ describe('localization from the laser in the default world', () => {
     const res = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 24.4, y: 26.5 }] });
     assert.equal(res.status, 201, JSON.stringify(res.body));
     const t0 = Date.now();
+    let worried = false;
     const found = await waitFor(async () => ({ l: await localization(daemon.url), s: await state(daemon.url) }),
-      ({ l, s }) => l.health === 'ok' && errorOf(s)[0] < 0.2, 15000, 'relocalized');
+      ({ l, s }) => {
+        worried ||= s.face === 'worried';
+        return l.health === 'ok' && errorOf(s)[0] < 0.2;
+      }, 15000, 'relocalized');
+    assert.ok(worried, 'the face was never worried while the robot was lost');
     const [m, deg] = errorOf(found.s);
     t.diagnostic(`found again ${Date.now() - t0} ms after the mission started, ${(100 * m).toFixed(1)} cm off`);
     assert.ok(deg < 5, `${deg} degrees off`);
@@ -87,6 +95,50 @@ describe('localization from the laser in the default world', () => {
     assert.equal((await sendJson('PUT', `${daemon.url}/api/v1/sim/pose`, { x: 500, y: 0, yaw: 0 })).status, 422);
     const after = await state(daemon.url);
     assert.ok(errorOf(after)[0] < 0.05, 'still where it was');
+  });
+});
+
+describe('the pose across a restart', () => {
+  const stateDir = mkdtempSync(join(tmpdir(), 'corridor-restart-'));
+  after(() => rmSync(stateDir, { recursive: true, force: true }));
+
+  test('the robot stays where it stopped and localization starts there, without a search', async () => {
+    let daemon = await startDaemon({ stateDir });
+    let before;
+    try {
+      await waitFor(() => localization(daemon.url), (l) => l.health === 'ok', 10000, 'localization ok');
+      // Carried off the start (a restart must not put it back there), then left standing.
+      assert.equal((await sendJson('PUT', `${daemon.url}/api/v1/sim/pose`, { x: 25.0, y: 27.2, yaw: 0.5 })).status, 200);
+      await waitFor(async () => ({ l: await localization(daemon.url), s: await state(daemon.url) }),
+        ({ l, s }) => l.health === 'ok' && errorOf(s)[0] < 0.05, 15000, 'relocalized');
+      await sleep(500);
+      before = await state(daemon.url);
+    } finally {
+      await daemon.stop();
+    }
+    daemon = await startDaemon({ stateDir });
+    try {
+      const l = await waitFor(() => localization(daemon.url), (x) => x.health === 'ok', 10000, 'localization ok after the restart')
+        .catch((e) => { throw new Error(`${e.message}\n${daemon.log()}`); });
+      const s = await state(daemon.url);
+      assert.ok(Math.hypot(s.sim_true_pose.x - before.sim_true_pose.x, s.sim_true_pose.y - before.sim_true_pose.y) < 0.02,
+        `the simulated robot moved: ${JSON.stringify([before.sim_true_pose, s.sim_true_pose])}`);
+      assert.ok(errorOf(s)[0] < 0.05, `localized ${errorOf(s)[0]} m off`);
+      assert.equal(l.source, 'mcl');
+      assert.doesNotMatch(daemon.log(), /search of the whole map/);
+      assert.match(daemon.log(), /starting where the robot was in map/);
+    } finally {
+      await daemon.stop();
+    }
+    // A damaged pose file is named in the log and the daemon starts anyway.
+    writeFileSync(join(stateDir, 'pose.json'), '{"place": "willow-full-0.05", "x": ');
+    daemon = await startDaemon({ stateDir });
+    try {
+      assert.equal((await getJson(`${daemon.url}/api/v1/health`)).status, 200);
+      assert.match(daemon.log(), /pose.json: the saved pose cannot be read/);
+    } finally {
+      await daemon.stop();
+    }
   });
 });
 

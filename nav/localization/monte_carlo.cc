@@ -40,6 +40,28 @@ std::vector<Eigen::Vector2f> SpreadBeams(std::span<const Eigen::Vector2f> hits, 
   return out;
 }
 
+// The map at `factor` times coarser cells: occupied where any of its cells is, free where all are, else unknown.
+OccupancyGrid Coarser(const OccupancyGrid& map, int factor) {
+  const int w = (map.width() + factor - 1) / factor;
+  const int h = (map.height() + factor - 1) / factor;
+  OccupancyGrid out(w, h, map.resolution_m() * factor, map.origin(), kUnknownCell);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      bool occupied = false;
+      bool all_free = true;
+      for (int j = y * factor; j < std::min(map.height(), (y + 1) * factor); ++j) {
+        for (int i = x * factor; i < std::min(map.width(), (x + 1) * factor); ++i) {
+          const std::int8_t v = map.at({i, j});
+          occupied |= v >= 65;
+          all_free &= v == kFreeCell;
+        }
+      }
+      out.at({x, y}) = occupied ? kOccupiedCell : all_free ? kFreeCell : kUnknownCell;
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 const char* ToString(LocalizationHealth health) {
@@ -116,13 +138,23 @@ bool MonteCarloLocalization::Relocalize(const RangeScan& scan) {
   // The search's cost grows with the points: a few dozen spread over the scan place it as well.
   const std::vector<Eigen::Vector2f> thinned = VoxelFilter(scan.hits, 2.0 * options_.refine_voxel_m);
   const std::vector<Eigen::Vector2f> points = SpreadBeams(thinned, options_.relocalize_points);
-  if (!global_matcher_) global_matcher_ = std::make_unique<BranchAndBoundMatcher>(match_grid_, 8);
+  // Coarse to fine: the whole map at relocalize_resolution_m (the search's cost falls with the cube of the cell size:
+  // positions and headings), then the map's own cells around what it found.
+  if (!global_matcher_) {
+    const int factor = std::max(1, static_cast<int>(std::lround(options_.relocalize_resolution_m / map_.resolution_m())));
+    ProbabilityGridOptions coarse;
+    coarse.match_sigma_m = map_.resolution_m() * factor;
+    global_matcher_ = std::make_unique<BranchAndBoundMatcher>(
+        ProbabilityGrid::FromOccupancyGrid(factor > 1 ? Coarser(map_, factor) : map_, coarse), 7);
+  }
   const std::optional<ScanMatch> found = global_matcher_->MatchEverywhere(points, options_.relocalize_min_score);
   if (!found) {
     estimate_.health = LocalizationHealth::kLost;
     return false;
   }
-  const Pose2 refined = RefineMatch(match_grid_, thinned, found->pose, found->pose);
+  const double coarse_m = global_matcher_->grid().resolution_m();
+  const ScanMatch fine = CorrelativeMatch(match_grid_, thinned, found->pose, SearchWindow{coarse_m, 2.0 * coarse_m / 4.0});
+  const Pose2 refined = RefineMatch(match_grid_, thinned, fine.pose, fine.pose);
   SetPose(refined, options_.relocalize_sigma_m, options_.relocalize_sigma_rad);
   return true;
 }

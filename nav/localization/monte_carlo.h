@@ -66,6 +66,7 @@ struct MonteCarloOptions {
   // Global relocalization: the minimum mean probability of a match, and the particles seeded around it.
   double relocalize_min_score = 0.5;
   int relocalize_points = 80;  // the scan's hits searched with, at most
+  double relocalize_resolution_m = 0.1;  // the whole map is searched at this cell size, then refined in the map's
   double relocalize_sigma_m = 0.1;
   double relocalize_sigma_rad = 0.05;
 };

@@ -8,6 +8,7 @@
 #include "server/nodes/face_node.h"
 #include "server/nodes/ground_node.h"
 #include "server/nodes/localization_node.h"
+#include "server/app/simulator.h"
 #include "server/nodes/tracking_node.h"
 #include "server/runtime/demand.h"
 
@@ -53,14 +54,17 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   // Each active map goes to the planner and, for its walls, to the tracker.
   std::optional<nav::Pose2> base_T_laser;
   if (devices_.laser != nullptr) base_T_laser = devices_.laser->base_T_laser();
+  // The robot starts where it was last localized, when that was in the map it starts in (LocalizationNode::SetMap).
+  const std::filesystem::path pose_file = config_.store.state_dir / "pose.json";
   auto localization_node = std::make_unique<LocalizationNode>(executors_.mapping, bus_, config_.localization,
-                                                              config_.sim.robot.start, base_T_laser);
+                                                              config_.sim.robot.start, base_T_laser, pose_file,
+                                                              LoadSavedPose(pose_file));
   LocalizationNode* const localization = localization_node.get();
   const auto use_map = [this, tracking, localization](const std::shared_ptr<const ActiveMap>& active) {
     const std::shared_ptr<const nav::OccupancyGrid> grid(active, &active->grid);
     planner_.SetMap(grid);
     if (tracking != nullptr) tracking->SetMap(grid);
-    localization->SetMap(grid);
+    localization->SetMap(active->name, grid);
   };
   maps_ = std::make_unique<MapLibrary>(config_.store.state_dir, std::move(map.name), std::move(map.grid), use_map);
   {
@@ -86,7 +90,8 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   missions_ = mission_node.get();
   // Brought up in this order and down in reverse: control goes first at shutdown, so the robot stops first.
   if (devices_.sim != nullptr) {
-    auto sim_node = std::make_unique<SimNode>(executors_.sim, bus_, *devices_.sim);
+    auto sim_node = std::make_unique<SimNode>(executors_.sim, bus_, *devices_.sim, SimPoseFile(config_),
+                                              config_.sim.world.string());
     sim_node_ = sim_node.get();
     lifecycle_.Add(std::move(sim_node));
   }

@@ -5,12 +5,15 @@
 #include <random>
 
 #include "nav/map/map_io.h"
+#include "server/store/saved_pose.h"
 
 namespace corridor::server {
 
 Devices Simulator::devices(const Config& config) const {
   return Devices{*robot, *robot, config.sim.robot.laser.enabled ? robot.get() : nullptr, robot.get()};
 }
+
+std::filesystem::path SimPoseFile(const Config& config) { return config.store.state_dir / "sim_pose.json"; }
 
 Simulator MakeSimulator(const Config& config) {
   Simulator sim;
@@ -19,8 +22,19 @@ Simulator MakeSimulator(const Config& config) {
     drivers::sim::AddObstacles(w, config.sim.obstacles);  // in the world, not in its map
     return std::make_shared<const drivers::sim::World>(std::move(w));
   }();
-  const nav::Pose2 start = config.sim.robot.start;
+  nav::Pose2 start = config.sim.robot.start;
+  if (const std::optional<SavedPose> saved = LoadSavedPose(SimPoseFile(config));
+      saved && saved->place == config.sim.world.string()) {
+    const drivers::sim::DiffDriveSim probe(sim.world->collision, config.sim.robot.base, saved->pose);
+    if (probe.Collides(saved->pose)) {
+      spdlog::warn("simulator: the robot's saved pose overlaps something now; starting at sim.start");
+    } else {
+      start = saved->pose;
+      spdlog::info("simulator: the robot is where the last run left it: ({:.2f}, {:.2f})", start.x_m, start.y_m);
+    }
+  }
   drivers::sim::SimOptions options = config.sim.robot;
+  options.start = start;
   if (config.sim.pedestrians > 0) {
     std::mt19937 rng(config.sim.robot.seed);
     drivers::sim::RouteArea area;

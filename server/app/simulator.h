@@ -19,8 +19,12 @@ struct Simulator {
   Devices devices(const Config& config) const;
 };
 
-// Throws std::runtime_error when the world cannot be loaded or the robot's start overlaps an obstacle.
+// Throws std::runtime_error when the world cannot be loaded or the robot's start overlaps an obstacle. The robot starts
+// where the last run left it in the same world (SimPoseFile) when that pose is free, else at sim.start.
 Simulator MakeSimulator(const Config& config);
+
+// Where the simulated robot's true pose is kept across restarts.
+std::filesystem::path SimPoseFile(const Config& config);
 
 // The configured map file, else the simulator's world when it is a map, else the world's collision slice (what the
 // robot can bump into). Throws when there is neither a map nor a world.

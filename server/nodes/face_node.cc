@@ -35,6 +35,9 @@ void FaceNode::Tick() {
     s.driven = command->mode == nav::ControlMode::kTeleop;
     s.fault = command->mode == nav::ControlMode::kStopped;
   }
+  if (const auto localization = bus().Get(topics::kLocalization).latest()) {
+    s.lost = localization->estimate.health == nav::LocalizationHealth::kLost;
+  }
   bus().Get(topics::kFaceExpression).Publish(FaceState{machine_.Update(s)});
 }
 

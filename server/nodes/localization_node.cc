@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <numbers>
 
 #include <spdlog/spdlog.h>
@@ -20,22 +21,46 @@ double Radians(double deg) { return deg * std::numbers::pi / 180.0; }
 }  // namespace
 
 LocalizationNode::LocalizationNode(Executor& executor, Bus& bus, const LocalizationOptions& options,
-                                   nav::Pose2 initial_pose, std::optional<nav::Pose2> base_T_laser)
+                                   nav::Pose2 initial_pose, std::optional<nav::Pose2> base_T_laser,
+                                   std::filesystem::path pose_file, std::optional<SavedPose> restored)
     : Node("localization", executor, bus),
       options_(options),
       base_T_laser_(base_T_laser),
-      map_T_odom_(initial_pose) {}
+      map_T_odom_(initial_pose),
+      pose_file_(std::move(pose_file)),
+      saved_(restored),
+      restored_(std::move(restored)) {}
 
-void LocalizationNode::SetMap(std::shared_ptr<const nav::OccupancyGrid> map) {
-  executor().Post([this, map = std::move(map)]() mutable {
+void LocalizationNode::Save(const nav::Pose2& pose, double sigma_m, double sigma_rad) {
+  if (pose_file_.empty()) return;
+  const SavedPose now{map_name_, pose, sigma_m, sigma_rad};
+  if (saved_ && !MovedEnough(*saved_, now)) return;
+  SavePose(pose_file_, now);  // a failure is a fault of this loop: logged, the node degraded
+  saved_ = now;
+}
+
+void LocalizationNode::SetMap(std::string name, std::shared_ptr<const nav::OccupancyGrid> map) {
+  executor().Post([this, name = std::move(name), map = std::move(map)]() mutable {
     Run("map", [&] {
       map_ = std::move(map);
+      map_name_ = std::move(name);
+      double sigma_m = options_.initial_sigma_m;
+      double sigma_rad = Radians(options_.initial_sigma_deg);
+      if (restored_ && restored_->place == map_name_) {
+        const std::optional<nav::Pose2> odom_now = OdometryAt(odometry_.empty() ? 0 : odometry_.back().stamp_ns);
+        map_T_odom_ = restored_->pose * odom_now.value_or(nav::Pose2{}).Inverse();
+        sigma_m = std::max(sigma_m, restored_->sigma_m);
+        sigma_rad = std::max(sigma_rad, restored_->sigma_rad);
+        spdlog::info("localization: starting where the robot was in map '{}': ({:.2f}, {:.2f})", map_name_,
+                     restored_->pose.x_m, restored_->pose.y_m);
+      }
+      restored_.reset();
       if (options_.source != LocalizationOptions::Source::kMonteCarlo || !base_T_laser_ || !map_) return;
       // Where the robot is now, by the last estimate: the filter restarts there in the new map.
       const std::optional<nav::Pose2> odom = OdometryAt(odometry_.empty() ? 0 : odometry_.back().stamp_ns);
       const nav::Pose2 pose = map_T_odom_ * odom.value_or(nav::Pose2{});
       filter_ = std::make_unique<nav::MonteCarloLocalization>(*map_, options_.mcl, options_.seed);
-      ResetFilter(pose, options_.initial_sigma_m, Radians(options_.initial_sigma_deg));
+      ResetFilter(pose, sigma_m, sigma_rad);
     });
   });
 }
@@ -74,7 +99,10 @@ void LocalizationNode::OnOdometry(const drivers::WheelOdometry& odometry) {
   while (odometry_.size() > 2 && odometry_.back().stamp_ns - odometry_.front().stamp_ns > kOdometryKeptNs) {
     odometry_.pop_front();
   }
-  bus().Get(topics::kPose).Publish(StampedPose{odometry.stamp_ns, map_T_odom_ * odometry.odom_T_base});
+  const nav::Pose2 pose = map_T_odom_ * odometry.odom_T_base;
+  bus().Get(topics::kPose).Publish(StampedPose{odometry.stamp_ns, pose});
+  // Dead reckoning has no spread to speak of: the start's is kept.
+  if (!filter_ && !map_name_.empty()) Save(pose, options_.initial_sigma_m, Radians(options_.initial_sigma_deg));
 }
 
 std::optional<nav::Pose2> LocalizationNode::OdometryAt(drivers::TimeNs stamp_ns) const {
@@ -121,6 +149,10 @@ void LocalizationNode::OnScan(const drivers::LaserScan& scan) {
   const nav::LocalizationEstimate& estimate = filter_->Update(*odom, range);
   map_T_odom_ = estimate.pose * odom->Inverse();
   Publish(scan.stamp_ns);
+  if (estimate.health != nav::LocalizationHealth::kLost) {
+    const Eigen::Matrix3d& c = estimate.covariance;
+    Save(estimate.pose, std::sqrt(c(0, 0) + c(1, 1)), std::sqrt(c(2, 2)));
+  }
   switch (estimate.health) {
     case nav::LocalizationHealth::kOk: SetHealth(Health::kOk, "localized in the map"); break;
     case nav::LocalizationHealth::kUncertain:

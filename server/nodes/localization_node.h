@@ -17,18 +17,23 @@
 #include "server/runtime/bus.h"
 #include "server/runtime/config.h"
 #include "server/runtime/node.h"
+#include "server/store/saved_pose.h"
 
 namespace corridor::server {
 
 class LocalizationNode final : public Node {
  public:
   // base_T_laser: where the laser is, or nullopt without one (mcl then falls back to odometry, degraded).
+  // pose_file: where the pose is saved whenever it moved 0.1 m or 5 degrees (and not while lost); empty: nowhere.
+  // restored: the pose saved before a restart; used instead of initial_pose when the first map set is its map (if
+  // the scans disagree with that map there, the filter is soon lost and searches the map).
   LocalizationNode(Executor& executor, Bus& bus, const LocalizationOptions& options, nav::Pose2 initial_pose,
-                   std::optional<nav::Pose2> base_T_laser);
+                   std::optional<nav::Pose2> base_T_laser, std::filesystem::path pose_file = {},
+                   std::optional<SavedPose> restored = std::nullopt);
   void Activate() override;
-  // The map to localize in (mcl). Thread-safe: applied on the node's executor. A new map keeps the pose if it lies
-  // on the map; the filter restarts around it.
-  void SetMap(std::shared_ptr<const nav::OccupancyGrid> map);
+  // The map to localize in (mcl), by name. Thread-safe: applied on the node's executor. A new map keeps the pose if
+  // it lies on the map; the filter restarts around it.
+  void SetMap(std::string name, std::shared_ptr<const nav::OccupancyGrid> map);
 
  private:
   void OnOdometry(const drivers::WheelOdometry& odometry);
@@ -38,11 +43,16 @@ class LocalizationNode final : public Node {
   std::optional<nav::Pose2> OdometryAt(drivers::TimeNs stamp_ns) const;
   void Publish(drivers::TimeNs stamp_ns);
   void ResetFilter(const nav::Pose2& pose, double sigma_m, double sigma_rad);
+  void Save(const nav::Pose2& pose, double sigma_m, double sigma_rad);
 
   LocalizationOptions options_;
   std::optional<nav::Pose2> base_T_laser_;
   nav::Pose2 map_T_odom_;
   std::shared_ptr<const nav::OccupancyGrid> map_;
+  std::string map_name_;
+  std::filesystem::path pose_file_;
+  std::optional<SavedPose> saved_;     // what the file holds
+  std::optional<SavedPose> restored_;  // until the first map is set
   std::unique_ptr<nav::MonteCarloLocalization> filter_;
   std::deque<drivers::WheelOdometry> odometry_;  // the last second
   bool relocalize_ = false;                      // search the whole map on the next scan

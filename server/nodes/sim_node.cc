@@ -11,8 +11,13 @@ constexpr drivers::TimeNs kMaxCatchUpNs = drivers::kNsPerSecond / 10;
 
 }  // namespace
 
-SimNode::SimNode(Executor& executor, Bus& bus, drivers::sim::SimRobot& robot)
-    : Node("sim", executor, bus), robot_(robot), loop_(Loop("step")) {}
+SimNode::SimNode(Executor& executor, Bus& bus, drivers::sim::SimRobot& robot, std::filesystem::path pose_file,
+                 std::string world)
+    : Node("sim", executor, bus),
+      robot_(robot),
+      loop_(Loop("step")),
+      pose_file_(std::move(pose_file)),
+      world_(std::move(world)) {}
 
 void SimNode::Activate() {
   wall_start_ns_ = clock().Now();
@@ -51,7 +56,15 @@ void SimNode::KeepUp() {
 }
 
 void SimNode::PublishTruth() {
-  bus().Get(topics::kSimTruePose).Publish(StampedPose{robot_.now_ns(), robot_.true_pose()});
+  const nav::Pose2 truth = robot_.true_pose();
+  bus().Get(topics::kSimTruePose).Publish(StampedPose{robot_.now_ns(), truth});
+  if (!pose_file_.empty()) {
+    const SavedPose now{world_, truth, 0.0, 0.0};
+    if (!saved_ || MovedEnough(*saved_, now)) {
+      SavePose(pose_file_, now);
+      saved_ = now;
+    }
+  }
   if (!has_pedestrians_ && bus().Get(topics::kSimPedestrians).latest()) return;
   SimPedestrians out{robot_.pedestrian_radius_m(), {}};
   for (const drivers::sim::Pedestrian& p : robot_.pedestrians()) out.people.push_back({p.position, p.velocity});

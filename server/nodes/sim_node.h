@@ -9,12 +9,16 @@
 #include "drivers/sim/sim_robot.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
+#include "server/store/saved_pose.h"
 
 namespace corridor::server {
 
 class SimNode final : public Node {
  public:
-  SimNode(Executor& executor, Bus& bus, drivers::sim::SimRobot& robot);
+  // pose_file: where the simulated robot's true pose is saved (as `world`'s) whenever it moved 0.1 m or 5 degrees, so
+  // that a restart finds it where it stopped (MakeSimulator); empty: nowhere.
+  SimNode(Executor& executor, Bus& bus, drivers::sim::SimRobot& robot, std::filesystem::path pose_file = {},
+          std::string world = {});
   void Activate() override;
   void Deactivate() override;
   // Lockstep: one physics step, on the caller's thread, and the ground truth after it.
@@ -30,6 +34,9 @@ class SimNode final : public Node {
   drivers::TimeNs wall_start_ns_ = 0;
   drivers::TimeNs sim_start_ns_ = 0;
   bool has_pedestrians_ = false;
+  std::filesystem::path pose_file_;
+  std::string world_;
+  std::optional<SavedPose> saved_;
 };
 
 }  // namespace corridor::server
