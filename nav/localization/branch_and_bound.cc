@@ -14,7 +14,8 @@ struct BranchAndBoundMatcher::Candidate {
   float score = 0.0f;
 };
 
-BranchAndBoundMatcher::BranchAndBoundMatcher(const ProbabilityGrid& grid, int depth) : grid_(grid) {
+BranchAndBoundMatcher::BranchAndBoundMatcher(const HitField& grid, int depth)
+    : resolution_m_(grid.resolution_m()), min_corner_(grid.min_corner()), width_(grid.width()), height_(grid.height()) {
   if (depth < 1) throw std::invalid_argument("BranchAndBoundMatcher: depth must be at least 1");
   const int w = grid.width();
   const int h = grid.height();
@@ -53,23 +54,23 @@ BranchAndBoundMatcher::BranchAndBoundMatcher(const ProbabilityGrid& grid, int de
 
 std::optional<ScanMatch> BranchAndBoundMatcher::Match(std::span<const Eigen::Vector2f> points, const Pose2& guess,
                                                       const SearchWindow& window, double min_score) const {
-  const int cells = static_cast<int>(std::ceil(window.linear_m / grid_.resolution_m()));
+  const int cells = static_cast<int>(std::ceil(window.linear_m / resolution_m_));
   return Search(points, guess, cells, cells, window.angular_rad, min_score);
 }
 
 std::optional<ScanMatch> BranchAndBoundMatcher::MatchEverywhere(std::span<const Eigen::Vector2f> points,
                                                                 double min_score) const {
-  const double r = grid_.resolution_m();
-  const Eigen::Vector2d centre = grid_.min_corner() + Eigen::Vector2d(grid_.width(), grid_.height()) * (r / 2.0);
-  return Search(points, Pose2{centre.x(), centre.y(), 0.0}, (grid_.width() + 1) / 2, (grid_.height() + 1) / 2,
+  const double r = resolution_m_;
+  const Eigen::Vector2d centre = min_corner_ + Eigen::Vector2d(width_, height_) * (r / 2.0);
+  return Search(points, Pose2{centre.x(), centre.y(), 0.0}, (width_ + 1) / 2, (height_ + 1) / 2,
                 std::numbers::pi, min_score);
 }
 
 std::optional<ScanMatch> BranchAndBoundMatcher::Search(std::span<const Eigen::Vector2f> points, const Pose2& centre,
                                                        int linear_cells_x, int linear_cells_y, double angular_rad,
                                                        double min_score) const {
-  if (points.empty() || grid_.empty()) return std::nullopt;
-  const double r = grid_.resolution_m();
+  if (points.empty() || width_ == 0) return std::nullopt;
+  const double r = resolution_m_;
   double far = 0.0;
   for (const Eigen::Vector2f& p : points) far = std::max(far, static_cast<double>(p.norm()));
   const double step = far > r ? std::acos(1.0 - r * r / (2.0 * far * far)) : 0.05;
@@ -86,7 +87,7 @@ std::optional<ScanMatch> BranchAndBoundMatcher::Search(std::span<const Eigen::Ve
     scans[a].reserve(points.size());
     for (const Eigen::Vector2f& p : points) {
       const Eigen::Vector2d q(c * p.x() - s * p.y() + centre.x_m, s * p.x() + c * p.y() + centre.y_m);
-      scans[a].push_back(grid_.CellOf(q));
+      scans[a].push_back(CellOf(q));
     }
   }
   const auto score = [&](const Candidate& k, int level) {

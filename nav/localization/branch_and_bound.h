@@ -4,21 +4,23 @@
 // candidate found so far. What loop closure and global relocalization search with.
 #pragma once
 
+#include <cmath>
 #include <optional>
 #include <span>
 #include <vector>
 
 #include <Eigen/Core>
 
-#include "nav/localization/probability_grid.h"
+#include "nav/localization/hit_field.h"
 #include "nav/localization/scan_matcher.h"
 
 namespace corridor::nav {
 
 class BranchAndBoundMatcher {
  public:
-  // Precomputes the pooled grids of `grid` (copied: later inserts into `grid` are not seen). depth >= 1.
-  BranchAndBoundMatcher(const ProbabilityGrid& grid, int depth = 7);
+  // Precomputes the pooled grids of `grid`'s match values (a snapshot: later inserts into `grid` are not seen).
+  // depth >= 1.
+  BranchAndBoundMatcher(const HitField& grid, int depth = 7);
 
   // The best pose in the window around `guess` (linear_m, angular_rad; steps 0 = the grid's resolution and the
   // scan's angular step) whose score (mean match value, as ScanMatch) reaches min_score, or nullopt.
@@ -28,7 +30,7 @@ class BranchAndBoundMatcher {
   // The same over the whole grid and every heading.
   std::optional<ScanMatch> MatchEverywhere(std::span<const Eigen::Vector2f> points, double min_score) const;
 
-  const ProbabilityGrid& grid() const { return grid_; }
+  double resolution_m() const { return resolution_m_; }
 
  private:
   struct Level {
@@ -48,8 +50,16 @@ class BranchAndBoundMatcher {
   std::optional<ScanMatch> Search(std::span<const Eigen::Vector2f> points, const Pose2& centre, int linear_cells_x,
                                   int linear_cells_y, double angular_rad, double min_score) const;
 
-  ProbabilityGrid grid_;
-  std::vector<Level> levels_;
+  CellIndex CellOf(const Eigen::Vector2d& point) const {
+    const Eigen::Vector2d c = (point - min_corner_) / resolution_m_;
+    return {static_cast<int>(std::floor(c.x())), static_cast<int>(std::floor(c.y()))};
+  }
+
+  double resolution_m_;
+  Eigen::Vector2d min_corner_;
+  int width_;
+  int height_;
+  std::vector<Level> levels_;  // levels_[0]: the grid's match values
 };
 
 }  // namespace corridor::nav

@@ -37,7 +37,7 @@ Pose2 GraphSlam::AddScan(const RangeScan& scan, const Pose2& odom_pose) {
   const Pose2 global = LocalToGlobal(local);
   if (moved) {
     if (active_.empty() || (active_.size() == 1 && submaps_[active_.back()]->inserted >= options_.scans_per_submap / 2)) {
-      auto submap = std::make_unique<Submap>(Submap{ProbabilityGrid(options_.grid), local, 0, 0, nullptr});
+      auto submap = std::make_unique<Submap>(Submap{HitField(options_.grid), local, 0, 0, nullptr});
       submap->node = graph_.AddNode(global);
       active_.push_back(static_cast<int>(submaps_.size()));
       submaps_.push_back(std::move(submap));

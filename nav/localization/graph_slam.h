@@ -17,7 +17,7 @@
 
 #include "nav/localization/branch_and_bound.h"
 #include "nav/localization/pose_graph.h"
-#include "nav/localization/probability_grid.h"
+#include "nav/localization/hit_field.h"
 #include "nav/localization/range_scan.h"
 #include "nav/localization/scan_matcher.h"
 #include "nav/map/log_odds_grid.h"
@@ -25,7 +25,7 @@
 namespace corridor::nav {
 
 struct GraphSlamOptions {
-  ProbabilityGridOptions grid;
+  HitFieldOptions grid;
   double match_voxel_m = 0.05;        // scan points are thinned to one per square this size before matching
   int scans_per_submap = 40;          // inserted scans that finish a submap
   double insert_distance_m = 0.1;     // a scan is inserted once the robot moved this far or turned
@@ -92,7 +92,7 @@ class GraphSlam {
 
  private:
   struct Submap {
-    ProbabilityGrid grid;
+    HitField grid;
     Pose2 local_origin;  // local SLAM frame
     int node = 0;        // pose graph node
     int inserted = 0;

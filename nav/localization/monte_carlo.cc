@@ -78,7 +78,7 @@ MonteCarloLocalization::MonteCarloLocalization(const OccupancyGrid& map, const M
     : map_(map),
       options_(options),
       random_(seed),
-      match_grid_(ProbabilityGrid::FromOccupancyGrid(map)) {
+      match_grid_(HitField::FromOccupancyGrid(map)) {
   if (map.width() == 0 || map.height() == 0) throw std::invalid_argument("localization: the map is empty");
   if (options.min_particles < 1 || options.max_particles < options.min_particles) {
     throw std::invalid_argument("localization: need 1 <= min_particles <= max_particles");
@@ -142,17 +142,17 @@ bool MonteCarloLocalization::Relocalize(const RangeScan& scan) {
   // positions and headings), then the map's own cells around what it found.
   if (!global_matcher_) {
     const int factor = std::max(1, static_cast<int>(std::lround(options_.relocalize_resolution_m / map_.resolution_m())));
-    ProbabilityGridOptions coarse;
-    coarse.match_sigma_m = map_.resolution_m() * factor;
+    HitFieldOptions coarse;
+    coarse.sigma_m = map_.resolution_m() * factor;
     global_matcher_ = std::make_unique<BranchAndBoundMatcher>(
-        ProbabilityGrid::FromOccupancyGrid(factor > 1 ? Coarser(map_, factor) : map_, coarse), 7);
+        HitField::FromOccupancyGrid(factor > 1 ? Coarser(map_, factor) : map_, coarse), 7);
   }
   const std::optional<ScanMatch> found = global_matcher_->MatchEverywhere(points, options_.relocalize_min_score);
   if (!found) {
     estimate_.health = LocalizationHealth::kLost;
     return false;
   }
-  const double coarse_m = global_matcher_->grid().resolution_m();
+  const double coarse_m = global_matcher_->resolution_m();
   const ScanMatch fine = CorrelativeMatch(match_grid_, thinned, found->pose, SearchWindow{coarse_m, 2.0 * coarse_m / 4.0});
   const Pose2 refined = RefineMatch(match_grid_, thinned, fine.pose, fine.pose);
   SetPose(refined, options_.relocalize_sigma_m, options_.relocalize_sigma_rad);

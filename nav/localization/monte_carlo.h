@@ -21,7 +21,7 @@
 #include <Eigen/Core>
 
 #include "nav/localization/branch_and_bound.h"
-#include "nav/localization/probability_grid.h"
+#include "nav/localization/hit_field.h"
 #include "nav/localization/range_scan.h"
 #include "nav/map/occupancy_grid.h"
 
@@ -120,7 +120,7 @@ class MonteCarloLocalization {
   std::vector<float> distance_m_;   // per map cell: to the nearest wall (+inf beyond the march limit)
   std::vector<float> likelihood_;   // per map cell: the beam end density's log, floor included
   float unknown_likelihood_ = 0.0f; // outside the map or in unknown cells
-  ProbabilityGrid match_grid_;
+  HitField match_grid_;
   std::unique_ptr<BranchAndBoundMatcher> global_matcher_;  // built on the first relocalization
   std::vector<Particle> particles_;
   std::optional<Pose2> last_odom_;      // at the last call

@@ -11,7 +11,7 @@ namespace corridor::nav {
 namespace {
 
 // The angle step that moves the farthest point by about one cell (Olson 2009, eq. 6 in Hess et al.).
-double AngularStep(const ProbabilityGrid& grid, std::span<const Eigen::Vector2f> points) {
+double AngularStep(const HitField& grid, std::span<const Eigen::Vector2f> points) {
   double far = 0.0;
   for (const Eigen::Vector2f& p : points) far = std::max(far, static_cast<double>(p.norm()));
   const double r = grid.resolution_m();
@@ -25,7 +25,7 @@ using Interpolator = ceres::BiCubicInterpolator<Grid>;
 // One residual per point: 1 - the grid's match value at the point moved by the pose (x, y, yaw).
 class OccupiedSpaceCost {
  public:
-  OccupiedSpaceCost(const ProbabilityGrid& grid, std::span<const Eigen::Vector2f> points, double weight)
+  OccupiedSpaceCost(const HitField& grid, std::span<const Eigen::Vector2f> points, double weight)
       : grid_(grid.match_values().data(), 0, grid.height(), 0, grid.width()),
         interpolator_(grid_),
         points_(points),
@@ -75,7 +75,7 @@ struct PriorCost {
 
 }  // namespace
 
-double ScoreAt(const ProbabilityGrid& grid, std::span<const Eigen::Vector2f> points, const Pose2& pose) {
+double ScoreAt(const HitField& grid, std::span<const Eigen::Vector2f> points, const Pose2& pose) {
   if (points.empty()) return 0.0;
   double sum = 0.0;
   for (const Eigen::Vector2f& p : points) {
@@ -85,7 +85,7 @@ double ScoreAt(const ProbabilityGrid& grid, std::span<const Eigen::Vector2f> poi
   return sum / static_cast<double>(points.size());
 }
 
-ScanMatch CorrelativeMatch(const ProbabilityGrid& grid, std::span<const Eigen::Vector2f> points, const Pose2& guess,
+ScanMatch CorrelativeMatch(const HitField& grid, std::span<const Eigen::Vector2f> points, const Pose2& guess,
                            const SearchWindow& window) {
   ScanMatch best{guess, ScoreAt(grid, points, guess)};
   if (points.empty() || grid.empty()) return best;
@@ -127,7 +127,7 @@ ScanMatch CorrelativeMatch(const ProbabilityGrid& grid, std::span<const Eigen::V
   return best;
 }
 
-Pose2 RefineMatch(const ProbabilityGrid& grid, std::span<const Eigen::Vector2f> points, const Pose2& start,
+Pose2 RefineMatch(const HitField& grid, std::span<const Eigen::Vector2f> points, const Pose2& start,
                   const Pose2& prior, const RefineOptions& options) {
   if (points.empty() || grid.empty()) return start;
   double pose[3] = {start.x_m, start.y_m, start.yaw_rad};

@@ -1,5 +1,5 @@
 // Scan matching: the pose at which a scan's points fall on the walls a grid holds (its match values: the likelihood
-// field of the hits, see probability_grid.h).
+// field of the hits, see hit_field.h).
 //
 // Two steps, as in Cartographer's local SLAM (Hess et al., ICRA 2016, section V): a correlative search over a small
 // window around a guess (Olson, "Real-time correlative scan matching", ICRA 2009, section III: every candidate pose
@@ -13,7 +13,7 @@
 #include <Eigen/Core>
 
 #include "nav/geometry/pose2.h"
-#include "nav/localization/probability_grid.h"
+#include "nav/localization/hit_field.h"
 
 namespace corridor::nav {
 
@@ -35,11 +35,11 @@ struct ScanMatch {
 
 // The best pose in the window around `guess` for `points` (base frame); the guess itself when nothing scores higher.
 // Every pose is scored: use for small windows (BranchAndBoundMatcher for large ones).
-ScanMatch CorrelativeMatch(const ProbabilityGrid& grid, std::span<const Eigen::Vector2f> points, const Pose2& guess,
+ScanMatch CorrelativeMatch(const HitField& grid, std::span<const Eigen::Vector2f> points, const Pose2& guess,
                            const SearchWindow& window);
 
 // The mean match value at the points with the robot at `pose`.
-double ScoreAt(const ProbabilityGrid& grid, std::span<const Eigen::Vector2f> points, const Pose2& pose);
+double ScoreAt(const HitField& grid, std::span<const Eigen::Vector2f> points, const Pose2& pose);
 
 struct RefineOptions {
   // Residual weights (Cartographer's defaults): each point's (1 - match value), scaled by 1 / sqrt(points); the
@@ -52,7 +52,7 @@ struct RefineOptions {
 
 // Refines `start` by least squares on the grid's bicubic interpolation, with the prior's position and heading as
 // soft constraints. Returns `start` when the grid is empty or there are no points.
-Pose2 RefineMatch(const ProbabilityGrid& grid, std::span<const Eigen::Vector2f> points, const Pose2& start,
+Pose2 RefineMatch(const HitField& grid, std::span<const Eigen::Vector2f> points, const Pose2& start,
                   const Pose2& prior, const RefineOptions& options = {});
 
 }  // namespace corridor::nav

@@ -16,8 +16,8 @@ using testworld::Room;
 using testworld::ScanAt;
 
 // A scan of the test room seen from `pose`, inserted into a fresh grid at `pose`.
-ProbabilityGrid GridOfRoom(const std::vector<Pose2>& poses) {
-  ProbabilityGrid grid;
+HitField GridOfRoom(const std::vector<Pose2>& poses) {
+  HitField grid;
   for (const Pose2& pose : poses) grid.Insert(ScanAt(Room(), pose), pose);
   return grid;
 }
@@ -26,7 +26,7 @@ double PositionError(const Pose2& a, const Pose2& b) { return (a.translation() -
 
 TEST(ScanMatcherTest, FindsTheScansPoseFromGuessesAroundIt) {
   const Pose2 truth{1.0, 0.5, 0.3};
-  const ProbabilityGrid grid = GridOfRoom({truth, {2.0, 1.0, -1.0}, {0.0, 0.0, 2.0}});
+  const HitField grid = GridOfRoom({truth, {2.0, 1.0, -1.0}, {0.0, 0.0, 2.0}});
   std::mt19937 random(7);
   std::uniform_real_distribution<double> offset(-0.12, 0.12);
   std::uniform_real_distribution<double> turn(-0.1, 0.1);
@@ -42,7 +42,7 @@ TEST(ScanMatcherTest, FindsTheScansPoseFromGuessesAroundIt) {
 }
 
 TEST(ScanMatcherTest, BranchAndBoundFindsTheScanAnywhereInTheMap) {
-  const ProbabilityGrid grid = GridOfRoom({{1.0, 0.5, 0.3}, {3.0, 2.0, -1.0}, {-2.0, -1.0, 2.0}, {0.0, 2.0, 0.0}});
+  const HitField grid = GridOfRoom({{1.0, 0.5, 0.3}, {3.0, 2.0, -1.0}, {-2.0, -1.0, 2.0}, {0.0, 2.0, 0.0}});
   const BranchAndBoundMatcher matcher(grid);
   std::mt19937 random(11);
   std::uniform_real_distribution<double> x(-2.5, 3.0);

@@ -46,9 +46,9 @@ void LocalizationNode::SetMap(std::string name, std::shared_ptr<const nav::Occup
       map_name_ = std::move(name);
       double sigma_m = options_.initial_sigma_m;
       double sigma_rad = Radians(options_.initial_sigma_deg);
+      const nav::Pose2 odom = LatestOdometry();
       if (restored_ && restored_->place == map_name_) {
-        const std::optional<nav::Pose2> odom_now = OdometryAt(odometry_.empty() ? 0 : odometry_.back().stamp_ns);
-        map_T_odom_ = restored_->pose * odom_now.value_or(nav::Pose2{}).Inverse();
+        map_T_odom_ = restored_->pose * odom.Inverse();
         sigma_m = std::max(sigma_m, restored_->sigma_m);
         sigma_rad = std::max(sigma_rad, restored_->sigma_rad);
         spdlog::info("localization: starting where the robot was in map '{}': ({:.2f}, {:.2f})", map_name_,
@@ -57,10 +57,8 @@ void LocalizationNode::SetMap(std::string name, std::shared_ptr<const nav::Occup
       restored_.reset();
       if (options_.source != LocalizationOptions::Source::kMonteCarlo || !base_T_laser_ || !map_) return;
       // Where the robot is now, by the last estimate: the filter restarts there in the new map.
-      const std::optional<nav::Pose2> odom = OdometryAt(odometry_.empty() ? 0 : odometry_.back().stamp_ns);
-      const nav::Pose2 pose = map_T_odom_ * odom.value_or(nav::Pose2{});
       filter_ = std::make_unique<nav::MonteCarloLocalization>(*map_, options_.mcl, options_.seed);
-      ResetFilter(pose, sigma_m, sigma_rad);
+      ResetFilter(map_T_odom_ * odom, sigma_m, sigma_rad);
     });
   });
 }
@@ -118,6 +116,10 @@ std::optional<nav::Pose2> LocalizationNode::OdometryAt(drivers::TimeNs stamp_ns)
   return before->odom_T_base * nav::Pose2{f * step.x_m, f * step.y_m, f * step.yaw_rad};
 }
 
+nav::Pose2 LocalizationNode::LatestOdometry() const {
+  return odometry_.empty() ? nav::Pose2{} : odometry_.back().odom_T_base;
+}
+
 void LocalizationNode::OnScan(const drivers::LaserScan& scan) {
   if (!filter_) {
     SetHealth(Health::kDegraded, "no map to localize in");
@@ -169,8 +171,7 @@ void LocalizationNode::OnCommand(const LocalizationCommand& command) {
     return;
   }
   ResetFilter(command.pose, command.sigma_m, command.sigma_rad);
-  const std::optional<nav::Pose2> odom = OdometryAt(odometry_.empty() ? 0 : odometry_.back().stamp_ns);
-  map_T_odom_ = command.pose * odom.value_or(nav::Pose2{}).Inverse();
+  map_T_odom_ = command.pose * LatestOdometry().Inverse();
   Publish(clock().Now());
 }
 

@@ -41,6 +41,8 @@ class LocalizationNode final : public Node {
   void OnCommand(const LocalizationCommand& command);
   // The odometry at `stamp_ns`, interpolated between the readings around it; nullopt before any.
   std::optional<nav::Pose2> OdometryAt(drivers::TimeNs stamp_ns) const;
+  // The last odometry reading; the identity before any.
+  nav::Pose2 LatestOdometry() const;
   void Publish(drivers::TimeNs stamp_ns);
   void ResetFilter(const nav::Pose2& pose, double sigma_m, double sigma_rad);
   void Save(const nav::Pose2& pose, double sigma_m, double sigma_rad);
