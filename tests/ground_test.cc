@@ -118,8 +118,15 @@ TEST(DepthScanTest, EachColumnGivesItsNearestObstacleOnTheFloorPlaneAndWhatTheSi
   const auto& kept = whole.Process(depth);
   EXPECT_EQ(static_cast<int>(kept.size()), person);
   for (const Eigen::Vector2d& p : kept) EXPECT_LT(p.x(), 2.0) << p.transpose();
-  // Holes give nothing; a frame of the wrong size is refused.
+  // Every column gives a point or a miss (free out to the range, on the column's bearing).
+  EXPECT_EQ(points.size() + scan.misses().size(), static_cast<std::size_t>(o.width));
+  // Holes give nothing but misses, one per column, spread across the view at the range.
   EXPECT_TRUE(scan.Process(cv::Mat::zeros(o.height, o.width, CV_16UC1)).empty());
+  ASSERT_EQ(scan.misses().size(), static_cast<std::size_t>(o.width));
+  const Eigen::Vector2d camera = drivers::sim::MakeCameraInfo(o).camera.base_T_camera.translation().head<2>();
+  for (const Eigen::Vector2d& m : scan.misses()) EXPECT_NEAR((m - camera).norm(), keep_all.max_range_m, 1e-6);
+  EXPECT_GT(scan.misses().front().y(), 1.0) << "the first column looks left";
+  EXPECT_LT(scan.misses().back().y(), -1.0);
   EXPECT_THROW(scan.Process(cv::Mat::zeros(10, 10, CV_16UC1)), std::invalid_argument);
 }
 

@@ -1,6 +1,7 @@
 // Localization in the daemon: Monte Carlo localization from the simulated laser in the default world (Willow
 // Garage), checked against the simulator's ground truth: it follows a mission within centimetres, a kidnapped robot
-// is noticed, its mission paused, and it is found again by a search of the map; an initial pose can be set.
+// is noticed, its mission paused, and it is found again by a search of the map; an initial pose can be set. Without
+// a laser, from the depth camera alone: it follows a mission, and a kidnapped robot turns on the spot to find itself.
 import assert from 'node:assert/strict';
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -16,6 +17,15 @@ const wrap = (a) => Math.atan2(Math.sin(a), Math.cos(a));
 // How far the daemon's pose is from the simulator's truth: metres and degrees.
 const errorOf = (s) => [Math.hypot(s.pose.x - s.sim_true_pose.x, s.pose.y - s.sim_true_pose.y),
   Math.abs(wrap(s.pose.yaw - s.sim_true_pose.yaw)) * 180 / Math.PI];
+// Carries the simulated robot to `pose` and waits until the state shows it there (the simulator publishes its truth
+// on its next step): before that, the old truth and the old estimate agree.
+async function kidnap(url, pose) {
+  const moved = await sendJson('PUT', `${url}/api/v1/sim/pose`, pose);
+  assert.equal(moved.status, 200, JSON.stringify(moved.body));
+  await waitFor(() => state(url), (s) => Math.hypot(s.sim_true_pose.x - pose.x, s.sim_true_pose.y - pose.y) < 0.01,
+    2000, 'the simulator reports the robot where it was carried');
+  return moved.body;
+}
 
 describe('localization from the laser in the default world', () => {
   let daemon;
@@ -46,9 +56,7 @@ describe('localization from the laser in the default world', () => {
   });
 
   test('a kidnapped robot is noticed, its mission paused, and found again by a search of the map', async (t) => {
-    const moved = await sendJson('PUT', `${daemon.url}/api/v1/sim/pose`, { x: 25.0, y: 27.2, yaw: 0.5 });
-    assert.equal(moved.status, 200, JSON.stringify(moved.body));
-    api.check('SimPoseAccepted', moved.body);
+    api.check('SimPoseAccepted', await kidnap(daemon.url, { x: 25.0, y: 27.2, yaw: 0.5 }));
     // It believes it is still at the last goal; the mission's goal is 2 m from there.
     const res = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 24.4, y: 26.5 }] });
     assert.equal(res.status, 201, JSON.stringify(res.body));
@@ -108,7 +116,7 @@ describe('the pose across a restart', () => {
     try {
       await waitFor(() => localization(daemon.url), (l) => l.health === 'ok', 10000, 'localization ok');
       // Carried off the start (a restart must not put it back there), then left standing.
-      assert.equal((await sendJson('PUT', `${daemon.url}/api/v1/sim/pose`, { x: 25.0, y: 27.2, yaw: 0.5 })).status, 200);
+      await kidnap(daemon.url, { x: 25.0, y: 27.2, yaw: 0.5 });
       await waitFor(async () => ({ l: await localization(daemon.url), s: await state(daemon.url) }),
         ({ l, s }) => l.health === 'ok' && errorOf(s)[0] < 0.05, 15000, 'relocalized');
       await sleep(500);
@@ -162,5 +170,58 @@ localization: {source: odometry}
     assert.equal(r.status, 409);
     assert.equal(r.body.code, 'not_localizing');
     assert.equal((await postJson(`${daemon.url}/api/v1/localization/relocalize`, {})).status, 409);
+  });
+});
+
+describe('localization from the depth camera alone', () => {
+  let daemon;
+  before(async () => {
+    daemon = await startDaemon({ config: `
+sim:
+  world: "${new URL('../config/worlds/willow_garage/willow-full-0.05.yaml', import.meta.url).pathname}"
+  start: {x_m: 24.38, y_m: 24.07, yaw_deg: 90}
+  laser: {enabled: false}
+localization: {source: mcl}
+` });
+  });
+  after(async () => { await daemon?.stop(); });
+
+  test('it follows a mission from the camera\'s depth scans within centimetres of the truth', async (t) => {
+    const first = await waitFor(() => localization(daemon.url), (l) => l.health === 'ok', 10000, 'localization ok');
+    api.check('Localization', first);
+    assert.equal(first.sensor, 'depth');
+    const res = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 24.4, y: 26.5 }, { x: 25.0, y: 27.2 }] });
+    assert.equal(res.status, 201, JSON.stringify(res.body));
+    let worst = [0, 0];
+    let s;
+    const deadline = Date.now() + 90000;
+    do {
+      s = await state(daemon.url);
+      const [m, deg] = errorOf(s);
+      worst = [Math.max(worst[0], m), Math.max(worst[1], deg)];
+      assert.ok(Date.now() < deadline, `mission still ${s.mission?.status}`);
+      await sleep(100);
+    } while (s.mission?.status === 'active');
+    t.diagnostic(`worst error during the mission: ${(100 * worst[0]).toFixed(1)} cm, ${worst[1].toFixed(2)} deg`);
+    assert.equal(s.mission.status, 'succeeded', JSON.stringify(s.mission));
+    assert.ok(worst[0] < 0.1 && worst[1] < 4, `worst ${worst}`);
+  });
+
+  test('a kidnapped robot turns on the spot until it has seen enough, and is found again', async (t) => {
+    await kidnap(daemon.url, { x: 24.4, y: 24.2, yaw: 2.5 });
+    const t0 = Date.now();
+    let worried = false;
+    let turned = false;
+    const found = await waitFor(async () => ({ l: await localization(daemon.url), s: await state(daemon.url) }),
+      ({ l, s }) => {
+        worried ||= s.face === 'worried';
+        turned ||= l.look_around_rps > 0;
+        return l.health !== 'lost' && errorOf(s)[0] < 0.2 && errorOf(s)[1] < 5;
+      }, 15000, 'relocalized');
+    t.diagnostic(`found again ${Date.now() - t0} ms after the kidnapping, ${(100 * errorOf(found.s)[0]).toFixed(1)} cm off`);
+    assert.ok(worried, 'the face was never worried while the robot was lost');
+    assert.ok(turned, 'the robot never turned to look around');
+    assert.equal(found.l.look_around_rps, 0);
+    assert.match(daemon.log(), /found the robot at .* by a search of the whole map/);
   });
 });

@@ -28,6 +28,10 @@ struct DepthScanOptions {
   // motion: the run of neighbouring columns (points within segment_gap_m of each other) that touches either side
   // is dropped (0: kept). MORP still sees it; the tracker picks it up once it is wholly in view.
   double segment_gap_m = 0.15;
+  // 0: a column's point is its nearest (what avoidance wants: nothing nearer is missed). Above 0: the mean of the
+  // column's points within this of its nearest, which is what localization wants: the nearest of a column's noisy
+  // pixels lies short of the wall by about two standard deviations of the depth noise (3-4 cm at 3 m).
+  double average_within_m = 0.0;
 };
 
 // The scan the local navigator's obstacle memory takes (nav/safety/obstacle_memory.h): the image's sides kept (what
@@ -47,6 +51,10 @@ class DepthScan {
   // touching the image's sides. `depth` is CV_16UC1 in millimetres of the camera's size (else
   // std::invalid_argument); 0 is a hole.
   const std::vector<Eigen::Vector2d>& Process(const cv::Mat& depth);
+  // After Process: for each column with no point, where its ray meets max_range_m on the floor (base frame): nothing
+  // stands there between the heights out to that range, as far as the camera saw (a column of holes counts too, as a
+  // laser's beam without a return does). Localization and mapping read them as free space.
+  const std::vector<Eigen::Vector2d>& misses() const { return misses_; }
 
   // The floor the scans cover (the image's width on the floor, out to max_range_m) with the robot at world_T_base.
   SensorView View(const Pose2& world_T_base) const {
@@ -58,8 +66,11 @@ class DepthScan {
   DepthScanOptions options_;
   std::vector<Eigen::Vector3f> rays_;  // per read pixel (row-major over the rows read), base frame, z-depth 1
   std::vector<float> nearest_;         // per column: squared horizontal range of its nearest point so far
-  std::vector<Eigen::Vector2f> at_;    // per column: that point
+  std::vector<Eigen::Vector2f> at_;    // per column: that point (or the mean, average_within_m)
+  std::vector<int> count_;             // per column: the points averaged
   std::vector<Eigen::Vector2d> points_;
+  std::vector<Eigen::Vector2d> misses_;
+  std::vector<Eigen::Vector2d> column_end_;  // per column: its ray on the floor at max_range_m, base frame
   Pose2 base_T_view_;            // the camera on the floor, x along its optical axis
   double half_angle_rad_ = 0.0;  // to the nearer side of the image, on the floor
 };

@@ -7,7 +7,8 @@
 
 namespace corridor::nav {
 
-GraphSlam::GraphSlam(const GraphSlamOptions& options) : options_(options), graph_(options.graph) {}
+GraphSlam::GraphSlam(const GraphSlamOptions& options, const Pose2& start)
+    : options_(options), graph_(options.graph), last_local_(start) {}
 
 Pose2 GraphSlam::AddScan(const RangeScan& scan, const Pose2& odom_pose) {
   Scan added;

@@ -76,10 +76,12 @@ struct GraphSlamStats {
 
 class GraphSlam {
  public:
-  explicit GraphSlam(const GraphSlamOptions& options = {});
+  // `start`: the first scan's pose in the map frame (the origin by default; where the robot is in an older map of the
+  // same building, for a new map that lines up with the old one's zones and places).
+  explicit GraphSlam(const GraphSlamOptions& options = {}, const Pose2& start = {});
 
   // Adds a scan taken with the robot at `odom_pose` in the odometry's frame (any frame in which the odometry is
-  // continuous). Returns the scan's pose in the map frame (the first scan's pose is the origin).
+  // continuous). Returns the scan's pose in the map frame.
   Pose2 AddScan(const RangeScan& scan, const Pose2& odom_pose);
   // Optimizes once more with every loop closure found: call after the last scan.
   void Finish();

@@ -132,6 +132,7 @@ void MonteCarloLocalization::SetPose(const Pose2& pose, double sigma_m, double s
   last_update_odom_ = last_odom_;
   force_update_ = true;
   bad_updates_ = 0;
+  good_updates_ = 0;
 }
 
 bool MonteCarloLocalization::Relocalize(const RangeScan& scan) {
@@ -252,7 +253,7 @@ void MonteCarloLocalization::Estimate(std::span<const Eigen::Vector2f> hits) {
     covariance += p.weight * d * d.transpose();
   }
   Pose2 pose{mean.x(), mean.y(), yaw};
-  if (options_.refine) {
+  if (options_.refine && static_cast<int>(hits.size()) >= options_.min_judged_hits) {
     const std::vector<Eigen::Vector2f> points = VoxelFilter(hits, options_.refine_voxel_m);
     const ScanMatch coarse = CorrelativeMatch(match_grid_, points, pose, SearchWindow{0.1, 0.05});
     pose = RefineMatch(match_grid_, points, coarse.pose, pose);
@@ -264,11 +265,20 @@ void MonteCarloLocalization::Estimate(std::span<const Eigen::Vector2f> hits) {
 }
 
 void MonteCarloLocalization::UpdateHealth(std::span<const Eigen::Vector2f> hits) {
+  if (static_cast<int>(hits.size()) < options_.min_judged_hits) {
+    // Too little seen to tell: not ok (nothing confirms the pose), not lost either.
+    if (estimate_.health == LocalizationHealth::kOk) estimate_.health = LocalizationHealth::kUncertain;
+    return;
+  }
   estimate_.agreement = Agreement(hits, estimate_.pose);
   const Eigen::Matrix3d& covariance = estimate_.covariance;
   const double spread = std::sqrt(covariance(0, 0) + covariance(1, 1));
   bad_updates_ = estimate_.agreement < options_.lost_agreement ? bad_updates_ + 1 : 0;
-  if (bad_updates_ >= options_.lost_after) {
+  // Lost holds until a pose is given or found, or the scans agree well again for as long as it took to get lost: a
+  // narrow view agrees by chance with some wall now and then, which is not being found.
+  good_updates_ = estimate_.agreement >= options_.ok_agreement ? good_updates_ + 1 : 0;
+  const bool stays_lost = estimate_.health == LocalizationHealth::kLost && good_updates_ < options_.lost_after;
+  if (bad_updates_ >= options_.lost_after || stays_lost) {
     estimate_.health = LocalizationHealth::kLost;
   } else if (estimate_.agreement >= options_.ok_agreement && spread <= options_.ok_spread_m) {
     estimate_.health = LocalizationHealth::kOk;

@@ -61,8 +61,10 @@ struct MonteCarloOptions {
   double agree_distance_m = 0.15;    // a hit within this of a wall at the estimate agrees with the map
   double ok_agreement = 0.5;         // at least this fraction agrees, and the spread is below ok_spread
   double ok_spread_m = 0.2;
-  double lost_agreement = 0.2;       // below this for lost_after scans in a row: lost
+  double lost_agreement = 0.2;       // below this for lost_after scans in a row: lost (until ok_agreement for as many)
   int lost_after = 5;
+  int min_judged_hits = 10;          // a scan with fewer hits (a camera facing open floor) neither refines the pose
+                                     // nor counts towards lost or found: it says too little (ok becomes uncertain)
   // Global relocalization: the minimum mean probability of a match, and the particles seeded around it.
   double relocalize_min_score = 0.5;
   int relocalize_points = 80;  // the scan's hits searched with, at most
@@ -128,7 +130,8 @@ class MonteCarloLocalization {
   Pose2 update_pose_;                      // the estimate at the last filter update
   LocalizationEstimate estimate_;
   bool force_update_ = true;               // weigh by the next scan whatever the motion (after SetPose)
-  int bad_updates_ = 0;
+  int bad_updates_ = 0;   // scans in a row that the map explains too little
+  int good_updates_ = 0;  // and well
 };
 
 }  // namespace corridor::nav

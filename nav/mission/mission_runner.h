@@ -136,6 +136,9 @@ class MissionRunner {
                         std::uint64_t version);
 
   bool has_mission() const { return mission_.has_value(); }
+  // No mission under way, or the current one paused because localization is lost: the robot may turn on the spot to
+  // find itself (a mission a person paused keeps the robot still).
+  bool MayLookAround() const { return !mission_ || mission_->finished() || paused_unlocalized_; }
   const std::string& id() const;  // "" without a mission
   MissionSnapshot Snapshot() const;  // requires has_mission()
   const LocalPolicy& policy() const { return *policy_; }

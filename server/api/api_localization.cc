@@ -1,5 +1,6 @@
 // Routes for localization: GET /api/v1/localization, PUT /api/v1/localization/pose, POST
-// /api/v1/localization/relocalize, and, with the simulator, PUT /api/v1/sim/pose (a kidnapped robot).
+// /api/v1/localization/relocalize, and, with the simulator, PUT /api/v1/sim/pose (a kidnapped robot); for mapping a
+// new building: POST /api/v1/mapping/start and /stop, GET /api/v1/mapping and /api/v1/mapping/image.
 #include <numbers>
 
 #include "server/api/api.h"
@@ -17,6 +18,21 @@ const char* SourceName(LocalizationOptions::Source source) {
     case LocalizationOptions::Source::kMonteCarlo: return "mcl";
   }
   return "unknown";
+}
+
+json MappingJson(const MappingState& m) {
+  json body{{"active", m.active},      {"name", m.name},         {"scans", m.scans},
+            {"submaps", m.submaps},    {"loop_closures", m.loop_closures}, {"saved", m.saved},
+            {"error", m.error},        {"map", nullptr}};
+  if (m.grid) {
+    body["map"] = {{"revision", m.revision},
+                   {"resolution_m", m.grid->resolution_m()},
+                   {"width", m.grid->width()},
+                   {"height", m.grid->height()},
+                   {"origin", ToJson(m.grid->origin())},
+                   {"image_url", "/api/v1/mapping/image?revision=" + std::to_string(m.revision)}};
+  }
+  return body;
 }
 
 }  // namespace
@@ -80,6 +96,55 @@ void Api::AddLocalizationRoutes() {
         const nav::Pose2 pose = ParsePoseOnMap(body, "");
         c_.sim->Teleport(pose);
         return JsonResponse(r, {{"pose", ToJson(pose)}});
+      }));
+  AddMappingRoutes();
+}
+
+void Api::AddMappingRoutes() {
+  const auto mapping = [this] { return c_.bus.Get(topics::kMapping).latest(); };
+  Add(http::verb::get, "/api/v1/mapping", Sync([mapping](const Request& r, const Params&) {
+        const auto state = mapping();
+        return JsonResponse(r, MappingJson(state ? *state : MappingState{}));
+      }));
+  Add(http::verb::get, "/api/v1/mapping/image", Sync([mapping](const Request& r, const Params&) {
+        const auto state = mapping();
+        if (!state || !state->grid) {
+          throw ApiError(http::status::not_found, "No map being built", "start mapping, then drive a little", "no_map");
+        }
+        return MakeResponse(r, http::status::ok, "image/png", EncodePng(*state->grid));
+      }));
+  Add(http::verb::post, "/api/v1/mapping/start", Sync([this, mapping](const Request& r, const Params&) {
+        RequireLocalizing();
+        const json body = ParseJsonBody(r);
+        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
+        AllowOnlyKeys(body, {"name"}, "");
+        if (!body.contains("name") || !body["name"].is_string() || !ValidMapName(body["name"].get<std::string>())) {
+          throw ApiError(http::status::bad_request, "Invalid request",
+                         "name: a map name of letters, digits, '-', '_' and '.' (at most 64, not starting with '.')");
+        }
+        LocalizationCommand command;
+        command.kind = LocalizationCommand::Kind::kStartMapping;
+        command.name = body["name"].get<std::string>();
+        if (c_.maps.Contains(command.name)) {
+          throw ApiError(http::status::conflict, "Map exists", "a map named '" + command.name + "' exists",
+                         "map_exists");
+        }
+        if (const auto state = mapping(); state && state->active) {
+          throw ApiError(http::status::conflict, "Already mapping", "mapping '" + state->name + "' is under way",
+                         "already_mapping");
+        }
+        c_.bus.Get(topics::kLocalizationCommand).Publish(command);
+        return JsonResponse(r, {{"mapping", command.name}}, http::status::accepted);
+      }));
+  Add(http::verb::post, "/api/v1/mapping/stop", Sync([this, mapping](const Request& r, const Params&) {
+        const auto state = mapping();
+        if (!state || !state->active) {
+          throw ApiError(http::status::conflict, "Not mapping", "no mapping is under way", "not_mapping");
+        }
+        LocalizationCommand command;
+        command.kind = LocalizationCommand::Kind::kStopMapping;
+        c_.bus.Get(topics::kLocalizationCommand).Publish(command);
+        return JsonResponse(r, {{"saving", state->name}}, http::status::accepted);
       }));
 }
 

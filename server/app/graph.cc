@@ -56,9 +56,14 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   if (devices_.laser != nullptr) base_T_laser = devices_.laser->base_T_laser();
   // The robot starts where it was last localized, when that was in the map it starts in (LocalizationNode::SetMap).
   const std::filesystem::path pose_file = config_.store.state_dir / "pose.json";
-  auto localization_node = std::make_unique<LocalizationNode>(executors_.mapping, bus_, config_.localization,
-                                                              config_.sim.robot.start, base_T_laser, pose_file,
-                                                              LoadSavedPose(pose_file));
+  // A map just built is saved, becomes the active map, and its zones (none yet) go to the planner.
+  const auto map_built = [this](const std::string& name, nav::OccupancyGrid grid) {
+    maps_->Add(name, std::move(grid));
+    planner_.SetZones(store_.Zones(name));
+  };
+  auto localization_node = std::make_unique<LocalizationNode>(
+      executors_.mapping, bus_, config_.localization, config_.sim.robot.start, base_T_laser,
+      devices_.camera.info().camera, pose_file, LoadSavedPose(pose_file), map_built);
   LocalizationNode* const localization = localization_node.get();
   const auto use_map = [this, tracking, localization](const std::shared_ptr<const ActiveMap>& active) {
     const std::shared_ptr<const nav::OccupancyGrid> grid(active, &active->grid);

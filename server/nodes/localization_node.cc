@@ -7,6 +7,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <stdexcept>
+
 #include "nav/localization/range_scan.h"
 #include "server/runtime/topics.h"
 
@@ -15,6 +17,8 @@ namespace {
 
 constexpr drivers::TimeNs kOdometryKeptNs = 1'000'000'000;
 constexpr std::size_t kParticlesShown = 200;
+constexpr drivers::TimeNs kRenderEveryNs = 3'000'000'000;  // the map being built, for the console
+constexpr double kMapResolutionM = 0.05;
 
 double Radians(double deg) { return deg * std::numbers::pi / 180.0; }
 
@@ -22,14 +26,22 @@ double Radians(double deg) { return deg * std::numbers::pi / 180.0; }
 
 LocalizationNode::LocalizationNode(Executor& executor, Bus& bus, const LocalizationOptions& options,
                                    nav::Pose2 initial_pose, std::optional<nav::Pose2> base_T_laser,
-                                   std::filesystem::path pose_file, std::optional<SavedPose> restored)
+                                   const nav::PinholeCamera& camera, std::filesystem::path pose_file,
+                                   std::optional<SavedPose> restored, MapBuilt on_map_built)
     : Node("localization", executor, bus),
       options_(options),
       base_T_laser_(base_T_laser),
       map_T_odom_(initial_pose),
       pose_file_(std::move(pose_file)),
       saved_(restored),
-      restored_(std::move(restored)) {}
+      restored_(std::move(restored)),
+      on_map_built_(std::move(on_map_built)) {
+  if (!base_T_laser_) {
+    depth_scan_.emplace(camera, options_.depth);  // throws for a camera without size: a configuration error
+    // The likelihood field's random-measurement floor spreads over what the sensor can see.
+    options_.mcl.max_range_m = options_.depth.max_range_m;
+  }
+}
 
 void LocalizationNode::Save(const nav::Pose2& pose, double sigma_m, double sigma_rad) {
   if (pose_file_.empty()) return;
@@ -55,7 +67,7 @@ void LocalizationNode::SetMap(std::string name, std::shared_ptr<const nav::Occup
                      restored_->pose.x_m, restored_->pose.y_m);
       }
       restored_.reset();
-      if (options_.source != LocalizationOptions::Source::kMonteCarlo || !base_T_laser_ || !map_) return;
+      if (options_.source != LocalizationOptions::Source::kMonteCarlo || !map_) return;
       // Where the robot is now, by the last estimate: the filter restarts there in the new map.
       filter_ = std::make_unique<nav::MonteCarloLocalization>(*map_, options_.mcl, options_.seed);
       ResetFilter(map_T_odom_ * odom, sigma_m, sigma_rad);
@@ -83,13 +95,13 @@ void LocalizationNode::Activate() {
     SetHealth(Health::kOk, "dead reckoning from wheel odometry");
     return;
   }
-  if (!base_T_laser_) {
-    SetHealth(Health::kDegraded, "localization.source is mcl but there is no laser: dead reckoning from wheel odometry");
-    return;
+  if (base_T_laser_) {
+    Subscribe(topics::kScan, "scan", [this](const auto& scan) { OnScan(*scan); });
+  } else {
+    Subscribe(topics::kRgbd, "frame", [this](const auto& frame) { OnFrame(*frame); });
   }
-  Subscribe(topics::kScan, "scan", [this](const auto& scan) { OnScan(*scan); });
   Subscribe(topics::kLocalizationCommand, "command", [this](const auto& command) { OnCommand(*command); });
-  SetHealth(Health::kDegraded, "waiting for the first scan");
+  SetHealth(Health::kDegraded, base_T_laser_ ? "waiting for the first scan" : "waiting for the first depth frame");
 }
 
 void LocalizationNode::OnOdometry(const drivers::WheelOdometry& odometry) {
@@ -121,25 +133,56 @@ nav::Pose2 LocalizationNode::LatestOdometry() const {
 }
 
 void LocalizationNode::OnScan(const drivers::LaserScan& scan) {
+  nav::RangeLimits limits;
+  limits.min_range_m = std::max(limits.min_range_m, scan.range_min_m);
+  limits.max_range_m = scan.range_max_m;
+  Localize(scan.stamp_ns,
+           nav::ScanFromRanges(*base_T_laser_, scan.angle_min_rad, scan.angle_increment_rad, scan.ranges, limits));
+}
+
+void LocalizationNode::OnFrame(const drivers::RgbdFrame& frame) {
+  nav::RangeScan range;
+  try {
+    for (const Eigen::Vector2d& p : depth_scan_->Process(frame.depth_mm)) range.hits.push_back(p.cast<float>());
+  } catch (const std::invalid_argument& e) {
+    SetHealth(Health::kDegraded, e.what());
+    return;
+  }
+  for (const Eigen::Vector2d& p : depth_scan_->misses()) range.misses.push_back(p.cast<float>());
+  range.origin = depth_scan_->View({}).world_T_sensor.translation().cast<float>();
+  Localize(frame.stamp_ns, range);
+}
+
+void LocalizationNode::Localize(drivers::TimeNs stamp_ns, const nav::RangeScan& range) {
   if (!filter_) {
     SetHealth(Health::kDegraded, "no map to localize in");
     return;
   }
-  const std::optional<nav::Pose2> odom = OdometryAt(scan.stamp_ns);
+  const std::optional<nav::Pose2> odom = OdometryAt(stamp_ns);
   if (!odom) return;  // no odometry yet: nothing to move the filter with
-  nav::RangeLimits limits;
-  limits.min_range_m = std::max(limits.min_range_m, scan.range_min_m);
-  limits.max_range_m = scan.range_max_m;
-  const nav::RangeScan range =
-      nav::ScanFromRanges(*base_T_laser_, scan.angle_min_rad, scan.angle_increment_rad, scan.ranges, limits);
+  if (slam_) {
+    Map(stamp_ns, *odom, range);
+    return;
+  }
   const bool lost = filter_->estimate().health == nav::LocalizationHealth::kLost;
-  const bool search_due = lost && scan.stamp_ns - last_search_ns_ >=
+  const bool search_due = lost && stamp_ns - last_search_ns_ >=
                                       static_cast<drivers::TimeNs>(options_.relocalize_every_s * 1e9);
-  if (relocalize_ || search_due) {
-    last_search_ns_ = scan.stamp_ns;
+  // The camera's narrow view searches once it has seen enough around the robot; until then the robot turns.
+  bool view_ready = true;
+  look_around_rps_ = 0.0;
+  if (depth_scan_) {
+    history_.Add(*odom, range);
+    if (lost || relocalize_) {
+      const nav::NarrowViewSearch plan = nav::PlanNarrowViewSearch(history_, *odom);
+      view_ready = plan.search;
+      look_around_rps_ = plan.turn_rps;
+    }
+  }
+  if ((relocalize_ || search_due) && view_ready) {
+    last_search_ns_ = stamp_ns;
     relocalize_ = false;
     const auto start = std::chrono::steady_clock::now();
-    const bool found = filter_->Relocalize(range);
+    const bool found = filter_->Relocalize(depth_scan_ ? history_.Merged(*odom) : range);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     if (found) {
       spdlog::info("localization: found the robot at ({:.2f}, {:.2f}) by a search of the whole map in {:.0f} ms",
@@ -149,8 +192,13 @@ void LocalizationNode::OnScan(const drivers::LaserScan& scan) {
     }
   }
   const nav::LocalizationEstimate& estimate = filter_->Update(*odom, range);
+  if (estimate.health == nav::LocalizationHealth::kLost && !lost) {
+    // Just lost: what the camera saw before may be where the robot was carried from.
+    history_.Clear();
+    if (depth_scan_) history_.Add(*odom, range);
+  }
   map_T_odom_ = estimate.pose * odom->Inverse();
-  Publish(scan.stamp_ns);
+  Publish(stamp_ns);
   if (estimate.health != nav::LocalizationHealth::kLost) {
     const Eigen::Matrix3d& c = estimate.covariance;
     Save(estimate.pose, std::sqrt(c(0, 0) + c(1, 1)), std::sqrt(c(2, 2)));
@@ -166,8 +214,18 @@ void LocalizationNode::OnScan(const drivers::LaserScan& scan) {
 
 void LocalizationNode::OnCommand(const LocalizationCommand& command) {
   if (!filter_) return;
+  if (command.kind == LocalizationCommand::Kind::kStartMapping) {
+    StartMapping(command.name);
+    return;
+  }
+  if (command.kind == LocalizationCommand::Kind::kStopMapping) {
+    StopMapping();
+    return;
+  }
+  if (slam_) return;  // while mapping, the map being built is where the robot is
   if (command.kind == LocalizationCommand::Kind::kRelocalize) {
     relocalize_ = true;
+    history_.Clear();  // asked to search: the robot may have been carried
     return;
   }
   ResetFilter(command.pose, command.sigma_m, command.sigma_rad);
@@ -179,6 +237,8 @@ void LocalizationNode::Publish(drivers::TimeNs stamp_ns) {
   LocalizationState state;
   state.stamp_ns = stamp_ns;
   state.source = "mcl";
+  state.sensor = base_T_laser_ ? "laser" : "depth";
+  state.look_around_rps = look_around_rps_;
   state.estimate = filter_->estimate();
   const auto particles = filter_->particles();
   const std::size_t step = std::max<std::size_t>(1, particles.size() / kParticlesShown);
@@ -186,6 +246,75 @@ void LocalizationNode::Publish(drivers::TimeNs stamp_ns) {
     state.particles.push_back(particles[i].pose);
   }
   bus().Get(topics::kLocalization).Publish(std::move(state));
+}
+
+void LocalizationNode::StartMapping(const std::string& name) {
+  if (slam_) return;
+  // From where the robot is in the present map: the new map shares its frame.
+  const nav::Pose2 start = map_T_odom_ * LatestOdometry();
+  slam_ = std::make_unique<nav::GraphSlam>(nav::GraphSlamOptions{}, start);
+  mapping_ = MappingState{};
+  mapping_.active = true;
+  mapping_.name = name;
+  last_render_ns_ = 0;
+  spdlog::info("mapping '{}': started at ({:.2f}, {:.2f})", name, start.x_m, start.y_m);
+  PublishMapping(clock().Now(), false);
+  SetHealth(Health::kOk, "mapping '" + name + "'");
+}
+
+void LocalizationNode::Map(drivers::TimeNs stamp_ns, const nav::Pose2& odom, const nav::RangeScan& scan) {
+  const nav::Pose2 pose = slam_->AddScan(scan, odom);
+  slam_odom_ = odom;
+  map_T_odom_ = pose * odom.Inverse();
+  PublishMapping(stamp_ns, stamp_ns - last_render_ns_ >= kRenderEveryNs);
+}
+
+void LocalizationNode::PublishMapping(drivers::TimeNs stamp_ns, bool render) {
+  mapping_.stamp_ns = stamp_ns;
+  if (slam_) {
+    const nav::GraphSlamStats& stats = slam_->stats();
+    mapping_.scans = stats.scans;
+    mapping_.submaps = stats.submaps;
+    mapping_.loop_closures = stats.loop_closures;
+    if (render && stats.inserted > 0) {
+      mapping_.grid = std::make_shared<const nav::OccupancyGrid>(slam_->RenderMap(kMapResolutionM));
+      ++mapping_.revision;
+      last_render_ns_ = stamp_ns;
+    }
+  }
+  bus().Get(topics::kMapping).Publish(mapping_);
+}
+
+void LocalizationNode::StopMapping() {
+  if (!slam_) return;
+  slam_->Finish();
+  if (slam_->stats().inserted == 0) {
+    mapping_.error = "no scan was mapped: nothing to save";
+    spdlog::warn("mapping '{}': {}", mapping_.name, mapping_.error);
+    PublishMapping(clock().Now(), false);
+    return;
+  }
+  // The final pose graph's estimate of where the robot is now.
+  const nav::Pose2 pose = slam_->Trajectory().back();
+  nav::OccupancyGrid grid = slam_->RenderMap(kMapResolutionM);
+  try {
+    if (on_map_built_) on_map_built_(mapping_.name, grid);
+  } catch (const std::exception& e) {
+    // The scans are kept: mapping goes on and a later stop can save it (under another name).
+    mapping_.error = std::string("the map could not be saved: ") + e.what();
+    spdlog::error("mapping '{}': {}", mapping_.name, mapping_.error);
+    PublishMapping(clock().Now(), true);
+    return;
+  }
+  map_T_odom_ = pose * slam_odom_.Inverse();
+  spdlog::info("mapping '{}': saved ({} scans, {} loop closures)", mapping_.name, slam_->stats().scans,
+               slam_->stats().loop_closures);
+  PublishMapping(clock().Now(), true);
+  slam_.reset();
+  mapping_.active = false;
+  mapping_.saved = mapping_.name;
+  mapping_.error.clear();
+  bus().Get(topics::kMapping).Publish(mapping_);
 }
 
 }  // namespace corridor::server

@@ -1,19 +1,28 @@
 // Where the robot is in the map, on the pose topic at the odometry's rate: map_T_odom * odom_T_base, with map_T_odom
 // from one of three sources (localization.source):
-//   - mcl: Monte Carlo localization in the active map from the laser's scans (nav/localization/monte_carlo.h). Each
-//     scan updates the filter with the odometry at the scan's time; map_T_odom follows. When the filter is lost, a
-//     global search of the map runs every relocalize_every_s until it finds the robot again. Its state (pose,
-//     covariance, health, particles) is on the localization topic; commands (set a pose, relocalize) arrive on
-//     localization/command.
+//   - mcl: Monte Carlo localization in the active map (nav/localization/monte_carlo.h) from the laser's scans or,
+//     without a laser, from each depth frame's scan (nav/ground/depth_scan.h). Each scan updates the filter with the
+//     odometry at the scan's time; map_T_odom follows. When the filter is lost, a global search of the map runs every
+//     relocalize_every_s until it finds the robot again; the camera's narrow view searches with the scans of its last
+//     turn or few metres joined by odometry (nav/localization/scan_history.h). Its state (pose, covariance, health,
+//     particles) is on the localization topic; commands (set a pose, relocalize) arrive on localization/command.
+//     Mapping (a command too) replaces the filter with graph SLAM (nav/localization/graph_slam.h) started where the
+//     robot is, so the new map lines up with the old one; the map as built so far is on the mapping topic. Stopping
+//     renders the map and hands it to on_map_built (the map library saves it and makes it the active map, which
+//     comes back through SetMap): localization then goes on in it.
 //   - odometry: dead reckoning from the configured start (it drifts);
 //   - sim_truth: the simulator's ground truth.
 #pragma once
 
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 
+#include "nav/ground/depth_scan.h"
+#include "nav/localization/graph_slam.h"
 #include "nav/localization/monte_carlo.h"
+#include "nav/localization/scan_history.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/config.h"
 #include "server/runtime/node.h"
@@ -23,13 +32,17 @@ namespace corridor::server {
 
 class LocalizationNode final : public Node {
  public:
-  // base_T_laser: where the laser is, or nullopt without one (mcl then falls back to odometry, degraded).
+  // Saves a map just built under `name` and makes it the active one; throws std::exception (with why) if it cannot.
+  using MapBuilt = std::function<void(const std::string& name, nav::OccupancyGrid grid)>;
+
+  // base_T_laser: where the laser is, or nullopt without one (mcl then reads the depth camera, `camera`).
   // pose_file: where the pose is saved whenever it moved 0.1 m or 5 degrees (and not while lost); empty: nowhere.
   // restored: the pose saved before a restart; used instead of initial_pose when the first map set is its map (if
   // the scans disagree with that map there, the filter is soon lost and searches the map).
   LocalizationNode(Executor& executor, Bus& bus, const LocalizationOptions& options, nav::Pose2 initial_pose,
-                   std::optional<nav::Pose2> base_T_laser, std::filesystem::path pose_file = {},
-                   std::optional<SavedPose> restored = std::nullopt);
+                   std::optional<nav::Pose2> base_T_laser, const nav::PinholeCamera& camera,
+                   std::filesystem::path pose_file = {},
+                   std::optional<SavedPose> restored = std::nullopt, MapBuilt on_map_built = {});
   void Activate() override;
   // The map to localize in (mcl), by name. Thread-safe: applied on the node's executor. A new map keeps the pose if
   // it lies on the map; the filter restarts around it.
@@ -38,6 +51,9 @@ class LocalizationNode final : public Node {
  private:
   void OnOdometry(const drivers::WheelOdometry& odometry);
   void OnScan(const drivers::LaserScan& scan);
+  void OnFrame(const drivers::RgbdFrame& frame);
+  // One scan (base frame) taken at stamp_ns: the filter's update, a search when one is due, the pose published.
+  void Localize(drivers::TimeNs stamp_ns, const nav::RangeScan& scan);
   void OnCommand(const LocalizationCommand& command);
   // The odometry at `stamp_ns`, interpolated between the readings around it; nullopt before any.
   std::optional<nav::Pose2> OdometryAt(drivers::TimeNs stamp_ns) const;
@@ -46,9 +62,17 @@ class LocalizationNode final : public Node {
   void Publish(drivers::TimeNs stamp_ns);
   void ResetFilter(const nav::Pose2& pose, double sigma_m, double sigma_rad);
   void Save(const nav::Pose2& pose, double sigma_m, double sigma_rad);
+  void StartMapping(const std::string& name);
+  void StopMapping();
+  // One scan into the map being built.
+  void Map(drivers::TimeNs stamp_ns, const nav::Pose2& odom, const nav::RangeScan& scan);
+  void PublishMapping(drivers::TimeNs stamp_ns, bool render);
 
   LocalizationOptions options_;
   std::optional<nav::Pose2> base_T_laser_;
+  std::optional<nav::DepthScan> depth_scan_;  // without a laser
+  nav::ScanHistory history_;                  // what the camera saw lately, for a search (no laser)
+  double look_around_rps_ = 0.0;              // lost with the camera's narrow view: turn on the spot to see more
   nav::Pose2 map_T_odom_;
   std::shared_ptr<const nav::OccupancyGrid> map_;
   std::string map_name_;
@@ -59,6 +83,11 @@ class LocalizationNode final : public Node {
   std::deque<drivers::WheelOdometry> odometry_;  // the last second
   bool relocalize_ = false;                      // search the whole map on the next scan
   drivers::TimeNs last_search_ns_ = 0;
+  MapBuilt on_map_built_;
+  std::unique_ptr<nav::GraphSlam> slam_;  // while mapping
+  nav::Pose2 slam_odom_;                  // the odometry of the last scan mapped
+  MappingState mapping_;                  // as last published
+  drivers::TimeNs last_render_ns_ = 0;
 };
 
 }  // namespace corridor::server

@@ -1,5 +1,7 @@
 #include "server/nodes/mission_node.h"
 
+#include <utility>
+
 #include <spdlog/spdlog.h>
 
 #include "server/runtime/topics.h"
@@ -34,6 +36,16 @@ void MissionNode::Activate() {
       spdlog::warn("mission {}: {}", runner_.id(), localized ? "localized again: resuming" : "localization lost: paused");
     }
     Carry(update);
+    // Lost with the camera's narrow view, localization asks the robot to turn on the spot to see more.
+    const double turn = runner_.MayLookAround() ? localization->look_around_rps : 0.0;
+    auto& command = bus().Get(topics::kMissionCommand);
+    if (turn > 0.0) {
+      command.Publish(MissionCommand{clock().Now(), nav::Twist2{0.0, turn}, true});
+      looking_around_ = true;
+    } else if (std::exchange(looking_around_, false)) {
+      // Stop turning; a mission that resumes drives again from its next frame.
+      command.Publish(MissionCommand{clock().Now(), {}, runner_.has_mission() && !runner_.MayLookAround()});
+    }
   });
   PeriodicNode::Activate();
 }

@@ -47,6 +47,7 @@ class MissionNode final : public PeriodicNode {
   std::function<void(const MissionState&)> on_change_;
   LoopStats& plan_loop_;
   mutable std::mutex mutex_;
+  bool looking_around_ = false;  // turning on the spot for localization (guarded by mutex_)
   nav::MissionRunner runner_;
 };
 

@@ -8,6 +8,7 @@
 
 #include "drivers/sim/sim_robot.h"
 #include "drivers/sim/world.h"
+#include "nav/ground/depth_scan.h"
 #include "nav/localization/monte_carlo.h"
 #include "nav/ground/morp.h"
 #include "nav/planner/costmap.h"
@@ -77,6 +78,14 @@ struct LocalizationOptions {
   double initial_sigma_m = 0.1;     // the start pose's spread
   double initial_sigma_deg = 5.0;
   double relocalize_every_s = 2.0;  // while lost, a global search this often
+  // Without a laser, the depth camera's scan: its columns' nearest obstacles out to this range (farther, depth noise
+  // puts walls off the map). The image's sides are kept: a wall cut by them is still the map's wall.
+  nav::DepthScanOptions depth = [] {
+    nav::DepthScanOptions o;
+    o.segment_gap_m = 0.0;
+    o.average_within_m = 0.15;  // the wall's mean, not its nearest noisy pixel
+    return o;
+  }();
 };
 
 struct LogOptions {

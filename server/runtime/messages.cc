@@ -18,6 +18,8 @@ nlohmann::json ToJson(const LocalizationState& localization) {
   }
   return {{"stamp_ns", localization.stamp_ns},
           {"source", localization.source},
+          {"sensor", localization.sensor},
+          {"look_around_rps", localization.look_around_rps},
           {"pose", ToJson(e.pose)},
           {"covariance", covariance},
           {"health", nav::ToString(e.health)},

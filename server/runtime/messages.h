@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <memory>
 #include <string>
 
 #include "drivers/depth_camera.h"
@@ -122,17 +123,36 @@ struct SimPedestrians {
 struct LocalizationState {
   drivers::TimeNs stamp_ns = 0;  // of the scan it last updated on
   std::string source;            // "odometry", "sim_truth" or "mcl"
+  std::string sensor;            // what mcl reads: "laser" or "depth"
+  double look_around_rps = 0.0;  // lost with the camera's narrow view: the robot should turn on the spot this fast
   nav::LocalizationEstimate estimate;
   std::vector<nav::Pose2> particles;  // at most 200
 };
 
-// A request to localization: take this pose (with its spread), or search the whole map for the robot.
+// A request to localization: take this pose (with its spread), search the whole map for the robot, or map a new
+// building (graph SLAM from where the robot is) and save the result under `name`.
 struct LocalizationCommand {
-  enum class Kind { kSetPose, kRelocalize };
+  enum class Kind { kSetPose, kRelocalize, kStartMapping, kStopMapping };
   Kind kind = Kind::kSetPose;
   nav::Pose2 pose;
   double sigma_m = 0.2;
   double sigma_rad = 0.1;
+  std::string name;  // kStartMapping: the new map's name
+};
+
+// Mapping a new building: the map as built so far (rendered every few seconds) and how the graph grows; after a
+// stop, the map saved or why it could not be.
+struct MappingState {
+  drivers::TimeNs stamp_ns = 0;
+  bool active = false;
+  std::string name;                                // of the map being built, or the last one built
+  int scans = 0;
+  int submaps = 0;
+  int loop_closures = 0;
+  std::shared_ptr<const nav::OccupancyGrid> grid;  // null before the first rendering
+  std::uint64_t revision = 0;                      // bumped with every rendering
+  std::string saved;                               // the last map saved to the library
+  std::string error;                               // why the last stop could not save it (mapping goes on)
 };
 
 // The face's current expression.

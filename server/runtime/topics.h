@@ -12,6 +12,7 @@ inline constexpr TopicName<drivers::LaserScan> kScan{"scan"};
 inline constexpr TopicName<StampedPose> kPose{"pose"};                 // the robot in the map frame
 inline constexpr TopicName<LocalizationState> kLocalization{"localization"};
 inline constexpr TopicName<LocalizationCommand> kLocalizationCommand{"localization/command"};
+inline constexpr TopicName<MappingState> kMapping{"mapping"};
 inline constexpr TopicName<StampedPose> kSimTruePose{"sim/true_pose"};  // ground truth, simulator only
 inline constexpr TopicName<SimPedestrians> kSimPedestrians{"sim/pedestrians"};  // simulator only
 inline constexpr TopicName<TeleopCommand> kTeleop{"teleop"};

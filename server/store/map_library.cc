@@ -11,13 +11,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
+}  // namespace
+
 std::string EncodePng(const nav::OccupancyGrid& grid) {
   std::vector<std::uint8_t> png;
   cv::imencode(".png", nav::GridToImage(grid), png);
   return {png.begin(), png.end()};
 }
-
-}  // namespace
 
 bool ValidMapName(const std::string& name) {
   if (name.empty() || name.size() > 64 || name[0] == '.') return false;
@@ -134,6 +134,17 @@ void MapLibrary::Select(const std::string& name) {
   } catch (const nav::MapFileError& e) {
     throw MapEditError(e.what());
   }
+}
+
+bool MapLibrary::Contains(const std::string& name) const {
+  return name == active()->name || (ValidMapName(name) && fs::exists(dir_ / name / "map.yaml"));
+}
+
+void MapLibrary::Add(const std::string& name, nav::OccupancyGrid grid) {
+  if (!ValidMapName(name)) throw MapEditError("'" + name + "' is not a map name");
+  if (Contains(name)) throw MapEditError("a map named '" + name + "' exists");
+  if (grid.width() == 0 || grid.height() == 0) throw MapEditError("the map is empty");
+  Publish(std::move(grid), name, true);
 }
 
 }  // namespace corridor::server

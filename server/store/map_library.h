@@ -51,6 +51,10 @@ class MapLibrary {
   void ReplaceImage(const std::string& bytes);
   // Makes a saved map the active one. Throws MapEditError when there is no such map.
   void Select(const std::string& name);
+  // Saves a new map (one just built) under `name` and makes it the active one. Throws MapEditError for a name that
+  // is not valid or already taken, or when it cannot be saved; nothing changes then.
+  void Add(const std::string& name, nav::OccupancyGrid grid);
+  bool Contains(const std::string& name) const;
 
  private:
   void Publish(nav::OccupancyGrid grid, const std::string& name, bool save);
@@ -60,6 +64,9 @@ class MapLibrary {
   mutable std::mutex mutex_;
   std::shared_ptr<const ActiveMap> active_;
 };
+
+// The grid as an 8-bit grey PNG, map_server trinary shades, row 0 at the top.
+std::string EncodePng(const nav::OccupancyGrid& grid);
 
 // True for names usable as folder names: letters, digits, '-', '_' and '.', not starting with '.'.
 bool ValidMapName(const std::string& name);
