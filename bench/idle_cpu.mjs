@@ -3,26 +3,13 @@
 // all on "sim") separates from the rest of the daemon.
 //   node bench/idle_cpu.mjs [seconds=30] [--console]
 // --console: what an open console costs: a stream client, and the camera view fetched five times a second.
-import { readFileSync, readdirSync } from 'node:fs';
 import { execFileSync } from 'node:child_process';
 
-import { require, sleep, startDaemon } from '../tests/daemon.mjs';
+import { require, sleep, startDaemon, threadTicks } from '../tests/daemon.mjs';
 
 const seconds = Number(process.argv.find((a) => /^\d+$/.test(a)) ?? 30);
 const withConsole = process.argv.includes('--console');
 const ticksPerSecond = Number(execFileSync('getconf', ['CLK_TCK']).toString());
-
-function threadTicks(pid) {
-  const out = new Map();
-  for (const tid of readdirSync(`/proc/${pid}/task`)) {
-    const stat = readFileSync(`/proc/${pid}/task/${tid}/stat`, 'utf8');
-    const name = stat.slice(stat.indexOf('(') + 1, stat.lastIndexOf(')'));
-    const fields = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
-    const ticks = Number(fields[11]) + Number(fields[12]);  // utime + stime
-    out.set(tid, { name, ticks });
-  }
-  return out;
-}
 
 const daemon = await startDaemon();
 const pid = Number(execFileSync('pgrep', ['-n', 'corridord']).toString());

@@ -1,7 +1,7 @@
 // Starts a real corridord for tests: its own free port, its own state directory, the simulator.
 // The packages tests use (ws, ajv, playwright-core) are installed with the console in web/.
 import { spawn } from 'node:child_process';
-import { mkdtempSync, rmSync, writeFileSync, readFileSync } from 'node:fs';
+import { mkdtempSync, readdirSync, rmSync, writeFileSync, readFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -135,4 +135,45 @@ export function writeRoom(dir, width, height) {
   writeFileSync(join(dir, 'room.yaml'),
     'image: room.pgm\nresolution: 0.05\norigin: [-0.05, -0.05, 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n');
   return join(dir, 'room.yaml');
+}
+
+// A map_server map (its YAML and 8-bit P5 PGM): resolution, origin, size, and the grey of each pixel, row 0 at the
+// top. cell(x, y) is the grey at a point of the map frame (undefined off the map).
+export function readMap(yamlFile) {
+  const yaml = readFileSync(yamlFile, 'utf8');
+  const resolution = Number(/resolution:\s*([\d.]+)/.exec(yaml)[1]);
+  const origin = /origin:\s*\[\s*([-\d.]+),\s*([-\d.]+)/.exec(yaml).slice(1, 3).map(Number);
+  const pgm = readFileSync(join(yamlFile, '..', /image:\s*(\S+)/.exec(yaml)[1]));
+  // The header: magic, width, height, maximum, each after whitespace and comments.
+  const fields = [];
+  let i = 0;
+  const space = (b) => b === 0x20 || b === 0x0a || b === 0x0d || b === 0x09;
+  while (fields.length < 4) {
+    while (space(pgm[i])) ++i;
+    if (pgm[i] === 0x23) { while (pgm[i] !== 0x0a) ++i; continue; }
+    let field = '';
+    while (!space(pgm[i])) field += String.fromCharCode(pgm[i++]);
+    fields.push(field);
+  }
+  const [width, height] = [Number(fields[1]), Number(fields[2])];
+  const grey = pgm.subarray(i + 1);
+  const cell = (x, y) => {
+    const col = Math.floor((x - origin[0]) / resolution);
+    const row = height - 1 - Math.floor((y - origin[1]) / resolution);
+    return col >= 0 && col < width && row >= 0 && row < height ? grey[row * width + col] : undefined;
+  };
+  return { resolution, origin, width, height, grey, cell };
+}
+
+// CPU ticks (utime + stime) of each thread of process `pid`, with the thread's name (corridord names its executor
+// threads: control, mapping, planning, perception, io, sim).
+export function threadTicks(pid) {
+  const out = new Map();
+  for (const tid of readdirSync(`/proc/${pid}/task`)) {
+    const stat = readFileSync(`/proc/${pid}/task/${tid}/stat`, 'utf8');
+    const name = stat.slice(stat.indexOf('(') + 1, stat.lastIndexOf(')'));
+    const fields = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
+    out.set(tid, { name, ticks: Number(fields[11]) + Number(fields[12]) });
+  }
+  return out;
 }

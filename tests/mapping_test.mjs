@@ -1,40 +1,26 @@
 // Mapping a new building from the daemon: graph SLAM from the simulated laser while a mission drives the robot round
 // the small house, started and stopped through the API; the map saved is the active map, its walls where the house's
-// reference map has them, and localization goes on in it.
+// reference map has them, and localization goes on in it. Exploring two rooms: the robot finds the second room by
+// itself, and the map is saved when no frontier is left.
 import assert from 'node:assert/strict';
-import { readFileSync } from 'node:fs';
+import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
-import { getJson, openApiValidator, postJson, startDaemon, waitFor } from './daemon.mjs';
+import { getJson, openApiValidator, postJson, readMap, startDaemon, waitFor } from './daemon.mjs';
 
 const api = openApiValidator();
 const state = async (url) => (await getJson(`${url}/api/v1/state`)).body;
 const localization = async (url) => (await getJson(`${url}/api/v1/localization`)).body;
 
-// A map_server PGM (P5, 8 bits) and its YAML's resolution and origin: the occupied cells' centres in the map frame.
+// The occupied cells' centres of a map_server map, in the map frame.
 function occupiedCells(yamlFile) {
-  const yaml = readFileSync(yamlFile, 'utf8');
-  const resolution = Number(/resolution:\s*([\d.]+)/.exec(yaml)[1]);
-  const origin = /origin:\s*\[\s*([-\d.]+),\s*([-\d.]+)/.exec(yaml).slice(1, 3).map(Number);
-  const image = /image:\s*(\S+)/.exec(yaml)[1];
-  const pgm = readFileSync(join(yamlFile, '..', image));
-  // The header: magic, width, height, maximum, each after whitespace and comments.
-  const fields = [];
-  let i = 0;
-  while (fields.length < 4) {
-    while (/\s/.test(String.fromCharCode(pgm[i]))) ++i;
-    if (pgm[i] === 0x23) { while (pgm[i] !== 0x0a) ++i; continue; }
-    let field = '';
-    while (!/\s/.test(String.fromCharCode(pgm[i]))) field += String.fromCharCode(pgm[i++]);
-    fields.push(field);
-  }
-  const [width, height] = [Number(fields[1]), Number(fields[2])];
-  const data = pgm.subarray(i + 1);
+  const { resolution, origin, width, height, grey } = readMap(yamlFile);
   const cells = [];
   for (let row = 0; row < height; ++row) {
     for (let col = 0; col < width; ++col) {
-      if (data[row * width + col] < 50) {
+      if (grey[row * width + col] < 50) {
         cells.push([origin[0] + (col + 0.5) * resolution, origin[1] + (height - row - 0.5) * resolution]);
       }
     }
@@ -115,5 +101,82 @@ localization: {source: mcl}
     assert.equal(l.source, 'mcl');
     const s = await state(daemon.url);
     assert.ok(Math.hypot(s.pose.x - s.sim_true_pose.x, s.pose.y - s.sim_true_pose.y) < 0.1, JSON.stringify(s));
+  });
+});
+
+// Two empty 4 x 4 m rooms side by side, joined by a 1 m door in the middle wall, at 5 cm: the world and its map.
+function writeTwoRooms(dir) {
+  const [w, h] = [164, 84];  // 8.2 x 4.2 m with the outer walls
+  const pixels = Buffer.alloc(w * h, 254);
+  for (let row = 0; row < h; ++row) {
+    for (let col = 0; col < w; ++col) {
+      const [x, y] = [(col - 1) * 0.05, (h - 2 - row) * 0.05];  // the inside corner at (0, 0)
+      const outer = col < 2 || col >= w - 2 || row < 2 || row >= h - 2;
+      const middle = Math.abs(x - 4.0) < 0.075 && (y < 1.5 || y > 2.5);
+      if (outer || middle) pixels[row * w + col] = 0;
+    }
+  }
+  writeFileSync(join(dir, 'rooms.pgm'), Buffer.concat([Buffer.from(`P5\n${w} ${h}\n255\n`), pixels]));
+  writeFileSync(join(dir, 'rooms.yaml'),
+    'image: rooms.pgm\nresolution: 0.05\norigin: [-0.05, -0.05, 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n');
+  return join(dir, 'rooms.yaml');
+}
+
+describe('exploring two rooms', () => {
+  const dir = mkdtempSync(join(tmpdir(), 'corridor-rooms-'));
+  const rooms = writeTwoRooms(dir);
+  let daemon;
+  before(async () => {
+    daemon = await startDaemon({ config: `
+map: {file: "${rooms}"}
+sim:
+  world: "${rooms}"
+  start: {x_m: 1.0, y_m: 2.0, yaw_deg: 180}
+localization: {source: mcl}
+` });
+  });
+  after(async () => {
+    await daemon?.stop();
+    rmSync(dir, { recursive: true, force: true });
+  });
+
+  test('the robot drives to the frontiers on its own until none is left, and the map is saved', async (t) => {
+    await waitFor(() => localization(daemon.url), (l) => l.health === 'ok', 15000, 'localization ok');
+    const mapping = async () => (await getJson(`${daemon.url}/api/v1/mapping`)).body;
+    assert.equal((await postJson(`${daemon.url}/api/v1/mapping/explore`, {})).status, 400, 'a name is needed');
+    const res = await postJson(`${daemon.url}/api/v1/mapping/explore`, { name: 'rooms-explored' });
+    assert.equal(res.status, 202, JSON.stringify(res.body));
+    api.check('Mapping', await waitFor(mapping, (m) => m.exploring, 5000, 'exploring'));
+    const t0 = Date.now();
+    const saved = await waitFor(mapping, (m) => !m.active, 120000, 'exploration over and the map saved');
+    t.diagnostic(`explored in ${((Date.now() - t0) / 1000).toFixed(0)} s: ${saved.scans} scans`);
+    assert.equal(saved.saved, 'rooms-explored', JSON.stringify(saved));
+    assert.equal(saved.exploring, false);
+    assert.match(daemon.log(), /explore: to \(/);
+    assert.match(daemon.log(), /explore: done, no reachable frontier is left/);
+    // Both rooms are in the map, and its walls are the world's.
+    const built = readMap(join(daemon.stateDir, 'maps/rooms-explored/map.yaml'));
+    for (const [x, y] of [[1.0, 1.0], [3.0, 3.0], [5.0, 1.0], [7.0, 3.0], [6.0, 2.0]]) {
+      assert.equal(built.cell(x, y), 254, `(${x}, ${y}) is not free in the map`);
+    }
+    const world = readMap(rooms);
+    let walls = 0;
+    let onWalls = 0;
+    for (let row = 0; row < built.height; ++row) {
+      for (let col = 0; col < built.width; ++col) {
+        if (built.grey[row * built.width + col] >= 50) continue;
+        const x = built.origin[0] + (col + 0.5) * built.resolution;
+        const y = built.origin[1] + (built.height - row - 0.5) * built.resolution;
+        ++walls;
+        let near = false;
+        for (let dx = -0.1; dx <= 0.1 && !near; dx += 0.05) {
+          for (let dy = -0.1; dy <= 0.1 && !near; dy += 0.05) near = world.cell(x + dx, y + dy) === 0;
+        }
+        onWalls += near;
+      }
+    }
+    t.diagnostic(`${walls} occupied cells, ${(100 * onWalls / walls).toFixed(1)} % within 10 cm of the world's walls`);
+    assert.ok(onWalls / walls > 0.95, `${onWalls} of ${walls}`);
+    assert.equal((await getJson(`${daemon.url}/api/v1/map`)).body.name, 'rooms-explored');
   });
 });

@@ -74,6 +74,15 @@ struct GraphSlamStats {
   int optimizations = 0;
 };
 
+// How a map built from scans is rendered: a cell the beams crossed more often than they ended in is free, even if one
+// beam crossed it once (far from the robot, beams are sparse: the robot saw through it all the same, and exploration
+// needs to know).
+inline LogOddsOptions RenderedMapOptions() {
+  LogOddsOptions options;
+  options.free_below = 0.45;
+  return options;
+}
+
 class GraphSlam {
  public:
   // `start`: the first scan's pose in the map frame (the origin by default; where the robot is in an older map of the
@@ -89,7 +98,7 @@ class GraphSlam {
   // The map-frame pose of every scan added, in order.
   std::vector<Pose2> Trajectory() const;
   // The inserted scans rendered at their optimized poses into a log-odds grid (map_server's conventions).
-  OccupancyGrid RenderMap(double resolution_m, const LogOddsOptions& options = {}) const;
+  OccupancyGrid RenderMap(double resolution_m, const LogOddsOptions& options = RenderedMapOptions()) const;
   const GraphSlamStats& stats() const { return stats_; }
 
  private:
@@ -130,6 +139,6 @@ class GraphSlam {
 // Scans rendered at their poses (map frame) into a log-odds grid that just holds them, thresholded into map_server's
 // conventions. Requires a pose per scan (std::invalid_argument).
 OccupancyGrid RenderScans(std::span<const RangeScan* const> scans, std::span<const Pose2> poses, double resolution_m,
-                          const LogOddsOptions& options = {});
+                          const LogOddsOptions& options = RenderedMapOptions());
 
 }  // namespace corridor::nav

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "drivers/sim/sim_robot.h"
+#include "server/nodes/explore_node.h"
 #include "server/nodes/mission_node.h"
 #include "server/nodes/planner_service.h"
 #include "server/runtime/bus.h"
@@ -56,6 +57,7 @@ struct ApiContext {
   Store& store;
   PlannerService& planner;
   MissionNode& missions;
+  ExploreNode& explore;
   const Config& config;
   const drivers::Clock& clock;
   Executor& io;  // replies that are computed elsewhere come back here

@@ -20,10 +20,12 @@ const char* SourceName(LocalizationOptions::Source source) {
   return "unknown";
 }
 
-json MappingJson(const MappingState& m) {
-  json body{{"active", m.active},      {"name", m.name},         {"scans", m.scans},
-            {"submaps", m.submaps},    {"loop_closures", m.loop_closures}, {"saved", m.saved},
-            {"error", m.error},        {"map", nullptr}};
+json MappingJson(const MappingState& m, bool exploring) {
+  json body{{"active", m.active},   {"exploring", exploring && m.active},
+            {"name", m.name},       {"scans", m.scans},
+            {"submaps", m.submaps}, {"loop_closures", m.loop_closures},
+            {"saved", m.saved},     {"error", m.error},
+            {"map", nullptr}};
   if (m.grid) {
     body["map"] = {{"revision", m.revision},
                    {"resolution_m", m.grid->resolution_m()},
@@ -102,9 +104,9 @@ void Api::AddLocalizationRoutes() {
 
 void Api::AddMappingRoutes() {
   const auto mapping = [this] { return c_.bus.Get(topics::kMapping).latest(); };
-  Add(http::verb::get, "/api/v1/mapping", Sync([mapping](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/mapping", Sync([this, mapping](const Request& r, const Params&) {
         const auto state = mapping();
-        return JsonResponse(r, MappingJson(state ? *state : MappingState{}));
+        return JsonResponse(r, MappingJson(state ? *state : MappingState{}, c_.explore.exploring()));
       }));
   Add(http::verb::get, "/api/v1/mapping/image", Sync([mapping](const Request& r, const Params&) {
         const auto state = mapping();
@@ -113,28 +115,49 @@ void Api::AddMappingRoutes() {
         }
         return MakeResponse(r, http::status::ok, "image/png", EncodePng(*state->grid));
       }));
-  Add(http::verb::post, "/api/v1/mapping/start", Sync([this, mapping](const Request& r, const Params&) {
+  // Mapping starts under a new map's name (400 for a bad one, 409 if it is taken or mapping is under way).
+  const auto start_mapping = [this, mapping](const json& body) {
+    if (!body.contains("name") || !body["name"].is_string() || !ValidMapName(body["name"].get<std::string>())) {
+      throw ApiError(http::status::bad_request, "Invalid request",
+                     "name: a map name of letters, digits, '-', '_' and '.' (at most 64, not starting with '.')");
+    }
+    LocalizationCommand command;
+    command.kind = LocalizationCommand::Kind::kStartMapping;
+    command.name = body["name"].get<std::string>();
+    if (c_.maps.Contains(command.name)) {
+      throw ApiError(http::status::conflict, "Map exists", "a map named '" + command.name + "' exists", "map_exists");
+    }
+    if (const auto state = mapping(); state && state->active) {
+      throw ApiError(http::status::conflict, "Already mapping", "mapping '" + state->name + "' is under way",
+                     "already_mapping");
+    }
+    c_.bus.Get(topics::kLocalizationCommand).Publish(command);
+    return command.name;
+  };
+  const auto object_body = [](const Request& r) {
+    const json body = ParseJsonBody(r);
+    if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
+    AllowOnlyKeys(body, {"name"}, "");
+    return body;
+  };
+  Add(http::verb::post, "/api/v1/mapping/start", Sync([this, start_mapping, object_body](const Request& r, const Params&) {
         RequireLocalizing();
-        const json body = ParseJsonBody(r);
-        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
-        AllowOnlyKeys(body, {"name"}, "");
-        if (!body.contains("name") || !body["name"].is_string() || !ValidMapName(body["name"].get<std::string>())) {
-          throw ApiError(http::status::bad_request, "Invalid request",
-                         "name: a map name of letters, digits, '-', '_' and '.' (at most 64, not starting with '.')");
+        return JsonResponse(r, {{"mapping", start_mapping(object_body(r))}}, http::status::accepted);
+      }));
+  // Exploring maps as it goes: under a new name, or within the mapping under way (no name then).
+  Add(http::verb::post, "/api/v1/mapping/explore",
+      Sync([this, mapping, start_mapping, object_body](const Request& r, const Params&) {
+        RequireLocalizing();
+        const json body = object_body(r);
+        const auto state = mapping();
+        std::string name;
+        if (state && state->active && !body.contains("name")) {
+          name = state->name;
+        } else {
+          name = start_mapping(body);
         }
-        LocalizationCommand command;
-        command.kind = LocalizationCommand::Kind::kStartMapping;
-        command.name = body["name"].get<std::string>();
-        if (c_.maps.Contains(command.name)) {
-          throw ApiError(http::status::conflict, "Map exists", "a map named '" + command.name + "' exists",
-                         "map_exists");
-        }
-        if (const auto state = mapping(); state && state->active) {
-          throw ApiError(http::status::conflict, "Already mapping", "mapping '" + state->name + "' is under way",
-                         "already_mapping");
-        }
-        c_.bus.Get(topics::kLocalizationCommand).Publish(command);
-        return JsonResponse(r, {{"mapping", command.name}}, http::status::accepted);
+        c_.explore.Explore();
+        return JsonResponse(r, {{"exploring", name}}, http::status::accepted);
       }));
   Add(http::verb::post, "/api/v1/mapping/stop", Sync([this, mapping](const Request& r, const Params&) {
         const auto state = mapping();

@@ -5,6 +5,7 @@
 #include "nav/policy/evasion.h"
 #include "server/nodes/control_node.h"
 #include "server/nodes/driver_bridge.h"
+#include "server/nodes/explore_node.h"
 #include "server/nodes/face_node.h"
 #include "server/nodes/ground_node.h"
 #include "server/nodes/localization_node.h"
@@ -109,12 +110,18 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.camera.info(), config_.ground,
                                               config_.mission.policy));
   if (tracking_node) lifecycle_.Add(std::move(tracking_node));
+  auto explore_node = std::make_unique<ExploreNode>(executors_.mapping, bus_, planner_, *missions_, [this] {
+    const auto active = maps_->active();
+    planner_.SetMap(std::shared_ptr<const nav::OccupancyGrid>(active, &active->grid));
+  });
+  explore_ = explore_node.get();
   lifecycle_.Add(std::move(mission_node));
+  lifecycle_.Add(std::move(explore_node));
   lifecycle_.Add(std::make_unique<ControlNode>(executors_.control, bus_, devices_.base, config_.safety));
   lifecycle_.ConfigureAll();
 
   api_ = std::make_unique<Api>(
-      ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, config_, clock_, executors_.io, devices_.sim});
+      ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, config_, clock_, executors_.io, devices_.sim});
 }
 
 Graph::~Graph() { Stop(); }

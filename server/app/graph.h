@@ -86,6 +86,7 @@ class Graph {
   Lifecycle lifecycle_;
   SimNode* sim_node_ = nullptr;  // owned by lifecycle_
   MissionNode* missions_ = nullptr;
+  ExploreNode* explore_ = nullptr;   // owned by lifecycle_
   std::unique_ptr<Api> api_;
   bool started_ = false;
   bool stopped_ = false;

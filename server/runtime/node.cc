@@ -114,7 +114,7 @@ nlohmann::json Node::Status() const {
     for (const auto& [name, stats] : loops_) {
       const LoopStats::Snapshot s = stats->snapshot();
       loops.push_back({{"name", name}, {"rate_hz", s.rate_hz}, {"mean_ms", s.mean_ms}, {"worst_ms", s.worst_ms},
-                       {"count", s.loops}});
+                       {"last_ms", s.last_ms}, {"count", s.loops}});
       rate_hz += s.rate_hz;
       total_ms += s.mean_ms * s.rate_hz;
       worst_ms = std::max(worst_ms, s.worst_ms);

@@ -1,0 +1,105 @@
+#include "server/nodes/explore_node.h"
+
+#include <limits>
+
+#include <spdlog/spdlog.h>
+
+#include "server/runtime/topics.h"
+
+namespace corridor::server {
+
+ExploreNode::ExploreNode(Executor& mapping, Bus& bus, PlannerService& planner, MissionNode& missions,
+                         std::function<void()> restore_map, const nav::FrontierOptions& options)
+    : Node("explore", mapping, bus),
+      planner_(planner),
+      missions_(missions),
+      restore_map_(std::move(restore_map)),
+      options_(options) {}
+
+void ExploreNode::Activate() {
+  Subscribe(topics::kMapping, "mapping", [this](const auto& mapping) { OnMapping(*mapping); });
+  Subscribe(topics::kMission, "mission", [this](const auto& mission) { OnMission(*mission); });
+  SetHealth(Health::kOk, "not exploring");
+}
+
+void ExploreNode::Explore() {
+  executor().Post([this] {
+    Run("explore", [&] {
+      exploring_ = true;
+      given_up_.clear();
+      mission_id_.clear();
+      SetHealth(Health::kOk, "exploring");
+      spdlog::info("explore: looking for frontiers");
+      if (mapping_) Plan(*mapping_);  // else on the first map rendered
+    });
+  });
+}
+
+void ExploreNode::OnMapping(const MappingState& mapping) {
+  if (!mapping.active) {
+    if (exploring_) Finish("mapping stopped", false, true);
+    mapping_.reset();
+    return;
+  }
+  if (!mapping.grid || (mapping_ && mapping.revision == mapping_->revision)) return;
+  mapping_ = std::make_shared<const MappingState>(mapping);
+  if (exploring_) Plan(*mapping_);
+}
+
+void ExploreNode::Plan(const MappingState& mapping) {
+  planner_.SetMap(mapping.grid);
+  if (mission_id_.empty()) Next();
+}
+
+void ExploreNode::OnMission(const MissionState& mission) {
+  if (!exploring_) return;
+  if (mission.id != mission_id_) {
+    // Someone else sent the robot somewhere: they drive now.
+    if (mission.status == nav::MissionStatus::kActive) Finish("another mission started", false, false);
+    return;
+  }
+  switch (mission.status) {
+    case nav::MissionStatus::kActive:
+    case nav::MissionStatus::kPaused: return;
+    case nav::MissionStatus::kCanceled: Finish("its goal was cancelled", false, false); return;
+    case nav::MissionStatus::kSucceeded:
+    case nav::MissionStatus::kFailed:
+      given_up_.push_back(goal_);
+      mission_id_.clear();
+      Next();
+      return;
+  }
+}
+
+void ExploreNode::Next() {
+  const auto pose = bus().Get(topics::kPose).latest();
+  if (!mapping_ || !mapping_->grid || !pose) return;  // on the next map
+  const std::optional<nav::FrontierGoal> goal =
+      nav::NextFrontierGoal(*mapping_->grid, pose->pose.translation(), given_up_, options_);
+  if (!goal) {
+    Finish("no reachable frontier is left", true, false);
+    return;
+  }
+  goal_ = goal->position;
+  nav::MissionGoal target;
+  target.pose = {goal_.x(), goal_.y(), 0.0};
+  mission_id_ = missions_.Start({target}, std::numeric_limits<double>::infinity()).id;
+  spdlog::info("explore: to ({:.2f}, {:.2f}), {:.1f} m away; {} frontier(s) reachable", goal_.x(), goal_.y(),
+               goal->path_m, goal->frontiers);
+}
+
+void ExploreNode::Finish(const std::string& why, bool save, bool cancel_goal) {
+  exploring_ = false;
+  if (cancel_goal && !mission_id_.empty()) missions_.Cancel(mission_id_);
+  mission_id_.clear();
+  SetHealth(Health::kOk, "not exploring");
+  spdlog::info("explore: done, {}{}", why, save ? ": saving the map" : "");
+  if (!save && restore_map_) restore_map_();  // saved, the new map becomes the planner's anyway
+  if (save) {
+    LocalizationCommand stop;
+    stop.kind = LocalizationCommand::Kind::kStopMapping;
+    bus().Get(topics::kLocalizationCommand).Publish(stop);
+  }
+}
+
+}  // namespace corridor::server
