@@ -17,6 +17,24 @@ const wrap = (a) => Math.atan2(Math.sin(a), Math.cos(a));
 // How far the daemon's pose is from the simulator's truth: metres and degrees.
 const errorOf = (s) => [Math.hypot(s.pose.x - s.sim_true_pose.x, s.pose.y - s.sim_true_pose.y),
   Math.abs(wrap(s.pose.yaw - s.sim_true_pose.yaw)) * 180 / Math.PI];
+// Runs a mission through `waypoints` to its end, sampling the error to the truth: the last state and the worst
+// [metres, degrees].
+async function missionError(url, waypoints, ms) {
+  const res = await postJson(`${url}/api/v1/missions`, { waypoints });
+  assert.equal(res.status, 201, JSON.stringify(res.body));
+  let worst = [0, 0];
+  let s;
+  const deadline = Date.now() + ms;
+  do {
+    s = await state(url);
+    const [m, deg] = errorOf(s);
+    worst = [Math.max(worst[0], m), Math.max(worst[1], deg)];
+    assert.ok(Date.now() < deadline, `mission still ${s.mission?.status}`);
+    await sleep(100);
+  } while (s.mission?.status === 'active');
+  return { s, worst };
+}
+
 // Carries the simulated robot to `pose` and waits until the state shows it there (the simulator publishes its truth
 // on its next step): before that, the old truth and the old estimate agree.
 async function kidnap(url, pose) {
@@ -37,19 +55,8 @@ describe('localization from the laser in the default world', () => {
     api.check('Localization', first);
     assert.equal(first.source, 'mcl');
     assert.ok(first.particles.length > 0 && first.particle_count >= first.particles.length);
-    const res = await postJson(`${daemon.url}/api/v1/missions`,
-      { waypoints: [{ x: 24.4, y: 26.5 }, { x: 25.0, y: 27.2 }, { x: 24.4, y: 24.6 }] });
-    assert.equal(res.status, 201, JSON.stringify(res.body));
-    let worst = [0, 0];
-    let s;
-    const deadline = Date.now() + 120000;
-    do {
-      s = await state(daemon.url);
-      const [m, deg] = errorOf(s);
-      worst = [Math.max(worst[0], m), Math.max(worst[1], deg)];
-      assert.ok(Date.now() < deadline, `mission still ${s.mission?.status}`);
-      await sleep(100);
-    } while (s.mission?.status === 'active');
+    const { s, worst } = await missionError(daemon.url,
+      [{ x: 24.4, y: 26.5 }, { x: 25.0, y: 27.2 }, { x: 24.4, y: 24.6 }], 120000);
     t.diagnostic(`worst error during the mission: ${(100 * worst[0]).toFixed(1)} cm, ${worst[1].toFixed(2)} deg`);
     assert.equal(s.mission.status, 'succeeded', JSON.stringify(s.mission));
     assert.ok(worst[0] < 0.05 && worst[1] < 3, `worst ${worst}`);
@@ -190,18 +197,7 @@ localization: {source: mcl}
     const first = await waitFor(() => localization(daemon.url), (l) => l.health === 'ok', 10000, 'localization ok');
     api.check('Localization', first);
     assert.equal(first.sensor, 'depth');
-    const res = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 24.4, y: 26.5 }, { x: 25.0, y: 27.2 }] });
-    assert.equal(res.status, 201, JSON.stringify(res.body));
-    let worst = [0, 0];
-    let s;
-    const deadline = Date.now() + 90000;
-    do {
-      s = await state(daemon.url);
-      const [m, deg] = errorOf(s);
-      worst = [Math.max(worst[0], m), Math.max(worst[1], deg)];
-      assert.ok(Date.now() < deadline, `mission still ${s.mission?.status}`);
-      await sleep(100);
-    } while (s.mission?.status === 'active');
+    const { s, worst } = await missionError(daemon.url, [{ x: 24.4, y: 26.5 }, { x: 25.0, y: 27.2 }], 90000);
     t.diagnostic(`worst error during the mission: ${(100 * worst[0]).toFixed(1)} cm, ${worst[1].toFixed(2)} deg`);
     assert.equal(s.mission.status, 'succeeded', JSON.stringify(s.mission));
     assert.ok(worst[0] < 0.1 && worst[1] < 4, `worst ${worst}`);
