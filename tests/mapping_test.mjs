@@ -1,9 +1,10 @@
 // Mapping a new building from the daemon: graph SLAM from the simulated laser while a mission drives the robot round
 // the small house, started and stopped through the API; the map saved is the active map, its walls where the house's
 // reference map has them, and localization goes on in it. Exploring two rooms: the robot finds the second room by
-// itself, and the map is saved when no frontier is left.
+// itself, and the map is saved when no frontier is left. The 3D map: a table the laser passes under is seen by the
+// depth camera, the planner goes round it, and its octree is saved beside the map.
 import assert from 'node:assert/strict';
-import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { existsSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
@@ -76,6 +77,9 @@ localization: {source: mcl}
     assert.equal(saved.saved, 'house-new', JSON.stringify(saved));
     assert.equal((await getJson(`${daemon.url}/api/v1/map`)).body.name, 'house-new');
     assert.ok((await getJson(`${daemon.url}/api/v1/maps`)).body.maps.includes('house-new'));
+    // Its 3D map, built from the depth frames meanwhile, is saved beside it.
+    await waitFor(async () => existsSync(join(daemon.stateDir, 'maps/house-new/map.bt')), (e) => e, 5000, 'house-new/map.bt');
+    assert.equal((await getJson(`${daemon.url}/api/v1/map/octomap`)).body.map, 'house-new');
 
     // Its walls lie on the reference map's walls: most occupied cells within 10 cm of one.
     const built = occupiedCells(join(daemon.stateDir, 'maps/house-new/map.yaml'));
@@ -105,15 +109,16 @@ localization: {source: mcl}
 });
 
 // Two empty 4 x 4 m rooms side by side, joined by a 1 m door in the middle wall, at 5 cm: the world and its map.
-function writeTwoRooms(dir) {
+// Two rooms 4 x 4 m joined by a 1 m doorway, or (middle false) one room 8 x 4 m.
+function writeTwoRooms(dir, middle = true) {
   const [w, h] = [164, 84];  // 8.2 x 4.2 m with the outer walls
   const pixels = Buffer.alloc(w * h, 254);
   for (let row = 0; row < h; ++row) {
     for (let col = 0; col < w; ++col) {
       const [x, y] = [(col - 1) * 0.05, (h - 2 - row) * 0.05];  // the inside corner at (0, 0)
       const outer = col < 2 || col >= w - 2 || row < 2 || row >= h - 2;
-      const middle = Math.abs(x - 4.0) < 0.075 && (y < 1.5 || y > 2.5);
-      if (outer || middle) pixels[row * w + col] = 0;
+      const wall = middle && Math.abs(x - 4.0) < 0.075 && (y < 1.5 || y > 2.5);
+      if (outer || wall) pixels[row * w + col] = 0;
     }
   }
   writeFileSync(join(dir, 'rooms.pgm'), Buffer.concat([Buffer.from(`P5\n${w} ${h}\n255\n`), pixels]));
@@ -178,5 +183,89 @@ localization: {source: mcl}
     t.diagnostic(`${walls} occupied cells, ${(100 * onWalls / walls).toFixed(1)} % within 10 cm of the world's walls`);
     assert.ok(onWalls / walls > 0.95, `${onWalls} of ${walls}`);
     assert.equal((await getJson(`${daemon.url}/api/v1/map`)).body.name, 'rooms-explored');
+  });
+});
+
+describe('the 3D map', () => {
+  const dir = mkdtempSync(join(tmpdir(), 'corridor-table-'));
+  const room = writeTwoRooms(dir, false);
+  // A 1 m square table top 0.72 m high on four 4 cm legs, between the robot and the far end of the room: the laser
+  // (0.2 m high) sees only the legs; the map does not have it.
+  const table = { x: 3.8, y: 2.0, half: 0.5 };
+  const config = (layer) => `
+map: {file: "${room}"}
+sim:
+  world: "${room}"
+  start: {x_m: 1.0, y_m: 2.0, yaw_deg: 0}
+  obstacles:
+    - {shape: table, x_m: ${table.x}, y_m: ${table.y}, size_m: ${table.half}, height_m: 0.72}
+localization: {source: mcl}
+octomap: {costmap_layer: ${layer}, update_every_s: 0.5}
+`;
+  const underTable = (p, margin) => Math.abs(p.x - table.x) < table.half + margin && Math.abs(p.y - table.y) < table.half + margin;
+  // Whether a path (waypoints joined by straight legs) passes within `margin` of the table's footprint.
+  const crossesTable = (path, margin) => path.slice(1).some((b, i) => {
+    const a = path[i];
+    const steps = Math.ceil(Math.hypot(b.x - a.x, b.y - a.y) / 0.02);
+    for (let k = 0; k <= steps; ++k) {
+      if (underTable({ x: a.x + ((b.x - a.x) * k) / steps, y: a.y + ((b.y - a.y) * k) / steps }, margin)) return true;
+    }
+    return false;
+  });
+  const planAcross = async (url) => {
+    const res = await postJson(`${url}/api/v1/plan`, { goal: { x: 7.0, y: 2.0 } });
+    assert.equal(res.status, 200, JSON.stringify(res.body));
+    return res.body.path;
+  };
+  after(() => rmSync(dir, { recursive: true, force: true }));
+
+  test('the table top is in the octree and the planner goes round it; the octree is saved beside the map', async (t) => {
+    const stateDir = mkdtempSync(join(dir, 'state-'));
+    let daemon = await startDaemon({ config: config(true), stateDir });
+    try {
+      await waitFor(() => localization(daemon.url), (l) => l.health === 'ok', 15000, 'localization ok');
+      const octomap = async () => (await getJson(`${daemon.url}/api/v1/map/octomap`));
+      const info = await waitFor(octomap, (r) => r.status === 200 && r.body.occupied > 0, 10000, 'an octree');
+      api.check('Octomap', info.body);
+      // The top's underside, seen from below: voxels above the table's footprint at its height.
+      const voxels = new Float32Array(await (await fetch(`${daemon.url}${info.body.voxels_url}`)).arrayBuffer());
+      let top = 0;
+      for (let i = 0; i < voxels.length; i += 4) {
+        if (underTable({ x: voxels[i], y: voxels[i + 1] }, 0) && voxels[i + 2] > 0.6 && voxels[i + 2] < 0.8) ++top;
+      }
+      t.diagnostic(`${voxels.length / 4} occupied voxels, ${top} of them the table top`);
+      assert.ok(top >= 50, `${top} voxels of the table top`);
+      // The planner has the layer once the octree saw the table: the path keeps its footprint and the robot's
+      // radius clear.
+      const path = await waitFor(() => planAcross(daemon.url), (p) => !crossesTable(p, 0.15), 10000,
+        'a path round the table');
+      t.diagnostic(`round the table: ${path.length} waypoints`);
+      const bt = await fetch(`${daemon.url}${info.body.bt_url}`);
+      assert.equal(bt.status, 200);
+      assert.match(Buffer.from(await bt.arrayBuffer()).subarray(0, 40).toString('latin1'), /^# Octomap OcTree binary file/);
+    } finally {
+      await daemon.stop();
+    }
+    // Saved at shutdown in the map's folder (the configured map is named after its file), and read at the next start.
+    const saved = join(stateDir, 'maps/rooms/map.bt');
+    assert.ok(existsSync(saved), 'maps/rooms/map.bt');
+    assert.match(readFileSync(saved).subarray(0, 40).toString('latin1'), /^# Octomap OcTree binary file/);
+    daemon = await startDaemon({ config: config(true), stateDir });
+    try {
+      await waitFor(async () => daemon.log(), (log) => /octree: '.*map\.bt' read, \d+ leaves/.test(log), 5000, 'the octree read');
+    } finally {
+      await daemon.stop();
+    }
+  });
+
+  test('without the layer the planner drives under the table (what the laser alone knows)', async () => {
+    const daemon = await startDaemon({ config: config(false) });
+    try {
+      await waitFor(() => localization(daemon.url), (l) => l.health === 'ok', 15000, 'localization ok');
+      await waitFor(async () => (await getJson(`${daemon.url}/api/v1/map/octomap`)).status, (s) => s === 200, 10000, 'an octree');
+      assert.ok(crossesTable(await planAcross(daemon.url), 0), 'the straight path crosses the table');
+    } finally {
+      await daemon.stop();
+    }
   });
 });

@@ -240,6 +240,22 @@ double StaticObstacle::bounding_radius_m() const {
   return shape == Shape::kCylinder ? size_m : size_m * std::numbers::sqrt2;
 }
 
+const char* ShapeName(StaticObstacle::Shape shape) {
+  switch (shape) {
+    case StaticObstacle::Shape::kCylinder: return "cylinder";
+    case StaticObstacle::Shape::kBox: return "box";
+    case StaticObstacle::Shape::kTable: return "table";
+  }
+  return "cylinder";
+}
+
+std::optional<StaticObstacle::Shape> ShapeFromName(const std::string& name) {
+  for (const auto shape : {StaticObstacle::Shape::kCylinder, StaticObstacle::Shape::kBox, StaticObstacle::Shape::kTable}) {
+    if (name == ShapeName(shape)) return shape;
+  }
+  return std::nullopt;
+}
+
 void AddObstacles(World& world, const std::vector<StaticObstacle>& obstacles) {
   nav::OccupancyGrid& grid = world.collision;
   world.obstacles.insert(world.obstacles.end(), obstacles.begin(), obstacles.end());
@@ -250,12 +266,26 @@ void AddObstacles(World& world, const std::vector<StaticObstacle>& obstacles) {
     } else {
       TriangleMesh box;
       const float h = static_cast<float>(o.size_m);
-      box.AddBox({-h, -h, 0.0f}, {h, h, static_cast<float>(o.height_m)}, kObstacleColor);
+      const float top = static_cast<float>(o.height_m);
+      if (o.shape == StaticObstacle::Shape::kTable) {
+        constexpr float kTopThickness = 0.03f;
+        constexpr float kLeg = 0.04f;  // legs' side, at the top's corners
+        box.AddBox({-h, -h, std::max(0.0f, top - kTopThickness)}, {h, h, top}, kObstacleColor);
+        for (const float sx : {-1.0f, 1.0f}) {
+          for (const float sy : {-1.0f, 1.0f}) {
+            const Eigen::Vector3f corner(sx * (h - kLeg / 2), sy * (h - kLeg / 2), 0.0f);
+            box.AddBox(corner - Eigen::Vector3f(kLeg / 2, kLeg / 2, 0.0f), corner + Eigen::Vector3f(kLeg / 2, kLeg / 2, top),
+                       kObstacleColor);
+          }
+        }
+      } else {
+        box.AddBox({-h, -h, 0.0f}, {h, h, top}, kObstacleColor);
+      }
       world.mesh.Append(box, Eigen::Translation3f(c.x(), c.y(), 0.0f) *
                                  Eigen::AngleAxisf(static_cast<float>(o.yaw_rad), Eigen::Vector3f::UnitZ()));
     }
     // Footprint cells: every cell whose centre lies within half a cell of the shape, searched over the cells
-    // around its bounding circle.
+    // around its bounding circle. A table's whole top is its footprint (the robot cannot pass under it).
     const double res = grid.resolution_m();
     const double tolerance = o.size_m + 0.5 * res;
     const Eigen::Rotation2Dd to_box(-o.yaw_rad);

@@ -39,18 +39,23 @@ struct WorldOptions {
   std::vector<std::filesystem::path> model_paths;  // extra folders searched for model://NAME
 };
 
-// Things standing on the floor that are not in the robot's map: the DPoom evaluation's unit cubes and cylinders.
+// Things standing on the floor that are not in the robot's map: the DPoom evaluation's unit cubes and cylinders, and
+// tables (a square top on four thin legs: a laser below the top sees only the legs).
 struct StaticObstacle {
-  enum class Shape { kCylinder, kBox };
+  enum class Shape { kCylinder, kBox, kTable };
   Shape shape = Shape::kCylinder;
   Eigen::Vector2d center = Eigen::Vector2d::Zero();
-  double size_m = 0.5;     // cylinder: radius; box: half the side of a square box
-  double height_m = 1.0;
-  double yaw_rad = 0.0;    // boxes only
+  double size_m = 0.5;     // cylinder: radius; box and table: half the side of the square
+  double height_m = 1.0;   // table: of its top
+  double yaw_rad = 0.0;    // boxes and tables
 
   // The radius of a circle around it, for avoidance and placement.
   double bounding_radius_m() const;
 };
+
+// "cylinder", "box" or "table"; and back (nullopt for another name).
+const char* ShapeName(StaticObstacle::Shape shape);
+std::optional<StaticObstacle::Shape> ShapeFromName(const std::string& name);
 
 struct World {
   TriangleMesh mesh;

@@ -38,6 +38,11 @@ Pose2 DriveArc(const Pose2& start, const Twist2& twist, double t_s) {
   return start * Pose2{forward, left, dyaw};
 }
 
+Pose2 Interpolate(const Pose2& a, const Pose2& b, double f) {
+  const Pose2 step = a.Inverse() * b;
+  return a * Pose2{f * step.x_m, f * step.y_m, f * WrapAngle(step.yaw_rad)};
+}
+
 Eigen::Isometry3d Pose2::ToIsometry3() const {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.translation() = Eigen::Vector3d(x_m, y_m, 0.0);

@@ -33,4 +33,7 @@ struct Twist2 {
 // The pose reached by driving `twist` from `start` for t_s seconds along the exact arc.
 Pose2 DriveArc(const Pose2& start, const Twist2& twist, double t_s);
 
+// The pose a fraction f (0..1) of the way from a to b: the step between them, in a's frame, scaled by f.
+Pose2 Interpolate(const Pose2& a, const Pose2& b, double f);
+
 }  // namespace corridor::nav

@@ -79,4 +79,14 @@ std::optional<Eigen::Vector2d> MostOpenCell(const Costmap& costmap, const Eigen:
   return best;
 }
 
+OccupancyGrid WithObstacleLayer(const OccupancyGrid& grid, std::span<const std::int8_t> layer) {
+  OccupancyGrid merged = grid;
+  std::vector<std::int8_t>& cells = merged.mutable_cells();
+  const std::size_t n = std::min(cells.size(), layer.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (layer[i] == kOccupiedCell) cells[i] = kOccupiedCell;
+  }
+  return merged;
+}
+
 }  // namespace corridor::nav

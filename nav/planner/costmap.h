@@ -63,6 +63,10 @@ class Costmap {
   std::vector<float> speed_limit_;
 };
 
+// The grid with every cell the layer marks occupied (kOccupiedCell) made occupied: obstacles the map does not show
+// (the 3D map's table tops). `layer` has one value per cell of `grid`.
+OccupancyGrid WithObstacleLayer(const OccupancyGrid& grid, std::span<const std::int8_t> layer);
+
 // The traversable cell with the most clearance within radius_m of `near` (a place to park or send the robot),
 // or nullopt when none is traversable.
 std::optional<Eigen::Vector2d> MostOpenCell(const Costmap& costmap, const Eigen::Vector2d& near, double radius_m);

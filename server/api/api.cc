@@ -262,7 +262,7 @@ json Api::State() const {
   state["tracked_objects"] = tracked ? ToJson(*tracked) : json::array();
   json obstacles = json::array();
   for (const drivers::sim::StaticObstacle& o : c_.config.sim.obstacles) {
-    obstacles.push_back({{"shape", o.shape == drivers::sim::StaticObstacle::Shape::kBox ? "box" : "cylinder"},
+    obstacles.push_back({{"shape", drivers::sim::ShapeName(o.shape)},
                          {"x", o.center.x()}, {"y", o.center.y()}, {"size_m", o.size_m}, {"yaw", o.yaw_rad}});
   }
   state["sim_obstacles"] = std::move(obstacles);

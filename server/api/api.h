@@ -16,6 +16,7 @@
 #include "drivers/sim/sim_robot.h"
 #include "server/nodes/explore_node.h"
 #include "server/nodes/mission_node.h"
+#include "server/nodes/octree_node.h"
 #include "server/nodes/planner_service.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/config.h"
@@ -58,6 +59,7 @@ struct ApiContext {
   PlannerService& planner;
   MissionNode& missions;
   ExploreNode& explore;
+  const OctreeNode* octree;  // null when the 3D map is off (octomap.enabled: false)
   const Config& config;
   const drivers::Clock& clock;
   Executor& io;  // replies that are computed elsewhere come back here

@@ -1,7 +1,9 @@
 // Routes for the map and what is drawn on it: the active map, its editing and selection, zones and places.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -123,6 +125,42 @@ void Api::AddMapRoutes() {
           throw ApiError(http::status::not_found, "No traffic", "nobody has been seen walking on this map lately");
         }
         return MakeResponse(r, http::status::ok, "image/png", TrafficImage(*cost, grid.width(), grid.height()));
+      }));
+  // The 3D map (server/nodes/octree_node.h) as last taken: what it is, the OctoMap binary (.bt, for octovis or ROS's
+  // octomap_server), and its occupied voxels for drawing (little-endian float32 x, y, z, size per voxel, map frame).
+  const auto octree = [this] {
+    auto snapshot = c_.octree != nullptr ? c_.octree->snapshot() : nullptr;
+    if (!snapshot) {
+      throw ApiError(http::status::not_found, "No 3D map",
+                     c_.octree != nullptr ? "no depth frame is in the 3D map yet"
+                                          : "the 3D map is off (octomap.enabled in the configuration)",
+                     "no_octomap");
+    }
+    return snapshot;
+  };
+  Add(http::verb::get, "/api/v1/map/octomap", Sync([octree](const Request& r, const Params&) {
+        const auto o = octree();
+        const std::string query = "?revision=" + std::to_string(o->revision);
+        return JsonResponse(r, {{"map", o->map},
+                                {"revision", o->revision},
+                                {"resolution_m", o->resolution_m},
+                                {"leaves", o->leaves},
+                                {"occupied", o->voxels.size() / 4},
+                                {"bt_url", "/api/v1/map/octomap.bt" + query},
+                                {"voxels_url", "/api/v1/map/octomap/voxels" + query}});
+      }));
+  Add(http::verb::get, "/api/v1/map/octomap.bt", Sync([octree](const Request& r, const Params&) {
+        const auto o = octree();
+        Response response = MakeResponse(r, http::status::ok, "application/octet-stream", o->bt);
+        response.set(http::field::content_disposition, "attachment; filename=\"" + o->map + ".bt\"");
+        return response;
+      }));
+  Add(http::verb::get, "/api/v1/map/octomap/voxels", Sync([octree](const Request& r, const Params&) {
+        const auto o = octree();
+        static_assert(std::endian::native == std::endian::little, "voxels are sent as little-endian float32");
+        std::string bytes(o->voxels.size() * sizeof(float), '\0');
+        std::memcpy(bytes.data(), o->voxels.data(), bytes.size());
+        return MakeResponse(r, http::status::ok, "application/octet-stream", std::move(bytes));
       }));
   Add(http::verb::put, "/api/v1/map/image", Sync([this](const Request& r, const Params&) {
         ExpectMapEdit([&] { c_.maps.ReplaceImage(r.body()); });

@@ -9,6 +9,7 @@
 #include "server/nodes/face_node.h"
 #include "server/nodes/ground_node.h"
 #include "server/nodes/localization_node.h"
+#include "server/nodes/octree_node.h"
 #include "server/app/simulator.h"
 #include "server/nodes/tracking_node.h"
 #include "server/runtime/demand.h"
@@ -66,11 +67,23 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
       executors_.mapping, bus_, config_.localization, config_.sim.robot.start, base_T_laser,
       devices_.camera.info().camera, pose_file, LoadSavedPose(pose_file), map_built);
   LocalizationNode* const localization = localization_node.get();
+  // The 3D map, from the depth camera at the estimated poses; its layer goes to the planner.
+  std::unique_ptr<OctreeNode> octree_node;
+  if (config_.octomap.enabled) {
+    octree_node = std::make_unique<OctreeNode>(
+        executors_.mapping, bus_, config_.octomap, devices_.camera.info().camera,
+        config_.localization.source != LocalizationOptions::Source::kMonteCarlo, config_.store.state_dir / "maps",
+        [this](std::shared_ptr<const std::vector<std::int8_t>> cells, const nav::OccupancyGrid* grid) {
+          planner_.SetObstacleLayer(std::move(cells), grid);
+        });
+  }
+  octree_ = octree_node.get();
   const auto use_map = [this, tracking, localization](const std::shared_ptr<const ActiveMap>& active) {
     const std::shared_ptr<const nav::OccupancyGrid> grid(active, &active->grid);
     planner_.SetMap(grid);
     if (tracking != nullptr) tracking->SetMap(grid);
     localization->SetMap(active->name, grid);
+    if (octree_ != nullptr) octree_->SetMap(active->name, grid);
   };
   maps_ = std::make_unique<MapLibrary>(config_.store.state_dir, std::move(map.name), std::move(map.grid), use_map);
   {
@@ -106,6 +119,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
     throw std::runtime_error("localization.source: sim_truth needs the simulator");
   }
   lifecycle_.Add(std::move(localization_node));
+  if (octree_node) lifecycle_.Add(std::move(octree_node));
   lifecycle_.Add(std::make_unique<FaceNode>(executors_.perception, bus_));
   lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.camera.info(), config_.ground,
                                               config_.mission.policy));
@@ -121,7 +135,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   lifecycle_.ConfigureAll();
 
   api_ = std::make_unique<Api>(
-      ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, config_, clock_, executors_.io, devices_.sim});
+      ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, octree_, config_, clock_, executors_.io, devices_.sim});
 }
 
 Graph::~Graph() { Stop(); }

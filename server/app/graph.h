@@ -87,6 +87,7 @@ class Graph {
   SimNode* sim_node_ = nullptr;  // owned by lifecycle_
   MissionNode* missions_ = nullptr;
   ExploreNode* explore_ = nullptr;   // owned by lifecycle_
+  OctreeNode* octree_ = nullptr;     // owned by lifecycle_; null when octomap.enabled is false
   std::unique_ptr<Api> api_;
   bool started_ = false;
   bool stopped_ = false;

@@ -124,8 +124,7 @@ std::optional<nav::Pose2> LocalizationNode::OdometryAt(drivers::TimeNs stamp_ns)
   const auto before = std::prev(after);
   const double f = static_cast<double>(stamp_ns - before->stamp_ns) /
                    static_cast<double>(std::max<drivers::TimeNs>(1, after->stamp_ns - before->stamp_ns));
-  const nav::Pose2 step = before->odom_T_base.Inverse() * after->odom_T_base;
-  return before->odom_T_base * nav::Pose2{f * step.x_m, f * step.y_m, f * step.yaw_rad};
+  return nav::Interpolate(before->odom_T_base, after->odom_T_base, f);
 }
 
 nav::Pose2 LocalizationNode::LatestOdometry() const {

@@ -18,6 +18,7 @@ void PlannerService::SetMap(std::shared_ptr<const nav::OccupancyGrid> map) {
   std::lock_guard lock(mutex_);
   map_ = std::move(map);
   traffic_ = nullptr;  // it was the old map's
+  layer_ = nullptr;
   ++version_;
 }
 
@@ -25,6 +26,14 @@ void PlannerService::SetTraffic(std::shared_ptr<const std::vector<float>> cost, 
   std::lock_guard lock(mutex_);
   if (map != map_.get()) return;  // the tracker had not yet heard of the new map
   traffic_ = std::move(cost);
+}
+
+void PlannerService::SetObstacleLayer(std::shared_ptr<const std::vector<std::int8_t>> cells,
+                                      const nav::OccupancyGrid* map) {
+  std::lock_guard lock(mutex_);
+  if (map != map_.get()) return;  // made for a map since replaced
+  layer_ = std::move(cells);
+  ++version_;
 }
 
 bool PlannerService::has_traffic() const { return traffic() != nullptr; }
@@ -43,6 +52,7 @@ void PlannerService::SetZones(std::vector<nav::Zone> zones) {
 std::shared_ptr<const nav::Costmap> PlannerService::Current(double* build_ms) {
   *build_ms = 0.0;
   std::shared_ptr<const nav::OccupancyGrid> map;
+  std::shared_ptr<const std::vector<std::int8_t>> layer;
   std::vector<nav::Zone> zones;
   std::uint64_t version = 0;
   {
@@ -50,10 +60,12 @@ std::shared_ptr<const nav::Costmap> PlannerService::Current(double* build_ms) {
     version = version_.load();
     if (costmap_ && costmap_version_ == version) return costmap_;
     map = map_;
+    layer = layer_;
     zones = zones_;
   }
   const auto start = std::chrono::steady_clock::now();
-  costmap_ = std::make_shared<const nav::Costmap>(*map, zones, options_);
+  costmap_ = layer ? std::make_shared<const nav::Costmap>(nav::WithObstacleLayer(*map, *layer), zones, options_)
+                   : std::make_shared<const nav::Costmap>(*map, zones, options_);
   costmap_version_ = version;
   *build_ms = MsSince(start);
   return costmap_;

@@ -47,6 +47,10 @@ class PlannerService {
   // Does not change the version (it is not the map). Null: none (nobody has walked): missions do not reroute.
   void SetTraffic(std::shared_ptr<const std::vector<float>> cost, const nav::OccupancyGrid* map);
   bool has_traffic() const;
+  // Thread-safe. Obstacles the map does not show (the 3D map's layer), per cell of `map`: occupied cells of the layer
+  // are obstacles in every costmap from now on, when `map` is the current map. Bumps the version (missions check
+  // their paths). Null: none.
+  void SetObstacleLayer(std::shared_ptr<const std::vector<std::int8_t>> cells, const nav::OccupancyGrid* map);
   // Thread-safe. The traffic costs plans add now, per cell of the current map (null: none).
   std::shared_ptr<const std::vector<float>> traffic() const;
   std::uint64_t version() const { return version_.load(); }
@@ -68,6 +72,7 @@ class PlannerService {
   std::shared_ptr<const nav::OccupancyGrid> map_;
   std::vector<nav::Zone> zones_;
   std::shared_ptr<const std::vector<float>> traffic_;
+  std::shared_ptr<const std::vector<std::int8_t>> layer_;
   std::atomic<std::uint64_t> version_{1};
   std::shared_ptr<const nav::Costmap> costmap_;  // planning executor only
   std::uint64_t costmap_version_ = 0;             // planning executor only

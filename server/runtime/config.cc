@@ -167,6 +167,20 @@ void ReadLocalization(ConfigReader& r, LocalizationOptions& l) {
   });
 }
 
+void ReadOctomap(ConfigReader& r, OctreeOptions& o) {
+  r.Read("enabled", o.enabled);
+  r.Read("resolution_m", o.octree.resolution_m, 0.01, 1.0);
+  r.Read("max_range_m", o.octree.max_range_m, 0.5, 20.0);
+  r.Read("pixel_step", o.octree.pixel_step, 1, 16);
+  r.Read("insert_every_s", o.insert_every_s, 0.0, 60.0);
+  r.Read("min_height_m", o.min_height_m, 0.0, 3.0);
+  r.Read("max_height_m", o.max_height_m, 0.0, 5.0);
+  if (o.max_height_m <= o.min_height_m) throw ConfigError(r.PathOf("max_height_m") + ": must exceed min_height_m");
+  r.Read("costmap_layer", o.costmap_layer);
+  r.Read("update_every_s", o.update_every_s, 0.1, 600.0);
+  r.Read("save_every_s", o.save_every_s, 1.0, 86400.0);
+}
+
 void ReadTracking(ConfigReader& r, TrackingOptions& t) {
   nav::MovingObjectOptions& o = t.objects;
   r.Read("enabled", t.enabled);
@@ -235,8 +249,9 @@ drivers::sim::StaticObstacle ReadObstacle(ConfigReader& r) {
   drivers::sim::StaticObstacle o;
   std::string shape = "cylinder";
   r.Read("shape", shape);
-  if (shape != "cylinder" && shape != "box") throw ConfigError(r.PathOf("shape") + ": must be cylinder or box");
-  o.shape = shape == "box" ? drivers::sim::StaticObstacle::Shape::kBox : drivers::sim::StaticObstacle::Shape::kCylinder;
+  const auto parsed = drivers::sim::ShapeFromName(shape);
+  if (!parsed) throw ConfigError(r.PathOf("shape") + ": must be cylinder, box or table");
+  o.shape = *parsed;
   r.Read("x_m", o.center.x(), -1e5, 1e5);
   r.Read("y_m", o.center.y(), -1e5, 1e5);
   r.Read("size_m", o.size_m, 0.01, 10.0);
@@ -332,6 +347,7 @@ Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
     r.Section("mission", [&](ConfigReader& s) { ReadMission(s, config.mission); });
     r.Section("tracking", [&](ConfigReader& s) { ReadTracking(s, config.tracking); });
     r.Section("localization", [&](ConfigReader& s) { ReadLocalization(s, config.localization); });
+    r.Section("octomap", [&](ConfigReader& s) { ReadOctomap(s, config.octomap); });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();
     // MORP-RB brakes by the control loop's model.

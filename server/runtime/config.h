@@ -10,6 +10,7 @@
 #include "drivers/sim/world.h"
 #include "nav/ground/depth_scan.h"
 #include "nav/localization/monte_carlo.h"
+#include "nav/mapping/occupancy_octree.h"
 #include "nav/ground/morp.h"
 #include "nav/planner/costmap.h"
 #include "nav/safety/command_gate.h"
@@ -88,6 +89,20 @@ struct LocalizationOptions {
   }();
 };
 
+// The 3D map (server/nodes/octree_node.h): a depth frame every insert_every_s at the estimated pose; what stands
+// between min_height_m and max_height_m (the step the robot drives over and its own height) is an obstacle for the
+// planner.
+struct OctreeOptions {
+  bool enabled = true;
+  nav::OccupancyOctreeOptions octree;
+  double insert_every_s = 0.5;
+  double min_height_m = 0.1;
+  double max_height_m = 1.2;
+  bool costmap_layer = true;
+  double update_every_s = 2.0;  // the layer and the API's snapshot, when the octree changed
+  double save_every_s = 30.0;
+};
+
 struct LogOptions {
   std::string level = "info";           // trace, debug, info, warn, error
 };
@@ -103,6 +118,7 @@ struct Config {
   nav::MissionRunnerOptions mission;
   TrackingOptions tracking;
   LocalizationOptions localization;
+  OctreeOptions octomap;
   LogOptions log;
 };
 

@@ -161,7 +161,7 @@ TEST_F(ConfigTest, SimulatedObstaclesAreAListCheckedItemByItem) {
   EXPECT_EQ(ErrorOf("sim:\n  enabled: false\n  obstacles:\n    - {shape: box, x_m: 1, y_m: 2, size_m: 0.3}\n"
                     "    - {x_m: 3, y_m: 2}\n"), "");
   const std::string shape = ErrorOf("sim:\n  enabled: false\n  obstacles:\n    - {x_m: 1}\n    - {shape: cone}\n");
-  EXPECT_NE(shape.find("sim.obstacles[1].shape: must be cylinder or box"), std::string::npos) << shape;
+  EXPECT_NE(shape.find("sim.obstacles[1].shape: must be cylinder, box or table"), std::string::npos) << shape;
   const std::string unknown = ErrorOf("sim:\n  enabled: false\n  obstacles:\n    - {radius: 1}\n");
   EXPECT_NE(unknown.find("sim.obstacles[0].radius: unknown key"), std::string::npos) << unknown;
   const std::string not_list = ErrorOf("sim:\n  enabled: false\n  obstacles: {x_m: 1}\n");

@@ -117,7 +117,7 @@ void TraceCollision(const Layout& layout, const nav::Pose2& pose, const std::vec
   }
   for (const auto& o : layout.world.obstacles) {
     std::fprintf(stderr, "  obstacle %s at %.2f %.2f size %.2f, distance %.2f\n",
-                 o.shape == StaticObstacle::Shape::kBox ? "box" : "cylinder", o.center.x(), o.center.y(), o.size_m,
+                 ShapeName(o.shape), o.center.x(), o.center.y(), o.size_m,
                  (o.center - pose.translation()).norm());
   }
   std::fprintf(stderr, "  remembered within 1 m (robot frame):");

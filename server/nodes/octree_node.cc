@@ -1,0 +1,200 @@
+#include "server/nodes/octree_node.h"
+
+#include <fstream>
+#include <sstream>
+
+#include <spdlog/spdlog.h>
+
+#include "server/runtime/topics.h"
+
+namespace corridor::server {
+namespace {
+
+constexpr drivers::TimeNs kPosesKeptNs = 1'000'000'000;
+constexpr drivers::TimeNs kPoseGapNs = 100'000'000;  // a frame farther than this from every pose is not placed
+
+drivers::TimeNs Ns(double seconds) { return static_cast<drivers::TimeNs>(seconds * 1e9); }
+
+std::optional<std::string> ReadFile(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return std::move(bytes).str();
+}
+
+// Written to a temporary file first, then renamed over the old one: a crash leaves the old file or the new.
+void WriteAtomically(const std::filesystem::path& file, const std::string& bytes) {
+  std::filesystem::create_directories(file.parent_path());
+  const std::filesystem::path temporary = file.string() + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!out) throw std::runtime_error(temporary.string() + ": cannot write");
+  }
+  std::filesystem::rename(temporary, file);
+}
+
+}  // namespace
+
+OctreeNode::OctreeNode(Executor& mapping, Bus& bus, const OctreeOptions& options, const nav::PinholeCamera& camera,
+                       bool trust_pose, std::filesystem::path maps_dir, Layer on_layer)
+    : Node("octree", mapping, bus),
+      options_(options),
+      camera_(camera),
+      trust_pose_(trust_pose),
+      maps_dir_(std::move(maps_dir)),
+      on_layer_(std::move(on_layer)),
+      octree_(options.octree) {}
+
+void OctreeNode::Activate() {
+  Subscribe(topics::kPose, "pose", [this](const auto& pose) {
+    poses_.push_back(*pose);
+    while (poses_.size() > 2 && poses_.back().stamp_ns - poses_.front().stamp_ns > kPosesKeptNs) poses_.pop_front();
+  });
+  Subscribe(topics::kMapping, "mapping", [this](const auto& mapping) { OnMapping(*mapping); });
+  Subscribe(topics::kRgbd, "frame", [this](const auto& frame) { OnFrame(*frame); });
+  SetHealth(Health::kOk, "waiting for depth frames");
+}
+
+void OctreeNode::Cleanup() {
+  Run("save", [this] { Save(); });
+}
+
+void OctreeNode::SetMap(std::string name, std::shared_ptr<const nav::OccupancyGrid> map) {
+  executor().Post([this, name = std::move(name), map = std::move(map)] {
+    Run("map", [&] {
+      map_ = map;
+      layer_ = nullptr;
+      if (name != name_) {
+        Switch(name);
+      } else if (mapping_) {
+        mapping_ = false;  // the map just built is saved and active: its octree is saved beside it now
+        Save();
+      }
+      last_update_ns_ = 0;  // the layer for the new grid on the next frame
+      dirty_ = true;
+    });
+  });
+}
+
+std::shared_ptr<const OctreeSnapshot> OctreeNode::snapshot() const {
+  std::lock_guard lock(mutex_);
+  return snapshot_;
+}
+
+void OctreeNode::OnMapping(const MappingState& mapping) {
+  if (mapping.active && !mapping_) {
+    Save();  // the old map's octree, before the new one starts empty
+    mapping_ = true;
+    name_ = mapping.name;
+    octree_ = nav::OccupancyOctree(options_.octree);
+    unsaved_ = false;
+    dirty_ = true;
+    spdlog::info("octree: a new 3D map for '{}'", name_);
+  }
+}
+
+bool OctreeNode::PoseTrusted() {
+  if (trust_pose_ || mapping_) return true;
+  const auto state = bus().Get(topics::kLocalization).latest();
+  return state && state->estimate.health == nav::LocalizationHealth::kOk;
+}
+
+std::optional<nav::Pose2> OctreeNode::PoseAt(drivers::TimeNs stamp_ns) const {
+  if (poses_.empty()) return std::nullopt;
+  const auto after = std::lower_bound(poses_.begin(), poses_.end(), stamp_ns,
+                                      [](const StampedPose& p, drivers::TimeNs t) { return p.stamp_ns < t; });
+  if (after == poses_.end()) {
+    if (stamp_ns - poses_.back().stamp_ns > kPoseGapNs) return std::nullopt;
+    return poses_.back().pose;
+  }
+  if (after == poses_.begin()) {
+    if (after->stamp_ns - stamp_ns > kPoseGapNs) return std::nullopt;
+    return after->pose;
+  }
+  const auto before = std::prev(after);
+  const double f = static_cast<double>(stamp_ns - before->stamp_ns) /
+                   static_cast<double>(std::max<drivers::TimeNs>(1, after->stamp_ns - before->stamp_ns));
+  return nav::Interpolate(before->pose, after->pose, f);
+}
+
+void OctreeNode::OnFrame(const drivers::RgbdFrame& frame) {
+  if (name_.empty()) return;  // no map yet
+  if (frame.stamp_ns - last_insert_ns_ >= Ns(options_.insert_every_s) && PoseTrusted()) {
+    if (const auto pose = PoseAt(frame.stamp_ns)) {
+      octree_.InsertDepth(frame.depth_mm, camera_, *pose);
+      last_insert_ns_ = frame.stamp_ns;
+      dirty_ = unsaved_ = true;
+    }
+  }
+  if (frame.stamp_ns - last_update_ns_ >= Ns(options_.update_every_s)) Update(frame.stamp_ns);
+  if (unsaved_ && !mapping_ && frame.stamp_ns - last_save_ns_ >= Ns(options_.save_every_s)) {
+    Save();
+    last_save_ns_ = frame.stamp_ns;
+  }
+}
+
+void OctreeNode::Update(drivers::TimeNs now_ns) {
+  last_update_ns_ = now_ns;
+  if (!dirty_) return;
+  dirty_ = false;
+  auto snapshot = std::make_shared<OctreeSnapshot>();
+  snapshot->map = name_;
+  snapshot->resolution_m = octree_.resolution_m();
+  snapshot->leaves = octree_.leaf_count();
+  snapshot->bt = octree_.ToBinary();
+  for (const nav::OccupiedVoxel& v : octree_.OccupiedVoxels()) {
+    snapshot->voxels.insert(snapshot->voxels.end(), {v.center.x(), v.center.y(), v.center.z(), v.size_m});
+  }
+  {
+    std::lock_guard lock(mutex_);
+    snapshot->revision = snapshot_ ? snapshot_->revision + 1 : 1;
+    snapshot_ = std::move(snapshot);
+  }
+  SetHealth(Health::kOk, "3D map of '" + name_ + "'");  // its size is in the snapshot (GET /api/v1/map/octomap)
+  // The layer belongs to the active map; while a new one is built, the planner has that map, not this octree's.
+  if (!options_.costmap_layer || !map_ || mapping_) return;
+  auto cells = std::make_shared<const std::vector<std::int8_t>>(
+      octree_.ProjectOccupied(*map_, options_.min_height_m, options_.max_height_m));
+  if (layer_ && *layer_ == *cells) return;
+  layer_ = cells;
+  on_layer_(std::move(cells), map_.get());
+}
+
+void OctreeNode::Switch(const std::string& name) {
+  Save();
+  name_ = name;
+  mapping_ = false;
+  unsaved_ = false;
+  octree_ = nav::OccupancyOctree(options_.octree);
+  const std::filesystem::path file = FileOf(name);
+  const auto bytes = ReadFile(file);
+  if (!bytes) return;  // a map without a 3D map yet
+  try {
+    octree_ = nav::OccupancyOctree::FromBinary(*bytes, options_.octree);
+    spdlog::info("octree: '{}' read, {} leaves", file.string(), octree_.leaf_count());
+  } catch (const nav::OctreeFormatError& e) {
+    // Moved aside, not overwritten by the next save: someone may want it back.
+    const std::filesystem::path aside = file.string() + ".unreadable";
+    std::error_code ec;
+    std::filesystem::rename(file, aside, ec);
+    spdlog::warn("octree: '{}' cannot be read ({}); moved to '{}', starting an empty 3D map", file.string(), e.what(),
+                 aside.string());
+    SetHealth(Health::kDegraded, file.string() + " cannot be read (" + e.what() + "); moved aside");
+  }
+}
+
+void OctreeNode::Save() {
+  if (!unsaved_ || name_.empty() || mapping_) return;
+  try {
+    WriteAtomically(FileOf(name_), octree_.ToBinary());
+    unsaved_ = false;
+    spdlog::debug("octree: '{}' saved", FileOf(name_).string());
+  } catch (const std::exception& e) {
+    spdlog::error("octree: '{}' cannot be saved: {}", FileOf(name_).string(), e.what());
+    SetHealth(Health::kDegraded, "cannot save: " + std::string(e.what()));
+  }
+}
+
+}  // namespace corridor::server

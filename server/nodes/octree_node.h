@@ -1,0 +1,84 @@
+// The 3D map of the active map (nav/mapping/occupancy_octree.h), on the mapping executor. A depth frame goes in
+// every insert_every_s at the robot's pose at the frame's time, while the pose is trusted: localization ok (or its
+// source is not the filter), or the map being built. What stands between min_height_m and max_height_m (the step
+// height and the robot's height) goes to the planner as a costmap layer, when it changed, every update_every_s.
+//
+// Each map has its own octree, <maps_dir>/NAME/map.bt (OctoMap binary), read when the map becomes active and
+// written every save_every_s while it changes, when another map becomes active and at shutdown. Mapping a new
+// building starts an empty octree under the new name; it is written once the map is saved (and active).
+#pragma once
+
+#include <deque>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nav/mapping/occupancy_octree.h"
+#include "server/runtime/bus.h"
+#include "server/runtime/config.h"
+#include "server/runtime/node.h"
+
+namespace corridor::server {
+
+// What the API serves of the 3D map: taken every update_every_s while it changes.
+struct OctreeSnapshot {
+  std::string map;               // whose octree
+  std::uint64_t revision = 0;    // bumped by every snapshot
+  double resolution_m = 0.0;
+  std::size_t leaves = 0;
+  std::string bt;                // OctoMap binary
+  std::vector<float> voxels;     // occupied leaves, x y z size each (map frame)
+};
+
+class OctreeNode final : public Node {
+ public:
+  // The layer for the planner: per cell of `map`, kOccupiedCell where something stands in the band.
+  using Layer = std::function<void(std::shared_ptr<const std::vector<std::int8_t>> cells, const nav::OccupancyGrid* map)>;
+
+  OctreeNode(Executor& mapping, Bus& bus, const OctreeOptions& options, const nav::PinholeCamera& camera,
+             bool trust_pose, std::filesystem::path maps_dir, Layer on_layer);
+  void Activate() override;
+  void Cleanup() override;  // saves: the executors have stopped, nothing else touches the octree
+  // The active map, by name. Thread-safe: applied on the node's executor.
+  void SetMap(std::string name, std::shared_ptr<const nav::OccupancyGrid> map);
+  // The latest snapshot; null before the first. Thread-safe.
+  std::shared_ptr<const OctreeSnapshot> snapshot() const;
+  // Where a map's octree is kept.
+  std::filesystem::path FileOf(const std::string& map) const { return maps_dir_ / map / "map.bt"; }
+
+ private:
+  void OnFrame(const drivers::RgbdFrame& frame);
+  void OnMapping(const MappingState& mapping);
+  // The robot's pose at stamp_ns, between the poses published around it; nullopt when none is near.
+  std::optional<nav::Pose2> PoseAt(drivers::TimeNs stamp_ns) const;
+  bool PoseTrusted();
+  // Switches to `name`'s octree: the current one saved first, the new one read from its file (or empty).
+  void Switch(const std::string& name);
+  void Save();
+  void Update(drivers::TimeNs now_ns);
+
+  OctreeOptions options_;
+  nav::PinholeCamera camera_;
+  bool trust_pose_;  // the pose is not the filter's (odometry or the simulator's truth)
+  std::filesystem::path maps_dir_;
+  Layer on_layer_;
+  nav::OccupancyOctree octree_;
+  std::string name_;                                  // whose octree octree_ is
+  std::shared_ptr<const nav::OccupancyGrid> map_;     // the active map's grid (the layer's geometry)
+  bool mapping_ = false;                              // a new map is being built under name_
+  bool dirty_ = false;                                // changed since the last snapshot
+  bool unsaved_ = false;                              // changed since the last save
+  std::deque<StampedPose> poses_;                     // the last second
+  drivers::TimeNs last_insert_ns_ = 0;
+  drivers::TimeNs last_update_ns_ = 0;
+  drivers::TimeNs last_save_ns_ = 0;
+  std::shared_ptr<const std::vector<std::int8_t>> layer_;
+  mutable std::mutex mutex_;
+  std::shared_ptr<const OctreeSnapshot> snapshot_;
+};
+
+}  // namespace corridor::server
