@@ -30,11 +30,25 @@ export interface TrackedObject {
   seen: boolean;  // false: kept on its prediction (hidden, or walked out of the camera's view)
   walk_end?: { x: number; y: number };  // where they turned round before, walking this way
 }
-export interface SimObstacle { shape: 'cylinder' | 'box'; x: number; y: number; size_m: number; yaw: number; }
+export interface SimObstacle { shape: 'cylinder' | 'box' | 'table'; x: number; y: number; size_m: number; yaw: number; }
 export interface ControlLatency { rate_hz: number; p50_ms: number; p99_ms: number; max_ms: number; samples: number; }
 export interface MapInfo {
   name: string; revision: number; resolution_m: number; width: number; height: number; origin: Pose;
   image_url: string;
+}
+export interface Localization {
+  source: 'odometry' | 'sim_truth' | 'mcl'; sensor?: 'laser' | 'depth'; pose?: Pose;
+  covariance?: number[];  // (x, y, yaw), row-major
+  health: 'ok' | 'uncertain' | 'lost'; agreement?: number; particle_count: number;
+  particles: [number, number, number][];
+}
+export interface Mapping {
+  active: boolean; exploring: boolean; name: string; scans: number; submaps: number; loop_closures: number;
+  saved: string; error: string; map: Omit<MapInfo, 'name'> | null;
+}
+export interface Octomap {
+  map: string; revision: number; resolution_m: number; leaves: number; occupied: number; bt_url: string;
+  voxels_url: string;
 }
 export interface Problem { type: string; title: string; status: number; detail: string; }
 

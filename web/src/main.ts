@@ -1,7 +1,10 @@
 // The corridor console: map, live pose, camera, telemetry, teleoperation, and the navigation tools.
 import { send, type GroundLanes, type MapInfo, type Mission, type Pose, type State, type Twist } from './api';
 import { byId } from './dom';
+import { LocalizationPanel } from './localization';
 import { MapView } from './map_view';
+import { MappingPanel } from './mapping';
+import { OctomapView } from './octomap_view';
 import { Stream } from './stream';
 import { Teleop } from './teleop';
 import { Tools } from './tools';
@@ -137,6 +140,15 @@ async function main(): Promise<void> {
   let tools: Tools | null = null;
   let mission: Mission | null = null;
   let mapRevision = -1;
+  // The active map again (after an edit, a change of map, or mapping).
+  const showActiveMap = () => {
+    void send<MapInfo>('GET', '/api/v1/map').then((info) => {
+      view?.setMap(info);
+      byId('map-name').textContent = info.name;
+      tools?.clearPaintPreview();
+    }).catch((e: Error) => report(e.message));
+  };
+  const octomap = new OctomapView(byId<HTMLDetailsElement>('octomap-panel'), byId('octomap-view'));
   try {
     const info = await send<MapInfo>('GET', '/api/v1/map');
     byId('map-name').textContent = info.name;
@@ -146,8 +158,10 @@ async function main(): Promise<void> {
     tools = new Tools(view, zones, report);
     tools.attachPlaces();
     await Promise.all([zones.reload(), tools.reloadPlaces()]);
+    const localization = new LocalizationPanel(view, report);
+    const mapping = new MappingPanel(view, report, showActiveMap);
     // For tests and debugging from the browser's console.
-    (window as unknown as { corridorConsole: object }).corridorConsole = { view, tools, zones };
+    (window as unknown as { corridorConsole: object }).corridorConsole = { view, tools, zones, localization, mapping };
   } catch (e) {
     byId('map').textContent = `map unavailable: ${(e as Error).message}`;
   }
@@ -163,13 +177,10 @@ async function main(): Promise<void> {
       pose = state.pose;
       mission = state.mission;
       showState(state, view);
+      octomap.showRobot(state.pose);
       if (view && state.map.revision !== mapRevision) {
         mapRevision = state.map.revision;
-        void send<MapInfo>('GET', '/api/v1/map').then((info) => {
-          view?.setMap(info);
-          byId('map-name').textContent = info.name;
-          tools?.clearPaintPreview();
-        });
+        showActiveMap();
       }
     },
     (status) => {

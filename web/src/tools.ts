@@ -1,5 +1,6 @@
 // The map tools: click a goal (drag for its heading) with a plan preview, waypoint missions, named places, zones
-// (zones.ts) and painting the map. One tool is active at a time; Pan gives the mouse back to the map.
+// (zones.ts), painting the map, and telling localization where the robot is (press on it, drag along its heading,
+// as RViz's 2D Pose Estimate). One tool is active at a time; Pan gives the mouse back to the map.
 import L from 'leaflet';
 
 import { send, type Goal, type Place, type PlanResult } from './api';
@@ -7,7 +8,7 @@ import { byId } from './dom';
 import { toLatLng, type MapView } from './map_view';
 import type { ZoneLayers } from './zones';
 
-type Tool = 'pan' | 'goal' | 'waypoints' | 'keep_out' | 'speed_limit' | 'place' | 'edit_zones' | 'delete_zones' |
+type Tool = 'pan' | 'goal' | 'set_pose' | 'waypoints' | 'keep_out' | 'speed_limit' | 'place' | 'edit_zones' | 'delete_zones' |
   'paint_occupied' | 'paint_free' | 'paint_unknown';
 
 const kHeadingDragM = 0.15;  // a drag shorter than this sets no heading
@@ -79,7 +80,7 @@ export class Tools {
   }
 
   private down(at: L.LatLng): void {
-    if (this.tool === 'goal') {
+    if (this.tool === 'goal' || this.tool === 'set_pose') {
       this.press = at;
       this.goal = null;
       this.preview.clearLayers();
@@ -92,10 +93,11 @@ export class Tools {
 
   private move(at: L.LatLng): void {
     if (!this.press) return;
-    if (this.tool === 'goal') {
+    if (this.tool === 'goal' || this.tool === 'set_pose') {
+      const color = this.tool === 'goal' ? '#2ea043' : '#d29922';
       this.preview.clearLayers();
-      L.circleMarker(this.press, { radius: 6, color: '#2ea043' }).addTo(this.preview);
-      if (this.press.distanceTo(at) > kHeadingDragM) L.polyline([this.press, at], { color: '#2ea043', weight: 3 }).addTo(this.preview);
+      L.circleMarker(this.press, { radius: 6, color }).addTo(this.preview);
+      if (this.press.distanceTo(at) > kHeadingDragM) L.polyline([this.press, at], { color, weight: 3 }).addTo(this.preview);
     } else if (this.tool.startsWith('paint_')) {
       this.paint(at);
     }
@@ -109,6 +111,8 @@ export class Tools {
       if (press.distanceTo(at) > kHeadingDragM) goal.yaw = Math.atan2(at.lat - press.lat, at.lng - press.lng);
       this.goal = goal;
       await this.previewPlan(goal);
+    } else if (this.tool === 'set_pose' && press) {
+      await this.setPose(press, at);
     } else if (this.tool === 'waypoints') {
       this.waypoints.push({ x: at.lng, y: at.lat });
       L.marker(at, { icon: L.divIcon({ className: 'place-label', html: `${this.waypoints.length}`, iconSize: [16, 16] }) })
@@ -126,6 +130,21 @@ export class Tools {
       }
     } else if (this.tool.startsWith('paint_') && press) {
       await this.flushPaint();
+    }
+  }
+
+  private async setPose(press: L.LatLng, at: L.LatLng): Promise<void> {
+    this.preview.clearLayers();
+    if (press.distanceTo(at) <= kHeadingDragM) {
+      this.report('set pose: press where the robot is and drag the way it faces');
+      return;
+    }
+    const pose = { x: press.lng, y: press.lat, yaw: Math.atan2(at.lat - press.lat, at.lng - press.lng) };
+    try {
+      await send('PUT', '/api/v1/localization/pose', pose);
+      this.report(`pose set: x ${pose.x.toFixed(2)} m, y ${pose.y.toFixed(2)} m`);
+    } catch (e) {
+      this.report((e as Error).message);
     }
   }
 
