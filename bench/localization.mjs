@@ -6,6 +6,7 @@
 //   2. --kidnaps random kidnappings (the robot carried to a random free place and heading): found when the estimate is
 //      within 0.2 m and 5 degrees of the truth and not lost, within 15 s; "wrong" when it claims ok elsewhere.
 //   node bench/localization.mjs [--sensor laser|depth] [--distance 200] [--kidnaps 20] [--seed 1]
+// (--distance 0: the kidnappings alone)
 // Needs ./dev build. Run nothing else meanwhile: the times and the CPU are this machine's.
 import { execFileSync } from 'node:child_process';
 
@@ -122,15 +123,17 @@ try {
   }
   const percent = (ticks) => (100 * ticks) / ticksPerSecond / seconds;
   const total = [...cpu.values()].reduce((a, b) => a + b, 0);
-  console.log(`${sensor}: ${missions} missions (${failed} not succeeded), ${driven.toFixed(0)} m in ${seconds.toFixed(0)} s`);
-  console.log(`  error to the truth: RMSE ${(100 * rms(errors)).toFixed(1)} cm, ${rms(yawErrors).toFixed(2)} deg; ` +
-    `max ${(100 * Math.max(...errors)).toFixed(1)} cm, ${Math.max(...yawErrors).toFixed(2)} deg (${errors.length} samples)`);
-  console.log(`  stopped from the goal by its own estimate: max ${(100 * Math.max(...stops)).toFixed(1)} cm ` +
-    `(${stops.length} goals)`);
-  console.log(`  localization update (sampled latest): p50 ${percentile(updates, 0.5).toFixed(2)} ms, ` +
-    `p99 ${percentile(updates, 0.99).toFixed(2)} ms, max ${Math.max(...updates).toFixed(2)} ms (${updates.length} samples)`);
-  console.log(`  CPU: total ${percent(total).toFixed(1)} % of one core, beyond the sim ${percent(total - (cpu.get('sim') ?? 0)).toFixed(1)} %, ` +
-    [...cpu].sort((a, b) => b[1] - a[1]).map(([n, t]) => `${n} ${percent(t).toFixed(1)}`).join(', '));
+  if (distance > 0) {
+    console.log(`${sensor}: ${missions} missions (${failed} not succeeded), ${driven.toFixed(0)} m in ${seconds.toFixed(0)} s`);
+    console.log(`  error to the truth: RMSE ${(100 * rms(errors)).toFixed(1)} cm, ${rms(yawErrors).toFixed(2)} deg; ` +
+      `max ${(100 * Math.max(...errors)).toFixed(1)} cm, ${Math.max(...yawErrors).toFixed(2)} deg (${errors.length} samples)`);
+    console.log(`  stopped from the goal by its own estimate: max ${(100 * Math.max(...stops)).toFixed(1)} cm ` +
+      `(${stops.length} goals)`);
+    console.log(`  localization update (sampled latest): p50 ${percentile(updates, 0.5).toFixed(2)} ms, ` +
+      `p99 ${percentile(updates, 0.99).toFixed(2)} ms, max ${Math.max(...updates).toFixed(2)} ms (${updates.length} samples)`);
+    console.log(`  CPU: total ${percent(total).toFixed(1)} % of one core, beyond the sim ${percent(total - (cpu.get('sim') ?? 0)).toFixed(1)} %, ` +
+      [...cpu].sort((a, b) => b[1] - a[1]).map(([n, t]) => `${n} ${percent(t).toFixed(1)}`).join(', '));
+  }
 
   // 2. Kidnappings.
   const times = [];
@@ -141,16 +144,24 @@ try {
     const t0 = Date.now();
     let found = false;
     let claimed = false;
+    let lostAt = null;
+    let last = '';
     while (Date.now() - t0 < 15000) {
       await sleep(200);
       const [s, l] = [await state(), await localization()];
       if (Math.hypot(s.sim_true_pose.x - place.x, s.sim_true_pose.y - place.y) > 0.3) continue;  // not yet carried
       const [m, deg] = errorOf(s);
+      if (l.health === 'lost' && lostAt === null) lostAt = (Date.now() - t0) / 1000;
+      last = `${l.health}, ${m.toFixed(2)} m ${deg.toFixed(0)} deg off`;
       if (l.health !== 'lost' && m < 0.2 && deg < 5) { found = true; break; }
       claimed = l.health === 'ok' && m > 1.0;
     }
     if (found) times.push((Date.now() - t0) / 1000);
     else wrong += claimed;
+    // One line each: where to, whether and when it knew it was lost, how it ended.
+    console.log(`    ${k + 1}: to (${place.x.toFixed(1)}, ${place.y.toFixed(1)}, ${(place.yaw * 180 / Math.PI).toFixed(0)} deg): ` +
+      `${found ? `found in ${((Date.now() - t0) / 1000).toFixed(1)} s` : 'not found'}; lost ` +
+      `${lostAt === null ? 'never' : `after ${lostAt.toFixed(1)} s`}; last ${last}`);
     // Whatever happened, the next one starts localized where the robot is.
     const truth = (await state()).sim_true_pose;
     await sendJson('PUT', `${daemon.url}/api/v1/localization/pose`, { ...truth, sigma_m: 0.05, sigma_yaw: 0.05 });

@@ -133,6 +133,7 @@ void MonteCarloLocalization::SetPose(const Pose2& pose, double sigma_m, double s
   force_update_ = true;
   bad_updates_ = 0;
   good_updates_ = 0;
+  doubtful_updates_ = 0;
 }
 
 bool MonteCarloLocalization::Relocalize(const RangeScan& scan) {
@@ -277,8 +278,10 @@ void MonteCarloLocalization::UpdateHealth(std::span<const Eigen::Vector2f> hits)
   // Lost holds until a pose is given or found, or the scans agree well again for as long as it took to get lost: a
   // narrow view agrees by chance with some wall now and then, which is not being found.
   good_updates_ = estimate_.agreement >= options_.ok_agreement ? good_updates_ + 1 : 0;
+  doubtful_updates_ = estimate_.agreement < options_.ok_agreement ? doubtful_updates_ + 1 : 0;
   const bool stays_lost = estimate_.health == LocalizationHealth::kLost && good_updates_ < options_.lost_after;
-  if (bad_updates_ >= options_.lost_after || stays_lost) {
+  const bool doubtful = options_.doubtful_after > 0 && doubtful_updates_ >= options_.doubtful_after;
+  if (bad_updates_ >= options_.lost_after || doubtful || stays_lost) {
     estimate_.health = LocalizationHealth::kLost;
   } else if (estimate_.agreement >= options_.ok_agreement && spread <= options_.ok_spread_m) {
     estimate_.health = LocalizationHealth::kOk;

@@ -63,6 +63,9 @@ struct MonteCarloOptions {
   double ok_spread_m = 0.2;
   double lost_agreement = 0.2;       // below this for lost_after scans in a row: lost (until ok_agreement for as many)
   int lost_after = 5;
+  // Also lost after this many scans in a row that agree less than ok_agreement (0: never). A narrow view carried
+  // elsewhere often half-fits the walls it now sees, and would stay uncertain for ever.
+  int doubtful_after = 0;
   int min_judged_hits = 10;          // a scan with fewer hits (a camera facing open floor) neither refines the pose
                                      // nor counts towards lost or found: it says too little (ok becomes uncertain)
   // Global relocalization: the minimum mean probability of a match, and the particles seeded around it.
@@ -132,6 +135,7 @@ class MonteCarloLocalization {
   bool force_update_ = true;               // weigh by the next scan whatever the motion (after SetPose)
   int bad_updates_ = 0;   // scans in a row that the map explains too little
   int good_updates_ = 0;  // and well
+  int doubtful_updates_ = 0;  // scans in a row that agree less than ok_agreement
 };
 
 }  // namespace corridor::nav

@@ -143,6 +143,28 @@ TEST(MonteCarloLocalizationTest, ScansThatDoNotFitTheMapMakeItLost) {
   EXPECT_EQ(mcl.estimate().health, LocalizationHealth::kOk);
 }
 
+TEST(MonteCarloLocalizationTest, ScansThatOnlyHalfFitMakeItLostWhenAskedTo) {
+  // A third of each scan on the map's walls, the rest half a metre beyond them: not lost by lost_agreement (0.2),
+  // never ok either. doubtful_after makes that lost too.
+  const Pose2 pose{2.0, 1.5, 0.3};
+  RangeScan scan = ScanAt(Room(), pose);
+  for (std::size_t i = 0; i < scan.hits.size(); ++i) {
+    if (i % 3 != 0) scan.hits[i] *= (scan.hits[i].norm() + 0.5f) / scan.hits[i].norm();
+  }
+  for (const int doubtful_after : {0, 30}) {
+    MonteCarloOptions options;
+    options.doubtful_after = doubtful_after;
+    MonteCarloLocalization mcl(RoomMap(), options, 3);
+    mcl.SetPose(pose, 0.02, 0.01);
+    for (int i = 0; i < 29; ++i) mcl.Update(Pose2{}, scan);
+    EXPECT_EQ(mcl.estimate().health, LocalizationHealth::kUncertain) << doubtful_after;
+    EXPECT_GT(mcl.estimate().agreement, options.lost_agreement);
+    mcl.Update(Pose2{}, scan);
+    EXPECT_EQ(mcl.estimate().health, doubtful_after > 0 ? LocalizationHealth::kLost : LocalizationHealth::kUncertain)
+        << doubtful_after;
+  }
+}
+
 // What the depth camera's scan gives: 85 degrees ahead, out to 4 m.
 RangeScan CameraScanAt(const std::vector<Wall>& walls, const Pose2& pose) {
   RangeScan scan = ScanAt(walls, pose, 85, 85.0 * std::numbers::pi / 180.0);

@@ -40,6 +40,7 @@ LocalizationNode::LocalizationNode(Executor& executor, Bus& bus, const Localizat
     depth_scan_.emplace(camera, options_.depth);  // throws for a camera without size: a configuration error
     // The likelihood field's random-measurement floor spreads over what the sensor can see.
     options_.mcl.max_range_m = options_.depth.max_range_m;
+    options_.mcl.doubtful_after = options_.depth_doubtful_scans;
   }
 }
 

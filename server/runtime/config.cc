@@ -149,6 +149,7 @@ void ReadLocalization(ConfigReader& r, LocalizationOptions& l) {
   r.Read("initial_sigma_deg", l.initial_sigma_deg, 0.0, 180.0);
   r.Read("relocalize_every_s", l.relocalize_every_s, 0.1, 3600.0);
   r.Read("depth_max_range_m", l.depth.max_range_m, 1.0, 10.0);
+  r.Read("depth_doubtful_scans", l.depth_doubtful_scans, 0, 10000);
   r.Section("mcl", [&](ConfigReader& s) {
     nav::MonteCarloOptions& o = l.mcl;
     int seed = static_cast<int>(l.seed);

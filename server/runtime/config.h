@@ -81,6 +81,8 @@ struct LocalizationOptions {
   double relocalize_every_s = 2.0;  // while lost, a global search this often
   // Without a laser, the depth camera's scan: its columns' nearest obstacles out to this range (farther, depth noise
   // puts walls off the map). The image's sides are kept: a wall cut by them is still the map's wall.
+  // Without a laser: lost after this many depth scans in a row that agree less than well with the map (0: never).
+  int depth_doubtful_scans = 30;
   nav::DepthScanOptions depth = [] {
     nav::DepthScanOptions o;
     o.segment_gap_m = 0.0;
