@@ -139,34 +139,55 @@ void OccupancyOctree::InsertDepth(const cv::Mat& depth_mm, const PinholeCamera& 
 std::vector<std::int8_t> OccupancyOctree::ProjectOccupied(const OccupancyGrid& like, double min_z_m,
                                                           double max_z_m) const {
   std::vector<std::int8_t> cells(static_cast<std::size_t>(like.width()) * like.height(), kFreeCell);
-  if (cells.empty() || tree_->size() == 0) return cells;
-  // The grid's extent (its origin's yaw is 0 for every map the daemon loads: map_server ignores it).
   const Eigen::Vector2d lo = like.origin().translation();
   const Eigen::Vector2d hi = lo + Eigen::Vector2d(like.width(), like.height()) * like.resolution_m();
-  const octomap::point3d box_min(static_cast<float>(lo.x()), static_cast<float>(lo.y()), static_cast<float>(min_z_m));
-  const octomap::point3d box_max(static_cast<float>(hi.x()), static_cast<float>(hi.y()), static_cast<float>(max_z_m));
+  ProjectOccupied(like, min_z_m, max_z_m, Eigen::AlignedBox2d(lo, hi), cells);
+  return cells;
+}
+
+void OccupancyOctree::ProjectOccupied(const OccupancyGrid& like, double min_z_m, double max_z_m,
+                                      const Eigen::AlignedBox2d& region, std::vector<std::int8_t>& cells) const {
+  if (cells.size() != static_cast<std::size_t>(like.width()) * like.height()) {
+    throw std::invalid_argument("octree: the layer has not one value per cell of the grid");
+  }
+  // The region in whole cells, clipped to the grid (its origin's yaw is 0 for every map the daemon loads:
+  // map_server ignores it).
+  const double r = like.resolution_m();
+  const Eigen::Vector2d lo = like.origin().translation();
+  const int cx0 = std::max(0, static_cast<int>(std::floor((region.min().x() - lo.x()) / r)));
+  const int cy0 = std::max(0, static_cast<int>(std::floor((region.min().y() - lo.y()) / r)));
+  const int cx1 = std::min(like.width(), static_cast<int>(std::ceil((region.max().x() - lo.x()) / r)));
+  const int cy1 = std::min(like.height(), static_cast<int>(std::ceil((region.max().y() - lo.y()) / r)));
+  if (cx0 >= cx1 || cy0 >= cy1) return;
+  for (int y = cy0; y < cy1; ++y) {
+    std::fill_n(cells.begin() + static_cast<std::ptrdiff_t>(y) * like.width() + cx0, cx1 - cx0, kFreeCell);
+  }
+  if (tree_->size() == 0) return;
+  const octomap::point3d box_min(static_cast<float>(lo.x() + cx0 * r), static_cast<float>(lo.y() + cy0 * r),
+                                 static_cast<float>(min_z_m));
+  const octomap::point3d box_max(static_cast<float>(lo.x() + cx1 * r), static_cast<float>(lo.y() + cy1 * r),
+                                 static_cast<float>(max_z_m));
   for (auto it = tree_->begin_leafs_bbx(box_min, box_max), end = tree_->end_leafs_bbx(); it != end; ++it) {
     if (!tree_->isNodeOccupied(*it)) continue;
     const double half = it.getSize() / 2.0;
     const double z = it.getZ();
     if (z + half <= min_z_m || z - half >= max_z_m) continue;
-    // Every cell under the leaf (one, unless the leaf was pruned into a larger block).
-    const double r = like.resolution_m();
+    // Every cell under the leaf (one, unless the leaf was pruned into a larger block), within the region.
     const int x0 = static_cast<int>(std::floor((it.getX() - half - lo.x()) / r + 1e-6));
     const int x1 = static_cast<int>(std::ceil((it.getX() + half - lo.x()) / r - 1e-6));
     const int y0 = static_cast<int>(std::floor((it.getY() - half - lo.y()) / r + 1e-6));
     const int y1 = static_cast<int>(std::ceil((it.getY() + half - lo.y()) / r - 1e-6));
-    for (int y = std::max(0, y0); y < std::min(like.height(), y1); ++y) {
-      for (int x = std::max(0, x0); x < std::min(like.width(), x1); ++x) {
+    for (int y = std::max(cy0, y0); y < std::min(cy1, y1); ++y) {
+      for (int x = std::max(cx0, x0); x < std::min(cx1, x1); ++x) {
         cells[static_cast<std::size_t>(y) * like.width() + x] = kOccupiedCell;
       }
     }
   }
-  return cells;
 }
 
 std::vector<OccupiedVoxel> OccupancyOctree::OccupiedVoxels() const {
   std::vector<OccupiedVoxel> voxels;
+  if (tree_->size() == 0) return voxels;
   for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it) {
     if (!tree_->isNodeOccupied(*it)) continue;
     voxels.push_back({Eigen::Vector3f(static_cast<float>(it.getX()), static_cast<float>(it.getY()),

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
 #include "nav/geometry/camera_model.h"
@@ -63,9 +64,13 @@ class OccupancyOctree {
   // at map_T_base. Throws std::invalid_argument for an image of another size or type.
   void InsertDepth(const cv::Mat& depth_mm, const PinholeCamera& camera, const Pose2& map_T_base);
 
-  // Occupied voxels whose centre lies between min_z_m and max_z_m, as cells of a grid with the geometry of `like`
+  // Occupied voxels reaching between min_z_m and max_z_m, as cells of a grid with the geometry of `like`
   // (kOccupiedCell where one stands, kFreeCell elsewhere; the cells' values of `like` are not read).
   std::vector<std::int8_t> ProjectOccupied(const OccupancyGrid& like, double min_z_m, double max_z_m) const;
+  // The same within `region` (map frame) only: `cells` (one per cell of `like`) is rewritten there and kept
+  // elsewhere. What a few new frames changed costs their neighbourhood, not the whole octree.
+  void ProjectOccupied(const OccupancyGrid& like, double min_z_m, double max_z_m, const Eigen::AlignedBox2d& region,
+                       std::vector<std::int8_t>& cells) const;
   // Every occupied leaf, for drawing.
   std::vector<OccupiedVoxel> OccupiedVoxels() const;
 

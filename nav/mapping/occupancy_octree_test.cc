@@ -82,6 +82,31 @@ TEST(OccupancyOctree, ProjectsATableTopButNotTheFloor) {
   EXPECT_EQ(OccupiedShare(grid, octree.ProjectOccupied(grid, 0.1, 0.6), 1.55, 2.45, -0.3, 0.3), 0.0);
 }
 
+TEST(OccupancyOctree, ProjectsARegionAndKeepsTheRestOfTheLayer) {
+  const PinholeCamera camera = ForwardCamera();
+  OccupancyOctree octree;
+  octree.InsertDepth(RoomDepth(camera, true), camera, Pose2{});
+  const OccupancyGrid grid = Grid();
+  const auto whole = octree.ProjectOccupied(grid, 0.1, 1.2);
+  // A layer of something else, rewritten over the table's half only.
+  std::vector<std::int8_t> layer(whole.size(), kUnknownCell);
+  const Eigen::AlignedBox2d region(Eigen::Vector2d(1.0, -1.0), Eigen::Vector2d(2.0, 1.0));
+  octree.ProjectOccupied(grid, 0.1, 1.2, region, layer);
+  for (int y = 0; y < grid.height(); ++y) {
+    for (int x = 0; x < grid.width(); ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * grid.width() + x;
+      const Eigen::Vector2d c = grid.CellCenter({x, y});
+      if (region.contains(c)) {
+        EXPECT_EQ(layer[i], whole[i]) << x << ", " << y;
+      } else {
+        EXPECT_EQ(layer[i], kUnknownCell) << x << ", " << y;
+      }
+    }
+  }
+  std::vector<std::int8_t> wrong_size(10);
+  EXPECT_THROW(octree.ProjectOccupied(grid, 0.1, 1.2, region, wrong_size), std::invalid_argument);
+}
+
 TEST(OccupancyOctree, ClearsWhatIsGone) {
   const PinholeCamera camera = ForwardCamera();
   OccupancyOctree octree;

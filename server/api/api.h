@@ -59,7 +59,7 @@ struct ApiContext {
   PlannerService& planner;
   MissionNode& missions;
   ExploreNode& explore;
-  const OctreeNode* octree;  // null when the 3D map is off (octomap.enabled: false)
+  OctreeNode* octree;  // null when the 3D map is off (octomap.enabled: false)
   const Config& config;
   const drivers::Clock& clock;
   Executor& io;  // replies that are computed elsewhere come back here

@@ -126,42 +126,45 @@ void Api::AddMapRoutes() {
         }
         return MakeResponse(r, http::status::ok, "image/png", TrafficImage(*cost, grid.width(), grid.height()));
       }));
-  // The 3D map (server/nodes/octree_node.h) as last taken: what it is, the OctoMap binary (.bt, for octovis or ROS's
+  // The 3D map (server/nodes/octree_node.h): what it is, the OctoMap binary (.bt, for octovis or ROS's
   // octomap_server), and its occupied voxels for drawing (little-endian float32 x, y, z, size per voxel, map frame).
-  const auto octree = [this] {
-    auto snapshot = c_.octree != nullptr ? c_.octree->snapshot() : nullptr;
-    if (!snapshot) {
-      throw ApiError(http::status::not_found, "No 3D map",
-                     c_.octree != nullptr ? "no depth frame is in the 3D map yet"
-                                          : "the 3D map is off (octomap.enabled in the configuration)",
-                     "no_octomap");
-    }
-    return snapshot;
+  // The snapshot is taken on the mapping executor; the answer comes back through Answer.
+  using Respond = std::function<Response(const Request&, const OctreeSnapshot&)>;
+  const auto octree_route = [this](const std::string& path, Respond respond) {
+    Add(http::verb::get, path, [this, respond](const Request& r, const Params&, Reply reply) {
+      if (c_.octree == nullptr) {
+        throw ApiError(http::status::not_found, "No 3D map", "the 3D map is off (octomap.enabled in the configuration)",
+                       "no_octomap");
+      }
+      c_.octree->Snapshot([this, r, reply, respond](std::shared_ptr<const OctreeSnapshot> snapshot) {
+        Answer(r, reply, [&]() -> Response {
+          if (!snapshot) throw ApiError(http::status::not_found, "No 3D map", "there is no map yet", "no_octomap");
+          return respond(r, *snapshot);
+        });
+      });
+    });
   };
-  Add(http::verb::get, "/api/v1/map/octomap", Sync([octree](const Request& r, const Params&) {
-        const auto o = octree();
-        const std::string query = "?revision=" + std::to_string(o->revision);
-        return JsonResponse(r, {{"map", o->map},
-                                {"revision", o->revision},
-                                {"resolution_m", o->resolution_m},
-                                {"leaves", o->leaves},
-                                {"occupied", o->voxels.size() / 4},
-                                {"bt_url", "/api/v1/map/octomap.bt" + query},
-                                {"voxels_url", "/api/v1/map/octomap/voxels" + query}});
-      }));
-  Add(http::verb::get, "/api/v1/map/octomap.bt", Sync([octree](const Request& r, const Params&) {
-        const auto o = octree();
-        Response response = MakeResponse(r, http::status::ok, "application/octet-stream", o->bt);
-        response.set(http::field::content_disposition, "attachment; filename=\"" + o->map + ".bt\"");
-        return response;
-      }));
-  Add(http::verb::get, "/api/v1/map/octomap/voxels", Sync([octree](const Request& r, const Params&) {
-        const auto o = octree();
-        static_assert(std::endian::native == std::endian::little, "voxels are sent as little-endian float32");
-        std::string bytes(o->voxels.size() * sizeof(float), '\0');
-        std::memcpy(bytes.data(), o->voxels.data(), bytes.size());
-        return MakeResponse(r, http::status::ok, "application/octet-stream", std::move(bytes));
-      }));
+  octree_route("/api/v1/map/octomap", [](const Request& r, const OctreeSnapshot& o) {
+    const std::string query = "?revision=" + std::to_string(o.revision);
+    return JsonResponse(r, {{"map", o.map},
+                            {"revision", o.revision},
+                            {"resolution_m", o.resolution_m},
+                            {"leaves", o.leaves},
+                            {"occupied", o.voxels.size() / 4},
+                            {"bt_url", "/api/v1/map/octomap.bt" + query},
+                            {"voxels_url", "/api/v1/map/octomap/voxels" + query}});
+  });
+  octree_route("/api/v1/map/octomap.bt", [](const Request& r, const OctreeSnapshot& o) {
+    Response response = MakeResponse(r, http::status::ok, "application/octet-stream", o.bt);
+    response.set(http::field::content_disposition, "attachment; filename=\"" + o.map + ".bt\"");
+    return response;
+  });
+  octree_route("/api/v1/map/octomap/voxels", [](const Request& r, const OctreeSnapshot& o) {
+    static_assert(std::endian::native == std::endian::little, "voxels are sent as little-endian float32");
+    std::string bytes(o.voxels.size() * sizeof(float), '\0');
+    std::memcpy(bytes.data(), o.voxels.data(), bytes.size());
+    return MakeResponse(r, http::status::ok, "application/octet-stream", std::move(bytes));
+  });
   Add(http::verb::put, "/api/v1/map/image", Sync([this](const Request& r, const Params&) {
         ExpectMapEdit([&] { c_.maps.ReplaceImage(r.body()); });
         return JsonResponse(r, {{"revision", c_.maps.active()->revision}});

@@ -54,7 +54,7 @@ void OctreeNode::Activate() {
   });
   Subscribe(topics::kMapping, "mapping", [this](const auto& mapping) { OnMapping(*mapping); });
   Subscribe(topics::kRgbd, "frame", [this](const auto& frame) { OnFrame(*frame); });
-  SetHealth(Health::kOk, "waiting for depth frames");
+  SetHealth(Health::kOk, "waiting for a map and depth frames");
 }
 
 void OctreeNode::Cleanup() {
@@ -72,15 +72,35 @@ void OctreeNode::SetMap(std::string name, std::shared_ptr<const nav::OccupancyGr
         mapping_ = false;  // the map just built is saved and active: its octree is saved beside it now
         Save();
       }
-      last_update_ns_ = 0;  // the layer for the new grid on the next frame
-      dirty_ = true;
+      // The layer for the new grid, all of it, on the next frame.
+      const Eigen::Vector2d lo = map->origin().translation();
+      touched_ = Eigen::AlignedBox2d(lo, lo + Eigen::Vector2d(map->width(), map->height()) * map->resolution_m());
+      last_update_ns_ = 0;
     });
   });
 }
 
-std::shared_ptr<const OctreeSnapshot> OctreeNode::snapshot() const {
-  std::lock_guard lock(mutex_);
-  return snapshot_;
+void OctreeNode::Snapshot(std::function<void(std::shared_ptr<const OctreeSnapshot>)> done) {
+  executor().Post([this, done = std::move(done)] {
+    Run("snapshot", [&] {
+      const drivers::TimeNs now = clock().Now();
+      if (revision_ > 0 && (!snapshot_ || (snapshot_->revision != revision_ &&
+                                           now - snapshot_ns_ >= Ns(options_.update_every_s)))) {
+        auto snapshot = std::make_shared<OctreeSnapshot>();
+        snapshot->map = name_;
+        snapshot->revision = revision_;
+        snapshot->resolution_m = octree_.resolution_m();
+        snapshot->leaves = octree_.leaf_count();
+        snapshot->bt = octree_.ToBinary();
+        for (const nav::OccupiedVoxel& v : octree_.OccupiedVoxels()) {
+          snapshot->voxels.insert(snapshot->voxels.end(), {v.center.x(), v.center.y(), v.center.z(), v.size_m});
+        }
+        snapshot_ = std::move(snapshot);
+        snapshot_ns_ = now;
+      }
+    });
+    done(revision_ > 0 ? snapshot_ : nullptr);  // whatever happened: the request must get its answer
+  });
 }
 
 void OctreeNode::OnMapping(const MappingState& mapping) {
@@ -90,7 +110,7 @@ void OctreeNode::OnMapping(const MappingState& mapping) {
     name_ = mapping.name;
     octree_ = nav::OccupancyOctree(options_.octree);
     unsaved_ = false;
-    dirty_ = true;
+    ++revision_;
     spdlog::info("octree: a new 3D map for '{}'", name_);
   }
 }
@@ -125,38 +145,36 @@ void OctreeNode::OnFrame(const drivers::RgbdFrame& frame) {
     if (const auto pose = PoseAt(frame.stamp_ns)) {
       octree_.InsertDepth(frame.depth_mm, camera_, *pose);
       last_insert_ns_ = frame.stamp_ns;
-      dirty_ = unsaved_ = true;
+      unsaved_ = true;
+      ++revision_;
+      Touched(*pose);
     }
   }
-  if (frame.stamp_ns - last_update_ns_ >= Ns(options_.update_every_s)) Update(frame.stamp_ns);
+  if (frame.stamp_ns - last_update_ns_ >= Ns(options_.update_every_s)) {
+    last_update_ns_ = frame.stamp_ns;
+    UpdateLayer();
+  }
   if (unsaved_ && !mapping_ && frame.stamp_ns - last_save_ns_ >= Ns(options_.save_every_s)) {
     Save();
     last_save_ns_ = frame.stamp_ns;
   }
 }
 
-void OctreeNode::Update(drivers::TimeNs now_ns) {
-  last_update_ns_ = now_ns;
-  if (!dirty_) return;
-  dirty_ = false;
-  auto snapshot = std::make_shared<OctreeSnapshot>();
-  snapshot->map = name_;
-  snapshot->resolution_m = octree_.resolution_m();
-  snapshot->leaves = octree_.leaf_count();
-  snapshot->bt = octree_.ToBinary();
-  for (const nav::OccupiedVoxel& v : octree_.OccupiedVoxels()) {
-    snapshot->voxels.insert(snapshot->voxels.end(), {v.center.x(), v.center.y(), v.center.z(), v.size_m});
-  }
-  {
-    std::lock_guard lock(mutex_);
-    snapshot->revision = snapshot_ ? snapshot_->revision + 1 : 1;
-    snapshot_ = std::move(snapshot);
-  }
-  SetHealth(Health::kOk, "3D map of '" + name_ + "'");  // its size is in the snapshot (GET /api/v1/map/octomap)
+void OctreeNode::Touched(const nav::Pose2& map_T_base) {
+  const Eigen::Vector2d camera = map_T_base.Transform(camera_.base_T_camera.translation().head<2>());
+  const Eigen::Vector2d reach = Eigen::Vector2d::Constant(options_.octree.max_range_m + options_.octree.resolution_m);
+  const Eigen::AlignedBox2d box(camera - reach, camera + reach);
+  touched_ = touched_ ? touched_->merged(box) : box;
+}
+
+void OctreeNode::UpdateLayer() {
   // The layer belongs to the active map; while a new one is built, the planner has that map, not this octree's.
-  if (!options_.costmap_layer || !map_ || mapping_) return;
-  auto cells = std::make_shared<const std::vector<std::int8_t>>(
-      octree_.ProjectOccupied(*map_, options_.min_height_m, options_.max_height_m));
+  if (!options_.costmap_layer || !map_ || mapping_ || !touched_) return;
+  auto cells = layer_ ? std::make_shared<std::vector<std::int8_t>>(*layer_)
+                      : std::make_shared<std::vector<std::int8_t>>(
+                            static_cast<std::size_t>(map_->width()) * map_->height(), nav::kFreeCell);
+  octree_.ProjectOccupied(*map_, options_.min_height_m, options_.max_height_m, *touched_, *cells);
+  touched_.reset();
   if (layer_ && *layer_ == *cells) return;
   layer_ = cells;
   on_layer_(std::move(cells), map_.get());
@@ -167,7 +185,9 @@ void OctreeNode::Switch(const std::string& name) {
   name_ = name;
   mapping_ = false;
   unsaved_ = false;
+  ++revision_;
   octree_ = nav::OccupancyOctree(options_.octree);
+  SetHealth(Health::kOk, "3D map of '" + name + "'");
   const std::filesystem::path file = FileOf(name);
   const auto bytes = ReadFile(file);
   if (!bytes) return;  // a map without a 3D map yet

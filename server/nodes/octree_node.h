@@ -1,7 +1,9 @@
 // The 3D map of the active map (nav/mapping/occupancy_octree.h), on the mapping executor. A depth frame goes in
 // every insert_every_s at the robot's pose at the frame's time, while the pose is trusted: localization ok (or its
 // source is not the filter), or the map being built. What stands between min_height_m and max_height_m (the step
-// height and the robot's height) goes to the planner as a costmap layer, when it changed, every update_every_s.
+// height and the robot's height) goes to the planner as a costmap layer, when it changed, every update_every_s:
+// only the neighbourhood of the frames inserted since is projected again (the octree of a whole building is large).
+// The API's snapshot is taken when asked for, at most every update_every_s.
 //
 // Each map has its own octree, <maps_dir>/NAME/map.bt (OctoMap binary), read when the map becomes active and
 // written every save_every_s while it changes, when another map becomes active and at shutdown. Mapping a new
@@ -12,7 +14,6 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,10 +25,10 @@
 
 namespace corridor::server {
 
-// What the API serves of the 3D map: taken every update_every_s while it changes.
+// What the API serves of the 3D map.
 struct OctreeSnapshot {
   std::string map;               // whose octree
-  std::uint64_t revision = 0;    // bumped by every snapshot
+  std::uint64_t revision = 0;    // of the octree: bumped by every change
   double resolution_m = 0.0;
   std::size_t leaves = 0;
   std::string bt;                // OctoMap binary
@@ -45,8 +46,9 @@ class OctreeNode final : public Node {
   void Cleanup() override;  // saves: the executors have stopped, nothing else touches the octree
   // The active map, by name. Thread-safe: applied on the node's executor.
   void SetMap(std::string name, std::shared_ptr<const nav::OccupancyGrid> map);
-  // The latest snapshot; null before the first. Thread-safe.
-  std::shared_ptr<const OctreeSnapshot> snapshot() const;
+  // Calls `done` on the node's executor with a snapshot of the octree (taken again if it changed and the last is
+  // older than update_every_s), or null before the first map. Thread-safe.
+  void Snapshot(std::function<void(std::shared_ptr<const OctreeSnapshot>)> done);
   // Where a map's octree is kept.
   std::filesystem::path FileOf(const std::string& map) const { return maps_dir_ / map / "map.bt"; }
 
@@ -59,7 +61,10 @@ class OctreeNode final : public Node {
   // Switches to `name`'s octree: the current one saved first, the new one read from its file (or empty).
   void Switch(const std::string& name);
   void Save();
-  void Update(drivers::TimeNs now_ns);
+  // The layer for the planner, again where frames went in since the last.
+  void UpdateLayer();
+  // The region a frame taken from map_T_base may have changed.
+  void Touched(const nav::Pose2& map_T_base);
 
   OctreeOptions options_;
   nav::PinholeCamera camera_;
@@ -70,15 +75,16 @@ class OctreeNode final : public Node {
   std::string name_;                                  // whose octree octree_ is
   std::shared_ptr<const nav::OccupancyGrid> map_;     // the active map's grid (the layer's geometry)
   bool mapping_ = false;                              // a new map is being built under name_
-  bool dirty_ = false;                                // changed since the last snapshot
+  std::uint64_t revision_ = 0;                         // bumped by every change of the octree
   bool unsaved_ = false;                              // changed since the last save
+  std::optional<Eigen::AlignedBox2d> touched_;        // where it changed since the layer was last projected
   std::deque<StampedPose> poses_;                     // the last second
   drivers::TimeNs last_insert_ns_ = 0;
   drivers::TimeNs last_update_ns_ = 0;
   drivers::TimeNs last_save_ns_ = 0;
   std::shared_ptr<const std::vector<std::int8_t>> layer_;
-  mutable std::mutex mutex_;
   std::shared_ptr<const OctreeSnapshot> snapshot_;
+  drivers::TimeNs snapshot_ns_ = 0;
 };
 
 }  // namespace corridor::server
