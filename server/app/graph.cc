@@ -71,7 +71,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   std::unique_ptr<OctreeNode> octree_node;
   if (config_.octomap.enabled) {
     octree_node = std::make_unique<OctreeNode>(
-        executors_.mapping, bus_, config_.octomap, devices_.camera.info().camera,
+        executors_.mapping3d, bus_, config_.octomap, devices_.camera.info().camera,
         config_.localization.source != LocalizationOptions::Source::kMonteCarlo, config_.store.state_dir / "maps",
         [this](std::shared_ptr<const std::vector<std::int8_t>> cells, const nav::OccupancyGrid* grid) {
           planner_.SetObstacleLayer(std::move(cells), grid);

@@ -97,7 +97,7 @@ struct LocalizationOptions {
 struct OctreeOptions {
   bool enabled = true;
   nav::OccupancyOctreeOptions octree;
-  double insert_every_s = 0.5;
+  double insert_every_s = 1.0;
   double min_height_m = 0.1;
   double max_height_m = 1.2;
   bool costmap_layer = true;

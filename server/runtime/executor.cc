@@ -134,12 +134,13 @@ std::size_t Executor::Poll() {
 Executors::Executors(const drivers::Clock& clock, Schedule schedule)
     : control("control", clock, schedule),
       mapping("mapping", clock, schedule),
+      mapping3d("mapping3d", clock, schedule),
       planning("planning", clock, schedule),
       perception("perception", clock, schedule),
       io("io", clock, schedule),
       sim("sim", clock, schedule) {}
 
-std::vector<Executor*> Executors::all() { return {&sim, &control, &mapping, &planning, &perception, &io}; }
+std::vector<Executor*> Executors::all() { return {&sim, &control, &mapping, &mapping3d, &planning, &perception, &io}; }
 
 void Executors::StartAll() {
   for (Executor* e : all()) e->Start();

@@ -77,6 +77,7 @@ class Executors {
 
   Executor control;     // depth frame -> policy -> safety -> base, and teleop
   Executor mapping;     // localization, tracking and maps
+  Executor mapping3d;   // the 3D map: its insertions (tens of ms) must not hold localization's scans up
   Executor planning;    // global plans, on demand
   Executor perception;  // detectors and the face
   Executor io;          // HTTP, WebSocket, persistence
@@ -85,7 +86,7 @@ class Executors {
   Schedule schedule() const { return control.schedule(); }
   void StartAll();
   void StopAll();
-  // kLockstep only: polls the executors in a fixed order (sim, control, mapping, planning, perception, io) until
+  // kLockstep only: polls the executors in a fixed order (sim, control, mapping, mapping3d, planning, perception, io) until
   // none has anything left to run. Returns how many handlers ran.
   std::size_t RunUntilIdle();
 
