@@ -168,7 +168,7 @@ void OccupancyOctree::ProjectOccupied(const OccupancyGrid& like, double min_z_m,
   const octomap::point3d box_max(static_cast<float>(lo.x() + cx1 * r), static_cast<float>(lo.y() + cy1 * r),
                                  static_cast<float>(max_z_m));
   for (auto it = tree_->begin_leafs_bbx(box_min, box_max), end = tree_->end_leafs_bbx(); it != end; ++it) {
-    if (!tree_->isNodeOccupied(*it)) continue;
+    if (!tree_->isNodeOccupied(*it) || it->getOccupancy() < options_.project_min_probability) continue;
     const double half = it.getSize() / 2.0;
     const double z = it.getZ();
     if (z + half <= min_z_m || z - half >= max_z_m) continue;

@@ -35,6 +35,9 @@ struct OccupancyOctreeOptions {
   int pixel_step = 2;         // every pixel_step-th pixel of every pixel_step-th row
   double prob_hit = 0.7;      // OctoMap's sensor model
   double prob_miss = 0.4;
+  // ProjectOccupied counts a voxel only at least this likely occupied (OctoMap's own threshold is 0.5). At 0.9 a
+  // voxel must have been seen occupied three times more than free: a person walking past is not, a table is.
+  double project_min_probability = 0.5;
 };
 
 // A .bt that cannot be read; what() says why.

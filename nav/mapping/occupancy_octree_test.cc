@@ -107,6 +107,17 @@ TEST(OccupancyOctree, ProjectsARegionAndKeepsTheRestOfTheLayer) {
   EXPECT_THROW(octree.ProjectOccupied(grid, 0.1, 1.2, region, wrong_size), std::invalid_argument);
 }
 
+TEST(OccupancyOctree, ProjectsOnlyWhatWasSeenOftenEnoughWhenAsked) {
+  // Seen once (a person walking past), a voxel is occupied but not likely enough for a layer asking 0.9.
+  const PinholeCamera camera = ForwardCamera();
+  OccupancyOctree octree(OccupancyOctreeOptions{.project_min_probability = 0.9});
+  const OccupancyGrid grid = Grid();
+  octree.InsertDepth(RoomDepth(camera, true), camera, Pose2{});
+  EXPECT_EQ(OccupiedShare(grid, octree.ProjectOccupied(grid, 0.1, 1.2), 1.55, 1.8, -0.3, 0.3), 0.0);
+  for (int i = 0; i < 2; ++i) octree.InsertDepth(RoomDepth(camera, true), camera, Pose2{});
+  EXPECT_GT(OccupiedShare(grid, octree.ProjectOccupied(grid, 0.1, 1.2), 1.55, 1.8, -0.3, 0.3), 0.75);
+}
+
 TEST(OccupancyOctree, ClearsWhatIsGone) {
   const PinholeCamera camera = ForwardCamera();
   OccupancyOctree octree;

@@ -173,6 +173,7 @@ void ReadOctomap(ConfigReader& r, OctreeOptions& o) {
   r.Read("resolution_m", o.octree.resolution_m, 0.01, 1.0);
   r.Read("max_range_m", o.octree.max_range_m, 0.5, 20.0);
   r.Read("pixel_step", o.octree.pixel_step, 1, 16);
+  r.Read("layer_min_probability", o.octree.project_min_probability, 0.5, 0.97);
   r.Read("insert_every_s", o.insert_every_s, 0.0, 60.0);
   r.Read("min_height_m", o.min_height_m, 0.0, 3.0);
   r.Read("max_height_m", o.max_height_m, 0.0, 5.0);

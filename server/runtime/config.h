@@ -96,7 +96,11 @@ struct LocalizationOptions {
 // planner.
 struct OctreeOptions {
   bool enabled = true;
-  nav::OccupancyOctreeOptions octree;
+  nav::OccupancyOctreeOptions octree = [] {
+    nav::OccupancyOctreeOptions o;
+    o.project_min_probability = 0.9;  // people walking past stay out of the planner's layer
+    return o;
+  }();
   double insert_every_s = 1.0;
   double min_height_m = 0.1;
   double max_height_m = 1.2;
