@@ -76,6 +76,7 @@ const char* ToString(LocalizationHealth health) {
 MonteCarloLocalization::MonteCarloLocalization(const OccupancyGrid& map, const MonteCarloOptions& options,
                                                std::uint64_t seed)
     : map_(map),
+      origin_inverse_(map.origin().Inverse()),
       options_(options),
       random_(seed),
       match_grid_(HitField::FromOccupancyGrid(map)) {
@@ -104,16 +105,24 @@ MonteCarloLocalization::MonteCarloLocalization(const OccupancyGrid& map, const M
 
 MonteCarloLocalization::~MonteCarloLocalization() = default;
 
-float MonteCarloLocalization::Likelihood(const Eigen::Vector2d& point) const {
-  const std::optional<CellIndex> c = map_.WorldToCell(point);
-  if (!c) return unknown_likelihood_;
-  return likelihood_[static_cast<std::size_t>(c->y) * map_.width() + c->x];
-}
-
-float MonteCarloLocalization::Distance(const Eigen::Vector2d& point) const {
-  const std::optional<CellIndex> c = map_.WorldToCell(point);
-  if (!c) return std::numeric_limits<float>::infinity();
-  return distance_m_[static_cast<std::size_t>(c->y) * map_.width() + c->x];
+template <typename Visit>
+void MonteCarloLocalization::ForEachCell(const Pose2& pose, std::span<const Eigen::Vector2f> points,
+                                         Visit&& visit) const {
+  // The point in continuous cell units: (origin^-1 * pose * p) / resolution, as one affine map.
+  const Pose2 grid_T_base = origin_inverse_ * pose;
+  const auto scale = static_cast<float>(1.0 / map_.resolution_m());
+  const float c = static_cast<float>(std::cos(grid_T_base.yaw_rad)) * scale;
+  const float s = static_cast<float>(std::sin(grid_T_base.yaw_rad)) * scale;
+  const float tx = static_cast<float>(grid_T_base.x_m) * scale;
+  const float ty = static_cast<float>(grid_T_base.y_m) * scale;
+  const int width = map_.width();
+  const int height = map_.height();
+  for (const Eigen::Vector2f& p : points) {
+    const auto x = static_cast<int>(std::floor(tx + c * p.x() - s * p.y()));
+    const auto y = static_cast<int>(std::floor(ty + s * p.x() + c * p.y()));
+    const bool inside = x >= 0 && y >= 0 && x < width && y < height;
+    visit(inside ? static_cast<std::ptrdiff_t>(y) * width + x : std::ptrdiff_t{-1});
+  }
 }
 
 void MonteCarloLocalization::SetPose(const Pose2& pose, double sigma_m, double sigma_rad) {
@@ -187,13 +196,9 @@ void MonteCarloLocalization::Weigh(std::span<const Eigen::Vector2f> hits) {
   std::vector<double> log_weights(particles_.size());
   double best = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < particles_.size(); ++i) {
-    const Pose2& pose = particles_[i].pose;
-    const double c = std::cos(pose.yaw_rad);
-    const double s = std::sin(pose.yaw_rad);
-    double sum = 0.0;
-    for (const Eigen::Vector2f& h : hits) {
-      sum += Likelihood({pose.x_m + c * h.x() - s * h.y(), pose.y_m + s * h.x() + c * h.y()});
-    }
+    float sum = 0.0f;
+    ForEachCell(particles_[i].pose, hits,
+                [&](std::ptrdiff_t cell) { sum += cell < 0 ? unknown_likelihood_ : likelihood_[cell]; });
     log_weights[i] = std::log(std::max(particles_[i].weight, 1e-300)) + options_.beam_exponent * sum;
     best = std::max(best, log_weights[i]);
   }
@@ -234,7 +239,8 @@ void MonteCarloLocalization::Resample() {
 double MonteCarloLocalization::Agreement(std::span<const Eigen::Vector2f> hits, const Pose2& pose) const {
   if (hits.empty()) return 0.0;
   int agree = 0;
-  for (const Eigen::Vector2f& h : hits) agree += Distance(pose.Transform(h.cast<double>())) <= options_.agree_distance_m;
+  const auto agree_m = static_cast<float>(options_.agree_distance_m);
+  ForEachCell(pose, hits, [&](std::ptrdiff_t cell) { agree += cell >= 0 && distance_m_[cell] <= agree_m; });
   return static_cast<double>(agree) / static_cast<double>(hits.size());
 }
 

@@ -116,10 +116,14 @@ class MonteCarloLocalization {
   void Estimate(std::span<const Eigen::Vector2f> hits);
   void UpdateHealth(std::span<const Eigen::Vector2f> hits);
   double Agreement(std::span<const Eigen::Vector2f> hits, const Pose2& pose) const;
-  float Likelihood(const Eigen::Vector2d& point) const;
-  float Distance(const Eigen::Vector2d& point) const;
+  // Calls visit(cell) for each of `points` (base frame) with the robot at `pose` (map frame): the row-major index of
+  // the map cell it falls in, or -1 outside the map. One sine and cosine per call, not per point: the weighing of
+  // every particle by every beam is the filter's hot loop.
+  template <typename Visit>
+  void ForEachCell(const Pose2& pose, std::span<const Eigen::Vector2f> points, Visit&& visit) const;
 
   OccupancyGrid map_;
+  Pose2 origin_inverse_;  // the map's origin, inverted
   MonteCarloOptions options_;
   std::mt19937_64 random_;
   std::vector<float> distance_m_;   // per map cell: to the nearest wall (+inf beyond the march limit)

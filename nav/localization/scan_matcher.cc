@@ -90,32 +90,31 @@ ScanMatch CorrelativeMatch(const HitField& grid, std::span<const Eigen::Vector2f
   ScanMatch best{guess, ScoreAt(grid, points, guess)};
   if (points.empty() || grid.empty()) return best;
   const double r = grid.resolution_m();
-  const double linear_step = window.linear_step_m > 0.0 ? window.linear_step_m : r;
+  // Translations by whole cells move every point's cell by the same offset: each angle's points are put in their
+  // cells once, and a candidate costs one lookup per point (Hess et al., section V.B: "discretized scans").
+  const int cells_per_step = std::max(1, static_cast<int>(std::lround(window.linear_step_m / r)));
+  const double linear_step = cells_per_step * r;
   const double angular_step = window.angular_step_rad > 0.0 ? window.angular_step_rad : AngularStep(grid, points);
   const int n_linear = static_cast<int>(std::ceil(window.linear_m / linear_step));
   const int n_angular = static_cast<int>(std::ceil(window.angular_rad / angular_step));
   std::vector<CellIndex> cells(points.size());
   for (int a = -n_angular; a <= n_angular; ++a) {
     const double yaw = guess.yaw_rad + a * angular_step;
-    // The points rotated, in continuous cell units relative to the guess's position: a translation adds an offset.
     const double c = std::cos(yaw);
     const double s = std::sin(yaw);
-    std::vector<Eigen::Vector2d> rotated(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
       const double px = points[i].x();
       const double py = points[i].y();
-      rotated[i] = (Eigen::Vector2d(c * px - s * py + guess.x_m, s * px + c * py + guess.y_m) - grid.min_corner()) / r;
+      cells[i] = grid.CellOf({c * px - s * py + guess.x_m, s * px + c * py + guess.y_m});
     }
+    const double a2 = (a * angular_step) * (a * angular_step);
     for (int iy = -n_linear; iy <= n_linear; ++iy) {
       for (int ix = -n_linear; ix <= n_linear; ++ix) {
-        const double ox = ix * linear_step / r;
-        const double oy = iy * linear_step / r;
+        const int dx = ix * cells_per_step;
+        const int dy = iy * cells_per_step;
         double sum = 0.0;
-        for (const Eigen::Vector2d& q : rotated) {
-          sum += grid.match_value(static_cast<int>(std::floor(q.x() + ox)), static_cast<int>(std::floor(q.y() + oy)));
-        }
+        for (const CellIndex& cell : cells) sum += grid.match_value(cell.x + dx, cell.y + dy);
         const double d2 = (ix * ix + iy * iy) * linear_step * linear_step;
-        const double a2 = (a * angular_step) * (a * angular_step);
         const double score = sum / static_cast<double>(points.size()) *
                              std::exp(-(window.translation_cost * d2 + window.rotation_cost * a2));
         if (score > best.score) {

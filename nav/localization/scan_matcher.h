@@ -20,7 +20,7 @@ namespace corridor::nav {
 struct SearchWindow {
   double linear_m = 0.15;           // +- in x and y around the guess
   double angular_rad = 0.14;        // +- around the guess's heading
-  double linear_step_m = 0.0;       // 0: the grid's resolution
+  double linear_step_m = 0.0;       // rounded to whole cells of the grid, at least one (0: one cell)
   double angular_step_rad = 0.0;    // 0: the angle that moves the scan's farthest point by one cell
   // A candidate's score is multiplied by exp(-(translation_cost * d^2 + rotation_cost * a^2)) for its distance d (m)
   // and angle a (rad) from the guess, so that among equals the guess's neighbourhood wins (Cartographer's defaults).
