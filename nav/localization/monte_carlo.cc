@@ -143,6 +143,8 @@ void MonteCarloLocalization::SetPose(const Pose2& pose, double sigma_m, double s
   bad_updates_ = 0;
   good_updates_ = 0;
   doubtful_updates_ = 0;
+  dropped_updates_ = 0;
+  usual_agreement_ = -1.0;
 }
 
 bool MonteCarloLocalization::Relocalize(const RangeScan& scan) {
@@ -285,12 +287,18 @@ void MonteCarloLocalization::UpdateHealth(std::span<const Eigen::Vector2f> hits)
   // narrow view agrees by chance with some wall now and then, which is not being found.
   good_updates_ = estimate_.agreement >= options_.ok_agreement ? good_updates_ + 1 : 0;
   doubtful_updates_ = estimate_.agreement < options_.ok_agreement ? doubtful_updates_ + 1 : 0;
+  const bool dropped = options_.lost_drop_ratio > 0.0 && usual_agreement_ >= 0.0 &&
+                       estimate_.agreement < options_.lost_drop_ratio * usual_agreement_;
+  dropped_updates_ = dropped ? dropped_updates_ + 1 : 0;
   const bool stays_lost = estimate_.health == LocalizationHealth::kLost && good_updates_ < options_.lost_after;
   const bool doubtful = options_.doubtful_after > 0 && doubtful_updates_ >= options_.doubtful_after;
-  if (bad_updates_ >= options_.lost_after || doubtful || stays_lost) {
+  if (bad_updates_ >= options_.lost_after || dropped_updates_ >= options_.lost_after || doubtful || stays_lost) {
     estimate_.health = LocalizationHealth::kLost;
   } else if (estimate_.agreement >= options_.ok_agreement && spread <= options_.ok_spread_m) {
     estimate_.health = LocalizationHealth::kOk;
+    usual_agreement_ = usual_agreement_ < 0.0
+                           ? estimate_.agreement
+                           : usual_agreement_ + options_.usual_agreement_rate * (estimate_.agreement - usual_agreement_);
   } else {
     estimate_.health = LocalizationHealth::kUncertain;
   }

@@ -66,6 +66,14 @@ struct MonteCarloOptions {
   // Also lost after this many scans in a row that agree less than ok_agreement (0: never). A narrow view carried
   // elsewhere often half-fits the walls it now sees, and would stay uncertain for ever.
   int doubtful_after = 0;
+  // Also lost after lost_after scans in a row that agree less than lost_drop_ratio times the usual agreement (0:
+  // never): an average of the agreement while ok, each ok scan weighing usual_agreement_rate, started afresh at
+  // every new pose. A robot carried elsewhere while standing still sees walls that fit the map at its old pose by
+  // chance, here and there (a fifth to a third of the scan, measured in Willow Garage): a fall from nearly all to that
+  // is being lost, where a cluttered room that always agreed that little is not. The sudden fall of the measurement
+  // likelihood is also what Augmented MCL reacts to (Thrun et al., table 8.3).
+  double lost_drop_ratio = 0.5;
+  double usual_agreement_rate = 0.02;
   int min_judged_hits = 10;          // a scan with fewer hits (a camera facing open floor) neither refines the pose
                                      // nor counts towards lost or found: it says too little (ok becomes uncertain)
   // Global relocalization: the minimum mean probability of a match, and the particles seeded around it.
@@ -140,6 +148,8 @@ class MonteCarloLocalization {
   int bad_updates_ = 0;   // scans in a row that the map explains too little
   int good_updates_ = 0;  // and well
   int doubtful_updates_ = 0;  // scans in a row that agree less than ok_agreement
+  int dropped_updates_ = 0;   // scans in a row that agree less than lost_drop_ratio x the usual
+  double usual_agreement_ = -1.0;  // while ok, since the last new pose; negative: none yet
 };
 
 }  // namespace corridor::nav

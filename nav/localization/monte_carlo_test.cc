@@ -165,6 +165,31 @@ TEST(MonteCarloLocalizationTest, ScansThatOnlyHalfFitMakeItLostWhenAskedTo) {
   }
 }
 
+TEST(MonteCarloLocalizationTest, CarriedElsewhereStandingStillItIsLostEvenWhereItsScanHalfFits) {
+  // Localized and still, then carried: what it sees now puts a third of the scan on the map's walls at its old pose
+  // (above lost_agreement), against nearly all of it before. With lost_drop_ratio that fall is being lost.
+  const Pose2 pose{2.0, 1.5, 0.3};
+  RangeScan carried = ScanAt(Room(), pose);
+  for (std::size_t i = 0; i < carried.hits.size(); ++i) {
+    if (i % 3 != 0) carried.hits[i] *= (carried.hits[i].norm() + 0.5f) / carried.hits[i].norm();
+  }
+  for (const double ratio : {0.0, 0.5}) {
+    MonteCarloOptions options;
+    options.lost_drop_ratio = ratio;
+    MonteCarloLocalization mcl(RoomMap(), options, 4);
+    mcl.SetPose(pose, 0.02, 0.01);
+    for (int i = 0; i < 20; ++i) mcl.Update(Pose2{}, ScanAt(Room(), pose));
+    ASSERT_EQ(mcl.estimate().health, LocalizationHealth::kOk);
+    for (int i = 0; i < options.lost_after; ++i) mcl.Update(Pose2{}, carried);
+    EXPECT_GT(mcl.estimate().agreement, options.lost_agreement);
+    EXPECT_EQ(mcl.estimate().health, ratio > 0.0 ? LocalizationHealth::kLost : LocalizationHealth::kUncertain) << ratio;
+    // A new pose starts the usual agreement afresh: that scan is then only doubtful, as in a cluttered room.
+    mcl.SetPose(pose, 0.02, 0.01);
+    for (int i = 0; i < 2 * options.lost_after; ++i) mcl.Update(Pose2{}, carried);
+    EXPECT_EQ(mcl.estimate().health, LocalizationHealth::kUncertain) << ratio;
+  }
+}
+
 // What the depth camera's scan gives: 85 degrees ahead, out to 4 m.
 RangeScan CameraScanAt(const std::vector<Wall>& walls, const Pose2& pose) {
   RangeScan scan = ScanAt(walls, pose, 85, 85.0 * std::numbers::pi / 180.0);
