@@ -19,6 +19,7 @@
 #include "nav/localization/monte_carlo.h"
 #include "nav/localization/trajectory_error.h"
 #include "nav/map/map_io.h"
+#include "tools/slam_eval/heading_noise.h"
 #include "tools/slam_eval/odometry_noise.h"
 
 namespace {
@@ -45,6 +46,9 @@ of heading lost per metre), and scores the estimate against the corrected poses.
   --scans N           only the first N scans
   --max-range M       readings at or beyond M metres are no return, default 25
   --fov-deg D         the laser's field of view, default 180
+  --reference-noise   (slam) also estimate how noisy the corrected poses are themselves: the heading change between
+                      consecutive scans by the corrected poses, by SLAM and by matching the two scans alone, separated
+                      by the three-cornered hat (an upper bound for the corrected poses, see heading_noise.h)
   --json              the results as JSON on stdout
   --png FILE          the map (slam: as built; localize: the reference map) as an image
   --trajectory FILE   the estimated pose of every scan: "index timestamp x y theta" per line
@@ -68,6 +72,7 @@ struct Options {
   std::uint64_t seed = 1;
   double odom_noise = 1.0;
   long scans = -1;
+  bool reference_noise = false;
   double max_range_m = 25.0;
   double fov_deg = 180.0;
   bool json = false;
@@ -102,6 +107,8 @@ Options ParseOptions(int argc, char** argv) {
       o.max_range_m = ParseNumber(arg, value(), 0.5, 1000);
     } else if (arg == "--fov-deg") {
       o.fov_deg = ParseNumber(arg, value(), 1, 360);
+    } else if (arg == "--reference-noise") {
+      o.reference_noise = true;
     } else if (arg == "--json") {
       o.json = true;
     } else if (arg == "--png") {
@@ -116,6 +123,7 @@ Options ParseOptions(int argc, char** argv) {
   }
   if (o.log.empty()) throw std::invalid_argument("no log given (see --help)");
   if (o.global && !o.localize) throw std::invalid_argument("--global: only with --mode localize");
+  if (o.reference_noise && o.localize) throw std::invalid_argument("--reference-noise: only with --mode slam");
   return o;
 }
 
@@ -162,6 +170,30 @@ void WriteTrajectory(const std::string& path, const nav::CarmenLog& log, const s
   if (!out) throw std::runtime_error(path + ": cannot write");
 }
 
+// The heading change between consecutive scans by the corrected poses, by SLAM, and by matching each scan into a
+// field of the one before alone (guessed by the odometry), through the three-cornered hat; in degrees.
+tools::HatSigmas ConsecutiveHeadingNoise(const nav::CarmenLog& log, const std::vector<Pose2>& truth,
+                                         const std::vector<Pose2>& slam, const std::vector<Pose2>& odometry,
+                                         double max_range_m) {
+  std::vector<double> reference;
+  std::vector<double> mapped;
+  std::vector<double> matched;
+  for (std::size_t i = 1; i < log.scans.size(); ++i) {
+    nav::HitField before;
+    before.Insert(ToScan(log.scans[i - 1], max_range_m), Pose2{});
+    const std::vector<Eigen::Vector2f> points = nav::VoxelFilter(ToScan(log.scans[i], max_range_m).hits, 0.05);
+    const Pose2 guess = odometry[i - 1].Inverse() * odometry[i];
+    const nav::ScanMatch coarse = nav::CorrelativeMatch(before, points, guess, nav::SearchWindow{0.2, 0.1});
+    const Pose2 match = nav::RefineMatch(before, points, coarse.pose, coarse.pose, nav::RefineOptions{1.0, 0.0, 0.0, 30});
+    reference.push_back((truth[i - 1].Inverse() * truth[i]).yaw_rad);
+    mapped.push_back((slam[i - 1].Inverse() * slam[i]).yaw_rad);
+    matched.push_back(match.yaw_rad);
+  }
+  tools::HatSigmas s = tools::ThreeCorneredHat(reference, mapped, matched);
+  for (double* v : {&s.a, &s.b, &s.c}) *v *= 180.0 / std::numbers::pi;
+  return s;
+}
+
 void WritePng(const std::string& path, const nav::OccupancyGrid& map) {
   if (!cv::imwrite(path, nav::GridToImage(map))) throw std::runtime_error(path + ": cannot write the image");
 }
@@ -202,6 +234,17 @@ int Run(const Options& o) {
              "  graph: " + std::to_string(st.submaps) + " submaps, " + std::to_string(st.loop_closures) +
                  " loop closures of " + std::to_string(st.loop_searches) + " searches, " +
                  std::to_string(st.optimizations) + " optimizations"};
+    if (o.reference_noise) {
+      const tools::HatSigmas s = ConsecutiveHeadingNoise(log, truth, estimate, odometry, o.max_range_m);
+      result["reference_noise"] = {{"consecutive_pairs", s.count}, {"corrected_poses_deg", s.a}, {"slam_deg", s.b},
+                                   {"scan_to_scan_deg", s.c}};
+      char line[200];
+      std::snprintf(line, sizeof line,
+                    "  heading change between consecutive scans, own noise: corrected poses <= %.3f deg, SLAM %.3f, "
+                    "scan to scan %.3f",
+                    s.a, s.b, s.c);
+      lines.push_back(line);
+    }
     if (!o.png.empty()) WritePng(o.png, slam.RenderMap(0.05));
   } else {
     const nav::OccupancyGrid map = ReferenceMap(log, truth, o.max_range_m);
