@@ -212,6 +212,31 @@ describe('corridord in the Willow Garage building', () => {
     bystander.ws.close();
   });
 
+  test('an app shows an expression and makes the robot say something; bad requests get a problem', async () => {
+    const before = await getJson(`${daemon.url}/api/v1/face`);
+    assert.equal(before.status, 200);
+    api.check('Face', before.body);
+    const res = await postJson(`${daemon.url}/api/v1/face`, { expression: 'happy', hold_s: 3, say: 'Welcome to the lab' });
+    assert.equal(res.status, 202, JSON.stringify(res.body));
+    api.check('FaceAccepted', res.body);
+    let face;
+    for (let i = 0; i < 20; ++i) {
+      await sleep(100);
+      face = (await getJson(`${daemon.url}/api/v1/face`)).body;
+      if (face.expression === 'happy' && face.said_sequence > before.body.said_sequence) break;
+    }
+    api.check('Face', face);
+    assert.equal(face.expression, 'happy');
+    assert.equal(face.said, 'Welcome to the lab');
+    assert.equal(face.said_kind, 'request');
+    assert.equal((await state(daemon.url)).face, 'happy');
+    for (const body of [{}, { expression: 'grumpy' }, { expression: 'happy', hold_s: -1 }, { hold_s: 2 },
+      { say: '' }, { say: 'x'.repeat(201) }, { expression: 'sad', colour: 'blue' }, [1, 2]]) {
+      await expectProblem(postJson(`${daemon.url}/api/v1/face`, body), 400);
+    }
+    await expectProblem(postJson(`${daemon.url}/api/v1/face`, '{"say": ', 'application/json'), 400);
+  });
+
   test('the console is served at /', async () => {
     const res = await fetch(`${daemon.url}/`);
     assert.equal(res.status, 200);

@@ -68,13 +68,13 @@ describe('localization from the laser in the default world', () => {
     const res = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 24.4, y: 26.5 }] });
     assert.equal(res.status, 201, JSON.stringify(res.body));
     const t0 = Date.now();
-    let worried = false;
+    let confused = false;
     const found = await waitFor(async () => ({ l: await localization(daemon.url), s: await state(daemon.url) }),
       ({ l, s }) => {
-        worried ||= s.face === 'worried';
+        confused ||= s.face === 'confused';
         return l.health === 'ok' && errorOf(s)[0] < 0.2;
       }, 15000, 'relocalized');
-    assert.ok(worried, 'the face was never worried while the robot was lost');
+    assert.ok(confused, 'the face was never confused while the robot was lost');
     const [m, deg] = errorOf(found.s);
     t.diagnostic(`found again ${Date.now() - t0} ms after the mission started, ${(100 * m).toFixed(1)} cm off`);
     assert.ok(deg < 5, `${deg} degrees off`);
@@ -206,16 +206,16 @@ localization: {source: mcl}
   test('a kidnapped robot turns on the spot until it has seen enough, and is found again', async (t) => {
     await kidnap(daemon.url, { x: 24.4, y: 24.2, yaw: 2.5 });
     const t0 = Date.now();
-    let worried = false;
+    let confused = false;
     let turned = false;
     const found = await waitFor(async () => ({ l: await localization(daemon.url), s: await state(daemon.url) }),
       ({ l, s }) => {
-        worried ||= s.face === 'worried';
+        confused ||= s.face === 'confused';
         turned ||= l.look_around_rps > 0;
         return l.health !== 'lost' && errorOf(s)[0] < 0.2 && errorOf(s)[1] < 5;
       }, 15000, 'relocalized');
     t.diagnostic(`found again ${Date.now() - t0} ms after the kidnapping, ${(100 * errorOf(found.s)[0]).toFixed(1)} cm off`);
-    assert.ok(worried, 'the face was never worried while the robot was lost');
+    assert.ok(confused, 'the face was never confused while the robot was lost');
     assert.ok(turned, 'the robot never turned to look around');
     assert.equal(found.l.look_around_rps, 0);
     assert.match(daemon.log(), /found the robot at .* by a search of the whole map/);

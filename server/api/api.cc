@@ -127,6 +127,7 @@ Api::Api(ApiContext context) : c_(context), start_ns_(context.clock.Now()) {
   AddNavigationRoutes();
   AddLocalizationRoutes();
   AddMapRoutes();
+  AddFaceRoutes();
 }
 
 Api::Handler Api::Sync(std::function<Response(const Request&, const Params&)> f) {

@@ -101,6 +101,7 @@ class Api {
   void AddMapRoutes();
   void AddLocalizationRoutes();
   void AddMappingRoutes();
+  void AddFaceRoutes();
   // {x, y, yaw} of `body`, on the active map (else 422 outside_map).
   nav::Pose2 ParsePoseOnMap(const nlohmann::json& body, const std::string& where) const;
   // 409 unless localization.source is mcl.

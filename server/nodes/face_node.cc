@@ -10,6 +10,27 @@ namespace {
 constexpr double kRateHz = 5.0;
 constexpr double kMovingMps = 0.02;
 constexpr double kMovingRps = 0.05;
+constexpr double kWaitingAfterS = 2.0;  // a mission holding the robot still this long is waiting
+
+face::MissionPhase Phase(nav::MissionStatus status) {
+  switch (status) {
+    case nav::MissionStatus::kActive: return face::MissionPhase::kActive;
+    case nav::MissionStatus::kPaused: return face::MissionPhase::kPaused;
+    case nav::MissionStatus::kSucceeded: return face::MissionPhase::kSucceeded;
+    case nav::MissionStatus::kFailed: return face::MissionPhase::kFailed;
+    case nav::MissionStatus::kCanceled: return face::MissionPhase::kCanceled;
+  }
+  return face::MissionPhase::kNone;
+}
+
+const char* KindName(face::PhraseKind kind) {
+  switch (kind) {
+    case face::PhraseKind::kGreeting: return "greeting";
+    case face::PhraseKind::kExcuseMe: return "excuse_me";
+    case face::PhraseKind::kArrived: return "arrived";
+  }
+  return "request";
+}
 
 }  // namespace
 
@@ -20,16 +41,34 @@ void FaceNode::Activate() {
   Subscribe(topics::kOdometry, "odometry", [this](const auto& odometry) {
     if (odometry->bumper_pressed) bumped_since_tick_ = true;
   });
+  Subscribe(topics::kFaceCommand, "command", [this](const auto& command) { OnCommand(*command); });
   PeriodicNode::Activate();
 }
 
-void FaceNode::Tick() {
+void FaceNode::OnCommand(const FaceCommand& command) {
+  // The API validated it: an expression's hold is finite and not negative.
+  if (command.expression) machine_.Show(*command.expression, command.hold_s, clock().Now());
+  if (!command.say.empty()) Say(command.say, "request");
+}
+
+void FaceNode::Say(std::string text, std::string kind) {
+  ++state_.said_sequence;
+  state_.said = std::move(text);
+  state_.said_kind = std::move(kind);
+}
+
+face::Situation FaceNode::Sample() {
   face::Situation s{.now_ns = clock().Now()};
   if (const auto odometry = bus().Get(topics::kOdometry).latest()) {
     s.moving = std::abs(odometry->velocity.linear_mps) > kMovingMps ||
                std::abs(odometry->velocity.angular_rps) > kMovingRps;
     const bool pressed_between_ticks = std::exchange(bumped_since_tick_, false);
     s.bumped = odometry->bumper_pressed || pressed_between_ticks;
+  }
+  if (s.moving) {
+    still_since_ns_ = -1;
+  } else if (still_since_ns_ < 0) {
+    still_since_ns_ = s.now_ns;
   }
   if (const auto command = bus().Get(topics::kCmdVel).latest()) {
     s.driven = command->mode == nav::ControlMode::kTeleop;
@@ -38,7 +77,24 @@ void FaceNode::Tick() {
   if (const auto localization = bus().Get(topics::kLocalization).latest()) {
     s.lost = localization->estimate.health == nav::LocalizationHealth::kLost;
   }
-  bus().Get(topics::kFaceExpression).Publish(FaceState{machine_.Update(s)});
+  if (const auto mission = bus().Get(topics::kMission).latest()) {
+    s.mission = Phase(mission->status);
+    s.mission_id = mission->id;
+    if (!mission->goals.empty()) s.place = mission->goals.back().place;
+    const bool held_still =
+        still_since_ns_ >= 0 && s.now_ns - still_since_ns_ >= drivers::FromSeconds(kWaitingAfterS);
+    s.waiting = s.mission == face::MissionPhase::kPaused ||
+                (s.mission == face::MissionPhase::kActive &&
+                 (held_still || mission->policy == nav::PolicyMode::kWaitingForDepth));
+  }
+  return s;
+}
+
+void FaceNode::Tick() {
+  const face::FaceOutput out = machine_.Update(Sample());
+  state_.expression = out.expression;
+  if (out.say) Say(out.say->text, KindName(out.say->kind));
+  bus().Get(topics::kFaceExpression).Publish(state_);
 }
 
 }  // namespace corridor::server

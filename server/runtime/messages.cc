@@ -53,7 +53,12 @@ nlohmann::json ToJson(const TrackedObjects& t) {
   return objects;
 }
 
-nlohmann::json ToJson(const FaceState& face) { return {{"expression", std::string(face::ToString(face.expression))}}; }
+nlohmann::json ToJson(const FaceState& face) {
+  return {{"expression", std::string(face::ToString(face.expression))},
+          {"said_sequence", face.said_sequence},
+          {"said", face.said},
+          {"said_kind", face.said_kind}};
+}
 
 nlohmann::json ToJson(const GroundLanes& g) {
   nlohmann::json lanes = nlohmann::json::array();

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "drivers/depth_camera.h"
@@ -155,9 +156,21 @@ struct MappingState {
   std::string error;                               // why the last stop could not save it (mapping goes on)
 };
 
-// The face's current expression.
+// The face's current expression, and the last thing the robot said (said_sequence counts up with every phrase, so a
+// subscriber that sees a new one speaks it once).
 struct FaceState {
   face::Expression expression = face::Expression::kNeutral;
+  std::uint64_t said_sequence = 0;  // 0: nothing said yet
+  std::string said;                 // the phrase's text
+  std::string said_kind;            // greeting, excuse_me, arrived, or request (an app's `say`)
+};
+
+// An app's or building system's request to the face (POST /api/v1/face): show an expression for hold_s, say a phrase,
+// or both.
+struct FaceCommand {
+  std::optional<face::Expression> expression;
+  double hold_s = 5.0;
+  std::string say;  // empty: nothing to say
 };
 
 nlohmann::json ToJson(const ControlLatency& latency);

@@ -15,7 +15,7 @@ export interface State {
   stop_reason: string;
   command: Twist;
   sim_true_pose: Pose | null;
-  face: 'neutral' | 'happy' | 'focused' | 'surprised' | 'worried' | 'sleepy';
+  face: 'neutral' | 'happy' | 'focused' | 'surprised' | 'worried' | 'sleepy' | 'confused' | 'sad';
   mission: Mission | null;
   map: { name: string; revision: number };
   nodes: NodeStatus[];
