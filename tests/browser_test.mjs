@@ -42,7 +42,7 @@ test('open the console, see the map and the robot, drive with the keyboard', asy
   }, null, { timeout: 15000 });
   await page.waitForSelector('path.robot', { timeout: 15000 });
   await page.getByTestId('pose').filter({ hasText: 'x ' }).waitFor();
-  await page.waitForFunction(() => document.querySelectorAll('[data-testid=nodes] tbody tr').length === 9);
+  await page.waitForFunction(() => document.querySelectorAll('[data-testid=nodes] tbody tr').length === 10);
   await page.waitForFunction(() => {
     const img = document.querySelector('[data-testid=camera]');
     return img instanceof HTMLImageElement && img.complete && img.naturalWidth === 320;

@@ -23,6 +23,7 @@ struct Detection {
                                             // surface, at its middle
   int track_id = 0;                         // the same object from frame to frame; 0: not tracked
   std::string source;                       // "hog", "face_cascade", "dnn", "sim", or an external detector's name
+  std::optional<double> bearing_rad{};      // its direction from the robot, base frame, counter-clockwise from ahead
 };
 
 class Detector {

@@ -49,7 +49,8 @@ std::optional<Located> Locate(const cv::Rect2d& box, const cv::Mat& depth_mm, co
 bool Plausible(const Located& located, const cv::Rect2d& box, cv::Size image, const SizeLimits& limits);
 
 // Sets each detection's position from the depth and drops the ones whose size rules them out (people and faces by
-// PersonSize and FaceSize; other labels are only located). Detections without a box or depth are kept as they are.
+// PersonSize and FaceSize; other labels are only located). Detections without a box or depth are kept unlocated.
+// Every detection with a box or a position gets its bearing (from the box's middle when there is no depth).
 void LocateDetections(std::vector<Detection>& detections, const cv::Mat& depth_mm, const nav::PinholeCamera& camera,
                       const LocateOptions& options = {});
 

@@ -45,18 +45,21 @@ std::vector<Detection> SimulatedPeople::Detect(const std::vector<Eigen::Vector2d
       }
     }
     if (behind) continue;
-    // In view: the body's middle inside the image.
+    // In view: at least a fifth of the body (a person close in front shows the camera their legs only), and half its
+    // width.
     const cv::Rect2d box(u_min, v_min, u_max - u_min, v_max - v_min);
-    const cv::Point2d middle(box.x + box.width / 2.0, box.y + box.height / 2.0);
-    if (middle.x < 0 || middle.y < 0 || middle.x >= camera.width || middle.y >= camera.height) continue;
+    const cv::Rect2d clipped = box & cv::Rect2d(0, 0, camera.width, camera.height);
+    if (clipped.area() < 0.2 * box.area() || clipped.width < 0.5 * box.width) continue;
+    const cv::Point2d middle(clipped.x + clipped.width / 2.0, clipped.y + clipped.height / 2.0);
     const Eigen::Vector3d position(near.x(), near.y(), options_.height_m / 2.0);
     if (!depth_mm.empty()) {
-      const double depth = depth_mm.at<std::uint16_t>(static_cast<int>(middle.y), static_cast<int>(middle.x)) * 0.001;
+      const int u = std::clamp(static_cast<int>(middle.x), 0, depth_mm.cols - 1);
+      const int v = std::clamp(static_cast<int>(middle.y), 0, depth_mm.rows - 1);
+      const double depth = depth_mm.at<std::uint16_t>(v, u) * 0.001;
       const double own = (camera_T_base * position).z();
       if (depth > 0.0 && depth < own - options_.hidden_margin_m) continue;  // a wall in between
     }
     if (uniform(random_) < options_.miss_rate) continue;
-    const cv::Rect2d clipped = box & cv::Rect2d(0, 0, camera.width, camera.height);
     out.push_back({"person", 0.9, clipped, position, 0, "sim"});
   }
   return out;

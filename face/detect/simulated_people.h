@@ -1,8 +1,9 @@
 // In the simulator, the simulated people in the camera's view stand in for a detector's output, as the simulated camera
-// stands in for a real one: each person (an upright body of the crowd's radius and height, world frame) whose middle
-// projects into the image within max_range_m and is not hidden (the depth frame there is not much nearer than they
-// are) becomes a "person" with a box round their projection and the position of their near surface, unless missed
-// (miss_rate, seeded). What the daemon then does with it is exactly what it does with a real detector's.
+// stands in for a real one: each person (an upright body of the crowd's radius and height, world frame) of whom at least
+// a fifth projects into the image, within max_range_m, and who is not hidden (the depth frame at the middle of what is
+// in view is not much nearer than they are) becomes a "person" with a box round what is in view and the position of
+// their near surface, unless missed (miss_rate, seeded). What the daemon then does with it is exactly what it does
+// with a real detector's.
 #pragma once
 
 #include <cstdint>

@@ -25,6 +25,7 @@ const char* ToString(GateReason reason) {
     case GateReason::kBumpedBacking: return "bumper pressed: not backing";
     case GateReason::kSlowedForObstacle: return "slowed for an obstacle ahead";
     case GateReason::kNoDepth: return "no depth frames: not driving forward";
+    case GateReason::kSlowedForPerson: return "slowed near a person ahead";
   }
   return "unknown";
 }
@@ -47,6 +48,16 @@ void CommandGate::Sight(double now_s, const std::vector<Eigen::Vector2f>& obstac
   for (const Eigen::Vector2f& p : obstacles) {
     if (p.x() > 0.0f && std::abs(p.y()) <= options_.corridor_half_width_m) {
       nearest_ahead_m_ = std::min(nearest_ahead_m_, static_cast<double>(p.x()));
+    }
+  }
+}
+
+void CommandGate::People(double now_s, const std::vector<Eigen::Vector2d>& people) {
+  last_people_s_ = now_s;
+  nearest_person_m_ = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector2d& p : people) {
+    if (p.x() > 0.0 && std::abs(std::atan2(p.y(), p.x())) <= options_.person_half_angle_rad) {
+      nearest_person_m_ = std::min(nearest_person_m_, p.norm());
     }
   }
 }
@@ -87,6 +98,12 @@ GateDecision CommandGate::Decide(double now_s, const TimedTwist* teleop, const T
       out.twist.linear_mps = cap;
       out.reason = fresh ? GateReason::kSlowedForObstacle : GateReason::kNoDepth;
     }
+  }
+  const double person_cap = options_.person_speed_factor * options_.max_linear_mps;
+  if (out.twist.linear_mps > person_cap && now_s - last_people_s_ <= options_.people_fresh_s &&
+      nearest_person_m_ <= options_.person_near_m) {
+    out.twist.linear_mps = person_cap;
+    out.reason = GateReason::kSlowedForPerson;
   }
   if (out.twist.linear_mps != 0.0) last_moving_linear_mps_ = out.twist.linear_mps;
   return out;

@@ -33,6 +33,7 @@ enum class GateReason {
   kBumpedBacking,       // bumper pressed: not backing
   kSlowedForObstacle,   // forward speed capped by what the camera sees ahead
   kNoDepth,             // no fresh depth frame: not driving forward
+  kSlowedForPerson,     // forward speed capped near a person ahead
 };
 const char* ToString(GateReason reason);
 
@@ -49,6 +50,12 @@ struct CommandGateOptions {
   double mission_fresh_s = 0.3;        // a mission command older than this is not acted on
   double bump_hold_s = 1.0;            // after the bumper is released, driving on that way waits this long
   double fault_hold_s = 2.0;           // the protective stop after a fault
+  // Near people: a person detected ahead (within person_half_angle_rad of straight ahead) within person_near_m caps
+  // forward speed at person_speed_factor x max_linear_mps, while the report is at most people_fresh_s old.
+  double person_near_m = 1.5;
+  double person_half_angle_rad = 0.7854;
+  double person_speed_factor = 0.5;
+  double people_fresh_s = 1.0;
 };
 
 // A velocity someone asks for, and when (seconds, the gate's clock).
@@ -73,6 +80,8 @@ class CommandGate {
   // A depth frame's lanes arrived (MORP), or the obstacle points of another front end (base frame, x forward).
   void Sight(double now_s, const std::vector<LaneResult>& lanes);
   void Sight(double now_s, const std::vector<Eigen::Vector2f>& obstacles);
+  // The people detected now (their positions in the base frame, metres).
+  void People(double now_s, const std::vector<Eigen::Vector2d>& people);
   // Some part of the daemon failed at now_s: protective stop.
   void Fault(double now_s) { last_fault_s_ = now_s; }
 
@@ -95,6 +104,8 @@ class CommandGate {
   double last_sight_s_ = kNever;
   double nearest_ahead_m_ = std::numeric_limits<double>::infinity();
   double last_fault_s_ = kNever;
+  double last_people_s_ = kNever;
+  double nearest_person_m_ = std::numeric_limits<double>::infinity();  // ahead, in the last report
   double last_moving_linear_mps_ = 0.0;  // the last command with linear speed the gate let through
 };
 

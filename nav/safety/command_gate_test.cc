@@ -158,5 +158,26 @@ TEST(CommandGateTest, AFaultStopsTheRobotForTheHoldAndThenItDrivesAgain) {
   EXPECT_DOUBLE_EQ(again.twist.linear_mps, 0.3);
 }
 
+TEST(CommandGateTest, APersonAheadWithinOneAndAHalfMetresHalvesTheSpeedWhileTheReportIsFresh) {
+  CommandGate gate = Seeing(10.0);
+  const TimedTwist mission{{0.5, 0.1}, 10.0};
+  gate.People(10.0, {{1.2, 0.3}});
+  GateDecision c = gate.Decide(10.0, nullptr, &mission);
+  EXPECT_DOUBLE_EQ(c.twist.linear_mps, 0.5 * gate.options().max_linear_mps);
+  EXPECT_DOUBLE_EQ(c.twist.angular_rps, 0.1);
+  EXPECT_EQ(c.reason, GateReason::kSlowedForPerson);
+  // Beside or behind the robot, or farther than 1.5 m: not slowed.
+  for (const Eigen::Vector2d& p : {Eigen::Vector2d(0.2, 1.0), Eigen::Vector2d(-1.0, 0.0), Eigen::Vector2d(2.0, 0.0)}) {
+    gate.People(10.0, {p});
+    EXPECT_DOUBLE_EQ(gate.Decide(10.0, nullptr, &mission).twist.linear_mps, 0.5) << p.transpose();
+  }
+  // A report older than a second no longer slows it.
+  gate.People(10.0, {{1.0, 0.0}});
+  gate.Odometry(11.2, false);
+  gate.Sight(11.2, LanesAt(-1.0));
+  const TimedTwist later{{0.5, 0.0}, 11.2};
+  EXPECT_DOUBLE_EQ(gate.Decide(11.2, nullptr, &later).twist.linear_mps, 0.5);
+}
+
 }  // namespace
 }  // namespace corridor::nav

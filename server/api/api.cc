@@ -128,6 +128,7 @@ Api::Api(ApiContext context) : c_(context), start_ns_(context.clock.Now()) {
   AddLocalizationRoutes();
   AddMapRoutes();
   AddFaceRoutes();
+  AddDetectionRoutes();
 }
 
 Api::Handler Api::Sync(std::function<Response(const Request&, const Params&)> f) {

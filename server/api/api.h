@@ -17,6 +17,7 @@
 #include "server/nodes/explore_node.h"
 #include "server/nodes/mission_node.h"
 #include "server/nodes/octree_node.h"
+#include "server/nodes/perception_node.h"
 #include "server/nodes/planner_service.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/config.h"
@@ -60,6 +61,7 @@ struct ApiContext {
   MissionNode& missions;
   ExploreNode& explore;
   OctreeNode* octree;  // null when the 3D map is off (octomap.enabled: false)
+  PerceptionNode* perception;  // null when perception.enabled is false
   const Config& config;
   const drivers::Clock& clock;
   Executor& io;  // replies that are computed elsewhere come back here
@@ -102,6 +104,7 @@ class Api {
   void AddLocalizationRoutes();
   void AddMappingRoutes();
   void AddFaceRoutes();
+  void AddDetectionRoutes();
   // {x, y, yaw} of `body`, on the active map (else 422 outside_map).
   nav::Pose2 ParsePoseOnMap(const nlohmann::json& body, const std::string& where) const;
   // 409 unless localization.source is mcl.

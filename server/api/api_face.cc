@@ -1,5 +1,7 @@
 // Routes for the robot's face: GET /api/v1/face (the expression, and what it said last) and POST /api/v1/face (an
-// app's or building system's request: an expression for a while, a phrase to say, or both).
+// app's or building system's request: an expression for a while, a phrase to say, or both); and for the detection
+// hook: GET /api/v1/detections (what the robot sees now) and POST /api/v1/detections (an external detector's).
+#include <cctype>
 #include <cmath>
 
 #include "server/api/api.h"
@@ -54,7 +56,101 @@ FaceCommand ParseFaceCommand(const json& body) {
   return command;
 }
 
+constexpr std::size_t kMaxPushed = 100;
+
+bool ValidSourceName(const std::string& name) {
+  if (name.empty() || name.size() > 64) return false;
+  for (const char c : name) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') return false;
+  }
+  return true;
+}
+
+double FiniteNumber(const json& body, const char* key, const std::string& where) {
+  return RequireNumber(body, key, where);
+}
+
+face::Detection ParseDetection(const json& j, const std::string& where, const std::string& source) {
+  if (!j.is_object()) throw ApiError(http::status::bad_request, "Invalid request", where + ": expected an object");
+  AllowOnlyKeys(j, {"class", "score", "box", "position"}, where);
+  face::Detection d;
+  d.source = source;
+  if (!j.contains("class") || !j["class"].is_string() || j["class"].get<std::string>().empty() ||
+      j["class"].get<std::string>().size() > 64) {
+    throw ApiError(http::status::bad_request, "Invalid request", where + ".class: a name of 1 to 64 characters");
+  }
+  d.label = j["class"].get<std::string>();
+  d.score = j.contains("score") ? FiniteNumber(j, "score", where) : 1.0;
+  if (!(d.score >= 0.0 && d.score <= 1.0)) {
+    throw ApiError(http::status::bad_request, "Invalid request", where + ".score: from 0 to 1");
+  }
+  if (j.contains("box")) {
+    const json& b = j["box"];
+    const std::string at = where + ".box";
+    if (!b.is_object()) throw ApiError(http::status::bad_request, "Invalid request", at + ": expected {x, y, w, h}");
+    AllowOnlyKeys(b, {"x", "y", "w", "h"}, at);
+    const cv::Rect2d box(FiniteNumber(b, "x", at), FiniteNumber(b, "y", at), FiniteNumber(b, "w", at),
+                         FiniteNumber(b, "h", at));
+    if (!(box.width > 0.0 && box.height > 0.0)) {
+      throw ApiError(http::status::bad_request, "Invalid request", at + ": w and h must be positive");
+    }
+    d.box = box;
+  }
+  if (j.contains("position")) {
+    const json& p = j["position"];
+    const std::string at = where + ".position";
+    if (!p.is_object()) throw ApiError(http::status::bad_request, "Invalid request", at + ": expected {x, y, z}");
+    AllowOnlyKeys(p, {"x", "y", "z"}, at);
+    d.position = Eigen::Vector3d(FiniteNumber(p, "x", at), FiniteNumber(p, "y", at),
+                                 p.contains("z") ? FiniteNumber(p, "z", at) : 0.0);
+    if (d.position->head<2>().norm() > 100.0) {
+      throw ApiError(http::status::bad_request, "Invalid request", at + ": within 100 m of the robot");
+    }
+  }
+  return d;
+}
+
 }  // namespace
+
+void Api::AddDetectionRoutes() {
+  Add(http::verb::get, "/api/v1/detections", Sync([this](const Request& r, const Params&) {
+        const auto detections = c_.bus.Get(topics::kDetections).latest();
+        return JsonResponse(r, ToJson(detections ? *detections : Detections{c_.clock.Now(), {}}));
+      }));
+  Add(http::verb::post, "/api/v1/detections", Sync([this](const Request& r, const Params&) {
+        if (c_.perception == nullptr) {
+          throw ApiError(http::status::conflict, "Perception is off", "perception.enabled is false", "perception_off");
+        }
+        const json body = ParseJsonBody(r);
+        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
+        AllowOnlyKeys(body, {"source", "ttl_s", "detections"}, "");
+        ExternalDetections pushed;
+        if (!body.contains("source") || !body["source"].is_string() ||
+            !ValidSourceName(body["source"].get<std::string>())) {
+          throw ApiError(http::status::bad_request, "Invalid request",
+                         "source: a name of letters, digits, '-', '_' and '.' (1 to 64)");
+        }
+        pushed.source = body["source"].get<std::string>();
+        if (body.contains("ttl_s")) pushed.ttl_s = RequireNumber(body, "ttl_s", "");
+        const double max_ttl = c_.config.perception.max_ttl_s;
+        if (!(pushed.ttl_s > 0.0 && pushed.ttl_s <= max_ttl)) {
+          throw ApiError(http::status::bad_request, "Invalid request",
+                         "ttl_s: seconds above 0, at most " + std::to_string(max_ttl));
+        }
+        if (!body.contains("detections") || !body["detections"].is_array() ||
+            body["detections"].size() > kMaxPushed) {
+          throw ApiError(http::status::bad_request, "Invalid request", "detections: a list of at most 100");
+        }
+        for (std::size_t i = 0; i < body["detections"].size(); ++i) {
+          pushed.items.push_back(
+              ParseDetection(body["detections"][i], "detections[" + std::to_string(i) + "]", pushed.source));
+        }
+        pushed.received_ns = c_.clock.Now();
+        const json accepted{{"source", pushed.source}, {"accepted", pushed.items.size()}, {"ttl_s", pushed.ttl_s}};
+        c_.perception->Push(std::move(pushed));
+        return JsonResponse(r, accepted, http::status::accepted);
+      }));
+}
 
 void Api::AddFaceRoutes() {
   Add(http::verb::get, "/api/v1/face", Sync([this](const Request& r, const Params&) {

@@ -10,6 +10,7 @@
 #include "server/nodes/ground_node.h"
 #include "server/nodes/localization_node.h"
 #include "server/nodes/octree_node.h"
+#include "server/nodes/perception_node.h"
 #include "server/app/simulator.h"
 #include "server/nodes/tracking_node.h"
 #include "server/runtime/demand.h"
@@ -120,7 +121,15 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   }
   lifecycle_.Add(std::move(localization_node));
   if (octree_node) lifecycle_.Add(std::move(octree_node));
-  lifecycle_.Add(std::make_unique<FaceNode>(executors_.perception, bus_));
+  if (config_.perception.enabled) {
+    auto perception_node = std::make_unique<PerceptionNode>(executors_.perception, bus_, config_.perception,
+                                                            devices_.camera.info().camera, devices_.sim != nullptr);
+    perception_ = perception_node.get();
+    lifecycle_.Add(std::move(perception_node));
+  }
+  face::SocialOptions social;
+  social.near_m = config_.safety.person_near_m;
+  lifecycle_.Add(std::make_unique<FaceNode>(executors_.perception, bus_, face::ExpressionOptions{}, social));
   lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.camera.info(), config_.ground,
                                               config_.mission.policy));
   if (tracking_node) lifecycle_.Add(std::move(tracking_node));
@@ -135,7 +144,8 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   lifecycle_.ConfigureAll();
 
   api_ = std::make_unique<Api>(
-      ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, octree_, config_, clock_, executors_.io, devices_.sim});
+      ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, octree_, perception_, config_, clock_,
+                 executors_.io, devices_.sim});
 }
 
 Graph::~Graph() { Stop(); }

@@ -88,6 +88,7 @@ class Graph {
   MissionNode* missions_ = nullptr;
   ExploreNode* explore_ = nullptr;   // owned by lifecycle_
   OctreeNode* octree_ = nullptr;     // owned by lifecycle_; null when octomap.enabled is false
+  PerceptionNode* perception_ = nullptr;  // owned by lifecycle_; null when perception.enabled is false
   std::unique_ptr<Api> api_;
   bool started_ = false;
   bool stopped_ = false;

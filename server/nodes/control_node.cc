@@ -29,6 +29,13 @@ void ControlNode::Activate() {
       gate_.Sight(now_s, ground->obstacles);
     }
   });
+  Subscribe(topics::kDetections, "people", [this](const auto& detections) {
+    std::vector<Eigen::Vector2d> people;
+    for (const face::Detection& d : detections->items) {
+      if (d.label == "person" && d.position) people.push_back(d.position->head<2>());
+    }
+    gate_.People(drivers::ToSeconds(clock().Now()), people);
+  });
   Subscribe(topics::kFaults, "fault", [this](const auto& fault) {
     gate_.Fault(drivers::ToSeconds(clock().Now()));
     fault_detail_ = fault->node + " failed: " + fault->what;

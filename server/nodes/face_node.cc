@@ -11,6 +11,7 @@ constexpr double kRateHz = 5.0;
 constexpr double kMovingMps = 0.02;
 constexpr double kMovingRps = 0.05;
 constexpr double kWaitingAfterS = 2.0;  // a mission holding the robot still this long is waiting
+constexpr double kDetectionsFreshS = 1.0;
 
 face::MissionPhase Phase(nav::MissionStatus status) {
   switch (status) {
@@ -34,8 +35,9 @@ const char* KindName(face::PhraseKind kind) {
 
 }  // namespace
 
-FaceNode::FaceNode(Executor& executor, Bus& bus, const face::ExpressionOptions& options)
-    : PeriodicNode("face", executor, bus, kRateHz), machine_(options) {}
+FaceNode::FaceNode(Executor& executor, Bus& bus, const face::ExpressionOptions& options,
+                   const face::SocialOptions& social)
+    : PeriodicNode("face", executor, bus, kRateHz), machine_(options), social_(social) {}
 
 void FaceNode::Activate() {
   Subscribe(topics::kOdometry, "odometry", [this](const auto& odometry) {
@@ -59,7 +61,9 @@ void FaceNode::Say(std::string text, std::string kind) {
 
 face::Situation FaceNode::Sample() {
   face::Situation s{.now_ns = clock().Now()};
+  nav::Twist2 velocity;
   if (const auto odometry = bus().Get(topics::kOdometry).latest()) {
+    velocity = odometry->velocity;
     s.moving = std::abs(odometry->velocity.linear_mps) > kMovingMps ||
                std::abs(odometry->velocity.angular_rps) > kMovingRps;
     const bool pressed_between_ticks = std::exchange(bumped_since_tick_, false);
@@ -87,6 +91,18 @@ face::Situation FaceNode::Sample() {
                 (s.mission == face::MissionPhase::kActive &&
                  (held_still || mission->policy == nav::PolicyMode::kWaitingForDepth));
   }
+  // People: only a report from the last second counts.
+  std::vector<face::Detection> people;
+  if (const auto detections = bus().Get(topics::kDetections).latest();
+      detections && s.now_ns - detections->stamp_ns <= drivers::FromSeconds(kDetectionsFreshS)) {
+    people = detections->items;
+  }
+  const face::SocialCues cues = social_.Update(people, velocity.linear_mps, velocity.angular_rps, s.now_ns);
+  s.person_near = cues.near;
+  s.person_blocking = cues.blocking;
+  s.person_looking = cues.looking;
+  state_.gaze_rad = cues.gaze_rad;
+  state_.gaze_at_person = cues.gaze_at_person;
   return s;
 }
 

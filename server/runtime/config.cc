@@ -41,6 +41,8 @@ void ReadSafety(ConfigReader& r, SafetyOptions& o) {
   r.Read("reaction_time_s", o.stopping.reaction_time_s, 0.0, 2.0);
   r.Read("stop_margin_m", o.stopping.margin_m, 0.0, 1.0);
   r.Read("fault_hold_s", o.fault_hold_s, 0.1, 60.0);
+  r.Read("person_near_m", o.person_near_m, 0.0, 10.0);
+  r.Read("person_speed_factor", o.person_speed_factor, 0.0, 1.0);
 }
 
 void ReadBase(ConfigReader& r, drivers::sim::SimBaseOptions& o) {
@@ -181,6 +183,60 @@ void ReadOctomap(ConfigReader& r, OctreeOptions& o) {
   r.Read("costmap_layer", o.costmap_layer);
   r.Read("update_every_s", o.update_every_s, 0.1, 600.0);
   r.Read("save_every_s", o.save_every_s, 1.0, 86400.0);
+}
+
+void ReadPerception(ConfigReader& r, PerceptionOptions& p) {
+  r.Read("enabled", p.enabled);
+  static const std::map<std::string, PerceptionOptions::Detector> kDetectors = {
+      {"auto", PerceptionOptions::Detector::kAuto}, {"sim", PerceptionOptions::Detector::kSimulated},
+      {"hog", PerceptionOptions::Detector::kHog}, {"dnn", PerceptionOptions::Detector::kDnn}};
+  std::string detector = "auto";
+  for (const auto& [name, value] : kDetectors) {
+    if (value == p.detector) detector = name;
+  }
+  r.Read("detector", detector);
+  const auto it = kDetectors.find(detector);
+  if (it == kDetectors.end()) {
+    throw ConfigError(r.PathOf("detector") + ": must be auto, sim, hog or dnn, got '" + detector + "'");
+  }
+  p.detector = it->second;
+  r.Read("faces", p.faces);
+  r.Read("rate_hz", p.rate_hz, 0.2, 30.0);
+  r.Read("max_ttl_s", p.max_ttl_s, 0.1, 600.0);
+  r.Section("hog", [&](ConfigReader& h) {
+    h.Read("upscale", p.hog.upscale, 1.0, 4.0);
+    h.Read("scale_step", p.hog.scale_step, 1.01, 2.0);
+    h.Read("window_stride_px", p.hog.window_stride_px, 1, 64);
+    h.Read("min_score", p.hog.min_score, 0.0, 1.0);
+  });
+  r.Section("face_cascade", [&](ConfigReader& f) {
+    std::string cascade = p.face_cascade.cascade.string();
+    f.Read("file", cascade);
+    p.face_cascade.cascade = cascade;
+    f.Read("min_size_px", p.face_cascade.min_size_px, 8, 1000);
+  });
+  r.Section("dnn", [&](ConfigReader& d) {
+    std::string model;
+    std::string config;
+    std::string classes;
+    d.Read("model", model);
+    d.Read("config", config);
+    d.Read("classes", classes);
+    p.dnn.model = model;
+    p.dnn.config = config;
+    p.dnn.classes = classes;
+    d.Read("input_size_px", p.dnn.input_size_px, 32, 2048);
+    d.Read("transposed", p.dnn.transposed);
+    d.Read("boxes_in_pixels", p.dnn.boxes_in_pixels);
+    d.Read("min_score", p.dnn.min_score, 0.0, 1.0);
+  });
+  if (p.detector == PerceptionOptions::Detector::kDnn && (p.dnn.model.empty() || p.dnn.classes.empty())) {
+    throw ConfigError(r.PathOf("dnn") + ": the dnn detector needs model and classes");
+  }
+  r.Section("sim", [&](ConfigReader& s) {
+    s.Read("miss_rate", p.sim.miss_rate, 0.0, 1.0);
+    s.Read("max_range_m", p.sim.max_range_m, 0.5, 50.0);
+  });
 }
 
 void ReadTracking(ConfigReader& r, TrackingOptions& t) {
@@ -350,6 +406,7 @@ Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
     r.Section("tracking", [&](ConfigReader& s) { ReadTracking(s, config.tracking); });
     r.Section("localization", [&](ConfigReader& s) { ReadLocalization(s, config.localization); });
     r.Section("octomap", [&](ConfigReader& s) { ReadOctomap(s, config.octomap); });
+    r.Section("perception", [&](ConfigReader& s) { ReadPerception(s, config.perception); });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();
     // MORP-RB brakes by the control loop's model.

@@ -9,6 +9,11 @@
 #include "drivers/sim/sim_robot.h"
 #include "drivers/sim/world.h"
 #include "nav/ground/depth_scan.h"
+#include "face/detect/dnn_detector.h"
+#include "face/detect/face_cascade.h"
+#include "face/detect/hog_people.h"
+#include "face/detect/simulated_people.h"
+#include "face/detect/tracker.h"
 #include "nav/localization/monte_carlo.h"
 #include "nav/mapping/occupancy_octree.h"
 #include "nav/ground/morp.h"
@@ -109,6 +114,22 @@ struct OctreeOptions {
   double save_every_s = 30.0;
 };
 
+// People and faces in the camera (server/nodes/perception_node.h), and what the robot does about them.
+struct PerceptionOptions {
+  bool enabled = true;
+  // auto: the simulated people with the simulator, HOG on a real camera; sim; hog; dnn (the user's model, `dnn`).
+  enum class Detector { kAuto, kSimulated, kHog, kDnn };
+  Detector detector = Detector::kAuto;
+  bool faces = true;          // also the frontal face cascade (a face turned to the robot: a person looking at it)
+  double rate_hz = 3.0;       // detections a second, on the perception executor
+  face::HogOptions hog;
+  face::FaceCascadeOptions face_cascade;
+  face::DnnOptions dnn;
+  face::SimulatedPeopleOptions sim;
+  face::TrackerOptions tracker;
+  double max_ttl_s = 10.0;    // the longest an external detection may be kept
+};
+
 struct LogOptions {
   std::string level = "info";           // trace, debug, info, warn, error
 };
@@ -125,6 +146,7 @@ struct Config {
   TrackingOptions tracking;
   LocalizationOptions localization;
   OctreeOptions octomap;
+  PerceptionOptions perception;
   LogOptions log;
 };
 

@@ -53,8 +53,28 @@ nlohmann::json ToJson(const TrackedObjects& t) {
   return objects;
 }
 
+nlohmann::json ToJson(const face::Detection& d) {
+  using nlohmann::json;
+  return {{"class", d.label},
+          {"score", d.score},
+          {"box", d.box ? json{{"x", d.box->x}, {"y", d.box->y}, {"w", d.box->width}, {"h", d.box->height}} : json(nullptr)},
+          {"position", d.position ? json{{"x", d.position->x()}, {"y", d.position->y()}, {"z", d.position->z()}}
+                                  : json(nullptr)},
+          {"bearing", d.bearing_rad ? json(*d.bearing_rad) : json(nullptr)},
+          {"track_id", d.track_id},
+          {"source", d.source}};
+}
+
+nlohmann::json ToJson(const Detections& detections) {
+  nlohmann::json items = nlohmann::json::array();
+  for (const face::Detection& d : detections.items) items.push_back(ToJson(d));
+  return {{"stamp", drivers::ToSeconds(detections.stamp_ns)}, {"detections", std::move(items)}};
+}
+
 nlohmann::json ToJson(const FaceState& face) {
   return {{"expression", std::string(face::ToString(face.expression))},
+          {"gaze", face.gaze_rad},
+          {"gaze_at_person", face.gaze_at_person},
           {"said_sequence", face.said_sequence},
           {"said", face.said},
           {"said_kind", face.said_kind}};

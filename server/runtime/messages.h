@@ -11,6 +11,7 @@
 #include "drivers/depth_camera.h"
 #include "drivers/diff_drive_base.h"
 #include "drivers/laser2d.h"
+#include "face/detect/detection.h"
 #include "face/expression.h"
 #include "nav/geometry/pose2.h"
 #include "nav/geometry/sensor_view.h"
@@ -160,9 +161,27 @@ struct MappingState {
 // subscriber that sees a new one speaks it once).
 struct FaceState {
   face::Expression expression = face::Expression::kNeutral;
+  double gaze_rad = 0.0;            // where the eyes look, from straight ahead, counter-clockwise (left)
+  bool gaze_at_person = false;      // at a person detected, else the way the robot turns
   std::uint64_t said_sequence = 0;  // 0: nothing said yet
   std::string said;                 // the phrase's text
   std::string said_kind;            // greeting, excuse_me, arrived, or request (an app's `say`)
+};
+
+// People and objects detected in the camera (face/detect), built-in and pushed in, each with its track id; positions
+// in the base frame at stamp_ns.
+struct Detections {
+  drivers::TimeNs stamp_ns = 0;
+  std::vector<face::Detection> items;
+};
+
+// Detections an external detector pushed in (POST /api/v1/detections, handed to PerceptionNode::Push): kept for ttl_s
+// from received_ns under their source's name; a new push from the same source replaces them.
+struct ExternalDetections {
+  std::string source;
+  double ttl_s = 2.0;
+  drivers::TimeNs received_ns = 0;
+  std::vector<face::Detection> items;
 };
 
 // An app's or building system's request to the face (POST /api/v1/face): show an expression for hold_s, say a phrase,
@@ -176,6 +195,8 @@ struct FaceCommand {
 nlohmann::json ToJson(const ControlLatency& latency);
 nlohmann::json ToJson(const LocalizationState& localization);
 nlohmann::json ToJson(const FaceState& face);
+nlohmann::json ToJson(const face::Detection& detection);
+nlohmann::json ToJson(const Detections& detections);
 nlohmann::json ToJson(const SimPedestrians& pedestrians);
 nlohmann::json ToJson(const TrackedObjects& tracked);  // the objects only, not the static points
 nlohmann::json ToJson(const GroundLanes& lanes);

@@ -21,6 +21,7 @@ inline constexpr TopicName<Bumped> kBumped{"safety/bumped"};
 inline constexpr TopicName<Fault> kFaults{"safety/faults"};  // a node's callback threw
 inline constexpr TopicName<FaceState> kFaceExpression{"face/expression"};
 inline constexpr TopicName<FaceCommand> kFaceCommand{"face/command"};
+inline constexpr TopicName<Detections> kDetections{"perception/detections"};
 inline constexpr TopicName<MissionCommand> kMissionCommand{"mission/command"};
 inline constexpr TopicName<MissionState> kMission{"mission"};
 inline constexpr TopicName<LocalStepState> kLocalStep{"mission/step"};  // each local step, on a depth frame
