@@ -1,4 +1,5 @@
-// Builds the console into web/dist: one bundled script, the pages, the styles (ours and Leaflet's).
+// Builds the console and the face kiosk page into web/dist: one bundled script each, the pages, the styles (ours and
+// Leaflet's).
 import { build } from 'esbuild';
 import { cpSync, mkdirSync } from 'node:fs';
 
@@ -13,7 +14,18 @@ await build({
   outfile: `${dist}app.js`,
   logLevel: 'warning',
 });
+await build({
+  entryPoints: ['src/face/main.ts'],
+  bundle: true,
+  minify: true,
+  sourcemap: true,
+  target: 'es2022',
+  format: 'esm',
+  outfile: `${dist}face.js`,
+  logLevel: 'warning',
+});
 cpSync('index.html', `${dist}index.html`);
+cpSync('face.html', `${dist}face.html`);
 cpSync('style.css', `${dist}style.css`);
 cpSync('node_modules/leaflet/dist/leaflet.css', `${dist}leaflet.css`);
 cpSync('node_modules/@geoman-io/leaflet-geoman-free/dist/leaflet-geoman.css', `${dist}leaflet-geoman.css`);

@@ -44,6 +44,8 @@ void FaceNode::Activate() {
     if (odometry->bumper_pressed) bumped_since_tick_ = true;
   });
   Subscribe(topics::kFaceCommand, "command", [this](const auto& command) { OnCommand(*command); });
+  // New detections move the eyes at once, not at the next tick: a person appearing is looked at within a frame.
+  Subscribe(topics::kDetections, "people", [this](const auto&) { Tick(); });
   PeriodicNode::Activate();
 }
 

@@ -121,7 +121,7 @@ struct PerceptionOptions {
   enum class Detector { kAuto, kSimulated, kHog, kDnn };
   Detector detector = Detector::kAuto;
   bool faces = true;          // also the frontal face cascade (a face turned to the robot: a person looking at it)
-  double rate_hz = 3.0;       // detections a second, on the perception executor
+  double rate_hz = 5.0;       // detections a second, on the perception executor
   face::HogOptions hog;
   face::FaceCascadeOptions face_cascade;
   face::DnnOptions dnn;
