@@ -47,6 +47,8 @@ struct Situation {
   MissionPhase mission = MissionPhase::kNone;
   std::string mission_id{};      // of the mission in `mission` (a new id is a new mission)
   std::string place{};           // the named place the mission's last goal is, if any
+  std::string mission_error{};   // why a failed mission failed
+  std::string fault_detail{};    // what failed, with `fault`
   bool waiting = false;          // an active or paused mission holds the robot still
   bool person_blocking = false;  // a person stands in the robot's way (in front, close)
   bool person_near = false;      // a person is close in front

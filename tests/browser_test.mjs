@@ -5,7 +5,7 @@ import { mkdirSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 
-import { launchBrowser, sleep, sourceDir, startDaemon } from './daemon.mjs';
+import { launchBrowser, openConsole, sleep, sourceDir, startDaemon } from './daemon.mjs';
 
 const artifacts = process.env.CORRIDOR_ARTIFACTS ?? join(sourceDir, 'tests/artifacts');
 
@@ -29,20 +29,15 @@ function parsePose(text) {
 }
 
 test('open the console, see the map and the robot, drive with the keyboard', async () => {
-  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
-  const errors = [];
-  page.on('pageerror', (e) => errors.push(e.message));
-  await page.goto(daemon.url);
-
   // Connected, the map image loaded, the robot drawn, telemetry live.
-  await page.getByTestId('connection').filter({ hasText: 'connected' }).waitFor({ timeout: 15000 });
+  const { page, errors } = await openConsole(browser, daemon.url);
   await page.waitForFunction(() => {
     const img = document.querySelector('img.map-image');
     return img instanceof HTMLImageElement && img.complete && img.naturalWidth === 1165;
   }, null, { timeout: 15000 });
   await page.waitForSelector('path.robot', { timeout: 15000 });
   await page.getByTestId('pose').filter({ hasText: 'x ' }).waitFor();
-  await page.waitForFunction(() => document.querySelectorAll('[data-testid=nodes] tbody tr').length === 10);
+  await page.waitForFunction(() => document.querySelectorAll('[data-testid=nodes] tbody tr').length === 11);
   await page.waitForFunction(() => {
     const img = document.querySelector('[data-testid=camera]');
     return img instanceof HTMLImageElement && img.complete && img.naturalWidth === 320;

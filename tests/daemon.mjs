@@ -101,6 +101,17 @@ export function launchBrowser() {
   });
 }
 
+// Opens the console of the daemon at `url` in a new page of `browser` and waits until it is connected; `errors`
+// collects the page's uncaught errors.
+export async function openConsole(browser, url, viewport = { width: 1280, height: 800 }) {
+  const page = await browser.newPage({ viewport });
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(e.message));
+  await page.goto(url);
+  await page.getByTestId('connection').filter({ hasText: 'connected' }).waitFor({ timeout: 15000 });
+  return { page, errors };
+}
+
 // A validator for a schema of the OpenAPI document (JSON Schema 2020-12, as OpenAPI 3.1 uses).
 export function openApiValidator() {
   const Ajv2020 = require('ajv/dist/2020').default;

@@ -51,7 +51,7 @@ describe('corridord in the Willow Garage building', () => {
     await sleep(500);
     const s = await state(daemon.url);
     assert.deepEqual(s.nodes.map((n) => n.name).sort(), ['control', 'explore', 'face', 'ground', 'localization', 'mission',
-      'octree', 'perception', 'sim', 'tracking']);
+      'octree', 'perception', 'sim', 'tracking', 'webhooks']);
     assert.equal(s.face, 'neutral');
     for (const node of s.nodes) {
       assert.equal(node.health, 'ok', `${node.name}: ${node.message}`);
@@ -230,6 +230,16 @@ describe('corridord in the Willow Garage building', () => {
     assert.equal(face.said, 'Welcome to the lab');
     assert.equal(face.said_kind, 'request');
     assert.equal((await state(daemon.url)).face, 'happy');
+    // The phrase was said aloud: its audio, a WAV the face page plays.
+    const speech = await fetch(`${daemon.url}/api/v1/face/speech/${face.said_sequence}`);
+    assert.equal(speech.status, 200);
+    assert.equal(speech.headers.get('content-type'), 'audio/wav');
+    const wav = Buffer.from(await speech.arrayBuffer());
+    assert.equal(wav.toString('ascii', 0, 4), 'RIFF');
+    assert.equal(wav.toString('ascii', 8, 12), 'WAVE');
+    assert.ok(wav.length > 44 + 22050 * 2 * 0.5, `about a second of speech, got ${wav.length} bytes`);
+    await expectProblem(getJson(`${daemon.url}/api/v1/face/speech/${face.said_sequence + 1000}`), 404);
+    await expectProblem(getJson(`${daemon.url}/api/v1/face/speech/-1`), 400);
     for (const body of [{}, { expression: 'grumpy' }, { expression: 'happy', hold_s: -1 }, { hold_s: 2 },
       { say: '' }, { say: 'x'.repeat(201) }, { expression: 'sad', colour: 'blue' }, [1, 2]]) {
       await expectProblem(postJson(`${daemon.url}/api/v1/face`, body), 400);

@@ -129,6 +129,7 @@ Api::Api(ApiContext context) : c_(context), start_ns_(context.clock.Now()) {
   AddMapRoutes();
   AddFaceRoutes();
   AddDetectionRoutes();
+  AddWebhookRoutes();
 }
 
 Api::Handler Api::Sync(std::function<Response(const Request&, const Params&)> f) {

@@ -14,7 +14,9 @@
 #include <vector>
 
 #include "drivers/sim/sim_robot.h"
+#include "server/api/webhooks.h"
 #include "server/nodes/explore_node.h"
+#include "server/nodes/face_node.h"
 #include "server/nodes/mission_node.h"
 #include "server/nodes/octree_node.h"
 #include "server/nodes/perception_node.h"
@@ -62,6 +64,9 @@ struct ApiContext {
   ExploreNode& explore;
   OctreeNode* octree;  // null when the 3D map is off (octomap.enabled: false)
   PerceptionNode* perception;  // null when perception.enabled is false
+  const SpokenPhrases& spoken;  // the audio of what the face said lately
+  const EventLog& events;       // the robot's recent events
+  Webhooks& webhooks;           // on the io executor, as the handlers are
   const Config& config;
   const drivers::Clock& clock;
   Executor& io;  // replies that are computed elsewhere come back here
@@ -105,6 +110,7 @@ class Api {
   void AddMappingRoutes();
   void AddFaceRoutes();
   void AddDetectionRoutes();
+  void AddWebhookRoutes();
   // {x, y, yaw} of `body`, on the active map (else 422 outside_map).
   nav::Pose2 ParsePoseOnMap(const nlohmann::json& body, const std::string& where) const;
   // 409 unless localization.source is mcl.

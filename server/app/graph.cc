@@ -1,6 +1,7 @@
 #include "server/app/graph.h"
 
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include "nav/policy/evasion.h"
 #include "server/nodes/control_node.h"
@@ -13,6 +14,7 @@
 #include "server/nodes/perception_node.h"
 #include "server/app/simulator.h"
 #include "server/nodes/tracking_node.h"
+#include "server/nodes/webhook_node.h"
 #include "server/runtime/demand.h"
 
 namespace corridor::server {
@@ -30,6 +32,13 @@ const drivers::Clock& ClockFor(Schedule schedule, const Devices& devices, const 
   if (schedule == Schedule::kThreads) return wall;
   if (devices.sim == nullptr) throw std::runtime_error("a graph in lockstep needs the simulator: its clock is the graph's");
   return devices.sim->clock();
+}
+
+// The machine's name, as the robot's in webhook payloads.
+std::string HostName() {
+  char name[256] = {};
+  if (gethostname(name, sizeof(name) - 1) != 0 || name[0] == '\0') return "corridor";
+  return name;
 }
 
 }  // namespace
@@ -129,7 +138,14 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   }
   face::SocialOptions social;
   social.near_m = config_.safety.person_near_m;
-  lifecycle_.Add(std::make_unique<FaceNode>(executors_.perception, bus_, face::ExpressionOptions{}, social));
+  std::shared_ptr<const face::Speech> speech;
+  if (!config_.face.mute) speech = std::make_shared<const face::Speech>(config_.face.voice);
+  lifecycle_.Add(std::make_unique<FaceNode>(executors_.perception, bus_, config_.face, social, speech, spoken_,
+                                            events_));
+  WebhookOptions hooks = config_.webhooks;
+  if (hooks.robot.empty()) hooks.robot = HostName();
+  webhooks_ = std::make_unique<Webhooks>(executors_.io.context(), store_, clock_, hooks);
+  lifecycle_.Add(std::make_unique<WebhookNode>(executors_.io, bus_, *events_, *webhooks_));
   lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.camera.info(), config_.ground,
                                               config_.mission.policy));
   if (tracking_node) lifecycle_.Add(std::move(tracking_node));
@@ -144,8 +160,8 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   lifecycle_.ConfigureAll();
 
   api_ = std::make_unique<Api>(
-      ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, octree_, perception_, config_, clock_,
-                 executors_.io, devices_.sim});
+      ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, octree_, perception_, *spoken_,
+                 *events_, *webhooks_, config_, clock_, executors_.io, devices_.sim});
 }
 
 Graph::~Graph() { Stop(); }

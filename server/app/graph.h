@@ -18,6 +18,8 @@
 #include "drivers/sim/sim_robot.h"
 #include "nav/map/occupancy_grid.h"
 #include "server/api/api.h"
+#include "server/api/webhooks.h"
+#include "server/nodes/face_node.h"
 #include "server/nodes/mission_node.h"
 #include "server/nodes/planner_service.h"
 #include "server/nodes/sim_node.h"
@@ -89,6 +91,9 @@ class Graph {
   ExploreNode* explore_ = nullptr;   // owned by lifecycle_
   OctreeNode* octree_ = nullptr;     // owned by lifecycle_; null when octomap.enabled is false
   PerceptionNode* perception_ = nullptr;  // owned by lifecycle_; null when perception.enabled is false
+  std::shared_ptr<SpokenPhrases> spoken_ = std::make_shared<SpokenPhrases>();  // the face's, for the API
+  std::shared_ptr<EventLog> events_ = std::make_shared<EventLog>();           // the face node's, for webhooks and API
+  std::unique_ptr<Webhooks> webhooks_;                                          // on the io executor
   std::unique_ptr<Api> api_;
   bool started_ = false;
   bool stopped_ = false;

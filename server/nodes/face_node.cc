@@ -35,9 +35,30 @@ const char* KindName(face::PhraseKind kind) {
 
 }  // namespace
 
-FaceNode::FaceNode(Executor& executor, Bus& bus, const face::ExpressionOptions& options,
-                   const face::SocialOptions& social)
-    : PeriodicNode("face", executor, bus, kRateHz), machine_(options), social_(social) {}
+void SpokenPhrases::Add(std::uint64_t sequence, std::shared_ptr<const std::string> wav) {
+  std::lock_guard lock(mutex_);
+  phrases_.emplace_back(sequence, std::move(wav));
+  while (phrases_.size() > kKept) phrases_.pop_front();
+}
+
+std::shared_ptr<const std::string> SpokenPhrases::Find(std::uint64_t sequence) const {
+  std::lock_guard lock(mutex_);
+  for (const auto& [s, wav] : phrases_) {
+    if (s == sequence) return wav;
+  }
+  return nullptr;
+}
+
+FaceNode::FaceNode(Executor& executor, Bus& bus, const FaceOptions& options, const face::SocialOptions& social,
+                   std::shared_ptr<const face::Speech> speech, std::shared_ptr<SpokenPhrases> spoken,
+                   std::shared_ptr<EventLog> events)
+    : PeriodicNode("face", executor, bus, kRateHz),
+      machine_(options.expression),
+      social_(social),
+      watch_(options.events),
+      events_(std::move(events)),
+      speech_(std::move(speech)),
+      spoken_(std::move(spoken)) {}
 
 void FaceNode::Activate() {
   Subscribe(topics::kOdometry, "odometry", [this](const auto& odometry) {
@@ -59,6 +80,15 @@ void FaceNode::Say(std::string text, std::string kind) {
   ++state_.said_sequence;
   state_.said = std::move(text);
   state_.said_kind = std::move(kind);
+  // Synthesized before the state that announces it goes out, so the page finds the audio when it asks. A failure
+  // leaves the phrase silent (the page's mouth still moves) and the node degraded, saying why.
+  if (speech_ && spoken_) {
+    try {
+      spoken_->Add(state_.said_sequence, std::make_shared<const std::string>(speech_->SynthesizeWav(state_.said)));
+    } catch (const std::exception& e) {
+      SetHealth(Health::kDegraded, std::string("speech: ") + e.what());
+    }
+  }
 }
 
 face::Situation FaceNode::Sample() {
@@ -79,6 +109,7 @@ face::Situation FaceNode::Sample() {
   if (const auto command = bus().Get(topics::kCmdVel).latest()) {
     s.driven = command->mode == nav::ControlMode::kTeleop;
     s.fault = command->mode == nav::ControlMode::kStopped;
+    if (s.fault) s.fault_detail = command->detail;
   }
   if (const auto localization = bus().Get(topics::kLocalization).latest()) {
     s.lost = localization->estimate.health == nav::LocalizationHealth::kLost;
@@ -87,6 +118,7 @@ face::Situation FaceNode::Sample() {
     s.mission = Phase(mission->status);
     s.mission_id = mission->id;
     if (!mission->goals.empty()) s.place = mission->goals.back().place;
+    s.mission_error = mission->error;
     const bool held_still =
         still_since_ns_ >= 0 && s.now_ns - still_since_ns_ >= drivers::FromSeconds(kWaitingAfterS);
     s.waiting = s.mission == face::MissionPhase::kPaused ||
@@ -94,12 +126,12 @@ face::Situation FaceNode::Sample() {
                  (held_still || mission->policy == nav::PolicyMode::kWaitingForDepth));
   }
   // People: only a report from the last second counts.
-  std::vector<face::Detection> people;
+  people_.clear();
   if (const auto detections = bus().Get(topics::kDetections).latest();
       detections && s.now_ns - detections->stamp_ns <= drivers::FromSeconds(kDetectionsFreshS)) {
-    people = detections->items;
+    people_ = detections->items;
   }
-  const face::SocialCues cues = social_.Update(people, velocity.linear_mps, velocity.angular_rps, s.now_ns);
+  const face::SocialCues cues = social_.Update(people_, velocity.linear_mps, velocity.angular_rps, s.now_ns);
   s.person_near = cues.near;
   s.person_blocking = cues.blocking;
   s.person_looking = cues.looking;
@@ -109,7 +141,11 @@ face::Situation FaceNode::Sample() {
 }
 
 void FaceNode::Tick() {
-  const face::FaceOutput out = machine_.Update(Sample());
+  const face::Situation situation = Sample();
+  const face::FaceOutput out = machine_.Update(situation);
+  for (const face::RobotEvent& event : watch_.Update(situation, people_)) {
+    if (events_) events_->Append(event);
+  }
   state_.expression = out.expression;
   if (out.say) Say(out.say->text, KindName(out.say->kind));
   bus().Get(topics::kFaceExpression).Publish(state_);

@@ -239,6 +239,44 @@ void ReadPerception(ConfigReader& r, PerceptionOptions& p) {
   });
 }
 
+void ReadFace(ConfigReader& r, FaceOptions& f) {
+  face::ExpressionOptions& e = f.expression;
+  r.Read("min_hold_s", e.min_hold_s, 0.0, 60.0);
+  r.Read("sleepy_after_s", e.sleepy_after_s, 1.0, 86400.0);
+  r.Read("greeting_every_s", e.greeting_every_s, 0.0, 86400.0);
+  r.Read("excuse_me_after_s", e.excuse_me_after_s, 0.0, 600.0);
+  const auto phrase = [&](const char* key, std::string& text) {
+    r.Read(key, text);
+    if (text.empty() || text.size() > 200) throw ConfigError(r.PathOf(key) + ": a phrase of 1 to 200 characters");
+  };
+  phrase("greeting", e.greeting_text);
+  phrase("excuse_me", e.excuse_me_text);
+  phrase("arrived", e.arrived_text);
+  phrase("arrived_at", e.arrived_at_text);
+  r.Section("events", [&](ConfigReader& v) {
+    v.Read("person_left_after_s", f.events.person_left_after_s, 0.0, 600.0);
+    v.Read("blocked_after_s", f.events.blocked_after_s, 0.0, 600.0);
+  });
+  r.Section("voice", [&](ConfigReader& v) {
+    v.Read("mute", f.mute);
+    v.Read("name", f.voice.voice);
+    v.Read("rate_wpm", f.voice.rate_wpm, 80, 450);
+    v.Read("pitch", f.voice.pitch, 0, 100);
+    v.Read("volume", f.voice.volume, 0, 200);
+  });
+}
+
+void ReadWebhooks(ConfigReader& r, WebhookOptions& w) {
+  r.Read("timeout_s", w.timeout_s, 0.1, 60.0);
+  r.Read("max_attempts", w.max_attempts, 1, 100);
+  r.Read("first_retry_s", w.first_retry_s, 0.0, 3600.0);
+  r.Read("max_retry_s", w.max_retry_s, 0.0, 86400.0);
+  r.Read("keep_deliveries", w.keep_deliveries, 1, 100000);
+  r.Read("max_pending", w.max_pending, 1, 100000);
+  r.Read("ca_file", w.ca_file);
+  r.Read("robot", w.robot);
+}
+
 void ReadTracking(ConfigReader& r, TrackingOptions& t) {
   nav::MovingObjectOptions& o = t.objects;
   r.Read("enabled", t.enabled);
@@ -407,6 +445,8 @@ Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
     r.Section("localization", [&](ConfigReader& s) { ReadLocalization(s, config.localization); });
     r.Section("octomap", [&](ConfigReader& s) { ReadOctomap(s, config.octomap); });
     r.Section("perception", [&](ConfigReader& s) { ReadPerception(s, config.perception); });
+    r.Section("face", [&](ConfigReader& s) { ReadFace(s, config.face); });
+    r.Section("webhooks", [&](ConfigReader& s) { ReadWebhooks(s, config.webhooks); });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();
     // MORP-RB brakes by the control loop's model.

@@ -14,6 +14,9 @@
 #include "face/detect/hog_people.h"
 #include "face/detect/simulated_people.h"
 #include "face/detect/tracker.h"
+#include "face/events.h"
+#include "face/expression.h"
+#include "face/speech.h"
 #include "nav/localization/monte_carlo.h"
 #include "nav/mapping/occupancy_octree.h"
 #include "nav/ground/morp.h"
@@ -114,6 +117,14 @@ struct OctreeOptions {
   double save_every_s = 30.0;
 };
 
+// The robot's face (server/nodes/face_node.h): when it changes expression, what it says, and its voice.
+struct FaceOptions {
+  face::ExpressionOptions expression;
+  face::EventOptions events;    // what building systems are told (face/events.h)
+  bool mute = false;            // say nothing aloud (the page's mouth still moves with what is said)
+  face::SpeechOptions voice;
+};
+
 // People and faces in the camera (server/nodes/perception_node.h), and what the robot does about them.
 struct PerceptionOptions {
   bool enabled = true;
@@ -128,6 +139,18 @@ struct PerceptionOptions {
   face::SimulatedPeopleOptions sim;
   face::TrackerOptions tracker;
   double max_ttl_s = 10.0;    // the longest an external detection may be kept
+};
+
+// Webhooks (server/api/webhooks.h): how the robot's events are delivered to the building systems that subscribed.
+struct WebhookOptions {
+  double timeout_s = 5.0;        // one attempt: connect, send, answer
+  int max_attempts = 8;          // then the delivery has failed
+  double first_retry_s = 2.0;    // the wait before the second attempt, doubled for each next one
+  double max_retry_s = 300.0;    // the longest wait between two attempts
+  int keep_deliveries = 100;     // finished deliveries kept per webhook
+  int max_pending = 200;         // undelivered ones per webhook; beyond, the oldest fails (the receiver is gone)
+  std::string ca_file;           // HTTPS: trust these certificates (PEM) besides the system's
+  std::string robot;             // the robot's name in every payload; empty: the host name
 };
 
 struct LogOptions {
@@ -147,6 +170,8 @@ struct Config {
   LocalizationOptions localization;
   OctreeOptions octomap;
   PerceptionOptions perception;
+  FaceOptions face;
+  WebhookOptions webhooks;
   LogOptions log;
 };
 

@@ -25,6 +25,10 @@ class Statement {
     sqlite3_bind_text(stmt_, index, text.c_str(), static_cast<int>(text.size()), SQLITE_TRANSIENT);
     return *this;
   }
+  Statement& Bind(int index, int value) {
+    sqlite3_bind_int(stmt_, index, value);
+    return *this;
+  }
   Statement& Bind(int index, double value) {
     sqlite3_bind_double(stmt_, index, value);
     return *this;
@@ -41,12 +45,20 @@ class Statement {
     return p ? reinterpret_cast<const char*>(p) : "";
   }
   double Double(int column) const { return sqlite3_column_double(stmt_, column); }
+  int Int(int column) const { return sqlite3_column_int(stmt_, column); }
   int changes() const { return sqlite3_changes(db_); }
 
  private:
   sqlite3* db_;
   sqlite3_stmt* stmt_ = nullptr;
 };
+
+constexpr const char* kDeliveryColumns =
+    "id, webhook, event, payload, status, attempts, created, last_attempt, response_status, error";
+
+DeliveryRecord ReadDelivery(const Statement& s) {
+  return {s.Text(0), s.Text(1), s.Text(2), s.Text(3), s.Text(4), s.Int(5), s.Text(6), s.Text(7), s.Int(8), s.Text(9)};
+}
 
 json PolygonJson(const std::vector<Eigen::Vector2d>& polygon) {
   json out = json::array();
@@ -79,7 +91,14 @@ Store::Store(const std::filesystem::path& file) : file_(file) {
         "CREATE TABLE IF NOT EXISTS places (map TEXT NOT NULL, id TEXT NOT NULL, name TEXT NOT NULL, x REAL NOT NULL,"
         " y REAL NOT NULL, yaw REAL NOT NULL, PRIMARY KEY (map, id));"
         "CREATE TABLE IF NOT EXISTS missions (id TEXT PRIMARY KEY, document TEXT NOT NULL,"
-        " updated REAL NOT NULL DEFAULT (julianday('now')));");
+        " updated REAL NOT NULL DEFAULT (julianday('now')));"
+        "CREATE TABLE IF NOT EXISTS webhooks (id TEXT PRIMARY KEY, url TEXT NOT NULL, events TEXT NOT NULL,"
+        " secret TEXT NOT NULL, description TEXT NOT NULL, created TEXT NOT NULL);"
+        "CREATE TABLE IF NOT EXISTS deliveries (seq INTEGER PRIMARY KEY AUTOINCREMENT, id TEXT NOT NULL UNIQUE,"
+        " webhook TEXT NOT NULL, event TEXT NOT NULL, payload TEXT NOT NULL, status TEXT NOT NULL,"
+        " attempts INTEGER NOT NULL, created TEXT NOT NULL, last_attempt TEXT NOT NULL,"
+        " response_status INTEGER NOT NULL, error TEXT NOT NULL);"
+        "CREATE INDEX IF NOT EXISTS deliveries_by_webhook ON deliveries (webhook, seq);");
   } catch (const StoreError& e) {
     sqlite3_close(db_);
     throw StoreError("database " + file.string() + ": " + e.what() + " (is it a corridor database?)");
@@ -176,6 +195,101 @@ std::vector<json> Store::Missions(int limit) const {
   s.Bind(1, static_cast<double>(limit));
   std::vector<json> out;
   while (s.Step()) out.push_back(json::parse(s.Text(0)));
+  return out;
+}
+
+std::vector<WebhookRecord> Store::Webhooks() const {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "SELECT id, url, events, secret, description, created FROM webhooks ORDER BY created, id");
+  std::vector<WebhookRecord> out;
+  while (s.Step()) {
+    out.push_back({s.Text(0), s.Text(1), json::parse(s.Text(2)).get<std::vector<std::string>>(), s.Text(3), s.Text(4),
+                   s.Text(5)});
+  }
+  return out;
+}
+
+std::optional<WebhookRecord> Store::Webhook(const std::string& id) const {
+  for (WebhookRecord& w : Webhooks()) {
+    if (w.id == id) return std::move(w);
+  }
+  return std::nullopt;
+}
+
+void Store::PutWebhook(const WebhookRecord& w) {
+  std::lock_guard lock(mutex_);
+  Statement s(db_,
+              "INSERT OR REPLACE INTO webhooks (id, url, events, secret, description, created) VALUES (?,?,?,?,?,?)");
+  s.Bind(1, w.id).Bind(2, w.url).Bind(3, json(w.events).dump()).Bind(4, w.secret).Bind(5, w.description);
+  s.Bind(6, w.created);
+  s.Step();
+}
+
+bool Store::DeleteWebhook(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  Exec("BEGIN");
+  try {
+    Statement deliveries(db_, "DELETE FROM deliveries WHERE webhook = ?");
+    deliveries.Bind(1, id);
+    deliveries.Step();
+    Statement s(db_, "DELETE FROM webhooks WHERE id = ?");
+    s.Bind(1, id);
+    s.Step();
+    const bool deleted = s.changes() > 0;
+    Exec("COMMIT");
+    return deleted;
+  } catch (...) {
+    Exec("ROLLBACK");
+    throw;
+  }
+}
+
+void Store::AddDelivery(const DeliveryRecord& d, int keep) {
+  std::lock_guard lock(mutex_);
+  Exec("BEGIN");
+  try {
+    Statement s(db_, (std::string("INSERT INTO deliveries (") + kDeliveryColumns + ") VALUES (?,?,?,?,?,?,?,?,?,?)").c_str());
+    s.Bind(1, d.id).Bind(2, d.webhook).Bind(3, d.event).Bind(4, d.payload).Bind(5, d.status).Bind(6, d.attempts);
+    s.Bind(7, d.created).Bind(8, d.last_attempt).Bind(9, d.response_status).Bind(10, d.error);
+    s.Step();
+    Statement prune(db_,
+                    "DELETE FROM deliveries WHERE webhook = ? AND status != 'pending' AND seq NOT IN"
+                    " (SELECT seq FROM deliveries WHERE webhook = ? ORDER BY seq DESC LIMIT ?)");
+    prune.Bind(1, d.webhook).Bind(2, d.webhook).Bind(3, keep);
+    prune.Step();
+    Exec("COMMIT");
+  } catch (...) {
+    Exec("ROLLBACK");
+    throw;
+  }
+}
+
+void Store::UpdateDelivery(const DeliveryRecord& d) {
+  std::lock_guard lock(mutex_);
+  Statement s(db_,
+              "UPDATE deliveries SET status = ?, attempts = ?, last_attempt = ?, response_status = ?, error = ?"
+              " WHERE id = ?");
+  s.Bind(1, d.status).Bind(2, d.attempts).Bind(3, d.last_attempt).Bind(4, d.response_status).Bind(5, d.error);
+  s.Bind(6, d.id);
+  s.Step();
+}
+
+std::vector<DeliveryRecord> Store::Deliveries(const std::string& webhook, int limit) const {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, (std::string("SELECT ") + kDeliveryColumns +
+                    " FROM deliveries WHERE webhook = ? ORDER BY seq DESC LIMIT ?").c_str());
+  s.Bind(1, webhook).Bind(2, limit);
+  std::vector<DeliveryRecord> out;
+  while (s.Step()) out.push_back(ReadDelivery(s));
+  return out;
+}
+
+std::vector<DeliveryRecord> Store::PendingDeliveries() const {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, (std::string("SELECT ") + kDeliveryColumns +
+                    " FROM deliveries WHERE status = 'pending' ORDER BY seq").c_str());
+  std::vector<DeliveryRecord> out;
+  while (s.Step()) out.push_back(ReadDelivery(s));
   return out;
 }
 

@@ -24,6 +24,31 @@ class StoreError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A subscription to the robot's events (server/api/webhooks.h): where they are POSTed, which, and the secret their
+// signature is made with.
+struct WebhookRecord {
+  std::string id;
+  std::string url;
+  std::vector<std::string> events;  // face/events.h names
+  std::string secret;
+  std::string description;
+  std::string created;              // ISO 8601, UTC
+};
+
+// One event's delivery to one webhook, and how it went.
+struct DeliveryRecord {
+  std::string id{};
+  std::string webhook{};
+  std::string event{};         // its type
+  std::string payload{};       // the JSON body sent
+  std::string status = "pending";  // pending, delivered, failed
+  int attempts = 0;
+  std::string created{};       // ISO 8601, UTC
+  std::string last_attempt{};  // ISO 8601, UTC; empty before the first
+  int response_status = 0;   // the receiver's HTTP status at the last attempt; 0: none (it could not be reached)
+  std::string error{};         // why the last attempt failed
+};
+
 class Store {
  public:
   // Opens or creates the database and its tables. Throws StoreError.
@@ -44,6 +69,17 @@ class Store {
   void PutMission(const std::string& id, const nlohmann::json& document);
   std::optional<nlohmann::json> Mission(const std::string& id) const;
   std::vector<nlohmann::json> Missions(int limit) const;
+
+  std::vector<WebhookRecord> Webhooks() const;
+  std::optional<WebhookRecord> Webhook(const std::string& id) const;
+  void PutWebhook(const WebhookRecord& webhook);
+  bool DeleteWebhook(const std::string& id);  // and its deliveries
+
+  // Adds a delivery, then forgets the oldest finished ones of its webhook beyond `keep`.
+  void AddDelivery(const DeliveryRecord& delivery, int keep);
+  void UpdateDelivery(const DeliveryRecord& delivery);
+  std::vector<DeliveryRecord> Deliveries(const std::string& webhook, int limit) const;  // newest first
+  std::vector<DeliveryRecord> PendingDeliveries() const;                                // oldest first
 
  private:
   void Exec(const std::string& sql) const;

@@ -45,6 +45,39 @@ TEST_F(StoreTest, ZonesPlacesAndMissionsSurviveReopening) {
   EXPECT_FALSE(store.Mission("nope"));
 }
 
+TEST_F(StoreTest, WebhooksAndTheirDeliveriesSurviveReopeningAndOldOnesAreForgotten) {
+  {
+    Store store(dir_ / "corridor.db");
+    store.PutWebhook({"w1", "http://127.0.0.1:9000/hook", {"bump", "lost"}, "s3cret-s3cret-s3cret", "lift", "t0"});
+    store.PutWebhook({"w2", "https://example.org/x", {"fault"}, "another-secret-0000", "", "t1"});
+    for (int i = 0; i < 5; ++i) {
+      DeliveryRecord d{"d" + std::to_string(i), "w1", "bump", "{}"};
+      if (i < 4) d.status = "delivered";
+      store.AddDelivery(d, 3);
+    }
+    store.AddDelivery({"e0", "w2", "fault", "{}"}, 3);
+    DeliveryRecord updated{"d4", "w1", "bump", "{}", "failed", 8, "t", "t2", 503, "503 Service Unavailable"};
+    store.UpdateDelivery(updated);
+  }
+  Store store(dir_ / "corridor.db");
+  ASSERT_EQ(store.Webhooks().size(), 2u);
+  EXPECT_EQ(store.Webhook("w1")->events, (std::vector<std::string>{"bump", "lost"}));
+  EXPECT_EQ(store.Webhook("w1")->secret, "s3cret-s3cret-s3cret");
+  const auto deliveries = store.Deliveries("w1", 10);
+  ASSERT_EQ(deliveries.size(), 3u);  // the newest three
+  EXPECT_EQ(deliveries[0].id, "d4");
+  EXPECT_EQ(deliveries[0].status, "failed");
+  EXPECT_EQ(deliveries[0].attempts, 8);
+  EXPECT_EQ(deliveries[0].response_status, 503);
+  EXPECT_EQ(deliveries[2].id, "d2");
+  ASSERT_EQ(store.PendingDeliveries().size(), 1u);
+  EXPECT_EQ(store.PendingDeliveries()[0].id, "e0");
+  EXPECT_TRUE(store.DeleteWebhook("w2"));
+  EXPECT_FALSE(store.DeleteWebhook("w2"));
+  EXPECT_TRUE(store.PendingDeliveries().empty());
+  EXPECT_FALSE(store.Webhook("w2"));
+}
+
 TEST_F(StoreTest, AFileThatIsNotADatabaseIsReported) {
   std::ofstream(dir_ / "junk.db") << std::string(4096, 'x');
   try {

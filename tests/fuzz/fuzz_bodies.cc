@@ -1,5 +1,5 @@
 // libFuzzer target: JSON bodies of the routes that take them (zones, places, missions, plans, map cells, teleop, sim
-// faults, the active map, the face, an initial pose), through the real router and handlers. The first byte picks the
+// faults, the active map, the face, an initial pose, a webhook, pushed detections), through the real router and handlers. The first byte picks the
 // route; the rest is the body.
 #include <cstddef>
 #include <cstdint>
@@ -21,6 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       {http::verb::put, "/api/v1/map/cells"},  {http::verb::post, "/api/v1/teleop"},
       {http::verb::put, "/api/v1/sim/faults"}, {http::verb::put, "/api/v1/map/active"},
       {http::verb::post, "/api/v1/face"},      {http::verb::put, "/api/v1/localization/pose"},
+      {http::verb::post, "/api/v1/webhooks"},  {http::verb::post, "/api/v1/detections"},
   };
   if (size == 0) return 0;
   const Route& route = kRoutes[data[0] % (sizeof(kRoutes) / sizeof(kRoutes[0]))];
@@ -33,5 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // A mission the body started is cancelled, so that the next inputs do not pile them up.
   const auto mission = fuzz.graph().bus().Get(corridor::server::topics::kMission).latest();
   if (mission && !mission->id.empty()) fuzz.graph().missions().Cancel(mission->id);
+  // A webhook the body subscribed is deleted before anything is sent to it: a fuzzed URL may name any host.
+  for (const auto& webhook : fuzz.graph().store().Webhooks()) fuzz.graph().store().DeleteWebhook(webhook.id);
   return 0;
 }

@@ -1,0 +1,153 @@
+// Routes for building systems that want to be told what happens: /api/v1/webhooks (subscriptions kept in the
+// database, and their recent deliveries), a ping to check one works, and /api/v1/events (the robot's recent events,
+// for a system that polls instead).
+#include <algorithm>
+
+#include <openssl/rand.h>
+
+#include "server/api/api.h"
+
+namespace corridor::server {
+namespace {
+
+using nlohmann::json;
+
+constexpr std::size_t kMinSecret = 16;
+constexpr std::size_t kMaxSecret = 256;
+constexpr std::size_t kMaxDescription = 200;
+
+// 32 random bytes as hex, from OpenSSL's CSPRNG.
+std::string NewSecret() {
+  unsigned char bytes[32];
+  if (RAND_bytes(bytes, sizeof(bytes)) != 1) throw std::runtime_error("webhooks: no random bytes for a secret");
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  for (const unsigned char b : bytes) {
+    out += kHex[b >> 4];
+    out += kHex[b & 15];
+  }
+  return out;
+}
+
+json WebhookJson(const WebhookRecord& w) {
+  return {{"id", w.id}, {"url", w.url}, {"events", w.events}, {"description", w.description}, {"created", w.created}};
+}
+
+json DeliveryJson(const DeliveryRecord& d) {
+  json payload = json::parse(d.payload, nullptr, false);
+  return {{"id", d.id},
+          {"event", d.event},
+          {"status", d.status},
+          {"attempts", d.attempts},
+          {"created", d.created},
+          {"last_attempt", d.last_attempt.empty() ? json(nullptr) : json(d.last_attempt)},
+          {"response_status", d.response_status == 0 ? json(nullptr) : json(d.response_status)},
+          {"error", d.error.empty() ? json(nullptr) : json(d.error)},
+          {"payload", payload.is_discarded() ? json(d.payload) : payload}};
+}
+
+WebhookRecord ParseWebhook(const json& body) {
+  const std::string where = "webhook";
+  if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "the body must be an object");
+  AllowOnlyKeys(body, {"url", "events", "secret", "description"}, where);
+  WebhookRecord w;
+  if (!body.contains("url") || !body["url"].is_string()) {
+    throw ApiError(http::status::bad_request, "Invalid request", "url: required, a string");
+  }
+  w.url = body["url"].get<std::string>();
+  try {
+    ParseWebhookUrl(w.url);
+  } catch (const std::invalid_argument& e) {
+    throw ApiError(http::status::bad_request, "Invalid request", e.what());
+  }
+  std::string names;
+  for (int i = 0; i < face::kEventTypeCount; ++i) {
+    names += (i ? ", " : "") + std::string(face::ToString(static_cast<face::EventType>(i)));
+  }
+  if (!body.contains("events") || !body["events"].is_array() || body["events"].empty()) {
+    throw ApiError(http::status::bad_request, "Invalid request", "events: required, a non-empty list among " + names);
+  }
+  for (const json& e : body["events"]) {
+    if (!e.is_string() || !face::EventTypeFromString(e.get<std::string>())) {
+      throw ApiError(http::status::bad_request, "Invalid request",
+                     "events: " + Dump(e) + " is not an event; the events are " + names);
+    }
+    const std::string name = e.get<std::string>();
+    if (std::find(w.events.begin(), w.events.end(), name) == w.events.end()) w.events.push_back(name);
+  }
+  if (body.contains("secret")) {
+    if (!body["secret"].is_string() || body["secret"].get<std::string>().size() < kMinSecret ||
+        body["secret"].get<std::string>().size() > kMaxSecret) {
+      throw ApiError(http::status::bad_request, "Invalid request",
+                     "secret: a string of " + std::to_string(kMinSecret) + " to " + std::to_string(kMaxSecret) +
+                         " characters (or none: the robot makes one)");
+    }
+    w.secret = body["secret"].get<std::string>();
+  } else {
+    w.secret = NewSecret();
+  }
+  if (body.contains("description")) {
+    if (!body["description"].is_string() || body["description"].get<std::string>().size() > kMaxDescription) {
+      throw ApiError(http::status::bad_request, "Invalid request", "description: a string of at most 200 characters");
+    }
+    w.description = body["description"].get<std::string>();
+  }
+  return w;
+}
+
+}  // namespace
+
+void Api::AddWebhookRoutes() {
+  Add(http::verb::get, "/api/v1/webhooks", Sync([this](const Request& r, const Params&) {
+        json hooks = json::array();
+        for (const WebhookRecord& w : c_.store.Webhooks()) hooks.push_back(WebhookJson(w));
+        return JsonResponse(r, {{"webhooks", hooks}});
+      }));
+  Add(http::verb::post, "/api/v1/webhooks", Sync([this](const Request& r, const Params&) {
+        WebhookRecord w = ParseWebhook(ParseJsonBody(r));
+        w.id = NewId();
+        w.created = IsoUtc(std::chrono::system_clock::now());
+        c_.store.PutWebhook(w);
+        // The secret is shown once, here: the receiver needs it to check signatures.
+        json body = WebhookJson(w);
+        body["secret"] = w.secret;
+        Response res = JsonResponse(r, body, http::status::created);
+        res.set(http::field::location, "/api/v1/webhooks/" + w.id);
+        return res;
+      }));
+  const auto find = [this](const std::string& id) {
+    std::optional<WebhookRecord> w = c_.store.Webhook(id);
+    if (!w) throw ApiError(http::status::not_found, "Not found", "no webhook " + id);
+    return *w;
+  };
+  Add(http::verb::get, "/api/v1/webhooks/{id}", Sync([find](const Request& r, const Params& p) {
+        return JsonResponse(r, WebhookJson(find(p.at("id"))));
+      }));
+  Add(http::verb::delete_, "/api/v1/webhooks/{id}", Sync([this](const Request& r, const Params& p) {
+        if (!c_.store.DeleteWebhook(p.at("id"))) {
+          throw ApiError(http::status::not_found, "Not found", "no webhook " + p.at("id"));
+        }
+        c_.webhooks.Forget(p.at("id"));
+        return MakeResponse(r, http::status::no_content, "application/json", "");
+      }));
+  Add(http::verb::get, "/api/v1/webhooks/{id}/deliveries", Sync([this, find](const Request& r, const Params& p) {
+        const WebhookRecord w = find(p.at("id"));
+        json deliveries = json::array();
+        for (const DeliveryRecord& d : c_.store.Deliveries(w.id, c_.config.webhooks.keep_deliveries + c_.config.webhooks.max_pending)) {
+          deliveries.push_back(DeliveryJson(d));
+        }
+        return JsonResponse(r, {{"deliveries", deliveries}});
+      }));
+  Add(http::verb::post, "/api/v1/webhooks/{id}/ping", Sync([this, find](const Request& r, const Params& p) {
+        const std::string delivery = c_.webhooks.Ping(find(p.at("id")));
+        c_.webhooks.Dispatch();
+        return JsonResponse(r, {{"delivery", delivery}}, http::status::accepted);
+      }));
+  Add(http::verb::get, "/api/v1/events", Sync([this](const Request& r, const Params&) {
+        json events = json::array();
+        for (const LoggedEvent& e : c_.events.After(0)) events.push_back(ToJson(e));
+        return JsonResponse(r, {{"events", events}});
+      }));
+}
+
+}  // namespace corridor::server
