@@ -7,7 +7,9 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
-import { getJson, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor, writeRoom } from './daemon.mjs';
+import {
+  getJson, launchBrowser, openApiValidator, openConsole, postJson, sendJson, sleep, startDaemon, waitFor, writeRoom,
+} from './daemon.mjs';
 
 const api = openApiValidator();
 const dir = mkdtempSync(join(tmpdir(), 'corridor-perception-'));
@@ -115,6 +117,35 @@ localization: {source: sim_truth}
     const pushed = merged.find((x) => x.source === 'phone' && x.class === 'person');
     assert.ok(Math.abs(pushed.bearing - Math.atan2(-1.0, 2.0)) < 1e-6);
     await waitFor(() => detections(daemon.url), (d) => !d.some((x) => x.source === 'phone'), 3000, 'their expiry');
+  });
+
+  test('the console draws what the robot sees: boxes over the camera view, people on the map', async () => {
+    const browser = await launchBrowser();
+    try {
+      const { page, errors } = await openConsole(browser, daemon.url);
+      await page.waitForFunction(() => {
+        const img = document.querySelector('[data-testid=camera]');
+        return img instanceof HTMLImageElement && img.complete && img.naturalWidth > 0;
+      }, null, { timeout: 15000 });
+      const res = await postJson(`${daemon.url}/api/v1/detections`, { source: 'tablet', ttl_s: 8, detections: [
+        { class: 'person', score: 0.9, box: { x: 40, y: 30, w: 60, h: 160 }, position: { x: 2.5, y: 0.5, z: 0.9 } }] });
+      assert.equal(res.status, 202, JSON.stringify(res.body));
+      await page.getByTestId('detections').filter({ hasText: /person \d+ at 2\.5 m/ }).waitFor({ timeout: 5000 });
+      await page.waitForSelector('path.detected-person', { timeout: 5000 });
+      // The box's edge, in the overlay's purple, where the box's top-left corner falls on the shown image.
+      const purple = await page.evaluate(() => {
+        const img = document.querySelector('[data-testid=camera]');
+        const canvas = document.querySelector('[data-testid=detections-overlay]');
+        const sx = canvas.width / img.naturalWidth;
+        const sy = canvas.height / img.naturalHeight;
+        const [r, g, b, a] = canvas.getContext('2d').getImageData(Math.round(40 * sx), Math.round(110 * sy), 1, 1).data;
+        return a > 0 && r > 120 && b > 200 && g < 150;
+      });
+      assert.ok(purple, 'the box is drawn over the camera view');
+      assert.deepEqual(errors, []);
+    } finally {
+      await browser.close();
+    }
   });
 
   test('bad pushes get a problem and change nothing', async () => {

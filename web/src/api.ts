@@ -73,6 +73,13 @@ export interface Lane {
   pixel?: [number, number]; point?: [number, number, number];
 }
 export interface GroundLanes { frame_sequence: number; latency_ms: number; lanes: Lane[]; }
+// A person or object the robot sees (perception/detections): its box in the colour image, its position in the base frame.
+export interface Detection {
+  class: string; score: number; track_id: number; source: string;
+  box: { x: number; y: number; w: number; h: number } | null;
+  position: { x: number; y: number; z: number } | null;
+}
+export interface Detections { stamp: number; detections: Detection[]; }
 export type Goal = { x: number; y: number; yaw?: number } | { place: string };
 
 // Sends a JSON request; resolves the parsed body, or rejects with the problem's title and detail.

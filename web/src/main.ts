@@ -1,5 +1,5 @@
 // The corridor console: map, live pose, camera, telemetry, teleoperation, and the navigation tools.
-import { send, type GroundLanes, type MapInfo, type Mission, type Pose, type State, type Twist } from './api';
+import { send, type Detections, type GroundLanes, type MapInfo, type Mission, type Pose, type State, type Twist } from './api';
 import { byId } from './dom';
 import { LocalizationPanel } from './localization';
 import { MapView } from './map_view';
@@ -97,17 +97,24 @@ function startCamera(): void {
   void tick();
 }
 
-// Each lane's dead-end over the depth view: a red mark at its pixel with the free distance; blind lanes are grey.
-function showLanes(ground: GroundLanes, view: MapView | null, pose: Pose | null): void {
+// An overlay canvas over the camera view, cleared and sized to the shown image, with the scale from image pixels; null
+// before the first image.
+function cameraOverlay(id: string): { ctx: CanvasRenderingContext2D; sx: number; sy: number } | null {
   const img = byId<HTMLImageElement>('camera');
-  const canvas = byId<HTMLCanvasElement>('lanes-overlay');
+  const canvas = byId<HTMLCanvasElement>(id);
   canvas.width = img.clientWidth;
   canvas.height = img.clientHeight;
   const ctx = canvas.getContext('2d');
-  if (!ctx || img.naturalWidth === 0) return;
+  if (!ctx || img.naturalWidth === 0) return null;
   ctx.clearRect(0, 0, canvas.width, canvas.height);
-  const sx = canvas.width / img.naturalWidth;
-  const sy = canvas.height / img.naturalHeight;
+  return { ctx, sx: canvas.width / img.naturalWidth, sy: canvas.height / img.naturalHeight };
+}
+
+// Each lane's dead-end over the depth view: a red mark at its pixel with the free distance; blind lanes are grey.
+function showLanes(ground: GroundLanes, view: MapView | null, pose: Pose | null): void {
+  const overlay = cameraOverlay('lanes-overlay');
+  if (!overlay) return;
+  const { ctx, sx, sy } = overlay;
   ctx.font = '11px system-ui';
   for (const lane of ground.lanes) {
     if (!lane.pixel) continue;
@@ -126,6 +133,28 @@ function showLanes(ground: GroundLanes, view: MapView | null, pose: Pose | null)
     `${Number.isFinite(nearest) ? `${nearest.toFixed(2)} m` : 'none'}, ready ${ground.latency_ms.toFixed(2)} ms after the frame` +
     (ground.lanes.some((l) => l.blind) ? ' (blind)' : '');
   view?.showDeadEnds(ground.lanes.filter((l) => l.point).map((l) => [l.point![0], l.point![1]]), pose);
+}
+
+// The people and objects detected, as boxes over the camera view (the depth image is registered to the colour one, so
+// the boxes fit both) and as people on the map.
+function showDetections(detections: Detections, view: MapView | null, pose: Pose | null): void {
+  const people = detections.detections.filter((d) => d.class === 'person');
+  view?.showPeople(people, pose);
+  byId('detections').textContent = detections.detections.length === 0 ? 'nobody'
+    : detections.detections.map((d) => `${d.class} ${d.track_id}` +
+      (d.position ? ` at ${Math.hypot(d.position.x, d.position.y).toFixed(1)} m` : '')).join(', ');
+  const overlay = cameraOverlay('detections-overlay');
+  if (!overlay) return;
+  const { ctx, sx, sy } = overlay;
+  ctx.font = '11px system-ui';
+  ctx.lineWidth = 2;
+  for (const d of detections.detections) {
+    if (!d.box) continue;
+    ctx.strokeStyle = d.class === 'person' ? '#a371f7' : '#d29922';
+    ctx.strokeRect(d.box.x * sx, d.box.y * sy, d.box.w * sx, d.box.h * sy);
+    ctx.fillStyle = ctx.strokeStyle;
+    ctx.fillText(`${d.class} ${d.track_id} ${Math.round(d.score * 100)}%`, d.box.x * sx + 2, d.box.y * sy - 3);
+  }
 }
 
 function missionAction(action: 'pause' | 'resume' | 'cancel', current: () => Mission | null): void {
@@ -169,9 +198,10 @@ async function main(): Promise<void> {
   const connection = byId('connection');
   const scheme = location.protocol === 'https:' ? 'wss' : 'ws';
   let pose: Pose | null = null;
-  const stream = new Stream(`${scheme}://${location.host}/api/v1/stream`, ['state', 'ground/lanes'],
+  const stream = new Stream(`${scheme}://${location.host}/api/v1/stream`, ['state', 'ground/lanes', 'perception/detections'],
     (topic, data) => {
       if (topic === 'ground/lanes') showLanes(data as GroundLanes, view, pose);
+      if (topic === 'perception/detections') showDetections(data as Detections, view, pose);
       if (topic !== 'state') return;
       const state = data as State;
       pose = state.pose;

@@ -3,7 +3,7 @@
 // the obstacles it adds to the world), and the mission's path and waypoints.
 import L from 'leaflet';
 
-import type { MapInfo, Mission, Pose, SimObstacle, SimPerson, TrackedObject } from './api';
+import type { Detection, MapInfo, Mission, Pose, SimObstacle, SimPerson, TrackedObject } from './api';
 
 const kTrailLength = 600;
 
@@ -20,6 +20,7 @@ export class MapView {
   private readonly missionPath: L.Polyline;
   private readonly missionGoals = L.layerGroup();
   private readonly deadEnds = L.layerGroup();
+  private readonly people = L.layerGroup();
   private readonly simPeople = L.layerGroup();
   private readonly tracked = L.layerGroup();
   private readonly simObstacles = L.layerGroup();
@@ -43,6 +44,7 @@ export class MapView {
       .addTo(this.map);
     this.missionGoals.addTo(this.map);
     this.deadEnds.addTo(this.map);
+    this.people.addTo(this.map);
     this.simObstacles.addTo(this.map);
     this.simPeople.addTo(this.map);
     this.tracked.addTo(this.map);
@@ -164,6 +166,22 @@ export class MapView {
     for (const [x, y] of points) {
       L.circleMarker(toLatLng(pose.x + c * x - s * y, pose.y + s * x + c * y),
         { radius: 3, color: '#f85149', fillOpacity: 1, className: 'dead-end' }).addTo(this.deadEnds);
+    }
+  }
+
+  // The people detected in the camera (positions in the base frame at `pose`), each with its track id.
+  showPeople(people: Detection[], pose: Pose | null): void {
+    this.people.clearLayers();
+    if (!pose) return;
+    const c = Math.cos(pose.yaw);
+    const s = Math.sin(pose.yaw);
+    for (const p of people) {
+      if (!p.position) continue;
+      const { x, y } = p.position;
+      L.circleMarker(toLatLng(pose.x + c * x - s * y, pose.y + s * x + c * y),
+        { radius: 7, color: '#8250df', weight: 2, fillOpacity: 0.3, className: 'detected-person' })
+        .bindTooltip(`${p.class} ${p.track_id} (${p.source}, ${Math.round(p.score * 100)} %)`)
+        .addTo(this.people);
     }
   }
 
