@@ -9,7 +9,7 @@ namespace corridor::face {
 
 HogPeopleDetector::HogPeopleDetector(const HogOptions& options) : options_(options) {
   if (!(options.upscale >= 1.0 && options.upscale <= 4.0) || !(options.scale_step > 1.0) ||
-      options.window_stride_px < 1 || options.group_threshold < 0) {
+      options.window_stride_px < 1 || options.padding_px < 0 || options.group_threshold < 0) {
     throw std::invalid_argument("hog: upscale within [1, 4], scale_step > 1, window_stride_px >= 1");
   }
   hog_.setSVMDetector(cv::HOGDescriptor::getDefaultPeopleDetector());
@@ -23,7 +23,8 @@ std::vector<Detection> HogPeopleDetector::Detect(const cv::Mat& bgr, const cv::M
   std::vector<cv::Rect> found;
   std::vector<double> weights;
   const cv::Size stride(options_.window_stride_px, options_.window_stride_px);
-  hog_.detectMultiScale(gray, found, weights, options_.hit_threshold, stride, cv::Size(), options_.scale_step,
+  const cv::Size padding(options_.padding_px, options_.padding_px);
+  hog_.detectMultiScale(gray, found, weights, options_.hit_threshold, stride, padding, options_.scale_step,
                         static_cast<double>(options_.group_threshold));
   std::vector<Detection> out;
   for (std::size_t i = 0; i < found.size(); ++i) {

@@ -207,6 +207,7 @@ void ReadPerception(ConfigReader& r, PerceptionOptions& p) {
     h.Read("upscale", p.hog.upscale, 1.0, 4.0);
     h.Read("scale_step", p.hog.scale_step, 1.01, 2.0);
     h.Read("window_stride_px", p.hog.window_stride_px, 1, 64);
+    h.Read("padding_px", p.hog.padding_px, 0, 64);
     h.Read("min_score", p.hog.min_score, 0.0, 1.0);
   });
   r.Section("face_cascade", [&](ConfigReader& f) {

@@ -36,6 +36,10 @@ Runs one of corridor's detectors on each image, or each frame of each video, and
   --detector NAME    hog (default: OpenCV's HOG people detector), face (the frontal face cascade), or dnn
   --upscale K        (hog) enlarge the image K times first, for people under 128 px tall (default 1)
   --stride PX        (hog) the search's window stride (default 8)
+  --scale-step K     (hog) between the search's scales (default 1.2)
+  --padding PX       (hog) let windows reach this far past the image's edges (default 32)
+  --hit-threshold M  (hog) the SVM margin a window needs (default 0);  --group N: windows to make one (default 2)
+  --min-score S      (hog) drop detections scoring less (default 0.3)
   --cascade FILE     (face) the cascade (default: opencv-data's LBP frontal face)
   --model FILE       (dnn) an .onnx, or Darknet .weights with --config FILE.cfg
   --classes FILE     (dnn) the class names, one per line
@@ -43,6 +47,8 @@ Runs one of corridor's detectors on each image, or each frame of each video, and
   --transposed       (dnn) YOLOv8's output layout;  --pixels: boxes in input pixels (YOLOv5/v8 ONNX)
   --frames N         at most N frames of each video;  --every N: every N-th frame (default 1)
   --threads N        OpenCV's threads (default 1: the time of one core)
+  --width PX         detect in each frame resized to this width (as a camera of that size would give it; the
+                     time excludes the resizing); boxes are scaled back to the frame's pixels
   --truth FILE       score against hand-made boxes: [{"image": NAME, "frame": N, "people": [{"x","y","w","h"}]}]
                      (NAME the file's name; frames only those listed); people under --min-height px (default 96)
                      are neither required nor counted wrong
@@ -71,6 +77,7 @@ struct Options {
   long frames = -1;
   long every = 1;
   int threads = 1;
+  int width = 0;  // resize each frame to this width first (0: as it is)
   std::string truth;
   double min_height_px = 96.0;
   bool json = false;
@@ -97,6 +104,16 @@ Options ParseOptions(int argc, char** argv) {
       o.hog.upscale = ParseNumber(arg, value(), 1, 4);
     } else if (arg == "--stride") {
       o.hog.window_stride_px = static_cast<int>(ParseNumber(arg, value(), 1, 64));
+    } else if (arg == "--padding") {
+      o.hog.padding_px = static_cast<int>(ParseNumber(arg, value(), 0, 64));
+    } else if (arg == "--scale-step") {
+      o.hog.scale_step = ParseNumber(arg, value(), 1.01, 2);
+    } else if (arg == "--hit-threshold") {
+      o.hog.hit_threshold = ParseNumber(arg, value(), -5, 5);
+    } else if (arg == "--group") {
+      o.hog.group_threshold = static_cast<int>(ParseNumber(arg, value(), 0, 20));
+    } else if (arg == "--min-score") {
+      o.hog.min_score = ParseNumber(arg, value(), 0, 1);
     } else if (arg == "--cascade") {
       o.cascade.cascade = value();
     } else if (arg == "--model") {
@@ -115,6 +132,8 @@ Options ParseOptions(int argc, char** argv) {
       o.frames = static_cast<long>(ParseNumber(arg, value(), 1, 1e9));
     } else if (arg == "--every") {
       o.every = static_cast<long>(ParseNumber(arg, value(), 1, 1e6));
+    } else if (arg == "--width") {
+      o.width = static_cast<int>(ParseNumber(arg, value(), 64, 4096));
     } else if (arg == "--threads") {
       o.threads = static_cast<int>(ParseNumber(arg, value(), 1, 64));
     } else if (arg == "--truth") {
@@ -245,9 +264,17 @@ int Run(const Options& o) {
       const auto key = std::make_pair(name, frame);
       if (!truth.empty() && !truth.contains(key)) continue;
       if (bgr.channels() == 1) cv::cvtColor(bgr, bgr, cv::COLOR_GRAY2BGR);
+      cv::Mat input_frame = bgr;
+      const double k = o.width > 0 ? static_cast<double>(bgr.cols) / o.width : 1.0;
+      if (k != 1.0) {
+        cv::resize(bgr, input_frame, {o.width, static_cast<int>(std::lround(bgr.rows / k))}, 0, 0, cv::INTER_AREA);
+      }
       const auto start = std::chrono::steady_clock::now();
-      const std::vector<face::Detection> found = detector->Detect(bgr, cv::Mat());
+      std::vector<face::Detection> found = detector->Detect(input_frame, cv::Mat());
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      for (face::Detection& d : found) {
+        if (d.box) *d.box = cv::Rect2d(d.box->x * k, d.box->y * k, d.box->width * k, d.box->height * k);
+      }
       times.push_back(ms);
       json detections = json::array();
       for (const face::Detection& d : found) {
