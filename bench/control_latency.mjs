@@ -2,9 +2,12 @@
 // base command that drives on it (the issue's target: <= 5 ms at the 99th percentile), while a mission drives
 // across a 12 x 8 m room with unmapped pillars and three walking people, the simulator rendering 320 x 240 depth
 // at 15 Hz on the same two cores.
-//   node bench/control_latency.mjs [--console] [--no-laser]
+//   node bench/control_latency.mjs [--console] [--no-laser] [--vga] [--hog]
 // --console: with a console's load as well (a stream client and the depth view fetched five times a second).
 // --no-laser: a robot without the laser, whose tracking node then reads every depth frame (tracking.camera).
+// --vga: the camera at 640 x 480 (as a real RGB-D camera) instead of 320 x 240.
+// --hog: people found by the HOG detector in the colour frames at 5 Hz (as on a real camera) instead of the
+//        simulator's list of its people: the perception executor's load beside the control loop.
 import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -13,6 +16,8 @@ import { getJson, postJson, require, sleep, startDaemon, writeRoom } from '../te
 
 const withConsole = process.argv.includes('--console');
 const withLaser = !process.argv.includes('--no-laser');
+const vga = process.argv.includes('--vga');
+const hog = process.argv.includes('--hog');
 const dir = mkdtempSync(join(tmpdir(), 'corridor-bench-'));
 const daemon = await startDaemon({ config: `
 sim:
@@ -23,7 +28,7 @@ sim:
     - {shape: box, x_m: 8.0, y_m: 3.8, size_m: 0.3, height_m: 1.0}
   pedestrians: 3
   laser: {enabled: ${withLaser}}
-` });
+${vga ? '  camera: {width: 640, height: 480}\n' : ''}${hog ? 'perception: {detector: hog}\n' : ''}` });
 let ws = null;
 let camera = null;
 if (withConsole) {
@@ -52,3 +57,7 @@ const mean = rates.reduce((a, b) => a + b, 0) / Math.max(rates.length, 1);
 console.log(`mission ${state.mission.status}; ${l.samples} frame-driven commands at ${mean.toFixed(1)} Hz on average`);
 console.log(`frame arrival to base command over the last ${Math.min(l.samples, 1000)}: p50 ${l.p50_ms.toFixed(3)} ms, ` +
             `p99 ${l.p99_ms.toFixed(3)} ms, max ${l.max_ms.toFixed(3)} ms`);
+const perception = state.nodes.find((n) => n.name === 'perception');
+if (perception) {
+  console.log(`perception: ${perception.rate_hz.toFixed(1)} Hz, worst pass ${perception.worst_loop_ms.toFixed(1)} ms`);
+}
