@@ -222,6 +222,24 @@ describe('webhooks', () => {
     }
   });
 
+  test('a mission reaching its goal is delivered as mission_succeeded, with its id', async () => {
+    const receiver = await startReceiver();
+    try {
+      await subscribe(daemon.url, { url: `http://127.0.0.1:${receiver.port}/`,
+        events: ['mission_succeeded', 'mission_failed'] });
+      const pose = (await getJson(`${daemon.url}/api/v1/state`)).body.pose;
+      const mission = await postJson(`${daemon.url}/api/v1/missions`,
+        { waypoints: [{ x: Math.min(pose.x + 1.2, 4.5), y: 1.5 }] });
+      assert.equal(mission.status, 201, JSON.stringify(mission.body));
+      await waitFor(async () => receiver.received.length, (n) => n >= 1, 30000, 'the mission event');
+      const body = JSON.parse(receiver.received[0].body);
+      assert.equal(body.type, 'mission_succeeded', receiver.received[0].body);
+      assert.equal(body.data.mission_id, mission.body.id);
+    } finally {
+      await receiver.close();
+    }
+  });
+
   test('backing into a wall is delivered as a bump', async () => {
     const receiver = await startReceiver();
     try {
