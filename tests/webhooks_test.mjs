@@ -155,7 +155,12 @@ describe('webhooks', () => {
         assert.equal(list[1].id, detected.headers['x-corridor-delivery']);
         const events = await getJson(`${daemon.url}/api/v1/events`);
         api.check('Events', events.body);
-        assert.ok(events.body.events.some((e) => e.type === 'person_left'));
+        const leaving = events.body.events.find((e) => e.type === 'person_left');
+        assert.ok(leaving, JSON.stringify(events.body));
+        // A poller asks for what came after the last one it saw.
+        const later = await getJson(`${daemon.url}/api/v1/events?after=${leaving.sequence}`);
+        assert.ok(later.body.events.every((e) => e.sequence > leaving.sequence));
+        assert.equal((await getJson(`${daemon.url}/api/v1/events?after=x`)).status, 400);
         await sendJson('DELETE', `${daemon.url}/api/v1/webhooks/${hook.id}`);
       } finally {
         await receiver.close();
@@ -267,6 +272,12 @@ test('deliveries still pending when corridord stops are sent after it starts aga
     const hook = await subscribe(daemon.url, { url: `http://127.0.0.1:${port}/`, events: ['bump'] });
     const ping = await postJson(`${daemon.url}/api/v1/webhooks/${hook.id}/ping`, {});
     await waitFor(async () => (await deliveries(daemon.url, hook.id))[0], (d) => d.attempts >= 1, 5000, 'an attempt');
+    // An event recorded before the stop.
+    await postJson(`${daemon.url}/api/v1/detections`, { source: 'phone', ttl_s: 0.3,
+      detections: [{ class: 'person', score: 0.9, position: { x: 1.5, y: 0, z: 0.9 } }] });
+    const seen = (await waitFor(async () => (await getJson(`${daemon.url}/api/v1/events`)).body.events,
+      (events) => events.some((e) => e.type === 'person_detected'), 5000, 'the event'))
+      .find((e) => e.type === 'person_detected');
     await daemon.stop();
     const receiver = await startReceiver({ port });
     try {
@@ -275,6 +286,9 @@ test('deliveries still pending when corridord stops are sent after it starts aga
         (d) => d.status === 'delivered', 5000, 'the delivery after the restart');
       assert.equal(done.id, ping.body.delivery);
       assert.equal(receiver.received.length, 1);
+      // The events from before the restart are still there, under the same numbers.
+      const events = (await getJson(`${daemon.url}/api/v1/events`)).body.events;
+      assert.deepEqual(events.find((e) => e.sequence === seen.sequence), seen);
       await daemon.stop();
     } finally {
       await receiver.close();

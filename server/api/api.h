@@ -65,7 +65,6 @@ struct ApiContext {
   OctreeNode* octree;  // null when the 3D map is off (octomap.enabled: false)
   PerceptionNode* perception;  // null when perception.enabled is false
   const SpokenPhrases& spoken;  // the audio of what the face said lately
-  const EventLog& events;       // the robot's recent events
   Webhooks& webhooks;           // on the io executor, as the handlers are
   const Config& config;
   const drivers::Clock& clock;
@@ -140,6 +139,8 @@ Response MakeResponse(const Request& request, http::status status, std::string c
 nlohmann::json ParseJsonBody(const Request& request);
 // A required finite number; throws ApiError 400 naming `where` and `key`.
 double RequireNumber(const nlohmann::json& body, const char* key, const std::string& where);
+// One query parameter's value from "/path?a=1&b=2"; "true" for a bare key, "" when absent.
+std::string QueryValue(std::string_view target, std::string_view key);
 // Throws ApiError 400 for a key not in `allowed`.
 void AllowOnlyKeys(const nlohmann::json& body, std::initializer_list<const char*> allowed, const std::string& where);
 

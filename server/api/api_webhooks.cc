@@ -1,7 +1,9 @@
 // Routes for building systems that want to be told what happens: /api/v1/webhooks (subscriptions kept in the
-// database, and their recent deliveries), a ping to check one works, and /api/v1/events (the robot's recent events,
-// for a system that polls instead).
+// database, and their recent deliveries), a ping to check one works, and /api/v1/events (the robot's events as the
+// database keeps them, for a system that polls instead).
 #include <algorithm>
+#include <charconv>
+#include <cstdint>
 
 #include <openssl/rand.h>
 
@@ -15,6 +17,7 @@ using nlohmann::json;
 constexpr std::size_t kMinSecret = 16;
 constexpr std::size_t kMaxSecret = 256;
 constexpr std::size_t kMaxDescription = 200;
+constexpr int kEventsPerPage = 256;
 
 // 32 random bytes as hex, from OpenSSL's CSPRNG.
 std::string NewSecret() {
@@ -143,10 +146,17 @@ void Api::AddWebhookRoutes() {
         c_.webhooks.Dispatch();
         return JsonResponse(r, {{"delivery", delivery}}, http::status::accepted);
       }));
+  // The events recorded in the database: the newest 256, or those after `after` (a poller's last sequence).
   Add(http::verb::get, "/api/v1/events", Sync([this](const Request& r, const Params&) {
-        json events = json::array();
-        for (const LoggedEvent& e : c_.events.After(0)) events.push_back(ToJson(e));
-        return JsonResponse(r, {{"events", events}});
+        const std::string text = QueryValue(r.target(), "after");
+        std::int64_t after = 0;
+        if (!text.empty()) {
+          const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), after);
+          if (error != std::errc() || end != text.data() + text.size() || after < 0) {
+            throw ApiError(http::status::bad_request, "Invalid request", "after: an event's sequence, 0 or more");
+          }
+        }
+        return JsonResponse(r, {{"events", c_.store.Events(after, kEventsPerPage)}});
       }));
 }
 

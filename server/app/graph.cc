@@ -14,7 +14,7 @@
 #include "server/nodes/perception_node.h"
 #include "server/app/simulator.h"
 #include "server/nodes/tracking_node.h"
-#include "server/nodes/webhook_node.h"
+#include "server/nodes/event_node.h"
 #include "server/runtime/demand.h"
 
 namespace corridor::server {
@@ -145,7 +145,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   WebhookOptions hooks = config_.webhooks;
   if (hooks.robot.empty()) hooks.robot = HostName();
   webhooks_ = std::make_unique<Webhooks>(executors_.io.context(), store_, clock_, hooks);
-  lifecycle_.Add(std::make_unique<WebhookNode>(executors_.io, bus_, *events_, *webhooks_));
+  lifecycle_.Add(std::make_unique<EventNode>(executors_.io, bus_, *events_, store_, *webhooks_));
   lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.camera.info(), config_.ground,
                                               config_.mission.policy));
   if (tracking_node) lifecycle_.Add(std::move(tracking_node));
@@ -161,7 +161,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
 
   api_ = std::make_unique<Api>(
       ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, octree_, perception_, *spoken_,
-                 *events_, *webhooks_, config_, clock_, executors_.io, devices_.sim});
+                 *webhooks_, config_, clock_, executors_.io, devices_.sim});
 }
 
 Graph::~Graph() { Stop(); }

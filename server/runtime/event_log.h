@@ -1,6 +1,6 @@
 // The robot's recent events (face/events.h), numbered as they happen: the face node appends what its EventWatch finds,
-// the webhook node and GET /api/v1/events read them. Thread-safe. The newest kKept are kept; a reader that remembers
-// the last number it read never misses one unless it falls that far behind.
+// the event node reads them (into the database and to the webhooks). Thread-safe. The newest kKept are kept; a reader
+// that remembers the last number it read never misses one unless it falls that far behind.
 #pragma once
 
 #include <chrono>

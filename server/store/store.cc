@@ -29,6 +29,10 @@ class Statement {
     sqlite3_bind_int(stmt_, index, value);
     return *this;
   }
+  Statement& Bind(int index, std::int64_t value) {
+    sqlite3_bind_int64(stmt_, index, value);
+    return *this;
+  }
   Statement& Bind(int index, double value) {
     sqlite3_bind_double(stmt_, index, value);
     return *this;
@@ -46,6 +50,7 @@ class Statement {
   }
   double Double(int column) const { return sqlite3_column_double(stmt_, column); }
   int Int(int column) const { return sqlite3_column_int(stmt_, column); }
+  std::int64_t Int64(int column) const { return sqlite3_column_int64(stmt_, column); }
   int changes() const { return sqlite3_changes(db_); }
 
  private:
@@ -98,7 +103,8 @@ Store::Store(const std::filesystem::path& file) : file_(file) {
         " webhook TEXT NOT NULL, event TEXT NOT NULL, payload TEXT NOT NULL, status TEXT NOT NULL,"
         " attempts INTEGER NOT NULL, created TEXT NOT NULL, last_attempt TEXT NOT NULL,"
         " response_status INTEGER NOT NULL, error TEXT NOT NULL);"
-        "CREATE INDEX IF NOT EXISTS deliveries_by_webhook ON deliveries (webhook, seq);");
+        "CREATE INDEX IF NOT EXISTS deliveries_by_webhook ON deliveries (webhook, seq);"
+        "CREATE TABLE IF NOT EXISTS events (seq INTEGER PRIMARY KEY AUTOINCREMENT, document TEXT NOT NULL);");
   } catch (const StoreError& e) {
     sqlite3_close(db_);
     throw StoreError("database " + file.string() + ": " + e.what() + " (is it a corridor database?)");
@@ -290,6 +296,40 @@ std::vector<DeliveryRecord> Store::PendingDeliveries() const {
                     " FROM deliveries WHERE status = 'pending' ORDER BY seq").c_str());
   std::vector<DeliveryRecord> out;
   while (s.Step()) out.push_back(ReadDelivery(s));
+  return out;
+}
+
+std::int64_t Store::AddEvent(const json& document, int keep) {
+  std::lock_guard lock(mutex_);
+  Exec("BEGIN");
+  try {
+    Statement s(db_, "INSERT INTO events (document) VALUES (?)");
+    s.Bind(1, document.dump());
+    s.Step();
+    const std::int64_t seq = sqlite3_last_insert_rowid(db_);
+    Statement prune(db_, "DELETE FROM events WHERE seq <= ?");
+    prune.Bind(1, seq - keep);
+    prune.Step();
+    Exec("COMMIT");
+    return seq;
+  } catch (...) {
+    Exec("ROLLBACK");
+    throw;
+  }
+}
+
+std::vector<json> Store::Events(std::int64_t after, int limit) const {
+  std::lock_guard lock(mutex_);
+  Statement s(db_,
+              "SELECT seq, document FROM (SELECT seq, document FROM events WHERE seq > ? ORDER BY seq DESC LIMIT ?)"
+              " ORDER BY seq");
+  s.Bind(1, after).Bind(2, limit);
+  std::vector<json> out;
+  while (s.Step()) {
+    json e = json::parse(s.Text(1));
+    e["sequence"] = s.Int64(0);
+    out.push_back(std::move(e));
+  }
   return out;
 }
 

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <mutex>
 #include <optional>
@@ -80,6 +81,12 @@ class Store {
   void UpdateDelivery(const DeliveryRecord& delivery);
   std::vector<DeliveryRecord> Deliveries(const std::string& webhook, int limit) const;  // newest first
   std::vector<DeliveryRecord> PendingDeliveries() const;                                // oldest first
+
+  // The robot's events (face/events.h) as their JSON documents, numbered from 1 across restarts. AddEvent returns the
+  // event's number and forgets all but the newest `keep`.
+  std::int64_t AddEvent(const nlohmann::json& document, int keep);
+  // The newest `limit` events numbered above `after`, oldest first, each with its "sequence".
+  std::vector<nlohmann::json> Events(std::int64_t after, int limit) const;
 
  private:
   void Exec(const std::string& sql) const;

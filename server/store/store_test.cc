@@ -78,6 +78,26 @@ TEST_F(StoreTest, WebhooksAndTheirDeliveriesSurviveReopeningAndOldOnesAreForgott
   EXPECT_FALSE(store.Webhook("w2"));
 }
 
+TEST_F(StoreTest, EventsAreNumberedAcrossReopeningAndOnlyTheNewestAreKept) {
+  {
+    Store store(dir_ / "corridor.db");
+    for (int i = 1; i <= 5; ++i) EXPECT_EQ(store.AddEvent({{"type", "bump"}, {"n", i}}, 3), i);
+  }
+  Store store(dir_ / "corridor.db");
+  EXPECT_EQ(store.AddEvent({{"type", "lost"}}, 3), 6);
+  const auto all = store.Events(0, 100);
+  ASSERT_EQ(all.size(), 3u);  // 4, 5, 6
+  EXPECT_EQ(all[0]["sequence"], 4);
+  EXPECT_EQ(all[0]["n"], 4);
+  EXPECT_EQ(all[2]["type"], "lost");
+  const auto after = store.Events(4, 100);
+  ASSERT_EQ(after.size(), 2u);
+  EXPECT_EQ(after[0]["sequence"], 5);
+  const auto newest = store.Events(0, 1);
+  ASSERT_EQ(newest.size(), 1u);
+  EXPECT_EQ(newest[0]["sequence"], 6);
+}
+
 TEST_F(StoreTest, AFileThatIsNotADatabaseIsReported) {
   std::ofstream(dir_ / "junk.db") << std::string(4096, 'x');
   try {

@@ -1,0 +1,28 @@
+#include "server/nodes/event_node.h"
+
+#include <utility>
+
+namespace corridor::server {
+
+EventNode::EventNode(Executor& io, Bus& bus, const EventLog& events, Store& store, Webhooks& webhooks)
+    : PeriodicNode("events", io, bus, kRateHz), events_(events), store_(store), webhooks_(webhooks) {}
+
+void EventNode::Tick() {
+  try {
+    for (const LoggedEvent& event : events_.After(read_)) {
+      // The log's own numbering restarts with the daemon; the database's does not.
+      nlohmann::json document = ToJson(event);
+      document.erase("sequence");
+      store_.AddEvent(document, kKeptEvents);
+      webhooks_.Publish(event);
+      read_ = event.sequence;
+    }
+    webhooks_.Dispatch();
+    if (std::exchange(degraded_, false)) SetHealth(Health::kOk, "");
+  } catch (const std::exception& e) {
+    degraded_ = true;
+    SetHealth(Health::kDegraded, e.what());
+  }
+}
+
+}  // namespace corridor::server
