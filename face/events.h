@@ -27,7 +27,9 @@
 
 namespace corridor::face {
 
-enum class EventType { kPersonDetected, kPersonLeft, kMissionSucceeded, kMissionFailed, kBlocked, kLost, kFault, kBump };
+enum class EventType {
+  kPersonDetected, kPersonLeft, kMissionSucceeded, kMissionFailed, kBlocked, kLost, kFault, kBump
+};
 inline constexpr int kEventTypeCount = 8;
 std::string_view ToString(EventType type);
 // The event type named `name` (as ToString writes it); nullopt for any other name.

@@ -168,7 +168,8 @@ void Api::AddFaceRoutes() {
         const auto wav = c_.spoken.Find(sequence);
         if (!wav) {
           throw ApiError(http::status::not_found, "No such speech",
-                         "phrase " + text + " was not said aloud (the voice is muted) or is no longer kept", "no_speech");
+                         "phrase " + text + " was not said aloud (the voice is muted) or is no longer kept",
+                         "no_speech");
         }
         return MakeResponse(r, http::status::ok, "audio/wav", *wav);
       }));

@@ -136,7 +136,8 @@ void Api::AddWebhookRoutes() {
   Add(http::verb::get, "/api/v1/webhooks/{id}/deliveries", Sync([this, find](const Request& r, const Params& p) {
         const WebhookRecord w = find(p.at("id"));
         json deliveries = json::array();
-        for (const DeliveryRecord& d : c_.store.Deliveries(w.id, c_.config.webhooks.keep_deliveries + c_.config.webhooks.max_pending)) {
+        const int most = c_.config.webhooks.keep_deliveries + c_.config.webhooks.max_pending;
+        for (const DeliveryRecord& d : c_.store.Deliveries(w.id, most)) {
           deliveries.push_back(DeliveryJson(d));
         }
         return JsonResponse(r, {{"deliveries", deliveries}});

@@ -4,9 +4,9 @@
 // single odometry message between two ticks), the control mode (teleop, a protective stop), localization's health,
 // the mission (its phase, the place it goes to, whether it holds the robot still), the people detected
 // (perception/detections, through face/social.h: near, in the way, looking at the robot; where the eyes look), and
-// requests from apps (face/command: an expression for a while, a phrase to say). What it says is synthesized (espeak-ng,
-// face/speech.h) into SpokenPhrases for the page to play. The same situation, sampled once, also gives the robot's
-// events for building systems (face/events.h), appended to the EventLog.
+// requests from apps (face/command: an expression for a while, a phrase to say). What it says is synthesized
+// (espeak-ng, face/speech.h) into SpokenPhrases for the page to play. The same situation, sampled once, also gives the
+// robot's events for building systems (face/events.h), appended to the EventLog.
 #pragma once
 
 #include <deque>

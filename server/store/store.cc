@@ -254,7 +254,9 @@ void Store::AddDelivery(const DeliveryRecord& d, int keep) {
   std::lock_guard lock(mutex_);
   Exec("BEGIN");
   try {
-    Statement s(db_, (std::string("INSERT INTO deliveries (") + kDeliveryColumns + ") VALUES (?,?,?,?,?,?,?,?,?,?)").c_str());
+    const std::string sql =
+        std::string("INSERT INTO deliveries (") + kDeliveryColumns + ") VALUES (?,?,?,?,?,?,?,?,?,?)";
+    Statement s(db_, sql.c_str());
     s.Bind(1, d.id).Bind(2, d.webhook).Bind(3, d.event).Bind(4, d.payload).Bind(5, d.status).Bind(6, d.attempts);
     s.Bind(7, d.created).Bind(8, d.last_attempt).Bind(9, d.response_status).Bind(10, d.error);
     s.Step();
