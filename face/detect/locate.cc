@@ -55,20 +55,23 @@ bool Plausible(const Located& located, const cv::Rect2d& box, cv::Size image, co
 void LocateDetections(std::vector<Detection>& detections, const cv::Mat& depth_mm, const nav::PinholeCamera& camera,
                       const LocateOptions& options) {
   std::erase_if(detections, [&](Detection& d) {
-    if (d.box && !d.position) {
+    bool implausible = false;
+    if (d.box && !depth_mm.empty()) {
+      if (const std::optional<Located> located = Locate(*d.box, depth_mm, camera, options)) {
+        d.position = located->position;
+        if (d.label == "person") implausible = !Plausible(*located, *d.box, depth_mm.size(), PersonSize());
+        if (d.label == "face") implausible = !Plausible(*located, *d.box, depth_mm.size(), FaceSize());
+      }
+    }
+    // Its direction: from where it is when that is known, else along the ray through its box's middle.
+    if (d.position) {
+      d.bearing_rad = std::atan2(d.position->y(), d.position->x());
+    } else if (d.box) {
       const Eigen::Vector3d ray = camera.base_T_camera.linear() * camera.Ray(d.box->x + d.box->width / 2.0,
                                                                              d.box->y + d.box->height / 2.0);
       d.bearing_rad = std::atan2(ray.y(), ray.x());
     }
-    if (d.position) d.bearing_rad = std::atan2(d.position->y(), d.position->x());
-    if (!d.box || depth_mm.empty()) return false;
-    const std::optional<Located> located = Locate(*d.box, depth_mm, camera, options);
-    if (!located) return false;
-    d.bearing_rad = std::atan2(located->position.y(), located->position.x());
-    d.position = located->position;
-    if (d.label == "person") return !Plausible(*located, *d.box, depth_mm.size(), PersonSize());
-    if (d.label == "face") return !Plausible(*located, *d.box, depth_mm.size(), FaceSize());
-    return false;
+    return implausible;
   });
 }
 

@@ -3,6 +3,7 @@
 #include <boost/asio/post.hpp>
 #include <spdlog/spdlog.h>
 
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -45,6 +46,15 @@ std::vector<std::string> Split(std::string_view path) {
 }
 
 }  // namespace
+
+std::uint64_t ParseCount(const std::string& text, const std::string& what) {
+  std::uint64_t value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || error != std::errc() || end != text.data() + text.size()) {
+    throw ApiError(http::status::bad_request, "Invalid request", what);
+  }
+  return value;
+}
 
 // One query parameter's value from "/path?a=1&b=2"; "true" for a bare key, "" when absent.
 std::string QueryValue(std::string_view target, std::string_view key) {

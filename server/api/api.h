@@ -6,6 +6,7 @@
 #include <boost/beast/http.hpp>
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -139,6 +140,8 @@ Response MakeResponse(const Request& request, http::status status, std::string c
 nlohmann::json ParseJsonBody(const Request& request);
 // A required finite number; throws ApiError 400 naming `where` and `key`.
 double RequireNumber(const nlohmann::json& body, const char* key, const std::string& where);
+// A whole number >= 0 written in `text` (a path segment or query value); throws ApiError 400 with `what` it must be.
+std::uint64_t ParseCount(const std::string& text, const std::string& what);
 // One query parameter's value from "/path?a=1&b=2"; "true" for a bare key, "" when absent.
 std::string QueryValue(std::string_view target, std::string_view key);
 // Throws ApiError 400 for a key not in `allowed`.

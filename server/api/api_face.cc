@@ -2,7 +2,6 @@
 // app's or building system's request: an expression for a while, a phrase to say, or both); and for the detection
 // hook: GET /api/v1/detections (what the robot sees now) and POST /api/v1/detections (an external detector's).
 #include <cctype>
-#include <charconv>
 #include <cmath>
 
 #include "server/api/api.h"
@@ -160,12 +159,7 @@ void Api::AddFaceRoutes() {
       }));
   Add(http::verb::get, "/api/v1/face/speech/{sequence}", Sync([this](const Request& r, const Params& p) {
         const std::string& text = p.at("sequence");
-        std::uint64_t sequence = 0;
-        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), sequence);
-        if (error != std::errc() || end != text.data() + text.size()) {
-          throw ApiError(http::status::bad_request, "Invalid request", "sequence: a phrase's said_sequence");
-        }
-        const auto wav = c_.spoken.Find(sequence);
+        const auto wav = c_.spoken.Find(ParseCount(text, "sequence: a phrase's said_sequence"));
         if (!wav) {
           throw ApiError(http::status::not_found, "No such speech",
                          "phrase " + text + " was not said aloud (the voice is muted) or is no longer kept",

@@ -2,10 +2,8 @@
 // database, and their recent deliveries), a ping to check one works, and /api/v1/events (the robot's events as the
 // database keeps them, for a system that polls instead).
 #include <algorithm>
-#include <charconv>
 #include <cstdint>
-
-#include <openssl/rand.h>
+#include <limits>
 
 #include "server/api/api.h"
 
@@ -18,19 +16,6 @@ constexpr std::size_t kMinSecret = 16;
 constexpr std::size_t kMaxSecret = 256;
 constexpr std::size_t kMaxDescription = 200;
 constexpr int kEventsPerPage = 256;
-
-// 32 random bytes as hex, from OpenSSL's CSPRNG.
-std::string NewSecret() {
-  unsigned char bytes[32];
-  if (RAND_bytes(bytes, sizeof(bytes)) != 1) throw std::runtime_error("webhooks: no random bytes for a secret");
-  static constexpr char kHex[] = "0123456789abcdef";
-  std::string out;
-  for (const unsigned char b : bytes) {
-    out += kHex[b >> 4];
-    out += kHex[b & 15];
-  }
-  return out;
-}
 
 json WebhookJson(const WebhookRecord& w) {
   return {{"id", w.id}, {"url", w.url}, {"events", w.events}, {"description", w.description}, {"created", w.created}};
@@ -87,7 +72,7 @@ WebhookRecord ParseWebhook(const json& body) {
     }
     w.secret = body["secret"].get<std::string>();
   } else {
-    w.secret = NewSecret();
+    w.secret = NewWebhookSecret();
   }
   if (body.contains("description")) {
     if (!body["description"].is_string() || body["description"].get<std::string>().size() > kMaxDescription) {
@@ -150,14 +135,10 @@ void Api::AddWebhookRoutes() {
   // The events recorded in the database: the newest 256, or those after `after` (a poller's last sequence).
   Add(http::verb::get, "/api/v1/events", Sync([this](const Request& r, const Params&) {
         const std::string text = QueryValue(r.target(), "after");
-        std::int64_t after = 0;
-        if (!text.empty()) {
-          const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), after);
-          if (error != std::errc() || end != text.data() + text.size() || after < 0) {
-            throw ApiError(http::status::bad_request, "Invalid request", "after: an event's sequence, 0 or more");
-          }
-        }
-        return JsonResponse(r, {{"events", c_.store.Events(after, kEventsPerPage)}});
+        const std::uint64_t after = text.empty() ? 0 : ParseCount(text, "after: an event's sequence, 0 or more");
+        const auto most = static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max());
+        return JsonResponse(r, {{"events", c_.store.Events(static_cast<std::int64_t>(std::min(after, most)),
+                                                           kEventsPerPage)}});
       }));
 }
 

@@ -7,6 +7,7 @@
 #include <boost/beast/ssl.hpp>
 #include <nlohmann/json.hpp>
 #include <openssl/evp.h>
+#include <openssl/rand.h>
 #include <openssl/ssl.h>
 #include <spdlog/spdlog.h>
 
@@ -30,6 +31,16 @@ constexpr std::size_t kMaxAnswerBytes = 64 * 1024;  // a receiver's answer is re
 bool Retryable(int status) { return status == 0 || status == 408 || status == 429 || status >= 500; }
 
 std::string Now() { return IsoUtc(std::chrono::system_clock::now()); }
+
+std::string Hex(const unsigned char* bytes, std::size_t size) {
+  static constexpr char kDigits[] = "0123456789abcdef";
+  std::string out;
+  for (std::size_t i = 0; i < size; ++i) {
+    out += kDigits[bytes[i] >> 4];
+    out += kDigits[bytes[i] & 15];
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -62,13 +73,15 @@ std::string WebhookSignature(const std::string& secret, const std::string& body)
                 &length) == nullptr) {
     throw std::runtime_error("webhooks: HMAC-SHA256 failed");
   }
-  static constexpr char kHex[] = "0123456789abcdef";
-  std::string out = "sha256=";
-  for (std::size_t i = 0; i < length; ++i) {
-    out += kHex[mac[i] >> 4];
-    out += kHex[mac[i] & 15];
+  return "sha256=" + Hex(mac.data(), length);
+}
+
+std::string NewWebhookSecret() {
+  std::array<unsigned char, 32> bytes{};
+  if (RAND_bytes(bytes.data(), static_cast<int>(bytes.size())) != 1) {
+    throw std::runtime_error("webhooks: no random bytes for a secret");
   }
-  return out;
+  return Hex(bytes.data(), bytes.size());
 }
 
 // One POST: resolve, connect, (TLS handshake), send, read the status line and headers, close. Every step is bounded
@@ -162,15 +175,14 @@ Webhooks::Webhooks(asio::io_context& io, Store& store, const drivers::Clock& clo
 
 Webhooks::~Webhooks() { *alive_ = false; }
 
-void Webhooks::Publish(const LoggedEvent& logged) {
-  const std::string type(face::ToString(logged.event.type));
+void Webhooks::Publish(const nlohmann::json& event) {
+  const std::string type = event.at("type").get<std::string>();
   std::vector<WebhookRecord> subscribed;
   for (WebhookRecord& w : store_.Webhooks()) {
     if (std::find(w.events.begin(), w.events.end(), type) != w.events.end()) subscribed.push_back(std::move(w));
   }
   if (subscribed.empty()) return;
-  nlohmann::json payload = ToJson(logged);
-  payload.erase("sequence");
+  nlohmann::json payload = event;
   payload["id"] = NewId();
   payload["robot"] = options_.robot;
   const std::string body = payload.dump();

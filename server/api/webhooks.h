@@ -12,6 +12,7 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ssl/context.hpp>
+#include <nlohmann/json.hpp>
 
 #include <map>
 #include <memory>
@@ -37,6 +38,8 @@ WebhookUrl ParseWebhookUrl(const std::string& url);
 
 // "sha256=" and the lower-case hex of HMAC-SHA256(secret, body).
 std::string WebhookSignature(const std::string& secret, const std::string& body);
+// 32 random bytes from OpenSSL's CSPRNG as 64 hex digits: a secret for a webhook that brought none.
+std::string NewWebhookSecret();
 
 class Webhooks {
  public:
@@ -47,15 +50,14 @@ class Webhooks {
   Webhooks& operator=(const Webhooks&) = delete;
   ~Webhooks();
 
-  // Queues `event` for every webhook subscribed to its type.
-  void Publish(const LoggedEvent& event);
+  // Queues `event` (ToJson of a LoggedEvent) for every webhook subscribed to its type.
+  void Publish(const nlohmann::json& event);
   // Queues a "ping" event for one webhook (to check a subscription works). Returns the delivery's id.
   std::string Ping(const WebhookRecord& webhook);
   // Starts the attempts that are due.
   void Dispatch();
   // Drops what is queued for a webhook that was deleted (attempts in flight finish unrecorded).
   void Forget(const std::string& webhook_id);
-  std::size_t pending() const { return pending_.size(); }
 
  private:
   struct Pending {

@@ -10,11 +10,9 @@ EventNode::EventNode(Executor& io, Bus& bus, const EventLog& events, Store& stor
 void EventNode::Tick() {
   try {
     for (const LoggedEvent& event : events_.After(read_)) {
-      // The log's own numbering restarts with the daemon; the database's does not.
-      nlohmann::json document = ToJson(event);
-      document.erase("sequence");
+      const nlohmann::json document = ToJson(event);
       store_.AddEvent(document, kKeptEvents);
-      webhooks_.Publish(event);
+      webhooks_.Publish(document);
       read_ = event.sequence;
     }
     webhooks_.Dispatch();

@@ -135,18 +135,8 @@ void ReadEvade(ConfigReader& r, nav::EvasionOptions& o) {
 
 void ReadLocalization(ConfigReader& r, LocalizationOptions& l) {
   using Source = LocalizationOptions::Source;
-  static const std::map<std::string, Source> kSources = {
-      {"odometry", Source::kOdometry}, {"sim_truth", Source::kSimTruth}, {"mcl", Source::kMonteCarlo}};
-  std::string source;
-  for (const auto& [name, value] : kSources) {
-    if (value == l.source) source = name;
-  }
-  r.Read("source", source);
-  const auto it = kSources.find(source);
-  if (it == kSources.end()) {
-    throw ConfigError(r.PathOf("source") + ": must be odometry, sim_truth or mcl, got '" + source + "'");
-  }
-  l.source = it->second;
+  r.ReadChoice<Source>("source", l.source,
+                       {{"odometry", Source::kOdometry}, {"sim_truth", Source::kSimTruth}, {"mcl", Source::kMonteCarlo}});
   r.Read("initial_sigma_m", l.initial_sigma_m, 0.0, 10.0);
   r.Read("initial_sigma_deg", l.initial_sigma_deg, 0.0, 180.0);
   r.Read("relocalize_every_s", l.relocalize_every_s, 0.1, 3600.0);
@@ -187,19 +177,9 @@ void ReadOctomap(ConfigReader& r, OctreeOptions& o) {
 
 void ReadPerception(ConfigReader& r, PerceptionOptions& p) {
   r.Read("enabled", p.enabled);
-  static const std::map<std::string, PerceptionOptions::Detector> kDetectors = {
-      {"auto", PerceptionOptions::Detector::kAuto}, {"sim", PerceptionOptions::Detector::kSimulated},
-      {"hog", PerceptionOptions::Detector::kHog}, {"dnn", PerceptionOptions::Detector::kDnn}};
-  std::string detector = "auto";
-  for (const auto& [name, value] : kDetectors) {
-    if (value == p.detector) detector = name;
-  }
-  r.Read("detector", detector);
-  const auto it = kDetectors.find(detector);
-  if (it == kDetectors.end()) {
-    throw ConfigError(r.PathOf("detector") + ": must be auto, sim, hog or dnn, got '" + detector + "'");
-  }
-  p.detector = it->second;
+  using Detector = PerceptionOptions::Detector;
+  r.ReadChoice<Detector>("detector", p.detector, {{"auto", Detector::kAuto}, {"sim", Detector::kSimulated},
+                                                  {"hog", Detector::kHog}, {"dnn", Detector::kDnn}});
   r.Read("faces", p.faces);
   r.Read("rate_hz", p.rate_hz, 0.2, 30.0);
   r.Read("max_ttl_s", p.max_ttl_s, 0.1, 600.0);

@@ -9,6 +9,8 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace corridor::server {
 
@@ -44,6 +46,25 @@ class ConfigReader {
       msg << PathOf(key) << ": must be between " << min << " and " << max << ", got " << value;
       throw ConfigError(msg.str());
     }
+  }
+
+  // Reads an optional key naming one of `choices` into `value`; an unknown name is an error that lists them.
+  template <typename T>
+  void ReadChoice(const char* key, T& value, const std::vector<std::pair<std::string, T>>& choices) {
+    std::string name;
+    std::string names;
+    for (std::size_t i = 0; i < choices.size(); ++i) {
+      if (choices[i].second == value) name = choices[i].first;
+      names += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + choices[i].first;
+    }
+    Read(key, name);
+    for (const auto& [n, v] : choices) {
+      if (n == name) {
+        value = v;
+        return;
+      }
+    }
+    throw ConfigError(PathOf(key) + ": must be " + names + ", got '" + name + "'");
   }
 
   // Reads an optional nested section with `read`, then checks that no key in it was left unread.

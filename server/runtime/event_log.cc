@@ -25,8 +25,7 @@ nlohmann::json ToJson(const LoggedEvent& logged) {
   if (!e.place.empty()) data["place"] = e.place;
   if (!e.detail.empty()) data["detail"] = e.detail;
   if (e.person) data["person"] = ToJson(*e.person);
-  return {{"sequence", logged.sequence},
-          {"time", logged.time},
+  return {{"time", logged.time},
           {"type", std::string(face::ToString(e.type))},
           {"data", std::move(data)}};
 }
@@ -45,11 +44,6 @@ std::vector<LoggedEvent> EventLog::After(std::uint64_t after) const {
     if (e.sequence > after) out.push_back(e);
   }
   return out;
-}
-
-std::uint64_t EventLog::last_sequence() const {
-  std::lock_guard lock(mutex_);
-  return last_;
 }
 
 }  // namespace corridor::server

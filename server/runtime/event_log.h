@@ -25,8 +25,8 @@ struct LoggedEvent {
   face::RobotEvent event;
 };
 
-// {"sequence", "time", "type", "data"}: data holds what the event says beyond its type (mission_id, place, detail,
-// person), each only when known.
+// {"time", "type", "data"}: data holds what the event says beyond its type (mission_id, place, detail, person), each
+// only when known. The log's own sequence is left out: it restarts with the daemon (the database numbers events).
 nlohmann::json ToJson(const LoggedEvent& event);
 
 class EventLog {
@@ -36,7 +36,6 @@ class EventLog {
   void Append(const face::RobotEvent& event);
   // The events numbered above `after`, oldest first.
   std::vector<LoggedEvent> After(std::uint64_t after) const;
-  std::uint64_t last_sequence() const;
 
  private:
   mutable std::mutex mutex_;
