@@ -12,7 +12,9 @@ import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 
-import { getJson, postJson, require, sleep, startDaemon, writeRoom } from '../tests/daemon.mjs';
+import {
+  apiFetch, authHeaders, getJson, postJson, require, sleep, startDaemon, writeRoom,
+} from '../tests/daemon.mjs';
 
 const withConsole = process.argv.includes('--console');
 const withLaser = !process.argv.includes('--no-laser');
@@ -33,8 +35,8 @@ let ws = null;
 let camera = null;
 if (withConsole) {
   const WebSocket = require('ws');
-  ws = new WebSocket(`${daemon.url.replace('http', 'ws')}/api/v1/stream`);
-  camera = setInterval(() => fetch(`${daemon.url}/api/v1/camera/depth?colormap=true`).then((r) => r.arrayBuffer()), 200);
+  ws = new WebSocket(`${daemon.url.replace('http', 'ws')}/api/v1/stream`, { headers: authHeaders(daemon.url) });
+  camera = setInterval(() => apiFetch(`${daemon.url}/api/v1/camera/depth?colormap=true`).then((r) => r.arrayBuffer()), 200);
 }
 await sleep(1000);
 const start = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 11.0, y: 4.0 }, { x: 1.0, y: 4.0 }] });

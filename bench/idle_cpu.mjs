@@ -5,7 +5,9 @@
 // --console: what an open console costs: a stream client, and the camera view fetched five times a second.
 import { execFileSync } from 'node:child_process';
 
-import { require, sleep, startDaemon, threadTicks } from '../tests/daemon.mjs';
+import {
+  apiFetch, authHeaders, require, sleep, startDaemon, threadTicks,
+} from '../tests/daemon.mjs';
 
 const seconds = Number(process.argv.find((a) => /^\d+$/.test(a)) ?? 30);
 const withConsole = process.argv.includes('--console');
@@ -17,8 +19,8 @@ let ws = null;
 let camera = null;
 if (withConsole) {
   const WebSocket = require('ws');
-  ws = new WebSocket(`${daemon.url.replace('http', 'ws')}/api/v1/stream`);
-  camera = setInterval(() => fetch(`${daemon.url}/api/v1/camera/depth?colormap=true`).then((r) => r.arrayBuffer()), 200);
+  ws = new WebSocket(`${daemon.url.replace('http', 'ws')}/api/v1/stream`, { headers: authHeaders(daemon.url) });
+  camera = setInterval(() => apiFetch(`${daemon.url}/api/v1/camera/depth?colormap=true`).then((r) => r.arrayBuffer()), 200);
 }
 await sleep(3000);  // start-up and the first frames are not idle
 const before = threadTicks(pid);

@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <charconv>
@@ -12,6 +13,7 @@
 
 #include "server/api/http_server.h"
 #include "server/app/graph.h"
+#include "server/app/service.h"
 #include "server/app/simulator.h"
 #include "server/runtime/config.h"
 
@@ -21,6 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kUsage = R"(usage: corridord [options]
+       corridord token create --role ROLE --name NAME [--config FILE] [--state-dir DIR]
 
 The corridor robot daemon: navigation stack, drivers (or the built-in simulator), and the
 browser console and REST/WebSocket API on one HTTP port.
@@ -34,17 +37,30 @@ options:
   --world FILE       the simulator's world: a map_server .yaml, an SDF .world, or a mesh (sim.world)
   --version          print the version and exit
   --help             print this help and exit
+
+token create mints an API token offline (for scripts, or to recover when no admin can log in)
+and prints it once; ROLE is viewer, operator or admin. Run it as the daemon's user or root.
 )";
 
 struct CommandLine {
   fs::path config;
   ConfigOverrides overrides;
+  bool token_create = false;  // corridord token create
+  std::string token_role;
+  std::string token_name;
 };
 
 // Returns nullopt after printing help or version; throws std::invalid_argument for a bad command line.
 std::optional<CommandLine> ParseCommandLine(int argc, char** argv) {
   CommandLine cl;
-  for (int i = 1; i < argc; ++i) {
+  int first = 1;
+  if (argc >= 3 && std::string(argv[1]) == "token" && std::string(argv[2]) == "create") {
+    cl.token_create = true;
+    first = 3;
+  } else if (argc >= 2 && std::string(argv[1]) == "token") {
+    throw std::invalid_argument("token: the only command is 'token create'");
+  }
+  for (int i = first; i < argc; ++i) {
     const std::string arg = argv[i];
     const auto value = [&]() -> std::string {
       if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
@@ -70,9 +86,16 @@ std::optional<CommandLine> ParseCommandLine(int argc, char** argv) {
       cl.overrides.map = value();
     } else if (arg == "--world") {
       cl.overrides.world = value();
+    } else if (cl.token_create && arg == "--role") {
+      cl.token_role = value();
+    } else if (cl.token_create && arg == "--name") {
+      cl.token_name = value();
     } else {
       throw std::invalid_argument("unknown option " + arg);
     }
+  }
+  if (cl.token_create && (cl.token_role.empty() || cl.token_name.empty())) {
+    throw std::invalid_argument("token create needs --role and --name");
   }
   if (cl.config.empty()) {
     cl.config = fs::exists("/etc/corridor/corridor.yaml") ? fs::path("/etc/corridor/corridor.yaml")
@@ -92,13 +115,40 @@ fs::path FindWebRoot(const fs::path& configured) {
   return {};
 }
 
+// The state directory holds the accounts and webhook secrets: only the daemon's user may enter it.
 void PrepareStateDir(const fs::path& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
+  fs::permissions(dir, fs::perms::owner_all, ec);
   const fs::path probe = dir / ".write-test";
   std::ofstream(probe) << "ok";
   if (ec || !fs::exists(probe)) throw std::runtime_error("store.state_dir: cannot write to " + dir.string());
   fs::remove(probe);
+}
+
+// corridord token create: a token straight into the accounts database, owned (when run as root) by the state
+// directory's owner, the daemon's user.
+int CreateToken(const CommandLine& cl) {
+  const auto role = auth::RoleFromString(cl.token_role);
+  if (!role) throw std::invalid_argument("--role must be viewer, operator or admin");
+  const fs::path state_dir = cl.overrides.state_dir ? *cl.overrides.state_dir
+                                                     : LoadConfig(cl.config, cl.overrides).store.state_dir;
+  PrepareStateDir(state_dir);
+  const fs::path file = state_dir / "accounts.db";
+  auto [token, secret] = auth::Accounts(file).CreateToken(cl.token_name, *role, "command line");
+  struct stat owner {};
+  if (::stat(state_dir.c_str(), &owner) == 0) {
+    for (const char* suffix : {"", "-wal", "-shm"}) {
+      const fs::path f = file.string() + suffix;
+      if (fs::exists(f) && ::chown(f.c_str(), owner.st_uid, owner.st_gid) != 0) {
+        throw std::runtime_error("cannot give " + f.string() + " to the state directory's owner");
+      }
+    }
+  }
+  std::cerr << "token " << token.id << " (" << token.name << ", " << auth::ToString(token.role)
+            << "); it is shown only now:\n";
+  std::cout << secret << "\n";
+  return 0;
 }
 
 int Run(const CommandLine& cl) {
@@ -126,12 +176,19 @@ int Run(const CommandLine& cl) {
   HttpServer server(graph.executors().io, graph.api(), config.server);
   server.Start();
   graph.Start();
+  ServiceNotifier service(graph.executors().control);
   spdlog::info("listening on http://{}:{}", config.server.bind_address, server.port());
+  if (const auto code = graph.access().setup.code()) {
+    spdlog::warn("no users yet: create the first admin in the console with the setup code {} (also shown on the "
+                 "robot's screen)", *code);
+  }
+  service.Ready("listening on port " + std::to_string(server.port()));
   std::cerr << std::flush;
 
   int signal_number = 0;
   sigwait(&signals, &signal_number);
   spdlog::info("{}: stopping the robot, then shutting down", strsignal(signal_number));
+  service.Stopping();
   graph.Stop();
   server.Stop();
   spdlog::info("stopped");
@@ -153,7 +210,10 @@ int main(int argc, char** argv) {
   }
   if (!cl) return 0;
   try {
-    return Run(*cl);
+    return cl->token_create ? CreateToken(*cl) : Run(*cl);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "corridord: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     spdlog::critical("{}", e.what());
     return 1;

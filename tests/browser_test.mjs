@@ -1,11 +1,12 @@
 // The console in a real browser (Debian's chromium through playwright-core) against a real corridord:
 // open it, see the map and the live robot, drive with the keyboard, watch the pose change, take a screenshot.
 import assert from 'node:assert/strict';
-import { mkdirSync } from 'node:fs';
+import { mkdirSync, mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 
-import { launchBrowser, openConsole, sleep, sourceDir, startDaemon } from './daemon.mjs';
+import { gotoConsole, launchBrowser, openConsole, sleep, sourceDir, startDaemon } from './daemon.mjs';
 
 const artifacts = process.env.CORRIDOR_ARTIFACTS ?? join(sourceDir, 'tests/artifacts');
 
@@ -72,19 +73,21 @@ test('open the console, see the map and the robot, drive with the keyboard', asy
 });
 
 test('the connection indicator shows a lost daemon and reconnects by itself', async () => {
-  const first = await startDaemon();
+  // The same state directory: the browser's session is kept across the restart.
+  const stateDir = mkdtempSync(join(tmpdir(), 'corridor-test-'));
+  const first = await startDaemon({ stateDir });
   const page = await browser.newPage();
-  await page.goto(first.url);
-  await page.getByTestId('connection').filter({ hasText: 'connected' }).waitFor({ timeout: 15000 });
+  await gotoConsole(page, first.url);
   // The daemon goes away (a restart, a crash): the console says so.
   await first.stop();
   await page.getByTestId('connection').filter({ hasText: 'reconnecting' }).waitFor({ timeout: 15000 });
   // It comes back on the same port: the console reconnects without a reload and shows live state again.
-  const second = await startDaemon({ args: ['--port', String(first.port)] });
+  const second = await startDaemon({ stateDir, args: ['--port', String(first.port)] });
   try {
     await page.getByTestId('connection').filter({ hasText: 'connected' }).waitFor({ timeout: 15000 });
     await page.getByTestId('mode').filter({ hasText: 'idle' }).waitFor({ timeout: 5000 });
   } finally {
     await second.stop();
+    rmSync(stateDir, { recursive: true, force: true });
   }
 });

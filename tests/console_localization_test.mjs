@@ -6,7 +6,7 @@ import { mkdirSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 
-import { getJson, launchBrowser, sleep, sourceDir, startDaemon } from './daemon.mjs';
+import { getJson, gotoConsole, launchBrowser, sleep, sourceDir, startDaemon } from './daemon.mjs';
 
 const artifacts = process.env.CORRIDOR_ARTIFACTS ?? join(sourceDir, 'tests/artifacts');
 const config = `
@@ -28,8 +28,7 @@ before(async () => {
   browser = await launchBrowser();
   page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
   page.on('pageerror', (e) => errors.push(e.message));
-  await page.goto(daemon.url);
-  await page.getByTestId('connection').filter({ hasText: 'connected' }).waitFor({ timeout: 15000 });
+  await gotoConsole(page, daemon.url);
   await page.waitForFunction(() => window.corridorConsole?.localization !== undefined);
   await page.evaluate(() => window.corridorConsole.view.map.setView([1.5, 2.0], 7, { animate: false }));
   await sleep(300);

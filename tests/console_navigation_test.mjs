@@ -5,7 +5,7 @@ import { mkdirSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 
-import { getJson, launchBrowser, sleep, sourceDir, startDaemon } from './daemon.mjs';
+import { getJson, gotoConsole, launchBrowser, sleep, sourceDir, startDaemon } from './daemon.mjs';
 
 const artifacts = process.env.CORRIDOR_ARTIFACTS ?? join(sourceDir, 'tests/artifacts');
 const config = `
@@ -40,8 +40,7 @@ before(async () => {
   browser = await launchBrowser();
   page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
   page.on('pageerror', (e) => { throw e; });
-  await page.goto(daemon.url);
-  await page.getByTestId('connection').filter({ hasText: 'connected' }).waitFor({ timeout: 15000 });
+  await gotoConsole(page, daemon.url);
   await page.waitForFunction(() => window.corridorConsole !== undefined);
   await page.getByTestId('pose').filter({ hasText: 'x ' }).waitFor();  // the console has centred on the robot
   // Zoom so the whole arena fills the map.

@@ -1,6 +1,6 @@
 // Starts a real corridord for tests: its own free port, its own state directory, the simulator.
 // The packages tests use (ws, ajv, playwright-core) are installed with the console in web/.
-import { spawn } from 'node:child_process';
+import { spawn, spawnSync } from 'node:child_process';
 import { mkdtempSync, readdirSync, rmSync, writeFileSync, readFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { tmpdir } from 'node:os';
@@ -23,6 +23,30 @@ export function runCorridord(args, timeoutMs = 20000) {
   });
 }
 
+// The credentials of the daemons this process started, by origin: an admin API token (minted offline with
+// `corridord token create` before the daemon starts) that the helpers below send, and a console user for browsers.
+const credentials = new Map();
+export const consoleUser = { username: 'tester', password: 'corridor-tests' };
+
+// The Authorization header for the daemon at `url` ({} for a daemon this process did not start).
+export function authHeaders(url) {
+  const token = credentials.get(new URL(url).origin);
+  return token ? { Authorization: `Bearer ${token}` } : {};
+}
+
+// fetch() with the test's admin token.
+export function apiFetch(url, init = {}) {
+  return fetch(url, { ...init, headers: { ...authHeaders(url), ...(init.headers ?? {}) } });
+}
+
+// An API token minted offline into `stateDir`: what root on the robot does with `corridord token create`.
+export function mintToken(stateDir, role = 'admin', name = 'tests') {
+  const out = spawnSync(corridord, ['token', 'create', '--role', role, '--name', name, '--state-dir', stateDir],
+    { encoding: 'utf8' });
+  if (out.status !== 0) throw new Error(`corridord token create: ${out.stderr}`);
+  return out.stdout.trim();
+}
+
 // Starts corridord; `config` (YAML text) replaces the shipped config when given; `stateDir` keeps the state of an
 // earlier daemon (it is then left in place at stop). Resolves once it listens.
 export async function startDaemon({ config = null, args = [], stateDir: keptStateDir = null } = {}) {
@@ -35,6 +59,7 @@ export async function startDaemon({ config = null, args = [], stateDir: keptStat
   } else {
     configArgs.push('--config', join(sourceDir, 'config/corridor.yaml'));
   }
+  const token = mintToken(stateDir);
   const proc = spawn(corridord, [...configArgs, '--port', '0', '--state-dir', stateDir, ...args],
     { stdio: ['ignore', 'ignore', 'pipe'] });
   let log = '';
@@ -48,6 +73,7 @@ export async function startDaemon({ config = null, args = [], stateDir: keptStat
     proc.on('exit', (code) => { clearTimeout(timer); reject(new Error(`corridord exited with ${code}:\n${log}`)); });
   });
   const exited = new Promise((resolve) => proc.on('exit', (code, signal) => resolve({ code, signal })));
+  credentials.set(`http://127.0.0.1:${port}`, token);
   return {
     port,
     url: `http://127.0.0.1:${port}`,
@@ -65,9 +91,10 @@ export async function startDaemon({ config = null, args = [], stateDir: keptStat
 
 export const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
-export async function sendJson(method, url, body, contentType = 'application/json') {
+// A request with the test's admin token unless `headers` says otherwise ({} sends no credentials).
+export async function sendJson(method, url, body, contentType = 'application/json', headers = authHeaders(url)) {
   const res = await fetch(url, {
-    method, headers: body === undefined ? {} : { 'Content-Type': contentType },
+    method, headers: body === undefined ? headers : { ...headers, 'Content-Type': contentType },
     body: body === undefined || typeof body === 'string' ? body : JSON.stringify(body),
   });
   const text = await res.text();
@@ -101,14 +128,27 @@ export function launchBrowser() {
   });
 }
 
-// Opens the console of the daemon at `url` in a new page of `browser` and waits until it is connected; `errors`
-// collects the page's uncaught errors.
+// Logs `page` in to the console of the daemon at `url` through its login form, as the test's console user (an admin,
+// created with the test's token the first time), and waits until the console is connected.
+export async function gotoConsole(page, url, user = consoleUser) {
+  if (user === consoleUser) {
+    const made = await postJson(`${url}/api/v1/users`, { ...consoleUser, role: 'admin' });
+    if (made.status !== 201 && made.status !== 409) throw new Error(`console user: ${JSON.stringify(made.body)}`);
+  }
+  await page.goto(url);
+  await page.getByTestId('login-username').fill(user.username);
+  await page.getByTestId('login-password').fill(user.password);
+  await page.getByTestId('login-submit').click();
+  await page.getByTestId('connection').filter({ hasText: 'connected' }).waitFor({ timeout: 15000 });
+}
+
+// Opens the console of the daemon at `url` in a new page of `browser`, logged in, and waits until it is connected;
+// `errors` collects the page's uncaught errors.
 export async function openConsole(browser, url, viewport = { width: 1280, height: 800 }) {
   const page = await browser.newPage({ viewport });
   const errors = [];
   page.on('pageerror', (e) => errors.push(e.message));
-  await page.goto(url);
-  await page.getByTestId('connection').filter({ hasText: 'connected' }).waitFor({ timeout: 15000 });
+  await gotoConsole(page, url);
   return { page, errors };
 }
 

@@ -3,7 +3,8 @@ import assert from 'node:assert/strict';
 import { after, before, describe, test } from 'node:test';
 
 import {
-  driveFor, getJson, openApiValidator, postJson, require, runCorridord, sleep, sourceDir, startDaemon,
+  apiFetch, authHeaders, driveFor, getJson, openApiValidator, postJson, require, runCorridord, sleep, sourceDir,
+  startDaemon,
 } from './daemon.mjs';
 
 const WebSocket = require('ws');
@@ -31,7 +32,7 @@ async function expectProblem(responsePromise, status) {
 
 // Opens the stream and collects its messages.
 async function openStream(url) {
-  const ws = new WebSocket(`${url.replace('http', 'ws')}/api/v1/stream`);
+  const ws = new WebSocket(`${url.replace('http', 'ws')}/api/v1/stream`, { headers: authHeaders(url) });
   const messages = [];
   ws.on('message', (data) => messages.push({ at: Date.now(), message: JSON.parse(String(data)) }));
   await new Promise((resolve, reject) => { ws.once('open', resolve); ws.once('error', reject); });
@@ -63,7 +64,7 @@ describe('corridord in the Willow Garage building', () => {
     api.check('MapInfo', map.body);
     assert.equal(map.body.width, 1165);
     assert.equal(map.body.height, 945);
-    const image = await fetch(`${daemon.url}${map.body.image_url}`);
+    const image = await apiFetch(`${daemon.url}${map.body.image_url}`);
     assert.equal(image.headers.get('content-type'), 'image/png');
     const png = Buffer.from(await image.arrayBuffer());
     assert.equal(png.readUInt32BE(16), 1165);  // IHDR width
@@ -144,16 +145,16 @@ describe('corridord in the Willow Garage building', () => {
   });
 
   test('camera snapshots: 16-bit depth PNG, false-colour PNG and colour JPEG', async () => {
-    const depth = await fetch(`${daemon.url}/api/v1/camera/depth`);
+    const depth = await apiFetch(`${daemon.url}/api/v1/camera/depth`);
     assert.equal(depth.status, 200);
     assert.equal(depth.headers.get('content-type'), 'image/png');
     const png = Buffer.from(await depth.arrayBuffer());
     assert.equal(png.readUInt32BE(16), 320);
     assert.equal(png.readUInt32BE(20), 240);
     assert.equal(png[24], 16, 'bit depth');
-    const view = await fetch(`${daemon.url}/api/v1/camera/depth?colormap=true`);
+    const view = await apiFetch(`${daemon.url}/api/v1/camera/depth?colormap=true`);
     assert.equal(Buffer.from(await view.arrayBuffer())[24], 8);
-    const color = await fetch(`${daemon.url}/api/v1/camera/color`);
+    const color = await apiFetch(`${daemon.url}/api/v1/camera/color`);
     assert.equal(color.headers.get('content-type'), 'image/jpeg');
     const jpeg = Buffer.from(await color.arrayBuffer());
     assert.equal(jpeg.readUInt16BE(0), 0xffd8);
@@ -231,7 +232,7 @@ describe('corridord in the Willow Garage building', () => {
     assert.equal(face.said_kind, 'request');
     assert.equal((await state(daemon.url)).face, 'happy');
     // The phrase was said aloud: its audio, a WAV the face page plays.
-    const speech = await fetch(`${daemon.url}/api/v1/face/speech/${face.said_sequence}`);
+    const speech = await apiFetch(`${daemon.url}/api/v1/face/speech/${face.said_sequence}`);
     assert.equal(speech.status, 200);
     assert.equal(speech.headers.get('content-type'), 'audio/wav');
     const wav = Buffer.from(await speech.arrayBuffer());
@@ -248,7 +249,7 @@ describe('corridord in the Willow Garage building', () => {
   });
 
   test('the console is served at /', async () => {
-    const res = await fetch(`${daemon.url}/`);
+    const res = await apiFetch(`${daemon.url}/`);
     assert.equal(res.status, 200);
     assert.match(res.headers.get('content-type'), /text\/html/);
     assert.match(await res.text(), /corridor console/);
@@ -371,7 +372,7 @@ describe('corridord start-up', () => {
       const map = await getJson(`${daemon.url}/api/v1/map`);
       assert.equal(map.body.name, 'map');
       await sleep(500);
-      const depth = await fetch(`${daemon.url}/api/v1/camera/depth`);
+      const depth = await apiFetch(`${daemon.url}/api/v1/camera/depth`);
       assert.equal(depth.status, 200);
     } finally {
       await daemon.stop();

@@ -8,7 +8,8 @@ import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
 import {
-  getJson, launchBrowser, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor, writeRoom,
+  apiFetch, getJson, gotoConsole, launchBrowser, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor,
+  writeRoom,
 } from './daemon.mjs';
 
 const state = async (url) => (await getJson(`${url}/api/v1/state`)).body;
@@ -138,8 +139,7 @@ tracking:
     try {
       const page = await browser.newPage({ viewport: { width: 1024, height: 700 } });
       page.on('pageerror', (e) => { throw e; });
-      await page.goto(daemon.url);
-      await page.getByTestId('connection').filter({ hasText: 'connected' }).waitFor({ timeout: 15000 });
+      await gotoConsole(page, daemon.url);
       await page.waitForFunction(() => document.querySelectorAll('path.sim-person').length === 2, null, { timeout: 10000 });
       await page.waitForFunction(() => document.querySelectorAll('path.tracked-moving').length > 0, null, { timeout: 10000 });
     } finally {
@@ -158,7 +158,7 @@ tracking:
     try {
       const page = await browser.newPage({ viewport: { width: 1024, height: 700 } });
       page.on('pageerror', (e) => { throw e; });
-      await page.goto(daemon.url);
+      await gotoConsole(page, daemon.url);
       await page.waitForFunction(() => document.querySelectorAll('path.tracked-walk-end').length > 0, null,
         { timeout: 20000 });
     } finally {
@@ -196,7 +196,7 @@ tracking:
     // The planner's traffic costs as a PNG the map image's size (people have walked by now: the test above); the
     // console shows it over the map.
     const map = (await getJson(`${daemon.url}/api/v1/map`)).body;
-    const res = await fetch(`${daemon.url}/api/v1/map/traffic`);
+    const res = await apiFetch(`${daemon.url}/api/v1/map/traffic`);
     const png = Buffer.from(await res.arrayBuffer());
     assert.equal(res.status, 200, png.toString());
     assert.equal(res.headers.get('content-type'), 'image/png');
@@ -205,7 +205,7 @@ tracking:
     try {
       const page = await browser.newPage({ viewport: { width: 1024, height: 700 } });
       page.on('pageerror', (e) => { throw e; });
-      await page.goto(daemon.url);
+      await gotoConsole(page, daemon.url);
       await page.waitForFunction((w) => [...document.querySelectorAll('img.traffic-image')].some((img) =>
         img.complete && img.naturalWidth === w && img.style.opacity === '1'), map.width, { timeout: 15000 });
     } finally {

@@ -9,7 +9,9 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
-import { getJson, openApiValidator, postJson, readMap, startDaemon, waitFor } from './daemon.mjs';
+import {
+  apiFetch, getJson, openApiValidator, postJson, readMap, startDaemon, waitFor,
+} from './daemon.mjs';
 
 const api = openApiValidator();
 const state = async (url) => (await getJson(`${url}/api/v1/state`)).body;
@@ -67,7 +69,7 @@ localization: {source: mcl}
     assert.equal(done.mission.status, 'succeeded', JSON.stringify(done.mission));
     const during = await waitFor(mapping, (m) => m.map !== null, 5000, 'the map as built so far');
     api.check('Mapping', during);
-    const image = await fetch(`${daemon.url}${during.map.image_url}`);
+    const image = await apiFetch(`${daemon.url}${during.map.image_url}`);
     assert.equal(image.status, 200);
     assert.equal(image.headers.get('content-type'), 'image/png');
 
@@ -228,7 +230,7 @@ octomap: {costmap_layer: ${layer}, update_every_s: 0.5}
       const info = await waitFor(octomap, (r) => r.status === 200 && r.body.occupied > 0, 10000, 'an octree');
       api.check('Octomap', info.body);
       // The top's underside, seen from below: voxels above the table's footprint at its height.
-      const voxels = new Float32Array(await (await fetch(`${daemon.url}${info.body.voxels_url}`)).arrayBuffer());
+      const voxels = new Float32Array(await (await apiFetch(`${daemon.url}${info.body.voxels_url}`)).arrayBuffer());
       let top = 0;
       for (let i = 0; i < voxels.length; i += 4) {
         if (underTable({ x: voxels[i], y: voxels[i + 1] }, 0) && voxels[i + 2] > 0.6 && voxels[i + 2] < 0.8) ++top;
@@ -240,7 +242,7 @@ octomap: {costmap_layer: ${layer}, update_every_s: 0.5}
       const path = await waitFor(() => planAcross(daemon.url), (p) => !crossesTable(p, 0.15), 10000,
         'a path round the table');
       t.diagnostic(`round the table: ${path.length} waypoints`);
-      const bt = await fetch(`${daemon.url}${info.body.bt_url}`);
+      const bt = await apiFetch(`${daemon.url}${info.body.bt_url}`);
       assert.equal(bt.status, 200);
       assert.match(Buffer.from(await bt.arrayBuffer()).subarray(0, 40).toString('latin1'), /^# Octomap OcTree binary file/);
     } finally {

@@ -4,11 +4,13 @@
 #include <spdlog/spdlog.h>
 
 #include <charconv>
+#include <limits>
 #include <cmath>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
+#include <thread>
 
 #include "server/runtime/topics.h"
 
@@ -17,8 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-constexpr const char* kVersion = "0.1.0";
 
 std::string ContentTypeFor(const fs::path& file) {
   static const std::map<std::string, std::string> kTypes = {
@@ -70,6 +70,12 @@ std::string QueryValue(std::string_view target, std::string_view key) {
     query.remove_prefix(amp + 1);
   }
   return "";
+}
+
+std::int64_t AfterParameter(std::string_view target) {
+  const std::string text = QueryValue(target, "after");
+  const std::uint64_t after = text.empty() ? 0 : ParseCount(text, "after: a sequence number, 0 or more");
+  return static_cast<std::int64_t>(std::min<std::uint64_t>(after, std::numeric_limits<std::int64_t>::max()));
 }
 
 std::string Dump(const json& value) { return value.dump(-1, ' ', false, json::error_handler_t::replace); }
@@ -140,6 +146,7 @@ Api::Api(ApiContext context) : c_(context), start_ns_(context.clock.Now()) {
   AddFaceRoutes();
   AddDetectionRoutes();
   AddWebhookRoutes();
+  AddAuthRoutes();
 }
 
 Api::Handler Api::Sync(std::function<Response(const Request&, const Params&)> f) {
@@ -147,7 +154,11 @@ Api::Handler Api::Sync(std::function<Response(const Request&, const Params&)> f)
 }
 
 void Api::Add(http::verb method, const std::string& pattern, Handler handler) {
-  routes_.push_back({method, Split(pattern), std::move(handler)});
+  routes_.push_back({method, Split(pattern), std::move(handler), nullptr});
+}
+
+void Api::AddWithCaller(http::verb method, const std::string& pattern, CallerHandler handler) {
+  routes_.push_back({method, Split(pattern), nullptr, std::move(handler)});
 }
 
 void Api::Answer(const Request& request, Reply reply, const std::function<Response()>& work) const {
@@ -166,7 +177,7 @@ void Api::Answer(const Request& request, Reply reply, const std::function<Respon
   });
 }
 
-void Api::Handle(const Request& request, Reply reply) const {
+void Api::Handle(const Request& request, const Caller& caller, Reply reply) const {
   const std::string_view target = request.target();
   if (!target.starts_with('/')) {
     // Only the origin form (RFC 9112, 3.2.1) names something here; "*", absolute URLs and "?x" do not.
@@ -177,6 +188,17 @@ void Api::Handle(const Request& request, Reply reply) const {
     return;
   }
   const std::string path(target.substr(0, target.find('?')));
+  Identity identity;
+  try {
+    identity = Identify(request, caller);
+    CheckAccess(request, caller, identity, path);
+  } catch (...) {
+    const std::exception_ptr error = std::current_exception();
+    Answer(request, Audited(request, caller, identity, path, std::move(reply)),
+           [error]() -> Response { std::rethrow_exception(error); });
+    return;
+  }
+  reply = Audited(request, caller, identity, path, std::move(reply));
   const std::vector<std::string> segments = Split(path);
   const http::verb method = request.method() == http::verb::head ? http::verb::get : request.method();
   bool path_matched = false;
@@ -197,6 +219,10 @@ void Api::Handle(const Request& request, Reply reply) const {
     if (route.method != method) continue;
     // A handler that throws before handing off answers with the problem; one that hands off replies itself.
     try {
+      if (route.caller_handler) {
+        Answer(request, reply, [&] { return route.caller_handler(request, params, caller); });
+        return;
+      }
       route.handler(request, params, [this, reply](Response r) {
         boost::asio::post(c_.io.context(), [reply, r = std::move(r)]() mutable { reply(std::move(r)); });
       });
@@ -221,24 +247,41 @@ void Api::Handle(const Request& request, Reply reply) const {
 
 void Api::AddCoreRoutes() {
   Add(http::verb::get, "/api/v1/health", Sync([this](const Request& r, const Params&) {
-        return JsonResponse(r, {{"status", "ok"}, {"version", kVersion},
+        return JsonResponse(r, {{"status", "ok"}, {"version", CORRIDOR_VERSION},
                                 {"uptime_s", drivers::ToSeconds(c_.clock.Now() - start_ns_)}});
       }));
   Add(http::verb::get, "/api/v1/state", Sync([this](const Request& r, const Params&) { return JsonResponse(r, State()); }));
   Add(http::verb::post, "/api/v1/teleop", Sync([this](const Request& r, const Params&) {
         return JsonResponse(r, Teleop(ParseJsonBody(r), "rest"));
       }));
-  // Fault injection for the simulator: what the robot does when a device stops answering.
+  // Fault injection for the simulator: what the robot does when a device stops answering, or its own control loop
+  // stalls (the systemd watchdog's test).
   Add(http::verb::put, "/api/v1/sim/faults", Sync([this](const Request& r, const Params&) {
         if (c_.sim == nullptr) throw ApiError(http::status::not_found, "No simulator", "faults are simulated only");
         const json body = ParseJsonBody(r);
-        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid faults", "expected a JSON object");
-        AllowOnlyKeys(body, {"camera_stopped"}, "");
-        if (!body.contains("camera_stopped") || !body["camera_stopped"].is_boolean()) {
-          throw ApiError(http::status::bad_request, "Invalid faults", "camera_stopped: expected true or false");
+        AllowOnlyKeys(body, {"camera_stopped", "control_stalled"}, "");
+        for (const auto& [key, value] : body.items()) {
+          if (!value.is_boolean()) {
+            throw ApiError(http::status::bad_request, "Invalid faults", key + ": expected true or false");
+          }
         }
-        c_.sim->SetCameraStopped(body["camera_stopped"].get<bool>());
-        return JsonResponse(r, {{"camera_stopped", c_.sim->camera_stopped()}});
+        if (body.contains("camera_stopped")) c_.sim->SetCameraStopped(body["camera_stopped"].get<bool>());
+        if (body.contains("control_stalled")) {
+          const bool stall = body["control_stalled"].get<bool>();
+          if (stall && !control_stalled_->exchange(true)) {
+            spdlog::warn("fault injected: the control loop stalls (for at most a minute)");
+            c_.control.Post([stalled = control_stalled_] {
+              const auto end = std::chrono::steady_clock::now() + std::chrono::minutes(1);
+              while (*stalled && std::chrono::steady_clock::now() < end) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(10));
+              }
+              *stalled = false;
+            });
+          }
+          if (!stall) *control_stalled_ = false;
+        }
+        return JsonResponse(r, {{"camera_stopped", c_.sim->camera_stopped()},
+                                {"control_stalled", control_stalled_->load()}});
       }));
   Add(http::verb::get, "/api/v1/camera/depth",
       Sync([this](const Request& r, const Params&) { return CameraImage(r, true); }));
@@ -314,12 +357,12 @@ std::optional<json> Api::TopicMessage(const std::string& topic) const {
   return json{{"topic", topic}, {"data", std::move(*data)}};
 }
 
-json Api::StreamReply(const std::string& text, std::vector<std::string>& subscriptions) const {
+json Api::StreamReply(const std::string& text, std::vector<std::string>& subscriptions, const Identity& who) const {
   const auto error = [](int status, const std::string& title, const std::string& detail) {
     return json{{"type", "error"}, {"status", status}, {"title", title}, {"detail", detail}};
   };
   try {
-    return StreamMessage(text, subscriptions);
+    return StreamMessage(text, subscriptions, who);
   } catch (const ApiError& e) {
     return error(static_cast<int>(e.status()), e.title(), e.what());
   } catch (const std::exception& e) {
@@ -329,7 +372,7 @@ json Api::StreamReply(const std::string& text, std::vector<std::string>& subscri
   }
 }
 
-json Api::StreamMessage(const std::string& text, std::vector<std::string>& subscriptions) const {
+json Api::StreamMessage(const std::string& text, std::vector<std::string>& subscriptions, const Identity& who) const {
   const json message = json::parse(text, nullptr, false);
   if (message.is_discarded() || !message.is_object()) {
     throw ApiError(http::status::bad_request, "Malformed message", "stream messages are JSON objects");
@@ -340,7 +383,12 @@ json Api::StreamMessage(const std::string& text, std::vector<std::string>& subsc
                    "'type' must be one of \"subscribe\", \"teleop\"");
   }
   const std::string type = type_field->get<std::string>();
-  if (type == "teleop") return {{"type", "teleop_ack"}, {"data", Teleop(message, "websocket")}};
+  if (type == "teleop") {
+    if (!who.who || who.who->role < auth::Role::kOperator) {
+      throw ApiError(http::status::forbidden, "Forbidden", "driving needs the operator role");
+    }
+    return {{"type", "teleop_ack"}, {"data", Teleop(message, "websocket")}};
+  }
   if (type == "subscribe") {
     const auto topics = message.find("topics");
     if (topics == message.end() || !topics->is_array()) {
@@ -352,6 +400,10 @@ json Api::StreamMessage(const std::string& text, std::vector<std::string>& subsc
       const std::string name = t.get<std::string>();
       if (name != "state" && c_.bus.Find(name) == nullptr) {
         throw ApiError(http::status::not_found, "Unknown topic", "no topic '" + name + "'");
+      }
+      // The robot's screen, not logged in, sees the face and nothing else.
+      if (!who.who && !c_.access.options.anonymous_viewer && !name.starts_with("face/")) {
+        throw ApiError(http::status::unauthorized, "Unauthorized", "log in to subscribe to '" + name + "'");
       }
       wanted.push_back(name);
     }

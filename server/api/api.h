@@ -6,6 +6,7 @@
 #include <boost/beast/http.hpp>
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -16,6 +17,7 @@
 
 #include "drivers/sim/sim_robot.h"
 #include "server/api/webhooks.h"
+#include "server/auth/gate.h"
 #include "server/nodes/explore_node.h"
 #include "server/nodes/face_node.h"
 #include "server/nodes/mission_node.h"
@@ -54,6 +56,13 @@ class ApiError : public std::runtime_error {
 Response ProblemResponse(http::status status, const std::string& title, const std::string& detail,
                          unsigned version, bool keep_alive, const std::string& code = "");
 
+// Where a request comes from. The API works out who sends it from its credentials (Api::Identify).
+struct Caller {
+  std::string address;   // the peer's IP address; "" in process
+  bool local = false;    // on the robot itself (loopback): the face screen
+  bool trusted = false;  // a tool driving the graph in process (the scenario runner): no credentials needed
+};
+
 // What the API works with; all must outlive the Api.
 struct ApiContext {
   Bus& bus;
@@ -67,10 +76,13 @@ struct ApiContext {
   PerceptionNode* perception;  // null when perception.enabled is false
   const SpokenPhrases& spoken;  // the audio of what the face said lately
   Webhooks& webhooks;           // on the io executor, as the handlers are
+  auth::AccessControl& access;  // users, sessions, tokens, the audit log, who may call what
   const Config& config;
   const drivers::Clock& clock;
   Executor& io;  // replies that are computed elsewhere come back here
+  Executor& control;  // for the simulator's stalled-control-loop fault
   drivers::sim::SimRobot* sim = nullptr;  // the simulated robot, for fault injection; null with real drivers
+  std::string tls_fingerprint{};          // the server certificate's SHA-256, shown at setup; "" without TLS
 };
 
 class Api {
@@ -78,31 +90,59 @@ class Api {
   explicit Api(ApiContext context);
 
   // Answers one HTTP request through `reply`, which is called exactly once, on the io executor. Never throws.
-  void Handle(const Request& request, Reply reply) const;
+  // Refuses with 401 or 403 what the caller may not do (server/auth/gate.h); every write is recorded in the audit log.
+  void Handle(const Request& request, const Caller& caller, Reply reply) const;
+  // For tools that drive the graph in process: a trusted caller.
+  void Handle(const Request& request, Reply reply) const { Handle(request, Caller{"", false, true}, std::move(reply)); }
+
+  // Who sends `request`, from its bearer token or session cookie; nobody when it has neither (or a stale session).
+  // Throws ApiError 401 for a token that is not valid.
+  struct Identity {
+    std::optional<auth::Principal> who;
+    bool by_cookie = false;  // the credentials are a cookie the browser sends by itself (CSRF matters)
+  };
+  Identity Identify(const Request& request, const Caller& caller) const;
+  bool anonymous_viewer() const { return c_.access.options.anonymous_viewer; }
+  // Throws ApiError 401/403 unless `identity` may call `path` with the request's method, or 403 for a cookie-carrying
+  // write from another origin.
+  void CheckAccess(const Request& request, const Caller& caller, const Identity& identity,
+                   const std::string& path) const;
 
   nlohmann::json State() const;
   nlohmann::json Teleop(const nlohmann::json& body, const std::string& source) const;
   // The reply to one message from a WebSocket client of /api/v1/stream: an acknowledgement, or {"type": "error",
   // "status", "title", "detail"} for any message it cannot take. Never throws; `subscriptions` changes only on a
   // valid subscribe message.
-  nlohmann::json StreamReply(const std::string& text, std::vector<std::string>& subscriptions) const;
+  // `who` is the stream's caller: teleop needs an operator, and the robot's screen without login may subscribe only to
+  // the face's topics.
+  nlohmann::json StreamReply(const std::string& text, std::vector<std::string>& subscriptions,
+                             const Identity& who) const;
   std::optional<nlohmann::json> TopicMessage(const std::string& topic) const;
 
  private:
   using Handler = std::function<void(const Request&, const Params&, Reply)>;
+  // A handler that needs to know its caller (logging in, minting a token).
+  using CallerHandler = std::function<Response(const Request&, const Params&, const Caller&)>;
   struct Route {
     http::verb method;
     std::vector<std::string> segments;  // "{name}" captures a segment
-    Handler handler;
+    Handler handler;                    // one of the two
+    CallerHandler caller_handler;
   };
   // A handler that answers synchronously.
   static Handler Sync(std::function<Response(const Request&, const Params&)> f);
   void Add(http::verb method, const std::string& pattern, Handler handler);
+  void AddWithCaller(http::verb method, const std::string& pattern, CallerHandler handler);
+  // `reply`, which for a write to the API first records it in the audit log.
+  Reply Audited(const Request& request, const Caller& caller, const Identity& identity, const std::string& path,
+                Reply reply) const;
+  static ApiError TooManyAttempts(int retry_after_s);
   // Runs `work` and replies with its response, or with the problem it throws, on the io executor.
   void Answer(const Request& request, Reply reply, const std::function<Response()>& work) const;
 
   // StreamReply's work; throws ApiError for a message it cannot take.
-  nlohmann::json StreamMessage(const std::string& text, std::vector<std::string>& subscriptions) const;
+  nlohmann::json StreamMessage(const std::string& text, std::vector<std::string>& subscriptions,
+                               const Identity& who) const;
   void AddCoreRoutes();
   void AddNavigationRoutes();
   void AddMapRoutes();
@@ -111,6 +151,7 @@ class Api {
   void AddFaceRoutes();
   void AddDetectionRoutes();
   void AddWebhookRoutes();
+  void AddAuthRoutes();
   // {x, y, yaw} of `body`, on the active map (else 422 outside_map).
   nav::Pose2 ParsePoseOnMap(const nlohmann::json& body, const std::string& where) const;
   // 409 unless localization.source is mcl.
@@ -126,6 +167,7 @@ class Api {
 
   ApiContext c_;
   drivers::TimeNs start_ns_;
+  std::shared_ptr<std::atomic<bool>> control_stalled_ = std::make_shared<std::atomic<bool>>(false);
   std::vector<Route> routes_;
 };
 
@@ -144,6 +186,8 @@ double RequireNumber(const nlohmann::json& body, const char* key, const std::str
 std::uint64_t ParseCount(const std::string& text, const std::string& what);
 // One query parameter's value from "/path?a=1&b=2"; "true" for a bare key, "" when absent.
 std::string QueryValue(std::string_view target, std::string_view key);
+// The "after" query parameter of a log's page (events, audit): a sequence number, 0 when absent; 400 otherwise.
+std::int64_t AfterParameter(std::string_view target);
 // Throws ApiError 400 for a key not in `allowed`.
 void AllowOnlyKeys(const nlohmann::json& body, std::initializer_list<const char*> allowed, const std::string& where);
 

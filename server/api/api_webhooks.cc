@@ -134,11 +134,7 @@ void Api::AddWebhookRoutes() {
       }));
   // The events recorded in the database: the newest 256, or those after `after` (a poller's last sequence).
   Add(http::verb::get, "/api/v1/events", Sync([this](const Request& r, const Params&) {
-        const std::string text = QueryValue(r.target(), "after");
-        const std::uint64_t after = text.empty() ? 0 : ParseCount(text, "after: an event's sequence, 0 or more");
-        const auto most = static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max());
-        return JsonResponse(r, {{"events", c_.store.Events(static_cast<std::int64_t>(std::min(after, most)),
-                                                           kEventsPerPage)}});
+        return JsonResponse(r, {{"events", c_.store.Events(AfterParameter(r.target()), kEventsPerPage)}});
       }));
 }
 

@@ -21,9 +21,11 @@ constexpr std::size_t kMaxQueuedStreamMessages = 16;
 // One WebSocket client of /api/v1/stream.
 class StreamSession : public std::enable_shared_from_this<StreamSession> {
  public:
-  StreamSession(tcp::socket socket, const Api& api, double rate_hz)
+  StreamSession(tcp::socket socket, const Api& api, double rate_hz, Api::Identity who, bool sees_state)
       : ws_(std::move(socket)), api_(api), timer_(ws_.get_executor()),
-        period_(std::chrono::nanoseconds(static_cast<std::int64_t>(1e9 / rate_hz))) {}
+        period_(std::chrono::nanoseconds(static_cast<std::int64_t>(1e9 / rate_hz))), who_(std::move(who)) {
+    if (!sees_state) subscriptions_.clear();  // the face screen subscribes to what it shows
+  }
 
   void Start(Request request) {
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
@@ -45,7 +47,7 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
       }
       std::string text = beast::buffers_to_string(self->buffer_.data());
       self->buffer_.consume(self->buffer_.size());
-      self->Send(Dump(self->api_.StreamReply(text, self->subscriptions_)));
+      self->Send(Dump(self->api_.StreamReply(text, self->subscriptions_, self->who_)));
       self->Read();
     });
   }
@@ -91,6 +93,7 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   const Api& api_;
   boost::asio::steady_timer timer_;
   std::chrono::nanoseconds period_;
+  Api::Identity who_;
   beast::flat_buffer buffer_;
   std::vector<std::string> subscriptions_{"state"};
   std::deque<std::string> queue_;
@@ -134,18 +137,45 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       return Reply(ProblemResponse(http::status::bad_request, "Malformed request", ec.message(), 11, false));
     }
     Request request = parser_->release();
-    if (websocket::is_upgrade(request)) {
-      const std::string_view target = request.target();
-      if (target.substr(0, target.find('?')) == "/api/v1/stream") {
-        stream_.expires_never();
-        std::make_shared<StreamSession>(stream_.release_socket(), api_, options_.stream_rate_hz)
-            ->Start(std::move(request));
-        return;
-      }
+    const Caller caller = CallerOf(stream_.socket());
+    if (websocket::is_upgrade(request)) return Upgrade(std::move(request), caller);
+    api_.Handle(request, caller, [self = shared_from_this()](Response response) { self->Reply(std::move(response)); });
+  }
+
+  static Caller CallerOf(const tcp::socket& socket) {
+    beast::error_code ec;
+    const tcp::endpoint peer = socket.remote_endpoint(ec);
+    if (ec) return {};
+    auto address = peer.address();
+    if (address.is_v6() && address.to_v6().is_v4_mapped()) address = address.to_v6().to_v4();
+    return {address.to_string(), address.is_loopback(), false};
+  }
+
+  // A WebSocket at /api/v1/stream, for a caller who may read (or the robot's own screen), from a page of our own
+  // origin when a browser opens it.
+  void Upgrade(Request request, const Caller& caller) {
+    const std::string_view target = request.target();
+    const std::string path(target.substr(0, target.find('?')));
+    if (path != "/api/v1/stream") {
       return Reply(ProblemResponse(http::status::not_found, "Not found", "WebSocket is served at /api/v1/stream",
                                    request.version(), false));
     }
-    api_.Handle(request, [self = shared_from_this()](Response response) { self->Reply(std::move(response)); });
+    Api::Identity who;
+    try {
+      who = api_.Identify(request, caller);
+      api_.CheckAccess(request, caller, who, path);
+      const std::string_view origin = request[http::field::origin];
+      if (!origin.empty() && !auth::SameOrigin(origin, request[http::field::host])) {
+        throw ApiError(http::status::forbidden, "Cross-site WebSocket refused",
+                       "the stream opens only from the console's own origin", "cross_site");
+      }
+    } catch (const ApiError& e) {
+      return Reply(ProblemResponse(e.status(), e.title(), e.what(), request.version(), false, e.code()));
+    }
+    const bool sees_state = who.who.has_value() || api_.anonymous_viewer();
+    stream_.expires_never();
+    std::make_shared<StreamSession>(stream_.release_socket(), api_, options_.stream_rate_hz, std::move(who), sees_state)
+        ->Start(std::move(request));
   }
 
   void Reply(Response response) {

@@ -49,6 +49,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
       devices_(devices),
       executors_(clock_, schedule),
       store_(config_.store.state_dir / "corridor.db"),
+      access_(config_.store.state_dir / "accounts.db", config_.auth),
       planner_(executors_.planning, config_.planner) {
   // The tracker of moving objects, from the laser when there is one, else from the depth camera.
   std::unique_ptr<TrackingNode> tracking_node;
@@ -161,7 +162,8 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
 
   api_ = std::make_unique<Api>(
       ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, octree_, perception_, *spoken_,
-                 *webhooks_, config_, clock_, executors_.io, devices_.sim});
+                 *webhooks_, access_, config_, clock_, executors_.io, executors_.control,
+                 devices_.sim});
 }
 
 Graph::~Graph() { Stop(); }

@@ -73,6 +73,7 @@ class Graph {
   PlannerService& planner() { return planner_; }
   MapLibrary& maps() { return *maps_; }
   Store& store() { return store_; }
+  auth::AccessControl& access() { return access_; }
   const Api& api() const { return *api_; }
 
  private:
@@ -83,6 +84,7 @@ class Graph {
   Bus bus_;
   Executors executors_;
   Store store_;
+  auth::AccessControl access_;
   PlannerService planner_;
   std::unique_ptr<MapLibrary> maps_;
   Lifecycle lifecycle_;

@@ -26,6 +26,23 @@ void ReadServer(ConfigReader& r, ServerOptions& o, const fs::path& base) {
   ReadPath(r, "web_root", o.web_root, base);
   r.Read("max_body_bytes", o.max_body_bytes, 256, 64 * 1024 * 1024);
   r.Read("stream_rate_hz", o.stream_rate_hz, 1.0, 100.0);
+  r.Section("tls", [&](ConfigReader& t) {
+    t.Read("enabled", o.tls.enabled);
+    ReadPath(t, "certificate", o.tls.certificate, base);
+    ReadPath(t, "key", o.tls.key, base);
+    t.Read("redirect_port", o.tls.redirect_port, 0, 65535);
+  });
+  if (o.tls.certificate.empty() != o.tls.key.empty()) {
+    throw ConfigError("server.tls: give both certificate and key, or neither (a self-signed one is made)");
+  }
+}
+
+void ReadAuth(ConfigReader& r, auth::AuthOptions& a) {
+  r.Read("anonymous_viewer", a.anonymous_viewer);
+  r.Read("local_face", a.local_face);
+  r.Read("session_hours", a.session_hours, 0.1, 24.0 * 90);
+  r.Read("login_failures_per_minute", a.login_failures_per_minute, 1, 1000);
+  r.Read("keep_audit", a.keep_audit, 100, 10000000);
 }
 
 void ReadSafety(ConfigReader& r, SafetyOptions& o) {
@@ -428,6 +445,7 @@ Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
     r.Section("perception", [&](ConfigReader& s) { ReadPerception(s, config.perception); });
     r.Section("face", [&](ConfigReader& s) { ReadFace(s, config.face); });
     r.Section("webhooks", [&](ConfigReader& s) { ReadWebhooks(s, config.webhooks); });
+    r.Section("auth", [&](ConfigReader& s) { ReadAuth(s, config.auth); });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();
     // MORP-RB brakes by the control loop's model.

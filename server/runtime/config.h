@@ -26,9 +26,18 @@
 #include "nav/policy/local_navigator.h"
 #include "nav/tracking/moving_objects.h"
 #include "nav/tracking/traffic_map.h"
+#include "server/auth/options.h"
 #include "server/runtime/config_reader.h"  // ConfigError
 
 namespace corridor::server {
+
+// HTTPS and WSS on server.port; without a certificate configured, a self-signed one is made in the state directory.
+struct TlsOptions {
+  bool enabled = false;
+  std::filesystem::path certificate;  // PEM; empty: <state_dir>/tls/certificate.pem, made on first start
+  std::filesystem::path key;          // PEM, the certificate's private key
+  int redirect_port = 0;              // plain HTTP here only redirects to HTTPS; 0: none
+};
 
 struct ServerOptions {
   int port = 8080;                      // 0 picks a free port (logged at start-up)
@@ -36,6 +45,7 @@ struct ServerOptions {
   std::filesystem::path web_root;       // the built console; empty: next to the binary or in the source tree
   int max_body_bytes = 4 * 1024 * 1024; // larger request bodies get 413 (a whole map image fits)
   double stream_rate_hz = 20.0;         // WebSocket state pushes per second
+  TlsOptions tls;
 };
 
 struct StoreOptions {
@@ -172,6 +182,7 @@ struct Config {
   PerceptionOptions perception;
   FaceOptions face;
   WebhookOptions webhooks;
+  auth::AuthOptions auth;
   LogOptions log;
 };
 

@@ -9,55 +9,6 @@ namespace {
 
 using nlohmann::json;
 
-// A prepared statement that finalizes itself.
-class Statement {
- public:
-  Statement(sqlite3* db, const char* sql) : db_(db) {
-    if (sqlite3_prepare_v2(db, sql, -1, &stmt_, nullptr) != SQLITE_OK) {
-      throw StoreError(std::string("database: cannot prepare '") + sql + "': " + sqlite3_errmsg(db));
-    }
-  }
-  ~Statement() { sqlite3_finalize(stmt_); }
-  Statement(const Statement&) = delete;
-  Statement& operator=(const Statement&) = delete;
-
-  Statement& Bind(int index, const std::string& text) {
-    sqlite3_bind_text(stmt_, index, text.c_str(), static_cast<int>(text.size()), SQLITE_TRANSIENT);
-    return *this;
-  }
-  Statement& Bind(int index, int value) {
-    sqlite3_bind_int(stmt_, index, value);
-    return *this;
-  }
-  Statement& Bind(int index, std::int64_t value) {
-    sqlite3_bind_int64(stmt_, index, value);
-    return *this;
-  }
-  Statement& Bind(int index, double value) {
-    sqlite3_bind_double(stmt_, index, value);
-    return *this;
-  }
-  // True while rows come; false at the end. Throws on error.
-  bool Step() {
-    const int rc = sqlite3_step(stmt_);
-    if (rc == SQLITE_ROW) return true;
-    if (rc == SQLITE_DONE) return false;
-    throw StoreError(std::string("database: ") + sqlite3_errmsg(db_));
-  }
-  std::string Text(int column) const {
-    const auto* p = sqlite3_column_text(stmt_, column);
-    return p ? reinterpret_cast<const char*>(p) : "";
-  }
-  double Double(int column) const { return sqlite3_column_double(stmt_, column); }
-  int Int(int column) const { return sqlite3_column_int(stmt_, column); }
-  std::int64_t Int64(int column) const { return sqlite3_column_int64(stmt_, column); }
-  int changes() const { return sqlite3_changes(db_); }
-
- private:
-  sqlite3* db_;
-  sqlite3_stmt* stmt_ = nullptr;
-};
-
 constexpr const char* kDeliveryColumns =
     "id, webhook, event, payload, status, attempts, created, last_attempt, response_status, error";
 
@@ -80,47 +31,29 @@ std::string NewId() {
   return text;
 }
 
-Store::Store(const std::filesystem::path& file) : file_(file) {
-  if (sqlite3_open(file.c_str(), &db_) != SQLITE_OK) {
-    const std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
-    sqlite3_close(db_);
-    throw StoreError("database " + file.string() + ": cannot be opened: " + why);
-  }
-  sqlite3_busy_timeout(db_, 2000);
-  try {
-    // WAL: readers never wait for the writer; synchronous=FULL: a committed write survives a power cut.
-    Exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL;");
-    Exec(
+namespace {
+
+const char* const kSchema =
         "CREATE TABLE IF NOT EXISTS zones (map TEXT NOT NULL, id TEXT NOT NULL, name TEXT NOT NULL, kind TEXT NOT NULL,"
-        " polygon TEXT NOT NULL, max_speed_mps REAL NOT NULL, PRIMARY KEY (map, id));"
-        "CREATE TABLE IF NOT EXISTS places (map TEXT NOT NULL, id TEXT NOT NULL, name TEXT NOT NULL, x REAL NOT NULL,"
-        " y REAL NOT NULL, yaw REAL NOT NULL, PRIMARY KEY (map, id));"
-        "CREATE TABLE IF NOT EXISTS missions (id TEXT PRIMARY KEY, document TEXT NOT NULL,"
-        " updated REAL NOT NULL DEFAULT (julianday('now')));"
-        "CREATE TABLE IF NOT EXISTS webhooks (id TEXT PRIMARY KEY, url TEXT NOT NULL, events TEXT NOT NULL,"
-        " secret TEXT NOT NULL, description TEXT NOT NULL, created TEXT NOT NULL);"
-        "CREATE TABLE IF NOT EXISTS deliveries (seq INTEGER PRIMARY KEY AUTOINCREMENT, id TEXT NOT NULL UNIQUE,"
-        " webhook TEXT NOT NULL, event TEXT NOT NULL, payload TEXT NOT NULL, status TEXT NOT NULL,"
-        " attempts INTEGER NOT NULL, created TEXT NOT NULL, last_attempt TEXT NOT NULL,"
-        " response_status INTEGER NOT NULL, error TEXT NOT NULL);"
-        "CREATE INDEX IF NOT EXISTS deliveries_by_webhook ON deliveries (webhook, seq);"
-        "CREATE TABLE IF NOT EXISTS events (seq INTEGER PRIMARY KEY AUTOINCREMENT, document TEXT NOT NULL);");
-  } catch (const StoreError& e) {
-    sqlite3_close(db_);
-    throw StoreError("database " + file.string() + ": " + e.what() + " (is it a corridor database?)");
-  }
-}
+    " polygon TEXT NOT NULL, max_speed_mps REAL NOT NULL, PRIMARY KEY (map, id));"
+    "CREATE TABLE IF NOT EXISTS places (map TEXT NOT NULL, id TEXT NOT NULL, name TEXT NOT NULL, x REAL NOT NULL,"
+    " y REAL NOT NULL, yaw REAL NOT NULL, PRIMARY KEY (map, id));"
+    "CREATE TABLE IF NOT EXISTS missions (id TEXT PRIMARY KEY, document TEXT NOT NULL,"
+    " updated REAL NOT NULL DEFAULT (julianday('now')));"
+    "CREATE TABLE IF NOT EXISTS webhooks (id TEXT PRIMARY KEY, url TEXT NOT NULL, events TEXT NOT NULL,"
+    " secret TEXT NOT NULL, description TEXT NOT NULL, created TEXT NOT NULL);"
+    "CREATE TABLE IF NOT EXISTS deliveries (seq INTEGER PRIMARY KEY AUTOINCREMENT, id TEXT NOT NULL UNIQUE,"
+    " webhook TEXT NOT NULL, event TEXT NOT NULL, payload TEXT NOT NULL, status TEXT NOT NULL,"
+    " attempts INTEGER NOT NULL, created TEXT NOT NULL, last_attempt TEXT NOT NULL,"
+    " response_status INTEGER NOT NULL, error TEXT NOT NULL);"
+    "CREATE INDEX IF NOT EXISTS deliveries_by_webhook ON deliveries (webhook, seq);"
+    "CREATE TABLE IF NOT EXISTS events (seq INTEGER PRIMARY KEY AUTOINCREMENT, document TEXT NOT NULL);";
 
-Store::~Store() { sqlite3_close(db_); }
+}  // namespace
 
-void Store::Exec(const std::string& sql) const {
-  char* error = nullptr;
-  if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
-    const std::string why = error ? error : "unknown error";
-    sqlite3_free(error);
-    throw StoreError(why);
-  }
-}
+Store::Store(const std::filesystem::path& file) : db_(file, kSchema) {}
+
+Store::~Store() = default;
 
 std::vector<nav::Zone> Store::Zones(const std::string& map) const {
   std::lock_guard lock(mutex_);
@@ -233,27 +166,22 @@ void Store::PutWebhook(const WebhookRecord& w) {
 
 bool Store::DeleteWebhook(const std::string& id) {
   std::lock_guard lock(mutex_);
-  Exec("BEGIN");
-  try {
+  bool deleted = false;
+  InTransaction(db_, [&] {
     Statement deliveries(db_, "DELETE FROM deliveries WHERE webhook = ?");
     deliveries.Bind(1, id);
     deliveries.Step();
     Statement s(db_, "DELETE FROM webhooks WHERE id = ?");
     s.Bind(1, id);
     s.Step();
-    const bool deleted = s.changes() > 0;
-    Exec("COMMIT");
-    return deleted;
-  } catch (...) {
-    Exec("ROLLBACK");
-    throw;
-  }
+    deleted = s.changes() > 0;
+  });
+  return deleted;
 }
 
 void Store::AddDelivery(const DeliveryRecord& d, int keep) {
   std::lock_guard lock(mutex_);
-  Exec("BEGIN");
-  try {
+  InTransaction(db_, [&] {
     const std::string sql =
         std::string("INSERT INTO deliveries (") + kDeliveryColumns + ") VALUES (?,?,?,?,?,?,?,?,?,?)";
     Statement s(db_, sql.c_str());
@@ -265,11 +193,7 @@ void Store::AddDelivery(const DeliveryRecord& d, int keep) {
                     " (SELECT seq FROM deliveries WHERE webhook = ? ORDER BY seq DESC LIMIT ?)");
     prune.Bind(1, d.webhook).Bind(2, d.webhook).Bind(3, keep);
     prune.Step();
-    Exec("COMMIT");
-  } catch (...) {
-    Exec("ROLLBACK");
-    throw;
-  }
+  });
 }
 
 void Store::UpdateDelivery(const DeliveryRecord& d) {
@@ -303,21 +227,17 @@ std::vector<DeliveryRecord> Store::PendingDeliveries() const {
 
 std::int64_t Store::AddEvent(const json& document, int keep) {
   std::lock_guard lock(mutex_);
-  Exec("BEGIN");
-  try {
+  std::int64_t seq = 0;
+  InTransaction(db_, [&] {
     Statement s(db_, "INSERT INTO events (document) VALUES (?)");
     s.Bind(1, document.dump());
     s.Step();
-    const std::int64_t seq = sqlite3_last_insert_rowid(db_);
+    seq = sqlite3_last_insert_rowid(db_.handle());
     Statement prune(db_, "DELETE FROM events WHERE seq <= ?");
     prune.Bind(1, seq - keep);
     prune.Step();
-    Exec("COMMIT");
-    return seq;
-  } catch (...) {
-    Exec("ROLLBACK");
-    throw;
-  }
+  });
+  return seq;
 }
 
 std::vector<json> Store::Events(std::int64_t after, int limit) const {

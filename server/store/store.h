@@ -14,16 +14,9 @@
 #include <vector>
 
 #include "nav/map/zones.h"
-
-struct sqlite3;
+#include "server/store/sqlite.h"
 
 namespace corridor::server {
-
-// The database cannot be opened, read or written; what() says what and where.
-class StoreError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 // A subscription to the robot's events (server/api/webhooks.h): where they are POSTed, which, and the secret their
 // signature is made with.
@@ -89,11 +82,8 @@ class Store {
   std::vector<nlohmann::json> Events(std::int64_t after, int limit) const;
 
  private:
-  void Exec(const std::string& sql) const;
-
   mutable std::mutex mutex_;
-  sqlite3* db_ = nullptr;
-  std::filesystem::path file_;
+  Database db_;
 };
 
 // A random identifier for new records: 16 hex digits.

@@ -5,6 +5,7 @@ import { LocalizationPanel } from './localization';
 import { MapView } from './map_view';
 import { MappingPanel } from './mapping';
 import { OctomapView } from './octomap_view';
+import { applyRole, mayDo, permitted, requireSession } from './session';
 import { Stream } from './stream';
 import { Teleop } from './teleop';
 import { Tools } from './tools';
@@ -34,9 +35,13 @@ function showMission(mission: Mission | null): void {
   }
   byId<HTMLProgressElement>('mission-progress').value = mission?.progress ?? 0;
   byId('mission-eta').textContent = live ? `about ${Math.ceil(mission.eta_s)} s to go` : '';
-  byId<HTMLButtonElement>('mission-pause').disabled = mission?.status !== 'active';
-  byId<HTMLButtonElement>('mission-resume').disabled = mission?.status !== 'paused';
-  byId<HTMLButtonElement>('mission-cancel').disabled = !live;
+  const enable = (id: string, on: boolean) => {
+    const button = byId<HTMLButtonElement>(id);
+    button.disabled = !on || !permitted(button);
+  };
+  enable('mission-pause', mission?.status === 'active');
+  enable('mission-resume', mission?.status === 'paused');
+  enable('mission-cancel', live);
 }
 
 function showState(state: State, view: MapView | null): void {
@@ -165,6 +170,8 @@ function missionAction(action: 'pause' | 'resume' | 'cancel', current: () => Mis
 }
 
 async function main(): Promise<void> {
+  const me = await requireSession();
+  applyRole(me);
   let view: MapView | null = null;
   let tools: Tools | null = null;
   let mission: Mission | null = null;
@@ -217,9 +224,11 @@ async function main(): Promise<void> {
       connection.textContent = status === 'up' ? 'connected' : 'reconnecting…';
       connection.className = `connection ${status}`;
     });
-  new Teleop(kTeleopLimits, byId('joystick'), (command: Twist) => {
-    stream.send({ type: 'teleop', ...command });
-  });
+  if (mayDo(me, 'operator')) {
+    new Teleop(kTeleopLimits, byId('joystick'), (command: Twist) => {
+      stream.send({ type: 'teleop', ...command });
+    });
+  }
   startCamera();
 }
 

@@ -1,0 +1,70 @@
+// Logging in. The console asks who is logged in; when nobody is, it shows the login form, or before the first admin
+// exists the setup form, which takes the one-time code shown on the robot's screen. A session is a cookie the daemon
+// sets (HttpOnly, SameSite=Strict); the page reloads once it has one.
+import { send } from './api';
+import { byId } from './dom';
+
+export type Role = 'viewer' | 'operator' | 'admin';
+export interface Me { name: string; role: Role; kind: string; }
+interface SetupStatus { needed: boolean; code?: string; tls_fingerprint?: string; }
+
+const kRank: Record<Role, number> = { viewer: 1, operator: 2, admin: 3 };
+
+export function mayDo(me: Me, needed: Role): boolean {
+  return kRank[me.role] >= kRank[needed];
+}
+
+async function whoAmI(): Promise<Me | null> {
+  const res = await fetch('/api/v1/session', { cache: 'no-store' });
+  return res.ok ? (await res.json()) as Me : null;
+}
+
+// Resolves with the logged-in user; otherwise shows the login (or setup) form and never resolves: the page reloads
+// after logging in.
+export async function requireSession(): Promise<Me> {
+  const me = await whoAmI();
+  if (me) return me;
+  const setup = await send<SetupStatus>('GET', '/api/v1/setup');
+  const dialog = byId<HTMLDialogElement>('login');
+  const form = byId<HTMLFormElement>('login-form');
+  const error = byId('login-error');
+  byId('login-title').textContent = setup.needed ? 'Set up this robot' : 'Log in';
+  byId('login-setup').hidden = !setup.needed;
+  byId<HTMLInputElement>('login-code').required = setup.needed;
+  byId('login-hint').textContent = setup.needed
+    ? 'Type the setup code shown on the robot\'s screen (and in its journal) and choose the first admin\'s name and password.'
+    : '';
+  form.addEventListener('submit', (event) => {
+    event.preventDefault();
+    const username = byId<HTMLInputElement>('login-username').value;
+    const password = byId<HTMLInputElement>('login-password').value;
+    const request = setup.needed
+      ? send('POST', '/api/v1/setup', { code: byId<HTMLInputElement>('login-code').value, username, password })
+      : send('POST', '/api/v1/session', { username, password });
+    request.then(() => location.reload()).catch((e: Error) => { error.textContent = e.message; });
+  });
+  dialog.showModal();
+  return new Promise<Me>(() => undefined);
+}
+
+// Shows who is logged in, and disables what their role may not do: elements marked data-needs="operator" or "admin".
+export function applyRole(me: Me): void {
+  byId('user').textContent = `${me.name} (${me.role})`;
+  byId('admin-link').hidden = !mayDo(me, 'admin');
+  byId('logout').addEventListener('click', () => {
+    void send('DELETE', '/api/v1/session').finally(() => location.reload());
+  });
+  document.body.dataset.role = me.role;
+  for (const element of document.querySelectorAll<HTMLElement>('[data-needs]')) {
+    const needed = element.dataset.needs as Role;
+    if (mayDo(me, needed)) continue;
+    element.classList.add('forbidden');
+    element.title = `${element.title ? `${element.title} ` : ''}(needs the ${needed} role)`;
+    if ('disabled' in element) (element as HTMLButtonElement).disabled = true;
+  }
+}
+
+// Whether the user may use `element` (its data-needs role).
+export function permitted(element: HTMLElement): boolean {
+  return !element.classList.contains('forbidden');
+}
