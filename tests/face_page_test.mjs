@@ -42,6 +42,11 @@ test('the face page follows the robot: expressions, a bump, a person to look at,
   await page.goto(`${daemon.url}/face`);
   await page.waitForFunction(() => document.body.dataset.connected === 'true', null, { timeout: 10000 });
   assert.equal(await page.locator('#status').isHidden(), true);
+  // No user yet: the robot's screen shows the setup code, the one the daemon wrote to its journal.
+  const code = await page.getByTestId('setup-code').textContent();
+  assert.match(daemon.log(), new RegExp(`setup code ${code}`));
+  await postJson(`${daemon.url}/api/v1/users`, { username: 'face-admin', password: 'face-admin-password', role: 'admin' });
+  await page.getByTestId('setup').waitFor({ state: 'hidden', timeout: 5000 });
   // The canvas fills the screen.
   const size = await page.evaluate(() => {
     const c = document.getElementById('face');

@@ -2,6 +2,8 @@
 // publishes on face/expression, drawn full screen. It reconnects by itself and shows when it is not connected. The
 // page redraws only while something moves (an expression easing, a blink, the gaze, speech), so it idles at next to
 // nothing. Its state is on <body> for tests: data-expression, data-gaze, data-connected, data-speaking.
+// Until the robot has its first admin, the page also shows the one-time setup code (the daemon gives it only to its
+// own screen, on loopback) and the fingerprint of its TLS certificate, so that whoever sets it up can check both.
 import { Stream } from '../stream';
 import { drawFace } from './draw';
 import { Blinker, EXPRESSIONS, type Expression, FaceState } from './model';
@@ -96,6 +98,25 @@ new Stream(`${scheme}://${location.host}/api/v1/stream`, ['face/expression'],
   (topic, data) => { if (topic === 'face/expression') onFace(data as FaceMessage); },
   (s) => onStatus(s === 'up'));
 voice.onChange = wake;
+
+interface SetupStatus { needed: boolean; code?: string; tls_fingerprint?: string; }
+async function showSetup(): Promise<void> {
+  let again = true;
+  try {
+    const res = await fetch('/api/v1/setup', { cache: 'no-store' });
+    const setup = (await res.json()) as SetupStatus;
+    const box = document.getElementById('setup') as HTMLElement;
+    box.hidden = !setup.needed || !setup.code;
+    (document.getElementById('setup-code') as HTMLElement).textContent = setup.code ?? '';
+    (document.getElementById('setup-fingerprint') as HTMLElement).textContent =
+      setup.tls_fingerprint ? `certificate SHA-256 ${setup.tls_fingerprint}` : '';
+    again = setup.needed;
+  } catch {
+    // The daemon is restarting: ask again.
+  }
+  if (again) window.setTimeout(() => void showSetup(), 3000);
+}
+void showSetup();
 window.addEventListener('resize', resize);
 // A tap or key goes full screen (browsers allow it only on a gesture) and lets the page play sound.
 const fullScreen = (): void => {
