@@ -172,12 +172,22 @@ int Run(const CommandLine& cl) {
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
-  Graph graph(config, sim.devices(config), InitialMap(config, sim.world.get()), Schedule::kThreads);
-  HttpServer server(graph.executors().io, graph.api(), config.server);
+  std::optional<TlsIdentity> tls;
+  if (config.server.tls.enabled) {
+    tls = LoadOrCreateTlsIdentity(config.server.tls, config.store.state_dir);
+    spdlog::info("TLS certificate {}{}, SHA-256 fingerprint {}", tls->certificate.string(),
+                 tls->generated ? " (self-signed, made now)" : "", tls->fingerprint);
+  }
+  Graph graph(config, sim.devices(config), InitialMap(config, sim.world.get()), Schedule::kThreads,
+              tls ? tls->fingerprint : "");
+  HttpServer server(graph.executors().io, graph.api(), config.server, tls);
   server.Start();
   graph.Start();
   ServiceNotifier service(graph.executors().control);
-  spdlog::info("listening on http://{}:{}", config.server.bind_address, server.port());
+  spdlog::info("listening on {}://{}:{}", tls ? "https" : "http", config.server.bind_address, server.port());
+  if (tls && config.server.tls.redirect_port != 0) {
+    spdlog::info("plain HTTP on port {} redirects to HTTPS", config.server.tls.redirect_port);
+  }
   if (const auto code = graph.access().setup.code()) {
     spdlog::warn("no users yet: create the first admin in the console with the setup code {} (also shown on the "
                  "robot's screen)", *code);

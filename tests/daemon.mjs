@@ -1,6 +1,6 @@
 // Starts a real corridord for tests: its own free port, its own state directory, the simulator.
 // The packages tests use (ws, ajv, playwright-core) are installed with the console in web/.
-import { spawn, spawnSync } from 'node:child_process';
+import { execFileSync, spawn, spawnSync } from 'node:child_process';
 import { mkdtempSync, readdirSync, rmSync, writeFileSync, readFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { tmpdir } from 'node:os';
@@ -63,20 +63,20 @@ export async function startDaemon({ config = null, args = [], stateDir: keptStat
   const proc = spawn(corridord, [...configArgs, '--port', '0', '--state-dir', stateDir, ...args],
     { stdio: ['ignore', 'ignore', 'pipe'] });
   let log = '';
-  const port = await new Promise((resolve, reject) => {
+  const [scheme, port] = await new Promise((resolve, reject) => {
     const timer = setTimeout(() => reject(new Error(`corridord did not start:\n${log}`)), 30000);
     proc.stderr.on('data', (d) => {
       log += d;
-      const m = /listening on http:\/\/[^:]+:(\d+)/.exec(log);
-      if (m) { clearTimeout(timer); resolve(Number(m[1])); }
+      const m = /listening on (https?):\/\/[^:]+:(\d+)/.exec(log);
+      if (m) { clearTimeout(timer); resolve([m[1], Number(m[2])]); }
     });
     proc.on('exit', (code) => { clearTimeout(timer); reject(new Error(`corridord exited with ${code}:\n${log}`)); });
   });
   const exited = new Promise((resolve) => proc.on('exit', (code, signal) => resolve({ code, signal })));
-  credentials.set(`http://127.0.0.1:${port}`, token);
+  credentials.set(`${scheme}://127.0.0.1:${port}`, token);
   return {
     port,
-    url: `http://127.0.0.1:${port}`,
+    url: `${scheme}://127.0.0.1:${port}`,
     stateDir,
     log: () => log,
     exited,
@@ -87,6 +87,15 @@ export async function startDaemon({ config = null, args = [], stateDir: keptStat
       return result;
     },
   };
+}
+
+// A self-signed certificate for 127.0.0.1 in `dir`, made by the openssl command line.
+export function makeCertificate(dir, name) {
+  const key = join(dir, `${name}.key`);
+  const cert = join(dir, `${name}.pem`);
+  execFileSync('openssl', ['req', '-x509', '-newkey', 'rsa:2048', '-nodes', '-days', '1', '-subj', '/CN=127.0.0.1',
+    '-addext', 'subjectAltName=IP:127.0.0.1', '-keyout', key, '-out', cert], { stdio: 'ignore' });
+  return { key: readFileSync(key), cert: readFileSync(cert), certFile: cert, keyFile: key };
 }
 
 export const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
@@ -117,24 +126,25 @@ export async function waitFor(get, predicate, ms, what) {
 }
 
 // Debian's chromium driven by playwright-core, headless, with the flags this machine's closed network needs.
-export function launchBrowser() {
+export function launchBrowser(extraArgs = []) {
   const { chromium } = require('playwright-core');
   return chromium.launch({
     executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
     // WebGL (the console's 3D map) from the software renderer: there is no GPU here.
     args: ['--headless', '--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
       '--disable-quic', '--no-first-run', '--disable-background-networking', '--disable-component-update',
-      '--disable-sync'],
+      '--disable-sync', ...extraArgs],
   });
 }
 
-// Logs `page` in to the console of the daemon at `url` through its login form, as the test's console user (an admin,
-// created with the test's token the first time), and waits until the console is connected.
-export async function gotoConsole(page, url, user = consoleUser) {
-  if (user === consoleUser) {
+// Logs `page` in to the console of the daemon at `url` through its login form as `user`, by default the test's
+// console user (an admin, created with the test's token the first time), and waits until the console is connected.
+export async function gotoConsole(page, url, user = null) {
+  if (user === null) {
     const made = await postJson(`${url}/api/v1/users`, { ...consoleUser, role: 'admin' });
     if (made.status !== 201 && made.status !== 409) throw new Error(`console user: ${JSON.stringify(made.body)}`);
   }
+  user ??= consoleUser;
   await page.goto(url);
   await page.getByTestId('login-username').fill(user.username);
   await page.getByTestId('login-password').fill(user.password);

@@ -2,32 +2,26 @@
 // servers with a valid HMAC-SHA256 signature, retried while the receiver is down or failing, refused answers not
 // retried, pending deliveries kept across a restart, and bad subscriptions refused with a problem.
 import assert from 'node:assert/strict';
-import { execFileSync } from 'node:child_process';
 import { createHmac } from 'node:crypto';
-import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import { mkdtempSync, rmSync } from 'node:fs';
 import { createServer } from 'node:http';
 import { createServer as createHttpsServer } from 'node:https';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
-import { getJson, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor, writeRoom } from './daemon.mjs';
+import {
+  getJson, makeCertificate, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor, writeRoom,
+} from './daemon.mjs';
 
 const api = openApiValidator();
 const dir = mkdtempSync(join(tmpdir(), 'corridor-webhooks-'));
 const room = writeRoom(dir, 6, 3);
 after(() => rmSync(dir, { recursive: true, force: true }));
 
-// A self-signed certificate for 127.0.0.1, made by the openssl command line; `other` is one the daemon does not trust.
-function makeCertificate(name) {
-  const key = join(dir, `${name}.key`);
-  const cert = join(dir, `${name}.pem`);
-  execFileSync('openssl', ['req', '-x509', '-newkey', 'rsa:2048', '-nodes', '-days', '1', '-subj', '/CN=127.0.0.1',
-    '-addext', 'subjectAltName=IP:127.0.0.1', '-keyout', key, '-out', cert], { stdio: 'ignore' });
-  return { key: readFileSync(key), cert: readFileSync(cert), certFile: cert };
-}
-const trusted = makeCertificate('trusted');
-const untrusted = makeCertificate('untrusted');
+// `untrusted` is one the daemon does not trust.
+const trusted = makeCertificate(dir, 'trusted');
+const untrusted = makeCertificate(dir, 'untrusted');
 
 // A receiver: records each POST (headers and raw body) and answers with the next of `answers` (then 200).
 async function startReceiver({ port = 0, tls = null, answers = [] } = {}) {

@@ -2,7 +2,9 @@
 
 #include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core.hpp>
+#include <boost/beast/ssl.hpp>
 #include <boost/beast/websocket.hpp>
+#include <boost/beast/websocket/ssl.hpp>
 #include <spdlog/spdlog.h>
 
 #include <deque>
@@ -12,25 +14,42 @@ namespace {
 
 namespace beast = boost::beast;
 namespace websocket = beast::websocket;
+namespace ssl = boost::asio::ssl;
 using tcp = boost::asio::ip::tcp;
+using PlainStream = beast::tcp_stream;
+using TlsStream = beast::ssl_stream<beast::tcp_stream>;
 
 constexpr auto kReadTimeout = std::chrono::seconds(30);
 constexpr std::size_t kMaxStreamMessageBytes = 16 * 1024;
 constexpr std::size_t kMaxQueuedStreamMessages = 16;
 
-// One WebSocket client of /api/v1/stream.
-class StreamSession : public std::enable_shared_from_this<StreamSession> {
+template <typename Stream>
+constexpr bool kIsTls = std::is_same_v<Stream, TlsStream>;
+
+Caller CallerOf(const tcp::socket& socket) {
+  beast::error_code ec;
+  const tcp::endpoint peer = socket.remote_endpoint(ec);
+  if (ec) return {};
+  auto address = peer.address();
+  if (address.is_v6() && address.to_v6().is_v4_mapped()) address = address.to_v6().to_v4();
+  return {address.to_string(), address.is_loopback(), false};
+}
+
+// One WebSocket client of /api/v1/stream, over `Stream` (plain or TLS).
+template <typename Stream>
+class StreamSession : public std::enable_shared_from_this<StreamSession<Stream>> {
  public:
-  StreamSession(tcp::socket socket, const Api& api, double rate_hz, Api::Identity who, bool sees_state)
-      : ws_(std::move(socket)), api_(api), timer_(ws_.get_executor()),
+  StreamSession(Stream stream, const Api& api, double rate_hz, Api::Identity who, bool sees_state)
+      : ws_(std::move(stream)), api_(api), timer_(ws_.get_executor()),
         period_(std::chrono::nanoseconds(static_cast<std::int64_t>(1e9 / rate_hz))), who_(std::move(who)) {
     if (!sees_state) subscriptions_.clear();  // the face screen subscribes to what it shows
   }
 
   void Start(Request request) {
+    beast::get_lowest_layer(ws_).expires_never();
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
     ws_.read_message_max(kMaxStreamMessageBytes);
-    ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
+    ws_.async_accept(request, [self = this->shared_from_this()](beast::error_code ec) {
       if (ec) return;
       self->Read();
       self->Push();
@@ -39,7 +58,7 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
 
  private:
   void Read() {
-    ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+    ws_.async_read(buffer_, [self = this->shared_from_this()](beast::error_code ec, std::size_t) {
       if (ec) {
         self->closed_ = true;
         self->timer_.cancel();
@@ -58,7 +77,7 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
       if (auto message = api_.TopicMessage(topic)) Send(Dump(*message));
     }
     timer_.expires_after(period_);
-    timer_.async_wait([self = shared_from_this()](beast::error_code ec) {
+    timer_.async_wait([self = this->shared_from_this()](beast::error_code ec) {
       if (!ec) self->Push();
     });
   }
@@ -79,17 +98,18 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
     current_ = std::move(queue_.front());
     queue_.pop_front();
     ws_.text(true);
-    ws_.async_write(boost::asio::buffer(current_), [self = shared_from_this()](beast::error_code ec, std::size_t) {
-      if (ec) {
-        self->closed_ = true;
-        self->timer_.cancel();
-        return;
-      }
-      self->Write();
-    });
+    ws_.async_write(boost::asio::buffer(current_),
+                    [self = this->shared_from_this()](beast::error_code ec, std::size_t) {
+                      if (ec) {
+                        self->closed_ = true;
+                        self->timer_.cancel();
+                        return;
+                      }
+                      self->Write();
+                    });
   }
 
-  websocket::stream<beast::tcp_stream> ws_;
+  websocket::stream<Stream> ws_;
   const Api& api_;
   boost::asio::steady_timer timer_;
   std::chrono::nanoseconds period_;
@@ -102,27 +122,40 @@ class StreamSession : public std::enable_shared_from_this<StreamSession> {
   bool closed_ = false;
 };
 
-// One HTTP connection: read a request, answer it, repeat while keep-alive.
-class HttpSession : public std::enable_shared_from_this<HttpSession> {
+// One HTTP connection over `Stream` (plain or TLS): read a request, answer it, repeat while keep-alive. With
+// `redirect_port` set, every request is answered with a redirect to HTTPS on that port instead.
+template <typename Stream>
+class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
  public:
-  HttpSession(tcp::socket socket, const Api& api, const ServerOptions& options)
-      : stream_(std::move(socket)), api_(api), options_(options) {}
+  HttpSession(Stream stream, const Api& api, const ServerOptions& options, int redirect_port = 0)
+      : stream_(std::move(stream)), api_(api), options_(options), redirect_port_(redirect_port),
+        caller_(CallerOf(beast::get_lowest_layer(stream_).socket())) {}
 
+  void Start() {
+    if constexpr (kIsTls<Stream>) {
+      beast::get_lowest_layer(stream_).expires_after(kReadTimeout);
+      stream_.async_handshake(ssl::stream_base::server, [self = this->shared_from_this()](beast::error_code ec) {
+        if (!ec) self->Read();
+      });
+    } else {
+      Read();
+    }
+  }
+
+ private:
   void Read() {
     parser_.emplace();
     parser_->body_limit(static_cast<std::uint64_t>(options_.max_body_bytes));
     parser_->header_limit(16 * 1024);
-    stream_.expires_after(kReadTimeout);
-    http::async_read(stream_, buffer_, *parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+    beast::get_lowest_layer(stream_).expires_after(kReadTimeout);
+    http::async_read(stream_, buffer_, *parser_, [self = this->shared_from_this()](beast::error_code ec, std::size_t) {
       self->OnRead(ec);
     });
   }
 
- private:
   void OnRead(beast::error_code ec) {
     if (ec == http::error::end_of_stream || ec == beast::error::timeout || ec == boost::asio::error::eof) {
-      stream_.socket().shutdown(tcp::socket::shutdown_both, ec);
-      return;
+      return Close();
     }
     if (ec == http::error::body_limit) {
       return Reply(ProblemResponse(http::status::payload_too_large, "Payload too large",
@@ -134,26 +167,36 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
                                    "request headers are limited to 16 KiB", 11, false));
     }
     if (ec) {
+      if (ec.category() == ssl::error::get_stream_category() || ec == ssl::error::stream_truncated) return;
       return Reply(ProblemResponse(http::status::bad_request, "Malformed request", ec.message(), 11, false));
     }
     Request request = parser_->release();
-    const Caller caller = CallerOf(stream_.socket());
-    if (websocket::is_upgrade(request)) return Upgrade(std::move(request), caller);
-    api_.Handle(request, caller, [self = shared_from_this()](Response response) { self->Reply(std::move(response)); });
+    if (redirect_port_ != 0) return Redirect(request);
+    if (websocket::is_upgrade(request)) return Upgrade(std::move(request));
+    api_.Handle(request, caller_,
+                [self = this->shared_from_this()](Response response) { self->Reply(std::move(response)); });
   }
 
-  static Caller CallerOf(const tcp::socket& socket) {
-    beast::error_code ec;
-    const tcp::endpoint peer = socket.remote_endpoint(ec);
-    if (ec) return {};
-    auto address = peer.address();
-    if (address.is_v6() && address.to_v6().is_v4_mapped()) address = address.to_v6().to_v4();
-    return {address.to_string(), address.is_loopback(), false};
+  // Plain HTTP beside HTTPS: the same path on https://, so bookmarks and typed addresses still work.
+  void Redirect(const Request& request) {
+    std::string host(request[http::field::host]);
+    if (host.empty() || host.find_first_of("/\\ @") != std::string::npos) host = "localhost";
+    // Drop the port: the text after the last ':', unless that ':' is inside an IPv6 literal's brackets.
+    const auto colon = host.rfind(':');
+    const auto bracket = host.rfind(']');
+    if (colon != std::string::npos && (bracket == std::string::npos || colon > bracket)) host.resize(colon);
+    Response res{http::status::permanent_redirect, request.version()};
+    res.set(http::field::server, "corridord");
+    res.set(http::field::location, "https://" + host + ":" + std::to_string(redirect_port_) +
+                                       std::string(request.target()));
+    res.keep_alive(false);
+    res.prepare_payload();
+    Reply(std::move(res));
   }
 
   // A WebSocket at /api/v1/stream, for a caller who may read (or the robot's own screen), from a page of our own
   // origin when a browser opens it.
-  void Upgrade(Request request, const Caller& caller) {
+  void Upgrade(Request request) {
     const std::string_view target = request.target();
     const std::string path(target.substr(0, target.find('?')));
     if (path != "/api/v1/stream") {
@@ -162,8 +205,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     }
     Api::Identity who;
     try {
-      who = api_.Identify(request, caller);
-      api_.CheckAccess(request, caller, who, path);
+      who = api_.Identify(request, caller_);
+      api_.CheckAccess(request, caller_, who, path);
       const std::string_view origin = request[http::field::origin];
       if (!origin.empty() && !auth::SameOrigin(origin, request[http::field::host])) {
         throw ApiError(http::status::forbidden, "Cross-site WebSocket refused",
@@ -173,56 +216,89 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       return Reply(ProblemResponse(e.status(), e.title(), e.what(), request.version(), false, e.code()));
     }
     const bool sees_state = who.who.has_value() || api_.anonymous_viewer();
-    stream_.expires_never();
-    std::make_shared<StreamSession>(stream_.release_socket(), api_, options_.stream_rate_hz, std::move(who), sees_state)
+    std::make_shared<StreamSession<Stream>>(std::move(stream_), api_, options_.stream_rate_hz, std::move(who),
+                                            sees_state)
         ->Start(std::move(request));
   }
 
   void Reply(Response response) {
     auto shared = std::make_shared<Response>(std::move(response));
-    http::async_write(stream_, *shared, [self = shared_from_this(), shared](beast::error_code ec, std::size_t) {
+    http::async_write(stream_, *shared, [self = this->shared_from_this(), shared](beast::error_code ec, std::size_t) {
       if (ec) return;
-      if (!shared->keep_alive()) {
-        self->stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
-        return;
-      }
+      if (!shared->keep_alive()) return self->Close();
       self->Read();
     });
   }
 
-  beast::tcp_stream stream_;
+  void Close() {
+    if constexpr (kIsTls<Stream>) {
+      beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(5));
+      stream_.async_shutdown([self = this->shared_from_this()](beast::error_code) {});
+    } else {
+      beast::error_code ec;
+      stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
+    }
+  }
+
+  Stream stream_;
   const Api& api_;
   const ServerOptions& options_;
+  int redirect_port_;
+  Caller caller_;
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
 };
 
+tcp::endpoint Endpoint(const std::string& bind_address, int port) {
+  beast::error_code ec;
+  const auto address = boost::asio::ip::make_address(bind_address, ec);
+  if (ec) throw std::runtime_error("server.bind_address: '" + bind_address + "' is not an IP address");
+  return {address, static_cast<unsigned short>(port)};
+}
+
+void Listen(tcp::acceptor& acceptor, const tcp::endpoint& endpoint) {
+  beast::error_code ec;
+  acceptor.open(endpoint.protocol());
+  acceptor.set_option(boost::asio::socket_base::reuse_address(true));
+  acceptor.bind(endpoint, ec);
+  if (ec) {
+    throw std::runtime_error("cannot listen on " + endpoint.address().to_string() + ":" +
+                             std::to_string(endpoint.port()) + ": " + ec.message());
+  }
+  acceptor.listen(boost::asio::socket_base::max_listen_connections);
+}
+
 }  // namespace
 
-HttpServer::HttpServer(Executor& io, const Api& api, const ServerOptions& options)
-    : io_(io), api_(api), options_(options), acceptor_(io.context()) {}
+HttpServer::HttpServer(Executor& io, const Api& api, const ServerOptions& options, std::optional<TlsIdentity> tls)
+    : io_(io), api_(api), options_(options), acceptor_(io.context()), redirect_acceptor_(io.context()) {
+  if (tls) {
+    ssl_.emplace(ssl::context::tls_server);
+    ssl_->set_options(ssl::context::default_workarounds | ssl::context::no_sslv2 | ssl::context::no_sslv3 |
+                      ssl::context::no_tlsv1 | ssl::context::no_tlsv1_1 | ssl::context::single_dh_use);
+    beast::error_code ec;
+    ssl_->use_certificate_chain_file(tls->certificate.string(), ec);
+    if (ec) throw std::runtime_error("server.tls.certificate: " + tls->certificate.string() + ": " + ec.message());
+    ssl_->use_private_key_file(tls->key.string(), ssl::context::pem, ec);
+    if (ec) throw std::runtime_error("server.tls.key: " + tls->key.string() + ": " + ec.message());
+  }
+}
 
 HttpServer::~HttpServer() { Stop(); }
 
 void HttpServer::Start() {
-  beast::error_code ec;
-  const auto address = boost::asio::ip::make_address(options_.bind_address, ec);
-  if (ec) throw std::runtime_error("server.bind_address: '" + options_.bind_address + "' is not an IP address");
-  const tcp::endpoint endpoint(address, static_cast<unsigned short>(options_.port));
-  acceptor_.open(endpoint.protocol());
-  acceptor_.set_option(boost::asio::socket_base::reuse_address(true));
-  acceptor_.bind(endpoint, ec);
-  if (ec) {
-    throw std::runtime_error("cannot listen on " + options_.bind_address + ":" + std::to_string(options_.port) + ": " +
-                             ec.message());
-  }
-  acceptor_.listen(boost::asio::socket_base::max_listen_connections);
+  Listen(acceptor_, Endpoint(options_.bind_address, options_.port));
   Accept();
+  if (ssl_ && options_.tls.redirect_port != 0) {
+    Listen(redirect_acceptor_, Endpoint(options_.bind_address, options_.tls.redirect_port));
+    AcceptRedirects();
+  }
 }
 
 void HttpServer::Stop() {
   boost::system::error_code ec;
   acceptor_.close(ec);
+  redirect_acceptor_.close(ec);
 }
 
 unsigned short HttpServer::port() const { return acceptor_.local_endpoint().port(); }
@@ -230,8 +306,24 @@ unsigned short HttpServer::port() const { return acceptor_.local_endpoint().port
 void HttpServer::Accept() {
   acceptor_.async_accept(io_.context(), [this](beast::error_code ec, tcp::socket socket) {
     if (ec == boost::asio::error::operation_aborted) return;
-    if (!ec) std::make_shared<HttpSession>(std::move(socket), api_, options_)->Read();
+    if (!ec) {
+      if (ssl_) {
+        std::make_shared<HttpSession<TlsStream>>(TlsStream(std::move(socket), *ssl_), api_, options_)->Start();
+      } else {
+        std::make_shared<HttpSession<PlainStream>>(PlainStream(std::move(socket)), api_, options_)->Start();
+      }
+    }
     Accept();
+  });
+}
+
+void HttpServer::AcceptRedirects() {
+  redirect_acceptor_.async_accept(io_.context(), [this](beast::error_code ec, tcp::socket socket) {
+    if (ec == boost::asio::error::operation_aborted) return;
+    if (!ec) {
+      std::make_shared<HttpSession<PlainStream>>(PlainStream(std::move(socket)), api_, options_, port())->Start();
+    }
+    AcceptRedirects();
   });
 }
 

@@ -43,7 +43,7 @@ std::string HostName() {
 
 }  // namespace
 
-Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule schedule)
+Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule schedule, std::string tls_fingerprint)
     : config_(Adjusted(config, devices)),
       clock_(ClockFor(schedule, devices, wall_clock_)),
       devices_(devices),
@@ -163,7 +163,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   api_ = std::make_unique<Api>(
       ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, octree_, perception_, *spoken_,
                  *webhooks_, access_, config_, clock_, executors_.io, executors_.control,
-                 devices_.sim});
+                 devices_.sim, std::move(tls_fingerprint)});
 }
 
 Graph::~Graph() { Stop(); }

@@ -50,8 +50,8 @@ class Graph {
  public:
   // Builds everything, nothing running yet. `config.store.state_dir` must exist and be writable. With kLockstep,
   // `devices.sim` is required: its clock is the graph's. Throws std::runtime_error (or ConfigError, StoreError) for a
-  // configuration that cannot be built.
-  Graph(const Config& config, Devices devices, NamedMap map, Schedule schedule);
+  // configuration that cannot be built. `tls_fingerprint`: the server certificate's, shown to whoever sets the robot up.
+  Graph(const Config& config, Devices devices, NamedMap map, Schedule schedule, std::string tls_fingerprint = "");
   Graph(const Graph&) = delete;
   Graph& operator=(const Graph&) = delete;
   ~Graph();
