@@ -1,7 +1,7 @@
 // Who may use the robot, over real HTTP and WebSocket: setup with the one-time code, sessions, tokens, roles, the
 // CSRF and Origin checks, the limit on wrong passwords, and the audit log.
 import assert from 'node:assert/strict';
-import { mkdtempSync } from 'node:fs';
+import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
@@ -263,5 +263,54 @@ describe('auth.anonymous_viewer', () => {
       'application/json', none);
     assert.equal(write.status, 401);
     assert.ok(authHeaders(daemon.url).Authorization, 'the test still has its token');
+  });
+});
+
+describe('the configuration through the API', () => {
+  let daemon;
+  let file;
+  before(async () => {
+    // A state directory of the test's own: it outlives the first daemon.
+    const stateDir = mkdtempSync(join(tmpdir(), 'corridor-config-'));
+    daemon = await startDaemon({
+      stateDir, config: `sim:\n  world: "${writeRoom(stateDir, 4, 3)}"\n  start: {x_m: 1, y_m: 1, yaw_deg: 0}\n`,
+    });
+    file = join(stateDir, 'corridor.yaml');
+  });
+  after(async () => {
+    await daemon?.stop();
+    rmSync(daemon.stateDir, { recursive: true, force: true });
+  });
+
+  test('is read and changed by admins only, checked as at start-up, and rewritten whole', async () => {
+    const operator = mintToken(daemon.stateDir, 'operator', 'config-operator');
+    assert.equal((await sendJson('GET', `${daemon.url}/api/v1/config`, undefined, undefined, bearer(operator))).status, 403);
+    const read = await getJson(`${daemon.url}/api/v1/config`);
+    assert.equal(read.status, 200);
+    assert.equal(read.body.file, file);
+    assert.deepEqual(read.body.config.sim.start, { x_m: 1, y_m: 1, yaw_deg: 0 });
+
+    const before = readFileSync(file, 'utf8');
+    const bad = await sendJson('PATCH', `${daemon.url}/api/v1/config`, { auth: { session_hours: -1 } });
+    assert.equal(bad.status, 422);
+    assert.match(bad.body.detail, /auth\.session_hours/);
+    const unknown = await sendJson('PATCH', `${daemon.url}/api/v1/config`, { auth: { sessions: 3 } });
+    assert.equal(unknown.status, 422);
+    assert.match(unknown.body.detail, /auth\.sessions/);
+    assert.equal(readFileSync(file, 'utf8'), before, 'a refused change leaves the file alone');
+
+    const changed = await sendJson('PATCH', `${daemon.url}/api/v1/config`,
+      { server: { stream_rate_hz: 10 }, auth: { anonymous_viewer: true }, sim: { start: { yaw_deg: 90 } } });
+    assert.equal(changed.status, 200, JSON.stringify(changed.body));
+    assert.deepEqual(changed.body.changed.sort(), ['auth.anonymous_viewer', 'server.stream_rate_hz', 'sim.start.yaw_deg']);
+    assert.equal(changed.body.restart_required, true);
+    assert.deepEqual(changed.body.config.sim.start, { x_m: 1, y_m: 1, yaw_deg: 90 });
+    // The rewritten file starts a daemon that has the change.
+    await daemon.stop();
+    daemon = await startDaemon({ stateDir: daemon.stateDir, args: ['--config', file] });
+    const anonymous = await sendJson('GET', `${daemon.url}/api/v1/state`, undefined, undefined, none);
+    assert.equal(anonymous.status, 200, 'anonymous_viewer is on after the restart');
+    const audit = await getJson(`${daemon.url}/api/v1/audit`);
+    assert.ok(audit.body.records.some((r) => r.method === 'PATCH' && r.path === '/api/v1/config' && r.status === 200));
   });
 });

@@ -1,6 +1,7 @@
 #include "server/api/api.h"
 
 #include <boost/asio/post.hpp>
+#include <spdlog/fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <charconv>
@@ -12,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "server/runtime/config_file.h"
 #include "server/runtime/topics.h"
 
 namespace corridor::server {
@@ -167,7 +169,7 @@ void Api::Answer(const Request& request, Reply reply, const std::function<Respon
     response = work();
   } catch (const ApiError& e) {
     response = ProblemResponse(e.status(), e.title(), e.what(), request.version(), request.keep_alive(), e.code());
-    if (e.status() == http::status::method_not_allowed) response.set(http::field::allow, "GET, POST, PUT, DELETE");
+    if (e.status() == http::status::method_not_allowed) response.set(http::field::allow, "GET, POST, PUT, PATCH, DELETE");
   } catch (const std::exception& e) {
     spdlog::error("{} {}: {}", std::string(request.method_string()), std::string(request.target()), e.what());
     response = ProblemResponse(http::status::internal_server_error, "Internal error", e.what(), request.version(), false);
@@ -292,6 +294,37 @@ void Api::AddCoreRoutes() {
       }));
   Add(http::verb::get, "/api/v1/openapi.json", Sync([](const Request& r, const Params&) {
         return MakeResponse(r, http::status::ok, "application/json", OpenApiDocument());
+      }));
+  // The configuration file: read, and changed with a JSON merge patch checked as strictly as at start-up.
+  const auto config_file = [this]() {
+    if (c_.config.file.empty()) throw ApiError(http::status::not_found, "No configuration file", "built in code");
+    return c_.config.file;
+  };
+  Add(http::verb::get, "/api/v1/config", Sync([config_file](const Request& r, const Params&) {
+        const auto file = config_file();
+        try {
+          return JsonResponse(r, {{"file", file.string()}, {"config", ConfigDocument(file)}});
+        } catch (const ConfigError& e) {
+          throw ApiError(http::status::service_unavailable, "Configuration unreadable", e.what());
+        }
+      }));
+  Add(http::verb::patch, "/api/v1/config", Sync([config_file](const Request& r, const Params&) {
+        const auto file = config_file();
+        const json patch = ParseJsonBody(r);
+        ConfigChange change;
+        try {
+          change = PatchConfigFile(file, patch);
+        } catch (const ConfigError& e) {
+          throw ApiError(http::status::unprocessable_entity, "Invalid configuration", e.what(), "invalid_config");
+        } catch (const std::runtime_error& e) {
+          throw ApiError(http::status::conflict, "Configuration not written", e.what(), "not_writable");
+        }
+        spdlog::info("configuration changed through the API: {}", fmt::join(change.changed, ", "));
+        return JsonResponse(r, {{"file", file.string()}, {"config", change.document}, {"changed", change.changed},
+                                {"restart_required", !change.changed.empty()},
+                                {"detail", change.changed.empty() ? "nothing changed"
+                                                                  : "corridord reads its configuration at start: "
+                                                                    "restart it (systemctl restart corridor)"}});
       }));
   Add(http::verb::get, "/api/v1/stream", Sync([](const Request&, const Params&) -> Response {
         throw ApiError(http::status::upgrade_required, "Upgrade required", "/api/v1/stream is a WebSocket endpoint");

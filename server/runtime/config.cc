@@ -426,7 +426,13 @@ Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
   if (overrides.state_dir) set("store", "state_dir", fs::absolute(*overrides.state_dir).string());
   if (overrides.map) set("map", "file", fs::absolute(*overrides.map).string());
   if (overrides.world) set("sim", "world", fs::absolute(*overrides.world).string());
+  Config config = ConfigFromYaml(root, file);
+  config.file = fs::absolute(file);
+  return config;
+}
 
+Config ConfigFromYaml(const YAML::Node& root, const fs::path& file) {
+  if (!root.IsMap()) throw ConfigError(file.string() + ": expected a mapping of sections");
   const fs::path base = fs::absolute(file).parent_path();
   Config config;
   try {

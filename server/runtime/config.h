@@ -184,6 +184,7 @@ struct Config {
   WebhookOptions webhooks;
   auth::AuthOptions auth;
   LogOptions log;
+  std::filesystem::path file;  // where it was read from (absolute); empty when built in code
 };
 
 // Values given on the command line; each replaces its key before validation, so the same checks apply.
@@ -202,5 +203,8 @@ void ApplyDerivedOptions(Config& config);
 // Loads and validates `file`. Relative paths in it are resolved against the file's folder; override paths against
 // the working directory. Throws ConfigError with the key path for any problem.
 Config LoadConfig(const std::filesystem::path& file, const ConfigOverrides& overrides = {});
+// The configuration in `root`, checked as LoadConfig checks a file; relative paths resolve against `file`'s
+// directory and errors name `file`. Throws ConfigError.
+Config ConfigFromYaml(const YAML::Node& root, const std::filesystem::path& file);
 
 }  // namespace corridor::server
