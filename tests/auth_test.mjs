@@ -195,6 +195,41 @@ describe('roles, tokens and sessions', () => {
       await browser.close();
     }
   });
+  test('the admin page adds a user, makes and revokes a token, and shows the audit log', async () => {
+    const browser = await launchBrowser();
+    try {
+      const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+      const errors = [];
+      page.on('pageerror', (e) => errors.push(e.message));
+      await gotoConsole(page, daemon.url, { username: 'admin1', password: 'admin-password' });
+      await page.getByTestId('admin-link').click();
+      await page.getByTestId('users').filter({ hasText: 'viewer1' }).waitFor();
+      await page.getByTestId('user-name').fill('night-shift');
+      await page.getByTestId('user-password').fill('night-shift-password');
+      await page.getByTestId('user-role').selectOption('operator');
+      await page.getByTestId('user-add').click();
+      await page.getByTestId('users').filter({ hasText: 'night-shift' }).waitFor();
+      await page.getByTestId('token-name').fill('door-controller');
+      await page.getByTestId('token-add').click();
+      const shown = await page.getByTestId('token-secret').filter({ hasText: 'cor_' }).textContent();
+      const secret = /cor_[A-Za-z0-9_-]+/.exec(shown)[0];
+      const use = () => sendJson('GET', `${daemon.url}/api/v1/state`, undefined, undefined, bearer(secret));
+      assert.equal((await use()).status, 200);
+      await page.getByTestId('revoke-door-controller').click();
+      await page.waitForFunction(() => !document.getElementById('tokens').textContent.includes('door-controller'));
+      assert.equal((await use()).status, 401);
+      await page.getByTestId('audit').filter({ hasText: 'POST /api/v1/users' }).waitFor();
+      await page.getByTestId('audit').filter({ hasText: 'DELETE /api/v1/tokens' }).waitFor();
+      assert.deepEqual(errors, []);
+      // A viewer is sent back to the console.
+      const other = await browser.newPage();
+      await gotoConsole(other, daemon.url, { username: 'viewer1', password: 'viewer-password' });
+      await other.goto(`${daemon.url}/admin`);
+      await other.waitForURL(`${daemon.url}/`);
+    } finally {
+      await browser.close();
+    }
+  });
 });
 
 describe('wrong passwords', () => {

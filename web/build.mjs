@@ -1,4 +1,4 @@
-// Builds the console and the face kiosk page into web/dist: one bundled script each, the pages, the styles (ours and
+// Builds the console, the admin page and the face kiosk page into web/dist: one bundled script each, the pages, the styles (ours and
 // Leaflet's).
 import { build } from 'esbuild';
 import { cpSync, mkdirSync } from 'node:fs';
@@ -24,7 +24,18 @@ await build({
   outfile: `${dist}face.js`,
   logLevel: 'warning',
 });
+await build({
+  entryPoints: ['src/admin.ts'],
+  bundle: true,
+  minify: true,
+  sourcemap: true,
+  target: 'es2022',
+  format: 'esm',
+  outfile: `${dist}admin.js`,
+  logLevel: 'warning',
+});
 cpSync('index.html', `${dist}index.html`);
+cpSync('admin.html', `${dist}admin.html`);
 cpSync('face.html', `${dist}face.html`);
 cpSync('style.css', `${dist}style.css`);
 cpSync('node_modules/leaflet/dist/leaflet.css', `${dist}leaflet.css`);

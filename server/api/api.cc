@@ -473,8 +473,11 @@ Response Api::CameraImage(const Request& request, bool depth) const {
 }
 
 Response Api::ServeFile(const Request& request, const std::string& target) const {
-  // The console at /, the face kiosk page at /face.
-  const std::string relative = target == "/" ? "index.html" : target == "/face" ? "face.html" : target.substr(1);
+  // The console at /, the face kiosk page at /face, the admin page at /admin.
+  const std::string relative = target == "/"        ? "index.html"
+                               : target == "/face"  ? "face.html"
+                               : target == "/admin" ? "admin.html"
+                                                    : target.substr(1);
   if (relative.find("..") != std::string::npos || relative.find('\0') != std::string::npos) {
     throw ApiError(http::status::bad_request, "Bad path", "path must not contain '..'");
   }

@@ -1,0 +1,114 @@
+// The admin page at /admin: users, API tokens, webhooks and the audit log. For admins; anyone else is sent to the
+// console (which logs them in).
+import { send } from './api';
+import { byId } from './dom';
+import type { Me } from './session';
+
+interface User { username: string; role: string; created: string; }
+interface Token { id: string; name: string; role: string; created: string; created_by: string; last_used: string | null; token?: string; }
+interface Webhook { id: string; url: string; events: string[]; description: string; }
+interface Delivery { status: string; event: string; response_status: number | null; }
+interface AuditRecord { time: string; who: string; client: string; method: string; path: string; status: number; detail: string; }
+
+function report(e: Error): void {
+  byId('admin-message').textContent = e.message;
+}
+
+// A table row of text cells, and optionally a button at its end.
+function row(cells: string[], button?: { label: string; testId: string; onClick: () => void }): HTMLTableRowElement {
+  const tr = document.createElement('tr');
+  for (const text of cells) {
+    const td = document.createElement('td');
+    td.textContent = text;
+    tr.append(td);
+  }
+  const td = document.createElement('td');
+  if (button) {
+    const b = document.createElement('button');
+    b.textContent = button.label;
+    b.dataset.testid = button.testId;
+    b.addEventListener('click', button.onClick);
+    td.append(b);
+  }
+  tr.append(td);
+  return tr;
+}
+
+const day = (iso: string | null) => (iso ? iso.replace('T', ' ').slice(0, 16) : 'never');
+
+async function showUsers(me: Me): Promise<void> {
+  const { users } = await send<{ users: User[] }>('GET', '/api/v1/users');
+  byId('users').replaceChildren(...users.map((u) => row([u.username, u.role, day(u.created)],
+    u.username === me.name ? undefined : {
+      label: 'Delete', testId: `delete-user-${u.username}`,
+      onClick: () => void send('DELETE', `/api/v1/users/${encodeURIComponent(u.username)}`)
+        .then(() => refresh(me)).catch(report),
+    })));
+}
+
+async function showTokens(me: Me): Promise<void> {
+  const { tokens } = await send<{ tokens: Token[] }>('GET', '/api/v1/tokens');
+  byId('tokens').replaceChildren(...tokens.map((t) => row([t.name, t.role, day(t.created), t.created_by, day(t.last_used)], {
+    label: 'Revoke', testId: `revoke-${t.name}`,
+    onClick: () => void send('DELETE', `/api/v1/tokens/${t.id}`).then(() => refresh(me)).catch(report),
+  })));
+}
+
+async function showWebhooks(me: Me): Promise<void> {
+  const { webhooks } = await send<{ webhooks: Webhook[] }>('GET', '/api/v1/webhooks');
+  const rows = await Promise.all(webhooks.map(async (w) => {
+    const { deliveries } = await send<{ deliveries: Delivery[] }>('GET', `/api/v1/webhooks/${w.id}/deliveries`);
+    const recent = deliveries.slice(0, 3).map((d) => `${d.event} ${d.status}${d.response_status ? ` (${d.response_status})` : ''}`);
+    return row([w.url, w.events.join(', '), recent.join('; ') || 'none'], {
+      label: 'Delete', testId: `delete-webhook-${w.id}`,
+      onClick: () => void send('DELETE', `/api/v1/webhooks/${w.id}`).then(() => refresh(me)).catch(report),
+    });
+  }));
+  byId('webhooks').replaceChildren(...rows);
+}
+
+async function showAudit(): Promise<void> {
+  const { records } = await send<{ records: AuditRecord[] }>('GET', '/api/v1/audit');
+  byId('audit').replaceChildren(...records.reverse().map((r) =>
+    row([day(r.time), r.who, r.client, `${r.method} ${r.path}`, String(r.status), r.detail])));
+}
+
+function refresh(me: Me): Promise<void> {
+  return Promise.all([showUsers(me), showTokens(me), showWebhooks(me), showAudit()]).then(() => undefined);
+}
+
+async function main(): Promise<void> {
+  const res = await fetch('/api/v1/session', { cache: 'no-store' });
+  const me = res.ok ? (await res.json()) as Me : null;
+  if (!me || me.role !== 'admin') {
+    location.href = '/';
+    return;
+  }
+  byId('user').textContent = `${me.name} (${me.role})`;
+  byId('user-form').addEventListener('submit', (event) => {
+    event.preventDefault();
+    const body = {
+      username: byId<HTMLInputElement>('user-name').value,
+      password: byId<HTMLInputElement>('user-password').value,
+      role: byId<HTMLSelectElement>('user-role').value,
+    };
+    send('POST', '/api/v1/users', body).then(() => {
+      byId<HTMLFormElement>('user-form').reset();
+      return refresh(me);
+    }).catch(report);
+  });
+  byId('token-form').addEventListener('submit', (event) => {
+    event.preventDefault();
+    const body = { name: byId<HTMLInputElement>('token-name').value, role: byId<HTMLSelectElement>('token-role').value };
+    send<Token>('POST', '/api/v1/tokens', body).then((made) => {
+      const secret = byId('token-secret');
+      secret.hidden = false;
+      secret.textContent = `${made.name}: ${made.token ?? ''} (copy it now: it is not shown again)`;
+      return refresh(me);
+    }).catch(report);
+  });
+  byId('audit-refresh').addEventListener('click', () => void showAudit().catch(report));
+  await refresh(me).catch(report);
+}
+
+void main();
