@@ -115,15 +115,15 @@ TEST_F(AccountsTest, UsersSessionsAndTokens) {
   EXPECT_EQ(fs::status(dir_ / "accounts.db").permissions() & fs::perms::all,
             fs::perms::owner_read | fs::perms::owner_write);
   EXPECT_FALSE(accounts.HasUsers());
-  Setup setup(accounts);
+  auth::Setup setup(accounts);  // qualified: gtest has a Setup of its own
   const auto code = setup.code();
   ASSERT_TRUE(code.has_value());
-  EXPECT_THROW(setup.Complete("WRONG-CODE", "root", "a-long-password"), Setup::SetupError);
+  EXPECT_THROW(setup.Complete("WRONG-CODE", "root", "a-long-password"), auth::Setup::SetupError);
   EXPECT_THROW(setup.Complete(*code, "root", "short"), AccountError);
   EXPECT_THROW(setup.Complete(*code, "bad name", "a-long-password"), AccountError);
   EXPECT_EQ(setup.Complete(*code, "root", "a-long-password").role, Role::kAdmin);
   EXPECT_FALSE(setup.code().has_value());
-  EXPECT_THROW(setup.Complete(*code, "root2", "a-long-password"), Setup::SetupError);
+  EXPECT_THROW(setup.Complete(*code, "root2", "a-long-password"), auth::Setup::SetupError);
 
   EXPECT_TRUE(accounts.CheckPassword("root", "a-long-password").has_value());
   EXPECT_FALSE(accounts.CheckPassword("root", "wrong").has_value());
