@@ -148,7 +148,8 @@ void Executors::StartAll() {
 
 void Executors::StopAll() {
   // The control loop's executor last but io: what drives the robot outlives what feeds it.
-  for (Executor* e : {&sim, &perception, &planning, &mapping, &control, &io}) e->Stop();
+  for (Executor* e : {&sim, &perception, &planning, &mapping3d, &mapping, &control, &io}) e->Stop();
+  for (Executor* e : all()) e->Stop();  // one added later and not ordered above still stops (Stop is idempotent)
 }
 
 std::size_t Executors::RunUntilIdle() {
