@@ -284,6 +284,34 @@ describe('first start: the setup code', () => {
   });
 });
 
+describe('first start in the console', () => {
+  let daemon;
+  before(async () => { daemon = await startDaemon(); });
+  after(async () => { await daemon?.stop(); });
+
+  test('asks for the setup code and makes the first admin', async () => {
+    const code = (await sendJson('GET', `${daemon.url}/api/v1/setup`, undefined, undefined, none)).body.code;
+    const browser = await launchBrowser();
+    try {
+      const page = await browser.newPage();
+      await page.goto(daemon.url);
+      await page.getByTestId('login-code').waitFor();
+      await page.getByTestId('login-code').fill('WRONG-CODE');
+      await page.getByTestId('login-username').fill('first-admin');
+      await page.getByTestId('login-password').fill('first-admin-password');
+      await page.getByTestId('login-submit').click();
+      await page.getByTestId('login-error').filter({ hasText: 'Wrong setup code' }).waitFor();
+      await page.getByTestId('login-code').fill(code);
+      await page.getByTestId('login-submit').click();
+      await page.getByTestId('connection').filter({ hasText: 'connected' }).waitFor({ timeout: 15000 });
+      await page.getByTestId('user').filter({ hasText: 'first-admin (admin)' }).waitFor();
+      assert.equal(await page.getByTestId('admin-link').isVisible(), true);
+    } finally {
+      await browser.close();
+    }
+  });
+});
+
 describe('auth.anonymous_viewer', () => {
   let daemon;
   before(async () => {
