@@ -2,7 +2,8 @@
 # The Debian package on this machine, as a robot would get it (run as root by ./dev test):
 #   - the previous build installs: the corridor user, /var/lib/corridor (0700), the conffile;
 #   - corridord started as the corridor user with the installed configuration answers /api/v1/health over HTTPS;
-#   - the unit passes systemd-analyze verify, and security --offline=yes gives an exposure of at most 3.0;
+#   - the units (corridor-face's too) pass systemd-analyze verify, and security --offline=yes gives corridor.service
+#     an exposure of at most 3.0;
 #   - an upgrade to this build keeps an edited conffile, the state directory and the users;
 #   - remove keeps the state; purge leaves nothing behind (files, user, group).
 #   tests/package_test.sh PACKAGES_DIR VERSION PREVIOUS_VERSION
@@ -38,7 +39,7 @@ api() { curl -sk --max-time 10 "$@"; }
 
 cleanup
 echo "package_test: installing $previous"
-dpkg -i "$packages/corridor_${previous}_${arch}.deb" >/dev/null
+dpkg -i "$packages/corridor_${previous}_${arch}.deb" "$packages/corridor-face_${previous}_all.deb" >/dev/null
 getent passwd corridor >/dev/null || fail "no corridor user"
 for group in video dialout plugdev; do
   if getent group "$group" >/dev/null; then id -nG corridor | grep -qw "$group" || fail "corridor is not in $group"; fi
@@ -46,7 +47,9 @@ done
 [ "$(stat -c '%U %a' /var/lib/corridor)" = "corridor 700" ] || fail "/var/lib/corridor: $(stat -c '%U %a' /var/lib/corridor)"
 grep -q '^/etc/corridor/corridor.yaml$' /var/lib/dpkg/info/corridor.conffiles || fail "corridor.yaml is not a conffile"
 
-systemd-analyze verify /lib/systemd/system/corridor.service || fail "systemd-analyze verify"
+systemd-analyze verify /lib/systemd/system/corridor.service /lib/systemd/system/corridor-face.service ||
+  fail "systemd-analyze verify"
+sh -n /usr/libexec/corridor/face-kiosk || fail "face-kiosk does not parse"
 exposure=$(systemd-analyze security --offline=yes /lib/systemd/system/corridor.service 2>/dev/null |
   sed -n 's/.*Overall exposure level for corridor.service: \([0-9.]*\).*/\1/p')
 echo "package_test: systemd-analyze security: exposure $exposure"
@@ -79,11 +82,12 @@ start_daemon
 grep -q "setup code" "$log" && fail "setup offered again after the upgrade"
 stop_daemon
 
-dpkg --remove corridor >/dev/null
+dpkg --remove corridor-face corridor >/dev/null
 [ -f /var/lib/corridor/accounts.db ] || fail "remove deleted the state"
 getent passwd corridor >/dev/null || fail "remove deleted the user"
-dpkg --purge corridor >/dev/null
-for path in /var/lib/corridor /etc/corridor /usr/bin/corridord /usr/share/corridor /lib/systemd/system/corridor.service; do
+dpkg --purge corridor-face corridor >/dev/null
+for path in /var/lib/corridor /etc/corridor /usr/bin/corridord /usr/share/corridor /lib/systemd/system/corridor.service \
+    /usr/libexec/corridor; do
   [ ! -e "$path" ] || fail "$path left after purge"
 done
 getent passwd corridor >/dev/null && fail "the corridor user is left after purge"
