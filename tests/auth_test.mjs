@@ -248,6 +248,13 @@ describe('wrong passwords', () => {
     const limited = await postJson(`${daemon.url}/api/v1/session`, { username: 'operator1', password: 'operator-password' });
     assert.equal(limited.status, 429);
     assert.equal(limited.body.code, 'rate_limited');
+    const retry = await fetch(`${daemon.url}/api/v1/session`, {
+      method: 'POST', headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify({ username: 'someone-else', password: 'x' }),
+    });
+    assert.equal(retry.status, 429, 'the client is limited, whatever the name');
+    const after = Number(retry.headers.get('retry-after'));
+    assert.ok(after > 0 && after <= 60, `Retry-After ${after}`);
   });
 });
 

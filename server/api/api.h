@@ -46,11 +46,18 @@ class ApiError : public std::runtime_error {
   http::status status() const { return status_; }
   const std::string& title() const { return title_; }
   const std::string& code() const { return code_; }
+  // For 429 and 503: when to try again (the Retry-After header); 0: not said.
+  int retry_after_s() const { return retry_after_s_; }
+  ApiError& RetryAfter(int seconds) {
+    retry_after_s_ = seconds;
+    return *this;
+  }
 
  private:
   http::status status_;
   std::string title_;
   std::string code_;
+  int retry_after_s_ = 0;
 };
 
 Response ProblemResponse(http::status status, const std::string& title, const std::string& detail,

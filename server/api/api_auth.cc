@@ -250,7 +250,8 @@ void Api::AddAuthRoutes() {
 ApiError Api::TooManyAttempts(int retry_after_s) {
   return ApiError(http::status::too_many_requests, "Too many attempts",
                   "too many wrong passwords or codes; try again in " + std::to_string(retry_after_s) + " s",
-                  "rate_limited");
+                  "rate_limited")
+      .RetryAfter(retry_after_s);
 }
 
 }  // namespace corridor::server
