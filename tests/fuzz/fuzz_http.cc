@@ -1,5 +1,7 @@
 // libFuzzer target: bytes as they arrive on the HTTP port, parsed as the server parses them, then answered through the
-// real router and handlers. Input it cannot parse gets a 400 from the server and never reaches the API.
+// real router and handlers. Input it cannot parse gets a 400 from the server and never reaches the API. A request
+// with credentials (Authorization, Cookie) or an Origin comes from the network, so the access gate reads them; the
+// others come from a trusted caller, so the handlers behind the gate are reached.
 #include <boost/beast/core/buffers_to_string.hpp>
 #include <boost/beast/http.hpp>
 
@@ -21,6 +23,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     parser.put_eof(ec);
     if (ec || !parser.is_done()) return 0;
   }
-  fuzz.Answer(parser.release());
+  const auto request = parser.release();
+  const bool credentials = request.count(http::field::authorization) > 0 || request.count(http::field::cookie) > 0 ||
+                           request.count(http::field::origin) > 0;
+  if (credentials) {
+    fuzz.Answer(request, corridor::server::Caller{"192.0.2.7", false, false});
+  } else {
+    fuzz.Answer(request);
+  }
   return 0;
 }
