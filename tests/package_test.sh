@@ -61,6 +61,8 @@ grep -q "redirect_port: $redirect " /etc/corridor/corridor.yaml || fail "could n
 
 start_daemon
 api "https://127.0.0.1:$port/api/v1/health" | grep -q '"status":"ok"' || fail "no health over HTTPS"
+api "https://127.0.0.1:$port/" | grep -q '<title>corridor console</title>' || fail "no console"
+api "https://127.0.0.1:$port/face" | grep -q '<title>corridor face</title>' || fail "no face page"
 [ "$(api -o /dev/null -w '%{http_code}' "https://127.0.0.1:$port/api/v1/state")" = 401 ] || fail "state without login"
 [ "$(curl -s -o /dev/null -w '%{http_code}' "http://127.0.0.1:$redirect/")" = 308 ] || fail "no redirect"
 grep -q "setup code" "$log" || fail "no setup code in the log"
