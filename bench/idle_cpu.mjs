@@ -20,7 +20,8 @@ let camera = null;
 if (withConsole) {
   const WebSocket = require('ws');
   ws = new WebSocket(`${daemon.url.replace('http', 'ws')}/api/v1/stream`, { headers: authHeaders(daemon.url) });
-  camera = setInterval(() => apiFetch(`${daemon.url}/api/v1/camera/depth?colormap=true`).then((r) => r.arrayBuffer()), 200);
+  const view = `${daemon.url}/api/v1/camera/depth?colormap=true`;
+  camera = setInterval(() => apiFetch(view).then((r) => r.arrayBuffer()), 200);
 }
 await sleep(3000);  // start-up and the first frames are not idle
 const before = threadTicks(pid);

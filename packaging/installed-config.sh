@@ -9,7 +9,7 @@ out=$2
 sed -e 's|^  port: 8080 .*|  port: 8443                 # HTTPS (server.tls); 0 picks a free port|' \
     -e 's|^  state_dir: "../.corridor-state".*|  state_dir: "/var/lib/corridor"|' \
     -e 's|^  world: "worlds/|  world: "/usr/share/corridor/worlds/|' \
-    -e 's|^    enabled: false           # HTTPS and WSS.*|    enabled: true            # HTTPS and WSS on server.port|' \
+    -e 's|^    enabled: false .*# HTTPS and WSS.*|    enabled: true            # HTTPS and WSS on server.port|' \
     -e 's|^    redirect_port: 0 .*|    redirect_port: 8080      # plain HTTP here only redirects to HTTPS|' \
     "$src" > "$out"
 for want in '^  port: 8443 ' '^  state_dir: "/var/lib/corridor"' '^  world: "/usr/share/corridor/worlds/' \

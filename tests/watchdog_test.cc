@@ -11,10 +11,10 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <fstream>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <regex>
 #include <string>
 #include <vector>
@@ -101,8 +101,9 @@ std::string PutFaults(int port, const std::string& token, const std::string& bod
 TEST(WatchdogTest, PingsStopWhenTheControlLoopStallsAndResumeAfter) {
   const fs::path dir = fs::temp_directory_path() / ("corridor-watchdog-" + std::to_string(getpid()));
   fs::create_directories(dir);
-  const std::string token = Output(std::string(CORRIDORD) + " token create --role operator --name watchdog --state-dir " +
-                                dir.string() + " 2>/dev/null");
+  const std::string token =
+      Output(std::string(CORRIDORD) + " token create --role operator --name watchdog --state-dir " + dir.string() +
+             " 2>/dev/null");
   ASSERT_EQ(token.rfind("cor_", 0), 0u) << token;
   NotifyReader reader(dir / "notify.sock");
 
@@ -141,7 +142,9 @@ TEST(WatchdogTest, PingsStopWhenTheControlLoopStallsAndResumeAfter) {
   const auto stopping = reader.Read(std::chrono::milliseconds(500));
   int status = 0;
   waitpid(pid, &status, 0);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "status " << status << "\n" << Output("tail -c 3000 " + (dir / "corridord.log").string());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
+      << "status " << status << "\n"
+      << Output("tail -c 3000 " + (dir / "corridord.log").string());
   EXPECT_GE(Count(stopping, "STOPPING=1"), 1);
   fs::remove_all(dir);
 }

@@ -169,7 +169,9 @@ void Api::Answer(const Request& request, Reply reply, const std::function<Respon
     response = work();
   } catch (const ApiError& e) {
     response = ProblemResponse(e.status(), e.title(), e.what(), request.version(), request.keep_alive(), e.code());
-    if (e.status() == http::status::method_not_allowed) response.set(http::field::allow, "GET, POST, PUT, PATCH, DELETE");
+    if (e.status() == http::status::method_not_allowed) {
+      response.set(http::field::allow, "GET, POST, PUT, PATCH, DELETE");
+    }
     if (e.retry_after_s() > 0) response.set(http::field::retry_after, std::to_string(e.retry_after_s()));
   } catch (const std::exception& e) {
     spdlog::error("{} {}: {}", std::string(request.method_string()), std::string(request.target()), e.what());

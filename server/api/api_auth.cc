@@ -7,10 +7,10 @@
 namespace corridor::server {
 namespace {
 
-using nlohmann::json;
 using auth::Access;
 using auth::Principal;
 using auth::Role;
+using nlohmann::json;
 
 constexpr int kAuditPerPage = 256;
 
@@ -46,7 +46,8 @@ auto AccountChange(Work&& work) {
     return work();
   } catch (const auth::AccountError& e) {
     const std::string why = e.what();
-    const bool conflict = why.find("already exists") != std::string::npos || why.find("last admin") != std::string::npos;
+    const bool conflict =
+        why.find("already exists") != std::string::npos || why.find("last admin") != std::string::npos;
     throw ApiError(conflict ? http::status::conflict : http::status::unprocessable_entity, "Not accepted", why);
   }
 }
@@ -88,8 +89,8 @@ void Api::CheckAccess(const Request& request, const Caller& caller, const Identi
   if (identity.by_cookie && !IsRead(request.method()) && needed != Access::kPublic) {
     const std::string_view origin = request[http::field::origin];
     const std::string_view fetch_site = request["Sec-Fetch-Site"];
-    const bool same = origin.empty() ? fetch_site == "same-origin"
-                                     : auth::SameOrigin(origin, request[http::field::host]);
+    const bool same =
+        origin.empty() ? fetch_site == "same-origin" : auth::SameOrigin(origin, request[http::field::host]);
     if (!same) {
       throw ApiError(http::status::forbidden, "Cross-site request refused",
                      "writes with a session cookie must come from the console's own origin", "cross_site");
@@ -125,8 +126,8 @@ void Api::AddAuthRoutes() {
   // Logs `who` in: a session and its cookie.
   const auto login = [this, secure, lifetime](const Request& r, const Principal& who, http::status status) {
     Response res = JsonResponse(r, PrincipalJson(who), status);
-    res.set(http::field::set_cookie, auth::SessionCookie(c_.access.accounts.OpenSession(who.name, lifetime),
-                                                         lifetime, secure));
+    res.set(http::field::set_cookie,
+            auth::SessionCookie(c_.access.accounts.OpenSession(who.name, lifetime), lifetime, secure));
     return res;
   };
 
@@ -138,45 +139,50 @@ void Api::AddAuthRoutes() {
     if (!c_.tls_fingerprint.empty()) body["tls_fingerprint"] = c_.tls_fingerprint;
     return JsonResponse(r, body);
   });
-  AddWithCaller(http::verb::post, "/api/v1/setup", [this, login](const Request& r, const Params&, const Caller& caller) {
-    const json body = ParseJsonBody(r);
-    AllowOnlyKeys(body, {"code", "username", "password"}, "");
-    const std::string key = "setup@" + caller.address;
-    const auto now = std::chrono::steady_clock::now();
-    if (const int wait = c_.access.limiter.RetryAfter(key, now); wait > 0) throw TooManyAttempts(wait);
-    try {
-      const auth::UserRecord admin = AccountChange([&] {
-        return c_.access.setup.Complete(RequireString(body, "code"), RequireString(body, "username"),
-                                        RequireString(body, "password"));
+  AddWithCaller(
+      http::verb::post, "/api/v1/setup", [this, login](const Request& r, const Params&, const Caller& caller) {
+        const json body = ParseJsonBody(r);
+        AllowOnlyKeys(body, {"code", "username", "password"}, "");
+        const std::string key = "setup@" + caller.address;
+        const auto now = std::chrono::steady_clock::now();
+        if (const int wait = c_.access.limiter.RetryAfter(key, now); wait > 0) throw TooManyAttempts(wait);
+        try {
+          const auth::UserRecord admin = AccountChange([&] {
+            return c_.access.setup.Complete(RequireString(body, "code"), RequireString(body, "username"),
+                                            RequireString(body, "password"));
+          });
+          spdlog::info("setup: {} is the first admin", admin.username);
+          return login(r, Principal{admin.username, Role::kAdmin, "user", ""}, http::status::created);
+        } catch (const auth::Setup::SetupError& e) {
+          if (e.done) {
+            throw ApiError(http::status::conflict, "Already set up", "the first admin exists; log in", "setup_done");
+          }
+          c_.access.limiter.Failed(key, now);
+          throw ApiError(http::status::forbidden, "Wrong setup code",
+                         "the setup code is shown on the robot's screen and in its journal", "wrong_setup_code");
+        }
       });
-      spdlog::info("setup: {} is the first admin", admin.username);
-      return login(r, Principal{admin.username, Role::kAdmin, "user", ""}, http::status::created);
-    } catch (const auth::Setup::SetupError& e) {
-      if (e.done) throw ApiError(http::status::conflict, "Already set up", "the first admin exists; log in", "setup_done");
-      c_.access.limiter.Failed(key, now);
-      throw ApiError(http::status::forbidden, "Wrong setup code",
-                     "the setup code is shown on the robot's screen and in its journal", "wrong_setup_code");
-    }
-  });
 
-  AddWithCaller(http::verb::post, "/api/v1/session", [this, login](const Request& r, const Params&, const Caller& caller) {
-    const json body = ParseJsonBody(r);
-    AllowOnlyKeys(body, {"username", "password"}, "");
-    const std::string username = RequireString(body, "username");
-    const std::string password = RequireString(body, "password");
-    const std::string by_client = "client@" + caller.address;
-    const std::string by_user = "user@" + username;
-    const auto now = std::chrono::steady_clock::now();
-    const int wait = std::max(c_.access.limiter.RetryAfter(by_client, now), c_.access.limiter.RetryAfter(by_user, now));
-    if (wait > 0) throw TooManyAttempts(wait);
-    const auto who = c_.access.accounts.CheckPassword(username, password);
-    if (!who) {
-      c_.access.limiter.Failed(by_client, now);
-      c_.access.limiter.Failed(by_user, now);
-      throw ApiError(http::status::unauthorized, "Login failed", "wrong username or password", "wrong_password");
-    }
-    return login(r, *who, http::status::ok);
-  });
+  AddWithCaller(
+      http::verb::post, "/api/v1/session", [this, login](const Request& r, const Params&, const Caller& caller) {
+        const json body = ParseJsonBody(r);
+        AllowOnlyKeys(body, {"username", "password"}, "");
+        const std::string username = RequireString(body, "username");
+        const std::string password = RequireString(body, "password");
+        const std::string by_client = "client@" + caller.address;
+        const std::string by_user = "user@" + username;
+        const auto now = std::chrono::steady_clock::now();
+        const int wait =
+            std::max(c_.access.limiter.RetryAfter(by_client, now), c_.access.limiter.RetryAfter(by_user, now));
+        if (wait > 0) throw TooManyAttempts(wait);
+        const auto who = c_.access.accounts.CheckPassword(username, password);
+        if (!who) {
+          c_.access.limiter.Failed(by_client, now);
+          c_.access.limiter.Failed(by_user, now);
+          throw ApiError(http::status::unauthorized, "Login failed", "wrong username or password", "wrong_password");
+        }
+        return login(r, *who, http::status::ok);
+      });
   AddWithCaller(http::verb::get, "/api/v1/session", [this](const Request& r, const Params&, const Caller& caller) {
     const Identity identity = Identify(r, caller);
     if (!identity.who) {
@@ -225,9 +231,8 @@ void Api::AddAuthRoutes() {
     const json body = ParseJsonBody(r);
     AllowOnlyKeys(body, {"name", "role"}, "");
     const std::string by = Who(Identify(r, caller).who);
-    const auto [token, secret] = AccountChange([&] {
-      return c_.access.accounts.CreateToken(RequireString(body, "name"), RequireRole(body), by);
-    });
+    const auto [token, secret] = AccountChange(
+        [&] { return c_.access.accounts.CreateToken(RequireString(body, "name"), RequireRole(body), by); });
     json out = ToJson(token);
     out["token"] = secret;  // shown this once; kept only as a digest
     Response res = JsonResponse(r, out, http::status::created);

@@ -26,7 +26,9 @@ const char* const kSchema =
 constexpr std::size_t kMinPassword = 8;
 constexpr std::size_t kMaxPassword = 256;
 
-std::int64_t UnixNow() { return std::chrono::duration_cast<std::chrono::seconds>(Clock::now().time_since_epoch()).count(); }
+std::int64_t UnixNow() {
+  return std::chrono::duration_cast<std::chrono::seconds>(Clock::now().time_since_epoch()).count();
+}
 std::string Now() { return IsoUtc(Clock::now()); }
 
 void CheckName(const std::string& name, const char* what) {
@@ -46,9 +48,12 @@ TokenRecord ReadToken(const Statement& s) {
 
 std::string_view ToString(Role role) {
   switch (role) {
-    case Role::kViewer: return "viewer";
-    case Role::kOperator: return "operator";
-    case Role::kAdmin: return "admin";
+    case Role::kViewer:
+      return "viewer";
+    case Role::kOperator:
+      return "operator";
+    case Role::kAdmin:
+      return "admin";
   }
   return "viewer";
 }
@@ -65,9 +70,12 @@ json ToJson(const UserRecord& u) {
 }
 
 json ToJson(const TokenRecord& t) {
-  return {{"id", t.id},           {"name", t.name},
-          {"role", std::string(ToString(t.role))}, {"created", t.created},
-          {"created_by", t.created_by}, {"last_used", t.last_used.empty() ? json(nullptr) : json(t.last_used)}};
+  return {{"id", t.id},
+          {"name", t.name},
+          {"role", std::string(ToString(t.role))},
+          {"created", t.created},
+          {"created_by", t.created_by},
+          {"last_used", t.last_used.empty() ? json(nullptr) : json(t.last_used)}};
 }
 
 Accounts::Accounts(const std::filesystem::path& file) : db_(file, kSchema) {
@@ -234,8 +242,7 @@ std::vector<TokenRecord> Accounts::Tokens() const {
 void Accounts::Audit(const AuditRecord& r, int keep) {
   std::lock_guard lock(mutex_);
   InTransaction(db_, [&] {
-    Statement s(db_,
-                "INSERT INTO audit (time, who, client, method, path, status, detail) VALUES (?,?,?,?,?,?,?)");
+    Statement s(db_, "INSERT INTO audit (time, who, client, method, path, status, detail) VALUES (?,?,?,?,?,?,?)");
     s.Bind(1, Now()).Bind(2, r.who).Bind(3, r.client).Bind(4, r.method).Bind(5, r.path).Bind(6, r.status);
     s.Bind(7, r.detail);
     s.Step();
@@ -253,8 +260,14 @@ std::vector<json> Accounts::AuditLog(std::int64_t after, int limit) const {
   s.Bind(1, after).Bind(2, limit);
   std::vector<json> out;
   while (s.Step()) {
-    out.push_back({{"sequence", s.Int64(0)}, {"time", s.Text(1)}, {"who", s.Text(2)}, {"client", s.Text(3)},
-                   {"method", s.Text(4)}, {"path", s.Text(5)}, {"status", s.Int(6)}, {"detail", s.Text(7)}});
+    out.push_back({{"sequence", s.Int64(0)},
+                   {"time", s.Text(1)},
+                   {"who", s.Text(2)},
+                   {"client", s.Text(3)},
+                   {"method", s.Text(4)},
+                   {"path", s.Text(5)},
+                   {"status", s.Int(6)},
+                   {"detail", s.Text(7)}});
   }
   return out;
 }

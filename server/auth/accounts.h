@@ -26,10 +26,10 @@ std::optional<Role> RoleFromString(std::string_view name);
 
 // Who is calling: a user (through a session), an API token, or nobody.
 struct Principal {
-  std::string name;           // the username, or the token's name
+  std::string name;  // the username, or the token's name
   Role role = Role::kViewer;
-  std::string kind;           // "user", "token" or "system" (in-process tools)
-  std::string token_id;       // for tokens
+  std::string kind;      // "user", "token" or "system" (in-process tools)
+  std::string token_id;  // for tokens
 };
 
 // A request to change the accounts that cannot be done (a taken name, a weak password); what() says why.

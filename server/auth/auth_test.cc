@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <unistd.h>
+#include <filesystem>
 
 #include "server/auth/accounts.h"
 #include "server/auth/gate.h"
@@ -151,7 +151,8 @@ TEST_F(AccountsTest, UsersSessionsAndTokens) {
   EXPECT_TRUE(accounts.DeleteUser("viewer"));
   EXPECT_FALSE(accounts.Session(viewer_session).has_value()) << "a deleted user's sessions end";
 
-  for (int i = 0; i < 5; ++i) accounts.Audit({"root", "127.0.0.1", "POST", "/api/v1/zones", 201, "z" + std::to_string(i)}, 3);
+  for (int i = 0; i < 5; ++i)
+    accounts.Audit({"root", "127.0.0.1", "POST", "/api/v1/zones", 201, "z" + std::to_string(i)}, 3);
   const auto log = accounts.AuditLog(0, 10);
   ASSERT_EQ(log.size(), 3u) << "only the newest kept";
   EXPECT_EQ(log.back()["detail"], "z4");

@@ -47,11 +47,16 @@ Access RequiredAccess(std::string_view method, std::string_view path) {
 
 std::string_view ToString(Access access) {
   switch (access) {
-    case Access::kPublic: return "anyone";
-    case Access::kFace: return "the robot's screen";
-    case Access::kViewer: return "viewer";
-    case Access::kOperator: return "operator";
-    case Access::kAdmin: return "admin";
+    case Access::kPublic:
+      return "anyone";
+    case Access::kFace:
+      return "the robot's screen";
+    case Access::kViewer:
+      return "viewer";
+    case Access::kOperator:
+      return "operator";
+    case Access::kAdmin:
+      return "admin";
   }
   return "admin";
 }
@@ -62,8 +67,9 @@ bool Allows(const std::optional<Principal>& who, Access access, bool local, cons
     if (access == Access::kFace && local && options.local_face) return true;
     return options.anonymous_viewer && access <= Access::kViewer;
   }
-  const Role needed = access == Access::kAdmin ? Role::kAdmin : access == Access::kOperator ? Role::kOperator
-                                                                                               : Role::kViewer;
+  const Role needed = access == Access::kAdmin      ? Role::kAdmin
+                      : access == Access::kOperator ? Role::kOperator
+                                                    : Role::kViewer;
   return who->role >= needed;
 }
 

@@ -61,8 +61,8 @@ class Setup {
   explicit Setup(Accounts& accounts);
   // The code while setup is open ("7KQ4-MZ2P"); nullopt once a user exists.
   std::optional<std::string> code() const;
-  // Creates the first admin when `code` is right (any case, with or without the dash). Throws AccountError for a bad username or password and SetupError
-  // when setup is done (`done`) or the code is wrong.
+  // Creates the first admin when `code` is right (any case, with or without the dash). Throws AccountError for a bad
+  // username or password and SetupError when setup is done (`done`) or the code is wrong.
   struct SetupError {
     bool done;
   };
