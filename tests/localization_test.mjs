@@ -8,7 +8,9 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
-import { getJson, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor } from './daemon.mjs';
+import {
+  driveFor, getJson, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor,
+} from './daemon.mjs';
 
 const api = openApiValidator();
 const state = async (url) => (await getJson(`${url}/api/v1/state`)).body;
@@ -92,7 +94,9 @@ describe('localization from the laser in the default world', () => {
     const set = await sendJson('PUT', `${daemon.url}/api/v1/localization/pose`, { ...near, sigma_m: 0.3 });
     assert.equal(set.status, 202, JSON.stringify(set.body));
     api.check('LocalizationPoseAccepted', set.body);
-    // The filter starts around the given pose and settles on the truth.
+    // The filter starts around the given pose and settles on the truth. Standing still it weighs its particles once
+    // (then only after 5 cm or 0.05 rad of motion, as AMCL does), so turn on the spot for it, as a person would.
+    await driveFor(daemon.url, { linear_mps: 0, angular_rps: 0.5 }, 1500);
     await waitFor(async () => ({ l: await localization(daemon.url), s: await state(daemon.url) }),
       ({ l, s: now }) => l.health === 'ok' && errorOf(now)[0] < 0.05, 15000, 'settled on the truth');
     const re = await postJson(`${daemon.url}/api/v1/localization/relocalize`, {});

@@ -42,7 +42,7 @@ echo "package_test: installing $previous"
 dpkg -i "$packages/corridor_${previous}_${arch}.deb" "$packages/corridor-face_${previous}_all.deb" >/dev/null
 getent passwd corridor >/dev/null || fail "no corridor user"
 for group in video dialout plugdev; do
-  if getent group "$group" >/dev/null; then id -nG corridor | grep -qw "$group" || fail "corridor is not in $group"; fi
+  if getent group "$group" >/dev/null; then grep -qw "$group" <<<"$(id -nG corridor)" || fail "not in $group"; fi
 done
 [ "$(stat -c '%U %a' /var/lib/corridor)" = "corridor 700" ] || fail "/var/lib/corridor: $(stat -c '%U %a' /var/lib/corridor)"
 grep -q '^/etc/corridor/corridor.yaml$' /var/lib/dpkg/info/corridor.conffiles || fail "corridor.yaml is not a conffile"
@@ -60,17 +60,19 @@ sed -i "s/^    redirect_port: 8080 /    redirect_port: $redirect /" /etc/corrido
 grep -q "redirect_port: $redirect " /etc/corridor/corridor.yaml || fail "could not edit the conffile"
 
 start_daemon
-api "https://127.0.0.1:$port/api/v1/health" | grep -q '"status":"ok"' || fail "no health over HTTPS"
-api "https://127.0.0.1:$port/" | grep -q '<title>corridor console</title>' || fail "no console"
-api "https://127.0.0.1:$port/face" | grep -q '<title>corridor face</title>' || fail "no face page"
+# Whole replies first: with pipefail, `curl | grep -q` fails when grep stops reading before curl has written all.
+grep -q '"status":"ok"' <<<"$(api "https://127.0.0.1:$port/api/v1/health")" || fail "no health over HTTPS"
+grep -q '<title>corridor console</title>' <<<"$(api "https://127.0.0.1:$port/")" || fail "no console"
+grep -q '<title>corridor face</title>' <<<"$(api "https://127.0.0.1:$port/face")" || fail "no face page"
 [ "$(api -o /dev/null -w '%{http_code}' "https://127.0.0.1:$port/api/v1/state")" = 401 ] || fail "state without login"
 [ "$(curl -s -o /dev/null -w '%{http_code}' "http://127.0.0.1:$redirect/")" = 308 ] || fail "no redirect"
 grep -q "setup code" "$log" || fail "no setup code in the log"
 token=$(corridord token create --role admin --name package-test 2>/dev/null)
 [ "$(stat -c %U /var/lib/corridor/accounts.db)" = corridor ] || fail "accounts.db not the daemon's"
-api -H "Authorization: Bearer $token" -H 'Content-Type: application/json' \
+added=$(api -H "Authorization: Bearer $token" -H 'Content-Type: application/json' \
   -d '{"username": "robot-admin", "password": "kept-across-upgrades", "role": "admin"}' \
-  "https://127.0.0.1:$port/api/v1/users" | grep -q '"robot-admin"' || fail "could not add a user"
+  "https://127.0.0.1:$port/api/v1/users")
+grep -q '"robot-admin"' <<<"$added" || fail "could not add a user: $added"
 stop_daemon
 
 echo "package_test: upgrading to $version"
