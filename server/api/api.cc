@@ -225,7 +225,7 @@ void Api::Handle(const Request& request, const Caller& caller, Reply reply) cons
     // A handler that throws before handing off answers with the problem; one that hands off replies itself.
     try {
       if (route.caller_handler) {
-        Answer(request, reply, [&] { return route.caller_handler(request, params, caller); });
+        Answer(request, reply, [&] { return route.caller_handler(request, params, caller, identity); });
         return;
       }
       route.handler(request, params, [this, reply](Response r) {

@@ -109,7 +109,14 @@ class Api {
     bool by_cookie = false;  // the credentials are a cookie the browser sends by itself (CSRF matters)
   };
   Identity Identify(const Request& request, const Caller& caller) const;
-  bool anonymous_viewer() const { return c_.access.options.anonymous_viewer; }
+  // Who may open the stream at /api/v1/stream and what it pushes them unasked ("state" to whoever may read; nothing
+  // to the robot's screen, which subscribes to the face). Throws ApiError 401/403 for a caller who may not, or a
+  // browser page of another origin (any credentials).
+  struct StreamAdmission {
+    Identity who;
+    std::vector<std::string> subscriptions;
+  };
+  StreamAdmission AdmitStream(const Request& request, const Caller& caller) const;
   // Throws ApiError 401/403 unless `identity` may call `path` with the request's method, or 403 for a cookie-carrying
   // write from another origin.
   void CheckAccess(const Request& request, const Caller& caller, const Identity& identity,
@@ -128,8 +135,8 @@ class Api {
 
  private:
   using Handler = std::function<void(const Request&, const Params&, Reply)>;
-  // A handler that needs to know its caller (logging in, minting a token).
-  using CallerHandler = std::function<Response(const Request&, const Params&, const Caller&)>;
+  // A handler that needs to know its caller (logging in, minting a token): where from, and who (as the gate found).
+  using CallerHandler = std::function<Response(const Request&, const Params&, const Caller&, const Identity&)>;
   struct Route {
     http::verb method;
     std::vector<std::string> segments;  // "{name}" captures a segment

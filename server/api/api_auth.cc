@@ -45,10 +45,8 @@ auto AccountChange(Work&& work) {
   try {
     return work();
   } catch (const auth::AccountError& e) {
-    const std::string why = e.what();
-    const bool conflict =
-        why.find("already exists") != std::string::npos || why.find("last admin") != std::string::npos;
-    throw ApiError(conflict ? http::status::conflict : http::status::unprocessable_entity, "Not accepted", why);
+    const bool conflict = e.kind() == auth::AccountError::Kind::kConflict;
+    throw ApiError(conflict ? http::status::conflict : http::status::unprocessable_entity, "Not accepted", e.what());
   }
 }
 
@@ -98,6 +96,18 @@ void Api::CheckAccess(const Request& request, const Caller& caller, const Identi
   }
 }
 
+Api::StreamAdmission Api::AdmitStream(const Request& request, const Caller& caller) const {
+  Identity who = Identify(request, caller);
+  CheckAccess(request, caller, who, "/api/v1/stream");
+  const std::string_view origin = request[http::field::origin];
+  if (!origin.empty() && !auth::SameOrigin(origin, request[http::field::host])) {
+    throw ApiError(http::status::forbidden, "Cross-site WebSocket refused",
+                   "the stream opens only from the console's own origin", "cross_site");
+  }
+  const bool reads = who.who.has_value() || c_.access.options.anonymous_viewer;
+  return {std::move(who), reads ? std::vector<std::string>{"state"} : std::vector<std::string>{}};
+}
+
 Reply Api::Audited(const Request& request, const Caller& caller, const Identity& identity, const std::string& path,
                    Reply reply) const {
   if (IsRead(request.method()) || !path.starts_with("/api/") || caller.trusted) return reply;
@@ -131,16 +141,18 @@ void Api::AddAuthRoutes() {
     return res;
   };
 
-  AddWithCaller(http::verb::get, "/api/v1/setup", [this](const Request& r, const Params&, const Caller& caller) {
-    const auto code = c_.access.setup.code();
-    json body = {{"needed", code.has_value()}};
-    // The code is shown on the robot's own screen (and in its journal), never sent over the network.
-    if (code && caller.local && c_.access.options.local_face) body["code"] = *code;
-    if (!c_.tls_fingerprint.empty()) body["tls_fingerprint"] = c_.tls_fingerprint;
-    return JsonResponse(r, body);
-  });
+  AddWithCaller(http::verb::get, "/api/v1/setup",
+                [this](const Request& r, const Params&, const Caller& caller, const Identity&) {
+                  const auto code = c_.access.setup.code();
+                  json body = {{"needed", code.has_value()}};
+                  // The code is shown on the robot's own screen (and in its journal), never sent over the network.
+                  if (code && caller.local && c_.access.options.local_face) body["code"] = *code;
+                  if (!c_.tls_fingerprint.empty()) body["tls_fingerprint"] = c_.tls_fingerprint;
+                  return JsonResponse(r, body);
+                });
   AddWithCaller(
-      http::verb::post, "/api/v1/setup", [this, login](const Request& r, const Params&, const Caller& caller) {
+      http::verb::post, "/api/v1/setup",
+      [this, login](const Request& r, const Params&, const Caller& caller, const Identity&) {
         const json body = ParseJsonBody(r);
         AllowOnlyKeys(body, {"code", "username", "password"}, "");
         const std::string key = "setup@" + caller.address;
@@ -164,7 +176,8 @@ void Api::AddAuthRoutes() {
       });
 
   AddWithCaller(
-      http::verb::post, "/api/v1/session", [this, login](const Request& r, const Params&, const Caller& caller) {
+      http::verb::post, "/api/v1/session",
+      [this, login](const Request& r, const Params&, const Caller& caller, const Identity&) {
         const json body = ParseJsonBody(r);
         AllowOnlyKeys(body, {"username", "password"}, "");
         const std::string username = RequireString(body, "username");
@@ -183,15 +196,16 @@ void Api::AddAuthRoutes() {
         }
         return login(r, *who, http::status::ok);
       });
-  AddWithCaller(http::verb::get, "/api/v1/session", [this](const Request& r, const Params&, const Caller& caller) {
-    const Identity identity = Identify(r, caller);
-    if (!identity.who) {
-      throw ApiError(http::status::unauthorized, "Not logged in", "POST /api/v1/session to log in", "unauthenticated");
-    }
-    json body = PrincipalJson(*identity.who);
-    body["anonymous_viewer"] = c_.access.options.anonymous_viewer;
-    return JsonResponse(r, body);
-  });
+  AddWithCaller(http::verb::get, "/api/v1/session",
+                [this](const Request& r, const Params&, const Caller&, const Identity& identity) {
+                  if (!identity.who) {
+                    throw ApiError(http::status::unauthorized, "Not logged in", "POST /api/v1/session to log in",
+                                   "unauthenticated");
+                  }
+                  json body = PrincipalJson(*identity.who);
+                  body["anonymous_viewer"] = c_.access.options.anonymous_viewer;
+                  return JsonResponse(r, body);
+                });
   Add(http::verb::delete_, "/api/v1/session", Sync([this, secure](const Request& r, const Params&) {
         const std::string session = auth::SessionFromCookies(r[http::field::cookie]);
         if (!session.empty()) c_.access.accounts.CloseSession(session);
@@ -227,18 +241,20 @@ void Api::AddAuthRoutes() {
         for (const auth::TokenRecord& t : c_.access.accounts.Tokens()) tokens.push_back(ToJson(t));
         return JsonResponse(r, {{"tokens", tokens}});
       }));
-  AddWithCaller(http::verb::post, "/api/v1/tokens", [this](const Request& r, const Params&, const Caller& caller) {
-    const json body = ParseJsonBody(r);
-    AllowOnlyKeys(body, {"name", "role"}, "");
-    const std::string by = Who(Identify(r, caller).who);
-    const auto [token, secret] = AccountChange(
-        [&] { return c_.access.accounts.CreateToken(RequireString(body, "name"), RequireRole(body), by); });
-    json out = ToJson(token);
-    out["token"] = secret;  // shown this once; kept only as a digest
-    Response res = JsonResponse(r, out, http::status::created);
-    res.set(http::field::location, "/api/v1/tokens/" + token.id);
-    return res;
-  });
+  AddWithCaller(http::verb::post, "/api/v1/tokens",
+                [this](const Request& r, const Params&, const Caller&, const Identity& identity) {
+                  const json body = ParseJsonBody(r);
+                  AllowOnlyKeys(body, {"name", "role"}, "");
+                  const std::string by = Who(identity.who);
+                  const auto [token, secret] = AccountChange([&] {
+                    return c_.access.accounts.CreateToken(RequireString(body, "name"), RequireRole(body), by);
+                  });
+                  json out = ToJson(token);
+                  out["token"] = secret;  // shown this once; kept only as a digest
+                  Response res = JsonResponse(r, out, http::status::created);
+                  res.set(http::field::location, "/api/v1/tokens/" + token.id);
+                  return res;
+                });
   Add(http::verb::delete_, "/api/v1/tokens/{id}", Sync([this](const Request& r, const Params& p) {
         if (!c_.access.accounts.RevokeToken(p.at("id"))) {
           throw ApiError(http::status::not_found, "Not found", "no token " + p.at("id"));

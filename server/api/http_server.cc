@@ -39,11 +39,10 @@ Caller CallerOf(const tcp::socket& socket) {
 template <typename Stream>
 class StreamSession : public std::enable_shared_from_this<StreamSession<Stream>> {
  public:
-  StreamSession(Stream stream, const Api& api, double rate_hz, Api::Identity who, bool sees_state)
+  StreamSession(Stream stream, const Api& api, double rate_hz, Api::StreamAdmission admission)
       : ws_(std::move(stream)), api_(api), timer_(ws_.get_executor()),
-        period_(std::chrono::nanoseconds(static_cast<std::int64_t>(1e9 / rate_hz))), who_(std::move(who)) {
-    if (!sees_state) subscriptions_.clear();  // the face screen subscribes to what it shows
-  }
+        period_(std::chrono::nanoseconds(static_cast<std::int64_t>(1e9 / rate_hz))),
+        who_(std::move(admission.who)), subscriptions_(std::move(admission.subscriptions)) {}
 
   void Start(Request request) {
     beast::get_lowest_layer(ws_).expires_never();
@@ -115,7 +114,7 @@ class StreamSession : public std::enable_shared_from_this<StreamSession<Stream>>
   std::chrono::nanoseconds period_;
   Api::Identity who_;
   beast::flat_buffer buffer_;
-  std::vector<std::string> subscriptions_{"state"};
+  std::vector<std::string> subscriptions_;
   std::deque<std::string> queue_;
   std::string current_;
   bool writing_ = false;
@@ -203,21 +202,13 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
       return Reply(ProblemResponse(http::status::not_found, "Not found", "WebSocket is served at /api/v1/stream",
                                    request.version(), false));
     }
-    Api::Identity who;
+    Api::StreamAdmission admission;
     try {
-      who = api_.Identify(request, caller_);
-      api_.CheckAccess(request, caller_, who, path);
-      const std::string_view origin = request[http::field::origin];
-      if (!origin.empty() && !auth::SameOrigin(origin, request[http::field::host])) {
-        throw ApiError(http::status::forbidden, "Cross-site WebSocket refused",
-                       "the stream opens only from the console's own origin", "cross_site");
-      }
+      admission = api_.AdmitStream(request, caller_);
     } catch (const ApiError& e) {
       return Reply(ProblemResponse(e.status(), e.title(), e.what(), request.version(), false, e.code()));
     }
-    const bool sees_state = who.who.has_value() || api_.anonymous_viewer();
-    std::make_shared<StreamSession<Stream>>(std::move(stream_), api_, options_.stream_rate_hz, std::move(who),
-                                            sees_state)
+    std::make_shared<StreamSession<Stream>>(std::move(stream_), api_, options_.stream_rate_hz, std::move(admission))
         ->Start(std::move(request));
   }
 

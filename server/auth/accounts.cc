@@ -35,7 +35,9 @@ void CheckName(const std::string& name, const char* what) {
   const bool ok = !name.empty() && name.size() <= 64 && std::all_of(name.begin(), name.end(), [](char c) {
     return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-';
   });
-  if (!ok) throw AccountError(std::string(what) + " must be 1 to 64 letters, digits, '.', '_' or '-'");
+  if (!ok)
+    throw AccountError(AccountError::Kind::kInvalid,
+                       std::string(what) + " must be 1 to 64 letters, digits, '.', '_' or '-'");
 }
 
 Role ReadRole(const std::string& text) { return RoleFromString(text).value_or(Role::kViewer); }
@@ -92,13 +94,13 @@ bool Accounts::HasUsers() const {
 UserRecord Accounts::AddUser(const std::string& username, const std::string& password, Role role) {
   CheckName(username, "username");
   if (password.size() < kMinPassword || password.size() > kMaxPassword) {
-    throw AccountError("password must be 8 to 256 characters long");
+    throw AccountError(AccountError::Kind::kInvalid, "password must be 8 to 256 characters long");
   }
   const std::string hash = HashPassword(password);  // outside the lock: it takes tens of milliseconds
   std::lock_guard lock(mutex_);
   Statement exists(db_, "SELECT 1 FROM users WHERE username = ?");
   exists.Bind(1, username);
-  if (exists.Step()) throw AccountError("user '" + username + "' already exists");
+  if (exists.Step()) throw AccountError(AccountError::Kind::kConflict, "user '" + username + "' already exists");
   UserRecord user{username, role, Now()};
   Statement s(db_, "INSERT INTO users (username, password_hash, role, created) VALUES (?,?,?,?)");
   s.Bind(1, username).Bind(2, hash).Bind(3, std::string(ToString(role))).Bind(4, user.created);
@@ -124,7 +126,8 @@ bool Accounts::DeleteUser(const std::string& username) {
     Statement role(db_, "SELECT role FROM users WHERE username = ?");
     role.Bind(1, username);
     if (role.Step() && role.Text(0) == "admin" && admins.Int(0) == 0) {
-      throw AccountError("'" + username + "' is the last admin; make another admin first");
+      throw AccountError(AccountError::Kind::kConflict,
+                         "'" + username + "' is the last admin; make another admin first");
     }
     Statement sessions(db_, "DELETE FROM sessions WHERE username = ?");
     sessions.Bind(1, username);

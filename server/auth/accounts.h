@@ -32,10 +32,18 @@ struct Principal {
   std::string token_id;  // for tokens
 };
 
-// A request to change the accounts that cannot be done (a taken name, a weak password); what() says why.
+// A request to change the accounts that cannot be done; what() says why.
 class AccountError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  enum class Kind {
+    kInvalid,   // a malformed name, a password too short or too long
+    kConflict,  // a taken name, the last admin
+  };
+  AccountError(Kind kind, const std::string& what) : std::runtime_error(what), kind_(kind) {}
+  Kind kind() const { return kind_; }
+
+ private:
+  Kind kind_;
 };
 
 struct UserRecord {

@@ -407,15 +407,18 @@ void ApplyDerivedOptions(Config& config) {
   reactive.stopping = config.safety.stopping;
 }
 
-Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
-  YAML::Node root;
+YAML::Node ReadConfigYaml(const fs::path& file) {
   try {
-    root = YAML::LoadFile(file.string());
+    return YAML::LoadFile(file.string());
   } catch (const YAML::BadFile&) {
     throw ConfigError(file.string() + ": cannot be opened");
   } catch (const YAML::Exception& e) {
     throw ConfigError(file.string() + ": is not valid YAML: " + e.what());
   }
+}
+
+Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
+  YAML::Node root = ReadConfigYaml(file);
   if (!root.IsMap()) throw ConfigError(file.string() + ": expected a mapping of sections");
   // Command-line overrides replace keys before reading so they get the same validation.
   const auto set = [&](const char* section, const char* key, const std::string& value) {

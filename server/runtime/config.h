@@ -203,6 +203,8 @@ void ApplyDerivedOptions(Config& config);
 // Loads and validates `file`. Relative paths in it are resolved against the file's folder; override paths against
 // the working directory. Throws ConfigError with the key path for any problem.
 Config LoadConfig(const std::filesystem::path& file, const ConfigOverrides& overrides = {});
+// The YAML document in `file`; throws ConfigError naming the file when it cannot be read or parsed.
+YAML::Node ReadConfigYaml(const std::filesystem::path& file);
 // The configuration in `root`, checked as LoadConfig checks a file; relative paths resolve against `file`'s
 // directory and errors name `file`. Throws ConfigError.
 Config ConfigFromYaml(const YAML::Node& root, const std::filesystem::path& file);

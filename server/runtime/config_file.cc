@@ -103,16 +103,6 @@ void Differences(const json& before, const json& after, const std::string& path,
   }
 }
 
-YAML::Node ReadYaml(const fs::path& file) {
-  try {
-    return YAML::LoadFile(file.string());
-  } catch (const YAML::BadFile&) {
-    throw ConfigError(file.string() + ": cannot be opened");
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(file.string() + ": is not valid YAML: " + e.what());
-  }
-}
-
 // Writes `text` to `file` through a temporary file beside it, synced before it is renamed over the file.
 void WriteAtomically(const fs::path& file, const std::string& text) {
   const fs::path temporary = file.string() + ".new";
@@ -132,7 +122,7 @@ void WriteAtomically(const fs::path& file, const std::string& text) {
 }  // namespace
 
 json ConfigDocument(const fs::path& file) {
-  const json document = ToJson(ReadYaml(file));
+  const json document = ToJson(ReadConfigYaml(file));
   return document.is_object() ? document : json::object();
 }
 

@@ -2,7 +2,7 @@
 // console (which logs them in).
 import { send } from './api';
 import { byId } from './dom';
-import type { Me } from './session';
+import { type Me, whoAmI } from './session';
 
 interface User { username: string; role: string; created: string; }
 interface Token { id: string; name: string; role: string; created: string; created_by: string; last_used: string | null; token?: string; }
@@ -78,8 +78,7 @@ function refresh(me: Me): Promise<void> {
 }
 
 async function main(): Promise<void> {
-  const res = await fetch('/api/v1/session', { cache: 'no-store' });
-  const me = res.ok ? (await res.json()) as Me : null;
+  const me = await whoAmI();
   if (!me || me.role !== 'admin') {
     location.href = '/';
     return;

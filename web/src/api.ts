@@ -51,6 +51,8 @@ export interface Octomap {
   voxels_url: string;
 }
 export interface Problem { type: string; title: string; status: number; detail: string; }
+// GET /api/v1/setup: whether the first admin is still to be made; the code only to the robot's own screen.
+export interface SetupStatus { needed: boolean; code?: string; tls_fingerprint?: string; }
 
 
 export interface MissionWaypoint { x: number; y: number; yaw?: number; place?: string; }

@@ -1,12 +1,11 @@
 // Logging in. The console asks who is logged in; when nobody is, it shows the login form, or before the first admin
 // exists the setup form, which takes the one-time code shown on the robot's screen. A session is a cookie the daemon
 // sets (HttpOnly, SameSite=Strict); the page reloads once it has one.
-import { send } from './api';
+import { send, type SetupStatus } from './api';
 import { byId } from './dom';
 
 export type Role = 'viewer' | 'operator' | 'admin';
 export interface Me { name: string; role: Role; kind: string; }
-interface SetupStatus { needed: boolean; code?: string; tls_fingerprint?: string; }
 
 const kRank: Record<Role, number> = { viewer: 1, operator: 2, admin: 3 };
 
@@ -14,7 +13,8 @@ export function mayDo(me: Me, needed: Role): boolean {
   return kRank[me.role] >= kRank[needed];
 }
 
-async function whoAmI(): Promise<Me | null> {
+// The logged-in user; null when nobody is.
+export async function whoAmI(): Promise<Me | null> {
   const res = await fetch('/api/v1/session', { cache: 'no-store' });
   return res.ok ? (await res.json()) as Me : null;
 }

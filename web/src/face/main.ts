@@ -4,6 +4,7 @@
 // nothing. Its state is on <body> for tests: data-expression, data-gaze, data-connected, data-speaking.
 // Until the robot has its first admin, the page also shows the one-time setup code (the daemon gives it only to its
 // own screen, on loopback) and the fingerprint of its TLS certificate, so that whoever sets it up can check both.
+import type { SetupStatus } from '../api';
 import { Stream } from '../stream';
 import { drawFace } from './draw';
 import { Blinker, EXPRESSIONS, type Expression, FaceState } from './model';
@@ -99,7 +100,6 @@ new Stream(`${scheme}://${location.host}/api/v1/stream`, ['face/expression'],
   (s) => onStatus(s === 'up'));
 voice.onChange = wake;
 
-interface SetupStatus { needed: boolean; code?: string; tls_fingerprint?: string; }
 async function showSetup(): Promise<void> {
   let again = true;
   try {
