@@ -28,8 +28,16 @@ void DiffDriveSim::Teleport(const nav::Pose2& pose) {
   command_ = {};
 }
 
+double Block::Distance(const Eigen::Vector2d& point) const {
+  const Eigen::Vector2d local = center.Inverse().Transform(point);
+  return (local.cwiseAbs() - half_extents).cwiseMax(0.0).norm();
+}
+
 bool DiffDriveSim::Collides(const nav::Pose2& pose) const {
   const double r = options_.limits.footprint_radius_m;
+  for (const Block& b : blocks_) {
+    if (b.Distance(pose.translation()) < r) return true;
+  }
   for (const Disc& d : movers_) {
     if ((d.center - pose.translation()).norm() < r + d.radius_m) return true;
   }

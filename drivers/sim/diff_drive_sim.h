@@ -22,6 +22,16 @@ struct SimBaseOptions {
   double odom_angular_noise = 0.02;     // the same for rotation
 };
 
+// A rectangle on the floor the robot cannot enter, checked exactly (the dock: grid cells are too coarse to stand
+// a centimetre from).
+struct Block {
+  nav::Pose2 center;
+  Eigen::Vector2d half_extents = Eigen::Vector2d::Zero();  // along the centre's x and y axes
+
+  // The nearest distance from `point` to the rectangle (0 inside).
+  double Distance(const Eigen::Vector2d& point) const;
+};
+
 // A round thing that moves (a person), for collisions.
 struct Disc {
   Eigen::Vector2d center = Eigen::Vector2d::Zero();
@@ -42,8 +52,10 @@ class DiffDriveSim {
 
   // The moving things the robot can bump into, where they are now.
   void SetMovers(std::vector<Disc> movers) { movers_ = std::move(movers); }
+  // Solid rectangles besides the grid.
+  void SetBlocks(std::vector<Block> blocks) { blocks_ = std::move(blocks); }
 
-  // True when the footprint at `pose` overlaps an occupied cell, a mover, or leaves the grid.
+  // True when the footprint at `pose` overlaps an occupied cell, a block, a mover, or leaves the grid.
   bool Collides(const nav::Pose2& pose) const;
 
   const nav::Pose2& pose() const { return pose_; }
@@ -61,6 +73,7 @@ class DiffDriveSim {
   double command_time_s_ = -1e9;
   bool bumper_ = false;
   std::vector<Disc> movers_;
+  std::vector<Block> blocks_;
 };
 
 }  // namespace corridor::drivers::sim

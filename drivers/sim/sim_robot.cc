@@ -24,7 +24,18 @@ SimRobot::SimRobot(std::shared_ptr<const World> world, const SimOptions& options
       camera_info_(MakeCameraInfo(options.camera)),
       rng_(options.seed),
       base_(world_->collision, options.base, options.start),
-      crowd_(*world_, options.pedestrians, options.crowd) {}
+      crowd_(*world_, options.pedestrians, options.crowd),
+      battery_(options.battery) {
+  if (options.dock) {
+    dock_.emplace(*options.dock);
+    base_.SetBlocks({dock_->block()});
+  }
+}
+
+BatteryState SimRobot::battery_state() const {
+  std::lock_guard lock(mutex_);
+  return battery_.State(clock_.Now());
+}
 
 std::vector<Pedestrian> SimRobot::pedestrians() const {
   std::lock_guard lock(mutex_);
@@ -60,6 +71,7 @@ void SimRobot::Step() {
 
   nav::Pose2 pose;
   WheelOdometry odometry;
+  BatteryState battery;
   {
     std::lock_guard lock(mutex_);
     if (has_pending_command_) base_.Command(pending_command_, now_s);
@@ -72,12 +84,15 @@ void SimRobot::Step() {
     }
     base_.Step(step_s(), now_s, rng_);
     pose = base_.pose();
+    battery_.Step(step_s(), base_.velocity(), dock_ && dock_->Contacts(pose));
+    battery = battery_.State(now);
     odometry = {now, base_.odom_pose(), base_.velocity(), base_.bumper_pressed()};
   }
 
   if (Due(now, options_.odometry_rate_hz, next_odometry_ns_)) {
     if (odometry_handler_) odometry_handler_(odometry);
   }
+  if (Due(now, options_.battery.rate_hz, next_battery_ns_) && battery_handler_) battery_handler_(battery);
   const bool frame_due = Due(now, options_.camera.rate_hz, next_frame_ns_) && frame_handler_ && !camera_stopped_;
   const bool scan_due = options_.laser.enabled && Due(now, options_.laser.rate_hz, next_scan_ns_) && scan_handler_;
   if (!crowd_.empty() && (frame_due || scan_due)) {

@@ -6,12 +6,16 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <random>
 
+#include "drivers/battery.h"
 #include "drivers/depth_camera.h"
 #include "drivers/diff_drive_base.h"
 #include "drivers/laser2d.h"
+#include "drivers/sim/battery_sim.h"
 #include "drivers/sim/crowd.h"
+#include "drivers/sim/dock.h"
 #include "drivers/sim/diff_drive_sim.h"
 #include "drivers/sim/ray_caster.h"
 #include "drivers/sim/sensors.h"
@@ -29,9 +33,11 @@ struct SimOptions {
   SimLaserOptions laser;
   std::vector<PedestrianRoute> pedestrians;  // people walking back and forth, not seeing the robot
   CrowdOptions crowd;
+  SimBatteryOptions battery;
+  std::optional<SimDockOptions> dock;        // a charging dock; its box must be in the world (AddDock)
 };
 
-class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D {
+class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D, public Battery {
  public:
   // `world` must outlive the robot.
   SimRobot(std::shared_ptr<const World> world, const SimOptions& options);
@@ -53,6 +59,9 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D 
   double pedestrian_radius_m() const { return options_.crowd.radius_m; }
   bool bumper_pressed() const;
   void Teleport(const nav::Pose2& pose);
+  // The battery as it is now, and whether the robot stands on the dock's contacts. Thread-safe.
+  BatteryState battery_state() const;
+  const std::optional<SimDock>& dock() const { return dock_; }
   const World& world() const { return *world_; }
 
   // DepthCamera
@@ -66,6 +75,8 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D 
   nav::Pose2 base_T_laser() const override { return {}; }
   double height_m() const override { return options_.laser.mount_height_m; }
   void SetScanHandler(ScanHandler handler) override { scan_handler_ = std::move(handler); }
+  // Battery
+  void SetBatteryHandler(BatteryHandler handler) override { battery_handler_ = std::move(handler); }
 
  private:
   std::shared_ptr<const World> world_;
@@ -76,9 +87,11 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D 
   CameraInfo camera_info_;
   std::mt19937 rng_;
 
-  mutable std::mutex mutex_;  // guards base_, crowd_ and the pending command against other threads
+  std::optional<SimDock> dock_;
+  mutable std::mutex mutex_;  // guards base_, crowd_, battery_ and the pending command against other threads
   DiffDriveSim base_;
   Crowd crowd_;
+  BatterySim battery_;
   nav::Twist2 pending_command_;
   bool has_pending_command_ = false;
 
@@ -87,10 +100,12 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D 
   TimeNs next_odometry_ns_ = 0;
   TimeNs next_frame_ns_ = 0;
   TimeNs next_scan_ns_ = 0;
+  TimeNs next_battery_ns_ = 0;
   std::uint64_t frame_sequence_ = 0;
   FrameHandler frame_handler_;
   OdometryHandler odometry_handler_;
   ScanHandler scan_handler_;
+  BatteryHandler battery_handler_;
 };
 
 }  // namespace corridor::drivers::sim
