@@ -69,7 +69,7 @@ ExpressionMachine::Wish ExpressionMachine::Wanted(const Situation& s) const {
   if (s.waiting && on_mission) return {Expression::kWorried, kWorry};
   if (s.now_ns < happy_until_ns_) return {Expression::kHappy, kGlad};
   if (on_mission || s.moving || s.driven) return {Expression::kFocused, kBusy};
-  if (s.now_ns - last_active_ns_ > drivers::FromSeconds(options_.sleepy_after_s)) {
+  if (s.charging || s.now_ns - last_active_ns_ > drivers::FromSeconds(options_.sleepy_after_s)) {
     return {Expression::kSleepy, kSleepyUrgency};
   }
   return {Expression::kNeutral, kIdle};

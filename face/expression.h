@@ -12,7 +12,7 @@
 //   worried    a person blocking the way, or a mission holding the robot still (paused, waiting for the way)
 //   happy      arrived, for arrived_hold_s; a person looking at the robot while it is idle (and a greeting)
 //   focused    on a mission or moving
-//   sleepy     idle for sleepy_after_s
+//   sleepy     charging, or idle for sleepy_after_s
 //   neutral
 // Phrases: a greeting when a person looks at an idle robot (at most every greeting_every_s); "excuse me" once a
 // person has blocked a mission's way for excuse_me_after_s (once per blocking); the arrival, at a named place or not.
@@ -53,6 +53,7 @@ struct Situation {
   bool person_blocking = false;  // a person stands in the robot's way (in front, close)
   bool person_near = false;      // a person is close in front
   bool person_looking = false;   // a person's face is turned to the robot, close
+  bool charging = false;         // the battery is charging (the robot stands on its dock)
 };
 
 enum class PhraseKind { kGreeting, kExcuseMe, kArrived };

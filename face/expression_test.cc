@@ -50,6 +50,17 @@ TEST(ExpressionMachineTest, StartsAwakeWhateverTheClockReads) {
   EXPECT_EQ(m.Update(At(86400)).expression, Expression::kNeutral);
 }
 
+TEST(ExpressionMachineTest, ChargingIsSleepyAtOnceUntilTheRobotSetsOff) {
+  ExpressionMachine m;
+  Situation charging = At(0);
+  charging.charging = true;
+  EXPECT_EQ(Hold(m, charging, 0.0, 2.0), Expression::kSleepy);  // not after sleepy_after_s: at once
+  Situation leaving = OnMission(3.0, MissionPhase::kActive, "m2");
+  leaving.charging = true;  // the contacts still touch as it backs off
+  EXPECT_EQ(Hold(m, leaving, 3.0, 5.0), Expression::kFocused);
+  EXPECT_EQ(Hold(m, At(6.0), 6.0, 8.0), Expression::kNeutral);
+}
+
 TEST(ExpressionMachineTest, AFaultIsSadAndOutranksEverything) {
   ExpressionMachine m;
   Situation s = OnMission(0, MissionPhase::kActive);

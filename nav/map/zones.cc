@@ -13,6 +13,14 @@ std::optional<ZoneKind> ZoneKindFromString(const std::string& text) {
   return std::nullopt;
 }
 
+const char* ToString(PlaceKind kind) { return kind == PlaceKind::kDock ? "dock" : "place"; }
+
+std::optional<PlaceKind> PlaceKindFromString(const std::string& text) {
+  if (text == "place") return PlaceKind::kPlace;
+  if (text == "dock") return PlaceKind::kDock;
+  return std::nullopt;
+}
+
 void Validate(const Zone& zone) {
   if (zone.polygon.size() < 3) throw InvalidZone("polygon: needs at least 3 vertices");
   double twice_area = 0.0;

@@ -24,10 +24,17 @@ struct Zone {
   double max_speed_mps = 0.0;  // kSpeedLimit only: the highest speed allowed inside
 };
 
+// A named place. A dock's pose is the robot's when it stands on the dock (facing it); missions to a dock end docked
+// (nav/mission/docking.h).
+enum class PlaceKind { kPlace, kDock };
+const char* ToString(PlaceKind kind);
+std::optional<PlaceKind> PlaceKindFromString(const std::string& text);
+
 struct Place {
   std::string id;
   std::string name;
   Pose2 pose;
+  PlaceKind kind = PlaceKind::kPlace;
 };
 
 // A zone or place that cannot be used; what() says which field is wrong.

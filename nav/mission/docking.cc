@@ -48,6 +48,16 @@ Pose2 StagingPose(const Pose2& docked, const DockGeometry& dock) {
   return docked * Pose2{-dock.staging_distance_m, 0.0, 0.0};
 }
 
+MissionGoal DockGoal(const Place& dock, const DockGeometry& geometry) {
+  MissionGoal goal;
+  goal.pose = StagingPose(dock.pose, geometry);
+  goal.has_yaw = true;
+  goal.place = dock.name;
+  goal.action = GoalAction::kDock;
+  goal.dock = dock.pose;
+  return goal;
+}
+
 void Validate(const DockingOptions& o) {
   ValidateGains(o.gains);
   const auto positive = [](double v, const char* what) {
@@ -260,6 +270,13 @@ DockingStep Docking::Update(double now_s, const Pose2& odom_T_base, const std::v
   step = Drive(odom_T_base, options_.position_tolerance_m, true);
   step.seen = seen;
   return step;
+}
+
+bool ChargingPolicy::ShouldGo(double now_s, double charge, bool on_charger, bool busy) {
+  if (options_.charge_below_percent <= 0.0 || on_charger || busy) return false;
+  if (charge * 100.0 >= options_.charge_below_percent || now_s - last_s_ < options_.retry_s) return false;
+  last_s_ = now_s;
+  return true;
 }
 
 }  // namespace corridor::nav

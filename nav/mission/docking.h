@@ -26,6 +26,8 @@
 #include <Eigen/Core>
 
 #include "nav/geometry/pose2.h"
+#include "nav/map/zones.h"
+#include "nav/mission/mission.h"
 #include "nav/policy/polar_controller.h"
 
 namespace corridor::nav {
@@ -39,6 +41,9 @@ struct DockGeometry {
 
 // The staging pose of a dock whose docked pose is `docked` (same heading, staging_distance_m back).
 Pose2 StagingPose(const Pose2& docked, const DockGeometry& dock);
+
+// A mission goal that docks at `dock` (a place of kind dock): its staging pose, then onto it.
+MissionGoal DockGoal(const Place& dock, const DockGeometry& geometry);
 
 struct DockingOptions {
   DockGeometry dock;
@@ -103,6 +108,25 @@ class Docking {
   DockingPhase phase_;
   double started_s_;
   int sightings_ = 0;
+};
+
+// When an idle robot goes to charge: below charge_below_percent (0: never), not on its charger, with no mission under
+// way, and not again within retry_s of the last time it set off (so a docking that failed is tried again later, not
+// at once).
+struct ChargingOptions {
+  double charge_below_percent = 0.0;
+  double retry_s = 300.0;
+};
+
+class ChargingPolicy {
+ public:
+  explicit ChargingPolicy(const ChargingOptions& options) : options_(options) {}
+  // True when the robot should set off for its dock now (and then not again for retry_s).
+  bool ShouldGo(double now_s, double charge, bool on_charger, bool busy);
+
+ private:
+  ChargingOptions options_;
+  double last_s_ = -1e300;
 };
 
 }  // namespace corridor::nav

@@ -135,5 +135,17 @@ TEST(DockingTest, OptionsAreValidated) {
   EXPECT_THROW(Validate(o), std::invalid_argument);
 }
 
+TEST(DockingTest, AnIdleRobotLowOnChargeGoesToChargeAndRetriesLater) {
+  ChargingPolicy never(ChargingOptions{});
+  EXPECT_FALSE(never.ShouldGo(0.0, 0.01, false, false));
+  ChargingPolicy policy(ChargingOptions{.charge_below_percent = 20.0, .retry_s = 60.0});
+  EXPECT_FALSE(policy.ShouldGo(0.0, 0.25, false, false));  // charged enough
+  EXPECT_FALSE(policy.ShouldGo(1.0, 0.15, false, true));   // busy with a mission
+  EXPECT_FALSE(policy.ShouldGo(2.0, 0.15, true, false));   // on the charger already
+  EXPECT_TRUE(policy.ShouldGo(3.0, 0.15, false, false));
+  EXPECT_FALSE(policy.ShouldGo(4.0, 0.15, false, false));  // it set off a second ago
+  EXPECT_TRUE(policy.ShouldGo(64.0, 0.14, false, false));  // that did not work out: again
+}
+
 }  // namespace
 }  // namespace corridor::nav

@@ -5,6 +5,15 @@
 
 namespace corridor::nav {
 
+const char* ToString(GoalAction action) {
+  switch (action) {
+    case GoalAction::kGo: return "go";
+    case GoalAction::kDock: return "dock";
+    case GoalAction::kUndock: return "undock";
+  }
+  return "unknown";
+}
+
 const char* ToString(MissionStatus status) {
   switch (status) {
     case MissionStatus::kActive: return "active";

@@ -13,10 +13,17 @@ namespace corridor::nav {
 enum class MissionStatus { kActive, kPaused, kSucceeded, kFailed, kCanceled };
 const char* ToString(MissionStatus status);
 
+// What the robot does at a goal: stop there, dock (drive to the dock's staging pose, `pose`, then onto the dock at
+// `dock`), or back off the dock it stands on (no pose: it backs straight off).
+enum class GoalAction { kGo, kDock, kUndock };
+const char* ToString(GoalAction action);
+
 struct MissionGoal {
   Pose2 pose;                  // yaw used only when has_yaw
   bool has_yaw = false;
   std::string place;           // the named place it came from, if any
+  GoalAction action = GoalAction::kGo;
+  Pose2 dock;                  // kDock: the docked pose (map frame)
 };
 
 class Mission {

@@ -17,11 +17,16 @@ std::unique_ptr<LocalPolicy> MakePolicy(const MissionRunnerOptions& o) {
 
 PolicyMode ModeOf(MorpRbMode mode) {
   switch (mode) {
-    case MorpRbMode::kFollow: return PolicyMode::kFollow;
-    case MorpRbMode::kChangeLaneLeft: return PolicyMode::kChangeLaneLeft;
-    case MorpRbMode::kChangeLaneRight: return PolicyMode::kChangeLaneRight;
-    case MorpRbMode::kStopAndTurn: return PolicyMode::kStopAndTurn;
-    case MorpRbMode::kOvertake: return PolicyMode::kOvertake;
+    case MorpRbMode::kFollow:
+      return PolicyMode::kFollow;
+    case MorpRbMode::kChangeLaneLeft:
+      return PolicyMode::kChangeLaneLeft;
+    case MorpRbMode::kChangeLaneRight:
+      return PolicyMode::kChangeLaneRight;
+    case MorpRbMode::kStopAndTurn:
+      return PolicyMode::kStopAndTurn;
+    case MorpRbMode::kOvertake:
+      return PolicyMode::kOvertake;
   }
   return PolicyMode::kNone;
 }
@@ -37,21 +42,31 @@ std::vector<Eigen::Vector2d> Positions(const std::vector<Waypoint>& path) {
 
 const char* ToString(PolicyMode mode) {
   switch (mode) {
-    case PolicyMode::kNone: return "";
-    case PolicyMode::kFollow: return "follow";
-    case PolicyMode::kChangeLaneLeft: return "change_lane_left";
-    case PolicyMode::kChangeLaneRight: return "change_lane_right";
-    case PolicyMode::kStopAndTurn: return "stop_and_turn";
-    case PolicyMode::kOvertake: return "overtake";
-    case PolicyMode::kEvade: return "evade";
-    case PolicyMode::kReactive: return "reactive";
-    case PolicyMode::kWaitingForDepth: return "waiting_for_depth";
+    case PolicyMode::kNone:
+      return "";
+    case PolicyMode::kFollow:
+      return "follow";
+    case PolicyMode::kChangeLaneLeft:
+      return "change_lane_left";
+    case PolicyMode::kChangeLaneRight:
+      return "change_lane_right";
+    case PolicyMode::kStopAndTurn:
+      return "stop_and_turn";
+    case PolicyMode::kOvertake:
+      return "overtake";
+    case PolicyMode::kEvade:
+      return "evade";
+    case PolicyMode::kReactive:
+      return "reactive";
+    case PolicyMode::kWaitingForDepth:
+      return "waiting_for_depth";
   }
   return "unknown";
 }
 
-MissionRunner::MissionRunner(const MissionRunnerOptions& options)
-    : options_(options), policy_(MakePolicy(options)) {}
+MissionRunner::MissionRunner(const MissionRunnerOptions& options) : options_(options), policy_(MakePolicy(options)) {
+  Validate(options.docking);
+}
 
 const std::string& MissionRunner::id() const {
   static const std::string kNone;
@@ -73,6 +88,7 @@ MissionSnapshot MissionRunner::Snapshot() const {
   s.policy = mode_;
   s.error = m.error();
   s.speed_limit_mps = m.speed_limit_mps();
+  if (docking_) s.docking = ToString(docking_phase_);
   return s;
 }
 
@@ -85,6 +101,7 @@ void MissionRunner::DropPath() {
 MissionUpdate MissionRunner::Start(Mission mission, std::optional<MissionSnapshot>* cancelled) {
   if (mission_ && mission_->Cancel() && cancelled != nullptr) *cancelled = Snapshot();
   mission_.emplace(std::move(mission));
+  docking_.reset();
   paused_unlocalized_ = false;
   DropPath();
   checking_ = false;
@@ -100,6 +117,7 @@ TransitionOutcome MissionRunner::Transition(const std::string& id, bool (Mission
   if (!mission_ || mission_->id() != id) return TransitionOutcome::kNotFound;
   if (!((*mission_).*transition)()) return TransitionOutcome::kConflict;
   if (drop_path) DropPath();
+  if (mission_->finished()) docking_.reset();
   update->persist = true;
   update->over = mission_->finished();
   return TransitionOutcome::kOk;
@@ -152,6 +170,11 @@ MissionUpdate MissionRunner::Tick(double now_s, const std::optional<Pose2>& pose
     update.command = still;
     return update;
   }
+  if (AtDockingGoal()) {
+    // Docking drives on the frames; without them it holds still.
+    if (last_frame_s_ < 0.0 || now_s - last_frame_s_ > options_.no_frames_s) update.command = still;
+    return update;
+  }
   if (!policy_->has_path()) {
     if (!planning_) {
       planning_ = true;
@@ -187,6 +210,7 @@ MissionUpdate MissionRunner::Frame(const FrameInput& frame) {
   const double dt_s = last_frame_s_ < 0.0 ? 0.0 : frame.now_s - last_frame_s_;
   last_frame_s_ = frame.now_s;
   if (!mission_ || mission_->finished() || mission_->status() == MissionStatus::kPaused) return update;
+  if (AtDockingGoal()) return DockingFrame(frame);
   if (!policy_->has_path() || !frame.pose) return update;
   const Pose2& pose = *frame.pose;
   // The tracker's objects, while fresh: people to step out of the way of.
@@ -196,21 +220,32 @@ MissionUpdate MissionRunner::Frame(const FrameInput& frame) {
     bump_seen_s_ = *frame.bump_s;
     policy_->Touched(pose, frame.bump_backing);
   }
-  const LocalStep step = policy_->Update(pose, frame.view, mission_->speed_limit_mps(), dt_s,
-                                         fresh ? frame.tracked : nullptr);
+  const LocalStep step =
+      policy_->Update(pose, frame.view, mission_->speed_limit_mps(), dt_s, fresh ? frame.tracked : nullptr);
   update.step = step;
   remaining_m_ = step.remaining_m;
   mode_ = options_.policy == LocalPolicyKind::kVoxelReactive ? PolicyMode::kReactive
-          : step.evading                                       ? PolicyMode::kEvade
-                                                               : ModeOf(step.mode);
+          : step.evading                                     ? PolicyMode::kEvade
+                                                             : ModeOf(step.mode);
   if (step.done) {
-    mission_->GoalReached();
     policy_->Clear();
-    ++generation_;
-    remaining_m_ = leg_length_m_ = 0.0;
-    update.persist = true;
-    update.over = mission_->finished();
-    if (!update.over) update.command = Twist2{};  // a brief stop before the next leg
+    const MissionGoal& goal = mission_->current_goal();
+    if (goal.action == GoalAction::kDock && frame.odom) {
+      // At the staging pose: onto the dock, from where the map puts it (in the odometry frame, which docking drives
+      // in).
+      ++generation_;
+      docking_.emplace(Docking::Dock(options_.docking, *frame.odom * pose.Inverse() * goal.dock, frame.now_s));
+      docking_phase_ = DockingPhase::kSeeking;
+      update.persist = true;
+      update.command = Twist2{};
+      return update;
+    }
+    if (goal.action == GoalAction::kDock) {
+      mission_->Fail("no odometry to dock with");
+      update.persist = update.over = true;
+      return update;
+    }
+    NextGoal(update);
     return update;
   }
   if (step.replan) {
@@ -224,6 +259,52 @@ MissionUpdate MissionRunner::Frame(const FrameInput& frame) {
     update.plan = LegQuery(pose, true, true);
   }
   update.command = step.twist;
+  update.answers_frame = true;
+  update.publish = true;
+  return update;
+}
+
+void MissionRunner::NextGoal(MissionUpdate& update) {
+  mission_->GoalReached();
+  ++generation_;
+  remaining_m_ = leg_length_m_ = 0.0;
+  update.persist = true;
+  update.over = mission_->finished();
+  if (!update.over) update.command = Twist2{};  // a brief stop before the next leg
+}
+
+void MissionRunner::SetOnCharger(bool on_charger) {
+  if (!docking_) docked_ = on_charger;
+}
+
+MissionUpdate MissionRunner::DockingFrame(const FrameInput& frame) {
+  MissionUpdate update;
+  if (!frame.odom) {
+    update.command = Twist2{};
+    return update;
+  }
+  if (!docking_) {  // an undocking goal, begun here
+    docking_.emplace(Docking::Undock(options_.docking, *frame.odom, frame.now_s));
+    docking_phase_ = DockingPhase::kUndocking;
+  }
+  const DockingStep step = docking_->Update(frame.now_s, *frame.odom, frame.view.scan);
+  remaining_m_ = step.remaining_m;
+  update.persist = step.phase != docking_phase_;
+  docking_phase_ = step.phase;
+  if (step.phase == DockingPhase::kFailed) {
+    docking_.reset();
+    mission_->Fail(step.error);
+    update.persist = update.over = true;
+    return update;
+  }
+  if (step.finished()) {
+    docked_ = step.phase == DockingPhase::kDocked;
+    docking_.reset();
+    NextGoal(update);
+    return update;
+  }
+  update.command = step.twist;
+  update.docking = true;
   update.answers_frame = true;
   update.publish = true;
   return update;

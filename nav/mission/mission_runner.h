@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "nav/mission/docking.h"
 #include "nav/mission/mission.h"
 #include "nav/planner/costmap.h"
 #include "nav/planner/planner.h"
@@ -29,23 +30,24 @@ namespace corridor::nav {
 struct MissionRunnerOptions {
   LocalNavigatorOptions navigator;  // morp-rb's, and the replanning rules both policies follow
   LocalPolicyKind policy = LocalPolicyKind::kMorpRb;
-  ReactiveOptions reactive;         // voxel-reactive's controller
-  double no_frames_s = 0.2;         // no depth frame for this long: hold the robot still
-  double stale_tracking_s = 0.3;    // tracked objects older than this are not used (three scans of a 10 Hz laser)
-  double fresh_bump_s = 0.5;        // a bump older than this (from before the mission, say) is not where it is now
+  ReactiveOptions reactive;       // voxel-reactive's controller
+  double no_frames_s = 0.2;       // no depth frame for this long: hold the robot still
+  double stale_tracking_s = 0.3;  // tracked objects older than this are not used (three scans of a 10 Hz laser)
+  double fresh_bump_s = 0.5;      // a bump older than this (from before the mission, say) is not where it is now
+  DockingOptions docking;         // docking and undocking goals
 };
 
 // How the robot is driving its mission, as the console shows it.
 enum class PolicyMode {
   kNone,
-  kFollow,            // morp-rb's modes (MorpRbMode)
+  kFollow,  // morp-rb's modes (MorpRbMode)
   kChangeLaneLeft,
   kChangeLaneRight,
   kStopAndTurn,
   kOvertake,
-  kEvade,             // stepping out of a tracked person's way
-  kReactive,          // voxel-reactive
-  kWaitingForDepth,   // no depth frames: holding still
+  kEvade,            // stepping out of a tracked person's way
+  kReactive,         // voxel-reactive
+  kWaitingForDepth,  // no depth frames: holding still
 };
 const char* ToString(PolicyMode mode);
 
@@ -62,6 +64,7 @@ struct MissionSnapshot {
   PolicyMode policy = PolicyMode::kNone;
   std::string error;
   double speed_limit_mps = 0.0;  // +infinity: none
+  std::string docking;           // the current goal's docking phase (DockingPhase), "" when not docking
 };
 
 // A path for the current leg, to plan on the current costmap with ExtraCosts(traffic, blocking...).
@@ -86,24 +89,26 @@ struct PathCheckQuery {
 
 // What a call asks of the caller.
 struct MissionUpdate {
-  std::optional<Twist2> command;   // for the command gate; none: send nothing
-  bool answers_frame = false;      // the command answers the frame given (its latency counts)
-  bool publish = false;            // the snapshot changed: publish it
-  bool persist = false;            // the mission's status, leg or path changed: publish and store it
-  bool over = false;               // the mission has just finished: the robot is no longer driven by it
+  std::optional<Twist2> command;  // for the command gate; none: send nothing
+  bool answers_frame = false;     // the command answers the frame given (its latency counts)
+  bool publish = false;           // the snapshot changed: publish it
+  bool persist = false;           // the mission's status, leg or path changed: publish and store it
+  bool over = false;              // the mission has just finished: the robot is no longer driven by it
   std::optional<LegPlanQuery> plan;
   std::optional<PathCheckQuery> check;
-  std::optional<LocalStep> step;   // this frame's local step (traces)
+  std::optional<LocalStep> step;  // this frame's local step (traces)
+  bool docking = false;           // the command drives onto (or off) a dock: the gate lets it near the dock's face
 };
 
 // One depth frame, as the runner takes it.
 struct FrameInput {
   double now_s = 0.0;
-  std::optional<Pose2> pose;             // the robot in the map frame; none yet
+  std::optional<Pose2> pose;  // the robot in the map frame; none yet
+  std::optional<Pose2> odom;  // the robot in the odometry frame (docking drives on it); none yet
   FrameView view;
-  const Surroundings* tracked = nullptr; // the tracker's latest (may be null)
-  double tracked_received_s = 0.0;       // when the tracker made it
-  std::optional<double> bump_s;          // the latest bump the control node reported, and which way
+  const Surroundings* tracked = nullptr;  // the tracker's latest (may be null)
+  double tracked_received_s = 0.0;        // when the tracker made it
+  std::optional<double> bump_s;           // the latest bump the control node reported, and which way
   bool bump_backing = false;
 };
 
@@ -135,11 +140,16 @@ class MissionRunner {
   MissionUpdate OnCheck(const PathCheckQuery& query, bool still_free, std::shared_ptr<const Costmap> costmap,
                         std::uint64_t version);
 
+  // The robot stands on a dock: it docked, or the charger says so (SetOnCharger). A mission that starts there backs
+  // off the dock first (the node adds the undocking goal).
+  bool docked() const { return docked_; }
+  void SetOnCharger(bool on_charger);
+
   bool has_mission() const { return mission_.has_value(); }
   // No mission under way, or the current one paused because localization is lost: the robot may turn on the spot to
   // find itself (a mission a person paused keeps the robot still).
   bool MayLookAround() const { return !mission_ || mission_->finished() || paused_unlocalized_; }
-  const std::string& id() const;  // "" without a mission
+  const std::string& id() const;     // "" without a mission
   MissionSnapshot Snapshot() const;  // requires has_mission()
   const LocalPolicy& policy() const { return *policy_; }
 
@@ -151,6 +161,13 @@ class MissionRunner {
   TransitionOutcome Transition(const std::string& id, bool (Mission::*transition)(), bool drop_path,
                                MissionUpdate* update);
   bool Current(std::uint64_t ticket) const { return ticket == generation_ && mission_ && !mission_->finished(); }
+  // A frame while docking or undocking.
+  MissionUpdate DockingFrame(const FrameInput& frame);
+  // The current goal is reached: on to the next (a brief stop first) or done.
+  void NextGoal(MissionUpdate& update);
+  bool AtDockingGoal() const {
+    return docking_ || (mission_ && !mission_->finished() && mission_->current_goal().action == GoalAction::kUndock);
+  }
 
   MissionRunnerOptions options_;
   std::unique_ptr<LocalPolicy> policy_;
@@ -159,13 +176,16 @@ class MissionRunner {
   bool planning_ = false;
   bool checking_ = false;
   bool rerouting_ = false;
-  double routed_s_ = 0.0;          // when the current path was planned or last checked against people's ways
+  double routed_s_ = 0.0;           // when the current path was planned or last checked against people's ways
   std::uint64_t path_version_ = 0;  // planner version the current path was made or checked with
   double leg_length_m_ = 0.0;
   double remaining_m_ = 0.0;
-  double last_frame_s_ = -1.0;     // negative: none yet
+  double last_frame_s_ = -1.0;  // negative: none yet
   double bump_seen_s_ = -1e300;
   PolicyMode mode_ = PolicyMode::kNone;
+  std::optional<Docking> docking_;  // docking or undocking at the current goal
+  DockingPhase docking_phase_ = DockingPhase::kSeeking;
+  bool docked_ = false;
 };
 
 }  // namespace corridor::nav

@@ -5,8 +5,16 @@
 namespace corridor::nav {
 namespace {
 
+MissionGoal Goal(Pose2 pose, bool has_yaw, std::string place) {
+  MissionGoal goal;
+  goal.pose = pose;
+  goal.has_yaw = has_yaw;
+  goal.place = std::move(place);
+  return goal;
+}
+
 Mission ThreeStops() {
-  return Mission("m1", {{{1, 0, 0}, false, ""}, {{1, 1, 0}, true, "kitchen"}, {{0, 1, 0}, false, ""}}, 0.5);
+  return Mission("m1", {Goal({1, 0, 0}, false, ""), Goal({1, 1, 0}, true, "kitchen"), Goal({0, 1, 0}, false, "")}, 0.5);
 }
 
 TEST(MissionTest, PauseResumeCancelFollowTheAllowedTransitions) {

@@ -10,6 +10,7 @@ const char* ToString(ControlMode mode) {
     case ControlMode::kIdle: return "idle";
     case ControlMode::kTeleop: return "teleop";
     case ControlMode::kMission: return "mission";
+    case ControlMode::kDocking: return "docking";
     case ControlMode::kStopped: return "stopped";
   }
   return "unknown";
@@ -82,7 +83,7 @@ GateDecision CommandGate::Decide(double now_s, const TimedTwist* teleop, const T
     out.mode = ControlMode::kTeleop;
     out.twist = limit(teleop->twist);
   } else if (mission != nullptr && now_s - mission->stamp_s <= options_.mission_fresh_s) {
-    out.mode = ControlMode::kMission;
+    out.mode = mission->docking ? ControlMode::kDocking : ControlMode::kMission;
     out.twist = limit(mission->twist);
   }
   if (out.twist.linear_mps * bump_direction_ > 0.0 && bumped(now_s)) {
@@ -92,8 +93,10 @@ GateDecision CommandGate::Decide(double now_s, const TimedTwist* teleop, const T
   if (out.twist.linear_mps > 0.0) {
     // Forward: only as fast as stops before the nearest obstacle the camera sees, and not at all without sight.
     const bool fresh = now_s - last_sight_s_ <= options_.depth_timeout_s;
-    const double cap =
-        fresh ? SpeedForFreeDistance(nearest_ahead_m_ - options_.front_offset_m, options_.stopping) : 0.0;
+    const double cap = !fresh                            ? 0.0
+                       : out.mode == ControlMode::kDocking ? options_.docking_max_mps
+                                                           : SpeedForFreeDistance(nearest_ahead_m_ - options_.front_offset_m,
+                                                                                  options_.stopping);
     if (out.twist.linear_mps > cap) {
       out.twist.linear_mps = cap;
       out.reason = fresh ? GateReason::kSlowedForObstacle : GateReason::kNoDepth;

@@ -5,7 +5,9 @@
 //   - while the bumper is pressed and bump_hold_s after, nothing drives on in the direction the robot bumped in
 //     (turning and driving away are allowed);
 //   - forward only as fast as stops before the nearest obstacle the depth camera sees in the robot's way (the
-//     stopping model, from the front of the robot), and not at all without a depth frame for depth_timeout_s.
+//     stopping model, from the front of the robot), and not at all without a depth frame for depth_timeout_s;
+//   - docking (a mission command that says so) drives up to the dock's face, which the camera sees as an obstacle:
+//     forward is capped at docking_max_mps instead, still only with fresh depth frames and with the bumper's rule.
 // Pure logic: the caller reports what arrived and when (seconds on one clock), and asks for a decision.
 #pragma once
 
@@ -20,7 +22,7 @@
 
 namespace corridor::nav {
 
-enum class ControlMode { kIdle, kTeleop, kMission, kStopped };
+enum class ControlMode { kIdle, kTeleop, kMission, kDocking, kStopped };
 const char* ToString(ControlMode mode);
 
 // Why the command is not what was asked for (kNone: it is).
@@ -50,6 +52,7 @@ struct CommandGateOptions {
   double mission_fresh_s = 0.3;        // a mission command older than this is not acted on
   double bump_hold_s = 1.0;            // after the bumper is released, driving on that way waits this long
   double fault_hold_s = 2.0;           // the protective stop after a fault
+  double docking_max_mps = 0.12;       // forward while docking
   // Near people: a person detected ahead (within person_half_angle_rad of straight ahead) within person_near_m caps
   // forward speed at person_speed_factor x max_linear_mps, while the report is at most people_fresh_s old.
   double person_near_m = 1.5;
@@ -62,6 +65,7 @@ struct CommandGateOptions {
 struct TimedTwist {
   Twist2 twist;
   double stamp_s = 0.0;
+  bool docking = false;  // a mission's command onto a dock (see above)
 };
 
 struct GateDecision {

@@ -364,6 +364,9 @@ json Api::State() const {
   state["face"] = std::string(face::ToString(face ? face->expression : face::Expression::kNeutral));
   const auto mission = c_.bus.Get(topics::kMission).latest();
   state["mission"] = mission ? ToJson(*mission) : json(nullptr);
+  const auto battery = c_.bus.Get(topics::kBattery).latest();
+  state["battery"] = battery ? ToJson(*battery) : json(nullptr);
+  state["docked"] = c_.missions.docked();
   const auto map = c_.maps.active();
   state["map"] = {{"name", map->name}, {"revision", map->revision}};
   json nodes = json::array();

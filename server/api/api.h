@@ -175,6 +175,11 @@ class Api {
   Response CameraImage(const Request& request, bool depth) const;
   void Plan(const Request& request, Reply reply) const;
   void StartMission(const Request& request, Reply reply) const;
+  // Starts a mission through `goals` once each is somewhere the robot can stand (undocking goals are not checked: the
+  // robot backs off where it stands); answers 201 with the mission, or 422 naming the first goal that is not.
+  void StartGoals(const Request& request, Reply reply, std::vector<nav::MissionGoal> goals, double speed_limit) const;
+  void Dock(const Request& request, Reply reply) const;
+  void Undock(const Request& request, Reply reply) const;
   Response MissionAction(const Request& request, const std::string& id, const std::string& action) const;
   nav::MissionGoal ParseGoal(const nlohmann::json& j, const std::string& where) const;
   void ZonesChanged() const;

@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "nav/mission/docking.h"
 #include "server/api/api.h"
 #include "server/runtime/topics.h"
 
@@ -45,8 +46,11 @@ std::string TrafficImage(const std::vector<float>& cost, int width, int height) 
   return {png.begin(), png.end()};
 }
 
-json PlaceJson(const nav::Place& p) {
-  return {{"id", p.id}, {"name", p.name}, {"x", p.pose.x_m}, {"y", p.pose.y_m}, {"yaw", p.pose.yaw_rad}};
+json PlaceJson(const nav::Place& p, const nav::DockGeometry& dock) {
+  json j = {{"id", p.id}, {"name", p.name}, {"x", p.pose.x_m}, {"y", p.pose.y_m}, {"yaw", p.pose.yaw_rad},
+            {"kind", nav::ToString(p.kind)}};
+  if (p.kind == nav::PlaceKind::kDock) j["staging"] = ToJson(nav::StagingPose(p.pose, dock));
+  return j;
 }
 
 nav::Zone ParseZone(const json& body, std::string id) {
@@ -80,13 +84,21 @@ nav::Zone ParseZone(const json& body, std::string id) {
 }
 
 nav::Place ParsePlace(const json& body, std::string id) {
-  AllowOnlyKeys(body, {"id", "name", "x", "y", "yaw"}, "");
+  AllowOnlyKeys(body, {"id", "name", "x", "y", "yaw", "kind", "staging"}, "");
   if (!body.contains("name") || !body["name"].is_string() || body["name"].get<std::string>().empty()) {
     throw ApiError(http::status::bad_request, "Invalid place", "'name' must be a non-empty string");
   }
+  nav::PlaceKind kind = nav::PlaceKind::kPlace;
+  if (body.contains("kind")) {
+    const auto parsed = body["kind"].is_string() ? nav::PlaceKindFromString(body["kind"].get<std::string>())
+                                                 : std::nullopt;
+    if (!parsed) throw ApiError(http::status::bad_request, "Invalid place", "'kind' must be \"place\" or \"dock\"");
+    kind = *parsed;
+  }
   return {std::move(id), body["name"].get<std::string>(),
           {RequireNumber(body, "x", ""), RequireNumber(body, "y", ""),
-           body.contains("yaw") ? nav::WrapAngle(RequireNumber(body, "yaw", "")) : 0.0}};
+           body.contains("yaw") ? nav::WrapAngle(RequireNumber(body, "yaw", "")) : 0.0},
+          kind};
 }
 
 void ExpectMapEdit(const std::function<void()>& edit) {
@@ -266,7 +278,7 @@ void Api::AddMapRoutes() {
 
   Add(http::verb::get, "/api/v1/places", Sync([this](const Request& r, const Params&) {
         json places = json::array();
-        for (const nav::Place& p : c_.store.Places(c_.maps.active()->name)) places.push_back(PlaceJson(p));
+        for (const nav::Place& p : c_.store.Places(c_.maps.active()->name)) places.push_back(PlaceJson(p, c_.config.mission.docking.dock));
         return JsonResponse(r, {{"places", places}});
       }));
   const auto check_name_free = [this](const nav::Place& place) {
@@ -285,7 +297,7 @@ void Api::AddMapRoutes() {
         const nav::Place place = ParsePlace(ParseJsonBody(r), NewId());
         check_name_free(place);
         c_.store.PutPlace(c_.maps.active()->name, place);
-        Response res = JsonResponse(r, PlaceJson(place), http::status::created);
+        Response res = JsonResponse(r, PlaceJson(place, c_.config.mission.docking.dock), http::status::created);
         res.set(http::field::location, "/api/v1/places/" + place.id);
         return res;
       }));
@@ -295,8 +307,8 @@ void Api::AddMapRoutes() {
     }
     throw ApiError(http::status::not_found, "Not found", "no place " + id);
   };
-  Add(http::verb::get, "/api/v1/places/{id}", Sync([find_place](const Request& r, const Params& p) {
-        return JsonResponse(r, PlaceJson(find_place(p.at("id"))));
+  Add(http::verb::get, "/api/v1/places/{id}", Sync([this, find_place](const Request& r, const Params& p) {
+        return JsonResponse(r, PlaceJson(find_place(p.at("id")), c_.config.mission.docking.dock));
       }));
   Add(http::verb::put, "/api/v1/places/{id}",
       Sync([this, find_place, check_name_free](const Request& r, const Params& p) {
@@ -304,7 +316,7 @@ void Api::AddMapRoutes() {
         const nav::Place place = ParsePlace(ParseJsonBody(r), p.at("id"));
         check_name_free(place);
         c_.store.PutPlace(c_.maps.active()->name, place);
-        return JsonResponse(r, PlaceJson(place));
+        return JsonResponse(r, PlaceJson(place, c_.config.mission.docking.dock));
       }));
   Add(http::verb::delete_, "/api/v1/places/{id}", Sync([this](const Request& r, const Params& p) {
         if (!c_.store.DeletePlace(c_.maps.active()->name, p.at("id"))) {

@@ -1,6 +1,9 @@
 // Routes for planning and missions: POST /api/v1/plan, /api/v1/missions and their actions.
 #include <cmath>
 
+#include <limits>
+
+#include "nav/mission/docking.h"
 #include "server/api/api.h"
 #include "server/runtime/topics.h"
 
@@ -11,20 +14,29 @@ using nlohmann::json;
 
 http::status StatusFor(nav::PlanError error) {
   switch (error) {
-    case nav::PlanError::kCancelled: return http::status::service_unavailable;
-    default: return http::status::unprocessable_entity;
+    case nav::PlanError::kCancelled:
+      return http::status::service_unavailable;
+    default:
+      return http::status::unprocessable_entity;
   }
 }
 
 std::string TitleFor(nav::PlanError error) {
   switch (error) {
-    case nav::PlanError::kStartOutsideMap: return "Start outside the map";
-    case nav::PlanError::kStartOccupied: return "Start occupied";
-    case nav::PlanError::kGoalOutsideMap: return "Goal outside the map";
-    case nav::PlanError::kGoalOccupied: return "Goal occupied";
-    case nav::PlanError::kNoPath: return "No path";
-    case nav::PlanError::kCancelled: return "Plan cancelled";
-    case nav::PlanError::kNone: break;
+    case nav::PlanError::kStartOutsideMap:
+      return "Start outside the map";
+    case nav::PlanError::kStartOccupied:
+      return "Start occupied";
+    case nav::PlanError::kGoalOutsideMap:
+      return "Goal outside the map";
+    case nav::PlanError::kGoalOccupied:
+      return "Goal occupied";
+    case nav::PlanError::kNoPath:
+      return "No path";
+    case nav::PlanError::kCancelled:
+      return "Plan cancelled";
+    case nav::PlanError::kNone:
+      break;
   }
   return "Plan failed";
 }
@@ -45,6 +57,7 @@ nav::MissionGoal Api::ParseGoal(const json& j, const std::string& where) const {
     const auto map = c_.maps.active();
     for (const nav::Place& p : c_.store.Places(map->name)) {
       if (p.name == goal.place || p.id == goal.place) {
+        if (p.kind == nav::PlaceKind::kDock) return nav::DockGoal(p, c_.config.mission.docking.dock);
         goal.pose = p.pose;
         goal.has_yaw = true;
         return goal;
@@ -68,6 +81,10 @@ void Api::AddNavigationRoutes() {
       [this](const Request& r, const Params&, Reply reply) { Plan(r, std::move(reply)); });
   Add(http::verb::post, "/api/v1/missions",
       [this](const Request& r, const Params&, Reply reply) { StartMission(r, std::move(reply)); });
+  Add(http::verb::post, "/api/v1/dock",
+      [this](const Request& r, const Params&, Reply reply) { Dock(r, std::move(reply)); });
+  Add(http::verb::post, "/api/v1/undock",
+      [this](const Request& r, const Params&, Reply reply) { Undock(r, std::move(reply)); });
   Add(http::verb::get, "/api/v1/missions", Sync([this](const Request& r, const Params&) {
         return JsonResponse(r, {{"missions", c_.store.Missions(50)}});
       }));
@@ -77,9 +94,8 @@ void Api::AddNavigationRoutes() {
         if (auto doc = c_.store.Mission(id)) return JsonResponse(r, *doc);
         throw ApiError(http::status::not_found, "Not found", "no mission " + id);
       }));
-  Add(http::verb::post, "/api/v1/missions/{id}/{action}", Sync([this](const Request& r, const Params& p) {
-        return MissionAction(r, p.at("id"), p.at("action"));
-      }));
+  Add(http::verb::post, "/api/v1/missions/{id}/{action}",
+      Sync([this](const Request& r, const Params& p) { return MissionAction(r, p.at("id"), p.at("action")); }));
 }
 
 void Api::Plan(const Request& request, Reply reply) const {
@@ -107,7 +123,9 @@ void Api::Plan(const Request& request, Reply reply) const {
       const nav::Plan& p = r.result.plan;
       json path = json::array();
       for (const nav::Waypoint& w : p.waypoints) {
-        path.push_back({{"x", w.pose.x_m}, {"y", w.pose.y_m}, {"yaw", w.pose.yaw_rad},
+        path.push_back({{"x", w.pose.x_m},
+                        {"y", w.pose.y_m},
+                        {"yaw", w.pose.yaw_rad},
                         {"speed_limit_mps", NumberOrNull(w.speed_limit_mps)}});
       }
       return JsonResponse(request, {{"path", path},
@@ -129,18 +147,83 @@ void Api::StartMission(const Request& request, Reply reply) const {
     throw ApiError(http::status::bad_request, "Invalid request", "'waypoints' must be a list of 1 to 100 waypoints");
   }
   std::vector<nav::MissionGoal> goals;
-  for (std::size_t i = 0; i < list->size(); ++i) goals.push_back(ParseGoal((*list)[i], "waypoints[" + std::to_string(i) + "]"));
+  for (std::size_t i = 0; i < list->size(); ++i)
+    goals.push_back(ParseGoal((*list)[i], "waypoints[" + std::to_string(i) + "]"));
   double speed_limit = std::numeric_limits<double>::infinity();
   if (body.contains("speed_limit_mps")) {
     speed_limit = RequireNumber(body, "speed_limit_mps", "");
-    if (speed_limit <= 0.0) throw ApiError(http::status::bad_request, "Invalid request", "'speed_limit_mps' must be > 0");
+    if (speed_limit <= 0.0)
+      throw ApiError(http::status::bad_request, "Invalid request", "'speed_limit_mps' must be > 0");
   }
+  StartGoals(request, std::move(reply), std::move(goals), speed_limit);
+}
+
+void Api::Dock(const Request& request, Reply reply) const {
+  const json body = request.body().empty() ? json::object() : ParseJsonBody(request);
+  if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
+  AllowOnlyKeys(body, {"dock"}, "");
+  if (body.contains("dock") && (!body["dock"].is_string() || body["dock"].get<std::string>().empty())) {
+    throw ApiError(http::status::bad_request, "Invalid request", "'dock' must be a dock's name or id");
+  }
+  const std::string wanted = body.value("dock", "");
+  const auto map = c_.maps.active();
+  const auto pose = c_.bus.Get(topics::kPose).latest();
+  std::optional<nav::Place> dock;
+  double best_m = std::numeric_limits<double>::infinity();
+  for (const nav::Place& p : c_.store.Places(map->name)) {
+    if (!wanted.empty() && p.name != wanted && p.id != wanted) continue;
+    if (!wanted.empty() && p.kind != nav::PlaceKind::kDock) {
+      throw ApiError(http::status::unprocessable_entity, "Not a dock", "the place '" + wanted + "' is not a dock",
+                     "not_a_dock");
+    }
+    if (p.kind != nav::PlaceKind::kDock) continue;
+    const double d = pose ? (p.pose.translation() - pose->pose.translation()).norm() : 0.0;
+    if (d < best_m) {
+      best_m = d;
+      dock = p;
+    }
+  }
+  if (!dock) {
+    throw ApiError(http::status::unprocessable_entity, wanted.empty() ? "No dock" : "Unknown dock",
+                   wanted.empty() ? "map '" + map->name + "' has no dock (a place of kind dock)"
+                                  : "no dock named '" + wanted + "' on map '" + map->name + "'",
+                   wanted.empty() ? "no_dock" : "unknown_place");
+  }
+  if (c_.missions.docked()) {
+    throw ApiError(http::status::conflict, "Docked", "the robot stands on a dock already", "docked");
+  }
+  StartGoals(request, std::move(reply), {nav::DockGoal(*dock, c_.config.mission.docking.dock)},
+             std::numeric_limits<double>::infinity());
+}
+
+void Api::Undock(const Request& request, Reply reply) const {
+  if (!request.body().empty()) {
+    const json body = ParseJsonBody(request);
+    if (!body.is_object() || !body.empty()) {
+      throw ApiError(http::status::bad_request, "Invalid request", "undock takes no body (or {})");
+    }
+  }
+  if (!c_.missions.docked()) {
+    throw ApiError(http::status::conflict, "Not docked", "the robot is not on a dock", "not_docked");
+  }
+  nav::MissionGoal undock;
+  undock.action = nav::GoalAction::kUndock;
+  if (const auto pose = c_.bus.Get(topics::kPose).latest()) {
+    undock.pose = nav::StagingPose(pose->pose, c_.config.mission.docking.dock);
+    undock.has_yaw = true;
+  }
+  StartGoals(request, std::move(reply), {undock}, std::numeric_limits<double>::infinity());
+}
+
+void Api::StartGoals(const Request& request, Reply reply, std::vector<nav::MissionGoal> goals,
+                     double speed_limit) const {
   // Every waypoint must be somewhere the robot can stand; say which one is not before anything moves.
   c_.planner.WithCostmap([this, request, reply, goals = std::move(goals), speed_limit](
-                                 std::shared_ptr<const nav::Costmap> map, std::uint64_t) mutable {
+                             std::shared_ptr<const nav::Costmap> map, std::uint64_t) mutable {
     const nav::Costmap& costmap = *map;
     Answer(request, reply, [&]() -> Response {
       for (std::size_t i = 0; i < goals.size(); ++i) {
+        if (goals[i].action == nav::GoalAction::kUndock) continue;
         const std::string where = "waypoints[" + std::to_string(i) + "]";
         const auto cell = costmap.grid().WorldToCell(goals[i].pose.translation());
         if (!cell) {
@@ -149,7 +232,7 @@ void Api::StartMission(const Request& request, Reply reply) const {
         }
         if (!costmap.Traversable(costmap.Index(*cell))) {
           const std::string why = costmap.InKeepOut(costmap.Index(*cell)) ? " is in a keep-out zone"
-                                                                           : " is occupied or too close to an obstacle";
+                                                                          : " is occupied or too close to an obstacle";
           throw ApiError(http::status::unprocessable_entity, "Goal occupied", where + why, "goal_occupied");
         }
       }

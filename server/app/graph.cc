@@ -3,18 +3,21 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <limits>
+
+#include "nav/mission/docking.h"
 #include "nav/policy/evasion.h"
+#include "server/app/simulator.h"
 #include "server/nodes/control_node.h"
 #include "server/nodes/driver_bridge.h"
+#include "server/nodes/event_node.h"
 #include "server/nodes/explore_node.h"
 #include "server/nodes/face_node.h"
 #include "server/nodes/ground_node.h"
 #include "server/nodes/localization_node.h"
 #include "server/nodes/octree_node.h"
 #include "server/nodes/perception_node.h"
-#include "server/app/simulator.h"
 #include "server/nodes/tracking_node.h"
-#include "server/nodes/event_node.h"
 #include "server/runtime/demand.h"
 
 namespace corridor::server {
@@ -30,7 +33,8 @@ Config Adjusted(Config config, const Devices& devices) {
 
 const drivers::Clock& ClockFor(Schedule schedule, const Devices& devices, const drivers::Clock& wall) {
   if (schedule == Schedule::kThreads) return wall;
-  if (devices.sim == nullptr) throw std::runtime_error("a graph in lockstep needs the simulator: its clock is the graph's");
+  if (devices.sim == nullptr)
+    throw std::runtime_error("a graph in lockstep needs the simulator: its clock is the graph's");
   return devices.sim->clock();
 }
 
@@ -39,6 +43,18 @@ std::string HostName() {
   char name[256] = {};
   if (gethostname(name, sizeof(name) - 1) != 0 || name[0] == '\0') return "corridor";
   return name;
+}
+
+// The simulator's dock as a place of the map the simulated building is drawn in, unless that map has a dock already.
+void AddSimulatedDock(Store& store, const std::string& map, const nav::Pose2& pose) {
+  const std::vector<nav::Place> places = store.Places(map);
+  bool named_dock = false;
+  for (const nav::Place& p : places) {
+    if (p.kind == nav::PlaceKind::kDock) return;
+    named_dock = named_dock || p.name == "dock";
+  }
+  store.PutPlace(map, nav::Place{NewId(), named_dock ? "simulated dock" : "dock", pose, nav::PlaceKind::kDock});
+  spdlog::info("simulator: its dock is the place '{}' of map '{}'", named_dock ? "simulated dock" : "dock", map);
 }
 
 }  // namespace
@@ -104,7 +120,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
     spdlog::info("map '{}': {} x {} cells at {} m", active->name, active->grid.width(), active->grid.height(),
                  active->grid.resolution_m());
   }
-  ConnectDrivers(bus_, clock_, devices_.camera, devices_.base, devices_.laser);
+  ConnectDrivers(bus_, clock_, devices_.camera, devices_.base, devices_.laser, devices_.battery);
 
   // Mission documents are written to the database on the io executor, off the control path.
   const auto persist = [this](const MissionState& state) {
@@ -116,7 +132,24 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
       }
     });
   };
-  auto mission_node = std::make_unique<MissionNode>(executors_.control, bus_, planner_, config_.mission, persist);
+  // The simulator's dock is a place on the map it stands in (as an installer would add a real one).
+  if (devices_.sim != nullptr && devices_.sim->dock() && maps_->active()->name == config_.sim.world.stem().string()) {
+    AddSimulatedDock(store_, maps_->active()->name, devices_.sim->dock()->options().pose);
+  }
+  // Low on charge, an idle robot goes to the dock nearest to it on the active map.
+  const auto nearest_dock = [this](const nav::Pose2& robot) -> std::optional<nav::MissionGoal> {
+    std::optional<nav::MissionGoal> best;
+    double best_m = std::numeric_limits<double>::infinity();
+    for (const nav::Place& p : store_.Places(maps_->active()->name)) {
+      const double d = (p.pose.translation() - robot.translation()).norm();
+      if (p.kind != nav::PlaceKind::kDock || d >= best_m) continue;
+      best_m = d;
+      best = DockGoal(p, config_.mission.docking.dock);
+    }
+    return best;
+  };
+  auto mission_node = std::make_unique<MissionNode>(executors_.control, bus_, planner_, config_.mission, persist,
+                                                    config_.charging, nearest_dock);
   missions_ = mission_node.get();
   // Brought up in this order and down in reverse: control goes first at shutdown, so the robot stops first.
   if (devices_.sim != nullptr) {
@@ -141,8 +174,8 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   social.near_m = config_.safety.person_near_m;
   std::shared_ptr<const face::Speech> speech;
   if (!config_.face.mute) speech = std::make_shared<const face::Speech>(config_.face.voice);
-  lifecycle_.Add(std::make_unique<FaceNode>(executors_.perception, bus_, config_.face, social, speech, spoken_,
-                                            events_));
+  lifecycle_.Add(
+      std::make_unique<FaceNode>(executors_.perception, bus_, config_.face, social, speech, spoken_, events_));
   WebhookOptions hooks = config_.webhooks;
   if (hooks.robot.empty()) hooks.robot = HostName();
   webhooks_ = std::make_unique<Webhooks>(executors_.io.context(), store_, clock_, hooks);
@@ -160,10 +193,9 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   lifecycle_.Add(std::make_unique<ControlNode>(executors_.control, bus_, devices_.base, config_.safety));
   lifecycle_.ConfigureAll();
 
-  api_ = std::make_unique<Api>(
-      ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, octree_, perception_, *spoken_,
-                 *webhooks_, access_, config_, clock_, executors_.io, executors_.control,
-                 devices_.sim, std::move(tls_fingerprint)});
+  api_ = std::make_unique<Api>(ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, octree_,
+                                          perception_, *spoken_, *webhooks_, access_, config_, clock_, executors_.io,
+                                          executors_.control, devices_.sim, std::move(tls_fingerprint)});
 }
 
 Graph::~Graph() { Stop(); }

@@ -38,6 +38,7 @@ struct Devices {
   drivers::DiffDriveBase& base;
   drivers::Laser2D* laser = nullptr;      // null: no laser fitted
   drivers::sim::SimRobot* sim = nullptr;  // the simulator, when the devices are simulated (its faults, its truth)
+  drivers::Battery* battery = nullptr;    // null: nothing reports the battery
 };
 
 // The map to start in: the map library's first map.

@@ -10,7 +10,7 @@
 namespace corridor::server {
 
 Devices Simulator::devices(const Config& config) const {
-  return Devices{*robot, *robot, config.sim.robot.laser.enabled ? robot.get() : nullptr, robot.get()};
+  return Devices{*robot, *robot, config.sim.robot.laser.enabled ? robot.get() : nullptr, robot.get(), robot.get()};
 }
 
 std::filesystem::path SimPoseFile(const Config& config) { return config.store.state_dir / "sim_pose.json"; }
@@ -20,6 +20,7 @@ Simulator MakeSimulator(const Config& config) {
   sim.world = [&] {
     drivers::sim::World w = drivers::sim::LoadWorld(config.sim.world, config.sim.world_options);
     drivers::sim::AddObstacles(w, config.sim.obstacles);  // in the world, not in its map
+    if (config.sim.robot.dock) drivers::sim::AddDock(w, drivers::sim::SimDock(*config.sim.robot.dock));
     return std::make_shared<const drivers::sim::World>(std::move(w));
   }();
   nav::Pose2 start = config.sim.robot.start;

@@ -79,12 +79,15 @@ void ControlNode::Act() {
   std::optional<nav::TimedTwist> asked_teleop;
   std::optional<nav::TimedTwist> asked_mission;
   if (teleop) asked_teleop = nav::TimedTwist{teleop->twist, drivers::ToSeconds(teleop->received_ns)};
-  if (mission && mission->active) asked_mission = nav::TimedTwist{mission->twist, drivers::ToSeconds(mission->stamp_ns)};
+  if (mission && mission->active) {
+    asked_mission = nav::TimedTwist{mission->twist, drivers::ToSeconds(mission->stamp_ns), mission->docking};
+  }
   const nav::GateDecision decision = gate_.Decide(drivers::ToSeconds(now), asked_teleop ? &*asked_teleop : nullptr,
                                                   asked_mission ? &*asked_mission : nullptr);
   base_.SetVelocity(decision.twist);
   const drivers::TimeNs sent_ns = clock().Now();
-  if (decision.mode == nav::ControlMode::kMission && mission->frame_arrival_ns >= 0 &&
+  if ((decision.mode == nav::ControlMode::kMission || decision.mode == nav::ControlMode::kDocking) &&
+      mission->frame_arrival_ns >= 0 &&
       mission->frame_arrival_ns != answered_frame_ns_) {
     answered_frame_ns_ = mission->frame_arrival_ns;
     latency_.Record(sent_ns, static_cast<double>(sent_ns - mission->frame_arrival_ns) * 1e-6);

@@ -5,7 +5,7 @@
 namespace corridor::server {
 
 void ConnectDrivers(Bus& bus, const drivers::Clock& clock, drivers::DepthCamera& camera, drivers::DiffDriveBase& base,
-                    drivers::Laser2D* laser) {
+                    drivers::Laser2D* laser, drivers::Battery* battery) {
   auto& rgbd = bus.Get(topics::kRgbd);
   camera.SetFrameHandler([&rgbd, &clock](std::shared_ptr<drivers::RgbdFrame> frame) {
     frame->arrival_ns = clock.Now();
@@ -16,6 +16,10 @@ void ConnectDrivers(Bus& bus, const drivers::Clock& clock, drivers::DepthCamera&
   if (laser != nullptr) {
     auto& scan = bus.Get(topics::kScan);
     laser->SetScanHandler([&scan](std::shared_ptr<const drivers::LaserScan> s) { scan.Publish(std::move(s)); });
+  }
+  if (battery != nullptr) {
+    auto& state = bus.Get(topics::kBattery);
+    battery->SetBatteryHandler([&state](const drivers::BatteryState& b) { state.Publish(b); });
   }
 }
 

@@ -111,6 +111,7 @@ face::Situation FaceNode::Sample() {
     s.fault = command->mode == nav::ControlMode::kStopped;
     if (s.fault) s.fault_detail = command->detail;
   }
+  if (const auto battery = bus().Get(topics::kBattery).latest()) s.charging = battery->charging;
   if (const auto localization = bus().Get(topics::kLocalization).latest()) {
     s.lost = localization->estimate.health == nav::LocalizationHealth::kLost;
   }

@@ -1,5 +1,6 @@
 #include "server/nodes/mission_node.h"
 
+#include <limits>
 #include <utility>
 
 #include <spdlog/spdlog.h>
@@ -18,22 +19,28 @@ std::optional<nav::Pose2> PoseOf(const std::shared_ptr<const StampedPose>& pose)
 
 }  // namespace
 
-MissionNode::MissionNode(Executor& control, Bus& bus, PlannerService& planner,
-                         const nav::MissionRunnerOptions& options, std::function<void(const MissionState&)> on_change)
+MissionNode::MissionNode(Executor& control, Bus& bus, PlannerService& planner, const nav::MissionRunnerOptions& options,
+                         std::function<void(const MissionState&)> on_change, const nav::ChargingOptions& charging,
+                         DockFinder find_dock)
     : PeriodicNode("mission", control, bus, kRateHz),
       planner_(planner),
       on_change_(std::move(on_change)),
       plan_loop_(Loop("plan")),
+      docking_(options.docking),
+      charging_(charging),
+      find_dock_(std::move(find_dock)),
       runner_(options) {}
 
 void MissionNode::Activate() {
   Subscribe(topics::kGroundLanes, "frame", [this](const auto& ground) { Frame(*ground); });
+  Subscribe(topics::kBattery, "battery", [this](const auto& battery) { Battery(*battery); });
   Subscribe(topics::kLocalization, "localization", [this](const auto& localization) {
     std::lock_guard lock(mutex_);
     const bool localized = localization->estimate.health != nav::LocalizationHealth::kLost;
     const nav::MissionUpdate update = runner_.SetLocalized(localized);
     if (update.persist || update.publish || update.over || update.command) {
-      spdlog::warn("mission {}: {}", runner_.id(), localized ? "localized again: resuming" : "localization lost: paused");
+      spdlog::warn("mission {}: {}", runner_.id(),
+                   localized ? "localized again: resuming" : "localization lost: paused");
     }
     Carry(update);
     // Lost with the camera's narrow view, localization asks the robot to turn on the spot to see more.
@@ -57,7 +64,8 @@ void MissionNode::Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_
     // Tell the control node at once, rather than letting the last command go stale.
     command.Publish(MissionCommand{now, {}, false});
   } else if (update.command) {
-    command.Publish(MissionCommand{now, *update.command, true, update.answers_frame ? frame_arrival_ns : -1});
+    command.Publish(
+        MissionCommand{now, *update.command, true, update.answers_frame ? frame_arrival_ns : -1, update.docking});
   }
   if (update.persist || update.publish) {
     MissionState state = runner_.Snapshot();
@@ -68,8 +76,7 @@ void MissionNode::Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_
     spdlog::info("mission {}: the robot has strayed from its path; replanning", runner_.id());
   }
   if (update.step) {
-    bus().Get(topics::kLocalStep).Publish(
-        LocalStepState{now, *update.step, runner_.policy().Remembered()});
+    bus().Get(topics::kLocalStep).Publish(LocalStepState{now, *update.step, runner_.policy().Remembered()});
   }
   if (update.plan) {
     const nav::LegPlanQuery query = *update.plan;
@@ -95,25 +102,38 @@ void MissionNode::Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_
     });
   }
   if (update.check) {
-    planner_.WithCostmap([this, query = *update.check](std::shared_ptr<const nav::Costmap> costmap,
-                                                         std::uint64_t version) {
-      const bool free = nav::RestOfPathTraversable(*costmap, query.path, query.from);
-      executor().Post([this, query, free, version, costmap = std::move(costmap)] {
-        Run(plan_loop_, [&] {
-          std::lock_guard lock(mutex_);
-          if (!free) spdlog::info("mission {}: the map or zones changed across the path; replanning", runner_.id());
-          Carry(runner_.OnCheck(query, free, costmap, version));
+    planner_.WithCostmap(
+        [this, query = *update.check](std::shared_ptr<const nav::Costmap> costmap, std::uint64_t version) {
+          const bool free = nav::RestOfPathTraversable(*costmap, query.path, query.from);
+          executor().Post([this, query, free, version, costmap = std::move(costmap)] {
+            Run(plan_loop_, [&] {
+              std::lock_guard lock(mutex_);
+              if (!free) spdlog::info("mission {}: the map or zones changed across the path; replanning", runner_.id());
+              Carry(runner_.OnCheck(query, free, costmap, version));
+            });
+          });
         });
-      });
-    });
   }
 }
 
 MissionState MissionNode::Start(std::vector<nav::MissionGoal> goals, double speed_limit_mps) {
   std::lock_guard lock(mutex_);
+  return StartLocked(std::move(goals), speed_limit_mps);
+}
+
+MissionState MissionNode::StartLocked(std::vector<nav::MissionGoal> goals, double speed_limit_mps) {
+  if (runner_.docked() && !goals.empty() && goals.front().action != nav::GoalAction::kUndock) {
+    // Off the dock first, straight back to its staging pose.
+    nav::MissionGoal undock;
+    undock.action = nav::GoalAction::kUndock;
+    if (const auto pose = PoseOf(bus().Get(topics::kPose).latest())) {
+      undock.pose = nav::StagingPose(*pose, docking_.dock);
+      undock.has_yaw = true;
+    }
+    goals.insert(goals.begin(), undock);
+  }
   std::optional<nav::MissionSnapshot> cancelled;
-  const nav::MissionUpdate update =
-      runner_.Start(nav::Mission(NewId(), std::move(goals), speed_limit_mps), &cancelled);
+  const nav::MissionUpdate update = runner_.Start(nav::Mission(NewId(), std::move(goals), speed_limit_mps), &cancelled);
   if (cancelled && on_change_) on_change_(*cancelled);
   Carry(update);
   spdlog::info("mission {}: {} waypoint(s)", runner_.id(), runner_.Snapshot().goals.size());
@@ -144,6 +164,28 @@ std::optional<MissionState> MissionNode::Describe(const std::string& id) const {
   return runner_.Snapshot();
 }
 
+bool MissionNode::docked() const {
+  std::lock_guard lock(mutex_);
+  return runner_.docked();
+}
+
+void MissionNode::Battery(const drivers::BatteryState& battery) {
+  std::lock_guard lock(mutex_);
+  runner_.SetOnCharger(battery.on_charger);
+  const bool busy = runner_.has_mission() && runner_.Snapshot().status != nav::MissionStatus::kSucceeded &&
+                    runner_.Snapshot().status != nav::MissionStatus::kFailed &&
+                    runner_.Snapshot().status != nav::MissionStatus::kCanceled;
+  if (!charging_.ShouldGo(now_s(), battery.charge, battery.on_charger || runner_.docked(), busy)) return;
+  const auto pose = PoseOf(bus().Get(topics::kPose).latest());
+  const std::optional<nav::MissionGoal> dock = pose && find_dock_ ? find_dock_(*pose) : std::nullopt;
+  if (!dock) {
+    spdlog::warn("battery at {:.0f} %: no dock on this map to charge at", battery.charge * 100.0);
+    return;
+  }
+  spdlog::info("battery at {:.0f} %: going to charge at '{}'", battery.charge * 100.0, dock->place);
+  StartLocked({*dock}, std::numeric_limits<double>::infinity());
+}
+
 void MissionNode::Tick() {
   std::lock_guard lock(mutex_);
   Carry(runner_.Tick(now_s(), PoseOf(bus().Get(topics::kPose).latest()), planner_.version(), planner_.has_traffic()));
@@ -154,6 +196,7 @@ void MissionNode::Frame(const GroundLanes& ground) {
   nav::FrameInput in;
   in.now_s = now_s();
   in.pose = PoseOf(bus().Get(topics::kPose).latest());
+  if (const auto odometry = bus().Get(topics::kOdometry).latest()) in.odom = odometry->odom_T_base;
   in.view.lanes = &ground.lanes;
   in.view.scan = &ground.scan;
   in.view.scan_view = ground.scan_view;

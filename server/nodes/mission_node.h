@@ -19,23 +19,33 @@ namespace corridor::server {
 
 class MissionNode final : public PeriodicNode {
  public:
+  // The docking goal to the dock nearest the robot (at `robot`, map frame) on the active map, if there is one.
+  using DockFinder = std::function<std::optional<nav::MissionGoal>(const nav::Pose2& robot)>;
+
   // `on_change` receives the mission's state whenever its status or leg changes (to persist it); called on the
-  // control executor, so it must hand the work elsewhere. Throws std::invalid_argument for bad options.
+  // control executor, so it must hand the work elsewhere. An idle robot low on charge goes to the dock `find_dock`
+  // names (`charging`). Throws std::invalid_argument for bad options.
   MissionNode(Executor& control, Bus& bus, PlannerService& planner, const nav::MissionRunnerOptions& options,
-              std::function<void(const MissionState&)> on_change);
+              std::function<void(const MissionState&)> on_change, const nav::ChargingOptions& charging = {},
+              DockFinder find_dock = {});
   void Activate() override;
 
-  // Thread-safe. Starting a mission cancels the one in progress. Returns the new mission's state.
+  // Thread-safe. Starting a mission cancels the one in progress; a robot on its dock backs off it first. Returns the
+  // new mission's state.
   MissionState Start(std::vector<nav::MissionGoal> goals, double speed_limit_mps);
   nav::TransitionOutcome Pause(const std::string& id);
   nav::TransitionOutcome Resume(const std::string& id);
   nav::TransitionOutcome Cancel(const std::string& id);
   // The mission's state when it is the current (or last) one.
   std::optional<MissionState> Describe(const std::string& id) const;
+  // The robot stands on its dock (nav::MissionRunner::docked).
+  bool docked() const;
 
  private:
   void Tick() override;
   void Frame(const GroundLanes& ground);
+  void Battery(const drivers::BatteryState& battery);
+  MissionState StartLocked(std::vector<nav::MissionGoal> goals, double speed_limit_mps);
   // Carries out what the runner asked (lock held); `frame_arrival_ns`: the frame a command answers, if any.
   void Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_arrival_ns = -1);
   nav::TransitionOutcome Transition(const std::string& id,
@@ -48,6 +58,9 @@ class MissionNode final : public PeriodicNode {
   LoopStats& plan_loop_;
   mutable std::mutex mutex_;
   bool looking_around_ = false;  // turning on the spot for localization (guarded by mutex_)
+  nav::DockingOptions docking_;
+  nav::ChargingPolicy charging_;  // guarded by mutex_
+  DockFinder find_dock_;
   nav::MissionRunner runner_;
 };
 

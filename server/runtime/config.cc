@@ -356,6 +356,26 @@ drivers::sim::StaticObstacle ReadObstacle(ConfigReader& r) {
   return o;
 }
 
+void ReadDocking(ConfigReader& r, nav::DockingOptions& o, nav::ChargingOptions& charging) {
+  r.Read("width_m", o.dock.width_m, 0.05, 2.0);
+  r.Read("face_distance_m", o.dock.face_distance_m, 0.01, 2.0);
+  r.Read("staging_distance_m", o.dock.staging_distance_m, 0.1, 5.0);
+  r.Read("max_speed_mps", o.max_speed_mps, 0.01, 0.5);
+  r.Read("position_tolerance_m", o.position_tolerance_m, 0.001, 0.1);
+  double yaw_tolerance_deg = o.yaw_tolerance_rad / kDegToRad;
+  r.Read("yaw_tolerance_deg", yaw_tolerance_deg, 0.1, 10.0);
+  o.yaw_tolerance_rad = yaw_tolerance_deg * kDegToRad;
+  r.Read("blind_distance_m", o.blind_distance_m, 0.05, 3.0);
+  r.Read("timeout_s", o.timeout_s, 5.0, 600.0);
+  r.Read("charge_below_percent", charging.charge_below_percent, 0.0, 100.0);
+  r.Read("retry_s", charging.retry_s, 10.0, 86400.0);
+  try {
+    nav::Validate(o);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(r.PathOf("staging_distance_m") + ", blind_distance_m, face_distance_m: " + e.what());
+  }
+}
+
 void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
   r.Read("enabled", o.enabled);
   ReadPath(r, "world", o.world, base);
@@ -387,6 +407,26 @@ void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
     c.Read("max_speed_mps", s.crowd.max_speed_mps, 0.0, 5.0);
     c.Read("time_horizon_s", s.crowd.time_horizon_s, 0.1, 20.0);
   });
+  r.Section("battery", [&](ConfigReader& b) {
+    drivers::sim::SimBatteryOptions& battery = s.battery;
+    b.Read("capacity_wh", battery.capacity_wh, 0.001, 10000.0);
+    b.Read("initial_percent", battery.initial_percent, 0.0, 100.0);
+    b.Read("idle_w", battery.idle_w, 0.0, 1000.0);
+    b.Read("drive_w_per_mps", battery.drive_w_per_mps, 0.0, 1000.0);
+    b.Read("turn_w_per_rps", battery.turn_w_per_rps, 0.0, 1000.0);
+    b.Read("charge_w", battery.charge_w, 0.0, 5000.0);
+  });
+  r.Section("dock", [&](ConfigReader& d) {
+    bool enabled = false;
+    d.Read("enabled", enabled);
+    drivers::sim::SimDockOptions dock;
+    double yaw_deg = 0.0;
+    d.Read("x_m", dock.pose.x_m, -1e5, 1e5);
+    d.Read("y_m", dock.pose.y_m, -1e5, 1e5);
+    d.Read("yaw_deg", yaw_deg, -360.0, 360.0);
+    dock.pose.yaw_rad = nav::WrapAngle(yaw_deg * kDegToRad);
+    if (enabled) s.dock = dock;
+  });
   if (o.enabled && o.world.empty()) throw ConfigError(r.PathOf("world") + ": required when the simulator is enabled");
 }
 
@@ -405,6 +445,8 @@ void ApplyDerivedOptions(Config& config) {
   reactive.max_linear_mps = navigator.follower.max_linear_mps;
   reactive.front_offset_m = config.safety.front_offset_m;
   reactive.stopping = config.safety.stopping;
+  // The simulated dock is the model the robot is configured for.
+  if (config.sim.robot.dock) config.sim.robot.dock->geometry = config.mission.docking.dock;
 }
 
 YAML::Node ReadConfigYaml(const fs::path& file) {
@@ -448,6 +490,7 @@ Config ConfigFromYaml(const YAML::Node& root, const fs::path& file) {
     r.Section("ground", [&](ConfigReader& s) { ReadGround(s, config.ground); });
     r.Section("planner", [&](ConfigReader& s) { ReadPlanner(s, config.planner); });
     r.Section("mission", [&](ConfigReader& s) { ReadMission(s, config.mission); });
+    r.Section("docking", [&](ConfigReader& s) { ReadDocking(s, config.mission.docking, config.charging); });
     r.Section("tracking", [&](ConfigReader& s) { ReadTracking(s, config.tracking); });
     r.Section("localization", [&](ConfigReader& s) { ReadLocalization(s, config.localization); });
     r.Section("octomap", [&](ConfigReader& s) { ReadOctomap(s, config.octomap); });

@@ -175,7 +175,8 @@ struct Config {
   SimulatorOptions sim;
   nav::MorpOptions ground;
   nav::CostmapOptions planner;
-  nav::MissionRunnerOptions mission;
+  nav::MissionRunnerOptions mission;  // its docking options come from the docking section
+  nav::ChargingOptions charging;      // docking.charge_below_percent, docking.retry_s
   TrackingOptions tracking;
   LocalizationOptions localization;
   OctreeOptions octomap;

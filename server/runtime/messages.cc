@@ -102,6 +102,7 @@ nlohmann::json ToJson(const MissionState& m) {
     nlohmann::json goal = {{"x", g.pose.x_m}, {"y", g.pose.y_m}};
     if (g.has_yaw) goal["yaw"] = g.pose.yaw_rad;
     if (!g.place.empty()) goal["place"] = g.place;
+    goal["action"] = nav::ToString(g.action);
     goals.push_back(std::move(goal));
   }
   nlohmann::json path = nlohmann::json::array();
@@ -116,7 +117,13 @@ nlohmann::json ToJson(const MissionState& m) {
           {"path", std::move(path)},
           {"policy", nav::ToString(m.policy)},
           {"error", m.error},
+          {"docking", m.docking},
           {"speed_limit_mps", std::isfinite(m.speed_limit_mps) ? nlohmann::json(m.speed_limit_mps) : nullptr}};
+}
+
+nlohmann::json ToJson(const drivers::BatteryState& b) {
+  return {{"percent", b.charge * 100.0}, {"voltage_v", b.voltage_v}, {"current_a", b.current_a},
+          {"charging", b.charging}, {"on_charger", b.on_charger}};
 }
 
 nlohmann::json ToJson(const LocalStepState& s) {

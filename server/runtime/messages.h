@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "drivers/battery.h"
 #include "drivers/depth_camera.h"
 #include "drivers/diff_drive_base.h"
 #include "drivers/laser2d.h"
@@ -66,6 +67,7 @@ struct MissionCommand {
   nav::Twist2 twist;
   bool active = true;  // false: the mission is over (the control node stops and goes idle at once)
   drivers::TimeNs frame_arrival_ns = -1;  // the depth frame this command answers (host clock); -1: none
+  bool docking = false;  // onto or off a dock (nav/safety/command_gate.h)
 };
 
 // How fast the robot answers what its camera sees: depth frame arrival to base command, over the last few hundred
@@ -193,6 +195,7 @@ struct FaceCommand {
 };
 
 nlohmann::json ToJson(const ControlLatency& latency);
+nlohmann::json ToJson(const drivers::BatteryState& battery);
 nlohmann::json ToJson(const LocalizationState& localization);
 nlohmann::json ToJson(const FaceState& face);
 nlohmann::json ToJson(const face::Detection& detection);

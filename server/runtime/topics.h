@@ -9,6 +9,7 @@ namespace corridor::server::topics {
 inline constexpr TopicName<drivers::WheelOdometry> kOdometry{"odom"};
 inline constexpr TopicName<drivers::RgbdFrame> kRgbd{"camera/rgbd"};
 inline constexpr TopicName<drivers::LaserScan> kScan{"scan"};
+inline constexpr TopicName<drivers::BatteryState> kBattery{"battery"};
 inline constexpr TopicName<StampedPose> kPose{"pose"};                 // the robot in the map frame
 inline constexpr TopicName<LocalizationState> kLocalization{"localization"};
 inline constexpr TopicName<LocalizationCommand> kLocalizationCommand{"localization/command"};

@@ -37,7 +37,7 @@ const char* const kSchema =
         "CREATE TABLE IF NOT EXISTS zones (map TEXT NOT NULL, id TEXT NOT NULL, name TEXT NOT NULL, kind TEXT NOT NULL,"
     " polygon TEXT NOT NULL, max_speed_mps REAL NOT NULL, PRIMARY KEY (map, id));"
     "CREATE TABLE IF NOT EXISTS places (map TEXT NOT NULL, id TEXT NOT NULL, name TEXT NOT NULL, x REAL NOT NULL,"
-    " y REAL NOT NULL, yaw REAL NOT NULL, PRIMARY KEY (map, id));"
+    " y REAL NOT NULL, yaw REAL NOT NULL, kind TEXT NOT NULL DEFAULT 'place', PRIMARY KEY (map, id));"
     "CREATE TABLE IF NOT EXISTS missions (id TEXT PRIMARY KEY, document TEXT NOT NULL,"
     " updated REAL NOT NULL DEFAULT (julianday('now')));"
     "CREATE TABLE IF NOT EXISTS webhooks (id TEXT PRIMARY KEY, url TEXT NOT NULL, events TEXT NOT NULL,"
@@ -51,7 +51,11 @@ const char* const kSchema =
 
 }  // namespace
 
-Store::Store(const std::filesystem::path& file) : db_(file, kSchema) {}
+Store::Store(const std::filesystem::path& file) : db_(file, kSchema) {
+  // Databases from before places had kinds.
+  Statement has_kind(db_, "SELECT COUNT(*) FROM pragma_table_info('places') WHERE name = 'kind'");
+  if (has_kind.Step() && has_kind.Int(0) == 0) db_.Exec("ALTER TABLE places ADD COLUMN kind TEXT NOT NULL DEFAULT 'place'");
+}
 
 Store::~Store() = default;
 
@@ -90,18 +94,21 @@ bool Store::DeleteZone(const std::string& map, const std::string& id) {
 
 std::vector<nav::Place> Store::Places(const std::string& map) const {
   std::lock_guard lock(mutex_);
-  Statement s(db_, "SELECT id, name, x, y, yaw FROM places WHERE map = ? ORDER BY name");
+  Statement s(db_, "SELECT id, name, x, y, yaw, kind FROM places WHERE map = ? ORDER BY name");
   s.Bind(1, map);
   std::vector<nav::Place> out;
-  while (s.Step()) out.push_back({s.Text(0), s.Text(1), {s.Double(2), s.Double(3), s.Double(4)}});
+  while (s.Step()) {
+    out.push_back({s.Text(0), s.Text(1), {s.Double(2), s.Double(3), s.Double(4)},
+                   nav::PlaceKindFromString(s.Text(5)).value_or(nav::PlaceKind::kPlace)});
+  }
   return out;
 }
 
 void Store::PutPlace(const std::string& map, const nav::Place& place) {
   std::lock_guard lock(mutex_);
-  Statement s(db_, "INSERT OR REPLACE INTO places (map, id, name, x, y, yaw) VALUES (?,?,?,?,?,?)");
+  Statement s(db_, "INSERT OR REPLACE INTO places (map, id, name, x, y, yaw, kind) VALUES (?,?,?,?,?,?,?)");
   s.Bind(1, map).Bind(2, place.id).Bind(3, place.name).Bind(4, place.pose.x_m).Bind(5, place.pose.y_m);
-  s.Bind(6, place.pose.yaw_rad);
+  s.Bind(6, place.pose.yaw_rad).Bind(7, std::string(nav::ToString(place.kind)));
   s.Step();
 }
 
