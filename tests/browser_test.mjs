@@ -48,7 +48,7 @@ test('open the console, see the map and the robot, drive with the keyboard', asy
   assert.ok(Math.abs(start.yawDeg - 90) < 1, 'starts facing +y');
 
   // Hold the up arrow: the robot drives forward (+y); release: it stops.
-  await page.locator('body').click({ position: { x: 1000, y: 700 } });
+  await page.getByRole('heading', { name: 'Telemetry' }).click();  // the page has the keys, no control does
   await page.keyboard.down('ArrowUp');
   await page.getByTestId('mode').filter({ hasText: 'teleop' }).waitFor({ timeout: 5000 });
   await sleep(1500);

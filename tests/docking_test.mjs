@@ -8,7 +8,9 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
-import { getJson, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor, writeRoom } from './daemon.mjs';
+import {
+  getJson, launchBrowser, openApiValidator, openConsole, postJson, sendJson, sleep, startDaemon, waitFor, writeRoom,
+} from './daemon.mjs';
 
 const api = openApiValidator();
 const dock = { x: 3.2, y: 1.5, yaw: 0 };  // the docked pose: facing the room's east wall, its face 0.21 m ahead
@@ -127,6 +129,23 @@ describe('docking', () => {
     const t = off.sim_true_pose;
     assert.ok(Math.abs(t.x - (dock.x - 0.7)) < 0.05 && Math.abs(t.y - dock.y) < 0.03, JSON.stringify(t));
     assert.equal(off.docked, false);
+  });
+
+  test('the console shows the battery and the dock, and docks with its button', async () => {
+    const browser = await launchBrowser();
+    try {
+      const { page, errors } = await openConsole(browser, daemon.url);
+      await page.getByTestId('battery').filter({ hasText: /\d+ %/ }).waitFor({ timeout: 5000 });
+      await page.locator('.place-label.dock').waitFor({ timeout: 5000 });
+      await page.getByTestId('dock').click();
+      await page.getByTestId('mission-status').filter({ hasText: /docking: (seeking|approaching|final)/ })
+        .waitFor({ timeout: 30000 });
+      await page.getByTestId('battery').filter({ hasText: 'charging' }).waitFor({ timeout: 60000 });
+      await page.locator('[data-testid=undock]:enabled').waitFor({ timeout: 30000 });  // docked: it may back off
+      assert.deepEqual(errors, []);
+    } finally {
+      await browser.close();
+    }
   });
 });
 

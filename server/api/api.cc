@@ -149,6 +149,7 @@ Api::Api(ApiContext context) : c_(context), start_ns_(context.clock.Now()) {
   AddDetectionRoutes();
   AddWebhookRoutes();
   AddAuthRoutes();
+  AddRmfRoutes();
 }
 
 Api::Handler Api::Sync(std::function<Response(const Request&, const Params&)> f) {

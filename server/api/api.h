@@ -18,6 +18,7 @@
 #include "drivers/sim/sim_robot.h"
 #include "server/api/webhooks.h"
 #include "server/auth/gate.h"
+#include "server/fleet/rmf.h"
 #include "server/nodes/explore_node.h"
 #include "server/nodes/face_node.h"
 #include "server/nodes/mission_node.h"
@@ -90,6 +91,7 @@ struct ApiContext {
   Executor& control;  // for the simulator's stalled-control-loop fault
   drivers::sim::SimRobot* sim = nullptr;  // the simulated robot, for fault injection; null with real drivers
   std::string tls_fingerprint{};          // the server certificate's SHA-256, shown at setup; "" without TLS
+  std::string robot_name{};               // in robot_state (Open-RMF) and webhook payloads
 };
 
 class Api {
@@ -166,6 +168,9 @@ class Api {
   void AddDetectionRoutes();
   void AddWebhookRoutes();
   void AddAuthRoutes();
+  void AddRmfRoutes();
+  // The Open-RMF robot state's inputs, from the bus now.
+  RmfSample SampleForRmf() const;
   // {x, y, yaw} of `body`, on the active map (else 422 outside_map).
   nav::Pose2 ParsePoseOnMap(const nlohmann::json& body, const std::string& where) const;
   // 409 unless localization.source is mcl.
@@ -177,8 +182,15 @@ class Api {
   void StartMission(const Request& request, Reply reply) const;
   // Starts a mission through `goals` once each is somewhere the robot can stand (undocking goals are not checked: the
   // robot backs off where it stands); answers 201 with the mission, or 422 naming the first goal that is not.
-  void StartGoals(const Request& request, Reply reply, std::vector<nav::MissionGoal> goals, double speed_limit) const;
+  // `started`, when given, is told the new mission (before the reply) and makes the reply's body.
+  void StartGoals(const Request& request, Reply reply, std::vector<nav::MissionGoal> goals, double speed_limit,
+                  std::function<nlohmann::json(const MissionState&)> started = nullptr) const;
   void Dock(const Request& request, Reply reply) const;
+  // The dock named `wanted` (name or id), or the nearest when empty; 422 when there is none.
+  nav::Place FindDock(const std::string& wanted) const;
+  // The goal that docks there (409 when docked already), and the goal that backs off the dock (409 when not docked).
+  std::vector<nav::MissionGoal> DockGoals(const std::string& wanted) const;
+  std::vector<nav::MissionGoal> UndockGoals() const;
   void Undock(const Request& request, Reply reply) const;
   Response MissionAction(const Request& request, const std::string& id, const std::string& action) const;
   nav::MissionGoal ParseGoal(const nlohmann::json& j, const std::string& where) const;
@@ -188,6 +200,7 @@ class Api {
   drivers::TimeNs start_ns_;
   std::shared_ptr<std::atomic<bool>> control_stalled_ = std::make_shared<std::atomic<bool>>(false);
   std::vector<Route> routes_;
+  std::shared_ptr<RmfCommands> rmf_commands_ = std::make_shared<RmfCommands>();
 };
 
 // The OpenAPI 3.1 document (server/api/openapi.json, built into the binary).

@@ -158,14 +158,7 @@ void Api::StartMission(const Request& request, Reply reply) const {
   StartGoals(request, std::move(reply), std::move(goals), speed_limit);
 }
 
-void Api::Dock(const Request& request, Reply reply) const {
-  const json body = request.body().empty() ? json::object() : ParseJsonBody(request);
-  if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
-  AllowOnlyKeys(body, {"dock"}, "");
-  if (body.contains("dock") && (!body["dock"].is_string() || body["dock"].get<std::string>().empty())) {
-    throw ApiError(http::status::bad_request, "Invalid request", "'dock' must be a dock's name or id");
-  }
-  const std::string wanted = body.value("dock", "");
+nav::Place Api::FindDock(const std::string& wanted) const {
   const auto map = c_.maps.active();
   const auto pose = c_.bus.Get(topics::kPose).latest();
   std::optional<nav::Place> dock;
@@ -183,26 +176,24 @@ void Api::Dock(const Request& request, Reply reply) const {
       dock = p;
     }
   }
-  if (!dock) {
-    throw ApiError(http::status::unprocessable_entity, wanted.empty() ? "No dock" : "Unknown dock",
-                   wanted.empty() ? "map '" + map->name + "' has no dock (a place of kind dock)"
-                                  : "no dock named '" + wanted + "' on map '" + map->name + "'",
-                   wanted.empty() ? "no_dock" : "unknown_place");
+  if (dock) return *dock;
+  if (wanted.empty()) {
+    throw ApiError(http::status::unprocessable_entity, "No dock",
+                   "map '" + map->name + "' has no dock (a place of kind dock)", "no_dock");
   }
+  throw ApiError(http::status::unprocessable_entity, "Unknown dock",
+                 "no dock named '" + wanted + "' on map '" + map->name + "'", "unknown_place");
+}
+
+std::vector<nav::MissionGoal> Api::DockGoals(const std::string& wanted) const {
+  const nav::Place dock = FindDock(wanted);
   if (c_.missions.docked()) {
     throw ApiError(http::status::conflict, "Docked", "the robot stands on a dock already", "docked");
   }
-  StartGoals(request, std::move(reply), {nav::DockGoal(*dock, c_.config.mission.docking.dock)},
-             std::numeric_limits<double>::infinity());
+  return {nav::DockGoal(dock, c_.config.mission.docking.dock)};
 }
 
-void Api::Undock(const Request& request, Reply reply) const {
-  if (!request.body().empty()) {
-    const json body = ParseJsonBody(request);
-    if (!body.is_object() || !body.empty()) {
-      throw ApiError(http::status::bad_request, "Invalid request", "undock takes no body (or {})");
-    }
-  }
+std::vector<nav::MissionGoal> Api::UndockGoals() const {
   if (!c_.missions.docked()) {
     throw ApiError(http::status::conflict, "Not docked", "the robot is not on a dock", "not_docked");
   }
@@ -212,13 +203,33 @@ void Api::Undock(const Request& request, Reply reply) const {
     undock.pose = nav::StagingPose(pose->pose, c_.config.mission.docking.dock);
     undock.has_yaw = true;
   }
-  StartGoals(request, std::move(reply), {undock}, std::numeric_limits<double>::infinity());
+  return {undock};
 }
 
-void Api::StartGoals(const Request& request, Reply reply, std::vector<nav::MissionGoal> goals,
-                     double speed_limit) const {
+void Api::Dock(const Request& request, Reply reply) const {
+  const json body = request.body().empty() ? json::object() : ParseJsonBody(request);
+  if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
+  AllowOnlyKeys(body, {"dock"}, "");
+  if (body.contains("dock") && (!body["dock"].is_string() || body["dock"].get<std::string>().empty())) {
+    throw ApiError(http::status::bad_request, "Invalid request", "'dock' must be a dock's name or id");
+  }
+  StartGoals(request, std::move(reply), DockGoals(body.value("dock", "")), std::numeric_limits<double>::infinity());
+}
+
+void Api::Undock(const Request& request, Reply reply) const {
+  if (!request.body().empty()) {
+    const json body = ParseJsonBody(request);
+    if (!body.is_object() || !body.empty()) {
+      throw ApiError(http::status::bad_request, "Invalid request", "undock takes no body (or {})");
+    }
+  }
+  StartGoals(request, std::move(reply), UndockGoals(), std::numeric_limits<double>::infinity());
+}
+
+void Api::StartGoals(const Request& request, Reply reply, std::vector<nav::MissionGoal> goals, double speed_limit,
+                     std::function<json(const MissionState&)> started) const {
   // Every waypoint must be somewhere the robot can stand; say which one is not before anything moves.
-  c_.planner.WithCostmap([this, request, reply, goals = std::move(goals), speed_limit](
+  c_.planner.WithCostmap([this, request, reply, goals = std::move(goals), speed_limit, started](
                              std::shared_ptr<const nav::Costmap> map, std::uint64_t) mutable {
     const nav::Costmap& costmap = *map;
     Answer(request, reply, [&]() -> Response {
@@ -237,7 +248,7 @@ void Api::StartGoals(const Request& request, Reply reply, std::vector<nav::Missi
         }
       }
       const MissionState state = c_.missions.Start(std::move(goals), speed_limit);
-      Response res = JsonResponse(request, ToJson(state), http::status::created);
+      Response res = JsonResponse(request, started ? started(state) : ToJson(state), http::status::created);
       res.set(http::field::location, "/api/v1/missions/" + state.id);
       return res;
     });

@@ -195,7 +195,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
 
   api_ = std::make_unique<Api>(ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, octree_,
                                           perception_, *spoken_, *webhooks_, access_, config_, clock_, executors_.io,
-                                          executors_.control, devices_.sim, std::move(tls_fingerprint)});
+                                          executors_.control, devices_.sim, std::move(tls_fingerprint), hooks.robot});
 }
 
 Graph::~Graph() { Stop(); }

@@ -38,7 +38,7 @@ Access RequiredAccess(std::string_view method, std::string_view path) {
     return Access::kAdmin;
   }
   if (read) return Access::kViewer;
-  if (UnderAny(path, {"/api/v1/teleop", "/api/v1/missions", "/api/v1/dock", "/api/v1/undock", "/api/v1/plan",
+  if (UnderAny(path, {"/api/v1/teleop", "/api/v1/missions", "/api/v1/dock", "/api/v1/undock", "/api/v1/rmf", "/api/v1/plan",
                       "/api/v1/face", "/api/v1/detections", "/api/v1/localization", "/api/v1/sim"})) {
     return Access::kOperator;
   }

@@ -58,6 +58,7 @@ void ReadSafety(ConfigReader& r, SafetyOptions& o) {
   r.Read("reaction_time_s", o.stopping.reaction_time_s, 0.0, 2.0);
   r.Read("stop_margin_m", o.stopping.margin_m, 0.0, 1.0);
   r.Read("fault_hold_s", o.fault_hold_s, 0.1, 60.0);
+  r.Read("docking_max_mps", o.docking_max_mps, 0.01, 0.5);
   r.Read("person_near_m", o.person_near_m, 0.0, 10.0);
   r.Read("person_speed_factor", o.person_speed_factor, 0.0, 1.0);
 }

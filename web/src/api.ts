@@ -11,7 +11,7 @@ export interface State {
   pose: Pose | null;
   velocity: Twist;
   bumper_pressed: boolean;
-  mode: 'starting' | 'idle' | 'teleop' | 'mission' | 'stopped';
+  mode: 'starting' | 'idle' | 'teleop' | 'mission' | 'docking' | 'stopped';
   stop_reason: string;
   command: Twist;
   sim_true_pose: Pose | null;
@@ -23,7 +23,10 @@ export interface State {
   sim_obstacles: SimObstacle[];
   tracked_objects: TrackedObject[];
   control_latency: ControlLatency | null;
+  battery: Battery | null;
+  docked: boolean;
 }
+export interface Battery { percent: number; voltage_v: number; current_a: number; charging: boolean; on_charger: boolean; }
 export interface SimPerson { x: number; y: number; vx: number; vy: number; radius_m: number; }
 export interface TrackedObject {
   x: number; y: number; vx: number; vy: number; radius_m: number; moving: boolean;
@@ -55,11 +58,14 @@ export interface Problem { type: string; title: string; status: number; detail: 
 export interface SetupStatus { needed: boolean; code?: string; tls_fingerprint?: string; }
 
 
-export interface MissionWaypoint { x: number; y: number; yaw?: number; place?: string; }
+export interface MissionWaypoint {
+  x: number; y: number; yaw?: number; place?: string; action?: 'go' | 'dock' | 'undock';
+}
 export interface Mission {
   id: string; status: 'active' | 'paused' | 'succeeded' | 'failed' | 'canceled';
   waypoints: MissionWaypoint[]; current_waypoint: number; progress: number; eta_s: number;
   remaining_on_leg_m: number; path: Pose[]; error: string; speed_limit_mps: number | null; policy?: string;
+  docking: '' | 'seeking' | 'approaching' | 'final' | 'docked' | 'undocking' | 'undocked' | 'failed';
 }
 export interface PathPoint { x: number; y: number; yaw: number; speed_limit_mps: number | null; }
 export interface PlanResult {
@@ -69,7 +75,9 @@ export interface PlanResult {
 export interface Zone {
   id: string; name: string; kind: 'keep_out' | 'speed_limit'; polygon: [number, number][]; max_speed_mps?: number;
 }
-export interface Place { id: string; name: string; x: number; y: number; yaw: number; }
+export interface Place {
+  id: string; name: string; x: number; y: number; yaw: number; kind: 'place' | 'dock'; staging?: Pose;
+}
 export interface Lane {
   offset_m: number; free_distance_m: number; dead_end: boolean; blind: boolean;
   pixel?: [number, number]; point?: [number, number, number];

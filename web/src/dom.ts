@@ -4,3 +4,8 @@ export function byId<T extends HTMLElement>(id: string): T {
   if (!element) throw new Error(`missing #${id}`);
   return element as T;
 }
+
+// `text` with HTML's special characters escaped, for markup built from names people typed.
+export function escapeHtml(text: string): string {
+  return text.replace(/[&<>"']/g, (c) => `&#${c.charCodeAt(0)};`);
+}

@@ -31,7 +31,8 @@ function showMission(mission: Mission | null): void {
     status.textContent = 'none';
   } else {
     const where = mission.waypoints.length > 1 ? ` (waypoint ${mission.current_waypoint + 1} of ${mission.waypoints.length})` : '';
-    status.textContent = `${mission.status}${live ? where : ''}${mission.error ? `: ${mission.error}` : ''}`;
+    const docking = live && mission.docking ? `, docking: ${mission.docking}` : '';
+    status.textContent = `${mission.status}${live ? where : ''}${docking}${mission.error ? `: ${mission.error}` : ''}`;
   }
   byId<HTMLProgressElement>('mission-progress').value = mission?.progress ?? 0;
   byId('mission-eta').textContent = live ? `about ${Math.ceil(mission.eta_s)} s to go` : '';
@@ -44,6 +45,26 @@ function showMission(mission: Mission | null): void {
   enable('mission-cancel', live);
 }
 
+// The battery's charge in the header (red when low) and its detail in the telemetry.
+function showBattery(state: State): void {
+  const badge = byId('battery');
+  const b = state.battery;
+  if (!b) {
+    badge.textContent = 'no battery';
+    byId('battery-detail').textContent = '—';
+    return;
+  }
+  const doing = b.charging ? 'charging' : b.on_charger ? 'on the dock' : '';
+  badge.textContent = `${Math.round(b.percent)} %${doing ? ` ${doing}` : ''}`;
+  badge.classList.toggle('low', b.percent < 20 && !b.charging);
+  byId('battery-detail').textContent =
+    `${b.percent.toFixed(1)} %, ${b.voltage_v.toFixed(2)} V, ${b.current_a.toFixed(2)} A${state.docked ? ', docked' : ''}`;
+  const undock = byId<HTMLButtonElement>('undock');
+  undock.disabled = !state.docked || !permitted(undock);
+  const dock = byId<HTMLButtonElement>('dock');
+  dock.disabled = state.docked || !permitted(dock);
+}
+
 function showState(state: State, view: MapView | null): void {
   byId('mode').textContent = state.mode === 'stopped' ? `stopped: ${state.stop_reason}` : state.mode;
   byId('pose').textContent = state.pose
@@ -52,6 +73,7 @@ function showState(state: State, view: MapView | null): void {
   byId('command').textContent = `${state.command.linear_mps.toFixed(2)} m/s, ${deg(state.command.angular_rps)}/s`;
   byId('bumper').textContent = state.bumper_pressed ? 'pressed' : 'free';
   byId('face').textContent = state.face;
+  showBattery(state);
   const latency = state.control_latency;
   byId('control-loop').textContent = latency && latency.samples > 0
     ? `${latency.rate_hz.toFixed(1)} Hz, frame to command ${latency.p50_ms.toFixed(2)} ms (p99 ${latency.p99_ms.toFixed(2)} ms)`

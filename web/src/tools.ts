@@ -4,11 +4,11 @@
 import L from 'leaflet';
 
 import { send, type Goal, type Place, type PlanResult } from './api';
-import { byId } from './dom';
+import { byId, escapeHtml } from './dom';
 import { toLatLng, type MapView } from './map_view';
 import type { ZoneLayers } from './zones';
 
-type Tool = 'pan' | 'goal' | 'set_pose' | 'waypoints' | 'keep_out' | 'speed_limit' | 'place' | 'edit_zones' | 'delete_zones' |
+type Tool = 'pan' | 'goal' | 'set_pose' | 'waypoints' | 'keep_out' | 'speed_limit' | 'place' | 'dock_place' | 'edit_zones' | 'delete_zones' |
   'paint_occupied' | 'paint_free' | 'paint_unknown';
 
 const kHeadingDragM = 0.15;  // a drag shorter than this sets no heading
@@ -40,6 +40,21 @@ export class Tools {
       if (name) void this.startMission([{ place: name }]);
     });
     byId('place-delete').addEventListener('click', () => void this.deletePlace());
+    byId('dock').addEventListener('click', () => void this.dock());
+    byId('undock').addEventListener('click', () => {
+      send('POST', '/api/v1/undock').then(() => this.report('undocking'), (e: Error) => this.report(e.message));
+    });
+  }
+
+  // Docks at the dock picked in the places list, else at the nearest.
+  private async dock(): Promise<void> {
+    const picked = this.places.find((p) => p.name === byId<HTMLSelectElement>('places').value && p.kind === 'dock');
+    try {
+      await send('POST', '/api/v1/dock', picked ? { dock: picked.name } : {});
+      this.report(`docking at ${picked ? `'${picked.name}'` : 'the nearest dock'}`);
+    } catch (e) {
+      this.report((e as Error).message);
+    }
   }
 
   select(tool: Tool): void {
@@ -67,9 +82,20 @@ export class Tools {
     select.replaceChildren(...this.places.map((p) => new Option(p.name, p.name)));
     this.placeLayer.clearLayers();
     for (const p of this.places) {
+      const symbol = p.kind === 'dock' ? '&#9889;' : '&#9873;';
       L.marker(toLatLng(p.x, p.y), {
-        icon: L.divIcon({ className: 'place-label', html: `&#9873; ${p.name}`, iconSize: [80, 16], iconAnchor: [6, 14] }),
+        icon: L.divIcon({ className: `place-label ${p.kind}`, html: `${symbol} ${escapeHtml(p.name)}`, iconSize: [80, 16],
+          iconAnchor: [6, 14] }),
       }).addTo(this.placeLayer);
+      if (p.kind === 'dock') {
+        // Which way the robot faces on it, and where it stops before docking.
+        const ahead = toLatLng(p.x + 0.3 * Math.cos(p.yaw), p.y + 0.3 * Math.sin(p.yaw));
+        L.polyline([toLatLng(p.x, p.y), ahead], { color: '#d29922', weight: 3 }).addTo(this.placeLayer);
+        if (p.staging) {
+          L.polyline([toLatLng(p.staging.x, p.staging.y), toLatLng(p.x, p.y)], { color: '#d29922', weight: 1, dashArray: '3 4' })
+            .addTo(this.placeLayer);
+        }
+      }
     }
   }
 
@@ -80,7 +106,7 @@ export class Tools {
   }
 
   private down(at: L.LatLng): void {
-    if (this.tool === 'goal' || this.tool === 'set_pose') {
+    if (this.tool === 'goal' || this.tool === 'set_pose' || this.tool === 'dock_place') {
       this.press = at;
       this.goal = null;
       this.preview.clearLayers();
@@ -93,7 +119,7 @@ export class Tools {
 
   private move(at: L.LatLng): void {
     if (!this.press) return;
-    if (this.tool === 'goal' || this.tool === 'set_pose') {
+    if (this.tool === 'goal' || this.tool === 'set_pose' || this.tool === 'dock_place') {
       const color = this.tool === 'goal' ? '#2ea043' : '#d29922';
       this.preview.clearLayers();
       L.circleMarker(this.press, { radius: 6, color }).addTo(this.preview);
@@ -113,6 +139,8 @@ export class Tools {
       await this.previewPlan(goal);
     } else if (this.tool === 'set_pose' && press) {
       await this.setPose(press, at);
+    } else if (this.tool === 'dock_place' && press) {
+      await this.addDock(press, at);
     } else if (this.tool === 'waypoints') {
       this.waypoints.push({ x: at.lng, y: at.lat });
       L.marker(at, { icon: L.divIcon({ className: 'place-label', html: `${this.waypoints.length}`, iconSize: [16, 16] }) })
@@ -183,6 +211,25 @@ export class Tools {
       await send('POST', '/api/v1/missions', { waypoints });
       this.clear();
       this.report('mission started');
+    } catch (e) {
+      this.report((e as Error).message);
+    }
+  }
+
+  // A dock where the robot stands on it (press), facing the way dragged.
+  private async addDock(press: L.LatLng, at: L.LatLng): Promise<void> {
+    this.preview.clearLayers();
+    const yaw = Math.atan2(at.lat - press.lat, at.lng - press.lng);
+    if (press.distanceTo(at) <= kHeadingDragM) {
+      this.report('drag from where the robot stands on the dock towards the dock');
+      return;
+    }
+    const name = window.prompt('Name of this dock', 'dock');
+    if (!name) return;
+    try {
+      await send<Place>('POST', '/api/v1/places', { name, x: press.lng, y: press.lat, yaw, kind: 'dock' });
+      this.report(`dock '${name}' added`);
+      await this.reloadPlaces();
     } catch (e) {
       this.report((e as Error).message);
     }

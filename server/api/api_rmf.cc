@@ -1,0 +1,213 @@
+// Routes for Open-RMF fleet adapters (server/fleet/rmf.h) under /api/v1/rmf/: the calls of the fleet adapter
+// template's RobotClientAPI, one route each, and the robot's state as Open-RMF's robot_state.
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "server/api/api.h"
+#include "server/runtime/topics.h"
+
+namespace corridor::server {
+namespace {
+
+using nlohmann::json;
+
+std::uint64_t RequireCommandId(const json& body) {
+  const auto it = body.find("cmd_id");
+  if (it == body.end() || !it->is_number_integer() || it->get<std::int64_t>() < 0) {
+    throw ApiError(http::status::bad_request, "Invalid request", "'cmd_id' must be a whole number >= 0");
+  }
+  return it->get<std::uint64_t>();
+}
+
+// [x, y, yaw], the template's pose.
+nav::Pose2 RequirePose(const json& body) {
+  const auto it = body.find("pose");
+  if (it == body.end() || !it->is_array() || it->size() != 3) {
+    throw ApiError(http::status::bad_request, "Invalid request", "'pose' must be [x, y, yaw]");
+  }
+  double v[3];
+  for (int i = 0; i < 3; ++i) {
+    if (!(*it)[i].is_number() || !std::isfinite((*it)[i].get<double>())) {
+      throw ApiError(http::status::bad_request, "Invalid request", "'pose' must be three finite numbers");
+    }
+    v[i] = (*it)[i].get<double>();
+  }
+  return {v[0], v[1], nav::WrapAngle(v[2])};
+}
+
+json ObjectBody(const Request& r, std::initializer_list<const char*> keys) {
+  const json body = ParseJsonBody(r);
+  if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
+  AllowOnlyKeys(body, keys, "");
+  return body;
+}
+
+std::string RequireText(const json& body, const char* key) {
+  const auto it = body.find(key);
+  if (it == body.end() || !it->is_string() || it->get<std::string>().empty()) {
+    throw ApiError(http::status::bad_request, "Invalid request",
+                   std::string("'") + key + "' must be a non-empty string");
+  }
+  return it->get<std::string>();
+}
+
+}  // namespace
+
+RmfSample Api::SampleForRmf() const {
+  RmfSample s;
+  s.name = c_.robot_name;
+  s.map = c_.maps.active()->name;
+  if (const auto pose = c_.bus.Get(topics::kPose).latest()) {
+    s.has_pose = true;
+    s.x = pose->pose.x_m;
+    s.y = pose->pose.y_m;
+    s.yaw = pose->pose.yaw_rad;
+  }
+  if (const auto battery = c_.bus.Get(topics::kBattery).latest()) {
+    s.battery = battery->charge;
+    s.charging = battery->charging;
+  }
+  if (const auto mission = c_.bus.Get(topics::kMission).latest()) {
+    s.mission_id = mission->id;
+    s.mission_status = nav::ToString(mission->status);
+    s.mission_error = mission->error;
+  }
+  if (const auto command = c_.bus.Get(topics::kCmdVel).latest();
+      command && command->mode == nav::ControlMode::kStopped) {
+    s.stopped = true;
+    s.stop_reason = nav::ToString(command->reason);
+  }
+  if (const auto localization = c_.bus.Get(topics::kLocalization).latest()) {
+    s.lost = localization->estimate.health == nav::LocalizationHealth::kLost;
+  }
+  s.unix_millis =
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count();
+  return s;
+}
+
+void Api::AddRmfRoutes() {
+  const auto require_map = [this](const json& body) {
+    const std::string map = RequireText(body, "map_name");
+    const std::string active = c_.maps.active()->name;
+    if (map != active) {
+      throw ApiError(http::status::unprocessable_entity, "Not the robot's map",
+                     "the robot is on map '" + active + "', not '" + map + "'", "wrong_map");
+    }
+  };
+  // A mission that carries command `cmd_id`: its reply names both.
+  const auto carried = [this](std::uint64_t cmd_id) {
+    return [commands = rmf_commands_, cmd_id](const MissionState& state) {
+      commands->Carried(cmd_id, state.id);
+      return json{{"cmd_id", cmd_id}, {"mission", state.id}};
+    };
+  };
+  Add(http::verb::post, "/api/v1/rmf/navigate",
+      [this, require_map, carried](const Request& r, const Params&, Reply reply) {
+        const json body = ObjectBody(r, {"cmd_id", "pose", "map_name", "speed_limit"});
+        const std::uint64_t cmd_id = RequireCommandId(body);
+        nav::MissionGoal goal;
+        goal.pose = RequirePose(body);
+        goal.has_yaw = true;
+        require_map(body);
+        double speed_limit = std::numeric_limits<double>::infinity();
+        if (body.contains("speed_limit")) {
+          const double v = RequireNumber(body, "speed_limit", "");
+          if (v < 0.0) throw ApiError(http::status::bad_request, "Invalid request", "'speed_limit' must be >= 0");
+          if (v > 0.0) speed_limit = v;  // the template's 0.0: none
+        }
+        StartGoals(r, std::move(reply), {goal}, speed_limit, carried(cmd_id));
+      });
+  Add(http::verb::post, "/api/v1/rmf/dock", [this, carried](const Request& r, const Params&, Reply reply) {
+    const json body = ObjectBody(r, {"cmd_id", "dock_name"});
+    const std::uint64_t cmd_id = RequireCommandId(body);
+    StartGoals(r, std::move(reply), DockGoals(RequireText(body, "dock_name")), std::numeric_limits<double>::infinity(),
+               carried(cmd_id));
+  });
+  Add(http::verb::post, "/api/v1/rmf/start_activity", [this, carried](const Request& r, const Params&, Reply reply) {
+    const json body = ObjectBody(r, {"cmd_id", "activity", "label"});
+    const std::uint64_t cmd_id = RequireCommandId(body);
+    const std::string activity = RequireText(body, "activity");
+    const std::string label =
+        body.contains("label") && body["label"].is_string() ? body["label"].get<std::string>() : "";
+    std::vector<nav::MissionGoal> goals;
+    if (activity == "dock") {
+      goals = DockGoals(label);
+    } else if (activity == "undock") {
+      goals = UndockGoals();
+    } else {
+      throw ApiError(
+          http::status::unprocessable_entity, "Unknown activity",
+          "activities are \"dock\" (label: the dock, or empty for the nearest) and \"undock\", not '" + activity + "'",
+          "unknown_activity");
+    }
+    StartGoals(r, std::move(reply), std::move(goals), std::numeric_limits<double>::infinity(), carried(cmd_id));
+  });
+  Add(http::verb::post, "/api/v1/rmf/stop", Sync([this](const Request& r, const Params&) {
+        const json body = ObjectBody(r, {"cmd_id"});
+        const std::uint64_t cmd_id = RequireCommandId(body);
+        if (const auto mission = c_.bus.Get(topics::kMission).latest()) c_.missions.Cancel(mission->id);
+        rmf_commands_->Done(cmd_id);
+        return JsonResponse(r, {{"cmd_id", cmd_id}, {"completed", true}});
+      }));
+  Add(http::verb::post, "/api/v1/rmf/localize", Sync([this, require_map](const Request& r, const Params&) {
+        const json body = ObjectBody(r, {"cmd_id", "pose", "map_name"});
+        const std::uint64_t cmd_id = RequireCommandId(body);
+        const nav::Pose2 pose = RequirePose(body);
+        require_map(body);
+        RequireLocalizing();
+        if (!c_.maps.active()->grid.WorldToCell(pose.translation())) {
+          throw ApiError(http::status::unprocessable_entity, "Outside the map", "the pose is outside the map",
+                         "outside_map");
+        }
+        LocalizationCommand command;
+        command.kind = LocalizationCommand::Kind::kSetPose;
+        command.pose = pose;
+        c_.bus.Get(topics::kLocalizationCommand).Publish(command);
+        rmf_commands_->Done(cmd_id);
+        return JsonResponse(r, {{"cmd_id", cmd_id}, {"completed", true}});
+      }));
+  Add(http::verb::get, "/api/v1/rmf/position", Sync([this](const Request& r, const Params&) {
+        const RmfSample s = SampleForRmf();
+        if (!s.has_pose) {
+          throw ApiError(http::status::service_unavailable, "No pose yet", "the robot does not know where it is yet");
+        }
+        return JsonResponse(r, {{"position", {s.x, s.y, s.yaw}}, {"map_name", s.map}});
+      }));
+  Add(http::verb::get, "/api/v1/rmf/battery_soc", Sync([this](const Request& r, const Params&) {
+        const RmfSample s = SampleForRmf();
+        if (!s.battery) {
+          throw ApiError(http::status::service_unavailable, "No battery", "nothing reports this robot's battery");
+        }
+        return JsonResponse(r, {{"battery_soc", *s.battery}});
+      }));
+  Add(http::verb::get, "/api/v1/rmf/map", Sync([this](const Request& r, const Params&) {
+        return JsonResponse(r, {{"map_name", c_.maps.active()->name}});
+      }));
+  Add(http::verb::get, "/api/v1/rmf/is_command_completed", Sync([this](const Request& r, const Params&) {
+        const std::string text = QueryValue(r.target(), "cmd_id");
+        if (text.empty()) throw ApiError(http::status::bad_request, "Invalid request", "'cmd_id' is required");
+        const std::uint64_t cmd_id = ParseCount(text, "'cmd_id' a whole number >= 0");
+        const auto command = rmf_commands_->Find(cmd_id);
+        if (!command) throw ApiError(http::status::not_found, "Not found", "no command " + text);
+        if (command->mission_id.empty()) {
+          return JsonResponse(r, {{"cmd_id", cmd_id}, {"completed", true}, {"status", "succeeded"}, {"error", ""}});
+        }
+        const auto state = c_.missions.Describe(command->mission_id);
+        const auto stored = state ? std::nullopt : c_.store.Mission(command->mission_id);
+        const std::string status = state    ? nav::ToString(state->status)
+                                   : stored ? stored->value("status", "canceled")
+                                            : "canceled";
+        const std::string error = state ? state->error : stored ? stored->value("error", "") : "";
+        return JsonResponse(r, {{"cmd_id", cmd_id},
+                                {"completed", status == "succeeded"},
+                                {"status", status},
+                                {"mission", command->mission_id},
+                                {"error", error}});
+      }));
+  Add(http::verb::get, "/api/v1/rmf/robot_state",
+      Sync([this](const Request& r, const Params&) { return JsonResponse(r, RmfRobotState(SampleForRmf())); }));
+}
+
+}  // namespace corridor::server
