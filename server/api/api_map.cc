@@ -57,6 +57,9 @@ nav::Zone ParseZone(const json& body, std::string id) {
   AllowOnlyKeys(body, {"id", "name", "kind", "polygon", "max_speed_mps"}, "");
   nav::Zone z;
   z.id = std::move(id);
+  if (body.contains("name") && !body["name"].is_string()) {
+    throw ApiError(http::status::bad_request, "Invalid zone", "'name' must be a string");
+  }
   z.name = body.value("name", "");
   if (!body.contains("kind") || !body["kind"].is_string()) {
     throw ApiError(http::status::bad_request, "Invalid zone", "'kind' must be \"keep_out\" or \"speed_limit\"");
@@ -87,6 +90,12 @@ nav::Place ParsePlace(const json& body, std::string id) {
   AllowOnlyKeys(body, {"id", "name", "x", "y", "yaw", "kind", "staging"}, "");
   if (!body.contains("name") || !body["name"].is_string() || body["name"].get<std::string>().empty()) {
     throw ApiError(http::status::bad_request, "Invalid place", "'name' must be a non-empty string");
+  }
+  if (body.contains("id") && !body["id"].is_string()) {
+    throw ApiError(http::status::bad_request, "Invalid place", "'id' (ignored: the path's or a new one) must be a string");
+  }
+  if (body.contains("staging") && !body["staging"].is_object()) {
+    throw ApiError(http::status::bad_request, "Invalid place", "'staging' (ignored: it follows from the pose) must be an object");
   }
   nav::PlaceKind kind = nav::PlaceKind::kPlace;
   if (body.contains("kind")) {

@@ -1,5 +1,7 @@
 #include "server/api/http_server.h"
 
+#include <array>
+
 #include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/ssl.hpp>
@@ -20,6 +22,8 @@ using PlainStream = beast::tcp_stream;
 using TlsStream = beast::ssl_stream<beast::tcp_stream>;
 
 constexpr auto kReadTimeout = std::chrono::seconds(30);
+constexpr auto kLingerTime = std::chrono::seconds(2);      // a lingering close reads on this long at most
+constexpr std::size_t kMaxLingerBytes = 64 * 1024 * 1024;  // and this much
 constexpr std::size_t kMaxStreamMessageBytes = 16 * 1024;
 constexpr std::size_t kMaxQueuedStreamMessages = 16;
 
@@ -228,7 +232,18 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
     } else {
       beast::error_code ec;
       stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
+      // A lingering close: what the client still sends (the rest of a refused body) is read and dropped for a
+      // moment, else the kernel resets the connection and the client may lose the answer before reading it.
+      beast::get_lowest_layer(stream_).expires_after(kLingerTime);
+      Drain(0);
     }
+  }
+
+  void Drain(std::size_t drained) {
+    stream_.async_read_some(boost::asio::buffer(drain_),
+                            [self = this->shared_from_this(), drained](beast::error_code ec, std::size_t n) {
+                              if (!ec && drained + n < kMaxLingerBytes) self->Drain(drained + n);
+                            });
   }
 
   Stream stream_;
@@ -238,6 +253,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
   Caller caller_;
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
+  std::array<char, 16 * 1024> drain_{};
 };
 
 tcp::endpoint Endpoint(const std::string& bind_address, int port) {
