@@ -45,6 +45,26 @@ TEST_F(StoreTest, ZonesPlacesAndMissionsSurviveReopening) {
   EXPECT_FALSE(store.Mission("nope"));
 }
 
+TEST_F(StoreTest, ADatabaseFromBeforePlaceKindsKeepsItsPlacesAndTakesDocks) {
+  {
+    // The places table as releases before docks made it.
+    Database old(dir_ / "corridor.db",
+                 "CREATE TABLE places (map TEXT NOT NULL, id TEXT NOT NULL, name TEXT NOT NULL, x REAL NOT NULL,"
+                 " y REAL NOT NULL, yaw REAL NOT NULL, PRIMARY KEY (map, id));"
+                 "INSERT INTO places VALUES ('willow', 'p1', 'kitchen', 1.0, 2.0, 0.5);");
+  }
+  Store store(dir_ / "corridor.db");
+  ASSERT_EQ(store.Places("willow").size(), 1u);
+  EXPECT_EQ(store.Places("willow")[0].kind, nav::PlaceKind::kPlace);
+  store.PutPlace("willow", {"d1", "charger", {3.0, 1.0, 0.0}, nav::PlaceKind::kDock});
+  Store reopened(dir_ / "corridor.db");
+  const auto places = reopened.Places("willow");
+  ASSERT_EQ(places.size(), 2u);
+  EXPECT_EQ(places[0].name, "charger");
+  EXPECT_EQ(places[0].kind, nav::PlaceKind::kDock);
+  EXPECT_EQ(places[1].kind, nav::PlaceKind::kPlace);
+}
+
 TEST_F(StoreTest, WebhooksAndTheirDeliveriesSurviveReopeningAndOldOnesAreForgotten) {
   {
     Store store(dir_ / "corridor.db");
