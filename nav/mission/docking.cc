@@ -58,6 +58,25 @@ MissionGoal DockGoal(const Place& dock, const DockGeometry& geometry) {
   return goal;
 }
 
+MissionGoal UndockGoal(const std::optional<Pose2>& robot, const DockGeometry& geometry) {
+  MissionGoal goal;
+  goal.action = GoalAction::kUndock;
+  if (robot) {
+    goal.pose = StagingPose(*robot, geometry);
+    goal.has_yaw = true;
+  }
+  return goal;
+}
+
+std::optional<Place> NearestDock(const std::vector<Place>& places, const Eigen::Vector2d& robot) {
+  std::optional<Place> best;
+  for (const Place& p : places) {
+    if (p.kind != PlaceKind::kDock) continue;
+    if (!best || (p.pose.translation() - robot).norm() < (best->pose.translation() - robot).norm()) best = p;
+  }
+  return best;
+}
+
 void Validate(const DockingOptions& o) {
   ValidateGains(o.gains);
   const auto positive = [](double v, const char* what) {

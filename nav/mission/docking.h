@@ -44,6 +44,10 @@ Pose2 StagingPose(const Pose2& docked, const DockGeometry& dock);
 
 // A mission goal that docks at `dock` (a place of kind dock): its staging pose, then onto it.
 MissionGoal DockGoal(const Place& dock, const DockGeometry& geometry);
+// The goal that backs off the dock the robot stands on (at `robot`, when known) to its staging pose.
+MissionGoal UndockGoal(const std::optional<Pose2>& robot, const DockGeometry& geometry);
+// The dock among `places` nearest to `robot`; none when there is no dock.
+std::optional<Place> NearestDock(const std::vector<Place>& places, const Eigen::Vector2d& robot);
 
 struct DockingOptions {
   DockGeometry dock;

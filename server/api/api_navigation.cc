@@ -160,26 +160,18 @@ void Api::StartMission(const Request& request, Reply reply) const {
 
 nav::Place Api::FindDock(const std::string& wanted) const {
   const auto map = c_.maps.active();
-  const auto pose = c_.bus.Get(topics::kPose).latest();
-  std::optional<nav::Place> dock;
-  double best_m = std::numeric_limits<double>::infinity();
-  for (const nav::Place& p : c_.store.Places(map->name)) {
-    if (!wanted.empty() && p.name != wanted && p.id != wanted) continue;
-    if (!wanted.empty() && p.kind != nav::PlaceKind::kDock) {
-      throw ApiError(http::status::unprocessable_entity, "Not a dock", "the place '" + wanted + "' is not a dock",
-                     "not_a_dock");
-    }
-    if (p.kind != nav::PlaceKind::kDock) continue;
-    const double d = pose ? (p.pose.translation() - pose->pose.translation()).norm() : 0.0;
-    if (d < best_m) {
-      best_m = d;
-      dock = p;
-    }
-  }
-  if (dock) return *dock;
+  const std::vector<nav::Place> places = c_.store.Places(map->name);
   if (wanted.empty()) {
+    const auto pose = c_.bus.Get(topics::kPose).latest();
+    if (auto dock = nav::NearestDock(places, pose ? pose->pose.translation() : Eigen::Vector2d::Zero())) return *dock;
     throw ApiError(http::status::unprocessable_entity, "No dock",
                    "map '" + map->name + "' has no dock (a place of kind dock)", "no_dock");
+  }
+  for (const nav::Place& p : places) {
+    if (p.name != wanted && p.id != wanted) continue;
+    if (p.kind == nav::PlaceKind::kDock) return p;
+    throw ApiError(http::status::unprocessable_entity, "Not a dock", "the place '" + wanted + "' is not a dock",
+                   "not_a_dock");
   }
   throw ApiError(http::status::unprocessable_entity, "Unknown dock",
                  "no dock named '" + wanted + "' on map '" + map->name + "'", "unknown_place");
@@ -197,13 +189,8 @@ std::vector<nav::MissionGoal> Api::UndockGoals() const {
   if (!c_.missions.docked()) {
     throw ApiError(http::status::conflict, "Not docked", "the robot is not on a dock", "not_docked");
   }
-  nav::MissionGoal undock;
-  undock.action = nav::GoalAction::kUndock;
-  if (const auto pose = c_.bus.Get(topics::kPose).latest()) {
-    undock.pose = nav::StagingPose(pose->pose, c_.config.mission.docking.dock);
-    undock.has_yaw = true;
-  }
-  return {undock};
+  const auto pose = c_.bus.Get(topics::kPose).latest();
+  return {nav::UndockGoal(pose ? std::optional<nav::Pose2>(pose->pose) : std::nullopt, c_.config.mission.docking.dock)};
 }
 
 void Api::Dock(const Request& request, Reply reply) const {

@@ -3,8 +3,6 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
-#include <limits>
-
 #include "nav/mission/docking.h"
 #include "nav/policy/evasion.h"
 #include "server/app/simulator.h"
@@ -138,15 +136,9 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   }
   // Low on charge, an idle robot goes to the dock nearest to it on the active map.
   const auto nearest_dock = [this](const nav::Pose2& robot) -> std::optional<nav::MissionGoal> {
-    std::optional<nav::MissionGoal> best;
-    double best_m = std::numeric_limits<double>::infinity();
-    for (const nav::Place& p : store_.Places(maps_->active()->name)) {
-      const double d = (p.pose.translation() - robot.translation()).norm();
-      if (p.kind != nav::PlaceKind::kDock || d >= best_m) continue;
-      best_m = d;
-      best = DockGoal(p, config_.mission.docking.dock);
-    }
-    return best;
+    const auto dock = nav::NearestDock(store_.Places(maps_->active()->name), robot.translation());
+    if (!dock) return std::nullopt;
+    return nav::DockGoal(*dock, config_.mission.docking.dock);
   };
   auto mission_node = std::make_unique<MissionNode>(executors_.control, bus_, planner_, config_.mission, persist,
                                                     config_.charging, nearest_dock);

@@ -124,13 +124,7 @@ MissionState MissionNode::Start(std::vector<nav::MissionGoal> goals, double spee
 MissionState MissionNode::StartLocked(std::vector<nav::MissionGoal> goals, double speed_limit_mps) {
   if (runner_.docked() && !goals.empty() && goals.front().action != nav::GoalAction::kUndock) {
     // Off the dock first, straight back to its staging pose.
-    nav::MissionGoal undock;
-    undock.action = nav::GoalAction::kUndock;
-    if (const auto pose = PoseOf(bus().Get(topics::kPose).latest())) {
-      undock.pose = nav::StagingPose(*pose, docking_.dock);
-      undock.has_yaw = true;
-    }
-    goals.insert(goals.begin(), undock);
+    goals.insert(goals.begin(), nav::UndockGoal(PoseOf(bus().Get(topics::kPose).latest()), docking_.dock));
   }
   std::optional<nav::MissionSnapshot> cancelled;
   const nav::MissionUpdate update = runner_.Start(nav::Mission(NewId(), std::move(goals), speed_limit_mps), &cancelled);
@@ -172,9 +166,8 @@ bool MissionNode::docked() const {
 void MissionNode::Battery(const drivers::BatteryState& battery) {
   std::lock_guard lock(mutex_);
   runner_.SetOnCharger(battery.on_charger);
-  const bool busy = runner_.has_mission() && runner_.Snapshot().status != nav::MissionStatus::kSucceeded &&
-                    runner_.Snapshot().status != nav::MissionStatus::kFailed &&
-                    runner_.Snapshot().status != nav::MissionStatus::kCanceled;
+  const nav::MissionStatus status = runner_.has_mission() ? runner_.Snapshot().status : nav::MissionStatus::kSucceeded;
+  const bool busy = status == nav::MissionStatus::kActive || status == nav::MissionStatus::kPaused;
   if (!charging_.ShouldGo(now_s(), battery.charge, battery.on_charger || runner_.docked(), busy)) return;
   const auto pose = PoseOf(bus().Get(topics::kPose).latest());
   const std::optional<nav::MissionGoal> dock = pose && find_dock_ ? find_dock_(*pose) : std::nullopt;
