@@ -35,6 +35,7 @@ options:
   --state-dir DIR    where maps, the database and the last pose are kept (store.state_dir)
   --map FILE.yaml    a ROS map_server map to work in (map.file)
   --world FILE       the simulator's world: a map_server .yaml, an SDF .world, or a mesh (sim.world)
+  --mqtt URL         a VDA 5050 master control's MQTT broker, mqtt://host:port (fleet.vda5050.broker)
   --version          print the version and exit
   --help             print this help and exit
 
@@ -86,6 +87,8 @@ std::optional<CommandLine> ParseCommandLine(int argc, char** argv) {
       cl.overrides.map = value();
     } else if (arg == "--world") {
       cl.overrides.world = value();
+    } else if (arg == "--mqtt") {
+      cl.overrides.mqtt = value();
     } else if (cl.token_create && arg == "--role") {
       cl.token_role = value();
     } else if (cl.token_create && arg == "--name") {

@@ -80,6 +80,7 @@ export async function startDaemon({ config = null, args = [], stateDir: keptStat
     stateDir,
     log: () => log,
     exited,
+    kill: (signal) => proc.kill(signal),  // without the graceful stop (a crash, a power cut)
     async stop() {
       proc.kill('SIGTERM');
       const result = await exited;

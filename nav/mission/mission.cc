@@ -63,6 +63,12 @@ void Mission::Fail(std::string reason) {
   error_ = std::move(reason);
 }
 
+bool Mission::Extend(std::vector<MissionGoal> goals) {
+  if (finished()) return false;
+  goals_.insert(goals_.end(), std::make_move_iterator(goals.begin()), std::make_move_iterator(goals.end()));
+  return true;
+}
+
 double Mission::Progress(double remaining_on_leg_m, double leg_length_m) const {
   if (status_ == MissionStatus::kSucceeded) return 1.0;
   const double leg = leg_length_m > 0.0 ? std::clamp(1.0 - remaining_on_leg_m / leg_length_m, 0.0, 1.0) : 0.0;

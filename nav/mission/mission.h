@@ -2,6 +2,7 @@
 // bookkeeping (status, which waypoint, progress, ETA); planning and driving are the mission node's.
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,6 +25,7 @@ struct MissionGoal {
   std::string place;           // the named place it came from, if any
   GoalAction action = GoalAction::kGo;
   Pose2 dock;                  // kDock: the docked pose (map frame)
+  double max_speed_mps = std::numeric_limits<double>::infinity();  // on the leg to this goal, below the mission's
 };
 
 class Mission {
@@ -48,6 +50,8 @@ class Mission {
   // The current goal is reached: on to the next, or succeeded after the last.
   void GoalReached();
   void Fail(std::string reason);
+  // More goals after the last; false (and nothing changes) once the mission has finished.
+  bool Extend(std::vector<MissionGoal> goals);
 
   // Fraction done in [0, 1], counting finished goals and the part of the current leg already driven.
   double Progress(double remaining_on_leg_m, double leg_length_m) const;

@@ -123,6 +123,13 @@ TransitionOutcome MissionRunner::Transition(const std::string& id, bool (Mission
   return TransitionOutcome::kOk;
 }
 
+TransitionOutcome MissionRunner::Extend(const std::string& id, std::vector<MissionGoal> goals, MissionUpdate* update) {
+  if (!mission_ || mission_->id() != id) return TransitionOutcome::kNotFound;
+  if (goals.empty() || !mission_->Extend(std::move(goals))) return TransitionOutcome::kConflict;
+  update->persist = true;
+  return TransitionOutcome::kOk;
+}
+
 TransitionOutcome MissionRunner::Pause(const std::string& id, MissionUpdate* update) {
   return Transition(id, &Mission::Pause, false, update);
 }
@@ -220,8 +227,8 @@ MissionUpdate MissionRunner::Frame(const FrameInput& frame) {
     bump_seen_s_ = *frame.bump_s;
     policy_->Touched(pose, frame.bump_backing);
   }
-  const LocalStep step =
-      policy_->Update(pose, frame.view, mission_->speed_limit_mps(), dt_s, fresh ? frame.tracked : nullptr);
+  const double speed_limit = std::min(mission_->speed_limit_mps(), mission_->current_goal().max_speed_mps);
+  const LocalStep step = policy_->Update(pose, frame.view, speed_limit, dt_s, fresh ? frame.tracked : nullptr);
   update.step = step;
   remaining_m_ = step.remaining_m;
   mode_ = options_.policy == LocalPolicyKind::kVoxelReactive ? PolicyMode::kReactive

@@ -123,6 +123,8 @@ class MissionRunner {
   MissionUpdate Start(Mission mission, std::optional<MissionSnapshot>* cancelled = nullptr);
   // Pausing keeps the path; resuming plans the leg again from where the robot is (it may have been pushed or driven
   // while paused); cancelling drops it.
+  // More goals after the last (an order extended); kConflict once the mission has finished (or for no goals).
+  TransitionOutcome Extend(const std::string& id, std::vector<MissionGoal> goals, MissionUpdate* update);
   TransitionOutcome Pause(const std::string& id, MissionUpdate* update);
   TransitionOutcome Resume(const std::string& id, MissionUpdate* update);
   TransitionOutcome Cancel(const std::string& id, MissionUpdate* update);

@@ -106,6 +106,32 @@ TEST(MissionRunnerTest, PlansItsLegAndDrivesItToTheGoal) {
   EXPECT_DOUBLE_EQ(s.progress, 1.0);
 }
 
+TEST(MissionRunnerTest, ExtendedWhileUnderWayItDrivesOnAndAGoalsSpeedLimitHoldsOnItsLeg) {
+  MissionRunner runner(MissionRunnerOptions{});
+  MissionGoal first;
+  first.pose = {4.0, 5.0, 0.0};
+  first.max_speed_mps = 0.2;
+  runner.Start(Mission("m1", {first}, std::numeric_limits<double>::infinity()));
+  Drive drive(runner, Room(), {2.0, 5.0, 0.0});
+  double fastest = 0.0;
+  for (int i = 0; i < 40; ++i) {
+    drive.For(0.1);
+    fastest = std::max(fastest, drive.twist_.linear_mps);
+  }
+  EXPECT_LE(fastest, 0.2 + 1e-9);
+  EXPECT_GT(fastest, 0.15);
+  MissionGoal second;
+  second.pose = {7.0, 5.0, 0.0};
+  MissionUpdate update;
+  EXPECT_EQ(runner.Extend("m1", {second}, &update), TransitionOutcome::kOk);
+  EXPECT_TRUE(update.persist);
+  EXPECT_EQ(runner.Extend("other", {second}, &update), TransitionOutcome::kNotFound);
+  ASSERT_TRUE(drive.For(60.0));
+  EXPECT_EQ(runner.Snapshot().status, MissionStatus::kSucceeded);
+  EXPECT_LT((drive.pose_.translation() - Eigen::Vector2d(7.0, 5.0)).norm(), 0.02);
+  EXPECT_EQ(runner.Extend("m1", {second}, &update), TransitionOutcome::kConflict);  // finished
+}
+
 TEST(MissionRunnerTest, LostLocalizationPausesTheMissionUntilTheRobotIsFoundAgain) {
   MissionRunner runner(MissionRunnerOptions{});
   runner.Start(ToGoal("m1", 6.0, 5.0));

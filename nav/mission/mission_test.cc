@@ -56,5 +56,19 @@ TEST(MissionTest, FailureKeepsItsReasonAndEndsTheMission) {
   EXPECT_THROW(Mission("x", {}, 1.0), std::invalid_argument);
 }
 
+TEST(MissionTest, ExtendingAddsGoalsUntilItHasFinished) {
+  Mission m = ThreeStops();
+  m.GoalReached();
+  EXPECT_TRUE(m.Extend({Goal({2, 2, 0}, false, "")}));
+  m.GoalReached();
+  m.GoalReached();
+  EXPECT_EQ(m.status(), MissionStatus::kActive);
+  EXPECT_EQ(m.current_goal().pose.x_m, 2.0);
+  m.GoalReached();
+  EXPECT_EQ(m.status(), MissionStatus::kSucceeded);
+  EXPECT_FALSE(m.Extend({Goal({3, 3, 0}, false, "")}));
+  EXPECT_EQ(m.goals().size(), 4u);
+}
+
 }  // namespace
 }  // namespace corridor::nav

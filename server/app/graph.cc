@@ -16,6 +16,7 @@
 #include "server/nodes/octree_node.h"
 #include "server/nodes/perception_node.h"
 #include "server/nodes/tracking_node.h"
+#include "server/nodes/vda5050_node.h"
 #include "server/runtime/demand.h"
 
 namespace corridor::server {
@@ -183,6 +184,11 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   lifecycle_.Add(std::move(mission_node));
   lifecycle_.Add(std::move(explore_node));
   lifecycle_.Add(std::make_unique<ControlNode>(executors_.control, bus_, devices_.base, config_.safety));
+  // A VDA 5050 master control's orders, when a broker is configured.
+  if (!config_.fleet.vda5050.broker.empty()) {
+    lifecycle_.Add(std::make_unique<Vda5050Node>(executors_.io, bus_, config_, *missions_, *maps_, nearest_dock,
+                                                 hooks.robot));
+  }
   lifecycle_.ConfigureAll();
 
   api_ = std::make_unique<Api>(ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, octree_,

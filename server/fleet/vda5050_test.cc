@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "server/fleet/mqtt_link.h"
+
 namespace corridor::server {
 namespace {
 
@@ -69,6 +71,15 @@ TEST(VdaTest, MessagesThatBreakTheSchemaAreReportedWithWhere) {
   EXPECT_TRUE(Mentions(order_errors, "nodes[0].sequenceId"))
       << (order_errors.empty() ? order.dump() : order_errors.front());
   EXPECT_FALSE(schemas.Check(VdaMessage::kInstantActions, nlohmann::json::array()).empty());
+}
+
+TEST(MqttLinkTest, BrokerAddressesAreMqttUrlsWithHostAndPort) {
+  EXPECT_EQ(PahoServerUri("mqtt://127.0.0.1:1883"), "tcp://127.0.0.1:1883");
+  EXPECT_EQ(PahoServerUri("mqtts://broker.local:8883"), "ssl://broker.local:8883");
+  for (const char* bad :
+       {"127.0.0.1:1883", "http://x:80", "mqtt://x", "mqtt://:1883", "mqtt://x:80/path", "mqtt://x:"}) {
+    EXPECT_THROW(PahoServerUri(bad), std::invalid_argument) << bad;
+  }
 }
 
 }  // namespace

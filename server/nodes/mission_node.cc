@@ -144,6 +144,14 @@ nav::TransitionOutcome MissionNode::Transition(
   return outcome;
 }
 
+nav::TransitionOutcome MissionNode::Extend(const std::string& id, std::vector<nav::MissionGoal> goals) {
+  std::lock_guard lock(mutex_);
+  nav::MissionUpdate update;
+  const nav::TransitionOutcome outcome = runner_.Extend(id, std::move(goals), &update);
+  Carry(update);
+  return outcome;
+}
+
 nav::TransitionOutcome MissionNode::Pause(const std::string& id) { return Transition(id, &nav::MissionRunner::Pause); }
 nav::TransitionOutcome MissionNode::Resume(const std::string& id) {
   return Transition(id, &nav::MissionRunner::Resume);

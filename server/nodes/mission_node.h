@@ -33,6 +33,8 @@ class MissionNode final : public PeriodicNode {
   // Thread-safe. Starting a mission cancels the one in progress; a robot on its dock backs off it first. Returns the
   // new mission's state.
   MissionState Start(std::vector<nav::MissionGoal> goals, double speed_limit_mps);
+  // Appends goals to the mission `id` while it runs (kConflict once it has finished).
+  nav::TransitionOutcome Extend(const std::string& id, std::vector<nav::MissionGoal> goals);
   nav::TransitionOutcome Pause(const std::string& id);
   nav::TransitionOutcome Resume(const std::string& id);
   nav::TransitionOutcome Cancel(const std::string& id);

@@ -276,6 +276,32 @@ void ReadWebhooks(ConfigReader& r, WebhookOptions& w) {
   r.Read("robot", w.robot);
 }
 
+void ReadFleet(ConfigReader& r, FleetOptions& f) {
+  r.Section("vda5050", [&](ConfigReader& v) {
+    Vda5050Options& o = f.vda5050;
+    v.Read("broker", o.broker);
+    if (!o.broker.empty() && o.broker.rfind("mqtt://", 0) != 0 && o.broker.rfind("mqtts://", 0) != 0) {
+      throw ConfigError(v.PathOf("broker") + ": must be an MQTT URL, mqtt://host:port or mqtts://host:port");
+    }
+    v.Read("interface_name", o.interface_name);
+    v.Read("manufacturer", o.manufacturer);
+    v.Read("serial_number", o.serial_number);
+    // Topic levels: no MQTT wildcards or separators (the standard allows A-Z a-z 0-9 _ . : -).
+    for (const auto& [key, value] : {std::pair{"interface_name", &o.interface_name},
+                                     std::pair{"manufacturer", &o.manufacturer},
+                                     std::pair{"serial_number", &o.serial_number}}) {
+      if (value->find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.:-") !=
+              std::string::npos ||
+          (value->empty() && std::string(key) != "serial_number")) {
+        throw ConfigError(v.PathOf(key) + ": letters, digits, '_', '.', ':' and '-' only");
+      }
+    }
+    v.Read("qos", o.qos, 0, 2);
+    v.Read("state_interval_s", o.state_interval_s, 1.0, 30.0);
+    v.Read("visualization_hz", o.visualization_hz, 0.1, 10.0);
+  });
+}
+
 void ReadTracking(ConfigReader& r, TrackingOptions& t) {
   nav::MovingObjectOptions& o = t.objects;
   r.Read("enabled", t.enabled);
@@ -472,6 +498,12 @@ Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
   if (overrides.state_dir) set("store", "state_dir", fs::absolute(*overrides.state_dir).string());
   if (overrides.map) set("map", "file", fs::absolute(*overrides.map).string());
   if (overrides.world) set("sim", "world", fs::absolute(*overrides.world).string());
+  if (overrides.mqtt) {
+    if (!root["fleet"] || root["fleet"].IsNull()) root["fleet"] = YAML::Node(YAML::NodeType::Map);
+    YAML::Node fleet = root["fleet"];
+    if (!fleet["vda5050"] || fleet["vda5050"].IsNull()) fleet["vda5050"] = YAML::Node(YAML::NodeType::Map);
+    fleet["vda5050"]["broker"] = *overrides.mqtt;
+  }
   Config config = ConfigFromYaml(root, file);
   config.file = fs::absolute(file);
   return config;
@@ -498,6 +530,7 @@ Config ConfigFromYaml(const YAML::Node& root, const fs::path& file) {
     r.Section("perception", [&](ConfigReader& s) { ReadPerception(s, config.perception); });
     r.Section("face", [&](ConfigReader& s) { ReadFace(s, config.face); });
     r.Section("webhooks", [&](ConfigReader& s) { ReadWebhooks(s, config.webhooks); });
+    r.Section("fleet", [&](ConfigReader& s) { ReadFleet(s, config.fleet); });
     r.Section("auth", [&](ConfigReader& s) { ReadAuth(s, config.auth); });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();

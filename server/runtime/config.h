@@ -163,6 +163,21 @@ struct WebhookOptions {
   std::string robot;             // the robot's name in every payload; empty: the host name
 };
 
+// VDA 5050 over MQTT (server/nodes/vda5050_node.h): a master control's orders and instant actions.
+struct Vda5050Options {
+  std::string broker;                  // mqtt://host:port; empty: off
+  std::string interface_name = "uagv"; // topics: interface_name/v2/manufacturer/serial_number/<topic>
+  std::string manufacturer = "corridor";
+  std::string serial_number;           // empty: the robot's name (webhooks.robot, else the host name)
+  int qos = 0;                         // order, instantActions, state, visualization, factsheet (connection: 1)
+  double state_interval_s = 30.0;      // the state at least this often, and on every change
+  double visualization_hz = 1.0;
+};
+
+struct FleetOptions {
+  Vda5050Options vda5050;
+};
+
 struct LogOptions {
   std::string level = "info";           // trace, debug, info, warn, error
 };
@@ -183,6 +198,7 @@ struct Config {
   PerceptionOptions perception;
   FaceOptions face;
   WebhookOptions webhooks;
+  FleetOptions fleet;
   auth::AuthOptions auth;
   LogOptions log;
   std::filesystem::path file;  // where it was read from (absolute); empty when built in code
@@ -194,6 +210,7 @@ struct ConfigOverrides {
   std::optional<std::filesystem::path> state_dir;
   std::optional<std::filesystem::path> map;
   std::optional<std::filesystem::path> world;
+  std::optional<std::string> mqtt;  // fleet.vda5050.broker
 };
 
 // Sets the options one module takes from another's: MORP-RB, the obstacle memory, evasion and the comparison policy

@@ -98,6 +98,25 @@ TEST_F(ConfigTest, PolarGainsAreCheckedForConvergence) {
   EXPECT_EQ(ErrorOf("sim: {enabled: false}\nmission: {k_rho: 0.5, k_alpha: 1.5, k_beta: -0.3}\n"), "");
 }
 
+TEST_F(ConfigTest, TheVdaBrokerIsOffByDefaultAndTheFlagSetsIt) {
+  std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n";
+  EXPECT_EQ(LoadConfig(dir_ / "c.yaml").fleet.vda5050.broker, "");
+  ConfigOverrides flag;
+  flag.mqtt = "mqtt://127.0.0.1:1883";
+  const Config c = LoadConfig(dir_ / "c.yaml", flag);
+  EXPECT_EQ(c.fleet.vda5050.broker, "mqtt://127.0.0.1:1883");
+  EXPECT_EQ(c.fleet.vda5050.interface_name, "uagv");
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\nfleet: {vda5050: {broker: 'http://x:80'}}\n").find("fleet.vda5050.broker"),
+            std::string::npos);
+  flag.mqtt = "127.0.0.1";
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\n", flag).find("fleet.vda5050.broker"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\nfleet: {vda5050: {serial_number: 'a/#'}}\n")
+                .find("fleet.vda5050.serial_number"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\nfleet: {vda5050: {qos: 3}}\n").find("fleet.vda5050.qos"),
+            std::string::npos);
+}
+
 TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
   std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n"
                                     "tracking: {enabled: false, camera: false, window_scans: 6, coast_s: 0.5,"

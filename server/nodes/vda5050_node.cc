@@ -1,0 +1,230 @@
+#include "server/nodes/vda5050_node.h"
+
+#include <chrono>
+#include <cmath>
+
+#include <spdlog/spdlog.h>
+
+#include "server/runtime/topics.h"
+
+namespace corridor::server {
+namespace {
+
+using json = nlohmann::json;
+
+std::int64_t UnixMillis() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+VdaIdentity IdentityOf(const Vda5050Options& o, const std::string& robot_name) {
+  return {o.interface_name, o.manufacturer, o.serial_number.empty() ? robot_name : o.serial_number};
+}
+
+VdaMissionProgress ProgressOf(const MissionState& m) { return {m.id, m.status, m.current, m.goals.size(), m.error}; }
+
+// The robot's name as a topic level: what the standard allows, the rest as '_'.
+std::string TopicLevel(std::string name) {
+  for (char& c : name) {
+    const bool ok = std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == ':' || c == '-';
+    if (!ok) c = '_';
+  }
+  return name.empty() ? std::string("corridor") : name;
+}
+
+}  // namespace
+
+Vda5050Node::Vda5050Node(Executor& io, Bus& bus, const Config& config, MissionNode& missions, const MapLibrary& maps,
+                         MissionNode::DockFinder find_dock, std::string robot_name)
+    : PeriodicNode("vda5050", io, bus, config.fleet.vda5050.visualization_hz),
+      options_(config.fleet.vda5050),
+      config_(config),
+      identity_(IdentityOf(options_, TopicLevel(std::move(robot_name)))),
+      missions_(missions),
+      maps_(maps),
+      agent_({0.5, config.mission.docking.dock}, std::move(find_dock)) {
+  vehicle_.max_speed_mps = config.mission.navigator.follower.max_linear_mps;
+  vehicle_.max_deceleration_mps2 = config.safety.stopping.max_decel_mps2;
+  vehicle_.radius_m = config.planner.robot_radius_m;
+  MqttLinkOptions link;
+  link.broker = options_.broker;
+  link.client_id = identity_.manufacturer + "-" + identity_.serial_number;
+  link.subscriptions = {VdaTopic(identity_, "order"), VdaTopic(identity_, "instantActions")};
+  link.subscription_qos = options_.qos;
+  link.will = {VdaTopic(identity_, "connection"),
+               VdaConnection(identity_, NextHeader(VdaMessage::kConnection), "CONNECTIONBROKEN").dump(), 1, true};
+  link_ = std::make_unique<MqttLink>(
+      std::move(link),
+      [this](std::string topic, std::string payload) {
+        executor().Post([this, topic = std::move(topic), payload = std::move(payload)] {
+          Run("message", [&] { Received(topic, payload); });
+        });
+      },
+      [this] { executor().Post([this] { Run("connected", [&] { Connected(); }); }); });
+}
+
+void Vda5050Node::Activate() {
+  Subscribe(topics::kMission, "mission", [this](const std::shared_ptr<const MissionState>& m) { OnMission(*m); });
+  PeriodicNode::Activate();
+  link_->Connect();
+  SetHealth(Health::kDegraded, "connecting to " + options_.broker);
+}
+
+void Vda5050Node::Deactivate() {
+  PeriodicNode::Deactivate();
+  link_->Stop({VdaTopic(identity_, "connection"),
+               VdaConnection(identity_, NextHeader(VdaMessage::kConnection), "OFFLINE").dump(), 1, true});
+}
+
+VdaHeader Vda5050Node::NextHeader(VdaMessage kind) { return {header_ids_[kind]++, VdaTimestamp(UnixMillis())}; }
+
+void Vda5050Node::Send(VdaMessage kind, json message, bool retained) {
+  const std::vector<std::string> problems = schemas_.Check(kind, message);
+  if (!problems.empty()) {
+    spdlog::error("vda5050: not sending an invalid {}: {}", ToString(kind), problems.front());
+    return;
+  }
+  const int qos = kind == VdaMessage::kConnection ? 1 : options_.qos;
+  link_->Publish({VdaTopic(identity_, ToString(kind)), message.dump(), qos, retained});
+}
+
+void Vda5050Node::Connected() {
+  SetHealth(Health::kOk, "connected to " + options_.broker);
+  Send(VdaMessage::kConnection, VdaConnection(identity_, NextHeader(VdaMessage::kConnection), "ONLINE"), true);
+  SendState();
+}
+
+VdaRobotNow Vda5050Node::Now() {
+  VdaRobotNow now;
+  if (const auto pose = bus().Get(topics::kPose).latest()) now.pose = pose->pose;
+  now.map_id = maps_.active()->name;
+  now.docked = missions_.docked();
+  now.can_set_pose = config_.localization.source == LocalizationOptions::Source::kMonteCarlo;
+  return now;
+}
+
+VdaRobot Vda5050Node::Sample() {
+  VdaRobot r;
+  r.map_id = maps_.active()->name;
+  if (const auto pose = bus().Get(topics::kPose).latest()) {
+    r.position_initialized = true;
+    r.pose = pose->pose;
+    r.localization_score = 1.0;
+  }
+  if (const auto localization = bus().Get(topics::kLocalization).latest();
+      localization && localization->source == "mcl") {
+    r.localization_score = std::clamp(localization->estimate.agreement, 0.0, 1.0);
+    if (localization->estimate.health == nav::LocalizationHealth::kLost) {
+      r.errors.push_back({"localizationError", "WARNING", "localization does not know where the robot is"});
+    }
+  }
+  if (const auto odometry = bus().Get(topics::kOdometry).latest()) {
+    r.velocity = odometry->velocity;
+    r.driving = std::abs(odometry->velocity.linear_mps) > 0.01 || std::abs(odometry->velocity.angular_rps) > 0.02;
+  }
+  if (const auto battery = bus().Get(topics::kBattery).latest()) {
+    r.battery_percent = 100.0 * battery->charge;
+    r.battery_voltage_v = battery->voltage_v;
+    r.charging = battery->charging;
+  }
+  if (const auto mission = bus().Get(topics::kMission).latest()) {
+    r.paused = mission->status == nav::MissionStatus::kPaused;
+  }
+  r.paused = r.paused || agent_.paused();
+  if (const auto command = bus().Get(topics::kCmdVel).latest()) {
+    r.manual = command->mode == nav::ControlMode::kTeleop;
+    if (command->mode == nav::ControlMode::kStopped) {
+      r.protective_stop = true;
+      r.errors.push_back(
+          {"protectiveStop", "WARNING", std::string("the robot is held still: ") + nav::ToString(command->reason)});
+    }
+    r.field_violation = command->reason != nav::GateReason::kNone && command->mode != nav::ControlMode::kStopped;
+  }
+  return r;
+}
+
+void Vda5050Node::SendState() {
+  const VdaRobot robot = Sample();
+  json state = VdaState(identity_, NextHeader(VdaMessage::kState), robot);
+  agent_.FillState(state);
+  last_state_s_ = drivers::ToSeconds(clock().Now());
+  last_state_key_ = json{robot.driving,  robot.paused,        robot.manual, robot.protective_stop,
+                         robot.charging, robot.errors.size(), robot.map_id, robot.position_initialized}
+                        .dump();
+  Send(VdaMessage::kState, std::move(state));
+}
+
+void Vda5050Node::Tick() {
+  link_->Connect();
+  if (!link_->connected()) return;
+  const VdaRobot robot = Sample();
+  Send(VdaMessage::kVisualization, VdaVisualization(identity_, NextHeader(VdaMessage::kVisualization), robot));
+  const std::string key = json{robot.driving,  robot.paused,        robot.manual, robot.protective_stop,
+                               robot.charging, robot.errors.size(), robot.map_id, robot.position_initialized}
+                              .dump();
+  const double now_s = drivers::ToSeconds(clock().Now());
+  if (agent_.changed() || key != last_state_key_ || now_s - last_state_s_ >= options_.state_interval_s) SendState();
+}
+
+void Vda5050Node::Received(const std::string& topic, const std::string& payload) {
+  const bool order = topic == VdaTopic(identity_, "order");
+  const VdaMessage kind = order ? VdaMessage::kOrder : VdaMessage::kInstantActions;
+  json message;
+  try {
+    message = json::parse(payload);
+  } catch (const json::parse_error& e) {
+    agent_.Invalid(ToString(kind), {std::string("not JSON: ") + e.what()});
+    SendState();
+    return;
+  }
+  if (const auto problems = schemas_.Check(kind, message); !problems.empty()) {
+    spdlog::warn("vda5050: an invalid {} refused: {}", ToString(kind), problems.front());
+    agent_.Invalid(ToString(kind), problems);
+    SendState();
+    return;
+  }
+  Carry(order ? agent_.Order(message, Now()) : agent_.InstantActions(message, Now()));
+}
+
+void Vda5050Node::OnMission(const MissionState& mission) { Carry(agent_.Progress(ProgressOf(mission))); }
+
+void Vda5050Node::Carry(VdaCommands c) {
+  const auto start = [&](std::vector<nav::MissionGoal> goals) {
+    const std::size_t asked = goals.size();
+    const MissionState state = missions_.Start(std::move(goals), std::numeric_limits<double>::infinity());
+    Carry(agent_.Started(state.id, state.goals.size() - asked));
+  };
+  if (!c.cancel.empty()) missions_.Cancel(c.cancel);
+  if (c.start) start(std::move(*c.start));
+  if (!c.extend.empty()) {
+    const std::string id = agent_.mission_id();
+    if (missions_.Extend(id, c.extend) == nav::TransitionOutcome::kOk) {
+      agent_.Extended();
+    } else {
+      // The mission ended meanwhile: its last progress first, then a new one for these goals.
+      if (const auto last = missions_.Describe(id)) Carry(agent_.Progress(ProgressOf(*last)));
+      start(std::move(c.extend));
+    }
+  }
+  if (c.pause && !agent_.mission_id().empty()) missions_.Pause(agent_.mission_id());
+  if (c.resume && !agent_.mission_id().empty()) missions_.Resume(agent_.mission_id());
+  if (c.set_pose) {
+    LocalizationCommand command;
+    command.kind = LocalizationCommand::Kind::kSetPose;
+    command.pose = *c.set_pose;
+    bus().Get(topics::kLocalizationCommand).Publish(command);
+  }
+  for (std::string& text : c.say) {
+    FaceCommand command;
+    command.say = std::move(text);
+    bus().Get(topics::kFaceCommand).Publish(command);
+  }
+  if (c.send_factsheet) {
+    json factsheet = VdaFactsheet(identity_, NextHeader(VdaMessage::kFactsheet), vehicle_);
+    factsheet["protocolFeatures"]["agvActions"] = VdaAgent::FactsheetActions();
+    Send(VdaMessage::kFactsheet, std::move(factsheet));
+  }
+  if (c.send_state || agent_.changed()) SendState();
+}
+
+}  // namespace corridor::server

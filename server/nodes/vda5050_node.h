@@ -1,0 +1,61 @@
+// VDA 5050 2.1 over MQTT: a master control's orders and instant actions drive the robot through the mission node, and
+// the robot reports its state (at least every state_interval_s and on every change), its visualization, its
+// factsheet and its connection (ONLINE; OFFLINE at shutdown; CONNECTIONBROKEN as the broker's last will). The order
+// logic is server/fleet/vda5050_agent.h, the messages server/fleet/vda5050.h, the connection server/fleet/mqtt_link.h;
+// this node wires them to the bus. Every message in and out is checked against the standard's schemas: one that
+// arrives invalid is reported as a validationError and not used; one the robot would send invalid is logged and not
+// sent. Runs on the io executor.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "server/fleet/mqtt_link.h"
+#include "server/fleet/vda5050.h"
+#include "server/fleet/vda5050_agent.h"
+#include "server/nodes/mission_node.h"
+#include "server/runtime/config.h"
+#include "server/runtime/node.h"
+#include "server/store/map_library.h"
+
+namespace corridor::server {
+
+class Vda5050Node final : public PeriodicNode {
+ public:
+  // `robot_name` is the serial number when the options give none. Throws std::invalid_argument for a broker address
+  // that is not an MQTT URL.
+  Vda5050Node(Executor& io, Bus& bus, const Config& config, MissionNode& missions, const MapLibrary& maps,
+              MissionNode::DockFinder find_dock, std::string robot_name);
+  void Activate() override;
+  void Deactivate() override;
+
+ private:
+  void Tick() override;
+  // From Paho's threads, posted here.
+  void Received(const std::string& topic, const std::string& payload);
+  void Connected();
+  void OnMission(const MissionState& mission);
+  // Carries out what the agent asked.
+  void Carry(VdaCommands commands);
+  VdaRobot Sample();
+  VdaRobotNow Now();
+  void SendState();
+  void Send(VdaMessage kind, nlohmann::json message, bool retained = false);
+  VdaHeader NextHeader(VdaMessage kind);
+
+  const Vda5050Options options_;
+  const Config& config_;
+  VdaIdentity identity_;
+  MissionNode& missions_;
+  const MapLibrary& maps_;
+  VdaSchemas schemas_;
+  VdaAgent agent_;
+  VdaVehicle vehicle_;
+  std::unique_ptr<MqttLink> link_;
+  std::map<VdaMessage, std::uint32_t> header_ids_;
+  double last_state_s_ = -1e300;
+  std::string last_state_key_;  // what of the robot the last state said that counts as a change
+};
+
+}  // namespace corridor::server
