@@ -10,7 +10,9 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
-import { require, sleep, sourceDir, startDaemon, writeRoom } from './daemon.mjs';
+import {
+  getJson, launchBrowser, openApiValidator, openConsole, require, sleep, sourceDir, startDaemon, writeRoom,
+} from './daemon.mjs';
 
 const MAP = 'room';
 const PREFIX = 'uagv/v2/corridor/r1';
@@ -207,6 +209,24 @@ fleet:
     await master.waitFor('state', (s) => !s.driving && s.lastNodeId === 'b', 10000, 'stopped at b');
     await sleep(1000);
     assert.ok(near(master.last('state'), 2.5, 1.5, 0.3), 'waits at the decision point');
+    // The API's state and the console show the order: c is the horizon, drawn hollow and dashed.
+    const { body: robot } = await getJson(`${daemon.url}/api/v1/state`);
+    openApiValidator().check('State', robot);
+    assert.equal(robot.fleet.connected, true);
+    assert.deepEqual(robot.fleet.nodes.map((n) => [n.id, n.released, n.traversed]),
+      [['b', true, true], ['c', false, false]]);
+    const browser = await launchBrowser();
+    try {
+      const { page, errors } = await openConsole(browser, daemon.url);
+      await page.getByTestId('fleet').filter({ hasText: 'order o1/0, waiting for the order to be extended' })
+        .waitFor({ timeout: 5000 });
+      await page.locator('.fleet-node.fleet-horizon').waitFor({ timeout: 5000 });
+      // (A straight line's box may have no height: attached, not visible.)
+      await page.locator('.fleet-edge.fleet-horizon').waitFor({ state: 'attached', timeout: 5000 });
+      assert.deepEqual(errors, []);
+    } finally {
+      await browser.close();
+    }
     // The update stitches on b, releases c and adds a horizon d.
     master.publish('order', { orderId: 'o1', orderUpdateId: 1,
       nodes: [node('b', 2, true, 2.5, 1.5), node('c', 4, true, 4.0, 1.5), node('d', 6, false, 4.0, 2.2)],

@@ -368,6 +368,8 @@ json Api::State() const {
   const auto battery = c_.bus.Get(topics::kBattery).latest();
   state["battery"] = battery ? ToJson(*battery) : json(nullptr);
   state["docked"] = c_.missions.docked();
+  const auto fleet = c_.bus.Get(topics::kFleetOrder).latest();
+  state["fleet"] = fleet ? ToJson(*fleet) : json(nullptr);
   const auto map = c_.maps.active();
   state["map"] = {{"name", map->name}, {"revision", map->revision}};
   json nodes = json::array();

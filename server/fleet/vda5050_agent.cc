@@ -234,7 +234,8 @@ void VdaAgent::Take(const json& order, bool update) {
   for (const json& e : edges) {
     std::optional<double> max_speed;
     if (e.contains("maxSpeed")) max_speed = e["maxSpeed"].get<double>();
-    edges_.push_back({e["edgeId"], e["sequenceId"], e["released"], max_speed, take_actions(e["actions"])});
+    edges_.push_back({e["edgeId"], e["sequenceId"], e["released"], e["startNodeId"], e["endNodeId"], max_speed,
+                      take_actions(e["actions"])});
   }
   changed_ = true;
 }
@@ -384,6 +385,7 @@ void VdaAgent::Traverse(std::uint32_t sequence, VdaCommands& commands) {
   if (node == nodes_.end()) return;
   last_node_id_ = node->id;
   last_node_sequence_ = node->sequence;
+  last_node_position_ = node->position;
   // Leaving the edge that led here: its actions are over.
   for (auto e = edges_.begin(); e != edges_.end();) {
     if (e->sequence >= sequence) {
@@ -561,7 +563,10 @@ void VdaAgent::RunInstant(const json& message, const VdaRobotNow& robot, VdaComm
     if (Param(action, "mapId") != robot.map_id) return fail("actionError", "the robot is on map " + robot.map_id);
     if (!robot.can_set_pose) return fail("actionError", "localization here takes no pose (localization.source)");
     commands.set_pose = nav::Pose2{value[0], value[1], value[2]};
-    if (const std::string last = Param(action, "lastNodeId"); !last.empty()) last_node_id_ = last;
+    if (const std::string last = Param(action, "lastNodeId"); !last.empty()) {
+      last_node_id_ = last;
+      last_node_position_ = nullptr;
+    }
     SetStatus(action, kFinished);
   } else {  // startCharging, stopCharging
     if (!nodes_.empty() || !mission_id_.empty()) return fail("actionError", "an order is under way");
@@ -583,6 +588,22 @@ VdaCommands VdaAgent::InstantActions(const json& message, const VdaRobotNow& rob
   VdaCommands commands;
   for (const json& action : message["actions"]) RunInstant(action, robot, commands);
   return commands;
+}
+
+FleetOrder VdaAgent::Describe() const {
+  FleetOrder view;
+  view.order_id = order_id_;
+  view.order_update_id = order_update_id_;
+  view.last_node_id = last_node_id_;
+  if (last_node_position_.is_object() && !order_id_.empty()) {
+    view.nodes.push_back(
+        {last_node_id_, true, Number(last_node_position_, "x", 0.0), Number(last_node_position_, "y", 0.0), true});
+  }
+  for (const Node& n : nodes_) {
+    view.nodes.push_back({n.id, n.released, Number(n.position, "x", 0.0), Number(n.position, "y", 0.0), false});
+  }
+  for (const Edge& e : edges_) view.edges.push_back({e.id, e.start, e.end, e.released});
+  return view;
 }
 
 void VdaAgent::FillState(json& state) {

@@ -24,6 +24,7 @@
 #include "nav/geometry/pose2.h"
 #include "nav/mission/docking.h"
 #include "nav/mission/mission.h"
+#include "server/fleet/fleet_order.h"
 
 namespace corridor::server {
 
@@ -93,6 +94,9 @@ class VdaAgent {
   // The actions the factsheet lists (protocolFeatures.agvActions).
   static nlohmann::json FactsheetActions();
 
+  // The order as a map shows it (protocol, connection and stamp left to the caller).
+  FleetOrder Describe() const;
+
   bool has_order() const { return !order_id_.empty(); }
   // The mission driving the order (or an instant charging action); "" when none.
   const std::string& mission_id() const { return mission_id_; }
@@ -119,6 +123,8 @@ class VdaAgent {
     std::string id;
     std::uint32_t sequence = 0;
     bool released = false;
+    std::string start;
+    std::string end;
     std::optional<double> max_speed;
     std::vector<std::string> actions;
   };
@@ -157,6 +163,7 @@ class VdaAgent {
   std::uint32_t order_update_id_ = 0;
   std::string last_node_id_;
   std::uint32_t last_node_sequence_ = 0;
+  nlohmann::json last_node_position_;  // null: not known (none yet, or set by initPosition)
   std::vector<Node> nodes_;  // still to traverse, base then horizon
   std::vector<Edge> edges_;
   std::vector<Action> actions_;  // of the order and the instant actions since it was taken

@@ -123,6 +123,14 @@ TEST_F(VdaAgentTest, AnOrdersBaseBecomesAMissionAndItsProgressTheNodeStates) {
   EXPECT_EQ(State()["lastNodeSequenceId"], 2);
   c = agent_.Progress({"m1", nav::MissionStatus::kSucceeded, 1, 2, ""});
   EXPECT_EQ(NodeIds(), (std::vector<std::string>{"d"}));  // the horizon waits for an update
+  // As the map shows it: c just traversed, then d; the edge c-d joins them.
+  const FleetOrder view = agent_.Describe();
+  ASSERT_EQ(view.nodes.size(), 2u);
+  EXPECT_TRUE(view.nodes[0].traversed);
+  EXPECT_EQ(view.nodes[0].x, 2.0);
+  EXPECT_FALSE(view.nodes[1].released);
+  ASSERT_EQ(view.edges.size(), 1u);
+  EXPECT_EQ(view.edges[0].start, "c");
   EXPECT_EQ(ActionStatus("s2"), "FINISHED");
   EXPECT_EQ(State()["edgeStates"].size(), 1u);
 }

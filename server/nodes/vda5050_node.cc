@@ -66,6 +66,7 @@ Vda5050Node::Vda5050Node(Executor& io, Bus& bus, const Config& config, MissionNo
 void Vda5050Node::Activate() {
   Subscribe(topics::kMission, "mission", [this](const std::shared_ptr<const MissionState>& m) { OnMission(*m); });
   PeriodicNode::Activate();
+  PublishOrder();
   link_->Connect();
   SetHealth(Health::kDegraded, "connecting to " + options_.broker);
 }
@@ -143,7 +144,16 @@ VdaRobot Vda5050Node::Sample() {
   return r;
 }
 
+void Vda5050Node::PublishOrder() {
+  FleetOrder order = agent_.Describe();
+  order.stamp_ns = clock().Now();
+  order.protocol = "vda5050";
+  order.connected = link_->connected();
+  bus().Get(topics::kFleetOrder).Publish(std::move(order));
+}
+
 void Vda5050Node::SendState() {
+  if (agent_.changed()) PublishOrder();
   const VdaRobot robot = Sample();
   json state = VdaState(identity_, NextHeader(VdaMessage::kState), robot);
   agent_.FillState(state);
@@ -156,6 +166,10 @@ void Vda5050Node::SendState() {
 
 void Vda5050Node::Tick() {
   link_->Connect();
+  if (link_->connected() != shown_connected_) {
+    shown_connected_ = link_->connected();
+    PublishOrder();
+  }
   if (!link_->connected()) return;
   const VdaRobot robot = Sample();
   Send(VdaMessage::kVisualization, VdaVisualization(identity_, NextHeader(VdaMessage::kVisualization), robot));

@@ -41,6 +41,8 @@ class Vda5050Node final : public PeriodicNode {
   VdaRobot Sample();
   VdaRobotNow Now();
   void SendState();
+  // The order and the connection, for the console (topics::kFleetOrder).
+  void PublishOrder();
   void Send(VdaMessage kind, nlohmann::json message, bool retained = false);
   VdaHeader NextHeader(VdaMessage kind);
 
@@ -56,6 +58,7 @@ class Vda5050Node final : public PeriodicNode {
   std::map<VdaMessage, std::uint32_t> header_ids_;
   double last_state_s_ = -1e300;
   std::string last_state_key_;  // what of the robot the last state said that counts as a change
+  bool shown_connected_ = false;
 };
 
 }  // namespace corridor::server

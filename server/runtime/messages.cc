@@ -126,6 +126,20 @@ nlohmann::json ToJson(const drivers::BatteryState& b) {
           {"charging", b.charging}, {"on_charger", b.on_charger}};
 }
 
+nlohmann::json ToJson(const FleetOrder& o) {
+  nlohmann::json nodes = nlohmann::json::array();
+  for (const FleetOrder::Node& n : o.nodes) {
+    nodes.push_back({{"id", n.id}, {"released", n.released}, {"x", n.x}, {"y", n.y}, {"traversed", n.traversed}});
+  }
+  nlohmann::json edges = nlohmann::json::array();
+  for (const FleetOrder::Edge& e : o.edges) {
+    edges.push_back({{"id", e.id}, {"start", e.start}, {"end", e.end}, {"released", e.released}});
+  }
+  return {{"protocol", o.protocol},     {"connected", o.connected}, {"order_id", o.order_id},
+          {"order_update_id", o.order_update_id}, {"last_node_id", o.last_node_id}, {"nodes", std::move(nodes)},
+          {"edges", std::move(edges)}};
+}
+
 nlohmann::json ToJson(const LocalStepState& s) {
   nlohmann::json remembered = nlohmann::json::array();
   for (const Eigen::Vector2d& p : s.remembered) remembered.push_back({p.x(), p.y()});

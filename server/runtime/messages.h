@@ -21,6 +21,7 @@
 #include "nav/mission/mission_runner.h"
 #include "nav/safety/command_gate.h"
 #include "nav/tracking/moving_objects.h"
+#include "server/fleet/fleet_order.h"
 
 namespace corridor::server {
 
@@ -196,6 +197,7 @@ struct FaceCommand {
 
 nlohmann::json ToJson(const ControlLatency& latency);
 nlohmann::json ToJson(const drivers::BatteryState& battery);
+nlohmann::json ToJson(const FleetOrder& order);
 nlohmann::json ToJson(const LocalizationState& localization);
 nlohmann::json ToJson(const FaceState& face);
 nlohmann::json ToJson(const face::Detection& detection);

@@ -28,6 +28,7 @@ inline constexpr TopicName<MissionState> kMission{"mission"};
 inline constexpr TopicName<LocalStepState> kLocalStep{"mission/step"};  // each local step, on a depth frame
 inline constexpr TopicName<GroundLanes> kGroundLanes{"ground/lanes"};
 inline constexpr TopicName<TrackedObjects> kTrackedObjects{"tracking/objects"};
+inline constexpr TopicName<FleetOrder> kFleetOrder{"fleet/order"};  // a fleet manager's order (VDA 5050)
 inline constexpr TopicName<ControlLatency> kControlLatency{"control/latency"};
 
 }  // namespace corridor::server::topics

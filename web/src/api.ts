@@ -25,6 +25,14 @@ export interface State {
   control_latency: ControlLatency | null;
   battery: Battery | null;
   docked: boolean;
+  fleet: FleetOrder | null;
+}
+// A fleet manager's order (VDA 5050): the last node traversed, the nodes still to traverse, base (released) then
+// horizon, and their edges.
+export interface FleetOrder {
+  protocol: 'vda5050'; connected: boolean; order_id: string; order_update_id: number; last_node_id: string;
+  nodes: { id: string; released: boolean; x: number; y: number; traversed: boolean }[];
+  edges: { id: string; start: string; end: string; released: boolean }[];
 }
 export interface Battery { percent: number; voltage_v: number; current_a: number; charging: boolean; on_charger: boolean; }
 export interface SimPerson { x: number; y: number; vx: number; vy: number; radius_m: number; }

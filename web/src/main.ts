@@ -65,6 +65,23 @@ function showBattery(state: State): void {
   dock.disabled = state.docked || !permitted(dock);
 }
 
+// The fleet manager's connection and order (VDA 5050), when one is configured.
+function showFleet(state: State): void {
+  const f = state.fleet;
+  if (!f) {
+    byId('fleet').textContent = '—';
+    return;
+  }
+  const link = f.connected ? 'VDA 5050 connected' : 'VDA 5050 not connected';
+  const ahead = f.nodes.filter((n) => !n.traversed);
+  const next = ahead.find((n) => n.released);
+  const order = f.order_id
+    ? `, order ${f.order_id}/${f.order_update_id}${next ? `, next ${next.id}` : ''}` +
+      `${ahead.length > 0 && !next ? ', waiting for the order to be extended' : ''}`
+    : '';
+  byId('fleet').textContent = link + order;
+}
+
 function showState(state: State, view: MapView | null): void {
   byId('mode').textContent = state.mode === 'stopped' ? `stopped: ${state.stop_reason}` : state.mode;
   byId('pose').textContent = state.pose
@@ -74,6 +91,7 @@ function showState(state: State, view: MapView | null): void {
   byId('bumper').textContent = state.bumper_pressed ? 'pressed' : 'free';
   byId('face').textContent = state.face;
   showBattery(state);
+  showFleet(state);
   const latency = state.control_latency;
   byId('control-loop').textContent = latency && latency.samples > 0
     ? `${latency.rate_hz.toFixed(1)} Hz, frame to command ${latency.p50_ms.toFixed(2)} ms (p99 ${latency.p99_ms.toFixed(2)} ms)`
@@ -98,6 +116,7 @@ function showState(state: State, view: MapView | null): void {
   view?.showTracked(state.tracked_objects);
   view?.showTraffic();
   view?.showMission(state.mission);
+  view?.showFleetOrder(state.fleet);
 }
 
 // Refreshes the camera image; a fetched blob replaces the old one only when complete, so there is no flicker.

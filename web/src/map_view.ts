@@ -3,7 +3,7 @@
 // the obstacles it adds to the world), and the mission's path and waypoints.
 import L from 'leaflet';
 
-import type { Detection, MapInfo, Mission, Pose, SimObstacle, SimPerson, TrackedObject } from './api';
+import type { Detection, FleetOrder, MapInfo, Mission, Pose, SimObstacle, SimPerson, TrackedObject } from './api';
 
 const kTrailLength = 600;
 
@@ -19,6 +19,8 @@ export class MapView {
   private readonly trail: L.Polyline;
   private readonly missionPath: L.Polyline;
   private readonly missionGoals = L.layerGroup();
+  private readonly fleetOrder = L.layerGroup();
+  private shownFleetOrder = '';
   private readonly deadEnds = L.layerGroup();
   private readonly people = L.layerGroup();
   private readonly simPeople = L.layerGroup();
@@ -43,6 +45,7 @@ export class MapView {
     this.missionPath = L.polyline([], { color: '#2ea043', weight: 4, opacity: 0.8, className: 'mission-path' })
       .addTo(this.map);
     this.missionGoals.addTo(this.map);
+    this.fleetOrder.addTo(this.map);
     this.deadEnds.addTo(this.map);
     this.people.addTo(this.map);
     this.simObstacles.addTo(this.map);
@@ -194,6 +197,31 @@ export class MapView {
       L.circleMarker(toLatLng(w.x, w.y), { radius: 5, color: i < mission.current_waypoint ? '#888' : '#2ea043',
         className: 'mission-waypoint' }).addTo(this.missionGoals);
     });
+  }
+
+  // A fleet manager's order: the last node traversed (grey) and those still to traverse as squares, and the edges
+  // between them, the base (released) solid and the horizon dashed and hollow (redrawn only when it changes).
+  showFleetOrder(order: FleetOrder | null): void {
+    const key = JSON.stringify(order ? [order.nodes, order.edges] : null);
+    if (key === this.shownFleetOrder) return;
+    this.shownFleetOrder = key;
+    this.fleetOrder.clearLayers();
+    if (!order) return;
+    const at = new Map(order.nodes.map((n) => [n.id, toLatLng(n.x, n.y)]));
+    for (const e of order.edges) {
+      const from = at.get(e.start);
+      const to = at.get(e.end);
+      if (!from || !to) continue;
+      L.polyline([from, to], { color: '#bf8700', weight: 3, opacity: 0.9, dashArray: e.released ? undefined : '6 6',
+        className: e.released ? 'fleet-edge' : 'fleet-edge fleet-horizon' }).addTo(this.fleetOrder);
+    }
+    for (const n of order.nodes) {
+      const half = 0.12;
+      L.rectangle(L.latLngBounds(toLatLng(n.x - half, n.y - half), toLatLng(n.x + half, n.y + half)), {
+        color: n.traversed ? '#888' : '#bf8700', weight: 2, fill: n.released, fillOpacity: 0.8,
+        className: `fleet-node${n.traversed ? ' fleet-traversed' : n.released ? '' : ' fleet-horizon'}`,
+      }).bindTooltip(n.id).addTo(this.fleetOrder);
+    }
   }
 
   private bounds(info: MapInfo): L.LatLngBounds {
