@@ -44,7 +44,7 @@ WebhookRecord ParseWebhook(const json& body) {
   }
   w.url = body["url"].get<std::string>();
   try {
-    ParseWebhookUrl(w.url);
+    ParseHttpUrl(w.url);
   } catch (const std::invalid_argument& e) {
     throw ApiError(http::status::bad_request, "Invalid request", e.what());
   }

@@ -1,20 +1,15 @@
 #include "server/api/webhooks.h"
 
-#include <boost/asio/ip/tcp.hpp>
-#include <boost/asio/ssl/host_name_verification.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
-#include <boost/beast/ssl.hpp>
 #include <nlohmann/json.hpp>
 #include <openssl/evp.h>
 #include <openssl/rand.h>
-#include <openssl/ssl.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <regex>
 #include <stdexcept>
 
 namespace corridor::server {
@@ -23,9 +18,7 @@ namespace {
 namespace asio = boost::asio;
 namespace beast = boost::beast;
 namespace http = beast::http;
-using tcp = asio::ip::tcp;
 
-constexpr std::size_t kMaxAnswerBytes = 64 * 1024;  // a receiver's answer is read only for its status
 
 // Worth another attempt: the receiver may take it later.
 bool Retryable(int status) { return status == 0 || status == 408 || status == 429 || status >= 500; }
@@ -43,27 +36,6 @@ std::string Hex(const unsigned char* bytes, std::size_t size) {
 }
 
 }  // namespace
-
-WebhookUrl ParseWebhookUrl(const std::string& url) {
-  // scheme://host[:port][/path?query]; host: a name, IPv4, or [IPv6].
-  static const std::regex kUrl(R"(^(https?)://([A-Za-z0-9._~-]+|\[[0-9A-Fa-f:.]+\])(?::([0-9]{1,5}))?([/?][^\s#]*)?$)",
-                               std::regex::ECMAScript);
-  std::smatch m;
-  if (url.size() > 2000 || !std::regex_match(url, m, kUrl)) {
-    throw std::invalid_argument("url: an http:// or https:// URL with a host, no user, spaces or fragment");
-  }
-  WebhookUrl out;
-  out.tls = m[1] == "https";
-  out.host = m[2];
-  if (out.host.front() == '[') out.host = out.host.substr(1, out.host.size() - 2);
-  out.port = m[3].matched ? m[3].str() : (out.tls ? "443" : "80");
-  if (const int port = std::stoi(out.port); port < 1 || port > 65535) {
-    throw std::invalid_argument("url: the port must be 1 to 65535");
-  }
-  out.target = m[4].matched ? m[4].str() : "/";
-  if (out.target.front() == '?') out.target = "/" + out.target;
-  return out;
-}
 
 std::string WebhookSignature(const std::string& secret, const std::string& body) {
   std::array<unsigned char, EVP_MAX_MD_SIZE> mac{};
@@ -83,80 +55,6 @@ std::string NewWebhookSecret() {
   }
   return Hex(bytes.data(), bytes.size());
 }
-
-// One POST: resolve, connect, (TLS handshake), send, read the status line and headers, close. Every step is bounded
-// by the stream's deadline; `done` is called once with the receiver's status (0 when there was none) and, on failure,
-// why.
-struct Webhooks::Attempt : std::enable_shared_from_this<Attempt> {
-  using Done = std::function<void(int status, std::string error)>;
-
-  Attempt(asio::io_context& io, asio::ssl::context& tls, WebhookUrl to, http::request<http::string_body> post,
-          double timeout_s, Done on_done)
-      : resolver(io),
-        stream(io, tls),
-        url(std::move(to)),
-        request(std::move(post)),
-        timeout(std::chrono::milliseconds(static_cast<long>(timeout_s * 1000.0))),
-        done(std::move(on_done)) {
-    parser.body_limit(kMaxAnswerBytes);
-  }
-
-  void Start() {
-    resolver.async_resolve(url.host, url.port, [self = shared_from_this()](beast::error_code resolved, auto results) {
-      if (resolved) return self->Fail("cannot resolve " + self->url.host + ": " + resolved.message());
-      self->Lowest().expires_after(self->timeout);
-      self->Lowest().async_connect(results, [self](beast::error_code connected, const tcp::endpoint&) {
-        if (connected) return self->Fail("cannot connect: " + connected.message());
-        if (!self->url.tls) return self->Exchange(self->Lowest());
-        self->stream.set_verify_mode(asio::ssl::verify_peer);
-        self->stream.set_verify_callback(asio::ssl::host_name_verification(self->url.host));
-        // SNI, for receivers behind a shared address.
-        if (!SSL_set_tlsext_host_name(self->stream.native_handle(), self->url.host.c_str())) {
-          return self->Fail("TLS: cannot set the server name");
-        }
-        self->stream.async_handshake(asio::ssl::stream_base::client, [self](beast::error_code shaken) {
-          if (shaken) return self->Fail("TLS handshake: " + shaken.message());
-          self->Exchange(self->stream);
-        });
-      });
-    });
-  }
-
-  template <typename Stream>
-  void Exchange(Stream& s) {
-    http::async_write(s, request, [self = shared_from_this(), &s](beast::error_code written, std::size_t) {
-      if (written) return self->Fail("cannot send: " + written.message());
-      http::async_read(s, self->buffer, self->parser, [self](beast::error_code read, std::size_t) {
-        // An answer too long to read whole still has its status.
-        if (read && !(read == http::error::body_limit && self->parser.is_header_done())) {
-          return self->Fail("no answer: " + read.message());
-        }
-        const auto& answer = self->parser.get();
-        const int status = static_cast<int>(answer.result_int());
-        beast::error_code ignored;
-        self->Lowest().socket().shutdown(tcp::socket::shutdown_both, ignored);
-        self->Finish(status, status >= 200 && status < 300
-                                 ? ""
-                                 : std::to_string(status) + " " + std::string(answer.reason()));
-      });
-    });
-  }
-
-  beast::tcp_stream& Lowest() { return beast::get_lowest_layer(stream); }
-  void Fail(const std::string& why) { Finish(0, why); }
-  void Finish(int status, const std::string& error) {
-    if (done) std::exchange(done, nullptr)(status, error);
-  }
-
-  tcp::resolver resolver;
-  beast::ssl_stream<beast::tcp_stream> stream;
-  WebhookUrl url;
-  http::request<http::string_body> request;
-  std::chrono::milliseconds timeout;
-  beast::flat_buffer buffer;
-  http::response_parser<http::string_body> parser;
-  Done done;
-};
 
 Webhooks::Webhooks(asio::io_context& io, Store& store, const drivers::Clock& clock, const WebhookOptions& options)
     : io_(io), store_(store), clock_(clock), options_(options), tls_(asio::ssl::context::tls_client) {
@@ -235,9 +133,9 @@ void Webhooks::Dispatch() {
     if (p.in_flight || p.due_ns > now) continue;
     const std::optional<WebhookRecord> webhook = store_.Webhook(p.record.webhook);
     if (!webhook) continue;  // deleted; Forget drops it
-    WebhookUrl url;
+    HttpUrl url;
     try {
-      url = ParseWebhookUrl(webhook->url);
+      url = ParseHttpUrl(webhook->url);
     } catch (const std::invalid_argument& e) {
       p.in_flight = true;
       asio::post(io_, [this, alive = alive_, id = id, why = std::string(e.what())] {
@@ -246,7 +144,6 @@ void Webhooks::Dispatch() {
       continue;
     }
     http::request<http::string_body> request{http::verb::post, url.target, 11};
-    request.set(http::field::host, url.host + ":" + url.port);
     request.set(http::field::user_agent, "corridord");
     request.set(http::field::content_type, "application/json");
     request.set("X-Corridor-Event", p.record.event);
@@ -257,11 +154,16 @@ void Webhooks::Dispatch() {
     p.in_flight = true;
     p.record.last_attempt = Now();
     ++p.record.attempts;
-    std::make_shared<Attempt>(io_, tls_, std::move(url), std::move(request), options_.timeout_s,
-                              [this, alive = alive_, id = id](int status, std::string error) {
-                                if (*alive) Finished(id, status, error);
-                              })
-        ->Start();
+    HttpExchange(io_, tls_, url, std::move(request), options_.timeout_s,
+                 [this, alive = alive_, id = id](const HttpAnswer& answer) {
+                   if (!*alive) return;
+                   // The receiver's answer counts only by its status.
+                   const bool ok = answer.status >= 200 && answer.status < 300;
+                   Finished(id, answer.status,
+                            answer.status == 0 ? answer.error
+                            : ok               ? ""
+                                               : std::to_string(answer.status) + " " + answer.reason);
+                 });
   }
 }
 

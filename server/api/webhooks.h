@@ -20,21 +20,13 @@
 #include <string>
 
 #include "drivers/clock.h"
+#include "server/api/http_client.h"
 #include "server/runtime/config.h"
 #include "server/runtime/event_log.h"
 #include "server/store/store.h"
 
 namespace corridor::server {
 
-// A webhook URL, taken apart. Only http and https; no user info, no fragment.
-struct WebhookUrl {
-  bool tls = false;
-  std::string host;
-  std::string port;    // "80" or "443" when the URL has none
-  std::string target;  // path and query; "/" when empty
-};
-// Throws std::invalid_argument saying what is wrong.
-WebhookUrl ParseWebhookUrl(const std::string& url);
 
 // "sha256=" and the lower-case hex of HMAC-SHA256(secret, body).
 std::string WebhookSignature(const std::string& secret, const std::string& body);
@@ -65,7 +57,6 @@ class Webhooks {
     drivers::TimeNs due_ns = 0;
     bool in_flight = false;
   };
-  struct Attempt;
 
   // Returns the new delivery's id.
   std::string Queue(const WebhookRecord& webhook, const std::string& type, const std::string& payload);

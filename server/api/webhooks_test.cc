@@ -8,16 +8,16 @@ namespace corridor::server {
 namespace {
 
 TEST(WebhookUrlTest, TakesHttpAndHttpsUrlsApart) {
-  WebhookUrl u = ParseWebhookUrl("http://127.0.0.1:9000/hooks/robot?x=1");
+  HttpUrl u = ParseHttpUrl("http://127.0.0.1:9000/hooks/robot?x=1");
   EXPECT_FALSE(u.tls);
   EXPECT_EQ(u.host, "127.0.0.1");
   EXPECT_EQ(u.port, "9000");
   EXPECT_EQ(u.target, "/hooks/robot?x=1");
-  u = ParseWebhookUrl("https://lift.example.org");
+  u = ParseHttpUrl("https://lift.example.org");
   EXPECT_TRUE(u.tls);
   EXPECT_EQ(u.port, "443");
   EXPECT_EQ(u.target, "/");
-  u = ParseWebhookUrl("http://[::1]:8081?a=b");
+  u = ParseHttpUrl("http://[::1]:8081?a=b");
   EXPECT_EQ(u.host, "::1");
   EXPECT_EQ(u.target, "/?a=b");
 }
@@ -25,7 +25,7 @@ TEST(WebhookUrlTest, TakesHttpAndHttpsUrlsApart) {
 TEST(WebhookUrlTest, RefusesWhatIsNotAnHttpUrl) {
   for (const char* bad : {"", "ftp://host/x", "http://", "http://user:pw@host/", "http://host:99999/",
                           "http://host/a b", "http://host/#frag", "//host/x", "http://host:0/"}) {
-    EXPECT_THROW(ParseWebhookUrl(bad), std::invalid_argument) << bad;
+    EXPECT_THROW(ParseHttpUrl(bad), std::invalid_argument) << bad;
   }
 }
 
