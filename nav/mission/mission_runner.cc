@@ -60,12 +60,30 @@ const char* ToString(PolicyMode mode) {
       return "reactive";
     case PolicyMode::kWaitingForDepth:
       return "waiting_for_depth";
+    case PolicyMode::kWaitingForDoor:
+      return "waiting_for_door";
   }
   return "unknown";
 }
 
-MissionRunner::MissionRunner(const MissionRunnerOptions& options) : options_(options), policy_(MakePolicy(options)) {
+MissionRunner::MissionRunner(const MissionRunnerOptions& options)
+    : options_(options), policy_(MakePolicy(options)), door_keeper_(options.doors) {
   Validate(options.docking);
+  Validate(options.doors);
+}
+
+void MissionRunner::PathSet(const std::vector<Waypoint>& waypoints, MissionUpdate& update) {
+  std::vector<Eigen::Vector2d> line;
+  for (const Waypoint& w : waypoints) line.push_back(w.pose.translation());
+  door_keeper_.SetPath(DoorsOnPath(line, doors_), update.doors);
+}
+
+MissionUpdate& MissionRunner::Settle(MissionUpdate& update) {
+  if (update.over) {
+    door_keeper_.ReleaseAll(update.doors);
+    waiting_for_door_.clear();
+  }
+  return update;
 }
 
 const std::string& MissionRunner::id() const {
@@ -89,6 +107,7 @@ MissionSnapshot MissionRunner::Snapshot() const {
   s.error = m.error();
   s.speed_limit_mps = m.speed_limit_mps();
   if (docking_) s.docking = ToString(docking_phase_);
+  s.waiting_for_door = waiting_for_door_;
   return s;
 }
 
@@ -100,6 +119,9 @@ void MissionRunner::DropPath() {
 
 MissionUpdate MissionRunner::Start(Mission mission, std::optional<MissionSnapshot>* cancelled) {
   if (mission_ && mission_->Cancel() && cancelled != nullptr) *cancelled = Snapshot();
+  MissionUpdate update;
+  door_keeper_.ReleaseAll(update.doors);
+  waiting_for_door_.clear();
   mission_.emplace(std::move(mission));
   docking_.reset();
   paused_unlocalized_ = false;
@@ -107,7 +129,6 @@ MissionUpdate MissionRunner::Start(Mission mission, std::optional<MissionSnapsho
   checking_ = false;
   leg_length_m_ = remaining_m_ = 0.0;
   mode_ = PolicyMode::kNone;
-  MissionUpdate update;
   update.persist = true;
   return update;
 }
@@ -120,6 +141,7 @@ TransitionOutcome MissionRunner::Transition(const std::string& id, bool (Mission
   if (mission_->finished()) docking_.reset();
   update->persist = true;
   update->over = mission_->finished();
+  Settle(*update);
   return TransitionOutcome::kOk;
 }
 
@@ -213,6 +235,11 @@ MissionUpdate MissionRunner::Tick(double now_s, const std::optional<Pose2>& pose
 }
 
 MissionUpdate MissionRunner::Frame(const FrameInput& frame) {
+  MissionUpdate update = FrameStep(frame);
+  return Settle(update);
+}
+
+MissionUpdate MissionRunner::FrameStep(const FrameInput& frame) {
   MissionUpdate update;
   const double dt_s = last_frame_s_ < 0.0 ? 0.0 : frame.now_s - last_frame_s_;
   last_frame_s_ = frame.now_s;
@@ -226,6 +253,28 @@ MissionUpdate MissionRunner::Frame(const FrameInput& frame) {
   if (frame.bump_s && *frame.bump_s > bump_seen_s_ && frame.now_s - *frame.bump_s < options_.fresh_bump_s) {
     bump_seen_s_ = *frame.bump_s;
     policy_->Touched(pose, frame.bump_backing);
+  }
+  // Doors on the way: asked for ahead, and none driven into before it is open.
+  static const DoorReports kNoReports;
+  const DoorKeeper::Step door =
+      door_keeper_.Update(frame.now_s, remaining_m_, frame.doors ? *frame.doors : kNoReports, update.doors);
+  if (door.failure) {
+    policy_->Clear();
+    mission_->Fail(*door.failure);
+    update.persist = update.over = true;
+    return update;
+  }
+  if (door.hold) {
+    update.persist = waiting_for_door_ != door.waiting_for;
+    waiting_for_door_ = door.waiting_for;
+    mode_ = PolicyMode::kWaitingForDoor;
+    update.command = Twist2{};
+    update.publish = true;
+    return update;
+  }
+  if (!waiting_for_door_.empty()) {
+    waiting_for_door_.clear();
+    update.persist = true;
   }
   const double speed_limit = std::min(mission_->speed_limit_mps(), mission_->current_goal().max_speed_mps);
   const LocalStep step = policy_->Update(pose, frame.view, speed_limit, dt_s, fresh ? frame.tracked : nullptr);
@@ -319,6 +368,13 @@ MissionUpdate MissionRunner::DockingFrame(const FrameInput& frame) {
 
 MissionUpdate MissionRunner::OnPlan(const LegPlanQuery& query, const PlanResult& result,
                                     std::shared_ptr<const Costmap> costmap, std::uint64_t version, double now_s) {
+  MissionUpdate update = PlanAnswered(query, result, std::move(costmap), version, now_s);
+  return Settle(update);
+}
+
+MissionUpdate MissionRunner::PlanAnswered(const LegPlanQuery& query, const PlanResult& result,
+                                          std::shared_ptr<const Costmap> costmap, std::uint64_t version,
+                                          double now_s) {
   MissionUpdate update;
   if (query.reroute) {
     rerouting_ = false;
@@ -330,6 +386,7 @@ MissionUpdate MissionRunner::OnPlan(const LegPlanQuery& query, const PlanResult&
       return update;
     }
     policy_->SetPath(result.plan.waypoints, std::move(costmap));
+    PathSet(result.plan.waypoints, update);
     path_version_ = version;
     remaining_m_ = result.plan.length_m;
     update.persist = true;
@@ -344,6 +401,7 @@ MissionUpdate MissionRunner::OnPlan(const LegPlanQuery& query, const PlanResult&
     return update;
   }
   policy_->SetPath(result.plan.waypoints, std::move(costmap));
+  PathSet(result.plan.waypoints, update);
   path_version_ = version;
   routed_s_ = now_s;
   leg_length_m_ = remaining_m_ = result.plan.length_m;

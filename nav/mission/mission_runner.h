@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "nav/mission/docking.h"
+#include "nav/mission/doors.h"
 #include "nav/mission/mission.h"
 #include "nav/planner/costmap.h"
 #include "nav/planner/planner.h"
@@ -35,6 +36,7 @@ struct MissionRunnerOptions {
   double stale_tracking_s = 0.3;  // tracked objects older than this are not used (three scans of a 10 Hz laser)
   double fresh_bump_s = 0.5;      // a bump older than this (from before the mission, say) is not where it is now
   DockingOptions docking;         // docking and undocking goals
+  DoorOptions doors;              // doors on the way: asked ahead, waited for, released
 };
 
 // How the robot is driving its mission, as the console shows it.
@@ -48,6 +50,7 @@ enum class PolicyMode {
   kEvade,            // stepping out of a tracked person's way
   kReactive,         // voxel-reactive
   kWaitingForDepth,  // no depth frames: holding still
+  kWaitingForDoor,   // short of a door that is not open yet
 };
 const char* ToString(PolicyMode mode);
 
@@ -65,6 +68,7 @@ struct MissionSnapshot {
   std::string error;
   double speed_limit_mps = 0.0;  // +infinity: none
   std::string docking;           // the current goal's docking phase (DockingPhase), "" when not docking
+  std::string waiting_for_door;  // the door the robot holds short of, "" when none
 };
 
 // A path for the current leg, to plan on the current costmap with ExtraCosts(traffic, blocking...).
@@ -98,6 +102,7 @@ struct MissionUpdate {
   std::optional<PathCheckQuery> check;
   std::optional<LocalStep> step;  // this frame's local step (traces)
   bool docking = false;           // the command drives onto (or off) a dock: the gate lets it near the dock's face
+  std::vector<DoorRequest> doors;  // for the door controller: open these, release those
 };
 
 // One depth frame, as the runner takes it.
@@ -110,6 +115,7 @@ struct FrameInput {
   double tracked_received_s = 0.0;        // when the tracker made it
   std::optional<double> bump_s;           // the latest bump the control node reported, and which way
   bool bump_backing = false;
+  const DoorReports* doors = nullptr;     // what the door controller says of each door (null: nothing yet)
 };
 
 enum class TransitionOutcome { kOk, kNotFound, kConflict };
@@ -147,6 +153,9 @@ class MissionRunner {
   bool docked() const { return docked_; }
   void SetOnCharger(bool on_charger);
 
+  // The doors of the map the robot is on (the planner's map): paths through them are asked for.
+  void SetDoors(std::vector<Door> doors) { doors_ = std::move(doors); }
+
   bool has_mission() const { return mission_.has_value(); }
   // No mission under way, or the current one paused because localization is lost: the robot may turn on the spot to
   // find itself (a mission a person paused keeps the robot still).
@@ -163,6 +172,10 @@ class MissionRunner {
   TransitionOutcome Transition(const std::string& id, bool (Mission::*transition)(), bool drop_path,
                                MissionUpdate* update);
   bool Current(std::uint64_t ticket) const { return ticket == generation_ && mission_ && !mission_->finished(); }
+  // Frame and OnPlan before their doors are settled (Settle).
+  MissionUpdate FrameStep(const FrameInput& frame);
+  MissionUpdate PlanAnswered(const LegPlanQuery& query, const PlanResult& result,
+                             std::shared_ptr<const Costmap> costmap, std::uint64_t version, double now_s);
   // A frame while docking or undocking.
   MissionUpdate DockingFrame(const FrameInput& frame);
   // The current goal is reached: on to the next (a brief stop first) or done.
@@ -188,6 +201,13 @@ class MissionRunner {
   std::optional<Docking> docking_;  // docking or undocking at the current goal
   DockingPhase docking_phase_ = DockingPhase::kSeeking;
   bool docked_ = false;
+  std::vector<Door> doors_;
+  DoorKeeper door_keeper_;
+  std::string waiting_for_door_;
+  // The current path is `waypoints`: which doors it crosses.
+  void PathSet(const std::vector<Waypoint>& waypoints, MissionUpdate& update);
+  // Over: the doors still asked for are released.
+  MissionUpdate& Settle(MissionUpdate& update);
 };
 
 }  // namespace corridor::nav

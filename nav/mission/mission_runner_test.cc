@@ -50,6 +50,7 @@ class Drive {
         in.now_s = now_;
         in.pose = pose_;
         in.view.lanes = &lanes_;
+        in.doors = &doors_;
         if (Handle(runner_.Frame(in))) return true;
       }
       pose_ = pose_ * Pose2{twist_.linear_mps * 0.005, 0.0, twist_.angular_rps * 0.005};
@@ -60,6 +61,7 @@ class Drive {
   // Carries out what an update asks; true when the mission is over.
   bool Handle(const MissionUpdate& u) {
     if (u.command) twist_ = *u.command;
+    requests_.insert(requests_.end(), u.doors.begin(), u.doors.end());
     persisted_ += u.persist ? 1 : 0;
     if (u.check) {
       const bool free = RestOfPathTraversable(*costmap_, u.check->path, u.check->from);
@@ -92,6 +94,8 @@ class Drive {
   double next_frame_ = 0.055;
   int persisted_ = 0;
   int plans_ = 0;
+  DoorReports doors_;
+  std::vector<DoorRequest> requests_;
 };
 
 TEST(MissionRunnerTest, PlansItsLegAndDrivesItToTheGoal) {
@@ -130,6 +134,42 @@ TEST(MissionRunnerTest, ExtendedWhileUnderWayItDrivesOnAndAGoalsSpeedLimitHoldsO
   EXPECT_EQ(runner.Snapshot().status, MissionStatus::kSucceeded);
   EXPECT_LT((drive.pose_.translation() - Eigen::Vector2d(7.0, 5.0)).norm(), 0.02);
   EXPECT_EQ(runner.Extend("m1", {second}, &update), TransitionOutcome::kConflict);  // finished
+}
+
+TEST(MissionRunnerTest, ADoorOnThePathIsAskedForWaitedForAndReleasedOncePassed) {
+  MissionRunner runner(MissionRunnerOptions{});
+  runner.SetDoors({{"d1", {5.0, 4.0}, {5.0, 6.0}}});
+  runner.Start(ToGoal("m1", 8.0, 5.0));
+  Drive drive(runner, Room(), {2.0, 5.0, 0.0});
+  ASSERT_FALSE(drive.For(15.0));
+  // Asked for once; held short of its line while it is closed.
+  ASSERT_EQ(drive.requests_.size(), 1u);
+  EXPECT_TRUE(drive.requests_[0].open);
+  EXPECT_LT(drive.pose_.x_m, 5.0 - 0.4);
+  EXPECT_GT(drive.pose_.x_m, 4.0);
+  EXPECT_EQ(runner.Snapshot().waiting_for_door, "d1");
+  EXPECT_EQ(runner.Snapshot().policy, PolicyMode::kWaitingForDoor);
+  drive.doors_["d1"] = {DoorStatus::kOpen, ""};
+  ASSERT_TRUE(drive.For(30.0));
+  EXPECT_EQ(runner.Snapshot().status, MissionStatus::kSucceeded);
+  ASSERT_EQ(drive.requests_.size(), 2u);
+  EXPECT_EQ(drive.requests_[1].door, "d1");
+  EXPECT_FALSE(drive.requests_[1].open);
+}
+
+TEST(MissionRunnerTest, ADoorThatRefusesEndsTheMissionBeforeTheRobotReachesIt) {
+  MissionRunner runner(MissionRunnerOptions{});
+  runner.SetDoors({{"d1", {5.0, 4.0}, {5.0, 6.0}}});
+  runner.Start(ToGoal("m1", 8.0, 5.0));
+  Drive drive(runner, Room(), {2.0, 5.0, 0.0});
+  drive.doors_["d1"] = {DoorStatus::kRefused, "locked for the night"};
+  ASSERT_TRUE(drive.For(30.0));
+  EXPECT_EQ(runner.Snapshot().status, MissionStatus::kFailed);
+  EXPECT_EQ(runner.Snapshot().error, "door d1 refused to open: locked for the night");
+  EXPECT_LT(drive.pose_.x_m, 4.0);
+  // What was asked for is released as the mission ends.
+  ASSERT_EQ(drive.requests_.size(), 2u);
+  EXPECT_FALSE(drive.requests_[1].open);
 }
 
 TEST(MissionRunnerTest, LostLocalizationPausesTheMissionUntilTheRobotIsFoundAgain) {

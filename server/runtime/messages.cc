@@ -118,6 +118,7 @@ nlohmann::json ToJson(const MissionState& m) {
           {"policy", nav::ToString(m.policy)},
           {"error", m.error},
           {"docking", m.docking},
+          {"waiting_for_door", m.waiting_for_door},
           {"speed_limit_mps", std::isfinite(m.speed_limit_mps) ? nlohmann::json(m.speed_limit_mps) : nullptr}};
 }
 
