@@ -26,10 +26,47 @@ SimRobot::SimRobot(std::shared_ptr<const World> world, const SimOptions& options
       base_(world_->collision, options.base, options.start),
       crowd_(*world_, options.pedestrians, options.crowd),
       battery_(options.battery) {
-  if (options.dock) {
-    dock_.emplace(*options.dock);
-    base_.SetBlocks({dock_->block()});
+  if (options.dock) dock_.emplace(*options.dock);
+  for (const SimDoorOptions& d : options.doors) doors_.emplace_back(d);
+  ApplyDoors();
+}
+
+void SimRobot::ApplyDoors() {
+  // Lock held (or not yet shared). What is solid: the dock and the closed doors.
+  std::vector<Block> blocks;
+  if (dock_) blocks.push_back(dock_->block());
+  for (const SimDoor& d : doors_) {
+    if (!d.open()) blocks.push_back(d.block());
   }
+  base_.SetBlocks(std::move(blocks));
+  doors_changed_ = false;
+  movers_changed_ = true;
+}
+
+TriangleMesh SimRobot::MoversMesh() const {
+  TriangleMesh mesh = crowd_.Mesh();
+  for (const SimDoor& d : doors_) {
+    if (!d.open()) mesh.Append(d.Mesh());
+  }
+  return mesh;
+}
+
+bool SimRobot::SetDoorOpen(const std::string& id, bool open) {
+  std::lock_guard lock(mutex_);
+  for (SimDoor& d : doors_) {
+    if (d.id() != id) continue;
+    if (d.open() != open) doors_changed_ = true;
+    d.set_open(open);
+    return true;
+  }
+  return false;
+}
+
+std::vector<std::pair<std::string, bool>> SimRobot::doors() const {
+  std::lock_guard lock(mutex_);
+  std::vector<std::pair<std::string, bool>> out;
+  for (const SimDoor& d : doors_) out.emplace_back(d.id(), d.open());
+  return out;
 }
 
 BatteryState SimRobot::battery_state() const {
@@ -74,6 +111,7 @@ void SimRobot::Step() {
   BatteryState battery;
   {
     std::lock_guard lock(mutex_);
+    if (doors_changed_) ApplyDoors();
     if (has_pending_command_) base_.Command(pending_command_, now_s);
     has_pending_command_ = false;
     if (!crowd_.empty()) {
@@ -95,9 +133,10 @@ void SimRobot::Step() {
   if (Due(now, options_.battery.rate_hz, next_battery_ns_) && battery_handler_) battery_handler_(battery);
   const bool frame_due = Due(now, options_.camera.rate_hz, next_frame_ns_) && frame_handler_ && !camera_stopped_;
   const bool scan_due = options_.laser.enabled && Due(now, options_.laser.rate_hz, next_scan_ns_) && scan_handler_;
-  if (!crowd_.empty() && (frame_due || scan_due)) {
+  if ((!crowd_.empty() || movers_changed_) && (frame_due || scan_due)) {
     std::lock_guard lock(mutex_);
-    caster_.SetMovers(crowd_.Mesh());
+    caster_.SetMovers(MoversMesh());
+    movers_changed_ = false;
   }
   if (frame_due) {
     auto frame = std::make_shared<RgbdFrame>();

@@ -16,6 +16,7 @@
 #include "drivers/sim/battery_sim.h"
 #include "drivers/sim/crowd.h"
 #include "drivers/sim/dock.h"
+#include "drivers/sim/door.h"
 #include "drivers/sim/diff_drive_sim.h"
 #include "drivers/sim/ray_caster.h"
 #include "drivers/sim/sensors.h"
@@ -35,6 +36,7 @@ struct SimOptions {
   CrowdOptions crowd;
   SimBatteryOptions battery;
   std::optional<SimDockOptions> dock;        // a charging dock; its box must be in the world (AddDock)
+  std::vector<SimDoorOptions> doors;         // doors across passages, opened and closed through SetDoorOpen
 };
 
 class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D, public Battery {
@@ -62,6 +64,10 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   // The battery as it is now, and whether the robot stands on the dock's contacts. Thread-safe.
   BatteryState battery_state() const;
   const std::optional<SimDock>& dock() const { return dock_; }
+  // Opens or closes a door; false when there is no such door. Thread-safe (takes effect at the next step).
+  bool SetDoorOpen(const std::string& id, bool open);
+  // Each door's id and whether it is open. Thread-safe.
+  std::vector<std::pair<std::string, bool>> doors() const;
   const World& world() const { return *world_; }
 
   // DepthCamera
@@ -88,7 +94,12 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   std::mt19937 rng_;
 
   std::optional<SimDock> dock_;
-  mutable std::mutex mutex_;  // guards base_, crowd_, battery_ and the pending command against other threads
+  mutable std::mutex mutex_;  // guards base_, crowd_, battery_, doors_ and the pending command against other threads
+  std::vector<SimDoor> doors_;
+  bool doors_changed_ = true;   // the collision blocks must be redone (guarded by mutex_)
+  bool movers_changed_ = true;  // the casters' moving geometry must be redone (guarded by mutex_)
+  void ApplyDoors();            // lock held
+  TriangleMesh MoversMesh() const;  // people and closed doors; lock held
   DiffDriveSim base_;
   Crowd crowd_;
   BatterySim battery_;

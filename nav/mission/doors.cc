@@ -1,6 +1,7 @@
 #include "nav/mission/doors.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace corridor::nav {
@@ -64,6 +65,26 @@ std::vector<DoorCrossing> DoorsOnPath(const std::vector<Eigen::Vector2d>& path, 
     out.insert(out.end(), here.begin(), here.end());
   }
   return out;
+}
+
+void ClearDoors(const OccupancyGrid& grid, const std::vector<Door>& doors, double half_width_m,
+                std::vector<std::int8_t>& layer) {
+  const double res = grid.resolution_m();
+  for (const Door& d : doors) {
+    const double length = (d.b - d.a).norm();
+    const int steps = std::max(1, static_cast<int>(std::ceil(length / (res / 2.0))));
+    const int reach = static_cast<int>(std::ceil(half_width_m / res));
+    for (int i = 0; i <= steps; ++i) {
+      const auto cell = grid.WorldToCell(d.a + (d.b - d.a) * (static_cast<double>(i) / steps));
+      if (!cell) continue;
+      for (int dy = -reach; dy <= reach; ++dy) {
+        for (int dx = -reach; dx <= reach; ++dx) {
+          const CellIndex n{cell->x + dx, cell->y + dy};
+          if (grid.Contains(n)) layer[static_cast<std::size_t>(n.y) * grid.width() + n.x] = kFreeCell;
+        }
+      }
+    }
+  }
 }
 
 void DoorKeeper::SetPath(std::vector<DoorCrossing> crossings, std::vector<DoorRequest>& requests) {

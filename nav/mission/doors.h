@@ -14,6 +14,8 @@
 
 #include <Eigen/Core>
 
+#include "nav/map/occupancy_grid.h"
+
 namespace corridor::nav {
 
 struct Door {
@@ -23,8 +25,10 @@ struct Door {
 };
 
 struct DoorOptions {
-  double request_m = 4.0;   // ask for a door this far ahead along the path
-  double hold_m = 0.6;      // until it is open, stop with the robot's centre this far before its line
+  double request_m = 5.0;  // ask for a door this far ahead along the path
+  // Until it is open, stop with the robot's centre this far before its line: beyond where the local policy would
+  // start steering round the closed panel (MORP-RB's clear_distance_m from the robot's front).
+  double hold_m = 1.6;
   double release_m = 0.8;   // release it once the robot's centre is this far past its line
   double timeout_s = 30.0;  // from asking until it is open
 };
@@ -47,6 +51,12 @@ struct DoorCrossing {
 };
 // The doors `path` (a polyline) crosses, in order along it.
 std::vector<DoorCrossing> DoorsOnPath(const std::vector<Eigen::Vector2d>& path, const std::vector<Door>& doors);
+
+// What the robot's sensors mapped on a door's line (the closed panel) is not an obstacle to plan round: the door is
+// the controller's business. Clears `layer` (one value per cell of `grid`, as the planner's obstacle layer) within
+// half_width_m of each door's line.
+void ClearDoors(const OccupancyGrid& grid, const std::vector<Door>& doors, double half_width_m,
+                std::vector<std::int8_t>& layer);
 
 // A request to the door controller.
 struct DoorRequest {

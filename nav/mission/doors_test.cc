@@ -32,7 +32,7 @@ TEST(DoorsTest, AskedAheadHeldShortUntilOpenThenReleasedOncePassed) {
   EXPECT_EQ(requests[0].door, "near");
   EXPECT_TRUE(requests[0].open);
   EXPECT_FALSE(step.hold);
-  // 0.6 m before it, still closed: held.
+  // 1.6 m (hold_m) before it, still closed: held.
   step = keeper.Update(2.0, 7.6, reports, requests);
   EXPECT_TRUE(step.hold);
   EXPECT_EQ(step.waiting_for, "near");
@@ -81,6 +81,20 @@ TEST(DoorsTest, ANewPathThatNoLongerCrossesADoorReleasesIt) {
   ASSERT_EQ(requests.size(), 2u);
   EXPECT_EQ(requests[1].door, "near");
   EXPECT_FALSE(requests[1].open);
+}
+
+TEST(DoorsTest, WhatWasMappedOnADoorsLineIsClearedFromTheObstacleLayer) {
+  const OccupancyGrid grid(100, 100, 0.05, Pose2{}, kFreeCell);  // 5 x 5 m
+  std::vector<std::int8_t> layer(100 * 100, kFreeCell);
+  const auto at = [&](double x, double y) -> std::int8_t& {
+    const auto c = *grid.WorldToCell({x, y});
+    return layer[static_cast<std::size_t>(c.y) * 100 + c.x];
+  };
+  at(2.0, 2.5) = kOccupiedCell;  // the closed panel, seen
+  at(3.0, 2.5) = kOccupiedCell;  // a box beyond it
+  ClearDoors(grid, {{"d", {2.0, 2.0}, {2.0, 3.0}}}, 0.1, layer);
+  EXPECT_EQ(at(2.0, 2.5), kFreeCell);
+  EXPECT_EQ(at(3.0, 2.5), kOccupiedCell);
 }
 
 }  // namespace

@@ -145,8 +145,8 @@ TEST(MissionRunnerTest, ADoorOnThePathIsAskedForWaitedForAndReleasedOncePassed) 
   // Asked for once; held short of its line while it is closed.
   ASSERT_EQ(drive.requests_.size(), 1u);
   EXPECT_TRUE(drive.requests_[0].open);
-  EXPECT_LT(drive.pose_.x_m, 5.0 - 0.4);
-  EXPECT_GT(drive.pose_.x_m, 4.0);
+  EXPECT_LT(drive.pose_.x_m, 5.0 - 1.4);  // hold_m (1.6) short of it, less the braking
+  EXPECT_GT(drive.pose_.x_m, 3.0);
   EXPECT_EQ(runner.Snapshot().waiting_for_door, "d1");
   EXPECT_EQ(runner.Snapshot().policy, PolicyMode::kWaitingForDoor);
   drive.doors_["d1"] = {DoorStatus::kOpen, ""};
@@ -166,7 +166,7 @@ TEST(MissionRunnerTest, ADoorThatRefusesEndsTheMissionBeforeTheRobotReachesIt) {
   ASSERT_TRUE(drive.For(30.0));
   EXPECT_EQ(runner.Snapshot().status, MissionStatus::kFailed);
   EXPECT_EQ(runner.Snapshot().error, "door d1 refused to open: locked for the night");
-  EXPECT_LT(drive.pose_.x_m, 4.0);
+  EXPECT_LT(drive.pose_.x_m, 3.5);
   // What was asked for is released as the mission ends.
   ASSERT_EQ(drive.requests_.size(), 2u);
   EXPECT_FALSE(drive.requests_[1].open);

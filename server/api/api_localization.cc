@@ -99,6 +99,30 @@ void Api::AddLocalizationRoutes() {
         c_.sim->Teleport(pose);
         return JsonResponse(r, {{"pose", ToJson(pose)}});
       }));
+  // The simulator's doors: what a building's door controller moves (it calls these as it would its door motors).
+  const auto sim_doors = [this] {
+    if (c_.sim == nullptr) throw ApiError(http::status::not_found, "No simulator", "only a simulated robot has these");
+    json doors = json::array();
+    for (const auto& [id, open] : c_.sim->doors()) doors.push_back({{"id", id}, {"open", open}});
+    return doors;
+  };
+  Add(http::verb::get, "/api/v1/sim/doors", Sync([sim_doors](const Request& r, const Params&) {
+        return JsonResponse(r, {{"doors", sim_doors()}});
+      }));
+  Add(http::verb::put, "/api/v1/sim/doors/{id}", Sync([this, sim_doors](const Request& r, const Params& p) {
+        sim_doors();
+        const json body = ParseJsonBody(r);
+        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
+        AllowOnlyKeys(body, {"open"}, "");
+        if (!body.contains("open") || !body["open"].is_boolean()) {
+          throw ApiError(http::status::bad_request, "Invalid request", "'open' must be true or false");
+        }
+        const std::string& id = p.at("id");
+        if (!c_.sim->SetDoorOpen(id, body["open"].get<bool>())) {
+          throw ApiError(http::status::not_found, "No such door", "the simulator has no door '" + id + "'", "no_door");
+        }
+        return JsonResponse(r, {{"id", id}, {"open", body["open"]}});
+      }));
   AddMappingRoutes();
 }
 

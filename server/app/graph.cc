@@ -7,6 +7,7 @@
 #include "nav/policy/evasion.h"
 #include "server/app/simulator.h"
 #include "server/nodes/control_node.h"
+#include "server/nodes/door_node.h"
 #include "server/nodes/driver_bridge.h"
 #include "server/nodes/event_node.h"
 #include "server/nodes/explore_node.h"
@@ -110,6 +111,8 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
     if (tracking != nullptr) tracking->SetMap(grid);
     localization->SetMap(active->name, grid);
     if (octree_ != nullptr) octree_->SetMap(active->name, grid);
+    planner_.SetDoors(DoorsOn(active->name));
+    if (missions_ != nullptr) missions_->SetDoors(DoorsOn(active->name));
   };
   maps_ = std::make_unique<MapLibrary>(config_.store.state_dir, std::move(map.name), std::move(map.grid), use_map);
   {
@@ -144,6 +147,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   auto mission_node = std::make_unique<MissionNode>(executors_.control, bus_, planner_, config_.mission, persist,
                                                     config_.charging, nearest_dock);
   missions_ = mission_node.get();
+  missions_->SetDoors(DoorsOn(maps_->active()->name));
   // Brought up in this order and down in reverse: control goes first at shutdown, so the robot stops first.
   if (devices_.sim != nullptr) {
     auto sim_node = std::make_unique<SimNode>(executors_.sim, bus_, *devices_.sim, SimPoseFile(config_),
@@ -184,6 +188,12 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   lifecycle_.Add(std::move(mission_node));
   lifecycle_.Add(std::move(explore_node));
   lifecycle_.Add(std::make_unique<ControlNode>(executors_.control, bus_, devices_.base, config_.safety));
+  // The building's door controller, when one is configured: missions ask it to open the doors on their way.
+  if (!config_.doors.controller.open.url.empty()) {
+    lifecycle_.Add(std::make_unique<DoorNode>(
+        executors_.io, bus_, std::make_unique<HttpDoorController>(executors_.io.context(), config_.doors.controller),
+        config_.doors.controller.poll_s));
+  }
   // A VDA 5050 master control's orders, when a broker is configured.
   if (!config_.fleet.vda5050.broker.empty()) {
     lifecycle_.Add(std::make_unique<Vda5050Node>(executors_.io, bus_, config_, *missions_, *maps_, nearest_dock,
@@ -194,6 +204,20 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   api_ = std::make_unique<Api>(ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, octree_,
                                           perception_, *spoken_, *webhooks_, access_, config_, clock_, executors_.io,
                                           executors_.control, devices_.sim, std::move(tls_fingerprint), hooks.robot});
+}
+
+std::vector<nav::Door> Graph::DoorsOn(const std::string& map) const {
+  std::vector<nav::Door> doors;
+  // Without a controller nobody opens them: the robot drives as it sees them.
+  if (config_.doors.controller.open.url.empty()) return doors;
+  for (const DoorPlace& d : config_.doors.list) {
+    if (d.map == map) doors.push_back({d.id, d.from, d.to});
+  }
+  // The simulator's doors stand in the map of its world.
+  if (devices_.sim != nullptr && map == config_.sim.world.stem().string()) {
+    for (const drivers::sim::SimDoorOptions& d : config_.sim.robot.doors) doors.push_back({d.id, d.from, d.to});
+  }
+  return doors;
 }
 
 Graph::~Graph() { Stop(); }

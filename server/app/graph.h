@@ -78,6 +78,9 @@ class Graph {
   const Api& api() const { return *api_; }
 
  private:
+  // The doors a mission on `map` asks the door controller to open (none without a controller).
+  std::vector<nav::Door> DoorsOn(const std::string& map) const;
+
   Config config_;
   drivers::SteadyClock wall_clock_;
   const drivers::Clock& clock_;

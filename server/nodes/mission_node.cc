@@ -34,6 +34,10 @@ MissionNode::MissionNode(Executor& control, Bus& bus, PlannerService& planner, c
 void MissionNode::Activate() {
   Subscribe(topics::kGroundLanes, "frame", [this](const auto& ground) { Frame(*ground); });
   Subscribe(topics::kBattery, "battery", [this](const auto& battery) { Battery(*battery); });
+  Subscribe(topics::kDoorStates, "doors", [this](const auto& states) {
+    std::lock_guard lock(mutex_);
+    door_reports_ = states->doors;
+  });
   Subscribe(topics::kLocalization, "localization", [this](const auto& localization) {
     std::lock_guard lock(mutex_);
     const bool localized = localization->estimate.health != nav::LocalizationHealth::kLost;
@@ -60,6 +64,7 @@ void MissionNode::Activate() {
 void MissionNode::Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_arrival_ns) {
   const drivers::TimeNs now = clock().Now();
   auto& command = bus().Get(topics::kMissionCommand);
+  if (!update.doors.empty()) bus().Get(topics::kDoorRequests).Publish(DoorRequests{update.doors});
   if (update.over) {
     // Tell the control node at once, rather than letting the last command go stale.
     command.Publish(MissionCommand{now, {}, false});
@@ -144,6 +149,11 @@ nav::TransitionOutcome MissionNode::Transition(
   return outcome;
 }
 
+void MissionNode::SetDoors(std::vector<nav::Door> doors) {
+  std::lock_guard lock(mutex_);
+  runner_.SetDoors(std::move(doors));
+}
+
 nav::TransitionOutcome MissionNode::Extend(const std::string& id, std::vector<nav::MissionGoal> goals) {
   std::lock_guard lock(mutex_);
   nav::MissionUpdate update;
@@ -211,6 +221,7 @@ void MissionNode::Frame(const GroundLanes& ground) {
     in.bump_s = drivers::ToSeconds(bump->stamp_ns);
     in.bump_backing = bump->backing;
   }
+  in.doors = &door_reports_;
   Carry(runner_.Frame(in), ground.arrival_ns);
 }
 

@@ -33,6 +33,8 @@ class MissionNode final : public PeriodicNode {
   // Thread-safe. Starting a mission cancels the one in progress; a robot on its dock backs off it first. Returns the
   // new mission's state.
   MissionState Start(std::vector<nav::MissionGoal> goals, double speed_limit_mps);
+  // The doors of the map the robot works in (with a door controller to open them). Thread-safe.
+  void SetDoors(std::vector<nav::Door> doors);
   // Appends goals to the mission `id` while it runs (kConflict once it has finished).
   nav::TransitionOutcome Extend(const std::string& id, std::vector<nav::MissionGoal> goals);
   nav::TransitionOutcome Pause(const std::string& id);
@@ -64,6 +66,7 @@ class MissionNode final : public PeriodicNode {
   nav::ChargingPolicy charging_;  // guarded by mutex_
   DockFinder find_dock_;
   nav::MissionRunner runner_;
+  nav::DoorReports door_reports_;  // what the door controller says (guarded by mutex_)
 };
 
 }  // namespace corridor::server

@@ -5,6 +5,9 @@
 namespace corridor::server {
 namespace {
 
+// Around a door's line, what the camera mapped is the panel (and its frame), not an obstacle.
+constexpr double kDoorHalfWidthM = 0.1;
+
 double MsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -49,11 +52,18 @@ void PlannerService::SetZones(std::vector<nav::Zone> zones) {
   ++version_;
 }
 
+void PlannerService::SetDoors(std::vector<nav::Door> doors) {
+  std::lock_guard lock(mutex_);
+  doors_ = std::move(doors);
+  ++version_;
+}
+
 std::shared_ptr<const nav::Costmap> PlannerService::Current(double* build_ms) {
   *build_ms = 0.0;
   std::shared_ptr<const nav::OccupancyGrid> map;
   std::shared_ptr<const std::vector<std::int8_t>> layer;
   std::vector<nav::Zone> zones;
+  std::vector<nav::Door> doors;
   std::uint64_t version = 0;
   {
     std::lock_guard lock(mutex_);
@@ -62,8 +72,14 @@ std::shared_ptr<const nav::Costmap> PlannerService::Current(double* build_ms) {
     map = map_;
     layer = layer_;
     zones = zones_;
+    doors = doors_;
   }
   const auto start = std::chrono::steady_clock::now();
+  if (layer && !doors.empty()) {
+    auto cleared = std::make_shared<std::vector<std::int8_t>>(*layer);
+    nav::ClearDoors(*map, doors, kDoorHalfWidthM, *cleared);
+    layer = std::move(cleared);
+  }
   costmap_ = layer ? std::make_shared<const nav::Costmap>(nav::WithObstacleLayer(*map, *layer), zones, options_)
                    : std::make_shared<const nav::Costmap>(*map, zones, options_);
   costmap_version_ = version;

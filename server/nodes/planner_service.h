@@ -9,6 +9,7 @@
 #include <optional>
 #include <vector>
 
+#include "nav/mission/doors.h"
 #include "nav/planner/planner.h"
 #include "server/runtime/executor.h"
 
@@ -42,6 +43,8 @@ class PlannerService {
   // Thread-safe. Each change bumps the version; the costmap is rebuilt on the next request.
   void SetMap(std::shared_ptr<const nav::OccupancyGrid> map);
   void SetZones(std::vector<nav::Zone> zones);
+  // The doors of the current map: what the obstacle layer has on their lines (a closed panel) is not planned round.
+  void SetDoors(std::vector<nav::Door> doors);
   // Thread-safe. Where people have been walking, per cell of `map` (nav::TrafficMap::StepCost): added to every
   // plan's step costs from now on, when `map` is the current map; a cost made for a map since replaced is dropped.
   // Does not change the version (it is not the map). Null: none (nobody has walked): missions do not reroute.
@@ -71,6 +74,7 @@ class PlannerService {
   mutable std::mutex mutex_;
   std::shared_ptr<const nav::OccupancyGrid> map_;
   std::vector<nav::Zone> zones_;
+  std::vector<nav::Door> doors_;
   std::shared_ptr<const std::vector<float>> traffic_;
   std::shared_ptr<const std::vector<std::int8_t>> layer_;
   std::atomic<std::uint64_t> version_{1};

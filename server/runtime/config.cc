@@ -302,6 +302,68 @@ void ReadFleet(ConfigReader& r, FleetOptions& f) {
   });
 }
 
+void ReadRequestTemplate(ConfigReader& r, HttpRequestTemplate& t) {
+  r.Read("method", t.method);
+  static const std::set<std::string> kMethods = {"GET", "POST", "PUT", "PATCH", "DELETE"};
+  if (!kMethods.contains(t.method)) throw ConfigError(r.PathOf("method") + ": one of GET, POST, PUT, PATCH, DELETE");
+  r.Read("url", t.url);
+  if (!t.url.empty() && t.url.rfind("http://", 0) != 0 && t.url.rfind("https://", 0) != 0) {
+    throw ConfigError(r.PathOf("url") + ": an http:// or https:// URL");
+  }
+  r.Read("body", t.body);
+}
+
+Eigen::Vector2d ReadPoint(ConfigReader& r, const char* x, const char* y) {
+  Eigen::Vector2d p = Eigen::Vector2d::Zero();
+  r.Read(x, p.x(), -1e5, 1e5);
+  r.Read(y, p.y(), -1e5, 1e5);
+  return p;
+}
+
+void ReadDoors(ConfigReader& r, DoorsOptions& d, nav::DoorOptions& passing) {
+  r.Read("request_m", passing.request_m, 0.5, 50.0);
+  r.Read("hold_m", passing.hold_m, 0.2, 5.0);
+  r.Read("release_m", passing.release_m, 0.0, 10.0);
+  r.Read("timeout_s", passing.timeout_s, 1.0, 3600.0);
+  try {
+    nav::Validate(passing);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(r.PathOf("request_m") + ", hold_m: " + e.what());
+  }
+  r.Section("controller", [&](ConfigReader& c) {
+    DoorControllerOptions& o = d.controller;
+    c.Section("open", [&](ConfigReader& t) { ReadRequestTemplate(t, o.open); });
+    c.Section("state", [&](ConfigReader& t) { ReadRequestTemplate(t, o.state); });
+    c.Read("open_pointer", o.open_pointer);
+    if (!o.open_pointer.empty() && o.open_pointer.front() != '/') {
+      throw ConfigError(c.PathOf("open_pointer") + ": a JSON pointer, starting with /");
+    }
+    c.Read("open_value", o.open_value);
+    c.Section("release", [&](ConfigReader& t) { ReadRequestTemplate(t, o.release); });
+    c.List("headers", [&](ConfigReader& h) {
+      std::pair<std::string, std::string> header;
+      h.Read("name", header.first);
+      h.Read("value", header.second);
+      if (header.first.empty() || header.first.find_first_of(" :\r\n") != std::string::npos ||
+          header.second.find_first_of("\r\n") != std::string::npos) {
+        throw ConfigError(h.PathOf("name") + ": a header name and a value on one line");
+      }
+      o.headers.push_back(std::move(header));
+    });
+    c.Read("poll_s", o.poll_s, 0.05, 60.0);
+    c.Read("request_timeout_s", o.request_timeout_s, 0.1, 60.0);
+  });
+  r.List("list", [&](ConfigReader& item) {
+    DoorPlace door;
+    item.Read("id", door.id);
+    item.Read("map", door.map);
+    if (door.id.empty() || door.map.empty()) throw ConfigError(item.PathOf("id") + ", map: required");
+    door.from = ReadPoint(item, "x1_m", "y1_m");
+    door.to = ReadPoint(item, "x2_m", "y2_m");
+    d.list.push_back(std::move(door));
+  });
+}
+
 void ReadTracking(ConfigReader& r, TrackingOptions& t) {
   nav::MovingObjectOptions& o = t.objects;
   r.Read("enabled", t.enabled);
@@ -454,6 +516,15 @@ void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
     dock.pose.yaw_rad = nav::WrapAngle(yaw_deg * kDegToRad);
     if (enabled) s.dock = dock;
   });
+  r.List("doors", [&](ConfigReader& item) {
+    drivers::sim::SimDoorOptions door;
+    item.Read("id", door.id);
+    if (door.id.empty()) throw ConfigError(item.PathOf("id") + ": required");
+    door.from = ReadPoint(item, "x1_m", "y1_m");
+    door.to = ReadPoint(item, "x2_m", "y2_m");
+    item.Read("open", door.open);
+    s.doors.push_back(std::move(door));
+  });
   if (o.enabled && o.world.empty()) throw ConfigError(r.PathOf("world") + ": required when the simulator is enabled");
 }
 
@@ -531,6 +602,7 @@ Config ConfigFromYaml(const YAML::Node& root, const fs::path& file) {
     r.Section("face", [&](ConfigReader& s) { ReadFace(s, config.face); });
     r.Section("webhooks", [&](ConfigReader& s) { ReadWebhooks(s, config.webhooks); });
     r.Section("fleet", [&](ConfigReader& s) { ReadFleet(s, config.fleet); });
+    r.Section("doors", [&](ConfigReader& s) { ReadDoors(s, config.doors, config.mission.doors); });
     r.Section("auth", [&](ConfigReader& s) { ReadAuth(s, config.auth); });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();

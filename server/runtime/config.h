@@ -178,6 +178,40 @@ struct FleetOptions {
   Vda5050Options vda5050;
 };
 
+// One HTTP request to a building system; "{door}" in the URL and the body is replaced by the door's id.
+struct HttpRequestTemplate {
+  std::string method = "POST";
+  std::string url;   // empty: not sent
+  std::string body;  // sent as application/json when not empty
+};
+
+// The building's door controller, spoken to over HTTP (server/fleet/doors.h): `open` asks a door to open (2xx:
+// taken; another 4xx: refused, the answer's body saying why), `state` is polled every poll_s until the door is open
+// (its JSON answer's value at open_pointer equals open_value), `release` says the robot is through.
+struct DoorControllerOptions {
+  HttpRequestTemplate open;
+  HttpRequestTemplate state{"GET", "", ""};
+  std::string open_pointer = "/state";  // JSON pointer into the state's answer
+  std::string open_value = "open";
+  HttpRequestTemplate release;
+  std::vector<std::pair<std::string, std::string>> headers;  // sent with each (Authorization, say)
+  double poll_s = 0.5;
+  double request_timeout_s = 5.0;  // one HTTP exchange
+};
+
+// A door on a map: a line across a passage.
+struct DoorPlace {
+  std::string id;
+  std::string map;
+  Eigen::Vector2d from = Eigen::Vector2d::Zero();
+  Eigen::Vector2d to = Eigen::Vector2d::Zero();
+};
+
+struct DoorsOptions {
+  DoorControllerOptions controller;
+  std::vector<DoorPlace> list;  // the simulator's doors are added for its world's map
+};
+
 struct LogOptions {
   std::string level = "info";           // trace, debug, info, warn, error
 };
@@ -199,6 +233,7 @@ struct Config {
   FaceOptions face;
   WebhookOptions webhooks;
   FleetOptions fleet;
+  DoorsOptions doors;  // the passing rules (request_m, hold_m, ...) are in mission.doors
   auth::AuthOptions auth;
   LogOptions log;
   std::filesystem::path file;  // where it was read from (absolute); empty when built in code

@@ -117,6 +117,32 @@ TEST_F(ConfigTest, TheVdaBrokerIsOffByDefaultAndTheFlagSetsIt) {
             std::string::npos);
 }
 
+TEST_F(ConfigTest, DoorsTheirControllerAndTheSimulatorsDoorsAreReadAndChecked) {
+  std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false, doors: [{id: d1, x1_m: 4, y1_m: 1, x2_m: 4, y2_m: 2}]}\n"
+                                    "doors:\n"
+                                    "  hold_m: 1.2\n"
+                                    "  controller:\n"
+                                    "    open: {url: 'http://127.0.0.1:9000/doors/{door}/open'}\n"
+                                    "    headers: [{name: Authorization, value: Bearer x}]\n"
+                                    "  list: [{id: d2, map: willow, x1_m: 1, y1_m: 2, x2_m: 3, y2_m: 2}]\n";
+  const Config c = LoadConfig(dir_ / "c.yaml");
+  ASSERT_EQ(c.sim.robot.doors.size(), 1u);
+  EXPECT_EQ(c.sim.robot.doors[0].to.y(), 2.0);
+  EXPECT_DOUBLE_EQ(c.mission.doors.hold_m, 1.2);
+  EXPECT_EQ(c.doors.controller.open.method, "POST");
+  EXPECT_EQ(c.doors.controller.headers.size(), 1u);
+  ASSERT_EQ(c.doors.list.size(), 1u);
+  EXPECT_EQ(c.doors.list[0].map, "willow");
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndoors: {controller: {open: {url: 'ftp://x'}}}\n")
+                .find("doors.controller.open.url"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndoors: {controller: {open: {method: FETCH}}}\n").find("method"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndoors: {request_m: 1, hold_m: 2}\n").find("doors.request_m"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndoors: {list: [{x1_m: 1}]}\n").find("doors.list[0].id"), std::string::npos);
+}
+
 TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
   std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n"
                                     "tracking: {enabled: false, camera: false, window_scans: 6, coast_s: 0.5,"

@@ -84,6 +84,14 @@ struct ControlLatency {
 // The mission in progress (or the last one), as the console and the API show it.
 using MissionState = nav::MissionSnapshot;
 
+// What missions ask of the building's doors (open, release), and what its controller says of each door.
+struct DoorRequests {
+  std::vector<nav::DoorRequest> requests;
+};
+struct DoorStates {
+  nav::DoorReports doors;  // the doors asked for, by id
+};
+
 // One local step of a mission on a depth frame (nav/policy/local_policy.h), and what the policy remembers of obstacles
 // then (world frame): for traces and the console.
 struct LocalStepState {

@@ -1,0 +1,49 @@
+// The building's door controller, as missions need it (nav/mission/doors.h): ask a door to open, ask how it is, say
+// the robot is through. HttpDoorController speaks to the building's own REST API with the requests the configuration
+// describes (doors.controller), asynchronously on the io executor through server/api/http_client.h.
+#pragma once
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ssl/context.hpp>
+
+#include <functional>
+#include <string>
+
+#include "nav/mission/doors.h"
+#include "server/runtime/config.h"
+
+namespace corridor::server {
+
+class DoorController {
+ public:
+  using Done = std::function<void(nav::DoorReport)>;
+  virtual ~DoorController() = default;
+  // Asks `door` to open: kOpening when the controller took it (or kOpen), kRefused, or kFailed (no answer).
+  virtual void Open(const std::string& door, Done done) = 0;
+  // How `door` is: kOpen, kOpening (not yet), or kFailed.
+  virtual void State(const std::string& door, Done done) = 0;
+  // The robot is through (or no longer comes): the door may close. Failures are logged.
+  virtual void Release(const std::string& door) = 0;
+};
+
+class HttpDoorController final : public DoorController {
+ public:
+  // Throws std::invalid_argument for a request URL that is not an http(s) URL.
+  HttpDoorController(boost::asio::io_context& io, const DoorControllerOptions& options);
+  void Open(const std::string& door, Done done) override;
+  void State(const std::string& door, Done done) override;
+  void Release(const std::string& door) override;
+
+ private:
+  void Send(const HttpRequestTemplate& request, const std::string& door,
+            std::function<void(int status, std::string body, std::string error)> done);
+
+  boost::asio::io_context& io_;
+  DoorControllerOptions options_;
+  boost::asio::ssl::context tls_;
+};
+
+// `text` with every "{door}" replaced by `door`.
+std::string ForDoor(std::string text, const std::string& door);
+
+}  // namespace corridor::server

@@ -1,0 +1,159 @@
+// Doors on the way: two rooms joined by a doorway with a simulated door in it, and the building's door controller as a
+// real HTTP server in this test (what the daemon calls with the requests in doors.controller). The controller moves
+// the simulated door through corridord's /api/v1/sim/doors, as a real one drives its motor. A mission through the
+// door asks for it ahead, waits short of it until it is open, passes, and releases it; a door that refuses ends the
+// mission before the robot reaches it, and the robot never drives into the closed door.
+import assert from 'node:assert/strict';
+import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { createServer } from 'node:http';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { after, before, describe, test } from 'node:test';
+
+import { apiFetch, getJson, openApiValidator, postJson, sleep, startDaemon, waitFor } from './daemon.mjs';
+
+const api = openApiValidator();
+
+// An 8 x 3 m map split by a wall at x = 4 with a 1 m doorway at y 1..2.
+function writeTwoRooms(dir) {
+  const res = 0.05;
+  const w = Math.round(8 / res) + 2;
+  const h = Math.round(3 / res) + 2;
+  const pixels = Buffer.alloc(w * h, 254);
+  for (let row = 0; row < h; ++row) {
+    for (let col = 0; col < w; ++col) {
+      const x = (col - 1 + 0.5) * res;
+      const y = (h - 1 - row - 1 + 0.5) * res;
+      const border = row === 0 || col === 0 || row === h - 1 || col === w - 1;
+      const wall = Math.abs(x - 4.0) < 0.05 && (y < 1.0 || y > 2.0);
+      if (border || wall) pixels[row * w + col] = 0;
+    }
+  }
+  writeFileSync(join(dir, 'rooms.pgm'), Buffer.concat([Buffer.from(`P5\n${w} ${h}\n255\n`), pixels]));
+  writeFileSync(join(dir, 'rooms.yaml'),
+    'image: rooms.pgm\nresolution: 0.05\norigin: [-0.05, -0.05, 0.0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n');
+  return join(dir, 'rooms.yaml');
+}
+
+// The building's door controller: opens a door five seconds after it is asked (or refuses, when told to), says how it
+// is, and closes it when released.
+class DoorController {
+  constructor() {
+    this.refuse = false;
+    this.states = new Map();
+    this.calls = [];
+    this.daemon = null;
+    this.server = createServer((req, res) => this.handle(req, res));
+  }
+  listen() { return new Promise((r) => this.server.listen(0, '127.0.0.1', () => r(this.server.address().port))); }
+  close() { return new Promise((r) => this.server.close(r)); }
+  async move(door, open) {
+    const res = await apiFetch(`${this.daemon.url}/api/v1/sim/doors/${door}`, {
+      method: 'PUT', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ open }) });
+    assert.equal(res.status, 200, await res.text());
+    this.states.set(door, open ? 'open' : 'closed');
+  }
+  handle(req, res) {
+    const m = /^\/doors\/([^/]+)(\/open|\/release)?$/.exec(req.url);
+    if (!m) { res.writeHead(404).end(); return; }
+    const [, door, action = ''] = m;
+    this.calls.push(`${req.method} ${action || 'state'} ${door}`);
+    if (req.method === 'GET' && !action) {
+      res.writeHead(200, { 'Content-Type': 'application/json' })
+        .end(JSON.stringify({ state: this.states.get(door) ?? 'closed' }));
+    } else if (req.method === 'POST' && action === '/open') {
+      if (this.refuse) { res.writeHead(403).end('locked for the night'); return; }
+      this.states.set(door, 'opening');
+      res.writeHead(202).end();
+      setTimeout(() => this.move(door, true), 5000);  // a slow door: the robot gets there first
+    } else if (req.method === 'POST' && action === '/release') {
+      res.writeHead(200).end();
+      setTimeout(() => this.move(door, false), 300);
+    } else {
+      res.writeHead(405).end();
+    }
+  }
+}
+
+describe('doors on the way', () => {
+  let dir;
+  let daemon;
+  let controller;
+  before(async () => {
+    dir = mkdtempSync(join(tmpdir(), 'corridor-doors-'));
+    controller = new DoorController();
+    const port = await controller.listen();
+    const base = `http://127.0.0.1:${port}/doors/{door}`;
+    daemon = await startDaemon({ config: `
+sim:
+  world: "${writeTwoRooms(dir)}"
+  start: {x_m: 2.0, y_m: 1.5, yaw_deg: 0}
+  camera: {width: 160, height: 120}
+  dock: {enabled: false}
+  doors:
+    - {id: d1, x1_m: 4.0, y1_m: 1.0, x2_m: 4.0, y2_m: 2.0}
+doors:
+  controller:
+    open: {method: POST, url: "${base}/open"}
+    state: {method: GET, url: "${base}"}
+    release: {method: POST, url: "${base}/release"}
+    poll_s: 0.3
+` });
+    controller.daemon = daemon;
+  });
+  after(async () => {
+    await daemon?.stop();
+    await controller?.close();
+    rmSync(dir, { recursive: true, force: true });
+  });
+
+  test('the simulator\'s doors are listed and moved through its API', async () => {
+    const { status, body } = await getJson(`${daemon.url}/api/v1/sim/doors`);
+    assert.equal(status, 200);
+    api.check('SimDoors', body);
+    assert.deepEqual(body.doors, [{ id: 'd1', open: false }]);
+    const bad = await apiFetch(`${daemon.url}/api/v1/sim/doors/nope`, {
+      method: 'PUT', headers: { 'Content-Type': 'application/json' }, body: '{"open": true}' });
+    assert.equal(bad.status, 404);
+  });
+
+  test('a mission through the door asks for it, waits until it opens, passes and releases it', async () => {
+    const started = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 6.0, y: 1.5 }] });
+    assert.equal(started.status, 201, JSON.stringify(started.body));
+    const id = started.body.id;
+    // Waiting short of the door until the controller has opened it.
+    const waiting = await waitFor(async () => (await getJson(`${daemon.url}/api/v1/missions/${id}`)).body,
+      (m) => m.waiting_for_door === 'd1', 20000, 'waiting for d1');
+    assert.equal(waiting.policy, 'waiting_for_door');
+    const { body: state } = await getJson(`${daemon.url}/api/v1/state`);
+    assert.ok(state.sim_true_pose.x < 4.0 - 0.2 - 0.05, JSON.stringify(state.sim_true_pose));
+    const done = await waitFor(async () => (await getJson(`${daemon.url}/api/v1/missions/${id}`)).body,
+      (m) => m.status !== 'active', 60000, 'the mission over');
+    assert.equal(done.status, 'succeeded', done.error);
+    const { body: after } = await getJson(`${daemon.url}/api/v1/state`);
+    assert.ok(Math.hypot(after.sim_true_pose.x - 6.0, after.sim_true_pose.y - 1.5) < 0.1);
+    await waitFor(async () => controller.calls, (c) => c.includes('POST /release d1'), 5000, 'released');
+    assert.equal(controller.calls[0], 'POST /open d1');
+    assert.ok(controller.calls.includes('GET state d1'));
+    await waitFor(async () => (await getJson(`${daemon.url}/api/v1/sim/doors`)).body.doors[0].open, (o) => !o, 5000,
+      'the door closed again');
+  });
+
+  test('a door that refuses ends the mission before the robot reaches it', async () => {
+    controller.refuse = true;
+    const started = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 2.0, y: 1.5 }] });
+    assert.equal(started.status, 201, JSON.stringify(started.body));
+    let nearest = Infinity;
+    const done = await waitFor(async () => {
+      const { body } = await getJson(`${daemon.url}/api/v1/state`);
+      nearest = Math.min(nearest, body.sim_true_pose.x);
+      return (await getJson(`${daemon.url}/api/v1/missions/${started.body.id}`)).body;
+    }, (m) => m.status !== 'active', 30000, 'the mission over');
+    assert.equal(done.status, 'failed');
+    assert.match(done.error, /door d1 refused to open: 403 Forbidden: locked for the night/);
+    assert.ok(nearest > 4.0 + 0.2, `the robot came to x ${nearest}`);
+    await sleep(500);
+    const { body: doors } = await getJson(`${daemon.url}/api/v1/sim/doors`);
+    assert.deepEqual(doors.doors, [{ id: 'd1', open: false }]);
+  });
+});
