@@ -1,8 +1,8 @@
 #include "server/fleet/doors.h"
 
+#include <spdlog/spdlog.h>
 #include <boost/beast/http.hpp>
 #include <nlohmann/json.hpp>
-#include <spdlog/spdlog.h>
 
 #include "server/api/http_client.h"
 

@@ -32,13 +32,14 @@ void DoorNode::OnRequests(const DoorRequests& requests) {
     asked.generation = ++generation_;
     asked.in_flight = true;
     spdlog::info("doors: asking {} to open", r.door);
-    controller_->Open(r.door, [this, alive = alive_, door = r.door, generation = asked.generation](nav::DoorReport report) {
-      if (!*alive) return;
-      const auto it = asked_.find(door);
-      if (it == asked_.end() || it->second.generation != generation) return;
-      it->second.in_flight = false;
-      Report(door, std::move(report));
-    });
+    controller_->Open(r.door,
+                      [this, alive = alive_, door = r.door, generation = asked.generation](nav::DoorReport report) {
+                        if (!*alive) return;
+                        const auto it = asked_.find(door);
+                        if (it == asked_.end() || it->second.generation != generation) return;
+                        it->second.in_flight = false;
+                        Report(door, std::move(report));
+                      });
   }
   Publish();
 }
