@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <ctime>
 #include <map>
+#include <mutex>
 #include <stdexcept>
 
 #include <valijson/adapters/nlohmann_json_adapter.hpp>
@@ -65,6 +66,10 @@ const char* ToString(VdaMessage message) {
 
 struct VdaSchemas::Parsed {
   std::map<VdaMessage, valijson::Schema> schemas;
+  // One validator for every check: it keeps the schemas' patterns compiled (compiling them each time was 90 % of a
+  // check's cost). It is not thread-safe, hence the lock.
+  std::mutex mutex;
+  valijson::Validator validator;
 };
 
 VdaSchemas::VdaSchemas() : parsed_(std::make_unique<Parsed>()) {
@@ -79,11 +84,14 @@ VdaSchemas::VdaSchemas() : parsed_(std::make_unique<Parsed>()) {
 VdaSchemas::~VdaSchemas() = default;
 
 std::vector<std::string> VdaSchemas::Check(VdaMessage message, const nlohmann::json& document) const {
-  valijson::Validator validator;
   valijson::ValidationResults results;
   std::vector<std::string> errors;
-  if (validator.validate(parsed_->schemas.at(message), valijson::adapters::NlohmannJsonAdapter(document), &results)) {
-    return errors;
+  {
+    std::lock_guard lock(parsed_->mutex);
+    if (parsed_->validator.validate(parsed_->schemas.at(message), valijson::adapters::NlohmannJsonAdapter(document),
+                                    &results)) {
+      return errors;
+    }
   }
   valijson::ValidationResults::Error error;
   while (results.popError(error)) {
