@@ -2,7 +2,8 @@
 // real HTTP server in this test (what the daemon calls with the requests in doors.controller). The controller moves
 // the simulated door through corridord's /api/v1/sim/doors, as a real one drives its motor. A mission through the
 // door asks for it ahead, waits short of it until it is open, passes, and releases it; a door that refuses ends the
-// mission before the robot reaches it, and the robot never drives into the closed door.
+// mission before the robot reaches it, as does a controller that stops answering (after doors.timeout_s), and the
+// robot never drives into the closed door.
 import assert from 'node:assert/strict';
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { createServer } from 'node:http';
@@ -40,13 +41,23 @@ function writeTwoRooms(dir) {
 class DoorController {
   constructor() {
     this.refuse = false;
+    this.silent = false;  // takes requests to open, then never answers how the door is
     this.states = new Map();
     this.calls = [];
+    this.timers = new Set();
     this.daemon = null;
     this.server = createServer((req, res) => this.handle(req, res));
   }
   listen() { return new Promise((r) => this.server.listen(0, '127.0.0.1', () => r(this.server.address().port))); }
-  close() { return new Promise((r) => this.server.close(r)); }
+  close() {
+    for (const t of this.timers) clearTimeout(t);
+    this.server.closeAllConnections();
+    return new Promise((r) => this.server.close(r));
+  }
+  later(ms, work) {
+    const timer = setTimeout(() => { this.timers.delete(timer); work(); }, ms);
+    this.timers.add(timer);
+  }
   async move(door, open) {
     const res = await apiFetch(`${this.daemon.url}/api/v1/sim/doors/${door}`, {
       method: 'PUT', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ open }) });
@@ -59,16 +70,18 @@ class DoorController {
     const [, door, action = ''] = m;
     this.calls.push(`${req.method} ${action || 'state'} ${door}`);
     if (req.method === 'GET' && !action) {
+      if (this.silent) return;  // the request hangs until the daemon gives up on it
       res.writeHead(200, { 'Content-Type': 'application/json' })
         .end(JSON.stringify({ state: this.states.get(door) ?? 'closed' }));
     } else if (req.method === 'POST' && action === '/open') {
       if (this.refuse) { res.writeHead(403).end('locked for the night'); return; }
       this.states.set(door, 'opening');
       res.writeHead(202).end();
-      setTimeout(() => this.move(door, true), 5000);  // a slow door: the robot gets there first
+      // A slow door: the robot gets there first. (A silent controller never opens it.)
+      if (!this.silent) this.later(5000, () => this.move(door, true));
     } else if (req.method === 'POST' && action === '/release') {
       res.writeHead(200).end();
-      setTimeout(() => this.move(door, false), 300);
+      this.later(300, () => this.move(door, false));
     } else {
       res.writeHead(405).end();
     }
@@ -98,12 +111,14 @@ doors:
     state: {method: GET, url: "${base}"}
     release: {method: POST, url: "${base}/release"}
     poll_s: 0.3
+    request_timeout_s: 1
+  timeout_s: 10
 ` });
     controller.daemon = daemon;
   });
   after(async () => {
-    await daemon?.stop();
     await controller?.close();
+    await daemon?.stop();
     rmSync(dir, { recursive: true, force: true });
   });
 
@@ -156,4 +171,20 @@ doors:
     const { body: doors } = await getJson(`${daemon.url}/api/v1/sim/doors`);
     assert.deepEqual(doors.doors, [{ id: 'd1', open: false }]);
   });
+
+  test('a controller that stops answering: the robot waits short of the door, then the mission ends saying so',
+    async () => {
+      controller.refuse = false;
+      controller.silent = true;
+      const started = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 2.0, y: 1.5 }] });
+      assert.equal(started.status, 201, JSON.stringify(started.body));
+      const url = `${daemon.url}/api/v1/missions/${started.body.id}`;
+      await waitFor(async () => (await getJson(url)).body, (m) => m.waiting_for_door === 'd1', 20000, 'waiting');
+      const done = await waitFor(async () => (await getJson(url)).body, (m) => m.status !== 'active', 20000,
+        'the mission over');
+      assert.equal(done.status, 'failed');
+      assert.match(done.error, /door d1 did not open within 10 s/);
+      const { body: state } = await getJson(`${daemon.url}/api/v1/state`);
+      assert.ok(state.sim_true_pose.x > 4.0 + 0.2, JSON.stringify(state.sim_true_pose));
+    });
 });

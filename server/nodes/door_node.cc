@@ -53,6 +53,12 @@ void DoorNode::Tick() {
       const auto it = asked_.find(door);
       if (it == asked_.end() || it->second.generation != generation) return;
       it->second.in_flight = false;
+      // A state request that went unanswered is asked again at the next poll; the mission's timeout_s bounds the
+      // wait. Only the controller's refusal to open ends it at once.
+      if (r.status == nav::DoorStatus::kFailed) {
+        spdlog::warn("doors: the state of {}: {}", door, r.detail);
+        return;
+      }
       Report(door, std::move(r));
     });
   }
