@@ -15,6 +15,8 @@ OccupancyGrid::OccupancyGrid(int width, int height, double resolution_m, Pose2 o
 
 std::optional<CellIndex> OccupancyGrid::WorldToCell(const Eigen::Vector2d& point_m) const {
   const Eigen::Vector2d local = origin_.Inverse().Transform(point_m) / resolution_m_;
+  // Off the map (or not a number) before the cast: a far-away point would overflow int (found by fuzz_bodies).
+  if (!(local.x() >= 0.0 && local.y() >= 0.0 && local.x() < width_ && local.y() < height_)) return std::nullopt;
   const CellIndex c{static_cast<int>(std::floor(local.x())), static_cast<int>(std::floor(local.y()))};
   if (!Contains(c)) return std::nullopt;
   return c;

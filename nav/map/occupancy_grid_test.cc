@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <random>
 
 namespace corridor::nav {
@@ -17,6 +19,14 @@ TEST(OccupancyGridTest, CellCenterMapsBackToItsCellUnderRotatedOrigins) {
       EXPECT_EQ(g.WorldToCell(g.CellCenter(c)), c);
     }
   }
+}
+
+TEST(OccupancyGridTest, PointsFarOffTheMapOrNotNumbersHaveNoCell) {
+  const OccupancyGrid g(40, 30, 0.05, Pose2{1.0, 2.0, 0.3});
+  EXPECT_FALSE(g.WorldToCell({1.0, 5.9e27}));  // fuzz_bodies: a waypoint's y, far beyond int
+  EXPECT_FALSE(g.WorldToCell({-1e300, 0.0}));
+  EXPECT_FALSE(g.WorldToCell({std::nan(""), 2.0}));
+  EXPECT_FALSE(g.WorldToCell({std::numeric_limits<double>::infinity(), 2.0}));
 }
 
 TEST(OccupancyGridTest, RejectsNonPositiveResolution) {
