@@ -23,6 +23,13 @@ VdaIdentity IdentityOf(const Vda5050Options& o, const std::string& robot_name) {
 
 VdaMissionProgress ProgressOf(const MissionState& m) { return {m.id, m.status, m.current, m.goals.size(), m.error}; }
 
+// What of the robot counts as a change the state must report at once (the standard's events).
+std::string StateKey(const VdaRobot& r) {
+  return json{r.driving,  r.paused,        r.manual, r.protective_stop,
+              r.charging, r.errors.size(), r.map_id, r.position_initialized}
+      .dump();
+}
+
 // The robot's name as a topic level: what the standard allows, the rest as '_'.
 std::string TopicLevel(std::string name) {
   for (char& c : name) {
@@ -152,15 +159,14 @@ void Vda5050Node::PublishOrder() {
   bus().Get(topics::kFleetOrder).Publish(std::move(order));
 }
 
-void Vda5050Node::SendState() {
+void Vda5050Node::SendState() { SendState(Sample()); }
+
+void Vda5050Node::SendState(const VdaRobot& robot) {
   if (agent_.changed()) PublishOrder();
-  const VdaRobot robot = Sample();
   json state = VdaState(identity_, NextHeader(VdaMessage::kState), robot);
   agent_.FillState(state);
   last_state_s_ = drivers::ToSeconds(clock().Now());
-  last_state_key_ = json{robot.driving,  robot.paused,        robot.manual, robot.protective_stop,
-                         robot.charging, robot.errors.size(), robot.map_id, robot.position_initialized}
-                        .dump();
+  last_state_key_ = StateKey(robot);
   Send(VdaMessage::kState, std::move(state));
 }
 
@@ -173,11 +179,10 @@ void Vda5050Node::Tick() {
   if (!link_->connected()) return;
   const VdaRobot robot = Sample();
   Send(VdaMessage::kVisualization, VdaVisualization(identity_, NextHeader(VdaMessage::kVisualization), robot));
-  const std::string key = json{robot.driving,  robot.paused,        robot.manual, robot.protective_stop,
-                               robot.charging, robot.errors.size(), robot.map_id, robot.position_initialized}
-                              .dump();
   const double now_s = drivers::ToSeconds(clock().Now());
-  if (agent_.changed() || key != last_state_key_ || now_s - last_state_s_ >= options_.state_interval_s) SendState();
+  if (agent_.changed() || StateKey(robot) != last_state_key_ || now_s - last_state_s_ >= options_.state_interval_s) {
+    SendState(robot);
+  }
 }
 
 void Vda5050Node::Received(const std::string& topic, const std::string& payload) {

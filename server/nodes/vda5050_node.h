@@ -40,7 +40,8 @@ class Vda5050Node final : public PeriodicNode {
   void Carry(VdaCommands commands);
   VdaRobot Sample();
   VdaRobotNow Now();
-  void SendState();
+  void SendState();  // with the robot sampled now
+  void SendState(const VdaRobot& robot);
   // The order and the connection, for the console (topics::kFleetOrder).
   void PublishOrder();
   void Send(VdaMessage kind, nlohmann::json message, bool retained = false);
