@@ -10,6 +10,7 @@ const char* ToString(GoalAction action) {
     case GoalAction::kGo: return "go";
     case GoalAction::kDock: return "dock";
     case GoalAction::kUndock: return "undock";
+    case GoalAction::kRideLift: return "ride_lift";
   }
   return "unknown";
 }

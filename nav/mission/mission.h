@@ -15,8 +15,9 @@ enum class MissionStatus { kActive, kPaused, kSucceeded, kFailed, kCanceled };
 const char* ToString(MissionStatus status);
 
 // What the robot does at a goal: stop there, dock (drive to the dock's staging pose, `pose`, then onto the dock at
-// `dock`), or back off the dock it stands on (no pose: it backs straight off).
-enum class GoalAction { kGo, kDock, kUndock };
+// `dock`), back off the dock it stands on (no pose: it backs straight off), or ride a lift (drive to its lobby,
+// `pose`, then board and ride to `ride_to`: nav/mission/lifts.h).
+enum class GoalAction { kGo, kDock, kUndock, kRideLift };
 const char* ToString(GoalAction action);
 
 struct MissionGoal {
@@ -26,6 +27,9 @@ struct MissionGoal {
   GoalAction action = GoalAction::kGo;
   Pose2 dock;                  // kDock: the docked pose (map frame)
   double max_speed_mps = std::numeric_limits<double>::infinity();  // on the leg to this goal, below the mission's
+  std::string floor;           // the floor the goal is on; "": the floor of the goal before it (or the robot's)
+  std::string lift;            // kRideLift: the lift
+  std::string ride_to;         // kRideLift: the floor it rides to
 };
 
 class Mission {
