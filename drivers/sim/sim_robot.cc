@@ -28,6 +28,7 @@ SimRobot::SimRobot(std::shared_ptr<const World> world, const SimOptions& options
       battery_(options.battery) {
   if (options.dock) dock_.emplace(*options.dock);
   for (const SimDoorOptions& d : options.doors) doors_.emplace_back(d);
+  for (const SimLiftOptions& l : options.lifts) lifts_.emplace_back(l);
   ApplyDoors();
 }
 
@@ -38,6 +39,10 @@ void SimRobot::ApplyDoors() {
   for (const SimDoor& d : doors_) {
     if (!d.open()) blocks.push_back(d.block());
   }
+  for (const SimLift& l : lifts_) {
+    for (const SimDoor& w : l.walls()) blocks.push_back(w.block());
+    for (const SimDoor* d : l.closed_doors()) blocks.push_back(d->block());
+  }
   base_.SetBlocks(std::move(blocks));
   doors_changed_ = false;
   movers_changed_ = true;
@@ -47,6 +52,10 @@ TriangleMesh SimRobot::MoversMesh() const {
   TriangleMesh mesh = crowd_.Mesh();
   for (const SimDoor& d : doors_) {
     if (!d.open()) mesh.Append(d.Mesh());
+  }
+  for (const SimLift& l : lifts_) {
+    for (const SimDoor& w : l.walls()) mesh.Append(w.Mesh());
+    for (const SimDoor* d : l.closed_doors()) mesh.Append(d->Mesh());
   }
   return mesh;
 }
@@ -66,6 +75,27 @@ std::vector<std::pair<std::string, bool>> SimRobot::doors() const {
   std::lock_guard lock(mutex_);
   std::vector<std::pair<std::string, bool>> out;
   for (const SimDoor& d : doors_) out.emplace_back(d.id(), d.open());
+  return out;
+}
+
+bool SimRobot::CallLift(const std::string& id, const std::string& floor) {
+  std::lock_guard lock(mutex_);
+  for (SimLift& l : lifts_) {
+    if (l.id() != id) continue;
+    doors_changed_ = true;
+    if (floor.empty()) {
+      l.Release();
+      return true;
+    }
+    return l.Call(floor, ToSeconds(clock_.Now()));
+  }
+  return false;
+}
+
+std::vector<SimLiftState> SimRobot::lifts() const {
+  std::lock_guard lock(mutex_);
+  std::vector<SimLiftState> out;
+  for (const SimLift& l : lifts_) out.push_back(l.state());
   return out;
 }
 
@@ -111,6 +141,11 @@ void SimRobot::Step() {
   BatteryState battery;
   {
     std::lock_guard lock(mutex_);
+    for (SimLift& l : lifts_) {
+      const bool was_open = l.state().door_open;
+      if (const std::optional<nav::Pose2> carried = l.Step(now_s, base_.pose())) base_.Teleport(*carried);
+      doors_changed_ = doors_changed_ || l.state().door_open != was_open;
+    }
     if (doors_changed_) ApplyDoors();
     if (has_pending_command_) base_.Command(pending_command_, now_s);
     has_pending_command_ = false;

@@ -17,6 +17,7 @@
 #include "drivers/sim/crowd.h"
 #include "drivers/sim/dock.h"
 #include "drivers/sim/door.h"
+#include "drivers/sim/lift.h"
 #include "drivers/sim/diff_drive_sim.h"
 #include "drivers/sim/ray_caster.h"
 #include "drivers/sim/sensors.h"
@@ -37,6 +38,7 @@ struct SimOptions {
   SimBatteryOptions battery;
   std::optional<SimDockOptions> dock;        // a charging dock; its box must be in the world (AddDock)
   std::vector<SimDoorOptions> doors;         // doors across passages, opened and closed through SetDoorOpen
+  std::vector<SimLiftOptions> lifts;         // lifts between floors standing side by side, called through CallLift
 };
 
 class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D, public Battery {
@@ -68,6 +70,11 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   bool SetDoorOpen(const std::string& id, bool open);
   // Each door's id and whether it is open. Thread-safe.
   std::vector<std::pair<std::string, bool>> doors() const;
+  // Sends a lift's car to a floor (its door opens there) or closes its door (floor ""); false for no such lift or
+  // floor. Thread-safe (takes effect at the next step).
+  bool CallLift(const std::string& id, const std::string& floor);
+  // Each lift's state. Thread-safe.
+  std::vector<SimLiftState> lifts() const;
   const World& world() const { return *world_; }
 
   // DepthCamera
@@ -96,10 +103,11 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   std::optional<SimDock> dock_;
   mutable std::mutex mutex_;  // guards base_, crowd_, battery_, doors_ and the pending command against other threads
   std::vector<SimDoor> doors_;
+  std::vector<SimLift> lifts_;
   bool doors_changed_ = true;   // the collision blocks must be redone (guarded by mutex_)
   bool movers_changed_ = true;  // the casters' moving geometry must be redone (guarded by mutex_)
   void ApplyDoors();            // lock held
-  TriangleMesh MoversMesh() const;  // people and closed doors; lock held
+  TriangleMesh MoversMesh() const;  // people, closed doors and the lifts' cars; lock held
   DiffDriveSim base_;
   Crowd crowd_;
   BatterySim battery_;

@@ -408,6 +408,55 @@ nav::OccupancyGrid CollisionGridFromMesh(const TriangleMesh& mesh, const WorldOp
   return grid;
 }
 
+Floors FloorsSideBySide(const std::vector<nav::OccupancyGrid>& floors, double gap_m) {
+  if (floors.empty()) throw WorldFileError("a building needs one floor at least");
+  const double res = floors.front().resolution_m();
+  Floors out;
+  double next_x = floors.front().origin().x_m;
+  double min_y = 1e300;
+  double max_y = -1e300;
+  for (const nav::OccupancyGrid& f : floors) {
+    if (std::abs(f.resolution_m() - res) > 1e-9 || std::abs(f.origin().yaw_rad) > 1e-9) {
+      throw WorldFileError("a building's floor maps must share one resolution and have unrotated origins");
+    }
+    const double shift = next_x - f.origin().x_m;
+    out.offsets.emplace_back(shift, 0.0);
+    out.spans.emplace_back(next_x, next_x + f.width() * res);
+    next_x += f.width() * res + gap_m;
+    min_y = std::min(min_y, f.origin().y_m);
+    max_y = std::max(max_y, f.origin().y_m + f.height() * res);
+  }
+  const double min_x = floors.front().origin().x_m;
+  const int width = static_cast<int>(std::ceil((next_x - gap_m - min_x) / res));
+  const int height = static_cast<int>(std::ceil((max_y - min_y) / res));
+  out.map = nav::OccupancyGrid(width, height, res, nav::Pose2{min_x, min_y, 0.0}, nav::kUnknownCell);
+  for (std::size_t i = 0; i < floors.size(); ++i) {
+    const nav::OccupancyGrid& f = floors[i];
+    const int dx = static_cast<int>(std::lround((f.origin().x_m + out.offsets[i].x() - min_x) / res));
+    const int dy = static_cast<int>(std::lround((f.origin().y_m - min_y) / res));
+    for (int y = 0; y < f.height(); ++y) {
+      for (int x = 0; x < f.width(); ++x) {
+        const nav::CellIndex c{x + dx, y + dy};
+        if (out.map.Contains(c)) out.map.at(c) = f.at({x, y});
+      }
+    }
+  }
+  return out;
+}
+
+int Floors::FloorAt(const Eigen::Vector2d& world) const {
+  int best = -1;
+  double best_distance = 1e300;
+  for (std::size_t i = 0; i < spans.size(); ++i) {
+    const double d = std::max({0.0, spans[i].first - world.x(), world.x() - spans[i].second});
+    if (d < best_distance) {
+      best_distance = d;
+      best = static_cast<int>(i);
+    }
+  }
+  return best;
+}
+
 World WorldFromMap(const nav::OccupancyGrid& map, const WorldOptions& options) {
   World world;
   const float res = static_cast<float>(map.resolution_m());

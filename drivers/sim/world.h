@@ -81,6 +81,18 @@ nav::OccupancyGrid RoomMap(double width_m, double height_m, double resolution_m)
 // Walls of wall_height_m on every occupied cell of `map`; unknown cells are left open.
 World WorldFromMap(const nav::OccupancyGrid& map, const WorldOptions& options);
 
+// A building's floors (their maps, same resolution) side by side along x, gap_m apart, as one map: floor i's map
+// frame is the world frame shifted by offsets[i] (the first floor's is zero). Throws WorldFileError for no floors or
+// mixed resolutions.
+struct Floors {
+  nav::OccupancyGrid map;
+  std::vector<Eigen::Vector2d> offsets;
+  // The floor a world point lies on: the one whose extent along x holds it (or the nearest); -1 without floors.
+  int FloorAt(const Eigen::Vector2d& world) const;
+  std::vector<std::pair<double, double>> spans;  // each floor's extent along x, world frame
+};
+Floors FloorsSideBySide(const std::vector<nav::OccupancyGrid>& floors, double gap_m);
+
 // Loads by extension: .yaml (map_server map), .world or .sdf (SDF world: <include> and <model><include> entries
 // with their poses, each model's mesh URIs and scales; collision meshes preferred over visual ones), anything else
 // as a single mesh file through assimp (COLLADA kept Z-up, units applied). Throws WorldFileError.
