@@ -67,8 +67,8 @@ Run DockOnce(std::uint32_t seed, const fs::path& state_dir) {
   config.sim.robot = sim;
   config.localization.source = server::LocalizationOptions::Source::kOdometry;
   server::ApplyDerivedOptions(config);
-  server::Graph graph(config, server::Devices{robot, robot, nullptr, &robot, &robot}, server::NamedMap{"room", map},
-                      server::Schedule::kLockstep);
+  const server::Devices devices{robot, robot, nullptr, &robot, &robot, nullptr};
+  server::Graph graph(config, devices, server::NamedMap{"room", map}, server::Schedule::kLockstep);
   graph.store().PutPlace("room", nav::Place{"dock", "dock", dock, nav::PlaceKind::kDock});
   graph.Start();
   Run run;

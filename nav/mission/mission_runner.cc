@@ -31,6 +31,11 @@ PolicyMode ModeOf(MorpRbMode mode) {
   return PolicyMode::kNone;
 }
 
+// Boarding, riding or leaving: localization holds on odometry.
+bool InCar(LiftPhase phase) {
+  return phase == LiftPhase::kBoarding || phase == LiftPhase::kRiding || phase == LiftPhase::kLeaving;
+}
+
 std::vector<Eigen::Vector2d> Positions(const std::vector<Waypoint>& path) {
   std::vector<Eigen::Vector2d> out;
   out.reserve(path.size());
@@ -70,6 +75,7 @@ MissionRunner::MissionRunner(const MissionRunnerOptions& options)
     : options_(options), policy_(MakePolicy(options)), door_keeper_(options.doors) {
   Validate(options.docking);
   Validate(options.doors);
+  Validate(options.lifts);
 }
 
 void MissionRunner::PathSet(const std::vector<Waypoint>& waypoints, MissionUpdate& update) {
@@ -79,11 +85,19 @@ void MissionRunner::PathSet(const std::vector<Waypoint>& waypoints, MissionUpdat
 }
 
 MissionUpdate& MissionRunner::Settle(MissionUpdate& update) {
-  if (update.over) {
-    door_keeper_.ReleaseAll(update.doors);
-    waiting_for_door_.clear();
-  }
+  if (update.over) ReleaseAll(update);
   return update;
+}
+
+void MissionRunner::ReleaseAll(MissionUpdate& update) {
+  door_keeper_.ReleaseAll(update.doors);
+  waiting_for_door_.clear();
+  if (ride_) {
+    if (InCar(ride_->phase())) update.hold_localization = false;
+    const std::vector<LiftRequest> release = ride_->Abandon();
+    update.lifts.insert(update.lifts.end(), release.begin(), release.end());
+    ride_.reset();
+  }
 }
 
 const std::string& MissionRunner::id() const {
@@ -108,6 +122,7 @@ MissionSnapshot MissionRunner::Snapshot() const {
   s.speed_limit_mps = m.speed_limit_mps();
   if (docking_) s.docking = ToString(docking_phase_);
   s.waiting_for_door = waiting_for_door_;
+  if (ride_) s.lift = ToString(ride_->phase());
   return s;
 }
 
@@ -120,8 +135,7 @@ void MissionRunner::DropPath() {
 MissionUpdate MissionRunner::Start(Mission mission, std::optional<MissionSnapshot>* cancelled) {
   if (mission_ && mission_->Cancel() && cancelled != nullptr) *cancelled = Snapshot();
   MissionUpdate update;
-  door_keeper_.ReleaseAll(update.doors);
-  waiting_for_door_.clear();
+  ReleaseAll(update);
   mission_.emplace(std::move(mission));
   docking_.reset();
   paused_unlocalized_ = false;
@@ -199,8 +213,8 @@ MissionUpdate MissionRunner::Tick(double now_s, const std::optional<Pose2>& pose
     update.command = still;
     return update;
   }
-  if (AtDockingGoal()) {
-    // Docking drives on the frames; without them it holds still.
+  if (OffPath()) {
+    // Docking and lifts drive on the frames; without them the robot holds still.
     if (last_frame_s_ < 0.0 || now_s - last_frame_s_ > options_.no_frames_s) update.command = still;
     return update;
   }
@@ -245,6 +259,7 @@ MissionUpdate MissionRunner::FrameStep(const FrameInput& frame) {
   last_frame_s_ = frame.now_s;
   if (!mission_ || mission_->finished() || mission_->status() == MissionStatus::kPaused) return update;
   if (AtDockingGoal()) return DockingFrame(frame);
+  if (ride_) return LiftFrame(frame);
   if (!policy_->has_path() || !frame.pose) return update;
   const Pose2& pose = *frame.pose;
   // The tracker's objects, while fresh: people to step out of the way of.
@@ -299,6 +314,23 @@ MissionUpdate MissionRunner::FrameStep(const FrameInput& frame) {
     if (goal.action == GoalAction::kDock) {
       mission_->Fail("no odometry to dock with");
       update.persist = update.over = true;
+      return update;
+    }
+    if (goal.action == GoalAction::kRideLift) {
+      // At the lift's lobby: call it.
+      const Lift* lift = building_.LiftNamed(goal.lift);
+      try {
+        if (lift == nullptr) throw std::invalid_argument("no lift '" + goal.lift + "' in the building");
+        ride_.emplace(options_.lifts, *lift, goal.floor, goal.ride_to, frame.now_s);
+      } catch (const std::invalid_argument& e) {
+        mission_->Fail(e.what());
+        update.persist = update.over = true;
+        return update;
+      }
+      ++generation_;
+      update.lifts = ride_->Begin();
+      update.persist = true;
+      update.command = Twist2{};
       return update;
     }
     NextGoal(update);
@@ -361,6 +393,41 @@ MissionUpdate MissionRunner::DockingFrame(const FrameInput& frame) {
   }
   update.command = step.twist;
   update.docking = true;
+  update.answers_frame = true;
+  update.publish = true;
+  return update;
+}
+
+MissionUpdate MissionRunner::LiftFrame(const FrameInput& frame) {
+  MissionUpdate update;
+  if (!frame.odom || !frame.pose) {
+    update.command = Twist2{};
+    return update;
+  }
+  const LiftReport* report = nullptr;
+  if (frame.lifts != nullptr) {
+    const auto it = frame.lifts->find(ride_->lift_id());
+    if (it != frame.lifts->end()) report = &it->second;
+  }
+  const LiftPhase before = ride_->phase();
+  LiftStep step = ride_->Update(frame.now_s, *frame.pose, *frame.odom, frame.view.scan, report);
+  if (InCar(before) != InCar(step.phase)) update.hold_localization = InCar(step.phase);
+  update.lifts = std::move(step.requests);
+  update.switch_floor = std::move(step.switch_floor);
+  remaining_m_ = step.remaining_m;
+  update.persist = step.phase != before || update.switch_floor.has_value();
+  if (step.phase == LiftPhase::kFailed) {
+    ride_.reset();
+    mission_->Fail(step.error);
+    update.persist = update.over = true;
+    return update;
+  }
+  if (step.phase == LiftPhase::kDone) {
+    ride_.reset();
+    NextGoal(update);
+    return update;
+  }
+  update.command = step.twist;
   update.answers_frame = true;
   update.publish = true;
   return update;

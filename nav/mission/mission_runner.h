@@ -18,6 +18,7 @@
 
 #include "nav/mission/docking.h"
 #include "nav/mission/doors.h"
+#include "nav/mission/lifts.h"
 #include "nav/mission/mission.h"
 #include "nav/planner/costmap.h"
 #include "nav/planner/planner.h"
@@ -37,6 +38,7 @@ struct MissionRunnerOptions {
   double fresh_bump_s = 0.5;      // a bump older than this (from before the mission, say) is not where it is now
   DockingOptions docking;         // docking and undocking goals
   DoorOptions doors;              // doors on the way: asked ahead, waited for, released
+  LiftOptions lifts;              // lift rides between floors
 };
 
 // How the robot is driving its mission, as the console shows it.
@@ -69,6 +71,7 @@ struct MissionSnapshot {
   double speed_limit_mps = 0.0;  // +infinity: none
   std::string docking;           // the current goal's docking phase (DockingPhase), "" when not docking
   std::string waiting_for_door;  // the door the robot holds short of, "" when none
+  std::string lift;              // the current goal's lift ride phase (LiftPhase), "" when not riding
 };
 
 // A path for the current leg, to plan on the current costmap with ExtraCosts(traffic, blocking...).
@@ -103,6 +106,12 @@ struct MissionUpdate {
   std::optional<LocalStep> step;  // this frame's local step (traces)
   bool docking = false;           // the command drives onto (or off) a dock: the gate lets it near the dock's face
   std::vector<DoorRequest> doors;  // for the door controller: open these, release those
+  std::vector<LiftRequest> lifts;  // for the lift controller
+  // A lift arrived on another floor: switch to that floor's map, with the robot at this pose in it.
+  std::optional<std::pair<std::string, Pose2>> switch_floor;
+  // Boarding, riding and leaving a lift, localization holds on odometry (true) and resumes after (false): the car's
+  // walls are in no map and its floor changes under the robot.
+  std::optional<bool> hold_localization;
 };
 
 // One depth frame, as the runner takes it.
@@ -116,6 +125,7 @@ struct FrameInput {
   std::optional<double> bump_s;           // the latest bump the control node reported, and which way
   bool bump_backing = false;
   const DoorReports* doors = nullptr;     // what the door controller says of each door (null: nothing yet)
+  const LiftReports* lifts = nullptr;     // what the lift controller says of each lift (null: nothing yet)
 };
 
 enum class TransitionOutcome { kOk, kNotFound, kConflict };
@@ -155,6 +165,8 @@ class MissionRunner {
 
   // The doors of the map the robot is on (the planner's map): paths through them are asked for.
   void SetDoors(std::vector<Door> doors) { doors_ = std::move(doors); }
+  // The building's floors and lifts: ride goals (GoalAction::kRideLift) name its lifts.
+  void SetBuilding(Building building) { building_ = std::move(building); }
 
   bool has_mission() const { return mission_.has_value(); }
   // No mission under way, or the current one paused because localization is lost: the robot may turn on the spot to
@@ -178,11 +190,15 @@ class MissionRunner {
                              std::shared_ptr<const Costmap> costmap, std::uint64_t version, double now_s);
   // A frame while docking or undocking.
   MissionUpdate DockingFrame(const FrameInput& frame);
+  // A frame while riding a lift (boarding, riding, leaving).
+  MissionUpdate LiftFrame(const FrameInput& frame);
   // The current goal is reached: on to the next (a brief stop first) or done.
   void NextGoal(MissionUpdate& update);
   bool AtDockingGoal() const {
     return docking_ || (mission_ && !mission_->finished() && mission_->current_goal().action == GoalAction::kUndock);
   }
+  // Driving on frames alone, not on a planned path: docking, undocking or riding a lift.
+  bool OffPath() const { return AtDockingGoal() || ride_.has_value(); }
 
   MissionRunnerOptions options_;
   std::unique_ptr<LocalPolicy> policy_;
@@ -204,10 +220,13 @@ class MissionRunner {
   std::vector<Door> doors_;
   DoorKeeper door_keeper_;
   std::string waiting_for_door_;
+  Building building_;
+  std::optional<LiftRide> ride_;  // riding a lift at the current goal
   // The current path is `waypoints`: which doors it crosses.
   void PathSet(const std::vector<Waypoint>& waypoints, MissionUpdate& update);
-  // Over: the doors still asked for are released.
+  // Over: the doors and the lift still asked for are released.
   MissionUpdate& Settle(MissionUpdate& update);
+  void ReleaseAll(MissionUpdate& update);
 };
 
 }  // namespace corridor::nav

@@ -164,6 +164,7 @@ class Api {
   void AddMapRoutes();
   void AddLocalizationRoutes();
   void AddMappingRoutes();
+  void AddSimLiftRoutes();
   void AddFaceRoutes();
   void AddDetectionRoutes();
   void AddWebhookRoutes();

@@ -123,7 +123,58 @@ void Api::AddLocalizationRoutes() {
         }
         return JsonResponse(r, {{"id", id}, {"open", body["open"]}});
       }));
+  AddSimLiftRoutes();
   AddMappingRoutes();
+}
+
+void Api::AddSimLiftRoutes() {
+  // The simulator's lifts: what a building's lift controller drives (it calls these as it would the lift's own
+  // controls).
+  const auto lift = [this](const std::string& id) {
+    if (c_.sim == nullptr) throw ApiError(http::status::not_found, "No simulator", "only a simulated robot has these");
+    for (const drivers::sim::SimLiftState& l : c_.sim->lifts()) {
+      if (l.id == id) return l;
+    }
+    throw ApiError(http::status::not_found, "No such lift", "the simulator has no lift '" + id + "'", "no_lift");
+  };
+  const auto lift_json = [](const drivers::sim::SimLiftState& l) {
+    return json{{"id", l.id}, {"floor", l.floor}, {"destination", l.destination},
+                {"door", l.door_open ? "open" : "closed"}};
+  };
+  Add(http::verb::get, "/api/v1/sim/lifts", Sync([this, lift_json](const Request& r, const Params&) {
+        if (c_.sim == nullptr) {
+          throw ApiError(http::status::not_found, "No simulator", "only a simulated robot has these");
+        }
+        json lifts = json::array();
+        for (const drivers::sim::SimLiftState& l : c_.sim->lifts()) lifts.push_back(lift_json(l));
+        return JsonResponse(r, {{"lifts", std::move(lifts)}});
+      }));
+  Add(http::verb::get, "/api/v1/sim/lifts/{id}", Sync([lift, lift_json](const Request& r, const Params& p) {
+        return JsonResponse(r, lift_json(lift(p.at("id"))));
+      }));
+  Add(http::verb::put, "/api/v1/sim/lifts/{id}", Sync([this, lift, lift_json](const Request& r, const Params& p) {
+        const std::string& id = p.at("id");
+        lift(id);
+        const json body = ParseJsonBody(r);
+        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
+        AllowOnlyKeys(body, {"floor"}, "");
+        if (!body.contains("floor") || !body["floor"].is_string() || body["floor"].get<std::string>().empty()) {
+          throw ApiError(http::status::bad_request, "Invalid request", "'floor' must be the name of a floor");
+        }
+        const std::string floor = body["floor"].get<std::string>();
+        if (!c_.sim->CallLift(id, floor)) {
+          throw ApiError(http::status::unprocessable_entity, "No such floor",
+                         "lift '" + id + "' does not stop at floor '" + floor + "'", "unknown_floor");
+        }
+        return JsonResponse(r, lift_json(lift(id)));
+      }));
+  Add(http::verb::post, "/api/v1/sim/lifts/{id}/release", Sync([this, lift, lift_json](const Request& r,
+                                                                                       const Params& p) {
+        const std::string& id = p.at("id");
+        lift(id);
+        c_.sim->CallLift(id, "");
+        return JsonResponse(r, lift_json(lift(id)));
+      }));
 }
 
 void Api::AddMappingRoutes() {

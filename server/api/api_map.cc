@@ -134,6 +134,30 @@ void Api::AddMapRoutes() {
                                 {"origin", ToJson(g.origin())},
                                 {"image_url", "/api/v1/map/image?revision=" + std::to_string(map->revision)}});
       }));
+  // The building: its floors (each with its map), the floor the robot is on, and the lifts between them.
+  Add(http::verb::get, "/api/v1/building", Sync([this](const Request& r, const Params&) {
+        const nav::Building building = BuildingOf(c_.config.building);
+        const nav::Floor* here = building.FloorOfMap(c_.maps.active()->name);
+        json floors = json::array();
+        for (const nav::Floor& f : building.floors) floors.push_back({{"name", f.name}, {"map", f.map}});
+        json lifts = json::array();
+        for (const nav::Lift& l : building.lifts) {
+          json stops = json::array();
+          for (const nav::LiftStop& s : l.stops) {
+            stops.push_back({{"floor", s.floor},
+                             {"door", {{"x1", s.door.a.x()}, {"y1", s.door.a.y()}, {"x2", s.door.b.x()},
+                                       {"y2", s.door.b.y()}}},
+                             {"lobby", ToJson(s.lobby)},
+                             {"car", ToJson(nav::CarPose(l, s))}});
+          }
+          lifts.push_back({{"id", l.id}, {"car_width_m", l.car_width_m}, {"car_depth_m", l.car_depth_m},
+                           {"stops", std::move(stops)}});
+        }
+        return JsonResponse(r, {{"name", building.name},
+                                {"floor", here != nullptr ? json(here->name) : json(nullptr)},
+                                {"floors", std::move(floors)},
+                                {"lifts", std::move(lifts)}});
+      }));
   Add(http::verb::get, "/api/v1/map/image", Sync([this](const Request& r, const Params&) {
         return MakeResponse(r, http::status::ok, "image/png", c_.maps.active()->png);
       }));

@@ -1,4 +1,5 @@
 // Routes for planning and missions: POST /api/v1/plan, /api/v1/missions and their actions.
+#include <algorithm>
 #include <cmath>
 
 #include <limits>
@@ -48,25 +49,44 @@ json NumberOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr);
 nav::MissionGoal Api::ParseGoal(const json& j, const std::string& where) const {
   if (!j.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "'" + where + "' must be an object");
   nav::MissionGoal goal;
+  // On another floor of the building: its map's places and frame.
+  std::string map = c_.maps.active()->name;
+  if (j.contains("floor")) {
+    if (!j["floor"].is_string() || j["floor"].get<std::string>().empty()) {
+      throw ApiError(http::status::bad_request, "Invalid request", "'" + where + ".floor' must be a floor's name");
+    }
+    goal.floor = j["floor"].get<std::string>();
+    const nav::Building building = BuildingOf(c_.config.building);
+    const nav::Floor* floor = building.FloorNamed(goal.floor);
+    if (floor == nullptr) {
+      throw ApiError(http::status::unprocessable_entity, "Unknown floor",
+                     "'" + where + "': the building has no floor '" + goal.floor + "'", "unknown_floor");
+    }
+    map = floor->map;
+  }
   if (j.contains("place")) {
-    AllowOnlyKeys(j, {"place"}, where);
+    AllowOnlyKeys(j, {"place", "floor"}, where);
     if (!j["place"].is_string()) {
       throw ApiError(http::status::bad_request, "Invalid request", "'" + where + ".place' must be a place name");
     }
-    goal.place = j["place"].get<std::string>();
-    const auto map = c_.maps.active();
-    for (const nav::Place& p : c_.store.Places(map->name)) {
-      if (p.name == goal.place || p.id == goal.place) {
-        if (p.kind == nav::PlaceKind::kDock) return nav::DockGoal(p, c_.config.mission.docking.dock);
+    const std::string wanted = j["place"].get<std::string>();
+    for (const nav::Place& p : c_.store.Places(map)) {
+      if (p.name == wanted || p.id == wanted) {
+        if (p.kind == nav::PlaceKind::kDock) {
+          nav::MissionGoal dock = nav::DockGoal(p, c_.config.mission.docking.dock);
+          dock.floor = goal.floor;
+          return dock;
+        }
+        goal.place = wanted;
         goal.pose = p.pose;
         goal.has_yaw = true;
         return goal;
       }
     }
     throw ApiError(http::status::unprocessable_entity, "Unknown place",
-                   "'" + where + "': no place named '" + goal.place + "' on map '" + map->name + "'", "unknown_place");
+                   "'" + where + "': no place named '" + wanted + "' on map '" + map + "'", "unknown_place");
   }
-  AllowOnlyKeys(j, {"x", "y", "yaw"}, where);
+  AllowOnlyKeys(j, {"x", "y", "yaw", "floor"}, where);
   goal.pose.x_m = RequireNumber(j, "x", where);
   goal.pose.y_m = RequireNumber(j, "y", where);
   if (j.contains("yaw")) {
@@ -220,18 +240,51 @@ void Api::StartGoals(const Request& request, Reply reply, std::vector<nav::Missi
                              std::shared_ptr<const nav::Costmap> map, std::uint64_t) mutable {
     const nav::Costmap& costmap = *map;
     Answer(request, reply, [&]() -> Response {
+      const nav::Building building = BuildingOf(c_.config.building);
+      const nav::Floor* here = building.FloorOfMap(c_.maps.active()->name);
       for (std::size_t i = 0; i < goals.size(); ++i) {
         if (goals[i].action == nav::GoalAction::kUndock) continue;
         const std::string where = "waypoints[" + std::to_string(i) + "]";
-        const auto cell = costmap.grid().WorldToCell(goals[i].pose.translation());
-        if (!cell) {
+        const auto outside = [&] {
           throw ApiError(http::status::unprocessable_entity, "Goal outside the map", where + " is outside the map",
                          "goal_outside_map");
+        };
+        if (!goals[i].floor.empty() && (here == nullptr || goals[i].floor != here->name)) {
+          // On another floor: its map must show the goal free (the costmap there is made when the robot arrives).
+          const auto grid = c_.maps.Grid(building.FloorNamed(goals[i].floor)->map);
+          const auto cell = grid->WorldToCell(goals[i].pose.translation());
+          if (!cell) outside();
+          if (grid->at(*cell) != nav::kFreeCell) {
+            throw ApiError(http::status::unprocessable_entity, "Goal occupied",
+                           where + " is not free on floor " + goals[i].floor + "'s map", "goal_occupied");
+          }
+          continue;
         }
+        const auto cell = costmap.grid().WorldToCell(goals[i].pose.translation());
+        if (!cell) outside();
         if (!costmap.Traversable(costmap.Index(*cell))) {
           const std::string why = costmap.InKeepOut(costmap.Index(*cell)) ? " is in a keep-out zone"
                                                                           : " is occupied or too close to an obstacle";
           throw ApiError(http::status::unprocessable_entity, "Goal occupied", where + why, "goal_occupied");
+        }
+      }
+      // Goals on other floors: through the building's lifts.
+      if (std::any_of(goals.begin(), goals.end(), [](const nav::MissionGoal& g) { return !g.floor.empty(); })) {
+        if (here == nullptr) {
+          throw ApiError(http::status::unprocessable_entity, "Not on a floor",
+                         "the map in use, '" + c_.maps.active()->name + "', is no floor of the building", "no_floor");
+        }
+        if (c_.config.building.controller.call.url.empty() &&
+            std::any_of(goals.begin(), goals.end(),
+                        [&](const nav::MissionGoal& g) { return !g.floor.empty() && g.floor != here->name; })) {
+          throw ApiError(http::status::unprocessable_entity, "No lift controller",
+                         "goals on other floors need the building's lift controller (building.controller)",
+                         "no_lift");
+        }
+        try {
+          goals = nav::ThroughLifts(building, here->name, std::move(goals));
+        } catch (const std::invalid_argument& e) {
+          throw ApiError(http::status::unprocessable_entity, "No way between floors", e.what(), "no_lift");
         }
       }
       const MissionState state = c_.missions.Start(std::move(goals), speed_limit);

@@ -13,12 +13,14 @@
 #include "server/nodes/explore_node.h"
 #include "server/nodes/face_node.h"
 #include "server/nodes/ground_node.h"
+#include "server/nodes/lift_node.h"
 #include "server/nodes/localization_node.h"
 #include "server/nodes/octree_node.h"
 #include "server/nodes/perception_node.h"
 #include "server/nodes/tracking_node.h"
 #include "server/nodes/vda5050_node.h"
 #include "server/runtime/demand.h"
+#include "server/runtime/topics.h"
 
 namespace corridor::server {
 namespace {
@@ -112,13 +114,15 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
     localization->SetMap(active->name, grid);
     if (octree_ != nullptr) octree_->SetMap(active->name, grid);
     planner_.SetDoors(DoorsOn(active->name));
+    planner_.SetZones(store_.Zones(active->name));
     if (missions_ != nullptr) missions_->SetDoors(DoorsOn(active->name));
   };
   maps_ = std::make_unique<MapLibrary>(config_.store.state_dir, std::move(map.name), std::move(map.grid), use_map);
+  // A building's floors: each floor's map, for missions that ride lifts between them.
+  for (const FloorOptions& f : config_.building.floors) maps_->AddConfigured(f.map.stem().string(), f.map);
   {
     const auto active = maps_->active();
     use_map(active);
-    planner_.SetZones(store_.Zones(active->name));
     spdlog::info("map '{}': {} x {} cells at {} m", active->name, active->grid.width(), active->grid.height(),
                  active->grid.resolution_m());
   }
@@ -135,7 +139,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
     });
   };
   // The simulator's dock is a place on the map it stands in (as an installer would add a real one).
-  if (devices_.sim != nullptr && devices_.sim->dock() && maps_->active()->name == config_.sim.world.stem().string()) {
+  if (devices_.sim != nullptr && devices_.sim->dock() && maps_->active()->name == SimMapName(config_)) {
     AddSimulatedDock(store_, maps_->active()->name, devices_.sim->dock()->options().pose);
   }
   // Low on charge, an idle robot goes to the dock nearest to it on the active map.
@@ -144,14 +148,36 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
     if (!dock) return std::nullopt;
     return nav::DockGoal(*dock, config_.mission.docking.dock);
   };
+  // A lift has brought the robot to another floor: that floor's map, the robot where the lift put it.
+  const auto switch_floor = [this](const std::string& floor, const nav::Pose2& pose) {
+    const nav::Building building = BuildingOf(config_.building);
+    const nav::Floor* f = building.FloorNamed(floor);
+    if (f == nullptr) return;
+    executors_.io.Post([this, map = f->map, floor, pose] {
+      try {
+        maps_->Select(map);
+      } catch (const MapEditError& e) {
+        spdlog::error("floor {}: its map '{}' cannot be used: {}", floor, map, e.what());
+        return;
+      }
+      spdlog::info("floor {}: map '{}', the robot at ({:.2f}, {:.2f})", floor, map, pose.x_m, pose.y_m);
+      LocalizationCommand command;
+      command.kind = LocalizationCommand::Kind::kSetPose;
+      command.pose = pose;
+      command.sigma_m = 0.05;
+      command.sigma_rad = 0.03;
+      bus_.Get(topics::kLocalizationCommand).Publish(command);
+    });
+  };
   auto mission_node = std::make_unique<MissionNode>(executors_.control, bus_, planner_, config_.mission, persist,
-                                                    config_.charging, nearest_dock);
+                                                    config_.charging, nearest_dock, switch_floor);
   missions_ = mission_node.get();
   missions_->SetDoors(DoorsOn(maps_->active()->name));
+  missions_->SetBuilding(BuildingOf(config_.building));
   // Brought up in this order and down in reverse: control goes first at shutdown, so the robot stops first.
   if (devices_.sim != nullptr) {
     auto sim_node = std::make_unique<SimNode>(executors_.sim, bus_, *devices_.sim, SimPoseFile(config_),
-                                              config_.sim.world.string());
+                                              SimWorldName(config_), devices_.sim_floors);
     sim_node_ = sim_node.get();
     lifecycle_.Add(std::move(sim_node));
   }
@@ -194,6 +220,12 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
         executors_.io, bus_, std::make_unique<HttpDoorController>(executors_.io.context(), config_.doors.controller),
         config_.doors.controller.poll_s));
   }
+  // The building's lift controller, when one is configured: missions to other floors call lifts through it.
+  if (!config_.building.controller.call.url.empty()) {
+    lifecycle_.Add(std::make_unique<LiftNode>(
+        executors_.io, bus_, std::make_unique<HttpLiftController>(executors_.io.context(), config_.building.controller),
+        config_.building.controller.poll_s));
+  }
   // A VDA 5050 master control's orders, when a broker is configured.
   if (!config_.fleet.vda5050.broker.empty()) {
     lifecycle_.Add(std::make_unique<Vda5050Node>(executors_.io, bus_, config_, *missions_, *maps_, nearest_dock,
@@ -214,7 +246,7 @@ std::vector<nav::Door> Graph::DoorsOn(const std::string& map) const {
     if (d.map == map) doors.push_back({d.id, d.from, d.to});
   }
   // The simulator's doors stand in the map of its world.
-  if (devices_.sim != nullptr && map == config_.sim.world.stem().string()) {
+  if (devices_.sim != nullptr && map == SimMapName(config_)) {
     for (const drivers::sim::SimDoorOptions& d : config_.sim.robot.doors) doors.push_back({d.id, d.from, d.to});
   }
   return doors;

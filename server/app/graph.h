@@ -39,6 +39,9 @@ struct Devices {
   drivers::Laser2D* laser = nullptr;      // null: no laser fitted
   drivers::sim::SimRobot* sim = nullptr;  // the simulator, when the devices are simulated (its faults, its truth)
   drivers::Battery* battery = nullptr;    // null: nothing reports the battery
+  // The simulated building's floors side by side (its truth is shown in the map frame of the floor it is on); null:
+  // one floor, the world's frame the map's.
+  std::shared_ptr<const drivers::sim::Floors> sim_floors;
 };
 
 // The map to start in: the map library's first map.

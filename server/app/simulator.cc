@@ -10,22 +10,76 @@
 namespace corridor::server {
 
 Devices Simulator::devices(const Config& config) const {
-  return Devices{*robot, *robot, config.sim.robot.laser.enabled ? robot.get() : nullptr, robot.get(), robot.get()};
+  return Devices{*robot, *robot, config.sim.robot.laser.enabled ? robot.get() : nullptr, robot.get(), robot.get(),
+                 floors};
 }
 
 std::filesystem::path SimPoseFile(const Config& config) { return config.store.state_dir / "sim_pose.json"; }
 
+std::string SimMapName(const Config& config) {
+  if (!config.building.floors.empty()) return config.building.floors.front().map.stem().string();
+  return config.sim.world.stem().string();
+}
+
+std::string SimWorldName(const Config& config) {
+  if (config.building.floors.empty()) return config.sim.world.string();
+  return "building:" + config.building.name + ":" + SimMapName(config);
+}
+
+namespace {
+
+// The building's floors side by side, its lifts standing on them (world frame).
+std::shared_ptr<const drivers::sim::Floors> BuildingFloors(const Config& config, drivers::sim::SimOptions& sim) {
+  std::vector<nav::OccupancyGrid> maps;
+  for (const FloorOptions& f : config.building.floors) {
+    try {
+      maps.push_back(nav::LoadMap(f.map));
+    } catch (const nav::MapFileError& e) {
+      throw std::runtime_error("building.floors: floor " + f.name + ": " + e.what());
+    }
+  }
+  auto floors = std::make_shared<drivers::sim::Floors>(
+      drivers::sim::FloorsSideBySide(maps, config.building.sim_floor_gap_m));
+  const auto offset_of = [&](const std::string& floor) {
+    for (std::size_t i = 0; i < config.building.floors.size(); ++i) {
+      if (config.building.floors[i].name == floor) return floors->offsets[i];
+    }
+    return Eigen::Vector2d(Eigen::Vector2d::Zero());
+  };
+  for (const nav::Lift& lift : config.building.lifts) {
+    drivers::sim::SimLiftOptions o;
+    o.id = lift.id;
+    o.car_width_m = lift.car_width_m;
+    o.car_depth_m = lift.car_depth_m;
+    o.travel_s = config.building.sim_travel_s;
+    for (const nav::LiftStop& stop : lift.stops) {
+      const Eigen::Vector2d shift = offset_of(stop.floor);
+      nav::Pose2 car = nav::CarPose(lift, stop);
+      car.x_m += shift.x();
+      car.y_m += shift.y();
+      o.stops.push_back({stop.floor, stop.door.a + shift, stop.door.b + shift, car});
+    }
+    sim.lifts.push_back(std::move(o));
+  }
+  return floors;
+}
+
+}  // namespace
+
 Simulator MakeSimulator(const Config& config) {
   Simulator sim;
+  drivers::sim::SimOptions options = config.sim.robot;
+  if (!config.building.floors.empty()) sim.floors = BuildingFloors(config, options);
   sim.world = [&] {
-    drivers::sim::World w = drivers::sim::LoadWorld(config.sim.world, config.sim.world_options);
+    drivers::sim::World w = sim.floors ? drivers::sim::WorldFromMap(sim.floors->map, config.sim.world_options)
+                                       : drivers::sim::LoadWorld(config.sim.world, config.sim.world_options);
     drivers::sim::AddObstacles(w, config.sim.obstacles);  // in the world, not in its map
     if (config.sim.robot.dock) drivers::sim::AddDock(w, drivers::sim::SimDock(*config.sim.robot.dock));
     return std::make_shared<const drivers::sim::World>(std::move(w));
   }();
   nav::Pose2 start = config.sim.robot.start;
   if (const std::optional<SavedPose> saved = LoadSavedPose(SimPoseFile(config));
-      saved && saved->place == config.sim.world.string()) {
+      saved && saved->place == SimWorldName(config)) {
     const drivers::sim::DiffDriveSim probe(sim.world->collision, config.sim.robot.base, saved->pose);
     if (probe.Collides(saved->pose)) {
       spdlog::warn("simulator: the robot's saved pose overlaps something now; starting at sim.start");
@@ -34,7 +88,6 @@ Simulator MakeSimulator(const Config& config) {
       spdlog::info("simulator: the robot is where the last run left it: ({:.2f}, {:.2f})", start.x_m, start.y_m);
     }
   }
-  drivers::sim::SimOptions options = config.sim.robot;
   options.start = start;
   if (config.sim.pedestrians > 0) {
     std::mt19937 rng(config.sim.robot.seed);
@@ -58,6 +111,20 @@ Simulator MakeSimulator(const Config& config) {
 }
 
 NamedMap InitialMap(const Config& config, const drivers::sim::World* world) {
+  if (!config.building.floors.empty()) {
+    // The floor the robot was on when the daemon stopped (localization's saved pose names its map).
+    const FloorOptions* floor = &config.building.floors.front();
+    if (const std::optional<SavedPose> saved = LoadSavedPose(config.store.state_dir / "pose.json")) {
+      for (const FloorOptions& f : config.building.floors) {
+        if (f.map.stem().string() == saved->place) floor = &f;
+      }
+    }
+    try {
+      return {floor->map.stem().string(), nav::LoadMap(floor->map)};
+    } catch (const nav::MapFileError& e) {
+      throw std::runtime_error("building.floors: floor " + floor->name + ": " + e.what());
+    }
+  }
   if (!config.map.file.empty()) return {config.map.file.stem().string(), nav::LoadMap(config.map.file)};
   if (world != nullptr && world->source_map) return {config.sim.world.stem().string(), *world->source_map};
   if (world != nullptr) return {config.sim.world.stem().string() + "-collision", world->collision};

@@ -14,6 +14,7 @@ namespace corridor::server {
 struct Simulator {
   std::shared_ptr<const drivers::sim::World> world;
   std::unique_ptr<drivers::sim::SimRobot> robot;
+  std::shared_ptr<const drivers::sim::Floors> floors;  // a building's floors side by side; null: one floor
 
   // The simulated robot as the graph's devices (with its laser when sim.laser.enabled).
   Devices devices(const Config& config) const;
@@ -26,8 +27,15 @@ Simulator MakeSimulator(const Config& config);
 // Where the simulated robot's true pose is kept across restarts.
 std::filesystem::path SimPoseFile(const Config& config);
 
-// The configured map file, else the simulator's world when it is a map, else the world's collision slice (what the
-// robot can bump into). Throws when there is neither a map nor a world.
+// The map the simulator's world is drawn in (its dock, doors and start are in that map's frame): the world's own, or
+// with a building, the first floor's.
+std::string SimMapName(const Config& config);
+// The simulated world's name, as the saved pose records it.
+std::string SimWorldName(const Config& config);
+
+// With a building, the map of the floor the robot was last localized on (the first floor's at first); else the
+// configured map file, else the simulator's world when it is a map, else the world's collision slice (what the robot
+// can bump into). Throws when there is neither a map nor a world.
 NamedMap InitialMap(const Config& config, const drivers::sim::World* world);
 
 }  // namespace corridor::server

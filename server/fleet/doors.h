@@ -1,15 +1,15 @@
 // The building's door controller, as missions need it (nav/mission/doors.h): ask a door to open, ask how it is, say
 // the robot is through. HttpDoorController speaks to the building's own REST API with the requests the configuration
-// describes (doors.controller), asynchronously on the io executor through server/api/http_client.h.
+// describes (doors.controller), asynchronously on the io executor (server/fleet/building_http.h).
 #pragma once
 
 #include <boost/asio/io_context.hpp>
-#include <boost/asio/ssl/context.hpp>
 
 #include <functional>
 #include <string>
 
 #include "nav/mission/doors.h"
+#include "server/fleet/building_http.h"
 #include "server/runtime/config.h"
 
 namespace corridor::server {
@@ -35,15 +35,8 @@ class HttpDoorController final : public DoorController {
   void Release(const std::string& door) override;
 
  private:
-  void Send(const HttpRequestTemplate& request, const std::string& door,
-            std::function<void(int status, std::string body, std::string error)> done);
-
-  boost::asio::io_context& io_;
   DoorControllerOptions options_;
-  boost::asio::ssl::context tls_;
+  BuildingHttp http_;
 };
-
-// `text` with every "{door}" replaced by `door`.
-std::string ForDoor(std::string text, const std::string& door);
 
 }  // namespace corridor::server

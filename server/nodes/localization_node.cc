@@ -160,6 +160,10 @@ void LocalizationNode::Localize(drivers::TimeNs stamp_ns, const nav::RangeScan& 
   }
   const std::optional<nav::Pose2> odom = OdometryAt(stamp_ns);
   if (!odom) return;  // no odometry yet: nothing to move the filter with
+  if (held_) {
+    SetHealth(Health::kOk, "holding on odometry");
+    return;
+  }
   if (slam_) {
     Map(stamp_ns, *odom, range);
     return;
@@ -213,7 +217,18 @@ void LocalizationNode::Localize(drivers::TimeNs stamp_ns, const nav::RangeScan& 
 }
 
 void LocalizationNode::OnCommand(const LocalizationCommand& command) {
+  if (command.kind == LocalizationCommand::Kind::kSetPose && options_.source == LocalizationOptions::Source::kOdometry) {
+    // Dead reckoning goes on from the pose given.
+    map_T_odom_ = command.pose * LatestOdometry().Inverse();
+    return;
+  }
   if (!filter_) return;
+  if (command.kind == LocalizationCommand::Kind::kHold || command.kind == LocalizationCommand::Kind::kResume) {
+    held_ = command.kind == LocalizationCommand::Kind::kHold;
+    spdlog::info("localization: {}", held_ ? "holding on odometry" : "back on the scans");
+    if (!held_) ResetFilter(map_T_odom_ * LatestOdometry(), options_.initial_sigma_m, Radians(options_.initial_sigma_deg));
+    return;
+  }
   if (command.kind == LocalizationCommand::Kind::kStartMapping) {
     StartMapping(command.name);
     return;

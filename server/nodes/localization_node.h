@@ -74,6 +74,7 @@ class LocalizationNode final : public Node {
   nav::ScanHistory history_;                  // what the camera saw lately, for a search (no laser)
   double look_around_rps_ = 0.0;              // lost with the camera's narrow view: turn on the spot to see more
   nav::Pose2 map_T_odom_;
+  bool held_ = false;  // on odometry alone, the scans not weighed (riding a lift)
   std::shared_ptr<const nav::OccupancyGrid> map_;
   std::string map_name_;
   std::filesystem::path pose_file_;

@@ -21,7 +21,7 @@ std::optional<nav::Pose2> PoseOf(const std::shared_ptr<const StampedPose>& pose)
 
 MissionNode::MissionNode(Executor& control, Bus& bus, PlannerService& planner, const nav::MissionRunnerOptions& options,
                          std::function<void(const MissionState&)> on_change, const nav::ChargingOptions& charging,
-                         DockFinder find_dock)
+                         DockFinder find_dock, FloorSwitch switch_floor)
     : PeriodicNode("mission", control, bus, kRateHz),
       planner_(planner),
       on_change_(std::move(on_change)),
@@ -29,6 +29,7 @@ MissionNode::MissionNode(Executor& control, Bus& bus, PlannerService& planner, c
       docking_(options.docking),
       charging_(charging),
       find_dock_(std::move(find_dock)),
+      switch_floor_(std::move(switch_floor)),
       runner_(options) {}
 
 void MissionNode::Activate() {
@@ -37,6 +38,10 @@ void MissionNode::Activate() {
   Subscribe(topics::kDoorStates, "doors", [this](const auto& states) {
     std::lock_guard lock(mutex_);
     door_reports_ = states->doors;
+  });
+  Subscribe(topics::kLiftStates, "lifts", [this](const auto& states) {
+    std::lock_guard lock(mutex_);
+    lift_reports_ = states->lifts;
   });
   Subscribe(topics::kLocalization, "localization", [this](const auto& localization) {
     std::lock_guard lock(mutex_);
@@ -65,6 +70,17 @@ void MissionNode::Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_
   const drivers::TimeNs now = clock().Now();
   auto& command = bus().Get(topics::kMissionCommand);
   if (!update.doors.empty()) bus().Get(topics::kDoorRequests).Publish(DoorRequests{update.doors});
+  if (!update.lifts.empty()) bus().Get(topics::kLiftRequests).Publish(LiftRequests{update.lifts});
+  if (update.hold_localization) {
+    LocalizationCommand hold;
+    hold.kind = *update.hold_localization ? LocalizationCommand::Kind::kHold : LocalizationCommand::Kind::kResume;
+    bus().Get(topics::kLocalizationCommand).Publish(hold);
+  }
+  if (update.switch_floor) {
+    const auto& [floor, pose] = *update.switch_floor;
+    spdlog::info("mission {}: arrived on floor {} at ({:.2f}, {:.2f})", runner_.id(), floor, pose.x_m, pose.y_m);
+    if (switch_floor_) switch_floor_(floor, pose);
+  }
   if (update.over) {
     // Tell the control node at once, rather than letting the last command go stale.
     command.Publish(MissionCommand{now, {}, false});
@@ -154,6 +170,11 @@ void MissionNode::SetDoors(std::vector<nav::Door> doors) {
   runner_.SetDoors(std::move(doors));
 }
 
+void MissionNode::SetBuilding(nav::Building building) {
+  std::lock_guard lock(mutex_);
+  runner_.SetBuilding(std::move(building));
+}
+
 nav::TransitionOutcome MissionNode::Extend(const std::string& id, std::vector<nav::MissionGoal> goals) {
   std::lock_guard lock(mutex_);
   nav::MissionUpdate update;
@@ -222,6 +243,7 @@ void MissionNode::Frame(const GroundLanes& ground) {
     in.bump_backing = bump->backing;
   }
   in.doors = &door_reports_;
+  in.lifts = &lift_reports_;
   Carry(runner_.Frame(in), ground.arrival_ns);
 }
 

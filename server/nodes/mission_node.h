@@ -21,13 +21,16 @@ class MissionNode final : public PeriodicNode {
  public:
   // The docking goal to the dock nearest the robot (at `robot`, map frame) on the active map, if there is one.
   using DockFinder = std::function<std::optional<nav::MissionGoal>(const nav::Pose2& robot)>;
+  // A lift has brought the robot to another floor: make that floor's map the active one with the robot at `pose`.
+  // Called on the control executor with the mission's lock held: it must hand the work elsewhere.
+  using FloorSwitch = std::function<void(const std::string& floor, const nav::Pose2& pose)>;
 
   // `on_change` receives the mission's state whenever its status or leg changes (to persist it); called on the
   // control executor, so it must hand the work elsewhere. An idle robot low on charge goes to the dock `find_dock`
   // names (`charging`). Throws std::invalid_argument for bad options.
   MissionNode(Executor& control, Bus& bus, PlannerService& planner, const nav::MissionRunnerOptions& options,
               std::function<void(const MissionState&)> on_change, const nav::ChargingOptions& charging = {},
-              DockFinder find_dock = {});
+              DockFinder find_dock = {}, FloorSwitch switch_floor = {});
   void Activate() override;
 
   // Thread-safe. Starting a mission cancels the one in progress; a robot on its dock backs off it first. Returns the
@@ -35,6 +38,8 @@ class MissionNode final : public PeriodicNode {
   MissionState Start(std::vector<nav::MissionGoal> goals, double speed_limit_mps);
   // The doors of the map the robot works in (with a door controller to open them). Thread-safe.
   void SetDoors(std::vector<nav::Door> doors);
+  // The building's floors and lifts (for missions that ride lifts). Thread-safe.
+  void SetBuilding(nav::Building building);
   // Appends goals to the mission `id` while it runs (kConflict once it has finished).
   nav::TransitionOutcome Extend(const std::string& id, std::vector<nav::MissionGoal> goals);
   nav::TransitionOutcome Pause(const std::string& id);
@@ -65,8 +70,10 @@ class MissionNode final : public PeriodicNode {
   nav::DockingOptions docking_;
   nav::ChargingPolicy charging_;  // guarded by mutex_
   DockFinder find_dock_;
+  FloorSwitch switch_floor_;
   nav::MissionRunner runner_;
   nav::DoorReports door_reports_;  // what the door controller says (guarded by mutex_)
+  nav::LiftReports lift_reports_;  // what the lift controller says (guarded by mutex_)
 };
 
 }  // namespace corridor::server

@@ -12,12 +12,13 @@ constexpr drivers::TimeNs kMaxCatchUpNs = drivers::kNsPerSecond / 10;
 }  // namespace
 
 SimNode::SimNode(Executor& executor, Bus& bus, drivers::sim::SimRobot& robot, std::filesystem::path pose_file,
-                 std::string world)
+                 std::string world, std::shared_ptr<const drivers::sim::Floors> floors)
     : Node("sim", executor, bus),
       robot_(robot),
       loop_(Loop("step")),
       pose_file_(std::move(pose_file)),
-      world_(std::move(world)) {}
+      world_(std::move(world)),
+      floors_(std::move(floors)) {}
 
 void SimNode::Activate() {
   wall_start_ns_ = clock().Now();
@@ -57,7 +58,13 @@ void SimNode::KeepUp() {
 
 void SimNode::PublishTruth() {
   const nav::Pose2 truth = robot_.true_pose();
-  bus().Get(topics::kSimTruePose).Publish(StampedPose{robot_.now_ns(), truth});
+  nav::Pose2 on_floor = truth;
+  if (floors_) {
+    const Eigen::Vector2d shift = floors_->offsets[static_cast<std::size_t>(floors_->FloorAt(truth.translation()))];
+    on_floor.x_m -= shift.x();
+    on_floor.y_m -= shift.y();
+  }
+  bus().Get(topics::kSimTruePose).Publish(StampedPose{robot_.now_ns(), on_floor});
   if (!pose_file_.empty()) {
     const SavedPose now{world_, truth, 0.0, 0.0};
     if (!saved_ || MovedEnough(*saved_, now)) {

@@ -17,8 +17,10 @@ class SimNode final : public Node {
  public:
   // pose_file: where the simulated robot's true pose is saved (as `world`'s) whenever it moved 0.1 m or 5 degrees, so
   // that a restart finds it where it stopped (MakeSimulator); empty: nowhere.
+  // `floors`: a building's floors side by side in the world: the truth is published in the map frame of the floor the
+  // robot is on (null: the world's frame is the map's).
   SimNode(Executor& executor, Bus& bus, drivers::sim::SimRobot& robot, std::filesystem::path pose_file = {},
-          std::string world = {});
+          std::string world = {}, std::shared_ptr<const drivers::sim::Floors> floors = nullptr);
   void Activate() override;
   void Deactivate() override;
   // Lockstep: one physics step, on the caller's thread, and the ground truth after it.
@@ -36,6 +38,7 @@ class SimNode final : public Node {
   bool has_pedestrians_ = false;
   std::filesystem::path pose_file_;
   std::string world_;
+  std::shared_ptr<const drivers::sim::Floors> floors_;
   std::optional<SavedPose> saved_;
 };
 

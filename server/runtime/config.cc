@@ -320,6 +320,82 @@ Eigen::Vector2d ReadPoint(ConfigReader& r, const char* x, const char* y) {
   return p;
 }
 
+void ReadHeaders(ConfigReader& r, std::vector<std::pair<std::string, std::string>>& headers) {
+  r.List("headers", [&](ConfigReader& h) {
+    std::pair<std::string, std::string> header;
+    h.Read("name", header.first);
+    h.Read("value", header.second);
+    if (header.first.empty() || header.first.find_first_of(" :\r\n") != std::string::npos ||
+        header.second.find_first_of("\r\n") != std::string::npos) {
+      throw ConfigError(h.PathOf("name") + ": a header name and a value on one line");
+    }
+    headers.push_back(std::move(header));
+  });
+}
+
+void ReadJsonPointer(ConfigReader& r, const char* key, std::string& pointer) {
+  r.Read(key, pointer);
+  if (!pointer.empty() && pointer.front() != '/') throw ConfigError(r.PathOf(key) + ": a JSON pointer, starting with /");
+}
+
+void ReadBuilding(ConfigReader& r, BuildingOptions& b, nav::LiftOptions& ride, const fs::path& base) {
+  r.Read("name", b.name);
+  r.List("floors", [&](ConfigReader& item) {
+    FloorOptions floor;
+    item.Read("name", floor.name);
+    ReadPath(item, "map", floor.map, base);
+    if (floor.name.empty() || floor.map.empty()) throw ConfigError(item.PathOf("name") + ", map: required");
+    b.floors.push_back(std::move(floor));
+  });
+  r.List("lifts", [&](ConfigReader& item) {
+    nav::Lift lift;
+    item.Read("id", lift.id);
+    item.Read("car_width_m", lift.car_width_m, 0.5, 10.0);
+    item.Read("car_depth_m", lift.car_depth_m, 0.5, 10.0);
+    item.List("stops", [&](ConfigReader& s) {
+      nav::LiftStop stop;
+      s.Read("floor", stop.floor);
+      stop.door.id = lift.id + "@" + stop.floor;
+      stop.door.a = ReadPoint(s, "x1_m", "y1_m");
+      stop.door.b = ReadPoint(s, "x2_m", "y2_m");
+      double yaw_deg = 0.0;
+      s.Read("lobby_x_m", stop.lobby.x_m, -1e5, 1e5);
+      s.Read("lobby_y_m", stop.lobby.y_m, -1e5, 1e5);
+      s.Read("lobby_yaw_deg", yaw_deg, -360.0, 360.0);
+      stop.lobby.yaw_rad = nav::WrapAngle(yaw_deg * kDegToRad);
+      lift.stops.push_back(std::move(stop));
+    });
+    b.lifts.push_back(std::move(lift));
+  });
+  r.Section("ride", [&](ConfigReader& s) {
+    s.Read("call_timeout_s", ride.call_timeout_s, 1.0, 3600.0);
+    s.Read("ride_timeout_s", ride.ride_timeout_s, 1.0, 3600.0);
+    s.Read("empty_wait_s", ride.empty_wait_s, 1.0, 3600.0);
+    s.Read("speed_mps", ride.speed_mps, 0.02, 1.0);
+  });
+  r.Section("controller", [&](ConfigReader& c) {
+    LiftControllerOptions& o = b.controller;
+    c.Section("call", [&](ConfigReader& t) { ReadRequestTemplate(t, o.call); });
+    c.Section("state", [&](ConfigReader& t) { ReadRequestTemplate(t, o.state); });
+    ReadJsonPointer(c, "floor_pointer", o.floor_pointer);
+    ReadJsonPointer(c, "door_pointer", o.door_pointer);
+    c.Read("door_open_value", o.door_open_value);
+    c.Section("release", [&](ConfigReader& t) { ReadRequestTemplate(t, o.release); });
+    ReadHeaders(c, o.headers);
+    c.Read("poll_s", o.poll_s, 0.05, 60.0);
+    c.Read("request_timeout_s", o.request_timeout_s, 0.1, 60.0);
+  });
+  r.Section("sim", [&](ConfigReader& s) {
+    s.Read("travel_s", b.sim_travel_s, 0.0, 600.0);
+    s.Read("floor_gap_m", b.sim_floor_gap_m, 1.0, 1000.0);
+  });
+  try {
+    nav::Validate(BuildingOf(b));
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(r.PathOf("floors") + ": " + e.what());
+  }
+}
+
 void ReadDoors(ConfigReader& r, DoorsOptions& d, nav::DoorOptions& passing) {
   r.Read("request_m", passing.request_m, 0.5, 50.0);
   r.Read("hold_m", passing.hold_m, 0.2, 5.0);
@@ -334,22 +410,10 @@ void ReadDoors(ConfigReader& r, DoorsOptions& d, nav::DoorOptions& passing) {
     DoorControllerOptions& o = d.controller;
     c.Section("open", [&](ConfigReader& t) { ReadRequestTemplate(t, o.open); });
     c.Section("state", [&](ConfigReader& t) { ReadRequestTemplate(t, o.state); });
-    c.Read("open_pointer", o.open_pointer);
-    if (!o.open_pointer.empty() && o.open_pointer.front() != '/') {
-      throw ConfigError(c.PathOf("open_pointer") + ": a JSON pointer, starting with /");
-    }
+    ReadJsonPointer(c, "open_pointer", o.open_pointer);
     c.Read("open_value", o.open_value);
     c.Section("release", [&](ConfigReader& t) { ReadRequestTemplate(t, o.release); });
-    c.List("headers", [&](ConfigReader& h) {
-      std::pair<std::string, std::string> header;
-      h.Read("name", header.first);
-      h.Read("value", header.second);
-      if (header.first.empty() || header.first.find_first_of(" :\r\n") != std::string::npos ||
-          header.second.find_first_of("\r\n") != std::string::npos) {
-        throw ConfigError(h.PathOf("name") + ": a header name and a value on one line");
-      }
-      o.headers.push_back(std::move(header));
-    });
+    ReadHeaders(c, o.headers);
     c.Read("poll_s", o.poll_s, 0.05, 60.0);
     c.Read("request_timeout_s", o.request_timeout_s, 0.1, 60.0);
   });
@@ -525,10 +589,18 @@ void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
     item.Read("open", door.open);
     s.doors.push_back(std::move(door));
   });
-  if (o.enabled && o.world.empty()) throw ConfigError(r.PathOf("world") + ": required when the simulator is enabled");
 }
 
 }  // namespace
+
+// The floors' names and maps (by their files' stems), and the lifts, for the mission runner.
+nav::Building BuildingOf(const BuildingOptions& o) {
+  nav::Building b;
+  b.name = o.name;
+  for (const FloorOptions& f : o.floors) b.floors.push_back({f.name, f.map.stem().string()});
+  b.lifts = o.lifts;
+  return b;
+}
 
 void ApplyDerivedOptions(Config& config) {
   // MORP-RB and the comparison policy brake by the control loop's model.
@@ -603,9 +675,13 @@ Config ConfigFromYaml(const YAML::Node& root, const fs::path& file) {
     r.Section("webhooks", [&](ConfigReader& s) { ReadWebhooks(s, config.webhooks); });
     r.Section("fleet", [&](ConfigReader& s) { ReadFleet(s, config.fleet); });
     r.Section("doors", [&](ConfigReader& s) { ReadDoors(s, config.doors, config.mission.doors); });
+    r.Section("building", [&](ConfigReader& s) { ReadBuilding(s, config.building, config.mission.lifts, base); });
     r.Section("auth", [&](ConfigReader& s) { ReadAuth(s, config.auth); });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();
+    if (config.sim.enabled && config.sim.world.empty() && config.building.floors.empty()) {
+      throw ConfigError("sim.world: required when the simulator is enabled (unless building.floors are its world)");
+    }
     // MORP-RB brakes by the control loop's model.
     ApplyDerivedOptions(config);
   } catch (const ConfigError& e) {

@@ -212,6 +212,43 @@ struct DoorsOptions {
   std::vector<DoorPlace> list;  // the simulator's doors are added for its world's map
 };
 
+// The building's lift controller, spoken to over HTTP (server/fleet/lifts.h): `call` asks a lift to come to a floor
+// and open its door there ("{lift}" and "{floor}" filled in; 2xx: taken; another 4xx: refused, the body saying why),
+// `state` is polled every poll_s while the robot uses the lift (its JSON answer's values at floor_pointer, and at
+// door_pointer equal to door_open_value when the door is open), `release` says the robot is done with it.
+struct LiftControllerOptions {
+  HttpRequestTemplate call{"PUT", "", ""};
+  HttpRequestTemplate state{"GET", "", ""};
+  std::string floor_pointer = "/floor";
+  std::string door_pointer = "/door";
+  std::string door_open_value = "open";
+  HttpRequestTemplate release;
+  std::vector<std::pair<std::string, std::string>> headers;
+  double poll_s = 0.5;
+  double request_timeout_s = 5.0;
+};
+
+// A floor of the building and its map (a map_server YAML file; the map library names it by the file's stem).
+struct FloorOptions {
+  std::string name;
+  std::filesystem::path map;
+};
+
+// The building the robot works in: floors with their maps, the lifts between them and its lift controller. With
+// floors, the robot's maps are the floors' (map.file is not used) and the simulator's world is the floors side by
+// side (sim.world is not used), its lifts moving the robot between them.
+struct BuildingOptions {
+  std::string name;
+  std::vector<FloorOptions> floors;
+  std::vector<nav::Lift> lifts;
+  LiftControllerOptions controller;  // the ride's rules (timeouts, speeds) are in mission.lifts
+  double sim_travel_s = 4.0;         // the simulated car: seconds per floor travelled
+  double sim_floor_gap_m = 10.0;     // the simulated floors stand this far apart side by side
+};
+
+// The floors' names and maps (by their files' stems), and the lifts, as the mission runner takes them.
+nav::Building BuildingOf(const BuildingOptions& building);
+
 struct LogOptions {
   std::string level = "info";           // trace, debug, info, warn, error
 };
@@ -234,6 +271,7 @@ struct Config {
   WebhookOptions webhooks;
   FleetOptions fleet;
   DoorsOptions doors;  // the passing rules (request_m, hold_m, ...) are in mission.doors
+  BuildingOptions building;
   auth::AuthOptions auth;
   LogOptions log;
   std::filesystem::path file;  // where it was read from (absolute); empty when built in code

@@ -103,6 +103,11 @@ nlohmann::json ToJson(const MissionState& m) {
     if (g.has_yaw) goal["yaw"] = g.pose.yaw_rad;
     if (!g.place.empty()) goal["place"] = g.place;
     goal["action"] = nav::ToString(g.action);
+    if (!g.floor.empty()) goal["floor"] = g.floor;
+    if (g.action == nav::GoalAction::kRideLift) {
+      goal["lift"] = g.lift;
+      goal["ride_to"] = g.ride_to;
+    }
     goals.push_back(std::move(goal));
   }
   nlohmann::json path = nlohmann::json::array();
@@ -119,6 +124,7 @@ nlohmann::json ToJson(const MissionState& m) {
           {"error", m.error},
           {"docking", m.docking},
           {"waiting_for_door", m.waiting_for_door},
+          {"lift", m.lift},
           {"speed_limit_mps", std::isfinite(m.speed_limit_mps) ? nlohmann::json(m.speed_limit_mps) : nullptr}};
 }
 

@@ -92,6 +92,14 @@ struct DoorStates {
   nav::DoorReports doors;  // the doors asked for, by id
 };
 
+// What missions ask of the building's lifts (come to a floor, release), and what its controller says of each lift.
+struct LiftRequests {
+  std::vector<nav::LiftRequest> requests;
+};
+struct LiftStates {
+  nav::LiftReports lifts;  // the lifts in use, by id
+};
+
 // One local step of a mission on a depth frame (nav/policy/local_policy.h), and what the policy remembers of obstacles
 // then (world frame): for traces and the console.
 struct LocalStepState {
@@ -142,10 +150,11 @@ struct LocalizationState {
   std::vector<nav::Pose2> particles;  // at most 200
 };
 
-// A request to localization: take this pose (with its spread), search the whole map for the robot, or map a new
-// building (graph SLAM from where the robot is) and save the result under `name`.
+// A request to localization: take this pose (with its spread), search the whole map for the robot, map a new
+// building (graph SLAM from where the robot is) and save the result under `name`, or hold on odometry alone (in a
+// lift car, whose walls no map shows and whose floor changes under it) and resume the scans from where it holds.
 struct LocalizationCommand {
-  enum class Kind { kSetPose, kRelocalize, kStartMapping, kStopMapping };
+  enum class Kind { kSetPose, kRelocalize, kStartMapping, kStopMapping, kHold, kResume };
   Kind kind = Kind::kSetPose;
   nav::Pose2 pose;
   double sigma_m = 0.2;

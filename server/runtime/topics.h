@@ -31,6 +31,8 @@ inline constexpr TopicName<TrackedObjects> kTrackedObjects{"tracking/objects"};
 inline constexpr TopicName<FleetOrder> kFleetOrder{"fleet/order"};  // a fleet manager's order (VDA 5050)
 inline constexpr TopicName<DoorRequests> kDoorRequests{"doors/requests"};
 inline constexpr TopicName<DoorStates> kDoorStates{"doors/state"};
+inline constexpr TopicName<LiftRequests> kLiftRequests{"lifts/requests"};
+inline constexpr TopicName<LiftStates> kLiftStates{"lifts/state"};
 inline constexpr TopicName<ControlLatency> kControlLatency{"control/latency"};
 
 }  // namespace corridor::server::topics

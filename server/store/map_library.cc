@@ -4,6 +4,8 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include <set>
+
 #include "nav/map/map_io.h"
 
 namespace corridor::server {
@@ -54,12 +56,17 @@ std::shared_ptr<const ActiveMap> MapLibrary::active() const {
 
 std::vector<std::string> MapLibrary::Names() const {
   std::vector<std::string> names{active()->name};
+  std::set<std::string> others;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir_, ec)) {
-    const std::string n = entry.path().filename().string();
-    if (fs::exists(entry.path() / "map.yaml") && n != names[0]) names.push_back(n);
+    if (fs::exists(entry.path() / "map.yaml")) others.insert(entry.path().filename().string());
   }
-  std::sort(names.begin() + 1, names.end());
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& [name, file] : configured_) others.insert(name);
+  }
+  others.erase(names[0]);
+  names.insert(names.end(), others.begin(), others.end());
   return names;
 }
 
@@ -124,20 +131,42 @@ void MapLibrary::ReplaceImage(const std::string& bytes) {
   Publish(nav::GridFromImage(image, meta), current->name, true);
 }
 
-void MapLibrary::Select(const std::string& name) {
+nav::OccupancyGrid MapLibrary::Load(const std::string& name) const {
   if (!ValidMapName(name)) throw MapEditError("'" + name + "' is not a map name");
-  if (name == active()->name) return;
-  const fs::path file = dir_ / name / "map.yaml";
-  if (!fs::exists(file)) throw MapEditError("no map named '" + name + "'");
+  fs::path file = dir_ / name / "map.yaml";
+  if (!fs::exists(file)) {
+    std::lock_guard lock(mutex_);
+    const auto it = configured_.find(name);
+    if (it == configured_.end()) throw MapEditError("no map named '" + name + "'");
+    file = it->second;
+  }
   try {
-    Publish(nav::LoadMap(file), name, false);
+    return nav::LoadMap(file);
   } catch (const nav::MapFileError& e) {
     throw MapEditError(e.what());
   }
 }
 
+void MapLibrary::Select(const std::string& name) {
+  if (name == active()->name) return;
+  Publish(Load(name), name, false);
+}
+
+std::shared_ptr<const nav::OccupancyGrid> MapLibrary::Grid(const std::string& name) const {
+  const auto current = active();
+  if (current->name == name) return {current, &current->grid};
+  return std::make_shared<const nav::OccupancyGrid>(Load(name));
+}
+
+void MapLibrary::AddConfigured(const std::string& name, const fs::path& file) {
+  std::lock_guard lock(mutex_);
+  configured_[name] = file;
+}
+
 bool MapLibrary::Contains(const std::string& name) const {
-  return name == active()->name || (ValidMapName(name) && fs::exists(dir_ / name / "map.yaml"));
+  if (name == active()->name || (ValidMapName(name) && fs::exists(dir_ / name / "map.yaml"))) return true;
+  std::lock_guard lock(mutex_);
+  return configured_.contains(name);
 }
 
 void MapLibrary::Add(const std::string& name, nav::OccupancyGrid grid) {

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -55,14 +56,22 @@ class MapLibrary {
   // is not valid or already taken, or when it cannot be saved; nothing changes then.
   void Add(const std::string& name, nav::OccupancyGrid grid);
   bool Contains(const std::string& name) const;
+  // A map the configuration names (a floor's): selectable by `name`, read from `file` unless an edited copy is saved.
+  void AddConfigured(const std::string& name, const std::filesystem::path& file);
+  // The grid of map `name` (the active one, an edited copy or a configured file). Throws MapEditError when there is
+  // no such map or it cannot be read.
+  std::shared_ptr<const nav::OccupancyGrid> Grid(const std::string& name) const;
 
  private:
   void Publish(nav::OccupancyGrid grid, const std::string& name, bool save);
+  // The saved (edited) copy of `name`, else its configured file; throws MapEditError.
+  nav::OccupancyGrid Load(const std::string& name) const;
 
   std::filesystem::path dir_;
   std::function<void(std::shared_ptr<const ActiveMap>)> on_change_;
   mutable std::mutex mutex_;
   std::shared_ptr<const ActiveMap> active_;
+  std::map<std::string, std::filesystem::path> configured_;  // guarded by mutex_
 };
 
 // The grid as an 8-bit grey PNG, map_server trinary shades, row 0 at the top.

@@ -1,0 +1,163 @@
+// A building of two floors made of two bundled maps (floor L1: the Willow Garage office; floor L2: the small house)
+// with a lift between them, and the building's lift controller as a real HTTP server in this test (what the daemon
+// calls with the requests in building.controller). The controller drives the simulated lift through corridord's
+// /api/v1/sim/lifts, as a real one drives the car. A mission from L1 to a place on L2 calls the lift, waits for its
+// door, boards, rides, switches to L2's map with the pose the car carried over, leaves and arrives; a lift that
+// refuses ends the mission with the controller's reason and the robot never boards.
+import assert from 'node:assert/strict';
+import { createServer } from 'node:http';
+import { join } from 'node:path';
+import { after, before, describe, test } from 'node:test';
+
+import { apiFetch, getJson, openApiValidator, postJson, sourceDir, startDaemon, waitFor } from './daemon.mjs';
+
+const api = openApiValidator();
+
+// The building's lift controller: takes calls (or refuses, when told to), says where the car is and whether its door
+// is open, and closes the door when released; it moves the simulated car through the daemon's simulator routes.
+class LiftController {
+  constructor() {
+    this.refuse = false;
+    this.calls = [];
+    this.daemon = null;
+    this.server = createServer((req, res) => this.handle(req, res));
+  }
+  listen() { return new Promise((r) => this.server.listen(0, '127.0.0.1', () => r(this.server.address().port))); }
+  close() {
+    this.server.closeAllConnections();
+    return new Promise((r) => this.server.close(r));
+  }
+  async sim(path, method = 'GET', body = undefined) {
+    const res = await apiFetch(`${this.daemon.url}/api/v1/sim/lifts/${path}`, {
+      method, headers: body ? { 'Content-Type': 'application/json' } : {},
+      body: body ? JSON.stringify(body) : undefined });
+    return { status: res.status, body: await res.json() };
+  }
+  async handle(req, res) {
+    const m = /^\/lifts\/([^/]+)(\/release)?$/.exec(req.url);
+    if (!m) { res.writeHead(404).end(); return; }
+    const [, lift, release = ''] = m;
+    let text = '';
+    for await (const chunk of req) text += chunk;
+    this.calls.push(`${req.method} ${release || 'lift'} ${text}`.trim());
+    if (req.method === 'GET' && !release) {
+      const { status, body } = await this.sim(lift);
+      res.writeHead(status, { 'Content-Type': 'application/json' }).end(JSON.stringify(body));
+    } else if (req.method === 'PUT' && !release) {
+      if (this.refuse) { res.writeHead(409).end('out of service for maintenance'); return; }
+      const { status } = await this.sim(lift, 'PUT', JSON.parse(text));
+      res.writeHead(status === 200 ? 202 : status).end();
+    } else if (req.method === 'POST' && release) {
+      const { status } = await this.sim(`${lift}/release`, 'POST');
+      res.writeHead(status).end();
+    } else {
+      res.writeHead(405).end();
+    }
+  }
+}
+
+describe('lifts between floors', () => {
+  let daemon;
+  let controller;
+  before(async () => {
+    controller = new LiftController();
+    const port = await controller.listen();
+    const base = `http://127.0.0.1:${port}/lifts/{lift}`;
+    const worlds = join(sourceDir, 'config/worlds');
+    daemon = await startDaemon({ config: `
+building:
+  name: two floors
+  floors:
+    - {name: L1, map: "${worlds}/willow_garage/willow-full-0.05.yaml"}
+    - {name: L2, map: "${worlds}/small_house/maps/map.yaml"}
+  lifts:
+    - id: lift1
+      stops:
+        - {floor: L1, x1_m: 18.1, y1_m: 21.55, x2_m: 18.1, y2_m: 22.45, lobby_x_m: 18.9, lobby_y_m: 22.0, lobby_yaw_deg: 180}
+        - {floor: L2, x1_m: 2.9, y1_m: 0.55, x2_m: 2.9, y2_m: 1.45, lobby_x_m: 2.1, lobby_y_m: 1.0, lobby_yaw_deg: 0}
+  controller:
+    call: {method: PUT, url: "${base}", body: '{"floor": "{floor}"}'}
+    state: {method: GET, url: "${base}"}
+    release: {method: POST, url: "${base}/release"}
+    poll_s: 0.3
+  sim: {travel_s: 3}
+localization: {source: mcl}
+sim:
+  start: {x_m: 24.38, y_m: 24.07, yaw_deg: 90}
+  camera: {width: 160, height: 120}
+  dock: {enabled: false}
+` });
+    controller.daemon = daemon;
+  });
+  after(async () => {
+    await controller?.close();
+    await daemon?.stop();
+  });
+
+  test('the building, its floors and its lift are in the API; the simulated lift is driven through its own',
+    async () => {
+      const { status, body } = await getJson(`${daemon.url}/api/v1/building`);
+      assert.equal(status, 200);
+      api.check('Building', body);
+      assert.equal(body.floor, 'L1');
+      assert.deepEqual(body.floors.map((f) => [f.name, f.map]), [['L1', 'willow-full-0.05'], ['L2', 'map']]);
+      assert.ok(Math.abs(body.lifts[0].stops[0].car.x - 17.4) < 1e-9);
+      const { body: lifts } = await getJson(`${daemon.url}/api/v1/sim/lifts`);
+      api.check('SimLifts', lifts);
+      assert.deepEqual(lifts.lifts, [{ id: 'lift1', floor: 'L1', destination: '', door: 'closed' }]);
+      const bad = await apiFetch(`${daemon.url}/api/v1/sim/lifts/lift1`, {
+        method: 'PUT', headers: { 'Content-Type': 'application/json' }, body: '{"floor": "L9"}' });
+      assert.equal(bad.status, 422);
+      const off = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 0, y: 0, floor: 'L7' }] });
+      assert.equal(off.status, 422);
+      assert.equal(off.body.code, 'unknown_floor');
+      const wall = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 0.0, y: -2.5, floor: 'L2' }] });
+      assert.equal(wall.status, 422, JSON.stringify(wall.body));
+    });
+
+  test('a lift that refuses ends the mission with its reason; the robot never boards', async () => {
+    controller.refuse = true;
+    const started = await postJson(`${daemon.url}/api/v1/missions`,
+      { waypoints: [{ x: -1.0, y: 0.5, floor: 'L2' }] });
+    assert.equal(started.status, 201, JSON.stringify(started.body));
+    api.check('Mission', started.body);
+    assert.deepEqual(started.body.waypoints.map((w) => w.action), ['ride_lift', 'go']);
+    const done = await waitFor(async () => (await getJson(`${daemon.url}/api/v1/missions/${started.body.id}`)).body,
+      (m) => m.status !== 'active', 120000, 'the mission over');
+    assert.equal(done.status, 'failed');
+    assert.match(done.error, /lift lift1 refused: 409 Conflict: out of service for maintenance/);
+    const { body: state } = await getJson(`${daemon.url}/api/v1/state`);
+    assert.equal(state.floor, 'L1');
+    assert.ok(state.sim_true_pose.x > 18.1 + 0.2, JSON.stringify(state.sim_true_pose));  // outside the car
+  });
+
+  test('a mission from floor L1 to a place on floor L2 rides the lift and arrives', async () => {
+    controller.refuse = false;
+    controller.calls = [];
+    const started = await postJson(`${daemon.url}/api/v1/missions`,
+      { waypoints: [{ x: -1.0, y: 0.5, yaw: 3.14, floor: 'L2' }] });
+    assert.equal(started.status, 201, JSON.stringify(started.body));
+    const url = `${daemon.url}/api/v1/missions/${started.body.id}`;
+    const phases = new Set();
+    const done = await waitFor(async () => {
+      const { body } = await getJson(url);
+      if (body.lift) phases.add(body.lift);
+      return body;
+    }, (m) => ['succeeded', 'failed', 'canceled'].includes(m.status), 240000, 'the mission over');
+    assert.equal(done.status, 'succeeded', done.error);
+    api.check('Mission', done);
+    for (const phase of ['calling', 'boarding', 'riding', 'leaving']) assert.ok(phases.has(phase), [...phases].join());
+    const { body: state } = await getJson(`${daemon.url}/api/v1/state`);
+    assert.equal(state.floor, 'L2');
+    assert.equal(state.map.name, 'map');
+    // The truth, in L2's map frame, at the goal; and localization agrees.
+    assert.ok(Math.hypot(state.sim_true_pose.x + 1.0, state.sim_true_pose.y - 0.5) < 0.15,
+      JSON.stringify(state.sim_true_pose));
+    assert.ok(Math.hypot(state.pose.x - state.sim_true_pose.x, state.pose.y - state.sim_true_pose.y) < 0.15,
+      `${JSON.stringify(state.pose)} vs ${JSON.stringify(state.sim_true_pose)}`);
+    assert.deepEqual(controller.calls.filter((c) => !c.startsWith('GET')),
+      ['PUT lift {"floor": "L1"}', 'PUT lift {"floor": "L2"}', 'POST /release']);
+    const { body: lifts } = await getJson(`${daemon.url}/api/v1/sim/lifts`);
+    assert.deepEqual(lifts.lifts, [{ id: 'lift1', floor: 'L2', destination: '', door: 'closed' }]);
+  });
+});
