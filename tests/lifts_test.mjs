@@ -73,7 +73,8 @@ building:
   lifts:
     - id: lift1
       stops:
-        - {floor: L1, x1_m: 18.1, y1_m: 21.55, x2_m: 18.1, y2_m: 22.45, lobby_x_m: 18.9, lobby_y_m: 22.0, lobby_yaw_deg: 180}
+        - {floor: L1, x1_m: 18.1, y1_m: 21.55, x2_m: 18.1, y2_m: 22.45,
+           lobby_x_m: 18.9, lobby_y_m: 22.0, lobby_yaw_deg: 180}
         - {floor: L2, x1_m: 2.9, y1_m: 0.55, x2_m: 2.9, y2_m: 1.45, lobby_x_m: 2.1, lobby_y_m: 1.0, lobby_yaw_deg: 0}
   controller:
     call: {method: PUT, url: "${base}", body: '{"floor": "{floor}"}'}

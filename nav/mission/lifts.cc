@@ -137,8 +137,7 @@ const char* ToString(LiftPhase phase) {
   return "unknown";
 }
 
-LiftRide::LiftRide(const LiftOptions& options, Lift lift, const std::string& from, const std::string& to,
-                   double now_s)
+LiftRide::LiftRide(const LiftOptions& options, Lift lift, const std::string& from, const std::string& to, double now_s)
     : options_(options), lift_(std::move(lift)), phase_started_s_(now_s) {
   Validate(options_);
   from_ = lift_.StopAt(from);
@@ -182,9 +181,7 @@ int LiftRide::PointsInCar(const Pose2& pose, const std::vector<Eigen::Vector2d>&
 bool LiftRide::DriveTo(const Pose2& odom, const Pose2& target, LiftStep& step) const {
   const Eigen::Vector2d to = target.translation() - odom.translation();
   step.remaining_m = to.norm();
-  const auto turn = [&](double error) {
-    return std::clamp(2.0 * error, -options_.turn_rps, options_.turn_rps);
-  };
+  const auto turn = [&](double error) { return std::clamp(2.0 * error, -options_.turn_rps, options_.turn_rps); };
   if (step.remaining_m > options_.position_tolerance_m) {
     const double bearing = WrapAngle(std::atan2(to.y(), to.x()) - odom.yaw_rad);
     // Facing the target well enough: drive, steering the rest; else turn on the spot first.
@@ -202,8 +199,8 @@ bool LiftRide::DriveTo(const Pose2& odom, const Pose2& target, LiftStep& step) c
   return false;
 }
 
-LiftStep LiftRide::Update(double now_s, const Pose2& pose, const Pose2& odom,
-                          const std::vector<Eigen::Vector2d>* scan, const LiftReport* report) {
+LiftStep LiftRide::Update(double now_s, const Pose2& pose, const Pose2& odom, const std::vector<Eigen::Vector2d>* scan,
+                          const LiftReport* report) {
   LiftStep step;
   step.phase = phase_;
   if (phase_ == LiftPhase::kDone || phase_ == LiftPhase::kFailed) return step;

@@ -35,8 +35,8 @@ namespace corridor::nav {
 
 struct LiftStop {
   std::string floor;
-  Door door;   // the lift's door on this floor (its id names the lift and the floor)
-  Pose2 lobby; // outside, facing the door
+  Door door;    // the lift's door on this floor (its id names the lift and the floor)
+  Pose2 lobby;  // outside, facing the door
 };
 
 struct Lift {
@@ -79,13 +79,13 @@ std::vector<MissionGoal> ThroughLifts(const Building& building, const std::strin
                                       std::vector<MissionGoal> goals);
 
 struct LiftOptions {
-  double call_timeout_s = 120.0;  // from calling the lift until it is there with its door open
-  double ride_timeout_s = 120.0;  // from asking for the floor until the door opens there
-  double empty_wait_s = 60.0;     // the car stays occupied this long: give up
-  int empty_frames = 3;           // frames in a row with the car empty before boarding
-  double wall_clearance_m = 0.15; // points this near the car's walls (or beyond them) are the walls
-  int occupied_points = 5;        // this many scan points inside the car: someone (or something) is in it
-  double speed_mps = 0.2;         // boarding and leaving
+  double call_timeout_s = 120.0;   // from calling the lift until it is there with its door open
+  double ride_timeout_s = 120.0;   // from asking for the floor until the door opens there
+  double empty_wait_s = 60.0;      // the car stays occupied this long: give up
+  int empty_frames = 3;            // frames in a row with the car empty before boarding
+  double wall_clearance_m = 0.15;  // points this near the car's walls (or beyond them) are the walls
+  int occupied_points = 5;         // this many scan points inside the car: someone (or something) is in it
+  double speed_mps = 0.2;          // boarding and leaving
   double turn_rps = 0.6;
   double position_tolerance_m = 0.04;
   double yaw_tolerance_rad = 0.05;
@@ -98,8 +98,8 @@ struct LiftReport {
   std::string floor;       // where the car is (or last was)
   bool door_open = false;  // its door, on that floor
   bool moving = false;
-  bool refused = false;    // the controller will not take the robot; detail says why
-  bool failed = false;     // no answer or a bad one; detail says what
+  bool refused = false;  // the controller will not take the robot; detail says why
+  bool failed = false;   // no answer or a bad one; detail says what
   std::string detail;
 };
 using LiftReports = std::map<std::string, LiftReport>;
@@ -155,8 +155,8 @@ class LiftRide {
   LiftPhase phase_ = LiftPhase::kCalling;
   double phase_started_s_;
   int empty_in_a_row_ = 0;
-  Pose2 target_;       // boarding or leaving, odometry frame
-  Pose2 boarded_pose_; // the robot's map pose in the car, on the boarding floor
+  Pose2 target_;        // boarding or leaving, odometry frame
+  Pose2 boarded_pose_;  // the robot's map pose in the car, on the boarding floor
   bool released_ = false;
 };
 

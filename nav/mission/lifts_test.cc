@@ -48,7 +48,7 @@ TEST(LiftsTest, AGoalOnAnotherFloorGoesThroughALiftServingBoth) {
   EXPECT_NEAR(goals[1].pose.x_m, 1.0, 1e-12);  // the lobby on L1
   EXPECT_TRUE(goals[1].has_yaw);
   EXPECT_EQ(goals[2].floor, "L2");
-  EXPECT_EQ(goals[3].floor, "L2");  // after it, on the same floor
+  EXPECT_EQ(goals[3].floor, "L2");                                                   // after it, on the same floor
   EXPECT_THROW(ThroughLifts(b, "L1", {GoalOn("L3", 0, 0)}), std::invalid_argument);  // no lift goes there
   EXPECT_THROW(ThroughLifts(b, "L1", {GoalOn("L9", 0, 0)}), std::invalid_argument);
   Building twice = b;

@@ -34,9 +34,8 @@ class BuildingHttp {
   using Done = std::function<void(int status, std::string body, std::string error)>;
 
   // Throws std::invalid_argument when a template's URL (filled with its placeholders' names) is not an http(s) URL.
-  BuildingHttp(boost::asio::io_context& io, std::vector<std::pair<std::string, std::string>> headers,
-               double timeout_s, const std::vector<const HttpRequestTemplate*>& templates,
-               const std::vector<std::string>& placeholders);
+  BuildingHttp(boost::asio::io_context& io, std::vector<std::pair<std::string, std::string>> headers, double timeout_s,
+               const std::vector<const HttpRequestTemplate*>& templates, const std::vector<std::string>& placeholders);
 
   // Sends `t` filled with `values`; `done` gets the status (0: no answer), the body and, unless 2xx, what went wrong
   // ("404 Not Found: <body>", or why there was no answer). A template without a URL answers "no request configured".

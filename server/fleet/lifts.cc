@@ -32,20 +32,21 @@ void HttpLiftController::Call(const std::string& lift, const std::string& floor,
 }
 
 void HttpLiftController::State(const std::string& lift, Done done) {
-  http_.Send(options_.state, {{"lift", lift}}, [this, done = std::move(done)](int status, std::string body,
-                                                                              std::string error) {
-    if (!HttpSuccess(status)) return done(Failed(std::move(error)));
-    try {
-      const nlohmann::json answer = nlohmann::json::parse(body);
-      nav::LiftReport r;
-      r.floor = ValueText(answer, options_.floor_pointer);
-      r.door_open = ValueText(answer, options_.door_pointer) == options_.door_open_value;
-      if (r.floor.empty()) return done(Failed("the lift's state names no floor at " + options_.floor_pointer));
-      done(std::move(r));
-    } catch (const nlohmann::json::exception& e) {
-      done(Failed(std::string("the lift's state is not the JSON expected: ") + e.what()));
-    }
-  });
+  http_.Send(options_.state, {{"lift", lift}},
+             [this, done = std::move(done)](int status, std::string body, std::string error) {
+               if (!HttpSuccess(status)) return done(Failed(std::move(error)));
+               try {
+                 const nlohmann::json answer = nlohmann::json::parse(body);
+                 nav::LiftReport r;
+                 r.floor = ValueText(answer, options_.floor_pointer);
+                 r.door_open = ValueText(answer, options_.door_pointer) == options_.door_open_value;
+                 if (r.floor.empty())
+                   return done(Failed("the lift's state names no floor at " + options_.floor_pointer));
+                 done(std::move(r));
+               } catch (const nlohmann::json::exception& e) {
+                 done(Failed(std::string("the lift's state is not the JSON expected: ") + e.what()));
+               }
+             });
 }
 
 void HttpLiftController::Release(const std::string& lift) {

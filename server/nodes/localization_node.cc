@@ -217,16 +217,19 @@ void LocalizationNode::Localize(drivers::TimeNs stamp_ns, const nav::RangeScan& 
 }
 
 void LocalizationNode::OnCommand(const LocalizationCommand& command) {
-  if (command.kind == LocalizationCommand::Kind::kSetPose && options_.source == LocalizationOptions::Source::kOdometry) {
+  using Kind = LocalizationCommand::Kind;
+  if (command.kind == Kind::kSetPose && options_.source == LocalizationOptions::Source::kOdometry) {
     // Dead reckoning goes on from the pose given.
     map_T_odom_ = command.pose * LatestOdometry().Inverse();
     return;
   }
   if (!filter_) return;
-  if (command.kind == LocalizationCommand::Kind::kHold || command.kind == LocalizationCommand::Kind::kResume) {
-    held_ = command.kind == LocalizationCommand::Kind::kHold;
+  if (command.kind == Kind::kHold || command.kind == Kind::kResume) {
+    held_ = command.kind == Kind::kHold;
     spdlog::info("localization: {}", held_ ? "holding on odometry" : "back on the scans");
-    if (!held_) ResetFilter(map_T_odom_ * LatestOdometry(), options_.initial_sigma_m, Radians(options_.initial_sigma_deg));
+    if (!held_) {
+      ResetFilter(map_T_odom_ * LatestOdometry(), options_.initial_sigma_m, Radians(options_.initial_sigma_deg));
+    }
     return;
   }
   if (command.kind == LocalizationCommand::Kind::kStartMapping) {

@@ -335,7 +335,9 @@ void ReadHeaders(ConfigReader& r, std::vector<std::pair<std::string, std::string
 
 void ReadJsonPointer(ConfigReader& r, const char* key, std::string& pointer) {
   r.Read(key, pointer);
-  if (!pointer.empty() && pointer.front() != '/') throw ConfigError(r.PathOf(key) + ": a JSON pointer, starting with /");
+  if (!pointer.empty() && pointer.front() != '/') {
+    throw ConfigError(r.PathOf(key) + ": a JSON pointer, starting with /");
+  }
 }
 
 void ReadBuilding(ConfigReader& r, BuildingOptions& b, nav::LiftOptions& ride, const fs::path& base) {

@@ -143,6 +143,36 @@ TEST_F(ConfigTest, DoorsTheirControllerAndTheSimulatorsDoorsAreReadAndChecked) {
   EXPECT_NE(ErrorOf("sim: {enabled: false}\ndoors: {list: [{x1_m: 1}]}\n").find("doors.list[0].id"), std::string::npos);
 }
 
+TEST_F(ConfigTest, ABuildingsFloorsLiftsAndLiftControllerAreReadAndChecked) {
+  std::ofstream(dir_ / "c.yaml") << "building:\n"
+                                    "  floors: [{name: L1, map: a/one.yaml}, {name: L2, map: two.yaml}]\n"
+                                    "  lifts:\n"
+                                    "    - id: east\n"
+                                    "      stops:\n"
+                                    "        - {floor: L1, x1_m: 2, y1_m: 0, x2_m: 2, y2_m: 1,"
+                                    " lobby_x_m: 1, lobby_y_m: 0.5}\n"
+                                    "        - {floor: L2, x1_m: 5, y1_m: 3, x2_m: 6, y2_m: 3, lobby_x_m: 5.5,"
+                                    " lobby_y_m: 2, lobby_yaw_deg: 90}\n"
+                                    "  ride: {call_timeout_s: 30}\n"
+                                    "  controller: {call: {url: 'http://127.0.0.1:9000/lifts/{lift}'}}\n";
+  const Config c = LoadConfig(dir_ / "c.yaml");  // no sim.world: the floors are the simulator's world
+  ASSERT_EQ(c.building.floors.size(), 2u);
+  EXPECT_EQ(c.building.floors[0].map, dir_ / "a/one.yaml");
+  EXPECT_EQ(BuildingOf(c.building).floors[0].map, "one");
+  ASSERT_EQ(c.building.lifts.size(), 1u);
+  EXPECT_EQ(c.building.lifts[0].stops[1].door.id, "east@L2");
+  EXPECT_NEAR(c.building.lifts[0].stops[1].lobby.yaw_rad, M_PI / 2, 1e-12);
+  EXPECT_DOUBLE_EQ(c.mission.lifts.call_timeout_s, 30.0);
+  EXPECT_EQ(c.building.controller.call.method, "PUT");
+  const std::string one_floor_lift =
+      ErrorOf("building: {floors: [{name: L1, map: a.yaml}], lifts: [{id: x, stops: [{floor: L1}]}]}\n");
+  EXPECT_NE(one_floor_lift.find("two floors"), std::string::npos) << one_floor_lift;
+  EXPECT_NE(ErrorOf("building: {floors: [{name: L1, map: a.yaml}, {name: L1, map: b.yaml}]}\n").find("twice"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("building: {floors: [{name: L1}]}\n").find("building.floors[0].name, map: required"),
+            std::string::npos);
+}
+
 TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
   std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n"
                                     "tracking: {enabled: false, camera: false, window_scans: 6, coast_s: 0.5,"
