@@ -3,7 +3,8 @@
 // the simulated door through corridord's /api/v1/sim/doors, as a real one drives its motor. A mission through the
 // door asks for it ahead, waits short of it until it is open, passes, and releases it; a door that refuses ends the
 // mission before the robot reaches it, as does a controller that stops answering (after doors.timeout_s), and the
-// robot never drives into the closed door.
+// robot never drives into the closed door. The same door again behind Open-RMF's DoorRequest and DoorState over MQTT
+// (a broker this test starts, and an RMF door adapter built on mosquitto_sub and mosquitto_pub).
 import assert from 'node:assert/strict';
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { createServer } from 'node:http';
@@ -12,6 +13,7 @@ import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
 import { apiFetch, getJson, openApiValidator, postJson, sleep, startDaemon, waitFor } from './daemon.mjs';
+import { Broker, freePort, publish, subscribe } from './mqtt.mjs';
 
 const api = openApiValidator();
 
@@ -187,4 +189,64 @@ doors:
       const { body: state } = await getJson(`${daemon.url}/api/v1/state`);
       assert.ok(state.sim_true_pose.x > 4.0 + 0.2, JSON.stringify(state.sim_true_pose));
     });
+});
+
+describe('a door that speaks Open-RMF over MQTT', () => {
+  let dir;
+  let broker;
+  let daemon;
+  let sub;
+  let timer;
+  const requests = [];
+  before(async () => {
+    dir = mkdtempSync(join(tmpdir(), 'corridor-rmf-doors-'));
+    broker = new Broker(dir, await freePort());
+    await broker.start();
+    daemon = await startDaemon({ config: `
+sim:
+  world: "${writeTwoRooms(dir)}"
+  start: {x_m: 2.0, y_m: 1.5, yaw_deg: 0}
+  camera: {width: 160, height: 120}
+  dock: {enabled: false}
+  doors:
+    - {id: d1, x1_m: 4.0, y1_m: 1.0, x2_m: 4.0, y2_m: 2.0}
+doors:
+  controller:
+    mqtt: {broker: "${broker.url}", prefix: site/rmf, requester_id: r1}
+    poll_s: 0.3
+  timeout_s: 20
+` });
+    // The RMF door adapter: a requested mode moves the simulated door a second later; DoorState every 300 ms.
+    const move = (open) => apiFetch(`${daemon.url}/api/v1/sim/doors/d1`, {
+      method: 'PUT', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify({ open }) });
+    sub = subscribe(broker.port, ['site/rmf/door_requests'], (topic, text) => {
+      const r = JSON.parse(text);
+      requests.push(r);
+      setTimeout(() => move(r.requested_mode.value === 2), 1000);
+    });
+    timer = setInterval(async () => {
+      const { body } = await getJson(`${daemon.url}/api/v1/sim/doors`);
+      publish(broker.port, 'site/rmf/door_states', JSON.stringify({
+        door_time: { sec: Math.floor(Date.now() / 1000), nanosec: 0 }, door_name: 'd1',
+        current_mode: { value: body.doors[0].open ? 2 : 0 } }));
+    }, 300);
+  });
+  after(async () => {
+    clearInterval(timer);
+    sub?.kill('SIGTERM');
+    await daemon?.stop();
+    await broker?.stop();
+    rmSync(dir, { recursive: true, force: true });
+  });
+
+  test('the door is asked open with a DoorRequest, passed once its DoorState says open, and asked closed', async () => {
+    const started = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 6.0, y: 1.5 }] });
+    assert.equal(started.status, 201, JSON.stringify(started.body));
+    const done = await waitFor(async () => (await getJson(`${daemon.url}/api/v1/missions/${started.body.id}`)).body,
+      (m) => m.status !== 'active', 60000, 'the mission over');
+    assert.equal(done.status, 'succeeded', done.error);
+    await waitFor(async () => requests.length, (n) => n >= 2, 5000, 'the door asked closed');
+    assert.deepEqual(requests.map((r) => [r.door_name, r.requester_id, r.requested_mode.value]),
+      [['d1', 'r1', 2], ['d1', 'r1', 0]]);
+  });
 });

@@ -3,9 +3,7 @@
 // the robot sends must validate against the standard's schemas (server/fleet/vda5050, copied from the VDA's 2.1.0
 // release). The broker stopping and coming back loses no order; the broker's last will tells of a crashed robot.
 import assert from 'node:assert/strict';
-import { execFileSync, spawn } from 'node:child_process';
-import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
-import { createServer } from 'node:net';
+import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
@@ -13,6 +11,7 @@ import { after, before, describe, test } from 'node:test';
 import {
   getJson, launchBrowser, openApiValidator, openConsole, require, sleep, sourceDir, startDaemon, writeRoom,
 } from './daemon.mjs';
+import { Broker, freePort, publish, subscribe } from './mqtt.mjs';
 
 const MAP = 'room';
 const PREFIX = 'uagv/v2/corridor/r1';
@@ -27,39 +26,6 @@ const schemas = (() => {
   return out;
 })();
 
-const freePort = () => new Promise((resolve) => {
-  const server = createServer().listen(0, '127.0.0.1', () => {
-    const { port } = server.address();
-    server.close(() => resolve(port));
-  });
-});
-
-// A mosquitto broker on loopback, stopped and started again on the same port.
-class Broker {
-  constructor(dir, port) {
-    this.port = port;
-    this.conf = join(dir, 'mosquitto.conf');
-    writeFileSync(this.conf, `listener ${port} 127.0.0.1\nallow_anonymous true\npersistence false\n`);
-  }
-  async start() {
-    this.proc = spawn('mosquitto', ['-c', this.conf], { stdio: ['ignore', 'ignore', 'pipe'] });
-    let log = '';
-    this.proc.stderr.on('data', (d) => { log += d; });
-    const end = Date.now() + 10000;
-    while (!/running/.test(log)) {
-      if (Date.now() > end) throw new Error(`mosquitto did not start: ${log}`);
-      await sleep(50);
-    }
-  }
-  async stop() {
-    if (!this.proc) return;
-    const exited = new Promise((r) => this.proc.on('exit', r));
-    this.proc.kill('SIGTERM');
-    await exited;
-    this.proc = null;
-  }
-}
-
 // The master control: everything the robot publishes, each checked against its schema as it arrives; and what it
 // sends, checked before it goes.
 class Master {
@@ -68,24 +34,14 @@ class Master {
     this.messages = [];  // {topic, body, at}
     this.invalid = [];
     this.headerId = 0;
-    const topics = ['state', 'connection', 'visualization', 'factsheet'].flatMap((t) => ['-t', `${PREFIX}/${t}`]);
-    this.proc = spawn('mosquitto_sub', ['-h', '127.0.0.1', '-p', String(port), '-v', '-q', '1', ...topics],
-      { stdio: ['ignore', 'pipe', 'ignore'] });
-    let pending = '';
-    this.proc.stdout.on('data', (d) => {
-      pending += d;
-      let newline;
-      while ((newline = pending.indexOf('\n')) >= 0) {
-        const line = pending.slice(0, newline);
-        pending = pending.slice(newline + 1);
-        const space = line.indexOf(' ');
-        const topic = line.slice(0, space).slice(PREFIX.length + 1);
-        const body = JSON.parse(line.slice(space + 1));
-        if (!schemas[topic](body)) {
-          this.invalid.push({ topic, errors: schemas[topic].errors, body });
-        }
-        this.messages.push({ topic, body, at: Date.now() });
+    const topics = ['state', 'connection', 'visualization', 'factsheet'].map((t) => `${PREFIX}/${t}`);
+    this.proc = subscribe(port, topics, (full, payload) => {
+      const topic = full.slice(PREFIX.length + 1);
+      const body = JSON.parse(payload);
+      if (!schemas[topic](body)) {
+        this.invalid.push({ topic, errors: schemas[topic].errors, body });
       }
+      this.messages.push({ topic, body, at: Date.now() });
     });
   }
   stop() { this.proc.kill('SIGTERM'); }
@@ -96,7 +52,7 @@ class Master {
     this.sendRaw(topic, JSON.stringify(message));
   }
   sendRaw(topic, text) {
-    execFileSync('mosquitto_pub', ['-h', '127.0.0.1', '-p', String(this.port), '-t', `${PREFIX}/${topic}`, '-m', text]);
+    publish(this.port, `${PREFIX}/${topic}`, text);
   }
   instant(type, id, params = []) {
     this.publish('instantActions', { actions: [{ actionType: type, actionId: id, blockingType: 'HARD',

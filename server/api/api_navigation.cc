@@ -274,7 +274,7 @@ void Api::StartGoals(const Request& request, Reply reply, std::vector<nav::Missi
           throw ApiError(http::status::unprocessable_entity, "Not on a floor",
                          "the map in use, '" + c_.maps.active()->name + "', is no floor of the building", "no_floor");
         }
-        if (c_.config.building.controller.call.url.empty() &&
+        if (!c_.config.building.controller.configured() &&
             std::any_of(goals.begin(), goals.end(),
                         [&](const nav::MissionGoal& g) { return !g.floor.empty() && g.floor != here->name; })) {
           throw ApiError(http::status::unprocessable_entity, "No lift controller",

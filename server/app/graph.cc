@@ -13,6 +13,7 @@
 #include "server/nodes/explore_node.h"
 #include "server/nodes/face_node.h"
 #include "server/nodes/ground_node.h"
+#include "server/fleet/rmf_mqtt.h"
 #include "server/nodes/lift_node.h"
 #include "server/nodes/localization_node.h"
 #include "server/nodes/octree_node.h"
@@ -215,16 +216,26 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   lifecycle_.Add(std::move(explore_node));
   lifecycle_.Add(std::make_unique<ControlNode>(executors_.control, bus_, devices_.base, config_.safety));
   // The building's door controller, when one is configured: missions ask it to open the doors on their way.
-  if (!config_.doors.controller.open.url.empty()) {
-    lifecycle_.Add(std::make_unique<DoorNode>(
-        executors_.io, bus_, std::make_unique<HttpDoorController>(executors_.io.context(), config_.doors.controller),
-        config_.doors.controller.poll_s));
+  if (config_.doors.controller.configured()) {
+    const DoorControllerOptions& o = config_.doors.controller;
+    std::unique_ptr<DoorController> controller;
+    if (!o.mqtt.broker.empty()) {
+      controller = std::make_unique<RmfMqttDoorController>(o.mqtt);
+    } else {
+      controller = std::make_unique<HttpDoorController>(executors_.io.context(), o);
+    }
+    lifecycle_.Add(std::make_unique<DoorNode>(executors_.io, bus_, std::move(controller), o.poll_s));
   }
   // The building's lift controller, when one is configured: missions to other floors call lifts through it.
-  if (!config_.building.controller.call.url.empty()) {
-    lifecycle_.Add(std::make_unique<LiftNode>(
-        executors_.io, bus_, std::make_unique<HttpLiftController>(executors_.io.context(), config_.building.controller),
-        config_.building.controller.poll_s));
+  if (config_.building.controller.configured()) {
+    const LiftControllerOptions& o = config_.building.controller;
+    std::unique_ptr<LiftController> controller;
+    if (!o.mqtt.broker.empty()) {
+      controller = std::make_unique<RmfMqttLiftController>(o.mqtt);
+    } else {
+      controller = std::make_unique<HttpLiftController>(executors_.io.context(), o);
+    }
+    lifecycle_.Add(std::make_unique<LiftNode>(executors_.io, bus_, std::move(controller), o.poll_s));
   }
   // A VDA 5050 master control's orders, when a broker is configured.
   if (!config_.fleet.vda5050.broker.empty()) {
@@ -241,7 +252,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
 std::vector<nav::Door> Graph::DoorsOn(const std::string& map) const {
   std::vector<nav::Door> doors;
   // Without a controller nobody opens them: the robot drives as it sees them.
-  if (config_.doors.controller.open.url.empty()) return doors;
+  if (!config_.doors.controller.configured()) return doors;
   for (const DoorPlace& d : config_.doors.list) {
     if (d.map == map) doors.push_back({d.id, d.from, d.to});
   }

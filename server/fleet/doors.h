@@ -24,6 +24,8 @@ class DoorController {
   virtual void State(const std::string& door, Done done) = 0;
   // The robot is through (or no longer comes): the door may close. Failures are logged.
   virtual void Release(const std::string& door) = 0;
+  // Every poll, whether or not a door is in use (a connection to keep up, say).
+  virtual void Tick() {}
 };
 
 class HttpDoorController final : public DoorController {

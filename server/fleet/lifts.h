@@ -24,6 +24,8 @@ class LiftController {
   virtual void State(const std::string& lift, Done done) = 0;
   // The robot is done with `lift`. Failures are logged.
   virtual void Release(const std::string& lift) = 0;
+  // Every poll, whether or not a lift is in use (a connection to keep up, say).
+  virtual void Tick() {}
 };
 
 class HttpLiftController final : public LiftController {

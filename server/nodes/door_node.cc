@@ -45,6 +45,7 @@ void DoorNode::OnRequests(const DoorRequests& requests) {
 }
 
 void DoorNode::Tick() {
+  controller_->Tick();
   for (auto& [door, asked] : asked_) {
     if (asked.in_flight || asked.report.status != nav::DoorStatus::kOpening) continue;
     asked.in_flight = true;

@@ -57,6 +57,7 @@ void LiftNode::Call(const std::string& id) {
 }
 
 void LiftNode::Tick() {
+  controller_->Tick();
   for (auto& [id, lift] : lifts_) {
     if (lift.in_flight) continue;
     if (lift.call_pending) {

@@ -340,6 +340,18 @@ void ReadJsonPointer(ConfigReader& r, const char* key, std::string& pointer) {
   }
 }
 
+void ReadRmfMqtt(ConfigReader& r, RmfMqttOptions& o) {
+  r.Section("mqtt", [&](ConfigReader& m) {
+    m.Read("broker", o.broker);
+    if (!o.broker.empty() && o.broker.rfind("mqtt://", 0) != 0 && o.broker.rfind("mqtts://", 0) != 0) {
+      throw ConfigError(m.PathOf("broker") + ": must be an MQTT URL, mqtt://host:port or mqtts://host:port");
+    }
+    m.Read("prefix", o.prefix);
+    m.Read("requester_id", o.requester_id);
+    if (o.prefix.empty() || o.requester_id.empty()) throw ConfigError(m.PathOf("prefix") + ", requester_id: required");
+  });
+}
+
 void ReadBuilding(ConfigReader& r, BuildingOptions& b, nav::LiftOptions& ride, const fs::path& base) {
   r.Read("name", b.name);
   r.List("floors", [&](ConfigReader& item) {
@@ -386,6 +398,7 @@ void ReadBuilding(ConfigReader& r, BuildingOptions& b, nav::LiftOptions& ride, c
     ReadHeaders(c, o.headers);
     c.Read("poll_s", o.poll_s, 0.05, 60.0);
     c.Read("request_timeout_s", o.request_timeout_s, 0.1, 60.0);
+    ReadRmfMqtt(c, o.mqtt);
   });
   r.Section("sim", [&](ConfigReader& s) {
     s.Read("travel_s", b.sim_travel_s, 0.0, 600.0);
@@ -418,6 +431,7 @@ void ReadDoors(ConfigReader& r, DoorsOptions& d, nav::DoorOptions& passing) {
     ReadHeaders(c, o.headers);
     c.Read("poll_s", o.poll_s, 0.05, 60.0);
     c.Read("request_timeout_s", o.request_timeout_s, 0.1, 60.0);
+    ReadRmfMqtt(c, o.mqtt);
   });
   r.List("list", [&](ConfigReader& item) {
     DoorPlace door;

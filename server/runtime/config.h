@@ -185,6 +185,13 @@ struct HttpRequestTemplate {
   std::string body;  // sent as application/json when not empty
 };
 
+// A building system that speaks Open-RMF's door or lift messages over MQTT (server/fleet/rmf_mqtt.h).
+struct RmfMqttOptions {
+  std::string broker;                  // mqtt://host:port; empty: not used
+  std::string prefix = "rmf";          // topics: prefix/door_requests, prefix/door_states, ...
+  std::string requester_id = "corridor";  // DoorRequest.requester_id, LiftRequest.session_id
+};
+
 // The building's door controller, spoken to over HTTP (server/fleet/doors.h): `open` asks a door to open (2xx:
 // taken; another 4xx: refused, the answer's body saying why), `state` is polled every poll_s until the door is open
 // (its JSON answer's value at open_pointer equals open_value), `release` says the robot is through.
@@ -197,6 +204,8 @@ struct DoorControllerOptions {
   std::vector<std::pair<std::string, std::string>> headers;  // sent with each (Authorization, say)
   double poll_s = 0.5;
   double request_timeout_s = 5.0;  // one HTTP exchange
+  RmfMqttOptions mqtt;             // instead of HTTP: Open-RMF's DoorRequest and DoorState over MQTT
+  bool configured() const { return !open.url.empty() || !mqtt.broker.empty(); }
 };
 
 // A door on a map: a line across a passage.
@@ -226,6 +235,8 @@ struct LiftControllerOptions {
   std::vector<std::pair<std::string, std::string>> headers;
   double poll_s = 0.5;
   double request_timeout_s = 5.0;
+  RmfMqttOptions mqtt;  // instead of HTTP: Open-RMF's LiftRequest and LiftState over MQTT
+  bool configured() const { return !call.url.empty() || !mqtt.broker.empty(); }
 };
 
 // A floor of the building and its map (a map_server YAML file; the map library names it by the file's stem).
