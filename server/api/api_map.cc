@@ -139,7 +139,13 @@ void Api::AddMapRoutes() {
         const nav::Building building = BuildingOf(c_.config.building);
         const nav::Floor* here = building.FloorOfMap(c_.maps.active()->name);
         json floors = json::array();
-        for (const nav::Floor& f : building.floors) floors.push_back({{"name", f.name}, {"map", f.map}});
+        for (const nav::Floor& f : building.floors) {
+          json places = json::array();
+          for (const nav::Place& p : c_.store.Places(f.map)) {
+            places.push_back(PlaceJson(p, c_.config.mission.docking.dock));
+          }
+          floors.push_back({{"name", f.name}, {"map", f.map}, {"places", std::move(places)}});
+        }
         json lifts = json::array();
         for (const nav::Lift& l : building.lifts) {
           json stops = json::array();
@@ -157,6 +163,30 @@ void Api::AddMapRoutes() {
                                 {"floor", here != nullptr ? json(here->name) : json(nullptr)},
                                 {"floors", std::move(floors)},
                                 {"lifts", std::move(lifts)}});
+      }));
+  // The doors on the map in use (the configuration's, and the simulator's on its world's map) and what their
+  // controller says of those a mission asked for.
+  Add(http::verb::get, "/api/v1/doors", Sync([this](const Request& r, const Params&) {
+        const std::string map = c_.maps.active()->name;
+        std::vector<DoorPlace> doors;
+        for (const DoorPlace& d : c_.config.doors.list) {
+          if (d.map == map) doors.push_back(d);
+        }
+        if (c_.sim != nullptr && map == SimMapName(c_.config)) {
+          for (const drivers::sim::SimDoorOptions& d : c_.config.sim.robot.doors) {
+            doors.push_back({d.id, map, d.from, d.to});
+          }
+        }
+        const auto states = c_.bus.Get(topics::kDoorStates).latest();
+        json out = json::array();
+        for (const DoorPlace& d : doors) {
+          std::string state = "idle";
+          if (states && states->doors.contains(d.id)) state = nav::ToString(states->doors.at(d.id).status);
+          out.push_back({{"id", d.id}, {"x1", d.from.x()}, {"y1", d.from.y()}, {"x2", d.to.x()}, {"y2", d.to.y()},
+                         {"state", state}});
+        }
+        return JsonResponse(r, {{"map", map}, {"controlled", c_.config.doors.controller.configured()},
+                                {"doors", std::move(out)}});
       }));
   Add(http::verb::get, "/api/v1/map/image", Sync([this](const Request& r, const Params&) {
         return MakeResponse(r, http::status::ok, "image/png", c_.maps.active()->png);

@@ -16,11 +16,6 @@ Devices Simulator::devices(const Config& config) const {
 
 std::filesystem::path SimPoseFile(const Config& config) { return config.store.state_dir / "sim_pose.json"; }
 
-std::string SimMapName(const Config& config) {
-  if (!config.building.floors.empty()) return config.building.floors.front().map.stem().string();
-  return config.sim.world.stem().string();
-}
-
 std::string SimWorldName(const Config& config) {
   if (config.building.floors.empty()) return config.sim.world.string();
   return "building:" + config.building.name + ":" + SimMapName(config);

@@ -27,9 +27,6 @@ Simulator MakeSimulator(const Config& config);
 // Where the simulated robot's true pose is kept across restarts.
 std::filesystem::path SimPoseFile(const Config& config);
 
-// The map the simulator's world is drawn in (its dock, doors and start are in that map's frame): the world's own, or
-// with a building, the first floor's.
-std::string SimMapName(const Config& config);
 // The simulated world's name, as the saved pose records it.
 std::string SimWorldName(const Config& config);
 

@@ -618,6 +618,11 @@ nav::Building BuildingOf(const BuildingOptions& o) {
   return b;
 }
 
+std::string SimMapName(const Config& config) {
+  if (!config.building.floors.empty()) return config.building.floors.front().map.stem().string();
+  return config.sim.world.stem().string();
+}
+
 void ApplyDerivedOptions(Config& config) {
   // MORP-RB and the comparison policy brake by the control loop's model.
   nav::LocalNavigatorOptions& navigator = config.mission.navigator;

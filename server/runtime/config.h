@@ -260,6 +260,11 @@ struct BuildingOptions {
 // The floors' names and maps (by their files' stems), and the lifts, as the mission runner takes them.
 nav::Building BuildingOf(const BuildingOptions& building);
 
+struct Config;
+// The map the simulator's world is drawn in (its dock, doors and start are in that map's frame): the world's own, or
+// with a building, the first floor's.
+std::string SimMapName(const Config& config);
+
 struct LogOptions {
   std::string level = "info";           // trace, debug, info, warn, error
 };

@@ -26,6 +26,7 @@ export interface State {
   battery: Battery | null;
   docked: boolean;
   fleet: FleetOrder | null;
+  floor: string | null;
 }
 // A fleet manager's order (VDA 5050): the last node traversed, the nodes still to traverse, base (released) then
 // horizon, and their edges.
@@ -67,14 +68,31 @@ export interface SetupStatus { needed: boolean; code?: string; tls_fingerprint?:
 
 
 export interface MissionWaypoint {
-  x: number; y: number; yaw?: number; place?: string; action?: 'go' | 'dock' | 'undock';
+  x: number; y: number; yaw?: number; place?: string; action?: 'go' | 'dock' | 'undock' | 'ride_lift';
+  floor?: string; lift?: string; ride_to?: string;
 }
 export interface Mission {
   id: string; status: 'active' | 'paused' | 'succeeded' | 'failed' | 'canceled';
   waypoints: MissionWaypoint[]; current_waypoint: number; progress: number; eta_s: number;
   remaining_on_leg_m: number; path: Pose[]; error: string; speed_limit_mps: number | null; policy?: string;
   docking: '' | 'seeking' | 'approaching' | 'final' | 'docked' | 'undocking' | 'undocked' | 'failed';
+  lift?: string;
+  waiting_for_door?: string;
 }
+// GET /api/v1/building: the floors (each with its map and places), the floor the robot is on, the lifts.
+export interface LiftStop {
+  floor: string; door: { x1: number; y1: number; x2: number; y2: number }; lobby: Pose; car: Pose;
+}
+export interface Lift { id: string; car_width_m: number; car_depth_m: number; stops: LiftStop[]; }
+export interface Building {
+  name: string; floor: string | null; floors: { name: string; map: string; places: Place[] }[]; lifts: Lift[];
+}
+// GET /api/v1/doors: the doors on the map in use and what their controller says.
+export interface Door {
+  id: string; x1: number; y1: number; x2: number; y2: number;
+  state: 'idle' | 'closed' | 'opening' | 'open' | 'refused' | 'failed';
+}
+export interface Doors { map: string; controlled: boolean; doors: Door[]; }
 export interface PathPoint { x: number; y: number; yaw: number; speed_limit_mps: number | null; }
 export interface PlanResult {
   path: PathPoint[]; length_m: number; min_clearance_m: number; mean_clearance_m: number;

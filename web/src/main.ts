@@ -5,6 +5,7 @@ import { LocalizationPanel } from './localization';
 import { MapView } from './map_view';
 import { MappingPanel } from './mapping';
 import { OctomapView } from './octomap_view';
+import { BuildingLayers } from './building';
 import { applyRole, mayDo, permitted, requireSession } from './session';
 import { Stream } from './stream';
 import { Teleop } from './teleop';
@@ -32,7 +33,10 @@ function showMission(mission: Mission | null): void {
   } else {
     const where = mission.waypoints.length > 1 ? ` (waypoint ${mission.current_waypoint + 1} of ${mission.waypoints.length})` : '';
     const docking = live && mission.docking ? `, docking: ${mission.docking}` : '';
-    status.textContent = `${mission.status}${live ? where : ''}${docking}${mission.error ? `: ${mission.error}` : ''}`;
+    const lift = live && mission.lift ? `, lift: ${mission.lift.replaceAll('_', ' ')}` : '';
+    const door = live && mission.waiting_for_door ? `, waiting for door ${mission.waiting_for_door}` : '';
+    status.textContent =
+      `${mission.status}${live ? where : ''}${docking}${lift}${door}${mission.error ? `: ${mission.error}` : ''}`;
   }
   byId<HTMLProgressElement>('mission-progress').value = mission?.progress ?? 0;
   byId('mission-eta').textContent = live ? `about ${Math.ceil(mission.eta_s)} s to go` : '';
@@ -215,6 +219,7 @@ async function main(): Promise<void> {
   applyRole(me);
   let view: MapView | null = null;
   let tools: Tools | null = null;
+  let building: BuildingLayers | null = null;
   let mission: Mission | null = null;
   let mapRevision = -1;
   // The active map again (after an edit, a change of map, or mapping).
@@ -223,6 +228,7 @@ async function main(): Promise<void> {
       view?.setMap(info);
       byId('map-name').textContent = info.name;
       tools?.clearPaintPreview();
+      void building?.reload().catch((e: Error) => report(e.message));
     }).catch((e: Error) => report(e.message));
   };
   const octomap = new OctomapView(byId<HTMLDetailsElement>('octomap-panel'), byId('octomap-view'));
@@ -234,11 +240,13 @@ async function main(): Promise<void> {
     const zones = new ZoneLayers(view.map, report);
     tools = new Tools(view, zones, report);
     tools.attachPlaces();
-    await Promise.all([zones.reload(), tools.reloadPlaces()]);
+    building = new BuildingLayers(view.map, report);
+    await Promise.all([zones.reload(), tools.reloadPlaces(), building.reload()]);
     const localization = new LocalizationPanel(view, report);
     const mapping = new MappingPanel(view, report, showActiveMap);
     // For tests and debugging from the browser's console.
-    (window as unknown as { corridorConsole: object }).corridorConsole = { view, tools, zones, localization, mapping };
+    (window as unknown as { corridorConsole: object }).corridorConsole =
+      { view, tools, zones, localization, mapping, building };
   } catch (e) {
     byId('map').textContent = `map unavailable: ${(e as Error).message}`;
   }
@@ -246,6 +254,7 @@ async function main(): Promise<void> {
   const connection = byId('connection');
   const scheme = location.protocol === 'https:' ? 'wss' : 'ws';
   let pose: Pose | null = null;
+  let doorsShownAt = 0;
   const stream = new Stream(`${scheme}://${location.host}/api/v1/stream`, ['state', 'ground/lanes', 'perception/detections'],
     (topic, data) => {
       if (topic === 'ground/lanes') showLanes(data as GroundLanes, view, pose);
@@ -255,6 +264,12 @@ async function main(): Promise<void> {
       pose = state.pose;
       mission = state.mission;
       showState(state, view);
+      building?.showFloor(state.floor);
+      // The doors' states change while a mission passes them: redrawn at most every second.
+      if (building && Date.now() - doorsShownAt > 1000) {
+        doorsShownAt = Date.now();
+        void building.reloadDoors().catch(() => {});
+      }
       octomap.showRobot(state.pose);
       if (view && state.map.revision !== mapRevision) {
         mapRevision = state.map.revision;

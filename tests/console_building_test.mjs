@@ -1,0 +1,87 @@
+// The console with a building in a real browser: the floor the robot is on in the header, the lift's door, car and
+// lobby and the map's doors drawn on the map, and the floor picker sending the robot to a place on another floor
+// (the mission the daemon makes of it rides the lift).
+import assert from 'node:assert/strict';
+import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { after, before, test } from 'node:test';
+
+import { apiFetch, getJson, gotoConsole, launchBrowser, postJson, startDaemon, waitFor, writeRoom } from './daemon.mjs';
+
+let dir;
+let daemon;
+let browser;
+let page;
+
+// A 6 x 4 m room as map `name` in `dir` (the floors' maps need names of their own).
+function floorMap(name) {
+  const room = mkdtempSync(join(dir, `${name}-`));
+  writeRoom(room, 6, 4);
+  writeFileSync(join(dir, `${name}.pgm`), readFileSync(join(room, 'room.pgm')));
+  writeFileSync(join(dir, `${name}.yaml`), readFileSync(join(room, 'room.yaml'), 'utf8').replace('room.pgm', `${name}.pgm`));
+  return join(dir, `${name}.yaml`);
+}
+
+async function put(path, body) {
+  const res = await apiFetch(`${daemon.url}${path}`, {
+    method: 'PUT', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
+  assert.equal(res.status, 200, await res.text());
+}
+
+before(async () => {
+  dir = mkdtempSync(join(tmpdir(), 'corridor-console-building-'));
+  daemon = await startDaemon({ config: `
+building:
+  floors:
+    - {name: L1, map: "${floorMap('ground')}"}
+    - {name: L2, map: "${floorMap('first')}"}
+  lifts:
+    - id: lift1
+      stops:
+        - {floor: L1, x1_m: 4.3, y1_m: 1.3, x2_m: 4.3, y2_m: 2.7, lobby_x_m: 3.5, lobby_y_m: 2.0}
+        - {floor: L2, x1_m: 4.3, y1_m: 1.3, x2_m: 4.3, y2_m: 2.7, lobby_x_m: 3.5, lobby_y_m: 2.0}
+  controller:
+    call: {url: "http://127.0.0.1:9/lifts/{lift}"}
+sim:
+  start: {x_m: 1.0, y_m: 2.0, yaw_deg: 0}
+  camera: {width: 160, height: 120}
+  dock: {enabled: false}
+  doors:
+    - {id: d1, x1_m: 2.0, y1_m: 0.0, x2_m: 2.0, y2_m: 0.8, open: true}
+` });
+  // A place on L2: made while L2's map is the one in use, as an installer would.
+  await put('/api/v1/map/active', { name: 'first' });
+  assert.equal((await postJson(`${daemon.url}/api/v1/places`, { name: 'kitchen', x: 1.5, y: 1.0, yaw: 0 })).status, 201);
+  await put('/api/v1/map/active', { name: 'ground' });
+  browser = await launchBrowser();
+  page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  page.on('pageerror', (e) => { throw e; });
+  await gotoConsole(page, daemon.url);
+  await page.waitForFunction(() => window.corridorConsole !== undefined);
+});
+
+after(async () => {
+  await browser?.close();
+  await daemon?.stop();
+  if (dir) rmSync(dir, { recursive: true, force: true });
+});
+
+test('the floor, the lift and the doors are on the console', async () => {
+  await page.getByTestId('floor').filter({ hasText: 'floor L1' }).waitFor();
+  for (const marker of ['.lift-door', '.lift-car', '.lift-lobby', '.door.door-idle']) {
+    await page.locator(marker).first().waitFor({ state: 'attached' });
+    assert.equal(await page.locator(marker).count(), 1, marker);
+  }
+});
+
+test('the floor picker sends the robot to a place on another floor, through the lift', async () => {
+  await page.getByTestId('floor-select').selectOption('L2');
+  await page.getByTestId('floor-place').selectOption('kitchen');
+  await page.getByTestId('floor-go').click();
+  const { body: state } = await waitFor(() => getJson(`${daemon.url}/api/v1/state`),
+    (s) => s.body.mission?.status === 'active', 10000, 'the mission started');
+  assert.deepEqual(state.mission.waypoints.map((w) => [w.action, w.floor]), [['ride_lift', 'L1'], ['go', 'L2']]);
+  assert.equal(state.mission.waypoints[1].place, 'kitchen');
+  assert.equal((await postJson(`${daemon.url}/api/v1/missions/${state.mission.id}/cancel`, {})).status, 200);
+});
