@@ -1,6 +1,6 @@
 // The console with a building in a real browser: the floor the robot is on in the header, the lift's door, car and
 // lobby and the map's doors drawn on the map, and the floor picker sending the robot to a place on another floor
-// (the mission the daemon makes of it rides the lift).
+// (the mission the daemon makes of it rides the lift); drawing a door with the Door tool.
 import assert from 'node:assert/strict';
 import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -84,4 +84,31 @@ test('the floor picker sends the robot to a place on another floor, through the 
   assert.deepEqual(state.mission.waypoints.map((w) => [w.action, w.floor]), [['ride_lift', 'L1'], ['go', 'L2']]);
   assert.equal(state.mission.waypoints[1].place, 'kitchen');
   assert.equal((await postJson(`${daemon.url}/api/v1/missions/${state.mission.id}/cancel`, {})).status, 200);
+});
+
+test('a door drawn with the Door tool is on the map and in the API, and can be removed', async () => {
+  const point = (x, y) => page.evaluate(([px, py]) => {
+    const { map } = window.corridorConsole.view;
+    map.setView([2.0, 3.0], 6, { animate: false });
+    const p = map.latLngToContainerPoint([py, px]);
+    const box = map.getContainer().getBoundingClientRect();
+    return { x: box.left + p.x, y: box.top + p.y };
+  }, [x, y]);
+  await page.getByRole('button', { name: 'Door', exact: true }).click();
+  page.once('dialog', (d) => d.accept('d2'));
+  const from = await point(3.0, 0.2);
+  const to = await point(3.0, 1.2);
+  await page.mouse.move(from.x, from.y);
+  await page.mouse.down();
+  await page.mouse.move(to.x, to.y, { steps: 5 });
+  await page.mouse.up();
+  await page.getByTestId('message').filter({ hasText: "door 'd2' added" }).waitFor();
+  await waitFor(() => page.locator('.door').count(), (n) => n === 2, 5000, 'two doors drawn');
+  const { body } = await getJson(`${daemon.url}/api/v1/doors`);
+  const drawn = body.doors.find((d) => d.id === 'd2');
+  assert.equal(drawn.source, 'drawn');
+  assert.ok(Math.abs(drawn.x1 - 3.0) < 0.05 && Math.abs(drawn.y2 - 1.2) < 0.05, JSON.stringify(drawn));
+  assert.equal((await apiFetch(`${daemon.url}/api/v1/doors/d1`, { method: 'DELETE' })).status, 409);
+  assert.equal((await apiFetch(`${daemon.url}/api/v1/doors/d2`, { method: 'DELETE' })).status, 204);
+  await page.getByRole('button', { name: 'Pan' }).click();
 });

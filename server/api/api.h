@@ -92,6 +92,7 @@ struct ApiContext {
   drivers::sim::SimRobot* sim = nullptr;  // the simulated robot, for fault injection; null with real drivers
   std::string tls_fingerprint{};          // the server certificate's SHA-256, shown at setup; "" without TLS
   std::string robot_name{};               // in robot_state (Open-RMF) and webhook payloads
+  std::function<void()> doors_changed{};  // the doors of the map in use changed: planner and missions take them again
 };
 
 class Api {

@@ -11,6 +11,7 @@
 
 #include "nav/mission/docking.h"
 #include "server/api/api.h"
+#include "server/fleet/doors.h"
 #include "server/runtime/topics.h"
 
 namespace corridor::server {
@@ -166,27 +167,67 @@ void Api::AddMapRoutes() {
       }));
   // The doors on the map in use (the configuration's, and the simulator's on its world's map) and what their
   // controller says of those a mission asked for.
-  Add(http::verb::get, "/api/v1/doors", Sync([this](const Request& r, const Params&) {
-        const std::string map = c_.maps.active()->name;
-        std::vector<DoorPlace> doors;
-        for (const DoorPlace& d : c_.config.doors.list) {
-          if (d.map == map) doors.push_back(d);
+  const auto doors_here = [this] {
+    const std::string map = c_.maps.active()->name;
+    return DoorsOfMap(c_.config, c_.store.Doors(map), map, c_.sim != nullptr);
+  };
+  const auto door_json = [this](const MapDoor& d) {
+    const auto states = c_.bus.Get(topics::kDoorStates).latest();
+    std::string state = "idle";
+    if (states && states->doors.contains(d.door.id)) state = nav::ToString(states->doors.at(d.door.id).status);
+    return json{{"id", d.door.id}, {"x1", d.door.a.x()}, {"y1", d.door.a.y()}, {"x2", d.door.b.x()},
+                {"y2", d.door.b.y()}, {"source", d.source}, {"state", state}};
+  };
+  Add(http::verb::get, "/api/v1/doors", Sync([this, doors_here, door_json](const Request& r, const Params&) {
+        json out = json::array();
+        for (const MapDoor& d : doors_here()) out.push_back(door_json(d));
+        return JsonResponse(r, {{"map", c_.maps.active()->name},
+                                {"controlled", c_.config.doors.controller.configured()},
+                                {"doors", std::move(out)}});
+      }));
+  // A door drawn on the map in use: a line across a passage, with an id its controller knows.
+  Add(http::verb::post, "/api/v1/doors", Sync([this, doors_here, door_json](const Request& r, const Params&) {
+        const json body = ParseJsonBody(r);
+        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
+        AllowOnlyKeys(body, {"id", "x1", "y1", "x2", "y2"}, "");
+        if (!body.contains("id") || !body["id"].is_string() || body["id"].get<std::string>().empty() ||
+            body["id"].get<std::string>().size() > 64) {
+          throw ApiError(http::status::bad_request, "Invalid request", "'id' must be the door's id (1 to 64 characters)");
         }
-        if (c_.sim != nullptr && map == SimMapName(c_.config)) {
-          for (const drivers::sim::SimDoorOptions& d : c_.config.sim.robot.doors) {
-            doors.push_back({d.id, map, d.from, d.to});
+        nav::Door door{body["id"].get<std::string>(), {RequireNumber(body, "x1", ""), RequireNumber(body, "y1", "")},
+                       {RequireNumber(body, "x2", ""), RequireNumber(body, "y2", "")}};
+        const double length = (door.b - door.a).norm();
+        if (length < 0.3 || length > 20.0) {
+          throw ApiError(http::status::unprocessable_entity, "Not a door", "a door is 0.3 to 20 m across", "bad_door");
+        }
+        const nav::OccupancyGrid& grid = c_.maps.active()->grid;
+        if (!grid.WorldToCell(door.a) || !grid.WorldToCell(door.b)) {
+          throw ApiError(http::status::unprocessable_entity, "Door outside the map", "both ends must be on the map",
+                         "goal_outside_map");
+        }
+        for (const MapDoor& d : doors_here()) {
+          if (d.door.id == door.id) {
+            throw ApiError(http::status::conflict, "Id taken", "a door '" + door.id + "' is on this map", "name_taken");
           }
         }
-        const auto states = c_.bus.Get(topics::kDoorStates).latest();
-        json out = json::array();
-        for (const DoorPlace& d : doors) {
-          std::string state = "idle";
-          if (states && states->doors.contains(d.id)) state = nav::ToString(states->doors.at(d.id).status);
-          out.push_back({{"id", d.id}, {"x1", d.from.x()}, {"y1", d.from.y()}, {"x2", d.to.x()}, {"y2", d.to.y()},
-                         {"state", state}});
+        c_.store.PutDoor(c_.maps.active()->name, door);
+        if (c_.doors_changed) c_.doors_changed();
+        return JsonResponse(r, door_json({door, "drawn"}), http::status::created);
+      }));
+  Add(http::verb::delete_, "/api/v1/doors/{id}", Sync([this, doors_here](const Request& r, const Params& p) {
+        const std::string& id = p.at("id");
+        if (!c_.store.DeleteDoor(c_.maps.active()->name, id)) {
+          for (const MapDoor& d : doors_here()) {
+            if (d.door.id == id) {
+              throw ApiError(http::status::conflict, "Configured door",
+                             "door '" + id + "' is in the configuration (doors.list or sim.doors), not drawn",
+                             "configured");
+            }
+          }
+          throw ApiError(http::status::not_found, "Not found", "no door " + id + " on this map");
         }
-        return JsonResponse(r, {{"map", map}, {"controlled", c_.config.doors.controller.configured()},
-                                {"doors", std::move(out)}});
+        if (c_.doors_changed) c_.doors_changed();
+        return MakeResponse(r, http::status::no_content, "application/json", "");
       }));
   Add(http::verb::get, "/api/v1/map/image", Sync([this](const Request& r, const Params&) {
         return MakeResponse(r, http::status::ok, "image/png", c_.maps.active()->png);

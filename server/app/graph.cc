@@ -246,19 +246,20 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
 
   api_ = std::make_unique<Api>(ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, octree_,
                                           perception_, *spoken_, *webhooks_, access_, config_, clock_, executors_.io,
-                                          executors_.control, devices_.sim, std::move(tls_fingerprint), hooks.robot});
+                                          executors_.control, devices_.sim, std::move(tls_fingerprint), hooks.robot,
+                                          [this] {
+                                            const std::string active = maps_->active()->name;
+                                            planner_.SetDoors(DoorsOn(active));
+                                            missions_->SetDoors(DoorsOn(active));
+                                          }});
 }
 
 std::vector<nav::Door> Graph::DoorsOn(const std::string& map) const {
   std::vector<nav::Door> doors;
   // Without a controller nobody opens them: the robot drives as it sees them.
   if (!config_.doors.controller.configured()) return doors;
-  for (const DoorPlace& d : config_.doors.list) {
-    if (d.map == map) doors.push_back({d.id, d.from, d.to});
-  }
-  // The simulator's doors stand in the map of its world.
-  if (devices_.sim != nullptr && map == SimMapName(config_)) {
-    for (const drivers::sim::SimDoorOptions& d : config_.sim.robot.doors) doors.push_back({d.id, d.from, d.to});
+  for (const MapDoor& d : DoorsOfMap(config_, store_.Doors(map), map, devices_.sim != nullptr)) {
+    doors.push_back(d.door);
   }
   return doors;
 }

@@ -5,6 +5,19 @@
 
 namespace corridor::server {
 
+std::vector<MapDoor> DoorsOfMap(const Config& config, const std::vector<nav::Door>& drawn, const std::string& map,
+                                bool simulated) {
+  std::vector<MapDoor> doors;
+  for (const DoorPlace& d : config.doors.list) {
+    if (d.map == map) doors.push_back({{d.id, d.from, d.to}, "config"});
+  }
+  if (simulated && map == SimMapName(config)) {
+    for (const drivers::sim::SimDoorOptions& d : config.sim.robot.doors) doors.push_back({{d.id, d.from, d.to}, "sim"});
+  }
+  for (const nav::Door& d : drawn) doors.push_back({d, "drawn"});
+  return doors;
+}
+
 HttpDoorController::HttpDoorController(boost::asio::io_context& io, const DoorControllerOptions& options)
     : options_(options),
       http_(io, options.headers, options.request_timeout_s, {&options_.open, &options_.state, &options_.release},

@@ -14,6 +14,16 @@
 
 namespace corridor::server {
 
+// A door on a map and where it is described: "config" (doors.list), "sim" (the simulator's, on its world's map) or
+// "drawn" (in the store: drawn in the console or posted to /api/v1/doors).
+struct MapDoor {
+  nav::Door door;
+  std::string source;
+};
+// Every door on `map`: the configuration's, the simulator's (`simulated`), and `drawn`.
+std::vector<MapDoor> DoorsOfMap(const Config& config, const std::vector<nav::Door>& drawn, const std::string& map,
+                                bool simulated);
+
 class DoorController {
  public:
   using Done = std::function<void(nav::DoorReport)>;

@@ -38,6 +38,8 @@ const char* const kSchema =
     " polygon TEXT NOT NULL, max_speed_mps REAL NOT NULL, PRIMARY KEY (map, id));"
     "CREATE TABLE IF NOT EXISTS places (map TEXT NOT NULL, id TEXT NOT NULL, name TEXT NOT NULL, x REAL NOT NULL,"
     " y REAL NOT NULL, yaw REAL NOT NULL, kind TEXT NOT NULL DEFAULT 'place', PRIMARY KEY (map, id));"
+    "CREATE TABLE IF NOT EXISTS doors (map TEXT NOT NULL, id TEXT NOT NULL, x1 REAL NOT NULL, y1 REAL NOT NULL,"
+    " x2 REAL NOT NULL, y2 REAL NOT NULL, PRIMARY KEY (map, id));"
     "CREATE TABLE IF NOT EXISTS missions (id TEXT PRIMARY KEY, document TEXT NOT NULL,"
     " updated REAL NOT NULL DEFAULT (julianday('now')));"
     "CREATE TABLE IF NOT EXISTS webhooks (id TEXT PRIMARY KEY, url TEXT NOT NULL, events TEXT NOT NULL,"
@@ -115,6 +117,30 @@ void Store::PutPlace(const std::string& map, const nav::Place& place) {
 bool Store::DeletePlace(const std::string& map, const std::string& id) {
   std::lock_guard lock(mutex_);
   Statement s(db_, "DELETE FROM places WHERE map = ? AND id = ?");
+  s.Bind(1, map).Bind(2, id);
+  s.Step();
+  return s.changes() > 0;
+}
+
+std::vector<nav::Door> Store::Doors(const std::string& map) const {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "SELECT id, x1, y1, x2, y2 FROM doors WHERE map = ? ORDER BY id");
+  s.Bind(1, map);
+  std::vector<nav::Door> out;
+  while (s.Step()) out.push_back({s.Text(0), {s.Double(1), s.Double(2)}, {s.Double(3), s.Double(4)}});
+  return out;
+}
+
+void Store::PutDoor(const std::string& map, const nav::Door& door) {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "INSERT OR REPLACE INTO doors (map, id, x1, y1, x2, y2) VALUES (?,?,?,?,?,?)");
+  s.Bind(1, map).Bind(2, door.id).Bind(3, door.a.x()).Bind(4, door.a.y()).Bind(5, door.b.x()).Bind(6, door.b.y());
+  s.Step();
+}
+
+bool Store::DeleteDoor(const std::string& map, const std::string& id) {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "DELETE FROM doors WHERE map = ? AND id = ?");
   s.Bind(1, map).Bind(2, id);
   s.Step();
   return s.changes() > 0;

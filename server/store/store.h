@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "nav/map/zones.h"
+#include "nav/mission/doors.h"
 #include "server/store/sqlite.h"
 
 namespace corridor::server {
@@ -58,6 +59,11 @@ class Store {
   std::vector<nav::Place> Places(const std::string& map) const;
   void PutPlace(const std::string& map, const nav::Place& place);
   bool DeletePlace(const std::string& map, const std::string& id);
+
+  // Doors drawn on a map (the console's); the configuration's are not here.
+  std::vector<nav::Door> Doors(const std::string& map) const;
+  void PutDoor(const std::string& map, const nav::Door& door);  // insert or replace by id
+  bool DeleteDoor(const std::string& map, const std::string& id);
 
   // Missions are kept as their JSON documents (request and latest status), newest first.
   void PutMission(const std::string& id, const nlohmann::json& document);

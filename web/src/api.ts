@@ -90,7 +90,7 @@ export interface Building {
 // GET /api/v1/doors: the doors on the map in use and what their controller says.
 export interface Door {
   id: string; x1: number; y1: number; x2: number; y2: number;
-  state: 'idle' | 'closed' | 'opening' | 'open' | 'refused' | 'failed';
+  state: 'idle' | 'closed' | 'opening' | 'open' | 'refused' | 'failed'; source: 'config' | 'sim' | 'drawn';
 }
 export interface Doors { map: string; controlled: boolean; doors: Door[]; }
 export interface PathPoint { x: number; y: number; yaw: number; speed_limit_mps: number | null; }

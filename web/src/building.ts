@@ -19,6 +19,7 @@ export class BuildingLayers {
     this.doors.addTo(map);
     byId('floor-select').addEventListener('change', () => this.showPlaces());
     byId('floor-go').addEventListener('click', () => void this.go());
+    window.addEventListener('corridor:doors-changed', () => void this.reloadDoors().catch(() => {}));
   }
 
   // The building and the doors again (after a change of map: another floor).
@@ -39,7 +40,7 @@ export class BuildingLayers {
       L.polyline([toLatLng(d.x1, d.y1), toLatLng(d.x2, d.y2)], {
         color: d.state === 'open' ? '#2ea043' : d.state === 'refused' || d.state === 'failed' ? '#f85149' : '#8250df',
         weight: 5, className: `door door-${d.state}`,
-      }).bindTooltip(`door ${d.id}: ${d.state}`).addTo(this.doors);
+      }).bindTooltip(`door ${d.id} (${d.source}): ${d.state}`).addTo(this.doors);
     }
   }
 

@@ -8,8 +8,8 @@ import { byId, escapeHtml } from './dom';
 import { toLatLng, type MapView } from './map_view';
 import type { ZoneLayers } from './zones';
 
-type Tool = 'pan' | 'goal' | 'set_pose' | 'waypoints' | 'keep_out' | 'speed_limit' | 'place' | 'dock_place' | 'edit_zones' | 'delete_zones' |
-  'paint_occupied' | 'paint_free' | 'paint_unknown';
+type Tool = 'pan' | 'goal' | 'set_pose' | 'waypoints' | 'keep_out' | 'speed_limit' | 'place' | 'dock_place' | 'door' |
+  'edit_zones' | 'delete_zones' | 'paint_occupied' | 'paint_free' | 'paint_unknown';
 
 const kHeadingDragM = 0.15;  // a drag shorter than this sets no heading
 const kPaintValue: Record<string, number> = { paint_occupied: 100, paint_free: 0, paint_unknown: -1 };
@@ -106,7 +106,7 @@ export class Tools {
   }
 
   private down(at: L.LatLng): void {
-    if (this.tool === 'goal' || this.tool === 'set_pose' || this.tool === 'dock_place') {
+    if (this.tool === 'goal' || this.tool === 'set_pose' || this.tool === 'dock_place' || this.tool === 'door') {
       this.press = at;
       this.goal = null;
       this.preview.clearLayers();
@@ -119,7 +119,10 @@ export class Tools {
 
   private move(at: L.LatLng): void {
     if (!this.press) return;
-    if (this.tool === 'goal' || this.tool === 'set_pose' || this.tool === 'dock_place') {
+    if (this.tool === 'door') {
+      this.preview.clearLayers();
+      L.polyline([this.press, at], { color: '#8250df', weight: 5, dashArray: '4 4' }).addTo(this.preview);
+    } else if (this.tool === 'goal' || this.tool === 'set_pose' || this.tool === 'dock_place') {
       const color = this.tool === 'goal' ? '#2ea043' : '#d29922';
       this.preview.clearLayers();
       L.circleMarker(this.press, { radius: 6, color }).addTo(this.preview);
@@ -141,6 +144,8 @@ export class Tools {
       await this.setPose(press, at);
     } else if (this.tool === 'dock_place' && press) {
       await this.addDock(press, at);
+    } else if (this.tool === 'door' && press) {
+      await this.addDoor(press, at);
     } else if (this.tool === 'waypoints') {
       this.waypoints.push({ x: at.lng, y: at.lat });
       L.marker(at, { icon: L.divIcon({ className: 'place-label', html: `${this.waypoints.length}`, iconSize: [16, 16] }) })
@@ -211,6 +216,20 @@ export class Tools {
       await send('POST', '/api/v1/missions', { waypoints });
       this.clear();
       this.report('mission started');
+    } catch (e) {
+      this.report((e as Error).message);
+    }
+  }
+
+  // A door across a passage, from where the press was to where it was let go; its id is the controller's name for it.
+  private async addDoor(press: L.LatLng, at: L.LatLng): Promise<void> {
+    this.preview.clearLayers();
+    const id = window.prompt('Id of this door (as its controller knows it)');
+    if (!id) return;
+    try {
+      await send('POST', '/api/v1/doors', { id, x1: press.lng, y1: press.lat, x2: at.lng, y2: at.lat });
+      this.report(`door '${id}' added`);
+      window.dispatchEvent(new Event('corridor:doors-changed'));
     } catch (e) {
       this.report((e as Error).message);
     }
