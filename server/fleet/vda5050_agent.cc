@@ -427,6 +427,10 @@ void VdaAgent::Traverse(std::uint32_t sequence, VdaCommands& commands) {
 VdaCommands VdaAgent::Started(const std::string& mission_id, std::size_t offset, const std::string& error) {
   VdaCommands commands;
   commands.send_state = true;
+  if (!mission_id.empty()) {
+    started_.push_back(mission_id);
+    if (started_.size() > 16) started_.erase(started_.begin());
+  }
   std::vector<GoalFor> batch = std::move(batch_);
   batch_.clear();
   if (!instant_mission_action_.empty()) {
@@ -462,7 +466,13 @@ void VdaAgent::Extended() {
 
 VdaCommands VdaAgent::Progress(const VdaMissionProgress& progress) {
   VdaCommands commands;
-  if (progress.id.empty() || progress.id != mission_id_) return commands;
+  if (progress.id.empty() || mission_id_.empty()) return commands;
+  if (progress.id != mission_id_) {
+    // A late word of a mission the agent started before: nothing new.
+    if (std::find(started_.begin(), started_.end(), progress.id) != started_.end()) return commands;
+    // Someone else (the console, the REST API) started a mission: the order's was cancelled by it.
+    return Progress({mission_id_, nav::MissionStatus::kCanceled, offset_ + reached_, 0, "replaced by another mission"});
+  }
   const bool succeeded = progress.status == nav::MissionStatus::kSucceeded;
   const bool finished =
       succeeded || progress.status == nav::MissionStatus::kFailed || progress.status == nav::MissionStatus::kCanceled;

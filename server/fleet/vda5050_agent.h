@@ -170,6 +170,7 @@ class VdaAgent {
   std::vector<Error> errors_;
   std::optional<std::uint32_t> handed_through_;  // the last node handed to the mission (its sequenceId)
   std::string mission_id_;
+  std::vector<std::string> started_;  // the missions the agent started lately (a late word of one is not news)
   std::size_t offset_ = 0;
   std::vector<GoalFor> goals_for_;      // per goal of the running mission the agent asked for, in order
   std::vector<GoalFor> batch_;          // per goal of the last start or extension, until it is confirmed

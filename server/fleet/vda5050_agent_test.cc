@@ -268,6 +268,20 @@ TEST_F(VdaAgentTest, ChargingOnANodeDocksThereAndStoppingBacksOff) {
   EXPECT_EQ(FirstErrorType(), "orderError");
 }
 
+TEST_F(VdaAgentTest, AMissionStartedBySomeoneElseEndsTheOrdersWithANavigationError) {
+  agent_.Order(FirstOrder(), robot_);
+  agent_.Started("m1", 0);
+  agent_.Progress({"m1", nav::MissionStatus::kActive, 0, 2, ""});
+  agent_.Started("m2", 0);  // an update handed on to a mission of its own: a late word of m1 is not news
+  EXPECT_FALSE(agent_.Progress({"m1", nav::MissionStatus::kActive, 0, 2, ""}).send_state);
+  EXPECT_EQ(FirstErrorType(), "");
+  const VdaCommands c = agent_.Progress({"console", nav::MissionStatus::kActive, 0, 1, ""});
+  EXPECT_TRUE(c.send_state);
+  EXPECT_EQ(FirstErrorType(), "navigationError");
+  EXPECT_EQ(NodeIds().size(), 3u);  // the nodes stay the master's to hand on
+  EXPECT_FALSE(agent_.Progress({"console", nav::MissionStatus::kSucceeded, 1, 1, ""}).send_state);
+}
+
 TEST_F(VdaAgentTest, AFailedMissionLeavesTheNodesForTheMasterAndSaysWhy) {
   agent_.Order(FirstOrder(), robot_);
   agent_.Started("m1", 0);
