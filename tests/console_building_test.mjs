@@ -43,6 +43,7 @@ building:
         - {floor: L2, x1_m: 4.3, y1_m: 1.3, x2_m: 4.3, y2_m: 2.7, lobby_x_m: 3.5, lobby_y_m: 2.0}
   controller:
     call: {url: "http://127.0.0.1:9/lifts/{lift}"}
+localization: {source: mcl}
 sim:
   start: {x_m: 1.0, y_m: 2.0, yaw_deg: 0}
   camera: {width: 160, height: 120}
@@ -111,4 +112,22 @@ test('a door drawn with the Door tool is on the map and in the API, and can be r
   assert.equal((await apiFetch(`${daemon.url}/api/v1/doors/d1`, { method: 'DELETE' })).status, 409);
   assert.equal((await apiFetch(`${daemon.url}/api/v1/doors/d2`, { method: 'DELETE' })).status, 204);
   await page.getByRole('button', { name: 'Pan' }).click();
+});
+
+test('an RMF fleet adapter that rode the lift itself localizes the robot on the other floor\'s map', async () => {
+  const localize = (map, cmd) => postJson(`${daemon.url}/api/v1/rmf/localize`,
+    { cmd_id: cmd, pose: [1.0, 2.0, 0.0], map_name: map });
+  assert.equal((await localize('nowhere', 1)).status, 422);
+  assert.equal((await localize('first', 2)).status, 200);
+  let { body: state } = await getJson(`${daemon.url}/api/v1/state`);
+  assert.equal(state.floor, 'L2');
+  await page.getByTestId('floor').filter({ hasText: 'floor L2' }).waitFor();
+  // navigate to a pose on another floor's map: through the lift.
+  const nav = await postJson(`${daemon.url}/api/v1/rmf/navigate`,
+    { cmd_id: 3, pose: [1.0, 1.0, 0.0], map_name: 'ground', speed_limit: 0.0 });
+  assert.equal(nav.status, 201, JSON.stringify(nav.body));
+  ({ body: state } = await getJson(`${daemon.url}/api/v1/state`));
+  assert.deepEqual(state.mission.waypoints.map((w) => w.action), ['ride_lift', 'go']);
+  assert.equal((await postJson(`${daemon.url}/api/v1/rmf/stop`, { cmd_id: 4 })).status, 200);
+  assert.equal((await localize('ground', 5)).status, 200);
 });

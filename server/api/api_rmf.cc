@@ -88,13 +88,16 @@ RmfSample Api::SampleForRmf() const {
 }
 
 void Api::AddRmfRoutes() {
-  const auto require_map = [this](const json& body) {
+  // The robot's map, or (with a building) another floor's: that floor's name; else 422.
+  const auto require_map = [this](const json& body) -> std::string {
     const std::string map = RequireText(body, "map_name");
     const std::string active = c_.maps.active()->name;
-    if (map != active) {
-      throw ApiError(http::status::unprocessable_entity, "Not the robot's map",
-                     "the robot is on map '" + active + "', not '" + map + "'", "wrong_map");
-    }
+    if (map == active) return "";
+    const nav::Building building = BuildingOf(c_.config.building);
+    if (const nav::Floor* floor = building.FloorOfMap(map)) return floor->name;
+    throw ApiError(http::status::unprocessable_entity, "Not the robot's map",
+                   "the robot is on map '" + active + "', not '" + map + "' (nor is that a floor of its building)",
+                   "wrong_map");
   };
   // A mission that carries command `cmd_id`: its reply names both.
   const auto carried = [this](std::uint64_t cmd_id) {
@@ -110,7 +113,7 @@ void Api::AddRmfRoutes() {
         nav::MissionGoal goal;
         goal.pose = RequirePose(body);
         goal.has_yaw = true;
-        require_map(body);
+        goal.floor = require_map(body);  // on another floor: through the lifts
         double speed_limit = std::numeric_limits<double>::infinity();
         if (body.contains("speed_limit")) {
           const double v = RequireNumber(body, "speed_limit", "");
@@ -155,8 +158,22 @@ void Api::AddRmfRoutes() {
         const json body = ObjectBody(r, {"cmd_id", "pose", "map_name"});
         const std::uint64_t cmd_id = RequireCommandId(body);
         const nav::Pose2 pose = RequirePose(body);
-        require_map(body);
+        const std::string floor = require_map(body);
         RequireLocalizing();
+        if (!floor.empty()) {
+          // The fleet adapter took the robot to another floor itself (it rode the lift): that floor's map.
+          const auto mission = c_.bus.Get(topics::kMission).latest();
+          if (mission && (mission->status == nav::MissionStatus::kActive ||
+                          mission->status == nav::MissionStatus::kPaused)) {
+            throw ApiError(http::status::conflict, "Mission in progress", "cancel the mission before changing floors",
+                           "mission_in_progress");
+          }
+          try {
+            c_.maps.Select(RequireText(body, "map_name"));
+          } catch (const MapEditError& e) {
+            throw ApiError(http::status::unprocessable_entity, "Map unusable", e.what(), "wrong_map");
+          }
+        }
         if (!c_.maps.active()->grid.WorldToCell(pose.translation())) {
           throw ApiError(http::status::unprocessable_entity, "Outside the map", "the pose is outside the map",
                          "outside_map");
