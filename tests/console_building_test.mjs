@@ -1,6 +1,6 @@
 // The console with a building in a real browser: the floor the robot is on in the header, the lift's door, car and
 // lobby and the map's doors drawn on the map, and the floor picker sending the robot to a place on another floor
-// (the mission the daemon makes of it rides the lift); drawing a door with the Door tool.
+// (the mission the daemon makes of it rides the lift); drawing a door and a lift's stop with their tools.
 import assert from 'node:assert/strict';
 import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -130,4 +130,33 @@ test('an RMF fleet adapter that rode the lift itself localizes the robot on the 
   assert.deepEqual(state.mission.waypoints.map((w) => w.action), ['ride_lift', 'go']);
   assert.equal((await postJson(`${daemon.url}/api/v1/rmf/stop`, { cmd_id: 4 })).status, 200);
   assert.equal((await localize('ground', 5)).status, 200);
+});
+
+test('a lift stop drawn with its tool joins the building: its door, car and lobby on the map', async () => {
+  await page.getByTestId('floor').filter({ hasText: 'floor L1' }).waitFor();
+  const point = (x, y) => page.evaluate(([px, py]) => {
+    const { map } = window.corridorConsole.view;
+    map.setView([2.0, 3.0], 6, { animate: false });
+    const p = map.latLngToContainerPoint([py, px]);
+    const box = map.getContainer().getBoundingClientRect();
+    return { x: box.left + p.x, y: box.top + p.y };
+  }, [x, y]);
+  await page.getByRole('button', { name: 'Lift stop' }).click();
+  page.once('dialog', (d) => d.accept('west'));
+  // Along the door from south to north at x = 0.6: the lobby 0.8 m to the east, facing west.
+  const from = await point(0.6, 0.5);
+  const to = await point(0.6, 1.5);
+  await page.mouse.move(from.x, from.y);
+  await page.mouse.down();
+  await page.mouse.move(to.x, to.y, { steps: 5 });
+  await page.mouse.up();
+  await page.getByTestId('message').filter({ hasText: "lift 'west' stops on floor L1" }).waitFor();
+  await waitFor(() => page.locator('.lift-door').count(), (n) => n === 2, 5000, 'two lift doors drawn');
+  const { body } = await getJson(`${daemon.url}/api/v1/building`);
+  const west = body.lifts.find((l) => l.id === 'west');
+  assert.equal(west.stops.length, 1);
+  assert.ok(Math.abs(west.stops[0].lobby.x - 1.4) < 0.05 && Math.abs(Math.abs(west.stops[0].lobby.yaw) - Math.PI) < 0.05,
+    JSON.stringify(west.stops[0]));
+  assert.equal((await apiFetch(`${daemon.url}/api/v1/building/lifts/west/stops/L1`, { method: 'DELETE' })).status, 204);
+  await page.getByRole('button', { name: 'Pan' }).click();
 });

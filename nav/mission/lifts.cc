@@ -69,15 +69,33 @@ void Validate(const Building& b) {
     if (!(l.car_width_m > 0.0 && l.car_depth_m > 0.0)) throw std::invalid_argument(where + ": car size must be > 0");
     std::set<std::string> served;
     for (const LiftStop& s : l.stops) {
-      if (b.FloorNamed(s.floor) == nullptr) throw std::invalid_argument(where + ": no floor '" + s.floor + "'");
-      if (!served.insert(s.floor).second) throw std::invalid_argument(where + ": two stops on '" + s.floor + "'");
-      const Eigen::Vector2d middle = (s.door.a + s.door.b) / 2.0;
-      if ((s.door.b - s.door.a).norm() < 0.3 || (middle - s.lobby.translation()).norm() < 0.3) {
-        throw std::invalid_argument(where + ": on '" + s.floor +
-                                    "' the door must be 0.3 m wide at least and the lobby 0.3 m from it");
+      try {
+        ValidateStop(b, s);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(where + ": " + e.what());
       }
+      if (!served.insert(s.floor).second) throw std::invalid_argument(where + ": two stops on '" + s.floor + "'");
     }
   }
+}
+
+void ValidateStop(const Building& b, const LiftStop& s) {
+  if (b.FloorNamed(s.floor) == nullptr) throw std::invalid_argument("no floor '" + s.floor + "'");
+  const Eigen::Vector2d middle = (s.door.a + s.door.b) / 2.0;
+  if ((s.door.b - s.door.a).norm() < 0.3 || (middle - s.lobby.translation()).norm() < 0.3) {
+    throw std::invalid_argument("on '" + s.floor + "' the door must be 0.3 m wide at least and the lobby 0.3 m from it");
+  }
+}
+
+void PutStop(Building& building, const std::string& lift, LiftStop stop) {
+  stop.door.id = lift + "@" + stop.floor;
+  auto it = std::find_if(building.lifts.begin(), building.lifts.end(), [&](const Lift& l) { return l.id == lift; });
+  if (it == building.lifts.end()) {
+    building.lifts.push_back(Lift{.id = lift, .stops = {}});
+    it = std::prev(building.lifts.end());
+  }
+  std::erase_if(it->stops, [&](const LiftStop& s) { return s.floor == stop.floor; });
+  it->stops.push_back(std::move(stop));
 }
 
 std::vector<MissionGoal> ThroughLifts(const Building& building, const std::string& start_floor,

@@ -70,6 +70,12 @@ struct Building {
 // Throws std::invalid_argument naming what is wrong: floors without names or maps or twice, lifts with fewer than two
 // stops, stops on unknown floors or twice on one, a lobby too close to its door.
 void Validate(const Building& building);
+// One stop: on a floor of `building`, a door 0.3 m wide at least, the lobby 0.3 m from it at least. Throws
+// std::invalid_argument saying what is wrong.
+void ValidateStop(const Building& building, const LiftStop& stop);
+// Adds `stop` to lift `lift` (replacing its stop on that floor; a lift of that id is made, with the default car, when
+// there is none). Its door is named "LIFT@FLOOR".
+void PutStop(Building& building, const std::string& lift, LiftStop stop);
 
 // The goals with lift rides put in where a goal is on another floor than the one before it (the first on
 // `start_floor`): a goal to the lobby of the first lift serving both floors, then a ride goal (GoalAction::kRideLift,

@@ -59,6 +59,20 @@ TEST(LiftsTest, AGoalOnAnotherFloorGoesThroughALiftServingBoth) {
   EXPECT_THROW(Validate(one_stop), std::invalid_argument);
 }
 
+TEST(LiftsTest, AStopDrawnOnAFloorJoinsItsLiftOrMakesOne) {
+  Building b = TwoFloors();
+  PutStop(b, "west", {"L3", {"", {0.0, 0.0}, {1.0, 0.0}}, {0.5, -0.8, M_PI / 2}});
+  ASSERT_EQ(b.lifts.size(), 2u);
+  EXPECT_EQ(b.lifts[1].stops[0].door.id, "west@L3");
+  EXPECT_EQ(b.lifts[1].car_width_m, 1.4);
+  PutStop(b, "east", {"L2", {"", {5.0, 3.0}, {6.2, 3.0}}, {5.6, 2.0, M_PI / 2}});  // replaces east's stop on L2
+  ASSERT_EQ(b.lifts[0].stops.size(), 2u);
+  EXPECT_EQ(b.lifts[0].stops[1].door.b.x(), 6.2);
+  EXPECT_NO_THROW(ValidateStop(b, b.lifts[1].stops[0]));
+  EXPECT_THROW(ValidateStop(b, {"L9", {"", {0, 0}, {1, 0}}, {0.5, -0.8, 0.0}}), std::invalid_argument);
+  EXPECT_THROW(ValidateStop(b, {"L1", {"", {0, 0}, {0.1, 0}}, {0.5, -0.8, 0.0}}), std::invalid_argument);
+}
+
 TEST(LiftsTest, TheCarIsBehindTheDoorFacingIn) {
   const Building b = TwoFloors();
   const Lift& lift = b.lifts[0];

@@ -95,6 +95,10 @@ struct ApiContext {
   std::function<void()> doors_changed{};  // the doors of the map in use changed: planner and missions take them again
 };
 
+// The building as the robot uses it: the configuration's floors and lifts, with the lift stops drawn in the console
+// (the store's) put in.
+nav::Building CurrentBuilding(const Config& config, const Store& store);
+
 class Api {
  public:
   explicit Api(ApiContext context);

@@ -121,6 +121,12 @@ void ExpectMapEdit(const std::function<void()>& edit) {
 
 }  // namespace
 
+nav::Building CurrentBuilding(const Config& config, const Store& store) {
+  nav::Building building = BuildingOf(config.building);
+  for (auto& [lift, stop] : store.LiftStops()) nav::PutStop(building, lift, std::move(stop));
+  return building;
+}
+
 void Api::ZonesChanged() const { c_.planner.SetZones(c_.store.Zones(c_.maps.active()->name)); }
 
 void Api::AddMapRoutes() {
@@ -137,7 +143,7 @@ void Api::AddMapRoutes() {
       }));
   // The building: its floors (each with its map), the floor the robot is on, and the lifts between them.
   Add(http::verb::get, "/api/v1/building", Sync([this](const Request& r, const Params&) {
-        const nav::Building building = BuildingOf(c_.config.building);
+        const nav::Building building = CurrentBuilding(c_.config, c_.store);
         const nav::Floor* here = building.FloorOfMap(c_.maps.active()->name);
         json floors = json::array();
         for (const nav::Floor& f : building.floors) {
@@ -227,6 +233,47 @@ void Api::AddMapRoutes() {
           throw ApiError(http::status::not_found, "Not found", "no door " + id + " on this map");
         }
         if (c_.doors_changed) c_.doors_changed();
+        return MakeResponse(r, http::status::no_content, "application/json", "");
+      }));
+  // A lift's stop on a floor, drawn in the console: its door there and the lobby facing it.
+  Add(http::verb::put, "/api/v1/building/lifts/{id}/stops/{floor}", Sync([this](const Request& r, const Params& p) {
+        const std::string& id = p.at("id");
+        if (id.empty() || id.size() > 64 || id.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                                                 "0123456789_.-") != std::string::npos) {
+          throw ApiError(http::status::bad_request, "Invalid request",
+                         "a lift's id is 1 to 64 letters, digits, '_', '.' or '-'");
+        }
+        const json body = ParseJsonBody(r);
+        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
+        AllowOnlyKeys(body, {"x1", "y1", "x2", "y2", "lobby"}, "");
+        if (!body.contains("lobby")) throw ApiError(http::status::bad_request, "Invalid request", "missing 'lobby'");
+        const json& lobby = body["lobby"];
+        if (!lobby.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "'lobby' must be a pose");
+        AllowOnlyKeys(lobby, {"x", "y", "yaw"}, "lobby");
+        nav::LiftStop stop{p.at("floor"),
+                           {"", {RequireNumber(body, "x1", ""), RequireNumber(body, "y1", "")},
+                            {RequireNumber(body, "x2", ""), RequireNumber(body, "y2", "")}},
+                           {RequireNumber(lobby, "x", "lobby"), RequireNumber(lobby, "y", "lobby"),
+                            nav::WrapAngle(RequireNumber(lobby, "yaw", "lobby"))}};
+        try {
+          nav::ValidateStop(CurrentBuilding(c_.config, c_.store), stop);
+        } catch (const std::invalid_argument& e) {
+          throw ApiError(http::status::unprocessable_entity, "Not a lift stop", e.what(), "bad_lift_stop");
+        }
+        c_.store.PutLiftStop(id, stop);
+        const nav::Building building = CurrentBuilding(c_.config, c_.store);
+        c_.missions.SetBuilding(building);
+        const nav::Lift* lift = building.LiftNamed(id);
+        return JsonResponse(r, {{"id", id}, {"stops", lift->stops.size()}});
+      }));
+  Add(http::verb::delete_, "/api/v1/building/lifts/{id}/stops/{floor}", Sync([this](const Request& r,
+                                                                                 const Params& p) {
+        if (!c_.store.DeleteLiftStop(p.at("id"), p.at("floor"))) {
+          throw ApiError(http::status::not_found, "Not found",
+                         "no stop of lift " + p.at("id") + " on floor " + p.at("floor") +
+                             " was drawn (the configuration's lifts stay)");
+        }
+        c_.missions.SetBuilding(CurrentBuilding(c_.config, c_.store));
         return MakeResponse(r, http::status::no_content, "application/json", "");
       }));
   Add(http::verb::get, "/api/v1/map/image", Sync([this](const Request& r, const Params&) {

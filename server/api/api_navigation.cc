@@ -56,7 +56,7 @@ nav::MissionGoal Api::ParseGoal(const json& j, const std::string& where) const {
       throw ApiError(http::status::bad_request, "Invalid request", "'" + where + ".floor' must be a floor's name");
     }
     goal.floor = j["floor"].get<std::string>();
-    const nav::Building building = BuildingOf(c_.config.building);
+    const nav::Building building = CurrentBuilding(c_.config, c_.store);
     const nav::Floor* floor = building.FloorNamed(goal.floor);
     if (floor == nullptr) {
       throw ApiError(http::status::unprocessable_entity, "Unknown floor",
@@ -240,7 +240,7 @@ void Api::StartGoals(const Request& request, Reply reply, std::vector<nav::Missi
                              std::shared_ptr<const nav::Costmap> map, std::uint64_t) mutable {
     const nav::Costmap& costmap = *map;
     Answer(request, reply, [&]() -> Response {
-      const nav::Building building = BuildingOf(c_.config.building);
+      const nav::Building building = CurrentBuilding(c_.config, c_.store);
       const nav::Floor* here = building.FloorOfMap(c_.maps.active()->name);
       for (std::size_t i = 0; i < goals.size(); ++i) {
         if (goals[i].action == nav::GoalAction::kUndock) continue;

@@ -174,7 +174,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
                                                     config_.charging, nearest_dock, switch_floor);
   missions_ = mission_node.get();
   missions_->SetDoors(DoorsOn(maps_->active()->name));
-  missions_->SetBuilding(BuildingOf(config_.building));
+  missions_->SetBuilding(CurrentBuilding(config_, store_));
   // Brought up in this order and down in reverse: control goes first at shutdown, so the robot stops first.
   if (devices_.sim != nullptr) {
     auto sim_node = std::make_unique<SimNode>(executors_.sim, bus_, *devices_.sim, SimPoseFile(config_),

@@ -40,6 +40,9 @@ const char* const kSchema =
     " y REAL NOT NULL, yaw REAL NOT NULL, kind TEXT NOT NULL DEFAULT 'place', PRIMARY KEY (map, id));"
     "CREATE TABLE IF NOT EXISTS doors (map TEXT NOT NULL, id TEXT NOT NULL, x1 REAL NOT NULL, y1 REAL NOT NULL,"
     " x2 REAL NOT NULL, y2 REAL NOT NULL, PRIMARY KEY (map, id));"
+    "CREATE TABLE IF NOT EXISTS lift_stops (lift TEXT NOT NULL, floor TEXT NOT NULL, x1 REAL NOT NULL,"
+    " y1 REAL NOT NULL, x2 REAL NOT NULL, y2 REAL NOT NULL, lobby_x REAL NOT NULL, lobby_y REAL NOT NULL,"
+    " lobby_yaw REAL NOT NULL, PRIMARY KEY (lift, floor));"
     "CREATE TABLE IF NOT EXISTS missions (id TEXT PRIMARY KEY, document TEXT NOT NULL,"
     " updated REAL NOT NULL DEFAULT (julianday('now')));"
     "CREATE TABLE IF NOT EXISTS webhooks (id TEXT PRIMARY KEY, url TEXT NOT NULL, events TEXT NOT NULL,"
@@ -142,6 +145,36 @@ bool Store::DeleteDoor(const std::string& map, const std::string& id) {
   std::lock_guard lock(mutex_);
   Statement s(db_, "DELETE FROM doors WHERE map = ? AND id = ?");
   s.Bind(1, map).Bind(2, id);
+  s.Step();
+  return s.changes() > 0;
+}
+
+std::vector<std::pair<std::string, nav::LiftStop>> Store::LiftStops() const {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "SELECT lift, floor, x1, y1, x2, y2, lobby_x, lobby_y, lobby_yaw FROM lift_stops ORDER BY lift, floor");
+  std::vector<std::pair<std::string, nav::LiftStop>> out;
+  while (s.Step()) {
+    nav::LiftStop stop{s.Text(1), {"", {s.Double(2), s.Double(3)}, {s.Double(4), s.Double(5)}},
+                       {s.Double(6), s.Double(7), s.Double(8)}};
+    out.emplace_back(s.Text(0), std::move(stop));
+  }
+  return out;
+}
+
+void Store::PutLiftStop(const std::string& lift, const nav::LiftStop& stop) {
+  std::lock_guard lock(mutex_);
+  Statement s(db_,
+              "INSERT OR REPLACE INTO lift_stops (lift, floor, x1, y1, x2, y2, lobby_x, lobby_y, lobby_yaw)"
+              " VALUES (?,?,?,?,?,?,?,?,?)");
+  s.Bind(1, lift).Bind(2, stop.floor).Bind(3, stop.door.a.x()).Bind(4, stop.door.a.y()).Bind(5, stop.door.b.x());
+  s.Bind(6, stop.door.b.y()).Bind(7, stop.lobby.x_m).Bind(8, stop.lobby.y_m).Bind(9, stop.lobby.yaw_rad);
+  s.Step();
+}
+
+bool Store::DeleteLiftStop(const std::string& lift, const std::string& floor) {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "DELETE FROM lift_stops WHERE lift = ? AND floor = ?");
+  s.Bind(1, lift).Bind(2, floor);
   s.Step();
   return s.changes() > 0;
 }

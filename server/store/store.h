@@ -15,6 +15,7 @@
 
 #include "nav/map/zones.h"
 #include "nav/mission/doors.h"
+#include "nav/mission/lifts.h"
 #include "server/store/sqlite.h"
 
 namespace corridor::server {
@@ -64,6 +65,11 @@ class Store {
   std::vector<nav::Door> Doors(const std::string& map) const;
   void PutDoor(const std::string& map, const nav::Door& door);  // insert or replace by id
   bool DeleteDoor(const std::string& map, const std::string& id);
+
+  // Lift stops drawn in the console (lift id, stop), for the building beside the configuration's lifts.
+  std::vector<std::pair<std::string, nav::LiftStop>> LiftStops() const;
+  void PutLiftStop(const std::string& lift, const nav::LiftStop& stop);  // insert or replace by lift and floor
+  bool DeleteLiftStop(const std::string& lift, const std::string& floor);
 
   // Missions are kept as their JSON documents (request and latest status), newest first.
   void PutMission(const std::string& id, const nlohmann::json& document);

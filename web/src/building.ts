@@ -20,6 +20,7 @@ export class BuildingLayers {
     byId('floor-select').addEventListener('change', () => this.showPlaces());
     byId('floor-go').addEventListener('click', () => void this.go());
     window.addEventListener('corridor:doors-changed', () => void this.reloadDoors().catch(() => {}));
+    window.addEventListener('corridor:building-changed', () => void this.reload().catch(() => {}));
   }
 
   // The building and the doors again (after a change of map: another floor).

@@ -3,12 +3,12 @@
 // as RViz's 2D Pose Estimate). One tool is active at a time; Pan gives the mouse back to the map.
 import L from 'leaflet';
 
-import { send, type Goal, type Place, type PlanResult } from './api';
+import { send, type Building, type Goal, type Place, type PlanResult } from './api';
 import { byId, escapeHtml } from './dom';
 import { toLatLng, type MapView } from './map_view';
 import type { ZoneLayers } from './zones';
 
-type Tool = 'pan' | 'goal' | 'set_pose' | 'waypoints' | 'keep_out' | 'speed_limit' | 'place' | 'dock_place' | 'door' |
+type Tool = 'pan' | 'goal' | 'set_pose' | 'waypoints' | 'keep_out' | 'speed_limit' | 'place' | 'dock_place' | 'door' | 'lift_stop' |
   'edit_zones' | 'delete_zones' | 'paint_occupied' | 'paint_free' | 'paint_unknown';
 
 const kHeadingDragM = 0.15;  // a drag shorter than this sets no heading
@@ -106,7 +106,8 @@ export class Tools {
   }
 
   private down(at: L.LatLng): void {
-    if (this.tool === 'goal' || this.tool === 'set_pose' || this.tool === 'dock_place' || this.tool === 'door') {
+    if (this.tool === 'goal' || this.tool === 'set_pose' || this.tool === 'dock_place' || this.tool === 'door' ||
+      this.tool === 'lift_stop') {
       this.press = at;
       this.goal = null;
       this.preview.clearLayers();
@@ -119,9 +120,10 @@ export class Tools {
 
   private move(at: L.LatLng): void {
     if (!this.press) return;
-    if (this.tool === 'door') {
+    if (this.tool === 'door' || this.tool === 'lift_stop') {
       this.preview.clearLayers();
-      L.polyline([this.press, at], { color: '#8250df', weight: 5, dashArray: '4 4' }).addTo(this.preview);
+      L.polyline([this.press, at], { color: this.tool === 'door' ? '#8250df' : '#bf3989', weight: 5, dashArray: '4 4' })
+        .addTo(this.preview);
     } else if (this.tool === 'goal' || this.tool === 'set_pose' || this.tool === 'dock_place') {
       const color = this.tool === 'goal' ? '#2ea043' : '#d29922';
       this.preview.clearLayers();
@@ -146,6 +148,8 @@ export class Tools {
       await this.addDock(press, at);
     } else if (this.tool === 'door' && press) {
       await this.addDoor(press, at);
+    } else if (this.tool === 'lift_stop' && press) {
+      await this.addLiftStop(press, at);
     } else if (this.tool === 'waypoints') {
       this.waypoints.push({ x: at.lng, y: at.lat });
       L.marker(at, { icon: L.divIcon({ className: 'place-label', html: `${this.waypoints.length}`, iconSize: [16, 16] }) })
@@ -230,6 +234,34 @@ export class Tools {
       await send('POST', '/api/v1/doors', { id, x1: press.lng, y1: press.lat, x2: at.lng, y2: at.lat });
       this.report(`door '${id}' added`);
       window.dispatchEvent(new Event('corridor:doors-changed'));
+    } catch (e) {
+      this.report((e as Error).message);
+    }
+  }
+
+  // A lift's door on the floor the robot is on, from the press to where it was let go; the lobby stands 0.8 m out
+  // from its middle on the right of the drag, facing it.
+  private async addLiftStop(press: L.LatLng, at: L.LatLng): Promise<void> {
+    this.preview.clearLayers();
+    const dx = at.lng - press.lng;
+    const dy = at.lat - press.lat;
+    const length = Math.hypot(dx, dy);
+    if (length < 0.3) {
+      this.report('a lift door is 0.3 m wide at least: drag from one side of it to the other');
+      return;
+    }
+    const id = window.prompt('Id of the lift (as its controller knows it)');
+    if (!id) return;
+    const [nx, ny] = [dy / length, -dx / length];  // the right of the drag
+    const lobby = { x: (press.lng + at.lng) / 2 + 0.8 * nx, y: (press.lat + at.lat) / 2 + 0.8 * ny,
+      yaw: Math.atan2(-ny, -nx) };
+    try {
+      const { floor } = await send<Building>('GET', '/api/v1/building');
+      if (!floor) throw new Error('the map in use is no floor of the building');
+      await send('PUT', `/api/v1/building/lifts/${encodeURIComponent(id)}/stops/${encodeURIComponent(floor)}`,
+        { x1: press.lng, y1: press.lat, x2: at.lng, y2: at.lat, lobby });
+      this.report(`lift '${id}' stops on floor ${floor}`);
+      window.dispatchEvent(new Event('corridor:building-changed'));
     } catch (e) {
       this.report((e as Error).message);
     }
