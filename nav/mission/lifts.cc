@@ -83,7 +83,8 @@ void ValidateStop(const Building& b, const LiftStop& s) {
   if (b.FloorNamed(s.floor) == nullptr) throw std::invalid_argument("no floor '" + s.floor + "'");
   const Eigen::Vector2d middle = (s.door.a + s.door.b) / 2.0;
   if ((s.door.b - s.door.a).norm() < 0.3 || (middle - s.lobby.translation()).norm() < 0.3) {
-    throw std::invalid_argument("on '" + s.floor + "' the door must be 0.3 m wide at least and the lobby 0.3 m from it");
+    throw std::invalid_argument("on '" + s.floor +
+                                "' the door must be 0.3 m wide at least and the lobby 0.3 m from it");
   }
 }
 
