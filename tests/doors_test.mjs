@@ -246,7 +246,9 @@ doors:
       (m) => m.status !== 'active', 60000, 'the mission over');
     assert.equal(done.status, 'succeeded', done.error);
     await waitFor(async () => requests.length, (n) => n >= 2, 5000, 'the door asked closed');
-    assert.deepEqual(requests.map((r) => [r.door_name, r.requester_id, r.requested_mode.value]),
-      [['d1', 'r1', 2], ['d1', 'r1', 0]]);
+    // The request in force is sent again every 2 s, as RMF's adapters do: the distinct ones, in order.
+    const distinct = requests.map((r) => [r.door_name, r.requester_id, r.requested_mode.value])
+      .filter((r, i, all) => i === 0 || JSON.stringify(r) !== JSON.stringify(all[i - 1]));
+    assert.deepEqual(distinct, [['d1', 'r1', 2], ['d1', 'r1', 0]]);
   });
 });

@@ -254,7 +254,9 @@ describe('a lift that speaks Open-RMF over MQTT', () => {
     const { done } = await rideToL2(daemon);
     assert.equal(done.status, 'succeeded', done.error);
     await assertArrivedOnL2(daemon);
-    const asked = adapter.requests.map((r) => [r.request_type, r.destination_floor, r.session_id]);
+    // Each request in force is sent again every 2 s, as RMF's adapters do: the distinct ones, in order.
+    const asked = adapter.requests.map((r) => [r.request_type, r.destination_floor, r.session_id])
+      .filter((r, i, all) => i === 0 || JSON.stringify(r) !== JSON.stringify(all[i - 1]));
     assert.deepEqual(asked, [[1, 'L1', 'r1'], [1, 'L2', 'r1'], [0, '', 'r1']]);
     assert.equal(adapter.requests[0].door_state, 2);
   });

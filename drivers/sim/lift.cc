@@ -50,6 +50,7 @@ bool SimLift::Call(const std::string& floor, double now_s) {
     door_open_ = true;
     return true;
   }
+  if (going_to_ == to) return true;  // on its way there already: asked again, it keeps going
   door_open_ = false;
   going_to_ = to;
   const double floors = std::abs(static_cast<double>(to) - static_cast<double>(at_));

@@ -21,6 +21,12 @@ constexpr int kLiftModeFire = 3;
 constexpr int kLiftModeOffline = 4;
 constexpr int kLiftModeEmergency = 5;
 
+constexpr double kRepeatS = 2.0;
+
+double SteadySeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
 // builtin_interfaces/Time now.
 json Now() {
   const auto ns =
@@ -75,14 +81,38 @@ std::optional<json> RmfStates::Latest(const std::string& name) const {
   return it->second;
 }
 
+void RepeatedRequests::Set(const std::string& name, json request, double now_s) {
+  requests_[name] = {std::move(request), now_s};
+}
+
+std::vector<json> RepeatedRequests::Due(double now_s, double repeat_s) {
+  std::vector<json> due;
+  for (auto& [name, request] : requests_) {
+    if (now_s - request.second < repeat_s) continue;
+    request.second = now_s;
+    due.push_back(request.first);
+  }
+  return due;
+}
+
 RmfMqttDoorController::RmfMqttDoorController(const RmfMqttOptions& options) : states_(options, "door", "door_name") {}
 
 void RmfMqttDoorController::Open(const std::string& door, Done done) {
-  states_.Request({{"time", Now()},
-                   {"requester_id", states_.options().requester_id},
-                   {"door_name", door},
-                   {"requested_mode", {{"value", kDoorOpen}}}});
+  const json request = {{"time", Now()},
+                        {"requester_id", states_.options().requester_id},
+                        {"door_name", door},
+                        {"requested_mode", {{"value", kDoorOpen}}}};
+  states_.Request(request);
+  requests_.Set(door, request, SteadySeconds());
   done({nav::DoorStatus::kOpening, ""});
+}
+
+void RmfMqttDoorController::Tick() {
+  states_.Connect();
+  for (json& request : requests_.Due(SteadySeconds(), kRepeatS)) {
+    request["time"] = Now();
+    states_.Request(request);
+  }
 }
 
 void RmfMqttDoorController::State(const std::string& door, Done done) {
@@ -94,6 +124,7 @@ void RmfMqttDoorController::State(const std::string& door, Done done) {
 }
 
 void RmfMqttDoorController::Release(const std::string& door) {
+  requests_.Clear(door);
   states_.Request({{"time", Now()},
                    {"requester_id", states_.options().requester_id},
                    {"door_name", door},
@@ -103,13 +134,23 @@ void RmfMqttDoorController::Release(const std::string& door) {
 RmfMqttLiftController::RmfMqttLiftController(const RmfMqttOptions& options) : states_(options, "lift", "lift_name") {}
 
 void RmfMqttLiftController::Call(const std::string& lift, const std::string& floor, Done done) {
-  states_.Request({{"lift_name", lift},
-                   {"request_time", Now()},
-                   {"session_id", states_.options().requester_id},
-                   {"request_type", kLiftAgvMode},
-                   {"destination_floor", floor},
-                   {"door_state", kLiftDoorOpen}});
+  const json request = {{"lift_name", lift},
+                        {"request_time", Now()},
+                        {"session_id", states_.options().requester_id},
+                        {"request_type", kLiftAgvMode},
+                        {"destination_floor", floor},
+                        {"door_state", kLiftDoorOpen}};
+  states_.Request(request);
+  requests_.Set(lift, request, SteadySeconds());
   done({});
+}
+
+void RmfMqttLiftController::Tick() {
+  states_.Connect();
+  for (json& request : requests_.Due(SteadySeconds(), kRepeatS)) {
+    request["request_time"] = Now();
+    states_.Request(request);
+  }
 }
 
 void RmfMqttLiftController::State(const std::string& lift, Done done) {
@@ -133,6 +174,7 @@ void RmfMqttLiftController::State(const std::string& lift, Done done) {
 }
 
 void RmfMqttLiftController::Release(const std::string& lift) {
+  requests_.Clear(lift);
   states_.Request({{"lift_name", lift},
                    {"request_time", Now()},
                    {"session_id", states_.options().requester_id},

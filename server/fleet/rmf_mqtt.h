@@ -13,6 +13,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -45,16 +46,30 @@ class RmfStates {
   MqttLink link_;
 };
 
+// The requests in force (a door asked open, a lift called), sent again every repeat_s as RMF's own adapters do, so
+// that a request a door or lift adapter missed (it restarted, say) is not lost. Not thread-safe: the node's executor.
+class RepeatedRequests {
+ public:
+  void Set(const std::string& name, nlohmann::json request, double now_s);
+  void Clear(const std::string& name) { requests_.erase(name); }
+  // The requests due again at now_s.
+  std::vector<nlohmann::json> Due(double now_s, double repeat_s);
+
+ private:
+  std::map<std::string, std::pair<nlohmann::json, double>> requests_;  // name -> request, when last sent
+};
+
 class RmfMqttDoorController final : public DoorController {
  public:
   explicit RmfMqttDoorController(const RmfMqttOptions& options);
   void Open(const std::string& door, Done done) override;
   void State(const std::string& door, Done done) override;
   void Release(const std::string& door) override;
-  void Tick() override { states_.Connect(); }
+  void Tick() override;
 
  private:
   RmfStates states_;
+  RepeatedRequests requests_;
 };
 
 class RmfMqttLiftController final : public LiftController {
@@ -63,10 +78,11 @@ class RmfMqttLiftController final : public LiftController {
   void Call(const std::string& lift, const std::string& floor, Done done) override;
   void State(const std::string& lift, Done done) override;
   void Release(const std::string& lift) override;
-  void Tick() override { states_.Connect(); }
+  void Tick() override;
 
  private:
   RmfStates states_;
+  RepeatedRequests requests_;
 };
 
 }  // namespace corridor::server
