@@ -23,6 +23,23 @@ function floorMap(name) {
   return join(dir, `${name}.yaml`);
 }
 
+// Presses on the map at map-frame point `from`, drags to `to` and lets go (the whole room in view).
+async function drag(from, to) {
+  const point = ([x, y]) => page.evaluate(([px, py]) => {
+    const { map } = window.corridorConsole.view;
+    map.setView([2.0, 3.0], 6, { animate: false });
+    const p = map.latLngToContainerPoint([py, px]);
+    const box = map.getContainer().getBoundingClientRect();
+    return { x: box.left + p.x, y: box.top + p.y };
+  }, [x, y]);
+  const a = await point(from);
+  const b = await point(to);
+  await page.mouse.move(a.x, a.y);
+  await page.mouse.down();
+  await page.mouse.move(b.x, b.y, { steps: 5 });
+  await page.mouse.up();
+}
+
 async function put(path, body) {
   const res = await apiFetch(`${daemon.url}${path}`, {
     method: 'PUT', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
@@ -88,21 +105,9 @@ test('the floor picker sends the robot to a place on another floor, through the 
 });
 
 test('a door drawn with the Door tool is on the map and in the API, and can be removed', async () => {
-  const point = (x, y) => page.evaluate(([px, py]) => {
-    const { map } = window.corridorConsole.view;
-    map.setView([2.0, 3.0], 6, { animate: false });
-    const p = map.latLngToContainerPoint([py, px]);
-    const box = map.getContainer().getBoundingClientRect();
-    return { x: box.left + p.x, y: box.top + p.y };
-  }, [x, y]);
   await page.getByRole('button', { name: 'Door', exact: true }).click();
   page.once('dialog', (d) => d.accept('d2'));
-  const from = await point(3.0, 0.2);
-  const to = await point(3.0, 1.2);
-  await page.mouse.move(from.x, from.y);
-  await page.mouse.down();
-  await page.mouse.move(to.x, to.y, { steps: 5 });
-  await page.mouse.up();
+  await drag([3.0, 0.2], [3.0, 1.2]);
   await page.getByTestId('message').filter({ hasText: "door 'd2' added" }).waitFor();
   await waitFor(() => page.locator('.door').count(), (n) => n === 2, 5000, 'two doors drawn');
   const { body } = await getJson(`${daemon.url}/api/v1/doors`);
@@ -134,22 +139,10 @@ test('an RMF fleet adapter that rode the lift itself localizes the robot on the 
 
 test('a lift stop drawn with its tool joins the building: its door, car and lobby on the map', async () => {
   await page.getByTestId('floor').filter({ hasText: 'floor L1' }).waitFor();
-  const point = (x, y) => page.evaluate(([px, py]) => {
-    const { map } = window.corridorConsole.view;
-    map.setView([2.0, 3.0], 6, { animate: false });
-    const p = map.latLngToContainerPoint([py, px]);
-    const box = map.getContainer().getBoundingClientRect();
-    return { x: box.left + p.x, y: box.top + p.y };
-  }, [x, y]);
   await page.getByRole('button', { name: 'Lift stop' }).click();
   page.once('dialog', (d) => d.accept('west'));
   // Along the door from south to north at x = 0.6: the lobby 0.8 m to the east, facing west.
-  const from = await point(0.6, 0.5);
-  const to = await point(0.6, 1.5);
-  await page.mouse.move(from.x, from.y);
-  await page.mouse.down();
-  await page.mouse.move(to.x, to.y, { steps: 5 });
-  await page.mouse.up();
+  await drag([0.6, 0.5], [0.6, 1.5]);
   await page.getByTestId('message').filter({ hasText: "lift 'west' stops on floor L1" }).waitFor();
   await waitFor(() => page.locator('.lift-door').count(), (n) => n === 2, 5000, 'two lift doors drawn');
   const { body } = await getJson(`${daemon.url}/api/v1/building`);

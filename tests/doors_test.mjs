@@ -38,6 +38,18 @@ function writeTwoRooms(dir) {
   return join(dir, 'rooms.yaml');
 }
 
+// The simulator in the two rooms with its door d1 in the doorway (closed), the robot in the left room.
+function twoRoomsConfig(dir) {
+  return `
+sim:
+  world: "${writeTwoRooms(dir)}"
+  start: {x_m: 2.0, y_m: 1.5, yaw_deg: 0}
+  camera: {width: 160, height: 120}
+  dock: {enabled: false}
+  doors:
+    - {id: d1, x1_m: 4.0, y1_m: 1.0, x2_m: 4.0, y2_m: 2.0}`;
+}
+
 // The building's door controller: opens a door five seconds after it is asked (or refuses, when told to), says how it
 // is, and closes it when released.
 class DoorController {
@@ -99,14 +111,7 @@ describe('doors on the way', () => {
     controller = new DoorController();
     const port = await controller.listen();
     const base = `http://127.0.0.1:${port}/doors/{door}`;
-    daemon = await startDaemon({ config: `
-sim:
-  world: "${writeTwoRooms(dir)}"
-  start: {x_m: 2.0, y_m: 1.5, yaw_deg: 0}
-  camera: {width: 160, height: 120}
-  dock: {enabled: false}
-  doors:
-    - {id: d1, x1_m: 4.0, y1_m: 1.0, x2_m: 4.0, y2_m: 2.0}
+    daemon = await startDaemon({ config: `${twoRoomsConfig(dir)}
 doors:
   controller:
     open: {method: POST, url: "${base}/open"}
@@ -202,14 +207,7 @@ describe('a door that speaks Open-RMF over MQTT', () => {
     dir = mkdtempSync(join(tmpdir(), 'corridor-rmf-doors-'));
     broker = new Broker(dir, await freePort());
     await broker.start();
-    daemon = await startDaemon({ config: `
-sim:
-  world: "${writeTwoRooms(dir)}"
-  start: {x_m: 2.0, y_m: 1.5, yaw_deg: 0}
-  camera: {width: 160, height: 120}
-  dock: {enabled: false}
-  doors:
-    - {id: d1, x1_m: 4.0, y1_m: 1.0, x2_m: 4.0, y2_m: 2.0}
+    daemon = await startDaemon({ config: `${twoRoomsConfig(dir)}
 doors:
   controller:
     mqtt: {broker: "${broker.url}", prefix: site/rmf, requester_id: r1}

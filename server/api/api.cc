@@ -372,7 +372,8 @@ json Api::State() const {
   state["fleet"] = fleet ? ToJson(*fleet) : json(nullptr);
   const auto map = c_.maps.active();
   state["map"] = {{"name", map->name}, {"revision", map->revision}};
-  const nav::Building building = CurrentBuilding(c_.config, c_.store);
+  // Floors are the configuration's alone: no store read on every state pushed to the stream.
+  const nav::Building building = BuildingOf(c_.config.building);
   const nav::Floor* floor = building.FloorOfMap(map->name);
   state["floor"] = floor != nullptr ? json(floor->name) : json(nullptr);
   json nodes = json::array();

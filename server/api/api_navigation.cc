@@ -56,7 +56,7 @@ nav::MissionGoal Api::ParseGoal(const json& j, const std::string& where) const {
       throw ApiError(http::status::bad_request, "Invalid request", "'" + where + ".floor' must be a floor's name");
     }
     goal.floor = j["floor"].get<std::string>();
-    const nav::Building building = CurrentBuilding(c_.config, c_.store);
+    const nav::Building building = BuildingOf(c_.config.building);
     const nav::Floor* floor = building.FloorNamed(goal.floor);
     if (floor == nullptr) {
       throw ApiError(http::status::unprocessable_entity, "Unknown floor",

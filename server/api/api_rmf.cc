@@ -93,7 +93,7 @@ void Api::AddRmfRoutes() {
     const std::string map = RequireText(body, "map_name");
     const std::string active = c_.maps.active()->name;
     if (map == active) return "";
-    const nav::Building building = CurrentBuilding(c_.config, c_.store);
+    const nav::Building building = BuildingOf(c_.config.building);
     if (const nav::Floor* floor = building.FloorOfMap(map)) return floor->name;
     throw ApiError(http::status::unprocessable_entity, "Not the robot's map",
                    "the robot is on map '" + active + "', not '" + map + "' (nor is that a floor of its building)",

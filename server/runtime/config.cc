@@ -352,6 +352,16 @@ void ReadRmfMqtt(ConfigReader& r, RmfMqttOptions& o) {
   });
 }
 
+// What door and lift controllers share: the headers sent, how often the state is polled, one exchange's timeout,
+// and the MQTT alternative to HTTP.
+template <typename ControllerOptions>
+void ReadControllerLink(ConfigReader& c, ControllerOptions& o) {
+  ReadHeaders(c, o.headers);
+  c.Read("poll_s", o.poll_s, 0.05, 60.0);
+  c.Read("request_timeout_s", o.request_timeout_s, 0.1, 60.0);
+  ReadRmfMqtt(c, o.mqtt);
+}
+
 void ReadBuilding(ConfigReader& r, BuildingOptions& b, nav::LiftOptions& ride, const fs::path& base) {
   r.Read("name", b.name);
   r.List("floors", [&](ConfigReader& item) {
@@ -395,10 +405,7 @@ void ReadBuilding(ConfigReader& r, BuildingOptions& b, nav::LiftOptions& ride, c
     ReadJsonPointer(c, "door_pointer", o.door_pointer);
     c.Read("door_open_value", o.door_open_value);
     c.Section("release", [&](ConfigReader& t) { ReadRequestTemplate(t, o.release); });
-    ReadHeaders(c, o.headers);
-    c.Read("poll_s", o.poll_s, 0.05, 60.0);
-    c.Read("request_timeout_s", o.request_timeout_s, 0.1, 60.0);
-    ReadRmfMqtt(c, o.mqtt);
+    ReadControllerLink(c, o);
   });
   r.Section("sim", [&](ConfigReader& s) {
     s.Read("travel_s", b.sim_travel_s, 0.0, 600.0);
@@ -428,10 +435,7 @@ void ReadDoors(ConfigReader& r, DoorsOptions& d, nav::DoorOptions& passing) {
     ReadJsonPointer(c, "open_pointer", o.open_pointer);
     c.Read("open_value", o.open_value);
     c.Section("release", [&](ConfigReader& t) { ReadRequestTemplate(t, o.release); });
-    ReadHeaders(c, o.headers);
-    c.Read("poll_s", o.poll_s, 0.05, 60.0);
-    c.Read("request_timeout_s", o.request_timeout_s, 0.1, 60.0);
-    ReadRmfMqtt(c, o.mqtt);
+    ReadControllerLink(c, o);
   });
   r.List("list", [&](ConfigReader& item) {
     DoorPlace door;
