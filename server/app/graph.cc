@@ -6,6 +6,7 @@
 #include "nav/mission/docking.h"
 #include "nav/policy/evasion.h"
 #include "server/app/simulator.h"
+#include "server/dds/bridge.h"
 #include "server/nodes/control_node.h"
 #include "server/nodes/door_node.h"
 #include "server/nodes/driver_bridge.h"
@@ -252,6 +253,28 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
                                             planner_.SetDoors(DoorsOn(active));
                                             missions_->SetDoors(DoorsOn(active));
                                           }});
+
+  // ROS 2 over DDS: last up, first down.
+  if (config_.dds.enabled) {
+    drivers::dds::Participant* participant = devices_.dds;
+    if (participant == nullptr) {
+      drivers::dds::ParticipantOptions o;
+      o.domain_id = DdsDomain(config_.dds);
+      o.peers = config_.dds.peers;
+      o.interfaces = config_.dds.interfaces;
+      own_dds_ = std::make_unique<drivers::dds::Participant>(o);
+      participant = own_dds_.get();
+    }
+    RobotFrames frames;
+    if (devices_.laser != nullptr) {
+      Eigen::Isometry3d t = devices_.laser->base_T_laser().ToIsometry3();
+      t.translation().z() = devices_.laser->height_m();
+      frames.base_T_laser = t;
+    }
+    frames.camera = devices_.camera.info();
+    lifecycle_.Add(std::make_unique<DdsBridge>(executors_.dds, bus_, *participant, config_.dds, std::move(frames),
+                                               *api_, executors_.io, *maps_, lifecycle_));
+  }
 }
 
 std::vector<nav::Door> Graph::DoorsOn(const std::string& map) const {

@@ -12,6 +12,7 @@
 #include <memory>
 #include <string>
 
+#include "drivers/dds/participant.h"
 #include "drivers/depth_camera.h"
 #include "drivers/diff_drive_base.h"
 #include "drivers/laser2d.h"
@@ -42,6 +43,9 @@ struct Devices {
   // The simulated building's floors side by side (its truth is shown in the map frame of the floor it is on); null:
   // one floor, the world's frame the map's.
   std::shared_ptr<const drivers::sim::Floors> sim_floors;
+  // The DDS participant the devices served over DDS use, for the bridge to share; null: the graph makes its own when
+  // dds.enabled.
+  drivers::dds::Participant* dds = nullptr;
 };
 
 // The map to start in: the map library's first map.
@@ -89,6 +93,7 @@ class Graph {
   const drivers::Clock& clock_;
   Devices devices_;
   Bus bus_;
+  std::unique_ptr<drivers::dds::Participant> own_dds_;  // when dds.enabled and the devices brought none
   Executors executors_;
   Store store_;
   auth::AccessControl access_;

@@ -42,6 +42,8 @@ void ControlNode::Activate() {
     Act();
   });
   Subscribe(topics::kMissionCommand, "command", [this](const auto&) { Act(); });
+  // A person's or a ROS 2 tool's velocity reaches the base at once, not at the next tick.
+  Subscribe(topics::kTeleop, "teleop", [this](const auto&) { Act(); });
   PeriodicNode::Activate();
 }
 

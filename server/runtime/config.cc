@@ -1,5 +1,10 @@
 #include "server/runtime/config.h"
 
+#include <arpa/inet.h>
+
+#include <charconv>
+#include <cstdlib>
+
 #include <map>
 #include <numbers>
 #include <set>
@@ -418,6 +423,21 @@ void ReadBuilding(ConfigReader& r, BuildingOptions& b, nav::LiftOptions& ride, c
   }
 }
 
+void ReadDds(ConfigReader& r, DdsOptions& d) {
+  r.Read("enabled", d.enabled);
+  r.Read("domain_id", d.domain_id, -1, 232);
+  r.Read("peers", d.peers);
+  r.Read("interfaces", d.interfaces);
+  r.Read("allow_writes", d.allow_writes);
+  r.Read("camera_hz", d.camera_hz, 0.0, 30.0);
+  for (const std::string& peer : d.peers) {
+    in_addr address{};
+    if (::inet_pton(AF_INET, peer.c_str(), &address) != 1) {
+      throw ConfigError(r.PathOf("peers") + ": '" + peer + "' is not an IPv4 address");
+    }
+  }
+}
+
 void ReadDoors(ConfigReader& r, DoorsOptions& d, nav::DoorOptions& passing) {
   r.Read("request_m", passing.request_m, 0.5, 50.0);
   r.Read("hold_m", passing.hold_m, 0.2, 5.0);
@@ -654,6 +674,19 @@ YAML::Node ReadConfigYaml(const fs::path& file) {
   }
 }
 
+int DdsDomain(const DdsOptions& dds) {
+  if (dds.domain_id >= 0) return dds.domain_id;
+  const char* env = std::getenv("ROS_DOMAIN_ID");
+  if (env == nullptr || *env == '\0') return 0;
+  int domain = -1;
+  const std::string text = env;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), domain);
+  if (ec != std::errc() || end != text.data() + text.size() || domain < 0 || domain > 232) {
+    throw ConfigError("ROS_DOMAIN_ID: must be a number within 0..232, got '" + text + "'");
+  }
+  return domain;
+}
+
 Config LoadConfig(const fs::path& file, const ConfigOverrides& overrides) {
   YAML::Node root = ReadConfigYaml(file);
   if (!root.IsMap()) throw ConfigError(file.string() + ": expected a mapping of sections");
@@ -701,6 +734,7 @@ Config ConfigFromYaml(const YAML::Node& root, const fs::path& file) {
     r.Section("fleet", [&](ConfigReader& s) { ReadFleet(s, config.fleet); });
     r.Section("doors", [&](ConfigReader& s) { ReadDoors(s, config.doors, config.mission.doors); });
     r.Section("building", [&](ConfigReader& s) { ReadBuilding(s, config.building, config.mission.lifts, base); });
+    r.Section("dds", [&](ConfigReader& s) { ReadDds(s, config.dds); });
     r.Section("auth", [&](ConfigReader& s) { ReadAuth(s, config.auth); });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();

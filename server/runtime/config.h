@@ -265,6 +265,20 @@ struct Config;
 // with a building, the first floor's.
 std::string SimMapName(const Config& config);
 
+// ROS 2 over DDS (server/dds, drivers/dds): the robot's topics for ROS 2 tools, and what they may send.
+struct DdsOptions {
+  bool enabled = false;
+  int domain_id = -1;                   // -1: the environment's ROS_DOMAIN_ID, else 0
+  std::vector<std::string> peers;       // unicast discovery peers (IPv4); none: multicast discovery
+  std::vector<std::string> interfaces;  // the only interfaces used (names or IPv4 addresses); none: all
+  bool allow_writes = false;            // take /cmd_vel, /goal_pose and /initialpose (DDS has no authentication)
+  double camera_hz = 0.0;               // depth image and camera info rate; 0: not published
+};
+
+// The domain DDS joins: dds.domain_id, else ROS_DOMAIN_ID, else 0. Throws ConfigError for a ROS_DOMAIN_ID that is
+// not a number within 0..232.
+int DdsDomain(const DdsOptions& dds);
+
 struct LogOptions {
   std::string level = "info";           // trace, debug, info, warn, error
 };
@@ -288,6 +302,7 @@ struct Config {
   FleetOptions fleet;
   DoorsOptions doors;  // the passing rules (request_m, hold_m, ...) are in mission.doors
   BuildingOptions building;
+  DdsOptions dds;
   auth::AuthOptions auth;
   LogOptions log;
   std::filesystem::path file;  // where it was read from (absolute); empty when built in code

@@ -138,9 +138,10 @@ Executors::Executors(const drivers::Clock& clock, Schedule schedule)
       planning("planning", clock, schedule),
       perception("perception", clock, schedule),
       io("io", clock, schedule),
-      sim("sim", clock, schedule) {}
+      sim("sim", clock, schedule),
+      dds("dds", clock, schedule) {}
 
-std::vector<Executor*> Executors::all() { return {&sim, &control, &mapping, &mapping3d, &planning, &perception, &io}; }
+std::vector<Executor*> Executors::all() { return {&sim, &control, &mapping, &mapping3d, &planning, &perception, &io, &dds}; }
 
 void Executors::StartAll() {
   for (Executor* e : all()) e->Start();

@@ -82,12 +82,13 @@ class Executors {
   Executor perception;  // detectors and the face
   Executor io;          // HTTP, WebSocket, persistence
   Executor sim;         // the simulator, when enabled
+  Executor dds;         // the DDS bridge: ROS 2 messages made and written (maps and images are large)
 
   Schedule schedule() const { return control.schedule(); }
   void StartAll();
   void StopAll();
-  // kLockstep only: polls the executors in a fixed order (sim, control, mapping, mapping3d, planning, perception, io) until
-  // none has anything left to run. Returns how many handlers ran.
+  // kLockstep only: polls the executors in a fixed order (sim, control, mapping, mapping3d, planning, perception, io,
+  // dds) until none has anything left to run. Returns how many handlers ran.
   std::size_t RunUntilIdle();
 
  private:

@@ -1,0 +1,247 @@
+#include "drivers/dds/participant.h"
+
+#include <arpa/inet.h>
+#include <ifaddrs.h>
+#include <netinet/in.h>
+#include <spdlog/spdlog.h>
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastrtps/utils/IPLocator.h>
+
+namespace corridor::drivers::dds {
+namespace {
+
+namespace fdds = eprosima::fastdds::dds;
+using eprosima::fastrtps::rtps::IPLocator;
+using eprosima::fastrtps::rtps::Locator_t;
+
+template <typename EntityQos>
+void ApplyProfile(EntityQos& q, Qos qos) {
+  const bool reliable = qos != Qos::kSensor;
+  q.reliability().kind = reliable ? fdds::RELIABLE_RELIABILITY_QOS : fdds::BEST_EFFORT_RELIABILITY_QOS;
+  q.durability().kind = qos == Qos::kLatched ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
+  q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+  q.history().depth = qos == Qos::kLatched ? 1 : qos == Qos::kSensor ? 5 : qos == Qos::kTf ? 100 : 10;
+  // Samples go over the network transport only (no shared memory): what other vendors' peers see is what ours see.
+  q.data_sharing().off();
+}
+
+bool IsIpv4(const std::string& text) {
+  in_addr a{};
+  return ::inet_pton(AF_INET, text.c_str(), &a) == 1;
+}
+
+}  // namespace
+
+std::string RosTopic(const std::string& name) {
+  std::string n = name;
+  if (!n.empty() && n.front() == '/') n.erase(0, 1);
+  const bool valid = !n.empty() && std::isalpha(static_cast<unsigned char>(n.front())) &&
+                     std::all_of(n.begin(), n.end(), [](char c) {
+                       return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '/';
+                     }) &&
+                     n.back() != '/' && n.find("//") == std::string::npos;
+  if (!valid) throw std::invalid_argument("'" + name + "' is not a ROS 2 topic name");
+  return "rt/" + n;
+}
+
+std::vector<std::string> InterfaceAddresses(const std::vector<std::string>& interfaces) {
+  std::vector<std::string> out;
+  ifaddrs* all = nullptr;
+  if (::getifaddrs(&all) != 0) throw std::runtime_error("cannot list the network interfaces");
+  const std::unique_ptr<ifaddrs, void (*)(ifaddrs*)> guard(all, ::freeifaddrs);
+  for (const std::string& wanted : interfaces) {
+    if (IsIpv4(wanted)) {
+      out.push_back(wanted);
+      continue;
+    }
+    bool found = false;
+    for (const ifaddrs* i = all; i != nullptr; i = i->ifa_next) {
+      if (i->ifa_addr == nullptr || i->ifa_addr->sa_family != AF_INET || wanted != i->ifa_name) continue;
+      char text[INET_ADDRSTRLEN] = {};
+      ::inet_ntop(AF_INET, &reinterpret_cast<const sockaddr_in*>(i->ifa_addr)->sin_addr, text, sizeof(text));
+      out.emplace_back(text);
+      found = true;
+    }
+    if (!found) throw std::invalid_argument("no network interface '" + wanted + "' with an IPv4 address");
+  }
+  return out;
+}
+
+class Participant::ParticipantListener final : public fdds::DomainParticipantListener {
+ public:
+  explicit ParticipantListener(std::shared_ptr<std::atomic<int>> count) : count_(std::move(count)) {}
+  void on_participant_discovery(fdds::DomainParticipant*,
+                                eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
+    using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERY_STATUS;
+    if (info.status == Status::DISCOVERED_PARTICIPANT) {
+      ++*count_;
+      spdlog::info("dds: discovered participant '{}'", info.info.m_participantName.to_string());
+    } else if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
+      --*count_;
+      spdlog::info("dds: participant '{}' left", info.info.m_participantName.to_string());
+    }
+  }
+
+ private:
+  std::shared_ptr<std::atomic<int>> count_;
+};
+
+class Participant::ReaderListener final : public fdds::DataReaderListener {
+ public:
+  ReaderListener(std::string topic, std::function<void(fdds::DataReader&)> take)
+      : topic_(std::move(topic)), take_(std::move(take)) {}
+  void on_requested_incompatible_qos(fdds::DataReader*, const fdds::RequestedIncompatibleQosStatus&) override {
+    spdlog::warn("dds: a writer of {} offers QoS this reader cannot take (reliability or durability)", topic_);
+  }
+  void on_data_available(fdds::DataReader* reader) override {
+    try {
+      take_(*reader);
+    } catch (const std::exception& e) {
+      spdlog::warn("dds: a sample on {} was dropped: {}", topic_, e.what());
+    }
+  }
+
+ private:
+  std::string topic_;
+  std::function<void(fdds::DataReader&)> take_;
+};
+
+class Participant::WriterListener final : public fdds::DataWriterListener {
+ public:
+  explicit WriterListener(std::shared_ptr<std::atomic<int>> matched) : matched_(std::move(matched)) {}
+  void on_publication_matched(fdds::DataWriter*, const fdds::PublicationMatchedStatus& status) override {
+    matched_->store(status.current_count);
+  }
+
+ private:
+  std::shared_ptr<std::atomic<int>> matched_;
+};
+
+Participant::Participant(const ParticipantOptions& options)
+    : options_(options), participant_listener_(std::make_unique<ParticipantListener>(participants_)) {
+  if (options.domain_id < 0 || options.domain_id > 232) {
+    throw std::runtime_error("dds: domain id " + std::to_string(options.domain_id) + " is not within 0..232");
+  }
+  fdds::DomainParticipantQos qos;
+  qos.name(options.name);
+  // UDP only, on the chosen interfaces.
+  qos.transport().use_builtin_transports = false;
+  auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+  for (const std::string& address : InterfaceAddresses(options.interfaces)) udp->interfaceWhiteList.push_back(address);
+  qos.transport().user_transports.push_back(udp);
+  auto& builtin = qos.wire_protocol().builtin;
+  if (!options.peers.empty()) {
+    // Unicast discovery: listen on the well-known unicast ports (a zero port) of the allowed addresses (a null
+    // address), announce to the peers only; no multicast locator at all.
+    for (const std::string& peer : options.peers) {
+      if (!IsIpv4(peer)) throw std::runtime_error("dds: peer '" + peer + "' is not an IPv4 address");
+      Locator_t locator;
+      locator.kind = LOCATOR_KIND_UDPv4;
+      IPLocator::setIPv4(locator, peer);
+      builtin.initialPeersList.push_back(locator);
+    }
+    Locator_t any;
+    any.kind = LOCATOR_KIND_UDPv4;
+    builtin.metatrafficUnicastLocatorList.push_back(any);
+    qos.wire_protocol().default_unicast_locator_list.push_back(any);
+    builtin.metatrafficMulticastLocatorList.clear();
+  }
+  participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
+      static_cast<fdds::DomainId_t>(options.domain_id), qos, participant_listener_.get(),
+      // Discovery only: with data_on_readers in its mask the participant's listener would take every reader's data
+      // before the readers' own listeners see it.
+      fdds::StatusMask::none());
+  if (participant_ == nullptr) throw std::runtime_error("dds: cannot create the participant (see the log above)");
+  publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+  subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+  if (publisher_ == nullptr || subscriber_ == nullptr) {
+    fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+    throw std::runtime_error("dds: cannot create the publisher or subscriber");
+  }
+}
+
+Participant::~Participant() {
+  participant_->set_listener(nullptr);
+  participant_->delete_contained_entities();
+  fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+}
+
+fdds::Topic* Participant::TopicFor(const std::string& name, fdds::TopicDataType* type) {
+  fdds::TypeSupport support(type);  // owns `type` from here
+  const std::string topic = RosTopic(name);
+  std::lock_guard lock(mutex_);
+  if (const auto it = topics_.find(topic); it != topics_.end()) {
+    if (it->second->get_type_name() != support.get_type_name()) {
+      throw std::invalid_argument("dds: " + name + " is already used with type " + it->second->get_type_name());
+    }
+    return it->second;
+  }
+  if (participant_->find_type(support.get_type_name()).empty() && support.register_type(participant_) != ReturnCode::RETCODE_OK) {
+    throw std::runtime_error("dds: cannot register type " + support.get_type_name());
+  }
+  fdds::Topic* t = participant_->create_topic(topic, support.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+  if (t == nullptr) throw std::runtime_error("dds: cannot create topic " + topic);
+  topics_.emplace(topic, t);
+  return t;
+}
+
+fdds::DataWriter* Participant::CreateWriter(const std::string& name, fdds::TopicDataType* type, Qos qos,
+                                            std::shared_ptr<std::atomic<int>> matched) {
+  fdds::Topic* topic = TopicFor(name, type);
+  fdds::DataWriterQos q = fdds::DATAWRITER_QOS_DEFAULT;
+  ApplyProfile(q, qos);
+  // Large samples (maps, images) are sent in fragments by the writer's own thread, not the caller's.
+  q.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
+  auto listener = std::make_unique<WriterListener>(std::move(matched));
+  fdds::DataWriter* writer = publisher_->create_datawriter(topic, q, listener.get());
+  if (writer == nullptr) throw std::runtime_error("dds: cannot create a writer of " + name);
+  std::lock_guard lock(mutex_);
+  writer_listeners_.emplace(writer, std::move(listener));
+  return writer;
+}
+
+std::unique_ptr<Subscription> Participant::CreateReader(const std::string& name, fdds::TopicDataType* type, Qos qos,
+                                                        std::function<void(fdds::DataReader&)> take) {
+  fdds::Topic* topic = TopicFor(name, type);
+  fdds::DataReaderQos q = fdds::DATAREADER_QOS_DEFAULT;
+  ApplyProfile(q, qos);
+  auto gate = std::make_shared<Subscription::Gate>();
+  auto listener = std::make_unique<ReaderListener>(name, [gate, take = std::move(take)](fdds::DataReader& reader) {
+    std::lock_guard lock(gate->mutex);
+    if (gate->open) take(reader);
+  });
+  fdds::DataReader* reader = subscriber_->create_datareader(topic, q, listener.get());
+  if (reader == nullptr) throw std::runtime_error("dds: cannot create a reader of " + name);
+  {
+    std::lock_guard lock(mutex_);
+    reader_listeners_.emplace(reader, std::move(listener));
+  }
+  return std::unique_ptr<Subscription>(new Subscription(*this, reader, std::move(gate)));
+}
+
+Subscription::~Subscription() {
+  {
+    std::lock_guard lock(gate_->mutex);  // waits for a call in progress
+    gate_->open = false;
+  }
+  reader_->set_listener(nullptr);
+  participant_.subscriber_->delete_datareader(reader_);
+  std::lock_guard lock(participant_.mutex_);
+  participant_.reader_listeners_.erase(reader_);
+}
+
+void DeleteWriter(Participant& participant, fdds::DataWriter* writer) {
+  writer->set_listener(nullptr);
+  participant.publisher_->delete_datawriter(writer);
+  std::lock_guard lock(participant.mutex_);
+  participant.writer_listeners_.erase(writer);
+}
+
+}  // namespace corridor::drivers::dds

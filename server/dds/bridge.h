@@ -1,0 +1,97 @@
+// The DDS bridge: the bus as ROS 2 topics, a subscriber of the bus like the WebSocket stream. Each row of its table
+// (bridge.cc, Activate) takes one bus topic to one ROS 2 topic with ROS 2's type, frame and QoS; adding a row exposes
+// another topic. What ROS 2 tools send (/cmd_vel, /goal_pose, /initialpose) goes the way the console's requests go:
+// velocity onto the teleop topic (the command gate's deadman, limits and protective stop apply), goals and poses
+// through the API as a trusted in-process caller (the same checks, the same audit log). Those writes are taken only
+// with dds.allow_writes: DDS has no authentication here.
+//
+// Frames (REP 105): map -> odom (localization, dated ahead by kMapOdomToleranceS as AMCL does), odom -> base_link
+// (odometry), base_link -> laser and base_link -> camera_depth_optical_frame on /tf_static.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <atomic>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "drivers/dds/participant.h"
+#include "drivers/dds/ros2_convert.h"
+#include "ros2/diagnostic_msgsPubSubTypes.h"
+#include "ros2/geometry_msgsPubSubTypes.h"
+#include "ros2/nav_msgsPubSubTypes.h"
+#include "ros2/sensor_msgsPubSubTypes.h"
+#include "ros2/std_msgsPubSubTypes.h"
+#include "ros2/tf2_msgsPubSubTypes.h"
+#include "server/api/api.h"
+#include "server/runtime/config.h"
+#include "server/runtime/node.h"
+#include "server/store/map_library.h"
+
+namespace corridor::server {
+
+// What the bridge publishes about the robot's body, from its devices.
+struct RobotFrames {
+  std::optional<Eigen::Isometry3d> base_T_laser;  // none: no laser (/scan then comes from the depth camera)
+  drivers::CameraInfo camera;                     // with its pose in the base frame, and its range
+};
+
+class DdsBridge final : public PeriodicNode {
+ public:
+  // Everything must outlive the bridge. `io`: where API requests run (the HTTP server's executor).
+  DdsBridge(Executor& executor, Bus& bus, drivers::dds::Participant& participant, const DdsOptions& options,
+            RobotFrames frames, const Api& api, Executor& io, const MapLibrary& maps, const Lifecycle& lifecycle);
+  void Activate() override;
+  void Deactivate() override;
+
+  // Samples from ROS 2 that were refused (bad values, writes not allowed), for tests and the state.
+  std::uint64_t refused() const { return refused_.load(); }
+
+ private:
+  void Tick() override;
+  void PublishMap();
+  void PublishDiagnostics();
+  // A request to the API as a trusted caller, on the io executor; its answer is logged.
+  void CallApi(const std::string& what, boost::beast::http::verb method, const std::string& target,
+               const nlohmann::json& body);
+  // Drops a sample from ROS 2 with a warning (once per topic every few seconds).
+  void Refuse(const std::string& topic, const std::string& why);
+
+  drivers::dds::Participant& participant_;
+  DdsOptions options_;
+  RobotFrames frames_;
+  const Api& api_;
+  Executor& io_;
+  const MapLibrary& maps_;
+  const Lifecycle& lifecycle_;
+  const drivers::dds::StampClock stamps_;
+  std::atomic<std::uint64_t> refused_{0};
+
+  template <typename T>
+  using WriterOf = std::unique_ptr<drivers::dds::Writer<T>>;
+  WriterOf<nav_msgs::msg::OdometryPubSubType> odom_;
+  WriterOf<tf2_msgs::msg::TFMessagePubSubType> tf_;
+  WriterOf<tf2_msgs::msg::TFMessagePubSubType> tf_static_;
+  WriterOf<sensor_msgs::msg::LaserScanPubSubType> scan_;
+  WriterOf<nav_msgs::msg::OccupancyGridPubSubType> map_;
+  WriterOf<nav_msgs::msg::PathPubSubType> plan_;
+  WriterOf<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType> pose_;
+  WriterOf<diagnostic_msgs::msg::DiagnosticArrayPubSubType> diagnostics_;
+  WriterOf<std_msgs::msg::StringPubSubType> state_;
+  WriterOf<sensor_msgs::msg::ImagePubSubType> depth_;
+  WriterOf<sensor_msgs::msg::CameraInfoPubSubType> camera_info_;
+  std::vector<std::unique_ptr<drivers::dds::Subscription>> subscriptions_;
+
+  // On the bridge's executor only.
+  std::string map_name_;
+  std::uint64_t map_revision_ = 0;
+  std::uint64_t mapping_revision_ = 0;
+  std::vector<nav::Pose2> plan_path_;
+  drivers::TimeNs next_depth_ns_ = 0;
+  int ticks_ = 0;
+  std::mutex refuse_mutex_;
+  std::map<std::string, drivers::TimeNs> last_refusal_log_;  // guarded by refuse_mutex_
+};
+
+}  // namespace corridor::server

@@ -1,0 +1,89 @@
+#include "tests/dds/cyclone_peer.h"
+
+#include <stdexcept>
+
+namespace corridor::testing {
+namespace {
+
+std::string TopicName(const std::string& name) { return "rt/" + (name.front() == '/' ? name.substr(1) : name); }
+
+dds_qos_t* QosFor(PeerQos qos) {
+  dds_qos_t* q = dds_create_qos();
+  dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+  dds_qset_durability(q, qos == PeerQos::kLatched ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
+  dds_qset_history(q, DDS_HISTORY_KEEP_LAST, qos == PeerQos::kLatched ? 1 : qos == PeerQos::kTf ? 100 : 10);
+  // Classic CDR (XCDR1), as ROS 2's rmw layers write it: Fast DDS 2.9 reads no other encoding.
+  const dds_data_representation_id_t xcdr1[] = {DDS_DATA_REPRESENTATION_XCDR1};
+  dds_qset_data_representation(q, 1, xcdr1);
+  return q;
+}
+
+void Check(dds_entity_t e, const std::string& what) {
+  if (e < 0) throw std::runtime_error("cyclone: " + what + ": " + dds_strretcode(e));
+}
+
+}  // namespace
+
+std::string RosTypeName(const std::string& idl_name) {
+  const std::size_t last = idl_name.rfind("::");
+  if (last == std::string::npos) throw std::invalid_argument("not a scoped type name: " + idl_name);
+  return idl_name.substr(0, last) + "::dds_::" + idl_name.substr(last + 2) + "_";
+}
+
+CyclonePeer::CyclonePeer(int domain) {
+  const std::string config =
+      "<CycloneDDS><Domain id=\"any\"><General><Interfaces><NetworkInterface address=\"127.0.0.1\"/></Interfaces>"
+      "<AllowMulticast>false</AllowMulticast></General><Discovery><ParticipantIndex>auto</ParticipantIndex>"
+      "<MaxAutoParticipantIndex>20</MaxAutoParticipantIndex><Peers><Peer address=\"127.0.0.1\"/></Peers>"
+      "</Discovery></Domain></CycloneDDS>";
+  domain_ = dds_create_domain(static_cast<dds_domainid_t>(domain), config.c_str());
+  Check(domain_, "create domain");
+  participant_ = dds_create_participant(static_cast<dds_domainid_t>(domain), nullptr, nullptr);
+  Check(participant_, "create participant");
+}
+
+CyclonePeer::~CyclonePeer() { dds_delete(domain_); }
+
+dds_entity_t CyclonePeer::TopicFor(const std::string& name, const dds_topic_descriptor_t& type) {
+  const std::string topic = TopicName(name);
+  if (const auto it = topics_.find(topic); it != topics_.end()) return it->second;
+  const std::string ros_name = RosTypeName(type.m_typename);
+  auto& descriptor = descriptors_[ros_name];
+  if (!descriptor) {
+    type_names_[ros_name] = ros_name;
+    // The same layout and marshalling program as idlc made, under ROS 2's name, without XTypes information (which
+    // would carry idlc's name; Fast DDS here sends none, so types match by name, as between ROS 2 vendors).
+    descriptor.reset(new dds_topic_descriptor_t{type.m_size, type.m_align, type.m_flagset & ~DDS_TOPIC_XTYPES_METADATA,
+                                                type.m_nkeys, type_names_[ros_name].c_str(), type.m_keys, type.m_nops,
+                                                type.m_ops, type.m_meta, {nullptr, 0}, {nullptr, 0},
+                                                type.restrict_data_representation});
+  }
+  const dds_entity_t t = dds_create_topic(participant_, descriptor.get(), topic.c_str(), nullptr, nullptr);
+  Check(t, "create topic " + topic);
+  topics_[topic] = t;
+  return t;
+}
+
+dds_entity_t CyclonePeer::Reader(const std::string& name, const dds_topic_descriptor_t& type, PeerQos qos) {
+  dds_qos_t* q = QosFor(qos);
+  const dds_entity_t r = dds_create_reader(participant_, TopicFor(name, type), q, nullptr);
+  dds_delete_qos(q);
+  Check(r, "create reader of " + name);
+  return r;
+}
+
+dds_entity_t CyclonePeer::Writer(const std::string& name, const dds_topic_descriptor_t& type, PeerQos qos) {
+  dds_qos_t* q = QosFor(qos);
+  const dds_entity_t w = dds_create_writer(participant_, TopicFor(name, type), q, nullptr);
+  dds_delete_qos(q);
+  Check(w, "create writer of " + name);
+  return w;
+}
+
+int CyclonePeer::Matched(dds_entity_t writer) const {
+  dds_publication_matched_status_t status{};
+  if (dds_get_publication_matched_status(writer, &status) != DDS_RETCODE_OK) return 0;
+  return static_cast<int>(status.current_count);
+}
+
+}  // namespace corridor::testing
