@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The Debian package on this machine, as a robot would get it (run as root by ./dev test):
 #   - the previous build installs: the corridor user, /var/lib/corridor (0700), the conffile;
-#   - corridord started as the corridor user with the installed configuration answers /api/v1/health over HTTPS;
+#   - corridord started as the corridor user with the installed configuration answers /api/v1/health over HTTPS and
+#     joins DDS domain 0 (kept on loopback here);
 #   - the units (corridor-face's too) pass systemd-analyze verify, and security --offline=yes gives corridor.service
 #     an exposure of at most 3.0;
 #   - an upgrade to this build keeps an edited conffile, the state directory and the users;
@@ -58,6 +59,10 @@ awk -v e="$exposure" 'BEGIN { exit !(e != "" && e <= 3.0) }' || fail "exposure $
 # A local edit of the conffile: the plain-HTTP redirect moves (and frees 8080 for whatever runs here).
 sed -i "s/^    redirect_port: 8080 /    redirect_port: $redirect /" /etc/corridor/corridor.yaml
 grep -q "redirect_port: $redirect " /etc/corridor/corridor.yaml || fail "could not edit the conffile"
+# DDS, on in the installed configuration, stays on loopback here: tests never announce on another interface.
+sed -i -e '/^dds:/,/^$/ s|^  peers: \[\] .*|  peers: [127.0.0.1]|' -e '/^dds:/,/^$/ s|^  interfaces: \[\] .*|  interfaces: [lo]|' \
+  /etc/corridor/corridor.yaml
+grep -q "^  interfaces: \[lo\]" /etc/corridor/corridor.yaml || fail "could not keep DDS on loopback"
 
 start_daemon
 # Whole replies first: with pipefail, `curl | grep -q` fails when grep stops reading before curl has written all.
@@ -67,6 +72,7 @@ grep -q '<title>corridor face</title>' <<<"$(api "https://127.0.0.1:$port/face")
 [ "$(api -o /dev/null -w '%{http_code}' "https://127.0.0.1:$port/api/v1/state")" = 401 ] || fail "state without login"
 [ "$(curl -s -o /dev/null -w '%{http_code}' "http://127.0.0.1:$redirect/")" = 308 ] || fail "no redirect"
 grep -q "setup code" "$log" || fail "no setup code in the log"
+grep -q "dds: ok: domain 0" "$log" || fail "DDS did not come up on domain 0"
 token=$(corridord token create --role admin --name package-test 2>/dev/null)
 [ "$(stat -c %U /var/lib/corridor/accounts.db)" = corridor ] || fail "accounts.db not the daemon's"
 added=$(api -H "Authorization: Bearer $token" -H 'Content-Type: application/json' \

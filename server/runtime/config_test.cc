@@ -117,6 +117,32 @@ TEST_F(ConfigTest, TheVdaBrokerIsOffByDefaultAndTheFlagSetsIt) {
             std::string::npos);
 }
 
+TEST_F(ConfigTest, DdsIsOffByDefaultAndItsDomainComesFromTheEnvironmentUnlessSet) {
+  std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n";
+  const Config off = LoadConfig(dir_ / "c.yaml");
+  EXPECT_FALSE(off.dds.enabled);
+  EXPECT_FALSE(off.dds.allow_writes);
+  ::unsetenv("ROS_DOMAIN_ID");
+  EXPECT_EQ(DdsDomain(off.dds), 0);
+  ::setenv("ROS_DOMAIN_ID", "42", 1);
+  EXPECT_EQ(DdsDomain(off.dds), 42);
+  ::setenv("ROS_DOMAIN_ID", "300", 1);
+  EXPECT_THROW(DdsDomain(off.dds), ConfigError);
+  ::setenv("ROS_DOMAIN_ID", "x", 1);
+  EXPECT_THROW(DdsDomain(off.dds), ConfigError);
+  std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n"
+                                    "dds: {enabled: true, domain_id: 7, peers: [127.0.0.1], interfaces: [lo]}\n";
+  const Config on = LoadConfig(dir_ / "c.yaml");
+  EXPECT_EQ(DdsDomain(on.dds), 7);  // the configuration's, not the environment's
+  ::unsetenv("ROS_DOMAIN_ID");
+  EXPECT_EQ(on.dds.peers, std::vector<std::string>{"127.0.0.1"});
+  EXPECT_EQ(on.dds.interfaces, std::vector<std::string>{"lo"});
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndds: {domain_id: 233}\n").find("dds.domain_id"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndds: {peers: [robot.local]}\n").find("dds.peers"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndds: {peers: 127.0.0.1}\n").find("dds.peers"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndds: {camera_hz: -1}\n").find("dds.camera_hz"), std::string::npos);
+}
+
 TEST_F(ConfigTest, DoorsTheirControllerAndTheSimulatorsDoorsAreReadAndChecked) {
   std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false, doors: [{id: d1, x1_m: 4, y1_m: 1, x2_m: 4, y2_m: 2}]}\n"
                                     "doors:\n"
