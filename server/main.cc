@@ -12,6 +12,7 @@
 #include <iostream>
 
 #include "server/api/http_server.h"
+#include "server/app/dds_robot.h"
 #include "server/app/graph.h"
 #include "server/app/service.h"
 #include "server/app/simulator.h"
@@ -163,17 +164,22 @@ int Run(const CommandLine& cl) {
   spdlog::set_level(spdlog::level::from_str(config.log.level));
   spdlog::info("corridord {} with {}", CORRIDOR_VERSION, cl.config.string());
   PrepareStateDir(config.store.state_dir);
-  if (!config.sim.enabled) {
-    throw std::runtime_error("sim.enabled: false needs real drivers, and none is built yet; run with the simulator");
-  }
-  const Simulator sim = MakeSimulator(config);
-
-  // Signals are taken by the main thread only: block them before any other thread starts.
+  // Signals are taken by the main thread only: block them before any other thread starts (DDS starts its own).
   sigset_t signals;
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  // The simulator, or the robot's devices served by ROS 2 drivers over DDS.
+  drivers::SteadyClock device_clock;
+  std::optional<Simulator> sim;
+  std::optional<DdsRobot> dds_robot;
+  if (config.sim.enabled) {
+    sim = MakeSimulator(config);
+  } else {
+    dds_robot = MakeDdsRobot(config, device_clock);
+  }
 
   std::optional<TlsIdentity> tls;
   if (config.server.tls.enabled) {
@@ -181,8 +187,8 @@ int Run(const CommandLine& cl) {
     spdlog::info("TLS certificate {}{}, SHA-256 fingerprint {}", tls->certificate.string(),
                  tls->generated ? " (self-signed, made now)" : "", tls->fingerprint);
   }
-  Graph graph(config, sim.devices(config), InitialMap(config, sim.world.get()), Schedule::kThreads,
-              tls ? tls->fingerprint : "");
+  Graph graph(config, sim ? sim->devices(config) : dds_robot->devices(),
+              InitialMap(config, sim ? sim->world.get() : nullptr), Schedule::kThreads, tls ? tls->fingerprint : "");
   HttpServer server(graph.executors().io, graph.api(), config.server, tls);
   server.Start();
   graph.Start();

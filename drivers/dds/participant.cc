@@ -1,5 +1,7 @@
 #include "drivers/dds/participant.h"
 
+#include "drivers/dds/device_options.h"
+
 #include <arpa/inet.h>
 #include <ifaddrs.h>
 #include <netinet/in.h>
@@ -40,15 +42,8 @@ bool IsIpv4(const std::string& text) {
 }  // namespace
 
 std::string RosTopic(const std::string& name) {
-  std::string n = name;
-  if (!n.empty() && n.front() == '/') n.erase(0, 1);
-  const bool valid = !n.empty() && std::isalpha(static_cast<unsigned char>(n.front())) &&
-                     std::all_of(n.begin(), n.end(), [](char c) {
-                       return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '/';
-                     }) &&
-                     n.back() != '/' && n.find("//") == std::string::npos;
-  if (!valid) throw std::invalid_argument("'" + name + "' is not a ROS 2 topic name");
-  return "rt/" + n;
+  if (!IsRosTopicName(name)) throw std::invalid_argument("'" + name + "' is not a ROS 2 topic name");
+  return "rt/" + (name.front() == '/' ? name.substr(1) : name);
 }
 
 std::vector<std::string> InterfaceAddresses(const std::vector<std::string>& interfaces) {

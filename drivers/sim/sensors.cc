@@ -21,14 +21,7 @@ CameraInfo MakeCameraInfo(const SimCameraOptions& o) {
   k.fy = o.height / (2.0 * std::tan(Radians(o.vertical_fov_deg) / 2.0));
   k.cx = o.width / 2.0;
   k.cy = o.height / 2.0;
-  // Optical axes in the base frame: z forward, x right, y down; then pitched down about the base's y axis.
-  Eigen::Matrix3d base_R_optical;
-  base_R_optical.col(0) = Eigen::Vector3d(0, -1, 0);
-  base_R_optical.col(1) = Eigen::Vector3d(0, 0, -1);
-  base_R_optical.col(2) = Eigen::Vector3d(1, 0, 0);
-  info.camera.base_T_camera = Eigen::Isometry3d::Identity();
-  info.camera.base_T_camera.linear() = Eigen::AngleAxisd(Radians(o.tilt_deg), Eigen::Vector3d::UnitY()) * base_R_optical;
-  info.camera.base_T_camera.translation() = Eigen::Vector3d(o.mount_x_m, 0.0, o.mount_height_m);
+  info.camera.base_T_camera = nav::CameraMount(o.mount_x_m, o.mount_height_m, Radians(o.tilt_deg));
   info.min_range_m = o.min_range_m;
   info.max_range_m = o.max_range_m;
   return info;

@@ -30,6 +30,19 @@ struct PinholeCamera {
   }
 };
 
+// The pose in the base frame of a camera looking straight ahead, `x_m` forward of the base's centre, its optical
+// centre `height_m` above the floor, pitched down by `tilt_rad`.
+inline Eigen::Isometry3d CameraMount(double x_m, double height_m, double tilt_rad) {
+  Eigen::Matrix3d base_R_optical;  // optical z forward, x right, y down
+  base_R_optical.col(0) = Eigen::Vector3d(0, -1, 0);
+  base_R_optical.col(1) = Eigen::Vector3d(0, 0, -1);
+  base_R_optical.col(2) = Eigen::Vector3d(1, 0, 0);
+  Eigen::Isometry3d base_T_camera = Eigen::Isometry3d::Identity();
+  base_T_camera.linear() = Eigen::AngleAxisd(tilt_rad, Eigen::Vector3d::UnitY()) * base_R_optical;
+  base_T_camera.translation() = Eigen::Vector3d(x_m, 0.0, height_m);
+  return base_T_camera;
+}
+
 // The rays through the pixels of every row_step-th row (row-major), turned into the base frame and scaled like Ray:
 // the camera's position plus depth times a ray is the pixel's point in the base frame. Precomputed once by those
 // that read every frame's pixels.

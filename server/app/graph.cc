@@ -272,6 +272,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
       frames.base_T_laser = t;
     }
     frames.camera = devices_.camera.info();
+    frames.devices_over_dds = devices_.dds != nullptr;
     lifecycle_.Add(std::make_unique<DdsBridge>(executors_.dds, bus_, *participant, config_.dds, std::move(frames),
                                                *api_, executors_.io, *maps_, lifecycle_));
   }

@@ -47,16 +47,20 @@ DdsBridge::DdsBridge(Executor& executor, Bus& bus, dds::Participant& participant
 
 void DdsBridge::Activate() {
   // Writers first, so that no bus message finds one missing.
-  odom_ = participant_.Advertise<nav_msgs::msg::OdometryPubSubType>("/odom", Qos::kDefault);
+  if (!frames_.devices_over_dds) {
+    odom_ = participant_.Advertise<nav_msgs::msg::OdometryPubSubType>("/odom", Qos::kDefault);
+  }
   tf_ = participant_.Advertise<tf2_msgs::msg::TFMessagePubSubType>("/tf", Qos::kTf);
   tf_static_ = participant_.Advertise<tf2_msgs::msg::TFMessagePubSubType>("/tf_static", Qos::kLatched);
-  scan_ = participant_.Advertise<sensor_msgs::msg::LaserScanPubSubType>("/scan", Qos::kDefault);
+  if (!(frames_.devices_over_dds && frames_.base_T_laser)) {
+    scan_ = participant_.Advertise<sensor_msgs::msg::LaserScanPubSubType>("/scan", Qos::kDefault);
+  }
   map_ = participant_.Advertise<nav_msgs::msg::OccupancyGridPubSubType>("/map", Qos::kLatched);
   plan_ = participant_.Advertise<nav_msgs::msg::PathPubSubType>("/plan", Qos::kDefault);
   pose_ = participant_.Advertise<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType>("/amcl_pose", Qos::kLatched);
   diagnostics_ = participant_.Advertise<diagnostic_msgs::msg::DiagnosticArrayPubSubType>("/diagnostics", Qos::kDefault);
   state_ = participant_.Advertise<std_msgs::msg::StringPubSubType>("/corridor/state", Qos::kDefault);
-  if (options_.camera_hz > 0.0) {
+  if (options_.camera_hz > 0.0 && !frames_.devices_over_dds) {
     depth_ = participant_.Advertise<sensor_msgs::msg::ImagePubSubType>("/camera/depth/image_raw", Qos::kSensor);
     camera_info_ =
         participant_.Advertise<sensor_msgs::msg::CameraInfoPubSubType>("/camera/depth/camera_info", Qos::kSensor);
@@ -75,12 +79,14 @@ void DdsBridge::Activate() {
   }
 
   // The table: bus topic -> ROS 2 topic.
-  Subscribe(topics::kOdometry, "odom", [this](const auto& odometry) {
-    const nav_msgs::msg::Odometry message = dds::ToRos(*odometry, stamps_);
-    odom_->Write(message);
-    tf_->Write(OneTransform(dds::Transform(message.header().stamp(), dds::kOdomFrame, dds::kBaseFrame,
-                                           odometry->odom_T_base.ToIsometry3())));
-  });
+  if (!frames_.devices_over_dds) {
+    Subscribe(topics::kOdometry, "odom", [this](const auto& odometry) {
+      const nav_msgs::msg::Odometry message = dds::ToRos(*odometry, stamps_);
+      odom_->Write(message);
+      tf_->Write(OneTransform(dds::Transform(message.header().stamp(), dds::kOdomFrame, dds::kBaseFrame,
+                                             odometry->odom_T_base.ToIsometry3())));
+    });
+  }
   Subscribe(topics::kPose, "pose", [this](const auto& pose) {
     const auto odometry = bus().Get(topics::kOdometry).latest();
     if (!odometry) return;
@@ -101,9 +107,9 @@ void DdsBridge::Activate() {
     }
     pose_->Write(message);
   });
-  if (frames_.base_T_laser) {
+  if (frames_.base_T_laser && !frames_.devices_over_dds) {
     Subscribe(topics::kScan, "scan", [this](const auto& scan) { scan_->Write(dds::ToRos(*scan, stamps_, dds::kLaserFrame)); });
-  } else {
+  } else if (!frames_.base_T_laser) {
     // No laser: the depth camera's nearest obstacle per column, as a scan in base_link.
     Subscribe(topics::kGroundLanes, "scan", [this](const auto& ground) {
       if (ground->scan.empty()) return;
@@ -142,12 +148,12 @@ void DdsBridge::Activate() {
 
   // What ROS 2 tools send.
   subscriptions_.push_back(participant_.Subscribe<geometry_msgs::msg::TwistPubSubType>(
-      "/cmd_vel", Qos::kDefault, [this](const geometry_msgs::msg::Twist& twist) {
-        if (!options_.allow_writes) return Refuse("/cmd_vel", "writes over DDS are off (dds.allow_writes)");
+      options_.cmd_vel_topic, Qos::kDefault, [this](const geometry_msgs::msg::Twist& twist) {
+        if (!options_.allow_writes) return Refuse(options_.cmd_vel_topic, "writes over DDS are off (dds.allow_writes)");
         try {
           bus().Get(topics::kTeleop).Publish(TeleopCommand{dds::FromRos(twist), clock().Now(), "dds"});
         } catch (const std::invalid_argument& e) {
-          Refuse("/cmd_vel", e.what());
+          Refuse(options_.cmd_vel_topic, e.what());
         }
       }));
   subscriptions_.push_back(participant_.Subscribe<geometry_msgs::msg::PoseStampedPubSubType>(

@@ -35,6 +35,9 @@ namespace corridor::server {
 struct RobotFrames {
   std::optional<Eigen::Isometry3d> base_T_laser;  // none: no laser (/scan then comes from the depth camera)
   drivers::CameraInfo camera;                     // with its pose in the base frame, and its range
+  // The devices are served by ROS 2 drivers (drivers/dds/devices.h): their drivers publish odometry, odom ->
+  // base_link, scans and images themselves, so the bridge does not.
+  bool devices_over_dds = false;
 };
 
 class DdsBridge final : public PeriodicNode {

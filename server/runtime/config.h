@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "drivers/dds/device_options.h"
 #include "drivers/sim/sim_robot.h"
 #include "drivers/sim/world.h"
 #include "nav/ground/depth_scan.h"
@@ -265,6 +266,15 @@ struct Config;
 // with a building, the first floor's.
 std::string SimMapName(const Config& config);
 
+// The robot's devices served by ROS 2 drivers over DDS (drivers/dds/devices.h), used when the simulator is off.
+struct DdsDevicesOptions {
+  drivers::dds::DdsCameraOptions camera;
+  bool laser = false;  // dds.devices.laser.topic given
+  drivers::dds::DdsLaserOptions laser_options;
+  drivers::dds::DdsBaseOptions base;
+  double info_wait_s = 10.0;  // how long corridord waits at start for the camera's CameraInfo
+};
+
 // ROS 2 over DDS (server/dds, drivers/dds): the robot's topics for ROS 2 tools, and what they may send.
 struct DdsOptions {
   bool enabled = false;
@@ -273,6 +283,8 @@ struct DdsOptions {
   std::vector<std::string> interfaces;  // the only interfaces used (names or IPv4 addresses); none: all
   bool allow_writes = false;            // take /cmd_vel, /goal_pose and /initialpose (DDS has no authentication)
   double camera_hz = 0.0;               // depth image and camera info rate; 0: not published
+  std::string cmd_vel_topic = "/cmd_vel";  // what ROS 2 tools drive the robot with (allow_writes)
+  DdsDevicesOptions devices;             // when sim.enabled is false
 };
 
 // The domain DDS joins: dds.domain_id, else ROS_DOMAIN_ID, else 0. Throws ConfigError for a ROS_DOMAIN_ID that is

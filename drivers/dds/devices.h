@@ -1,0 +1,105 @@
+// Devices served by ROS 2 drivers over DDS (realsense2_camera, a laser driver, a base's diff_drive_controller), as
+// corridor's DepthCamera, Laser2D and DiffDriveBase: corridor then runs on a robot whose hardware ROS 2 already
+// drives. What arrives is checked like any input: a sample that cannot be used is dropped with a warning (rate
+// limited) and counted; a device that stops sending simply stops delivering, which the graph's watchdogs see (the
+// command gate stops the robot when depth frames or odometry stop).
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "drivers/dds/device_options.h"
+#include "drivers/dds/participant.h"
+#include "drivers/dds/ros2_convert.h"
+#include "drivers/depth_camera.h"
+#include "drivers/diff_drive_base.h"
+#include "drivers/laser2d.h"
+#include "ros2/geometry_msgsPubSubTypes.h"
+#include "ros2/nav_msgsPubSubTypes.h"
+#include "ros2/sensor_msgsPubSubTypes.h"
+
+namespace corridor::drivers::dds {
+
+// Counts and logs (at most every few seconds per device) samples that could not be used.
+class DropLog {
+ public:
+  explicit DropLog(std::string device) : device_(std::move(device)) {}
+  void Drop(const std::string& why);
+  std::uint64_t dropped() const { return dropped_.load(); }
+
+ private:
+  std::string device_;
+  std::atomic<std::uint64_t> dropped_{0};
+  std::mutex mutex_;
+  std::chrono::steady_clock::time_point last_log_{};
+};
+
+class DdsDepthCamera final : public DepthCamera {
+ public:
+  // Subscribes at once; info() is valid after WaitForInfo. `clock`: the host's, to stamp arrivals and convert stamps.
+  DdsDepthCamera(Participant& participant, const DdsCameraOptions& options, const Clock& clock);
+  // Waits for the first CameraInfo; throws std::runtime_error naming the topic when none came within `timeout`.
+  void WaitForInfo(std::chrono::milliseconds timeout);
+  CameraInfo info() const override;
+  void SetFrameHandler(FrameHandler handler) override;
+  std::uint64_t dropped() const { return drops_.dropped(); }
+
+ private:
+  void Depth(const sensor_msgs::msg::Image& image);
+
+  DdsCameraOptions options_;
+  const StampClock stamps_;
+  DropLog drops_{"camera"};
+  mutable std::mutex mutex_;
+  std::condition_variable info_arrived_;
+  std::optional<CameraInfo> info_;  // guarded by mutex_
+  cv::Mat color_;                   // the latest colour image (guarded by mutex_)
+  FrameHandler handler_;
+  std::uint64_t sequence_ = 0;
+  std::unique_ptr<Subscription> info_subscription_;
+  std::unique_ptr<Subscription> color_subscription_;
+  std::unique_ptr<Subscription> depth_subscription_;
+};
+
+class DdsLaser final : public Laser2D {
+ public:
+  DdsLaser(Participant& participant, const DdsLaserOptions& options, const Clock& clock);
+  nav::Pose2 base_T_laser() const override { return options_.base_T_laser; }
+  double height_m() const override { return options_.height_m; }
+  void SetScanHandler(ScanHandler handler) override;
+  std::uint64_t dropped() const { return drops_.dropped(); }
+
+ private:
+  DdsLaserOptions options_;
+  const StampClock stamps_;
+  DropLog drops_{"laser"};
+  std::mutex mutex_;
+  ScanHandler handler_;  // guarded by mutex_
+  std::unique_ptr<Subscription> subscription_;
+};
+
+class DdsBase final : public DiffDriveBase {
+ public:
+  DdsBase(Participant& participant, const DdsBaseOptions& options, const Clock& clock);
+  BaseLimits limits() const override { return options_.limits; }
+  // Clamped to the limits and sent as a Twist; the base driver's own command timeout stops it when they stop.
+  void SetVelocity(const nav::Twist2& command) override;
+  void SetOdometryHandler(OdometryHandler handler) override;
+  std::uint64_t dropped() const { return drops_.dropped(); }
+
+ private:
+  DdsBaseOptions options_;
+  const StampClock stamps_;
+  DropLog drops_{"base"};
+  std::mutex mutex_;
+  OdometryHandler handler_;  // guarded by mutex_
+  std::unique_ptr<Writer<geometry_msgs::msg::TwistPubSubType>> cmd_vel_;
+  std::unique_ptr<Subscription> subscription_;
+};
+
+}  // namespace corridor::drivers::dds
