@@ -91,8 +91,8 @@ void DdsDepthCamera::Depth(const sensor_msgs::msg::Image& image) {
     if (frame->depth_mm.cols != info_->camera.width || frame->depth_mm.rows != info_->camera.height) {
       return drops_.Drop("the depth image's size is not the camera info's");
     }
-    frame->color_bgr = color_.size() == frame->depth_mm.size() ? color_
-                                                                : cv::Mat(frame->depth_mm.size(), CV_8UC3, cv::Scalar::all(0));
+    frame->color_bgr =
+        color_.size() == frame->depth_mm.size() ? color_ : cv::Mat(frame->depth_mm.size(), CV_8UC3, cv::Scalar::all(0));
     frame->sequence = ++sequence_;
     handler = handler_;
   }

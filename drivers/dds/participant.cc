@@ -7,14 +7,14 @@
 #include <netinet/in.h>
 #include <spdlog/spdlog.h>
 
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastrtps/utils/IPLocator.h>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
-#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
-#include <fastrtps/utils/IPLocator.h>
 
 namespace corridor::drivers::dds {
 namespace {
@@ -178,7 +178,8 @@ fdds::Topic* Participant::TopicFor(const std::string& name, fdds::TopicDataType*
     }
     return it->second;
   }
-  if (participant_->find_type(support.get_type_name()).empty() && support.register_type(participant_) != ReturnCode::RETCODE_OK) {
+  if (participant_->find_type(support.get_type_name()).empty() &&
+      support.register_type(participant_) != ReturnCode::RETCODE_OK) {
     throw std::runtime_error("dds: cannot register type " + support.get_type_name());
   }
   fdds::Topic* t = participant_->create_topic(topic, support.get_type_name(), fdds::TOPIC_QOS_DEFAULT);

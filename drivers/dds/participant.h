@@ -127,13 +127,13 @@ class Participant {
                                           std::function<void(const typename PubSubType::type&)> handler) {
     using Message = typename PubSubType::type;
     auto sample = std::make_shared<Message>();
-    return CreateReader(name, new PubSubType(), qos, [sample, handler = std::move(handler)](
-                                                         eprosima::fastdds::dds::DataReader& reader) {
-      eprosima::fastdds::dds::SampleInfo info;
-      while (reader.take_next_sample(sample.get(), &info) == ReturnCode::RETCODE_OK) {
-        if (info.valid_data) handler(*sample);
-      }
-    });
+    return CreateReader(name, new PubSubType(), qos,
+                        [sample, handler = std::move(handler)](eprosima::fastdds::dds::DataReader& reader) {
+                          eprosima::fastdds::dds::SampleInfo info;
+                          while (reader.take_next_sample(sample.get(), &info) == ReturnCode::RETCODE_OK) {
+                            if (info.valid_data) handler(*sample);
+                          }
+                        });
   }
 
   // How many remote participants have been discovered and are alive now.

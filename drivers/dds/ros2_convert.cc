@@ -20,8 +20,7 @@ bool Finite(std::initializer_list<double> values) {
 
 StampClock StampClock::For(const Clock& clock) {
   const TimeNs system =
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-          .count();
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
   return StampClock(system - clock.Now());
 }
 
@@ -59,7 +58,8 @@ double YawOf(const geometry_msgs::msg::Quaternion& q) {
     throw std::invalid_argument("the orientation is not a rotation (zero or not finite quaternion)");
   }
   // This form needs no normalised quaternion: both arguments scale with its squared norm.
-  return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), q.w() * q.w() + q.x() * q.x() - q.y() * q.y() - q.z() * q.z());
+  return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()),
+                    q.w() * q.w() + q.x() * q.x() - q.y() * q.y() - q.z() * q.z());
 }
 
 geometry_msgs::msg::Pose ToRos(const nav::Pose2& pose) {
@@ -140,7 +140,8 @@ sensor_msgs::msg::LaserScan ToRos(const LaserScan& scan, const StampClock& clock
   s.header(Header(clock.ToRos(scan.stamp_ns), frame));
   s.angle_min(static_cast<float>(scan.angle_min_rad));
   const std::size_t n = scan.ranges.size();
-  s.angle_max(static_cast<float>(scan.angle_min_rad + scan.angle_increment_rad * static_cast<double>(n == 0 ? 0 : n - 1)));
+  s.angle_max(
+      static_cast<float>(scan.angle_min_rad + scan.angle_increment_rad * static_cast<double>(n == 0 ? 0 : n - 1)));
   s.angle_increment(static_cast<float>(scan.angle_increment_rad));
   s.range_min(static_cast<float>(scan.range_min_m));
   s.range_max(static_cast<float>(scan.range_max_m));

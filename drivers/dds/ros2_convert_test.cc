@@ -112,8 +112,13 @@ TEST(Ros2Cdr, PoseStamped) {
                             .le<std::int32_t>(1)
                             .le<std::uint32_t>(2)
                             .str("map")
-                            .le(1.0).le(2.0).le(0.0)
-                            .le(0.0).le(0.0).le(0.0).le(1.0)
+                            .le(1.0)
+                            .le(2.0)
+                            .le(0.0)
+                            .le(0.0)
+                            .le(0.0)
+                            .le(0.0)
+                            .le(1.0)
                             .bytes();
   EXPECT_EQ(Serialize<geometry_msgs::msg::PoseStampedPubSubType>(p), expected);
 }
@@ -133,8 +138,16 @@ TEST(Ros2Cdr, LaserScan) {
                             .le<std::uint32_t>(4)
                             .str("laser")
                             .pad(2)
-                            .le(-0.5f).le(-0.25f).le(0.25f).le(0.0f).le(0.0f).le(0.125f).le(8.0f)
-                            .le<std::uint32_t>(2).le(1.5f).le(std::numeric_limits<float>::infinity())
+                            .le(-0.5f)
+                            .le(-0.25f)
+                            .le(0.25f)
+                            .le(0.0f)
+                            .le(0.0f)
+                            .le(0.125f)
+                            .le(8.0f)
+                            .le<std::uint32_t>(2)
+                            .le(1.5f)
+                            .le(std::numeric_limits<float>::infinity())
                             .le<std::uint32_t>(0)
                             .bytes();
   EXPECT_EQ(Serialize<sensor_msgs::msg::LaserScanPubSubType>(ToRos(scan, StampClock(0), "laser")), expected);
@@ -152,13 +165,24 @@ TEST(Ros2Cdr, OccupancyGrid) {
   // 0 header (to 16), 16 map_load_time, 24 resolution, 28 width, 32 height, 4 bytes to align the origin's doubles at
   // 40, 96 data (2 bytes).
   const auto expected = Bytes()
-                            .le<std::int32_t>(5).le<std::uint32_t>(6).str("map")
-                            .le<std::int32_t>(7).le<std::uint32_t>(8)
-                            .le(0.05f).le<std::uint32_t>(2).le<std::uint32_t>(1)
+                            .le<std::int32_t>(5)
+                            .le<std::uint32_t>(6)
+                            .str("map")
+                            .le<std::int32_t>(7)
+                            .le<std::uint32_t>(8)
+                            .le(0.05f)
+                            .le<std::uint32_t>(2)
+                            .le<std::uint32_t>(1)
                             .pad(4)
-                            .le(-1.0).le(-2.0).le(0.0)
-                            .le(0.0).le(0.0).le(0.0).le(1.0)
-                            .le<std::uint32_t>(2).raw({0xff, 100})
+                            .le(-1.0)
+                            .le(-2.0)
+                            .le(0.0)
+                            .le(0.0)
+                            .le(0.0)
+                            .le(0.0)
+                            .le(1.0)
+                            .le<std::uint32_t>(2)
+                            .raw({0xff, 100})
                             .bytes();
   EXPECT_EQ(Serialize<nav_msgs::msg::OccupancyGridPubSubType>(grid), expected);
 }
@@ -170,10 +194,19 @@ TEST(Ros2Cdr, TFMessage) {
   // (length 10, to 38), 2 bytes to align the translation's doubles at 40, rotation at 64.
   const auto expected = Bytes()
                             .le<std::uint32_t>(1)
-                            .le<std::int32_t>(9).le<std::uint32_t>(10).str("odom")
-                            .pad(3).str("base_link")
-                            .pad(2).le(3.0).le(4.0).le(0.0)
-                            .le(0.0).le(0.0).le(0.0).le(1.0)
+                            .le<std::int32_t>(9)
+                            .le<std::uint32_t>(10)
+                            .str("odom")
+                            .pad(3)
+                            .str("base_link")
+                            .pad(2)
+                            .le(3.0)
+                            .le(4.0)
+                            .le(0.0)
+                            .le(0.0)
+                            .le(0.0)
+                            .le(0.0)
+                            .le(1.0)
                             .bytes();
   EXPECT_EQ(Serialize<tf2_msgs::msg::TFMessagePubSubType>(tf), expected);
 }
@@ -185,10 +218,17 @@ TEST(Ros2Cdr, Image) {
   // 0 header "cam" (to 16), 16 height, 20 width, 24 "16UC1" (length 6, to 34), 34 is_bigendian, 1 byte to align
   // step at 36, 40 data (4 bytes).
   const auto expected = Bytes()
-                            .le<std::int32_t>(11).le<std::uint32_t>(12).str("cam")
-                            .le<std::uint32_t>(1).le<std::uint32_t>(2).str("16UC1")
-                            .raw({0}).pad(1).le<std::uint32_t>(4)
-                            .le<std::uint32_t>(4).raw({0xe8, 0x03, 0x02, 0x01})
+                            .le<std::int32_t>(11)
+                            .le<std::uint32_t>(12)
+                            .str("cam")
+                            .le<std::uint32_t>(1)
+                            .le<std::uint32_t>(2)
+                            .str("16UC1")
+                            .raw({0})
+                            .pad(1)
+                            .le<std::uint32_t>(4)
+                            .le<std::uint32_t>(4)
+                            .raw({0xe8, 0x03, 0x02, 0x01})
                             .bytes();
   const auto bytes = Serialize<sensor_msgs::msg::ImagePubSubType>(DepthImage(depth, Stamp(11, 12), "cam"));
   EXPECT_EQ(bytes, expected);
@@ -279,7 +319,7 @@ TEST(Ros2Convert, ScanFromPointsKeepsTheNearestPerBearing) {
   const auto scan = ScanFromPoints(points, 0.1, 0.2, 10.0, Stamp(0, 0), "base_link");
   EXPECT_NEAR(scan.angle_min(), 0.0, 1e-6);
   ASSERT_EQ(scan.ranges().size(), 8u);  // 0 .. pi/4 in steps of 0.1
-  EXPECT_EQ(scan.ranges()[0], 1.0f);   // the nearer of the two ahead; the one 30 m off is beyond range
+  EXPECT_EQ(scan.ranges()[0], 1.0f);    // the nearer of the two ahead; the one 30 m off is beyond range
   EXPECT_NEAR(scan.ranges()[7], std::sqrt(2.0), 1e-6);
   EXPECT_TRUE(std::isinf(scan.ranges()[3]));
 }

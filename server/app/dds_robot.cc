@@ -10,8 +10,9 @@ Devices DdsRobot::devices() const {
 
 DdsRobot MakeDdsRobot(const Config& config, const drivers::Clock& clock) {
   if (!config.dds.enabled) {
-    throw ConfigError("sim.enabled: false needs the robot's devices over DDS (dds.enabled and dds.devices): no other "
-                      "real drivers are built yet");
+    throw ConfigError(
+        "sim.enabled: false needs the robot's devices over DDS (dds.enabled and dds.devices): no other "
+        "real drivers are built yet");
   }
   drivers::dds::ParticipantOptions o;
   o.domain_id = DdsDomain(config.dds);

@@ -12,8 +12,8 @@ namespace {
 namespace dds = drivers::dds;
 using drivers::dds::Qos;
 
-constexpr double kBridgeRateHz = 2.0;         // the state's rate; diagnostics every other tick (1 Hz, as ROS does)
-constexpr double kMapOdomToleranceS = 0.5;    // map -> odom is dated this far ahead (AMCL's transform_tolerance)
+constexpr double kBridgeRateHz = 2.0;       // the state's rate; diagnostics every other tick (1 Hz, as ROS does)
+constexpr double kMapOdomToleranceS = 0.5;  // map -> odom is dated this far ahead (AMCL's transform_tolerance)
 constexpr double kRefusalLogPeriodS = 5.0;
 constexpr double kDepthScanIncrementRad = 0.5 * M_PI / 180.0;
 
@@ -91,9 +91,8 @@ void DdsBridge::Activate() {
     const auto odometry = bus().Get(topics::kOdometry).latest();
     if (!odometry) return;
     const nav::Pose2 map_T_odom = pose->pose * odometry->odom_T_base.Inverse();
-    tf_->Write(OneTransform(dds::Transform(
-        stamps_.ToRos(pose->stamp_ns + drivers::FromSeconds(kMapOdomToleranceS)), dds::kMapFrame, dds::kOdomFrame,
-        map_T_odom.ToIsometry3())));
+    tf_->Write(OneTransform(dds::Transform(stamps_.ToRos(pose->stamp_ns + drivers::FromSeconds(kMapOdomToleranceS)),
+                                           dds::kMapFrame, dds::kOdomFrame, map_T_odom.ToIsometry3())));
   });
   Subscribe(topics::kLocalization, "localization", [this](const auto& localization) {
     geometry_msgs::msg::PoseWithCovarianceStamped message;
@@ -103,12 +102,14 @@ void DdsBridge::Activate() {
     const Eigen::Matrix3d& c = localization->estimate.covariance;
     const int index[3] = {0, 1, 5};
     for (int r = 0; r < 3; ++r) {
-      for (int k = 0; k < 3; ++k) message.pose().covariance()[static_cast<std::size_t>(index[r] * 6 + index[k])] = c(r, k);
+      for (int k = 0; k < 3; ++k)
+        message.pose().covariance()[static_cast<std::size_t>(index[r] * 6 + index[k])] = c(r, k);
     }
     pose_->Write(message);
   });
   if (frames_.base_T_laser && !frames_.devices_over_dds) {
-    Subscribe(topics::kScan, "scan", [this](const auto& scan) { scan_->Write(dds::ToRos(*scan, stamps_, dds::kLaserFrame)); });
+    Subscribe(topics::kScan, "scan",
+              [this](const auto& scan) { scan_->Write(dds::ToRos(*scan, stamps_, dds::kLaserFrame)); });
   } else if (!frames_.base_T_laser) {
     // No laser: the depth camera's nearest obstacle per column, as a scan in base_link.
     Subscribe(topics::kGroundLanes, "scan", [this](const auto& ground) {

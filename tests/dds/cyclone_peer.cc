@@ -53,9 +53,17 @@ dds_entity_t CyclonePeer::TopicFor(const std::string& name, const dds_topic_desc
     type_names_[ros_name] = ros_name;
     // The same layout and marshalling program as idlc made, under ROS 2's name, without XTypes information (which
     // would carry idlc's name; Fast DDS here sends none, so types match by name, as between ROS 2 vendors).
-    descriptor.reset(new dds_topic_descriptor_t{type.m_size, type.m_align, type.m_flagset & ~DDS_TOPIC_XTYPES_METADATA,
-                                                type.m_nkeys, type_names_[ros_name].c_str(), type.m_keys, type.m_nops,
-                                                type.m_ops, type.m_meta, {nullptr, 0}, {nullptr, 0},
+    descriptor.reset(new dds_topic_descriptor_t{type.m_size,
+                                                type.m_align,
+                                                type.m_flagset & ~DDS_TOPIC_XTYPES_METADATA,
+                                                type.m_nkeys,
+                                                type_names_[ros_name].c_str(),
+                                                type.m_keys,
+                                                type.m_nops,
+                                                type.m_ops,
+                                                type.m_meta,
+                                                {nullptr, 0},
+                                                {nullptr, 0},
                                                 type.restrict_data_representation});
   }
   const dds_entity_t t = dds_create_topic(participant_, descriptor.get(), topic.c_str(), nullptr, nullptr);

@@ -15,7 +15,11 @@
 
 namespace corridor::testing {
 
-enum class PeerQos { kDefault, kLatched, kTf };  // as drivers/dds/participant.h's (reliable; transient local; depth 100)
+enum class PeerQos {
+  kDefault,
+  kLatched,
+  kTf
+};  // as drivers/dds/participant.h's (reliable; transient local; depth 100)
 
 class CyclonePeer {
  public:
