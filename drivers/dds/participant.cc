@@ -188,13 +188,12 @@ fdds::Topic* Participant::TopicFor(const std::string& name, fdds::TopicDataType*
   return t;
 }
 
-fdds::DataWriter* Participant::CreateWriter(const std::string& name, fdds::TopicDataType* type, Qos qos,
+fdds::DataWriter* Participant::CreateWriter(const std::string& name, fdds::TopicDataType* type, Qos qos, bool large,
                                             std::shared_ptr<std::atomic<int>> matched) {
   fdds::Topic* topic = TopicFor(name, type);
   fdds::DataWriterQos q = fdds::DATAWRITER_QOS_DEFAULT;
   ApplyProfile(q, qos);
-  // Large samples (maps, images) are sent in fragments by the writer's own thread, not the caller's.
-  q.publish_mode().kind = fdds::ASYNCHRONOUS_PUBLISH_MODE;
+  q.publish_mode().kind = large ? fdds::ASYNCHRONOUS_PUBLISH_MODE : fdds::SYNCHRONOUS_PUBLISH_MODE;
   auto listener = std::make_unique<WriterListener>(std::move(matched));
   fdds::DataWriter* writer = publisher_->create_datawriter(topic, q, listener.get());
   if (writer == nullptr) throw std::runtime_error("dds: cannot create a writer of " + name);

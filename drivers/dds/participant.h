@@ -111,11 +111,12 @@ class Participant {
 
   // A writer of ROS 2 topic `name` with `qos`. Each topic has one type for the participant's life; throws
   // std::invalid_argument for a bad name or a name already used with another type, std::runtime_error when DDS
-  // refuses.
+  // refuses. `large` samples (maps, images: many fragments) are sent by DDS's own thread; others by the caller's,
+  // which costs less than waking another thread for every small sample.
   template <typename PubSubType>
-  std::unique_ptr<Writer<PubSubType>> Advertise(const std::string& name, Qos qos) {
+  std::unique_ptr<Writer<PubSubType>> Advertise(const std::string& name, Qos qos, bool large = false) {
     auto matched = std::make_shared<std::atomic<int>>(0);
-    eprosima::fastdds::dds::DataWriter* writer = CreateWriter(name, new PubSubType(), qos, matched);
+    eprosima::fastdds::dds::DataWriter* writer = CreateWriter(name, new PubSubType(), qos, large, matched);
     return std::unique_ptr<Writer<PubSubType>>(new Writer<PubSubType>(*this, writer, std::move(matched), name));
   }
 
@@ -147,7 +148,7 @@ class Participant {
 
   eprosima::fastdds::dds::Topic* TopicFor(const std::string& name, eprosima::fastdds::dds::TopicDataType* type);
   eprosima::fastdds::dds::DataWriter* CreateWriter(const std::string& name, eprosima::fastdds::dds::TopicDataType* type,
-                                                   Qos qos, std::shared_ptr<std::atomic<int>> matched);
+                                                   Qos qos, bool large, std::shared_ptr<std::atomic<int>> matched);
   std::unique_ptr<Subscription> CreateReader(const std::string& name, eprosima::fastdds::dds::TopicDataType* type,
                                              Qos qos, std::function<void(eprosima::fastdds::dds::DataReader&)> take);
   friend class Subscription;

@@ -14,6 +14,7 @@ using drivers::dds::Qos;
 
 constexpr double kBridgeRateHz = 2.0;       // the state's rate; diagnostics every other tick (1 Hz, as ROS does)
 constexpr double kMapOdomToleranceS = 0.5;  // map -> odom is dated this far ahead (AMCL's transform_tolerance)
+constexpr double kMapOdomPeriodS = 0.1;  // and sent at most this often (it changes only with localization)
 constexpr double kRefusalLogPeriodS = 5.0;
 constexpr double kDepthScanIncrementRad = 0.5 * M_PI / 180.0;
 
@@ -55,13 +56,14 @@ void DdsBridge::Activate() {
   if (!(frames_.devices_over_dds && frames_.base_T_laser)) {
     scan_ = participant_.Advertise<sensor_msgs::msg::LaserScanPubSubType>("/scan", Qos::kDefault);
   }
-  map_ = participant_.Advertise<nav_msgs::msg::OccupancyGridPubSubType>("/map", Qos::kLatched);
+  map_ = participant_.Advertise<nav_msgs::msg::OccupancyGridPubSubType>("/map", Qos::kLatched, /*large=*/true);
   plan_ = participant_.Advertise<nav_msgs::msg::PathPubSubType>("/plan", Qos::kDefault);
   pose_ = participant_.Advertise<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType>("/amcl_pose", Qos::kLatched);
   diagnostics_ = participant_.Advertise<diagnostic_msgs::msg::DiagnosticArrayPubSubType>("/diagnostics", Qos::kDefault);
   state_ = participant_.Advertise<std_msgs::msg::StringPubSubType>("/corridor/state", Qos::kDefault);
   if (options_.camera_hz > 0.0 && !frames_.devices_over_dds) {
-    depth_ = participant_.Advertise<sensor_msgs::msg::ImagePubSubType>("/camera/depth/image_raw", Qos::kSensor);
+    depth_ = participant_.Advertise<sensor_msgs::msg::ImagePubSubType>("/camera/depth/image_raw", Qos::kSensor,
+                                                                      /*large=*/true);
     camera_info_ =
         participant_.Advertise<sensor_msgs::msg::CameraInfoPubSubType>("/camera/depth/camera_info", Qos::kSensor);
   }
@@ -89,7 +91,8 @@ void DdsBridge::Activate() {
   }
   Subscribe(topics::kPose, "pose", [this](const auto& pose) {
     const auto odometry = bus().Get(topics::kOdometry).latest();
-    if (!odometry) return;
+    if (!odometry || pose->stamp_ns < next_map_odom_ns_) return;
+    next_map_odom_ns_ = pose->stamp_ns + drivers::FromSeconds(kMapOdomPeriodS);
     const nav::Pose2 map_T_odom = pose->pose * odometry->odom_T_base.Inverse();
     tf_->Write(OneTransform(dds::Transform(stamps_.ToRos(pose->stamp_ns + drivers::FromSeconds(kMapOdomToleranceS)),
                                            dds::kMapFrame, dds::kOdomFrame, map_T_odom.ToIsometry3())));

@@ -92,6 +92,7 @@ class DdsBridge final : public PeriodicNode {
   std::uint64_t mapping_revision_ = 0;
   std::vector<nav::Pose2> plan_path_;
   drivers::TimeNs next_depth_ns_ = 0;
+  drivers::TimeNs next_map_odom_ns_ = 0;
   int ticks_ = 0;
   std::mutex refuse_mutex_;
   std::map<std::string, drivers::TimeNs> last_refusal_log_;  // guarded by refuse_mutex_
