@@ -85,16 +85,16 @@ MissionRun Mission(int domain, double seconds) {
   std::vector<std::pair<std::string, dds_entity_t>> readers;
   if (domain >= 0) {
     peer = std::make_unique<CyclonePeer>(domain);
-    readers = {{"/odom", peer->Reader("/odom", nav_msgs_msg_Odometry_desc)},
-               {"/tf", peer->Reader("/tf", tf2_msgs_msg_TFMessage_desc, PeerQos::kTf)},
-               {"/tf_static", peer->Reader("/tf_static", tf2_msgs_msg_TFMessage_desc, PeerQos::kLatched)},
-               {"/scan", peer->Reader("/scan", sensor_msgs_msg_LaserScan_desc)},
-               {"/map", peer->Reader("/map", nav_msgs_msg_OccupancyGrid_desc, PeerQos::kLatched)},
-               {"/plan", peer->Reader("/plan", nav_msgs_msg_Path_desc)},
-               {"/amcl_pose",
-                peer->Reader("/amcl_pose", geometry_msgs_msg_PoseWithCovarianceStamped_desc, PeerQos::kLatched)},
-               {"/diagnostics", peer->Reader("/diagnostics", diagnostic_msgs_msg_DiagnosticArray_desc)},
-               {"/corridor/state", peer->Reader("/corridor/state", std_msgs_msg_String_desc)}};
+    readers = {
+        {"/odom", peer->Reader("/odom", nav_msgs_msg_Odometry_desc)},
+        {"/tf", peer->Reader("/tf", tf2_msgs_msg_TFMessage_desc, PeerQos::kTf)},
+        {"/tf_static", peer->Reader("/tf_static", tf2_msgs_msg_TFMessage_desc, PeerQos::kLatched)},
+        {"/scan", peer->Reader("/scan", sensor_msgs_msg_LaserScan_desc)},
+        {"/map", peer->Reader("/map", nav_msgs_msg_OccupancyGrid_desc, PeerQos::kLatched)},
+        {"/plan", peer->Reader("/plan", nav_msgs_msg_Path_desc)},
+        {"/amcl_pose", peer->Reader("/amcl_pose", geometry_msgs_msg_PoseWithCovarianceStamped_desc, PeerQos::kLatched)},
+        {"/diagnostics", peer->Reader("/diagnostics", diagnostic_msgs_msg_DiagnosticArray_desc)},
+        {"/corridor/state", peer->Reader("/corridor/state", std_msgs_msg_String_desc)}};
   }
   const auto drain = [&](bool count) {
     for (const auto& [topic, reader] : readers) {
@@ -116,7 +116,8 @@ MissionRun Mission(int domain, double seconds) {
   // The localization test's round near the start, three times over.
   nlohmann::json waypoints = nlohmann::json::array();
   for (int i = 0; i < 3; ++i) {
-    for (const auto& [x, y] : {std::pair{24.4, 26.5}, {25.0, 27.2}, {24.4, 24.6}}) waypoints.push_back({{"x", x}, {"y", y}});
+    for (const auto& [x, y] : {std::pair{24.4, 26.5}, {25.0, 27.2}, {24.4, 24.6}})
+      waypoints.push_back({{"x", x}, {"y", y}});
   }
   const nlohmann::json started =
       Api(daemon, "POST", "/api/v1/missions", nlohmann::json{{"waypoints", waypoints}}.dump());
@@ -188,9 +189,10 @@ int Main(int argc, char** argv) {
   const double seconds = argc > 1 ? std::atof(argv[1]) : 30.0;
   const MissionRun off = Mission(-1, seconds);
   const MissionRun on = Mission(Domain(0), seconds);
-  std::printf("corridord CPU driving a mission, %.0f s: DDS off %.1f %% of a core, on with a peer subscribed to "
-              "everything %.1f %%: the bridge %.1f %%\n",
-              seconds, off.cpu_percent, on.cpu_percent, on.cpu_percent - off.cpu_percent);
+  std::printf(
+      "corridord CPU driving a mission, %.0f s: DDS off %.1f %% of a core, on with a peer subscribed to "
+      "everything %.1f %%: the bridge %.1f %%\n",
+      seconds, off.cpu_percent, on.cpu_percent, on.cpu_percent - off.cpu_percent);
   std::printf("control loop, depth frame to command p99: DDS off %.2f ms, on %.2f ms\n", off.control_p99_ms,
               on.control_p99_ms);
   std::printf("samples the peer took in the window:");
@@ -198,9 +200,10 @@ int Main(int argc, char** argv) {
   std::printf("\n");
   int missed = 0;
   const Percentiles rt = Of(CmdVelRoundTrips(Domain(1), 400, missed));
-  std::printf("/corridor/cmd_vel -> corridor -> base /cmd_vel round trip: p50 %.2f ms, p99 %.2f ms, max %.2f ms "
-              "(%d of 400 unanswered within 200 ms)\n",
-              rt.p50, rt.p99, rt.max, missed);
+  std::printf(
+      "/corridor/cmd_vel -> corridor -> base /cmd_vel round trip: p50 %.2f ms, p99 %.2f ms, max %.2f ms "
+      "(%d of 400 unanswered within 200 ms)\n",
+      rt.p50, rt.p99, rt.max, missed);
   return 0;
 }
 

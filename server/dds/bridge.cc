@@ -14,7 +14,7 @@ using drivers::dds::Qos;
 
 constexpr double kBridgeRateHz = 2.0;       // the state's rate; diagnostics every other tick (1 Hz, as ROS does)
 constexpr double kMapOdomToleranceS = 0.5;  // map -> odom is dated this far ahead (AMCL's transform_tolerance)
-constexpr double kMapOdomPeriodS = 0.1;  // and sent at most this often (it changes only with localization)
+constexpr double kMapOdomPeriodS = 0.1;     // and sent at most this often (it changes only with localization)
 constexpr double kRefusalLogPeriodS = 5.0;
 constexpr double kDepthScanIncrementRad = 0.5 * M_PI / 180.0;
 
@@ -63,7 +63,7 @@ void DdsBridge::Activate() {
   state_ = participant_.Advertise<std_msgs::msg::StringPubSubType>("/corridor/state", Qos::kDefault);
   if (options_.camera_hz > 0.0 && !frames_.devices_over_dds) {
     depth_ = participant_.Advertise<sensor_msgs::msg::ImagePubSubType>("/camera/depth/image_raw", Qos::kSensor,
-                                                                      /*large=*/true);
+                                                                       /*large=*/true);
     camera_info_ =
         participant_.Advertise<sensor_msgs::msg::CameraInfoPubSubType>("/camera/depth/camera_info", Qos::kSensor);
   }
