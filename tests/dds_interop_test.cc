@@ -10,6 +10,7 @@
 #include <string>
 
 #include "tests/dds/cyclone_peer.h"
+#include "tests/dds/idl/diagnostic_msgs.h"
 #include "tests/dds/idl/geometry_msgs.h"
 #include "tests/dds/idl/nav_msgs.h"
 #include "tests/dds/idl/sensor_msgs.h"
@@ -32,9 +33,17 @@ class Daemon : public DaemonProcess {
 
 TEST(DdsInterop, RosToolSeesTheRobotDrivesItAndSendsAGoal) {
   const int domain = Domain(0);
-  Daemon daemon(domain, /*allow_writes=*/true);
+  Daemon daemon(domain, /*allow_writes=*/true, "  camera_hz: 2\n");
   CyclonePeer peer(domain);
   const dds_entity_t map = peer.Reader("/map", nav_msgs_msg_OccupancyGrid_desc, PeerQos::kLatched);
+  const dds_entity_t scan = peer.Reader("/scan", sensor_msgs_msg_LaserScan_desc);
+  const dds_entity_t plan = peer.Reader("/plan", nav_msgs_msg_Path_desc);
+  const dds_entity_t amcl_pose =
+      peer.Reader("/amcl_pose", geometry_msgs_msg_PoseWithCovarianceStamped_desc, PeerQos::kLatched);
+  const dds_entity_t diagnostics = peer.Reader("/diagnostics", diagnostic_msgs_msg_DiagnosticArray_desc);
+  const dds_entity_t depth = peer.Reader("/camera/depth/image_raw", sensor_msgs_msg_Image_desc);
+  const dds_entity_t camera_info = peer.Reader("/camera/depth/camera_info", sensor_msgs_msg_CameraInfo_desc);
+  const dds_entity_t initial_pose = peer.Writer("/initialpose", geometry_msgs_msg_PoseWithCovarianceStamped_desc);
   const dds_entity_t odom = peer.Reader("/odom", nav_msgs_msg_Odometry_desc);
   const dds_entity_t tf = peer.Reader("/tf", tf2_msgs_msg_TFMessage_desc, PeerQos::kTf);
   const dds_entity_t tf_static = peer.Reader("/tf_static", tf2_msgs_msg_TFMessage_desc, PeerQos::kLatched);
@@ -93,6 +102,71 @@ TEST(DdsInterop, RosToolSeesTheRobotDrivesItAndSendsAGoal) {
       [&] { return statics.contains("camera_depth_optical_frame"); }, 5s);
   EXPECT_TRUE(statics.contains("camera_depth_optical_frame"));
 
+  // The laser, localization's estimate, the nodes' health, and the depth camera at the rate asked for.
+  std::string scan_frame;
+  std::size_t beams = 0;
+  ASSERT_TRUE(peer.TakeUntil<sensor_msgs_msg_LaserScan>(
+      scan,
+      [&](const sensor_msgs_msg_LaserScan& m) {
+        scan_frame = m.header.frame_id;
+        beams = m.ranges._length;
+      },
+      [&] { return beams > 0; }, 5s));
+  EXPECT_EQ(scan_frame, "laser");
+  double covariance_xx = -1.0;
+  ASSERT_TRUE(peer.TakeUntil<geometry_msgs_msg_PoseWithCovarianceStamped>(
+      amcl_pose, [&](const auto& m) { covariance_xx = m.pose.covariance[0]; }, [&] { return covariance_xx >= 0.0; },
+      5s));
+  std::set<std::string> healthy;
+  ASSERT_TRUE(peer.TakeUntil<diagnostic_msgs_msg_DiagnosticArray>(
+      diagnostics,
+      [&](const diagnostic_msgs_msg_DiagnosticArray& m) {
+        for (std::uint32_t i = 0; i < m.status._length; ++i) {
+          if (m.status._buffer[i].level == 0) healthy.insert(m.status._buffer[i].name);
+        }
+      },
+      [&] { return healthy.contains("corridor/control") && healthy.contains("corridor/dds"); }, 5s));
+  std::string encoding;
+  std::uint32_t image_bytes = 0;
+  double fx = 0.0;
+  ASSERT_TRUE(peer.TakeUntil<sensor_msgs_msg_Image>(
+      depth,
+      [&](const sensor_msgs_msg_Image& m) {
+        encoding = m.encoding;
+        image_bytes = m.data._length;
+        EXPECT_EQ(m.step * m.height, m.data._length);
+      },
+      [&] { return image_bytes > 0; }, 5s));
+  EXPECT_EQ(encoding, "16UC1");
+  ASSERT_TRUE(peer.TakeUntil<sensor_msgs_msg_CameraInfo>(
+      camera_info, [&](const auto& m) { fx = m.k[0]; }, [&] { return fx > 0.0; }, 5s));
+
+  // RViz's 2D Pose Estimate where the robot stands: localization takes it (the API answers 202).
+  nav_msgs_msg_Odometry here{};
+  peer.TakeUntil<nav_msgs_msg_Odometry>(
+      odom, [&](const nav_msgs_msg_Odometry& o) { here = o; }, [] { return false; }, 200ms);
+  {
+    StateWatch now;
+    ASSERT_TRUE(peer.TakeUntil<std_msgs_msg_String>(
+        state, std::ref(now), [&] { return now.latest.contains("pose") && now.latest["pose"].is_object(); }, 5s));
+    geometry_msgs_msg_PoseWithCovarianceStamped estimate{};
+    estimate.header.frame_id = const_cast<char*>("map");
+    estimate.pose.pose.position.x = now.latest["pose"]["x"].get<double>();
+    estimate.pose.pose.position.y = now.latest["pose"]["y"].get<double>();
+    const double yaw = now.latest["pose"]["yaw"].get<double>();
+    estimate.pose.pose.orientation.z = std::sin(yaw / 2);
+    estimate.pose.pose.orientation.w = std::cos(yaw / 2);
+    estimate.pose.covariance[0] = estimate.pose.covariance[7] = 0.25 * 0.25;  // RViz's default spread
+    estimate.pose.covariance[35] = 0.07;
+    ASSERT_TRUE(peer.TakeUntil<std_msgs_msg_String>(
+        state, std::ref(now), [&] { return peer.Matched(initial_pose) > 0; }, 5s));
+    ASSERT_EQ(dds_write(initial_pose, &estimate), DDS_RETCODE_OK);
+    peer.TakeUntil<std_msgs_msg_String>(
+        state, std::ref(now), [&] { return daemon.log().find("dds: /initialpose taken (202)") != std::string::npos; },
+        5s);
+    EXPECT_NE(daemon.log().find("dds: /initialpose taken (202)"), std::string::npos) << daemon.log();
+  }
+
   // Drive ahead with /cmd_vel (the corridor in front of the start is 11 m long) and see odometry follow.
   ASSERT_TRUE(peer.TakeUntil<nav_msgs_msg_Odometry>(
       odom, [](const auto&) {}, [&] { return peer.Matched(cmd_vel) > 0; }, 10s));
@@ -114,18 +188,16 @@ TEST(DdsInterop, RosToolSeesTheRobotDrivesItAndSendsAGoal) {
   EXPECT_GT(moved, 0.3) << "odometry moved " << moved << " m";
   EXPECT_NEAR(fastest, 0.3, 0.05);
 
-  // RViz's 2D Goal Pose: 2 m further down the corridor, in the map frame; the mission must succeed.
+  // RViz's 2D Goal Pose: back where the robot started (sim.start), facing the way it came; the mission must succeed.
   StateWatch watch;
-  ASSERT_TRUE(peer.TakeUntil<std_msgs_msg_String>(
-      state, std::ref(watch), [&] { return watch.latest.contains("pose") && !watch.latest["pose"].is_null(); }, 10s));
-  const double gx = watch.latest["pose"]["x"].get<double>();
-  const double gy = watch.latest["pose"]["y"].get<double>() + 2.0;
+  const double gx = 24.38;
+  const double gy = 24.07;
   geometry_msgs_msg_PoseStamped goal{};
   goal.header.frame_id = const_cast<char*>("map");
   goal.pose.position.x = gx;
   goal.pose.position.y = gy;
-  goal.pose.orientation.z = std::sin(M_PI / 4);
-  goal.pose.orientation.w = std::cos(M_PI / 4);
+  goal.pose.orientation.z = std::sin(-M_PI / 4);
+  goal.pose.orientation.w = std::cos(-M_PI / 4);
   ASSERT_TRUE(peer.TakeUntil<std_msgs_msg_String>(
       state, std::ref(watch), [&] { return peer.Matched(goal_pose) > 0; }, 10s));
   ASSERT_EQ(dds_write(goal_pose, &goal), DDS_RETCODE_OK);
@@ -142,6 +214,19 @@ TEST(DdsInterop, RosToolSeesTheRobotDrivesItAndSendsAGoal) {
   EXPECT_EQ(status, "succeeded") << watch.latest.dump();
   EXPECT_NEAR(watch.latest["pose"]["x"].get<double>(), gx, 0.3);
   EXPECT_NEAR(watch.latest["pose"]["y"].get<double>(), gy, 0.3);
+  // The mission's path went out on /plan, in the map frame, ending at the goal.
+  std::size_t poses = 0;
+  double end_x = 0.0, end_y = 0.0;
+  peer.Take<nav_msgs_msg_Path>(plan, [&](const nav_msgs_msg_Path& p) {
+    if (p.poses._length == 0) return;
+    poses = p.poses._length;
+    EXPECT_STREQ(p.header.frame_id, "map");
+    end_x = p.poses._buffer[p.poses._length - 1].pose.position.x;
+    end_y = p.poses._buffer[p.poses._length - 1].pose.position.y;
+  });
+  EXPECT_GT(poses, 1u);
+  EXPECT_NEAR(end_x, gx, 0.1);
+  EXPECT_NEAR(end_y, gy, 0.1);
 }
 
 TEST(DdsInterop, WritesAreRefusedUnlessAllowed) {

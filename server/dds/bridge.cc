@@ -62,10 +62,12 @@ void DdsBridge::Activate() {
   diagnostics_ = participant_.Advertise<diagnostic_msgs::msg::DiagnosticArrayPubSubType>("/diagnostics", Qos::kDefault);
   state_ = participant_.Advertise<std_msgs::msg::StringPubSubType>("/corridor/state", Qos::kDefault);
   if (options_.camera_hz > 0.0 && !frames_.devices_over_dds) {
-    depth_ = participant_.Advertise<sensor_msgs::msg::ImagePubSubType>("/camera/depth/image_raw", Qos::kSensor,
-                                                                       /*large=*/true);
+    // Reliable, as everything here: a reliable writer meets best-effort readers too, and RViz's displays ask for
+    // reliable by default.
+    depth_ = participant_.Advertise<sensor_msgs::msg::ImagePubSubType>("/camera/depth/image_raw", Qos::kDefault,
+                                                                      /*large=*/true);
     camera_info_ =
-        participant_.Advertise<sensor_msgs::msg::CameraInfoPubSubType>("/camera/depth/camera_info", Qos::kSensor);
+        participant_.Advertise<sensor_msgs::msg::CameraInfoPubSubType>("/camera/depth/camera_info", Qos::kDefault);
   }
 
   // The body's fixed frames, once (transient local: late joiners get them).

@@ -27,7 +27,7 @@ std::string ReadFile(const fs::path& file) {
   return s.str();
 }
 
-std::string DdsConfig(const fs::path& source, int domain, bool allow_writes, const std::string& devices) {
+std::string DdsConfig(const fs::path& source, int domain, bool allow_writes, const std::string& extra) {
   std::string config = ReadFile(source / "config/corridor.yaml");
   const std::size_t begin = config.find("\ndds:\n");
   const std::size_t end = config.find("\nlog:\n");
@@ -36,9 +36,9 @@ std::string DdsConfig(const fs::path& source, int domain, bool allow_writes, con
                     "\n  peers: [127.0.0.1]\n  interfaces: [lo]\n";
   dds += "  domain_id: " + std::to_string(std::max(domain, 0)) + "\n";
   dds += allow_writes ? "  allow_writes: true\n" : "  allow_writes: false\n";
-  dds += devices;
+  dds += extra;
   config.replace(begin, end - begin, dds);
-  if (!devices.empty()) {
+  if (extra.find("\n  devices:") != std::string::npos || extra.rfind("  devices:", 0) == 0) {
     for (const auto& [from, to] :
          {std::pair<std::string, std::string>{"\nsim:\n  enabled: true\n", "\nsim:\n  enabled: false\n"},
           {"\n  source: mcl ", "\n  source: odometry "},
@@ -57,11 +57,11 @@ std::string DdsConfig(const fs::path& source, int domain, bool allow_writes, con
 }
 
 DaemonProcess::DaemonProcess(const fs::path& corridord, const fs::path& source, int domain, bool allow_writes,
-                             const std::string& devices) {
+                             const std::string& extra) {
   dir_ = fs::temp_directory_path() / ("corridor-dds-" + std::to_string(::getpid()) + "-" + std::to_string(domain));
   fs::remove_all(dir_);
   fs::create_directories(dir_);
-  const std::string config = DdsConfig(source, domain, allow_writes, devices);
+  const std::string config = DdsConfig(source, domain, allow_writes, extra);
   if (config.empty()) throw std::runtime_error("config/corridor.yaml has changed: cannot make the configuration");
   std::ofstream(dir_ / "corridor.yaml") << config;
   const std::string log_file = (dir_ / "corridord.log").string();

@@ -18,16 +18,16 @@ namespace corridor::testing {
 std::string ReadFile(const std::filesystem::path& file);
 
 // The tree's configuration (`source`/config/corridor.yaml) with DDS on loopback (unicast peers: loopback has no
-// multicast) in `domain` (negative: DDS off); with `devices`, the simulator off and the robot's devices over DDS
-// (`devices` is the rest of the dds section: cmd_vel_topic, devices). "" when the tree's file has changed shape.
-std::string DdsConfig(const std::filesystem::path& source, int domain, bool allow_writes, const std::string& devices);
+// multicast) in `domain` (negative: DDS off), and `extra` keys of the dds section (indented by two); when they hold
+// `devices:`, the simulator off and the robot's devices over DDS. "" when the tree's file has changed shape.
+std::string DdsConfig(const std::filesystem::path& source, int domain, bool allow_writes, const std::string& extra);
 
 // A corridord of its own (a fresh state directory, an admin API token), stopped with SIGTERM at the end. Throws
 // std::runtime_error when it does not start within 30 s.
 class DaemonProcess {
  public:
   DaemonProcess(const std::filesystem::path& corridord, const std::filesystem::path& source, int domain,
-                bool allow_writes, const std::string& devices = "");
+                bool allow_writes, const std::string& extra = "");
   DaemonProcess(const DaemonProcess&) = delete;
   DaemonProcess& operator=(const DaemonProcess&) = delete;
   ~DaemonProcess();
