@@ -10,6 +10,7 @@
 
 #include "drivers/dds/participant.h"
 #include "drivers/dds/ros2_convert.h"
+#include "ros2/diagnostic_msgsPubSubTypes.h"
 #include "ros2/geometry_msgsPubSubTypes.h"
 #include "ros2/nav_msgsPubSubTypes.h"
 #include "ros2/sensor_msgsPubSubTypes.h"
@@ -24,7 +25,8 @@ class Bytes {
  public:
   Bytes() { raw({0x00, 0x01, 0x00, 0x00}); }  // encapsulation: CDR, little endian; options 0
   Bytes& raw(std::initializer_list<std::uint8_t> b) {
-    bytes_.insert(bytes_.end(), b);
+    for (std::uint8_t byte : b)
+      bytes_.push_back(byte);  // (insert() of a short list trips GCC 12's -Wstringop-overflow)
     return *this;
   }
   Bytes& pad(int n) {
@@ -234,6 +236,121 @@ TEST(Ros2Cdr, Image) {
   EXPECT_EQ(bytes, expected);
   const cv::Mat back = DepthFromRos(Deserialize<sensor_msgs::msg::ImagePubSubType>(bytes));
   EXPECT_EQ(cv::countNonZero(back != depth), 0);
+}
+
+TEST(Ros2Cdr, Odometry) {
+  WheelOdometry odometry;
+  odometry.stamp_ns = 13 * kNsPerSecond + 14;
+  odometry.odom_T_base = {1.0, 2.0, 0.0};
+  odometry.velocity = {0.5, 0.25};
+  // 0 header "odom" (to 17), 3 bytes to align child_frame_id at 20, "base_link" (to 34), 6 bytes to align the pose's
+  // doubles at 40, 96 its covariance (36 doubles: z, roll and pitch 1e6), 384 the twist, 432 its covariance; 720 bytes.
+  Bytes b;
+  b.le<std::int32_t>(13).le<std::uint32_t>(14).str("odom").pad(3).str("base_link").pad(6);
+  b.le(1.0).le(2.0).le(0.0).le(0.0).le(0.0).le(0.0).le(1.0);
+  for (int i = 0; i < 36; ++i) b.le(i == 14 || i == 21 || i == 28 ? 1e6 : 0.0);
+  b.le(0.5).le(0.0).le(0.0).le(0.0).le(0.0).le(0.25);
+  for (int i = 0; i < 36; ++i) b.le(i == 14 || i == 21 || i == 28 ? 1e6 : 0.0);
+  EXPECT_EQ(Serialize<nav_msgs::msg::OdometryPubSubType>(ToRos(odometry, StampClock(0))), b.bytes());
+  const WheelOdometry back = FromRos(Deserialize<nav_msgs::msg::OdometryPubSubType>(b.bytes()), StampClock(0));
+  EXPECT_EQ(back.stamp_ns, odometry.stamp_ns);
+  EXPECT_EQ(back.odom_T_base.y_m, 2.0);
+  EXPECT_EQ(back.velocity.angular_rps, 0.25);
+}
+
+TEST(Ros2Cdr, PathAndPoseWithCovariance) {
+  nav_msgs::msg::Path path;
+  path.header(Header(Stamp(1, 2), "map"));
+  geometry_msgs::msg::PoseStamped p;
+  p.header(Header(Stamp(3, 4), "map"));
+  p.pose(ToRos(nav::Pose2{5.0, 6.0, 0.0}));
+  path.poses().push_back(p);
+  // 0 header (to 16), 16 count 1, 20 the pose's header (sec, nanosec, "map" to 36), 4 bytes to align its doubles at 40.
+  EXPECT_EQ(Serialize<nav_msgs::msg::PathPubSubType>(path), Bytes()
+                                                                .le<std::int32_t>(1)
+                                                                .le<std::uint32_t>(2)
+                                                                .str("map")
+                                                                .le<std::uint32_t>(1)
+                                                                .le<std::int32_t>(3)
+                                                                .le<std::uint32_t>(4)
+                                                                .str("map")
+                                                                .pad(4)
+                                                                .le(5.0)
+                                                                .le(6.0)
+                                                                .le(0.0)
+                                                                .le(0.0)
+                                                                .le(0.0)
+                                                                .le(0.0)
+                                                                .le(1.0)
+                                                                .bytes());
+  geometry_msgs::msg::PoseWithCovarianceStamped estimate;
+  estimate.header(Header(Stamp(7, 8), "map"));
+  estimate.pose().pose(ToRos(nav::Pose2{}));
+  estimate.pose().covariance()[35] = 0.5;
+  // 0 header (to 16, already aligned for doubles), 16 the pose, 72 the covariance; yaw's variance last.
+  Bytes b;
+  b.le<std::int32_t>(7).le<std::uint32_t>(8).str("map");
+  b.le(0.0).le(0.0).le(0.0).le(0.0).le(0.0).le(0.0).le(1.0);
+  for (int i = 0; i < 36; ++i) b.le(i == 35 ? 0.5 : 0.0);
+  EXPECT_EQ(Serialize<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType>(estimate), b.bytes());
+}
+
+TEST(Ros2Cdr, CameraInfo) {
+  nav::PinholeCamera camera;
+  camera.width = 4;
+  camera.height = 3;
+  camera.fx = 2.0;
+  camera.fy = 2.5;
+  camera.cx = 1.5;
+  camera.cy = 1.0;
+  // 0 header "cam" (to 16), 16 height, 20 width, 24 "plumb_bob" (length 10, to 38), 2 bytes to align d's count at 40,
+  // 4 bytes to align its doubles at 48, 88 k, 160 r, 232 p, 328 binning, 336 the region of interest (to 353).
+  Bytes b;
+  b.le<std::int32_t>(0).le<std::uint32_t>(9).str("cam").le<std::uint32_t>(3).le<std::uint32_t>(4).str("plumb_bob");
+  b.pad(2).le<std::uint32_t>(5).pad(4);
+  for (int i = 0; i < 5; ++i) b.le(0.0);
+  for (double v : {2.0, 0.0, 1.5, 0.0, 2.5, 1.0, 0.0, 0.0, 1.0}) b.le(v);
+  for (double v : {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0}) b.le(v);
+  for (double v : {2.0, 0.0, 1.5, 0.0, 0.0, 2.5, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0}) b.le(v);
+  b.le<std::uint32_t>(0).le<std::uint32_t>(0);
+  b.le<std::uint32_t>(0).le<std::uint32_t>(0).le<std::uint32_t>(0).le<std::uint32_t>(0).raw({0});
+  EXPECT_EQ(Serialize<sensor_msgs::msg::CameraInfoPubSubType>(ToRos(camera, Stamp(0, 9), "cam")), b.bytes());
+}
+
+TEST(Ros2Cdr, DiagnosticArray) {
+  diagnostic_msgs::msg::DiagnosticArray array;
+  array.header(Header(Stamp(0, 0), ""));
+  diagnostic_msgs::msg::DiagnosticStatus status;
+  status.level(2);
+  status.name("n");
+  status.message("m");
+  status.hardware_id("h");
+  diagnostic_msgs::msg::KeyValue kv;
+  kv.key("k");
+  kv.value("v");
+  status.values().push_back(kv);
+  array.status().push_back(status);
+  // 0 sec, 4 nanosec, 8 "" (length 1, to 13), 3 bytes to align the count at 16, 20 level, then each string aligned to
+  // 4: name at 24, message at 32, hardware_id at 40, 48 the values' count, key at 52, value at 60 (to 66).
+  EXPECT_EQ(Serialize<diagnostic_msgs::msg::DiagnosticArrayPubSubType>(array), Bytes()
+                                                                                   .le<std::int32_t>(0)
+                                                                                   .le<std::uint32_t>(0)
+                                                                                   .str("")
+                                                                                   .pad(3)
+                                                                                   .le<std::uint32_t>(1)
+                                                                                   .raw({2})
+                                                                                   .pad(3)
+                                                                                   .str("n")
+                                                                                   .pad(2)
+                                                                                   .str("m")
+                                                                                   .pad(2)
+                                                                                   .str("h")
+                                                                                   .pad(2)
+                                                                                   .le<std::uint32_t>(1)
+                                                                                   .str("k")
+                                                                                   .pad(2)
+                                                                                   .str("v")
+                                                                                   .bytes());
 }
 
 TEST(Ros2Convert, PosesAndYaw) {
