@@ -258,6 +258,7 @@ TEST(DdsInterop, CorridorRunsOnRos2DriversAndAToolDrivesItThroughThem) {
       "  devices:\n"
       "    camera: {depth_topic: /camera/depth/image_rect_raw, info_topic: /camera/depth/camera_info, "
       "mount_x_m: 0.1, mount_height_m: 0.3, tilt_deg: 10}\n"
+      "    laser: {topic: /scan, mount_height_m: 0.2}\n"
       "    base: {odom_topic: /odom, cmd_vel_topic: /cmd_vel, max_linear_mps: 0.5}\n";
   Daemon daemon(domain, /*allow_writes=*/true, devices);
   EXPECT_NE(daemon.log().find("dds: camera 160 x 120"), std::string::npos) << daemon.log();
@@ -286,6 +287,15 @@ TEST(DdsInterop, CorridorRunsOnRos2DriversAndAToolDrivesItThroughThem) {
       std::hypot(watch.latest["pose"]["x"].get<double>() - 24.38, watch.latest["pose"]["y"].get<double>() - 24.07), 0.2)
       << watch.latest.dump();
   EXPECT_NE(daemon.log().find("dds camera: a sample was dropped"), std::string::npos) << daemon.log();
+  // The driver's scans reach the tracker (its "scan" loop runs at the laser's rate).
+  double scan_rate = 0.0;
+  for (const auto& node : watch.latest["nodes"]) {
+    if (node.value("name", "") != "tracking") continue;
+    for (const auto& loop : node["callbacks"]) {
+      if (loop.value("name", "") == "scan") scan_rate = loop.value("rate_hz", 0.0);
+    }
+  }
+  EXPECT_NEAR(scan_rate, 10.0, 2.0) << watch.latest["nodes"].dump();
 }
 
 }  // namespace

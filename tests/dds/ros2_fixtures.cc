@@ -130,6 +130,7 @@ RosDrivers::RosDrivers(CyclonePeer& peer)
       info_(peer.Writer("/camera/depth/camera_info", sensor_msgs_msg_CameraInfo_desc)),
       depth_(peer.Writer("/camera/depth/image_rect_raw", sensor_msgs_msg_Image_desc)),
       odom_(peer.Writer("/odom", nav_msgs_msg_Odometry_desc)),
+      scan_(peer.Writer("/scan", sensor_msgs_msg_LaserScan_desc)),
       cmd_vel_(peer.Reader("/cmd_vel", geometry_msgs_msg_Twist_desc)),
       floor_(kWidth * kHeight) {
   // The floor as a camera 0.3 m up, pitched down 10 degrees, sees it (depth along the optical axis, mm).
@@ -198,6 +199,19 @@ void RosDrivers::Run() {
     odom.twist.twist.angular.z = w;
     dds_write(odom_, &odom);
     if (now >= next_frame) {
+      // A laser 2 m from a wall all round (180 beams), at the camera's rate.
+      std::vector<float> ranges(180, 2.0f);
+      sensor_msgs_msg_LaserScan scan{};
+      scan.header.stamp = stamp;
+      scan.header.frame_id = const_cast<char*>("laser");
+      scan.angle_min = static_cast<float>(-M_PI);
+      scan.angle_increment = static_cast<float>(2 * M_PI / 180);
+      scan.angle_max = scan.angle_min + 179 * scan.angle_increment;
+      scan.range_min = 0.1f;
+      scan.range_max = 8.0f;
+      scan.ranges._length = scan.ranges._maximum = 180;
+      scan.ranges._buffer = ranges.data();
+      dds_write(scan_, &scan);
       next_frame = now + 100ms;
       sensor_msgs_msg_CameraInfo info{};
       info.header.stamp = stamp;

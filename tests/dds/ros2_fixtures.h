@@ -58,8 +58,8 @@ struct StateWatch {
 };
 
 // The robot's ROS 2 drivers, played by the peer on a thread of its own: a depth camera (camera info and 16UC1 images
-// of a flat floor, 160 x 120 at 10 Hz) and a differential base (odometry at 50 Hz from the last /cmd_vel, which it
-// holds for 0.5 s, as diff_drive_controller's timeout does).
+// of a flat floor, 160 x 120 at 10 Hz), a laser (/scan, 10 Hz) and a differential base (odometry at 50 Hz from the last
+// /cmd_vel, which it holds for 0.5 s, as diff_drive_controller's timeout does).
 class RosDrivers {
  public:
   explicit RosDrivers(CyclonePeer& peer);
@@ -86,6 +86,7 @@ class RosDrivers {
   dds_entity_t info_;
   dds_entity_t depth_;
   dds_entity_t odom_;
+  dds_entity_t scan_;
   dds_entity_t cmd_vel_;
   std::vector<std::uint16_t> floor_;
   std::atomic<bool> stop_{false};
