@@ -468,8 +468,11 @@ void ReadDds(ConfigReader& r, DdsOptions& d) {
     s.Read("info_wait_s", o.info_wait_s, 0.5, 600.0);
   });
   for (const std::string& topic : {d.cmd_vel_topic, d.devices.camera.depth_topic, d.devices.camera.info_topic,
+                                   d.devices.camera.color_topic, d.devices.laser_options.topic,
                                    d.devices.base.odom_topic, d.devices.base.cmd_vel_topic}) {
-    if (!drivers::dds::IsRosTopicName(topic)) throw ConfigError(r.path() + ": '" + topic + "' is not a ROS 2 topic name");
+    if (!topic.empty() && !drivers::dds::IsRosTopicName(topic)) {
+      throw ConfigError(r.path() + ": '" + topic + "' is not a ROS 2 topic name");
+    }
   }
   for (const std::string& peer : d.peers) {
     in_addr address{};

@@ -141,6 +141,13 @@ TEST_F(ConfigTest, DdsIsOffByDefaultAndItsDomainComesFromTheEnvironmentUnlessSet
   EXPECT_NE(ErrorOf("sim: {enabled: false}\ndds: {peers: [robot.local]}\n").find("dds.peers"), std::string::npos);
   EXPECT_NE(ErrorOf("sim: {enabled: false}\ndds: {peers: 127.0.0.1}\n").find("dds.peers"), std::string::npos);
   EXPECT_NE(ErrorOf("sim: {enabled: false}\ndds: {camera_hz: -1}\n").find("dds.camera_hz"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndds: {devices: {base: {odom_topic: 'odom odom'}}}\n")
+                .find("not a ROS 2 topic name"),
+            std::string::npos);
+  // With devices over DDS, ROS tools' velocities must not arrive on the base's own command topic.
+  EXPECT_NE(ErrorOf("sim: {enabled: false}\nmap: {file: x.yaml}\ndds: {enabled: true, allow_writes: true}\n")
+                .find("dds.cmd_vel_topic"),
+            std::string::npos);
 }
 
 TEST_F(ConfigTest, DoorsTheirControllerAndTheSimulatorsDoorsAreReadAndChecked) {
