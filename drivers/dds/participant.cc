@@ -136,7 +136,7 @@ Participant::Participant(const ParticipantOptions& options)
     // Unicast discovery: listen on the well-known unicast ports (a zero port) of the allowed addresses (a null
     // address), announce to the peers only; no multicast locator at all.
     for (const std::string& peer : options.peers) {
-      if (!IsIpv4(peer)) throw std::runtime_error("dds: peer '" + peer + "' is not an IPv4 address");
+      if (!IsIpv4(peer)) throw std::invalid_argument("dds: peer '" + peer + "' is not an IPv4 address");
       Locator_t locator;
       locator.kind = LOCATOR_KIND_UDPv4;
       IPLocator::setIPv4(locator, peer);

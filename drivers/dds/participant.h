@@ -100,7 +100,8 @@ class Writer {
 
 class Participant {
  public:
-  // Throws std::runtime_error when DDS cannot create the participant (a bad domain, no usable interface).
+  // Throws std::invalid_argument for an interface or peer that is not there, std::runtime_error when DDS cannot
+  // create the participant (a bad domain, ports taken).
   explicit Participant(const ParticipantOptions& options);
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;
