@@ -209,6 +209,7 @@ int Run(const CommandLine& cl) {
   spdlog::info("{}: stopping the robot, then shutting down", strsignal(signal_number));
   service.Stopping();
   graph.Stop();
+  if (dds_robot) dds_robot->Stop();  // no driver callback may reach the graph once it is gone
   server.Stop();
   spdlog::info("stopped");
   return 0;

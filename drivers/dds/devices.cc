@@ -71,6 +71,12 @@ CameraInfo DdsDepthCamera::info() const {
   return info_.value_or(CameraInfo{});
 }
 
+void DdsDepthCamera::Stop() {
+  depth_subscription_.reset();
+  color_subscription_.reset();
+  info_subscription_.reset();
+}
+
 void DdsDepthCamera::SetFrameHandler(FrameHandler handler) {
   std::lock_guard lock(mutex_);
   handler_ = std::move(handler);

@@ -48,6 +48,8 @@ class DdsDepthCamera final : public DepthCamera {
   CameraInfo info() const override;
   void SetFrameHandler(FrameHandler handler) override;
   std::uint64_t dropped() const { return drops_.dropped(); }
+  // Ends the subscriptions (waiting for a delivery in progress): the handler is not called after it. Idempotent.
+  void Stop();
 
  private:
   void Depth(const sensor_msgs::msg::Image& image);
@@ -73,6 +75,7 @@ class DdsLaser final : public Laser2D {
   double height_m() const override { return options_.height_m; }
   void SetScanHandler(ScanHandler handler) override;
   std::uint64_t dropped() const { return drops_.dropped(); }
+  void Stop() { subscription_.reset(); }  // as DdsDepthCamera::Stop
 
  private:
   DdsLaserOptions options_;
@@ -91,6 +94,7 @@ class DdsBase final : public DiffDriveBase {
   void SetVelocity(const nav::Twist2& command) override;
   void SetOdometryHandler(OdometryHandler handler) override;
   std::uint64_t dropped() const { return drops_.dropped(); }
+  void Stop() { subscription_.reset(); }  // as DdsDepthCamera::Stop
 
  private:
   DdsBaseOptions options_;

@@ -8,6 +8,12 @@ Devices DdsRobot::devices() const {
   return Devices{*camera, *base, laser.get(), nullptr, nullptr, nullptr, participant.get()};
 }
 
+void DdsRobot::Stop() {
+  if (camera) camera->Stop();
+  if (laser) laser->Stop();
+  if (base) base->Stop();
+}
+
 DdsRobot MakeDdsRobot(const Config& config, const drivers::Clock& clock) {
   if (!config.dds.enabled) {
     throw ConfigError(

@@ -19,6 +19,8 @@ struct DdsRobot {
   std::unique_ptr<drivers::dds::DdsBase> base;
 
   Devices devices() const;
+  // Ends the devices' subscriptions (waiting for a delivery in progress): nothing reaches the graph after it.
+  void Stop();
 };
 
 // Joins DDS as the configuration says and waits for the camera's CameraInfo (dds.devices.info_wait_s). Throws
