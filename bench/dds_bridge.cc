@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -22,6 +23,7 @@
 #include <thread>
 #include <vector>
 
+#include "server/api/http_client.h"
 #include "tests/dds/cyclone_peer.h"
 #include "tests/dds/idl/diagnostic_msgs.h"
 #include "tests/dds/idl/geometry_msgs.h"
@@ -37,24 +39,23 @@ namespace {
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 
-std::string Run(const std::string& command) {
-  std::string out;
-  if (FILE* pipe = ::popen(command.c_str(), "r")) {
-    char buffer[4096];
-    std::size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) out.append(buffer, n);
-    ::pclose(pipe);
-  }
-  return out;
-}
-
-// The API over HTTP with the daemon's admin token (curl, as a building system would call it).
-nlohmann::json Api(const DaemonProcess& daemon, const std::string& method, const std::string& path,
+// The API over HTTP with the daemon's admin token, through corridor's own HTTP client (as a building system calls it).
+nlohmann::json Api(const DaemonProcess& daemon, boost::beast::http::verb method, const std::string& path,
                    const std::string& body = "") {
-  std::string command = "curl -s -X " + method + " -H 'Authorization: Bearer " + daemon.token() + "'";
-  if (!body.empty()) command += " -H 'Content-Type: application/json' -d '" + body + "'";
-  command += " http://127.0.0.1:" + std::to_string(daemon.port()) + path;
-  return nlohmann::json::parse(Run(command), nullptr, false);
+  boost::asio::io_context io;
+  boost::asio::ssl::context tls(boost::asio::ssl::context::tls_client);
+  boost::beast::http::request<boost::beast::http::string_body> request{method, path, 11};
+  request.set(boost::beast::http::field::authorization, "Bearer " + daemon.token());
+  request.set(boost::beast::http::field::content_type, "application/json");
+  request.body() = body;
+  request.prepare_payload();
+  server::HttpAnswer answer;
+  server::HttpExchange(
+      io, tls, server::ParseHttpUrl("http://127.0.0.1:" + std::to_string(daemon.port())), request, 10.0,
+      [&answer](server::HttpAnswer a) { answer = std::move(a); }, 1 << 20);
+  io.run();
+  if (answer.status == 0) throw std::runtime_error(path + ": " + answer.error);
+  return nlohmann::json::parse(answer.body, nullptr, false);
 }
 
 // The process's CPU time so far (user + system), in seconds.
@@ -120,7 +121,7 @@ MissionRun Mission(int domain, double seconds) {
       waypoints.push_back({{"x", x}, {"y", y}});
   }
   const nlohmann::json started =
-      Api(daemon, "POST", "/api/v1/missions", nlohmann::json{{"waypoints", waypoints}}.dump());
+      Api(daemon, boost::beast::http::verb::post, "/api/v1/missions", nlohmann::json{{"waypoints", waypoints}}.dump());
   if (!started.is_object() || !started.contains("id")) throw std::runtime_error("no mission: " + started.dump());
   const double cpu0 = CpuSeconds(daemon.pid());
   const auto t0 = Clock::now();
@@ -130,7 +131,7 @@ MissionRun Mission(int domain, double seconds) {
   }
   const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
   run.cpu_percent = 100.0 * (CpuSeconds(daemon.pid()) - cpu0) / wall;
-  const nlohmann::json state = Api(daemon, "GET", "/api/v1/state");
+  const nlohmann::json state = Api(daemon, boost::beast::http::verb::get, "/api/v1/state");
   run.control_p99_ms = state["control_latency"].value("p99_ms", -1.0);
   return run;
 }

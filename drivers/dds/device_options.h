@@ -1,8 +1,8 @@
-// What the devices served over DDS read and write (drivers/dds/devices.h), apart from DDS itself: the configuration
-// holds these.
+// What the configuration holds for DDS without DDS itself: the devices served over DDS (drivers/dds/devices.h), and
+// the checks of names and addresses it shares with the participant.
 #pragma once
 
-#include <Eigen/Geometry>
+#include <arpa/inet.h>
 
 #include <cctype>
 #include <string>
@@ -25,17 +25,25 @@ inline bool IsRosTopicName(const std::string& name) {
   return true;
 }
 
+// A dotted IPv4 address ("192.168.1.20").
+inline bool IsIpv4Address(const std::string& text) {
+  in_addr address{};
+  return ::inet_pton(AF_INET, text.c_str(), &address) == 1;
+}
+
 struct DdsCameraOptions {
   std::string depth_topic = "/camera/depth/image_rect_raw";  // sensor_msgs/Image, 16UC1 (mm) or 32FC1 (m)
   std::string info_topic = "/camera/depth/camera_info";      // sensor_msgs/CameraInfo
   std::string color_topic;  // bgr8 or rgb8 of the same size, registered to depth; empty: none (frames are black)
-  Eigen::Isometry3d base_T_camera = Eigen::Isometry3d::Identity();  // the optical frame in the base frame
+  double mount_x_m = 0.1;   // the optical centre: forward of the base's centre, above the floor, pitched down
+  double mount_height_m = 0.3;
+  double tilt_deg = 10.0;
   double min_range_m = 0.2;
   double max_range_m = 6.0;
 };
 
 struct DdsLaserOptions {
-  std::string topic = "/scan";  // sensor_msgs/LaserScan
+  std::string topic;  // sensor_msgs/LaserScan, e.g. /scan; empty: no laser
   nav::Pose2 base_T_laser;
   double height_m = 0.2;
 };
@@ -43,7 +51,7 @@ struct DdsLaserOptions {
 struct DdsBaseOptions {
   std::string odom_topic = "/odom";        // nav_msgs/Odometry from the base driver
   std::string cmd_vel_topic = "/cmd_vel";  // geometry_msgs/Twist to it
-  BaseLimits limits;
+  BaseLimits limits{0.5, 1.5, 1.0, 3.0, 0.2};
 };
 
 }  // namespace corridor::drivers::dds

@@ -3,30 +3,19 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <numbers>
+
+#include "nav/geometry/camera_model.h"
 
 namespace corridor::drivers::dds {
-namespace {
-
-constexpr auto kDropLogPeriod = std::chrono::seconds(5);
-
-}  // namespace
-
-void DropLog::Drop(const std::string& why) {
-  ++dropped_;
-  const auto now = std::chrono::steady_clock::now();
-  std::lock_guard lock(mutex_);
-  if (now - last_log_ < kDropLogPeriod) return;
-  last_log_ = now;
-  spdlog::warn("dds {}: a sample was dropped ({} so far): {}", device_, dropped_.load(), why);
-}
-
 DdsDepthCamera::DdsDepthCamera(Participant& participant, const DdsCameraOptions& options, const Clock& clock)
     : options_(options), stamps_(StampClock::For(clock)) {
   info_subscription_ = participant.Subscribe<sensor_msgs::msg::CameraInfoPubSubType>(
       options_.info_topic, Qos::kSensor, [this](const sensor_msgs::msg::CameraInfo& message) {
         try {
           CameraInfo info;
-          info.camera = FromRos(message, options_.base_T_camera);
+          info.camera = FromRos(message, nav::CameraMount(options_.mount_x_m, options_.mount_height_m,
+                                                          options_.tilt_deg * std::numbers::pi / 180.0));
           info.min_range_m = options_.min_range_m;
           info.max_range_m = options_.max_range_m;
           std::lock_guard lock(mutex_);
@@ -77,10 +66,7 @@ void DdsDepthCamera::Stop() {
   info_subscription_.reset();
 }
 
-void DdsDepthCamera::SetFrameHandler(FrameHandler handler) {
-  std::lock_guard lock(mutex_);
-  handler_ = std::move(handler);
-}
+void DdsDepthCamera::SetFrameHandler(FrameHandler handler) { handler_.Set(std::move(handler)); }
 
 void DdsDepthCamera::Depth(const sensor_msgs::msg::Image& image) {
   auto frame = std::make_shared<RgbdFrame>();
@@ -90,7 +76,6 @@ void DdsDepthCamera::Depth(const sensor_msgs::msg::Image& image) {
     return drops_.Drop(e.what());
   }
   frame->stamp_ns = stamps_.FromRos(image.header().stamp());
-  FrameHandler handler;
   {
     std::lock_guard lock(mutex_);
     if (!info_) return drops_.Drop("a depth image before any camera info");
@@ -100,9 +85,8 @@ void DdsDepthCamera::Depth(const sensor_msgs::msg::Image& image) {
     frame->color_bgr =
         color_.size() == frame->depth_mm.size() ? color_ : cv::Mat(frame->depth_mm.size(), CV_8UC3, cv::Scalar::all(0));
     frame->sequence = ++sequence_;
-    handler = handler_;
   }
-  if (handler) handler(std::move(frame));
+  if (const FrameHandler handler = handler_.Get()) handler(std::move(frame));
 }
 
 DdsLaser::DdsLaser(Participant& participant, const DdsLaserOptions& options, const Clock& clock)
@@ -115,19 +99,11 @@ DdsLaser::DdsLaser(Participant& participant, const DdsLaserOptions& options, con
         } catch (const std::invalid_argument& e) {
           return drops_.Drop(e.what());
         }
-        ScanHandler handler;
-        {
-          std::lock_guard lock(mutex_);
-          handler = handler_;
-        }
-        if (handler) handler(scan);
+        if (const ScanHandler handler = handler_.Get()) handler(scan);
       });
 }
 
-void DdsLaser::SetScanHandler(ScanHandler handler) {
-  std::lock_guard lock(mutex_);
-  handler_ = std::move(handler);
-}
+void DdsLaser::SetScanHandler(ScanHandler handler) { handler_.Set(std::move(handler)); }
 
 DdsBase::DdsBase(Participant& participant, const DdsBaseOptions& options, const Clock& clock)
     : options_(options), stamps_(StampClock::For(clock)) {
@@ -140,12 +116,7 @@ DdsBase::DdsBase(Participant& participant, const DdsBaseOptions& options, const 
         } catch (const std::invalid_argument& e) {
           return drops_.Drop(e.what());
         }
-        OdometryHandler handler;
-        {
-          std::lock_guard lock(mutex_);
-          handler = handler_;
-        }
-        if (handler) handler(odometry);
+        if (const OdometryHandler handler = handler_.Get()) handler(odometry);
       });
 }
 
@@ -155,9 +126,6 @@ void DdsBase::SetVelocity(const nav::Twist2& command) {
                                     std::clamp(command.angular_rps, -l.max_angular_rps, l.max_angular_rps)}));
 }
 
-void DdsBase::SetOdometryHandler(OdometryHandler handler) {
-  std::lock_guard lock(mutex_);
-  handler_ = std::move(handler);
-}
+void DdsBase::SetOdometryHandler(OdometryHandler handler) { handler_.Set(std::move(handler)); }
 
 }  // namespace corridor::drivers::dds

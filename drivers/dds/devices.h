@@ -25,18 +25,22 @@
 
 namespace corridor::drivers::dds {
 
-// Counts and logs (at most every few seconds per device) samples that could not be used.
-class DropLog {
+// A handler installed from one thread and called from DDS's: copied out under the lock, called outside it.
+template <typename Handler>
+class HandlerSlot {
  public:
-  explicit DropLog(std::string device) : device_(std::move(device)) {}
-  void Drop(const std::string& why);
-  std::uint64_t dropped() const { return dropped_.load(); }
+  void Set(Handler handler) {
+    std::lock_guard lock(mutex_);
+    handler_ = std::move(handler);
+  }
+  Handler Get() const {
+    std::lock_guard lock(mutex_);
+    return handler_;
+  }
 
  private:
-  std::string device_;
-  std::atomic<std::uint64_t> dropped_{0};
-  std::mutex mutex_;
-  std::chrono::steady_clock::time_point last_log_{};
+  mutable std::mutex mutex_;
+  Handler handler_;
 };
 
 class DdsDepthCamera final : public DepthCamera {
@@ -47,7 +51,6 @@ class DdsDepthCamera final : public DepthCamera {
   void WaitForInfo(std::chrono::milliseconds timeout);
   CameraInfo info() const override;
   void SetFrameHandler(FrameHandler handler) override;
-  std::uint64_t dropped() const { return drops_.dropped(); }
   // Ends the subscriptions (waiting for a delivery in progress): the handler is not called after it. Idempotent.
   void Stop();
 
@@ -61,7 +64,7 @@ class DdsDepthCamera final : public DepthCamera {
   std::condition_variable info_arrived_;
   std::optional<CameraInfo> info_;  // guarded by mutex_
   cv::Mat color_;                   // the latest colour image (guarded by mutex_)
-  FrameHandler handler_;
+  HandlerSlot<FrameHandler> handler_;
   std::uint64_t sequence_ = 0;
   std::unique_ptr<Subscription> info_subscription_;
   std::unique_ptr<Subscription> color_subscription_;
@@ -74,15 +77,13 @@ class DdsLaser final : public Laser2D {
   nav::Pose2 base_T_laser() const override { return options_.base_T_laser; }
   double height_m() const override { return options_.height_m; }
   void SetScanHandler(ScanHandler handler) override;
-  std::uint64_t dropped() const { return drops_.dropped(); }
   void Stop() { subscription_.reset(); }  // as DdsDepthCamera::Stop
 
  private:
   DdsLaserOptions options_;
   const StampClock stamps_;
   DropLog drops_{"laser"};
-  std::mutex mutex_;
-  ScanHandler handler_;  // guarded by mutex_
+  HandlerSlot<ScanHandler> handler_;
   std::unique_ptr<Subscription> subscription_;
 };
 
@@ -93,15 +94,13 @@ class DdsBase final : public DiffDriveBase {
   // Clamped to the limits and sent as a Twist; the base driver's own command timeout stops it when they stop.
   void SetVelocity(const nav::Twist2& command) override;
   void SetOdometryHandler(OdometryHandler handler) override;
-  std::uint64_t dropped() const { return drops_.dropped(); }
   void Stop() { subscription_.reset(); }  // as DdsDepthCamera::Stop
 
  private:
   DdsBaseOptions options_;
   const StampClock stamps_;
   DropLog drops_{"base"};
-  std::mutex mutex_;
-  OdometryHandler handler_;  // guarded by mutex_
+  HandlerSlot<OdometryHandler> handler_;
   std::unique_ptr<Writer<geometry_msgs::msg::TwistPubSubType>> cmd_vel_;
   std::unique_ptr<Subscription> subscription_;
 };

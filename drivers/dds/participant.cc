@@ -20,6 +20,8 @@ namespace corridor::drivers::dds {
 namespace {
 
 namespace fdds = eprosima::fastdds::dds;
+
+constexpr auto kDropLogPeriod = std::chrono::seconds(5);
 using eprosima::fastrtps::rtps::IPLocator;
 using eprosima::fastrtps::rtps::Locator_t;
 
@@ -32,11 +34,6 @@ void ApplyProfile(EntityQos& q, Qos qos) {
   q.history().depth = qos == Qos::kLatched ? 1 : qos == Qos::kSensor ? 5 : qos == Qos::kTf ? 100 : 10;
   // Samples go over the network transport only (no shared memory): what other vendors' peers see is what ours see.
   q.data_sharing().off();
-}
-
-bool IsIpv4(const std::string& text) {
-  in_addr a{};
-  return ::inet_pton(AF_INET, text.c_str(), &a) == 1;
 }
 
 }  // namespace
@@ -52,7 +49,7 @@ std::vector<std::string> InterfaceAddresses(const std::vector<std::string>& inte
   if (::getifaddrs(&all) != 0) throw std::runtime_error("cannot list the network interfaces");
   const std::unique_ptr<ifaddrs, void (*)(ifaddrs*)> guard(all, ::freeifaddrs);
   for (const std::string& wanted : interfaces) {
-    if (IsIpv4(wanted)) {
+    if (IsIpv4Address(wanted)) {
       out.push_back(wanted);
       continue;
     }
@@ -69,33 +66,34 @@ std::vector<std::string> InterfaceAddresses(const std::vector<std::string>& inte
   return out;
 }
 
+// Logs who comes and goes; discovery only (see the constructor).
 class Participant::ParticipantListener final : public fdds::DomainParticipantListener {
  public:
-  explicit ParticipantListener(std::shared_ptr<std::atomic<int>> count) : count_(std::move(count)) {}
   void on_participant_discovery(fdds::DomainParticipant*,
                                 eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
     using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERY_STATUS;
     if (info.status == Status::DISCOVERED_PARTICIPANT) {
-      ++*count_;
       spdlog::info("dds: discovered participant '{}'", info.info.m_participantName.to_string());
     } else if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
-      --*count_;
       spdlog::info("dds: participant '{}' left", info.info.m_participantName.to_string());
     }
   }
-
- private:
-  std::shared_ptr<std::atomic<int>> count_;
 };
 
-class Participant::ReaderListener final : public fdds::DataReaderListener {
+namespace {
+
+// Takes a reader's samples while its subscription's gate is open; what throws is logged and dropped.
+class ReaderListener final : public fdds::DataReaderListener {
  public:
-  ReaderListener(std::string topic, std::function<void(fdds::DataReader&)> take)
-      : topic_(std::move(topic)), take_(std::move(take)) {}
+  ReaderListener(std::string topic, std::shared_ptr<Subscription::Gate> gate,
+                 std::function<void(fdds::DataReader&)> take)
+      : topic_(std::move(topic)), gate_(std::move(gate)), take_(std::move(take)) {}
   void on_requested_incompatible_qos(fdds::DataReader*, const fdds::RequestedIncompatibleQosStatus&) override {
     spdlog::warn("dds: a writer of {} offers QoS this reader cannot take (reliability or durability)", topic_);
   }
   void on_data_available(fdds::DataReader* reader) override {
+    std::lock_guard lock(gate_->mutex);
+    if (!gate_->open) return;
     try {
       take_(*reader);
     } catch (const std::exception& e) {
@@ -105,22 +103,14 @@ class Participant::ReaderListener final : public fdds::DataReaderListener {
 
  private:
   std::string topic_;
+  std::shared_ptr<Subscription::Gate> gate_;
   std::function<void(fdds::DataReader&)> take_;
 };
 
-class Participant::WriterListener final : public fdds::DataWriterListener {
- public:
-  explicit WriterListener(std::shared_ptr<std::atomic<int>> matched) : matched_(std::move(matched)) {}
-  void on_publication_matched(fdds::DataWriter*, const fdds::PublicationMatchedStatus& status) override {
-    matched_->store(status.current_count);
-  }
-
- private:
-  std::shared_ptr<std::atomic<int>> matched_;
-};
+}  // namespace
 
 Participant::Participant(const ParticipantOptions& options)
-    : options_(options), participant_listener_(std::make_unique<ParticipantListener>(participants_)) {
+    : options_(options), participant_listener_(std::make_unique<ParticipantListener>()) {
   if (options.domain_id < 0 || options.domain_id > 232) {
     throw std::runtime_error("dds: domain id " + std::to_string(options.domain_id) + " is not within 0..232");
   }
@@ -136,7 +126,7 @@ Participant::Participant(const ParticipantOptions& options)
     // Unicast discovery: listen on the well-known unicast ports (a zero port) of the allowed addresses (a null
     // address), announce to the peers only; no multicast locator at all.
     for (const std::string& peer : options.peers) {
-      if (!IsIpv4(peer)) throw std::invalid_argument("dds: peer '" + peer + "' is not an IPv4 address");
+      if (!IsIpv4Address(peer)) throw std::invalid_argument("dds: peer '" + peer + "' is not an IPv4 address");
       Locator_t locator;
       locator.kind = LOCATOR_KIND_UDPv4;
       IPLocator::setIPv4(locator, peer);
@@ -188,17 +178,13 @@ fdds::Topic* Participant::TopicFor(const std::string& name, fdds::TopicDataType*
   return t;
 }
 
-fdds::DataWriter* Participant::CreateWriter(const std::string& name, fdds::TopicDataType* type, Qos qos, bool large,
-                                            std::shared_ptr<std::atomic<int>> matched) {
+fdds::DataWriter* Participant::CreateWriter(const std::string& name, fdds::TopicDataType* type, Qos qos, bool large) {
   fdds::Topic* topic = TopicFor(name, type);
   fdds::DataWriterQos q = fdds::DATAWRITER_QOS_DEFAULT;
   ApplyProfile(q, qos);
   q.publish_mode().kind = large ? fdds::ASYNCHRONOUS_PUBLISH_MODE : fdds::SYNCHRONOUS_PUBLISH_MODE;
-  auto listener = std::make_unique<WriterListener>(std::move(matched));
-  fdds::DataWriter* writer = publisher_->create_datawriter(topic, q, listener.get());
+  fdds::DataWriter* writer = publisher_->create_datawriter(topic, q, nullptr);
   if (writer == nullptr) throw std::runtime_error("dds: cannot create a writer of " + name);
-  std::lock_guard lock(mutex_);
-  writer_listeners_.emplace(writer, std::move(listener));
   return writer;
 }
 
@@ -208,35 +194,28 @@ std::unique_ptr<Subscription> Participant::CreateReader(const std::string& name,
   fdds::DataReaderQos q = fdds::DATAREADER_QOS_DEFAULT;
   ApplyProfile(q, qos);
   auto gate = std::make_shared<Subscription::Gate>();
-  auto listener = std::make_unique<ReaderListener>(name, [gate, take = std::move(take)](fdds::DataReader& reader) {
-    std::lock_guard lock(gate->mutex);
-    if (gate->open) take(reader);
-  });
+  auto listener = std::make_unique<ReaderListener>(name, gate, std::move(take));
   fdds::DataReader* reader = subscriber_->create_datareader(topic, q, listener.get());
   if (reader == nullptr) throw std::runtime_error("dds: cannot create a reader of " + name);
-  {
-    std::lock_guard lock(mutex_);
-    reader_listeners_.emplace(reader, std::move(listener));
-  }
-  return std::unique_ptr<Subscription>(new Subscription(*this, reader, std::move(gate)));
+  return std::unique_ptr<Subscription>(new Subscription(subscriber_, reader, std::move(listener), std::move(gate)));
 }
 
 Subscription::~Subscription() {
   {
-    std::lock_guard lock(gate_->mutex);  // waits for a call in progress
+    std::lock_guard lock(gate_->mutex);  // waits for a delivery in progress
     gate_->open = false;
   }
   reader_->set_listener(nullptr);
-  participant_.subscriber_->delete_datareader(reader_);
-  std::lock_guard lock(participant_.mutex_);
-  participant_.reader_listeners_.erase(reader_);
+  subscriber_->delete_datareader(reader_);
 }
 
-void DeleteWriter(Participant& participant, fdds::DataWriter* writer) {
-  writer->set_listener(nullptr);
-  participant.publisher_->delete_datawriter(writer);
-  std::lock_guard lock(participant.mutex_);
-  participant.writer_listeners_.erase(writer);
+void DropLog::Drop(const std::string& why) {
+  const std::uint64_t dropped = ++dropped_;
+  const auto now = std::chrono::steady_clock::now();
+  std::lock_guard lock(mutex_);
+  if (last_log_ != std::chrono::steady_clock::time_point{} && now - last_log_ < kDropLogPeriod) return;
+  last_log_ = now;
+  spdlog::warn("dds {}: a sample was dropped ({} so far): {}", what_, dropped, why);
 }
 
 }  // namespace corridor::drivers::dds

@@ -8,12 +8,15 @@
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <map>
 #include <memory>
@@ -46,56 +49,65 @@ std::string RosTopic(const std::string& name);
 // std::invalid_argument naming an interface that does not exist or has no IPv4 address.
 std::vector<std::string> InterfaceAddresses(const std::vector<std::string>& interfaces);
 
-class Participant;
-class Subscription;
+// Samples from DDS that could not be used, for one device or topic: counted, and logged at most every 5 s.
+class DropLog {
+ public:
+  explicit DropLog(std::string what) : what_(std::move(what)) {}
+  void Drop(const std::string& why);
 
-// Writes one ROS 2 topic. Thread-safe (Fast DDS's writers are).
+ private:
+  std::string what_;
+  std::atomic<std::uint64_t> dropped_{0};
+  std::mutex mutex_;
+  std::chrono::steady_clock::time_point last_log_{};  // guarded by mutex_
+};
+
+class Participant;
+
 // A reader of one ROS 2 topic (Participant::Subscribe); destroying it ends the subscription.
 class Subscription {
  public:
   Subscription(const Subscription&) = delete;
   Subscription& operator=(const Subscription&) = delete;
+  // Waits for a delivery in progress; none starts after.
   ~Subscription();
 
- private:
-  friend class Participant;
+  // Closed by the destructor before the reader goes, under the lock every delivery holds.
   struct Gate {
     std::mutex mutex;
     bool open = true;
   };
-  Subscription(Participant& participant, eprosima::fastdds::dds::DataReader* reader, std::shared_ptr<Gate> gate)
-      : participant_(participant), reader_(reader), gate_(std::move(gate)) {}
-  Participant& participant_;
-  eprosima::fastdds::dds::DataReader* reader_;
-  std::shared_ptr<Gate> gate_;
-};
-
-// Deletes a writer with its participant's publisher (Writer's destructor).
-void DeleteWriter(Participant& participant, eprosima::fastdds::dds::DataWriter* writer);
-
-template <typename PubSubType>
-class Writer {
- public:
-  Writer(const Writer&) = delete;
-  Writer& operator=(const Writer&) = delete;
-  ~Writer() { DeleteWriter(participant_, writer_); }
-
-  using Message = typename PubSubType::type;
-  // False when DDS refused the sample (the writer's history is full of unacknowledged samples, or it is gone).
-  bool Write(const Message& message) { return writer_->write(const_cast<Message*>(&message)); }
-  // How many readers have matched this writer now.
-  int matched() const { return matched_->load(); }
-  const std::string& topic() const { return topic_; }
 
  private:
   friend class Participant;
-  Writer(Participant& participant, eprosima::fastdds::dds::DataWriter* writer,
-         std::shared_ptr<std::atomic<int>> matched, std::string topic)
-      : participant_(participant), writer_(writer), matched_(std::move(matched)), topic_(std::move(topic)) {}
-  Participant& participant_;
+  Subscription(eprosima::fastdds::dds::Subscriber* subscriber, eprosima::fastdds::dds::DataReader* reader,
+               std::unique_ptr<eprosima::fastdds::dds::DataReaderListener> listener, std::shared_ptr<Gate> gate)
+      : subscriber_(subscriber), reader_(reader), listener_(std::move(listener)), gate_(std::move(gate)) {}
+  eprosima::fastdds::dds::Subscriber* subscriber_;
+  eprosima::fastdds::dds::DataReader* reader_;
+  std::unique_ptr<eprosima::fastdds::dds::DataReaderListener> listener_;
+  std::shared_ptr<Gate> gate_;
+};
+
+// Writes one ROS 2 topic (Participant::Advertise); destroying it deletes the writer. Thread-safe (Fast DDS's
+// writers are).
+template <typename PubSubType>
+class Writer {
+ public:
+  using Message = typename PubSubType::type;
+  Writer(const Writer&) = delete;
+  Writer& operator=(const Writer&) = delete;
+  ~Writer() { publisher_->delete_datawriter(writer_); }
+
+  // False when DDS refused the sample (the writer's history is full of unacknowledged samples, or it is gone).
+  bool Write(const Message& message) { return writer_->write(const_cast<Message*>(&message)); }
+
+ private:
+  friend class Participant;
+  Writer(eprosima::fastdds::dds::Publisher* publisher, eprosima::fastdds::dds::DataWriter* writer)
+      : publisher_(publisher), writer_(writer) {}
+  eprosima::fastdds::dds::Publisher* publisher_;
   eprosima::fastdds::dds::DataWriter* writer_;
-  std::shared_ptr<std::atomic<int>> matched_;
-  std::string topic_;
 };
 
 class Participant {
@@ -116,14 +128,12 @@ class Participant {
   // which costs less than waking another thread for every small sample.
   template <typename PubSubType>
   std::unique_ptr<Writer<PubSubType>> Advertise(const std::string& name, Qos qos, bool large = false) {
-    auto matched = std::make_shared<std::atomic<int>>(0);
-    eprosima::fastdds::dds::DataWriter* writer = CreateWriter(name, new PubSubType(), qos, large, matched);
-    return std::unique_ptr<Writer<PubSubType>>(new Writer<PubSubType>(*this, writer, std::move(matched), name));
+    eprosima::fastdds::dds::DataWriter* writer = CreateWriter(name, new PubSubType(), qos, large);
+    return std::unique_ptr<Writer<PubSubType>>(new Writer<PubSubType>(publisher_, writer));
   }
 
   // Calls `handler` with every sample of ROS 2 topic `name`, on a DDS thread: it must return quickly. An exception
-  // from it is logged and the sample dropped. No call starts after the subscription is destroyed, and destroying it
-  // waits for a call in progress.
+  // from it is logged and the sample dropped.
   template <typename PubSubType>
   std::unique_ptr<Subscription> Subscribe(const std::string& name, Qos qos,
                                           std::function<void(const typename PubSubType::type&)> handler) {
@@ -138,33 +148,23 @@ class Participant {
                         });
   }
 
-  // How many remote participants have been discovered and are alive now.
-  int participants() const { return participants_->load(); }
-
  private:
   using ReturnCode = eprosima::fastrtps::types::ReturnCode_t;
   class ParticipantListener;
-  class ReaderListener;
-  class WriterListener;
 
   eprosima::fastdds::dds::Topic* TopicFor(const std::string& name, eprosima::fastdds::dds::TopicDataType* type);
   eprosima::fastdds::dds::DataWriter* CreateWriter(const std::string& name, eprosima::fastdds::dds::TopicDataType* type,
-                                                   Qos qos, bool large, std::shared_ptr<std::atomic<int>> matched);
+                                                   Qos qos, bool large);
   std::unique_ptr<Subscription> CreateReader(const std::string& name, eprosima::fastdds::dds::TopicDataType* type,
                                              Qos qos, std::function<void(eprosima::fastdds::dds::DataReader&)> take);
-  friend class Subscription;
-  friend void DeleteWriter(Participant& participant, eprosima::fastdds::dds::DataWriter* writer);
 
   ParticipantOptions options_;
-  std::shared_ptr<std::atomic<int>> participants_ = std::make_shared<std::atomic<int>>(0);
   std::unique_ptr<ParticipantListener> participant_listener_;
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
   std::mutex mutex_;
-  std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;  // by DDS topic name
-  std::map<eprosima::fastdds::dds::DataReader*, std::unique_ptr<ReaderListener>> reader_listeners_;
-  std::map<eprosima::fastdds::dds::DataWriter*, std::unique_ptr<WriterListener>> writer_listeners_;
+  std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;  // by DDS topic name (guarded by mutex_)
 };
 
 }  // namespace corridor::drivers::dds

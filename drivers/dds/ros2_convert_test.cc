@@ -295,14 +295,19 @@ TEST(Ros2Cdr, PathAndPoseWithCovariance) {
   EXPECT_EQ(Serialize<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType>(estimate), b.bytes());
 }
 
-TEST(Ros2Cdr, CameraInfo) {
+nav::PinholeCamera Pinhole(int width, int height, double fx, double fy, double cx, double cy) {
   nav::PinholeCamera camera;
-  camera.width = 4;
-  camera.height = 3;
-  camera.fx = 2.0;
-  camera.fy = 2.5;
-  camera.cx = 1.5;
-  camera.cy = 1.0;
+  camera.width = width;
+  camera.height = height;
+  camera.fx = fx;
+  camera.fy = fy;
+  camera.cx = cx;
+  camera.cy = cy;
+  return camera;
+}
+
+TEST(Ros2Cdr, CameraInfo) {
+  const nav::PinholeCamera camera = Pinhole(4, 3, 2.0, 2.5, 1.5, 1.0);
   // 0 header "cam" (to 16), 16 height, 20 width, 24 "plumb_bob" (length 10, to 38), 2 bytes to align d's count at 40,
   // 4 bytes to align its doubles at 48, 88 k, 160 r, 232 p, 328 binning, 336 the region of interest (to 353).
   Bytes b;
@@ -417,13 +422,7 @@ TEST(Ros2Convert, DepthImagesIn16UC1Or32FC1) {
 }
 
 TEST(Ros2Convert, CameraInfoRoundTrip) {
-  nav::PinholeCamera camera;
-  camera.width = 640;
-  camera.height = 480;
-  camera.fx = 525.0;
-  camera.fy = 526.0;
-  camera.cx = 319.5;
-  camera.cy = 239.5;
+  const nav::PinholeCamera camera = Pinhole(640, 480, 525.0, 526.0, 319.5, 239.5);
   const nav::PinholeCamera back = FromRos(ToRos(camera, Stamp(0, 0), "cam"), Eigen::Isometry3d::Identity());
   EXPECT_EQ(back.width, 640);
   EXPECT_EQ(back.fy, 526.0);

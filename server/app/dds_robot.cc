@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "server/dds/bridge.h"
+
 namespace corridor::server {
 
 Devices DdsRobot::devices() const {
@@ -20,22 +22,21 @@ DdsRobot MakeDdsRobot(const Config& config, const drivers::Clock& clock) {
         "sim.enabled: false needs the robot's devices over DDS (dds.enabled and dds.devices): no other "
         "real drivers are built yet");
   }
-  drivers::dds::ParticipantOptions o;
-  o.domain_id = DdsDomain(config.dds);
-  o.peers = config.dds.peers;
-  o.interfaces = config.dds.interfaces;
   DdsRobot robot;
-  robot.participant = std::make_unique<drivers::dds::Participant>(o);
+  robot.participant = MakeParticipant(config.dds);
   const DdsDevicesOptions& d = config.dds.devices;
   robot.camera = std::make_unique<drivers::dds::DdsDepthCamera>(*robot.participant, d.camera, clock);
-  if (d.laser) robot.laser = std::make_unique<drivers::dds::DdsLaser>(*robot.participant, d.laser_options, clock);
+  if (!d.laser.topic.empty()) {
+    robot.laser = std::make_unique<drivers::dds::DdsLaser>(*robot.participant, d.laser, clock);
+  }
   robot.base = std::make_unique<drivers::dds::DdsBase>(*robot.participant, d.base, clock);
-  spdlog::info("dds: waiting for the camera's info on {} (domain {})", d.camera.info_topic, o.domain_id);
+  spdlog::info("dds: waiting for the camera's info on {} (domain {})", d.camera.info_topic,
+               robot.participant->options().domain_id);
   robot.camera->WaitForInfo(std::chrono::milliseconds(static_cast<long>(d.info_wait_s * 1000.0)));
   const nav::PinholeCamera& k = robot.camera->info().camera;
   spdlog::info("dds: camera {} x {} (fx {:.1f}), depth on {}{}; odometry on {}, commands to {}", k.width, k.height,
-               k.fx, d.camera.depth_topic, d.laser ? ", scans on " + d.laser_options.topic : "", d.base.odom_topic,
-               d.base.cmd_vel_topic);
+               k.fx, d.camera.depth_topic, d.laser.topic.empty() ? "" : ", scans on " + d.laser.topic,
+               d.base.odom_topic, d.base.cmd_vel_topic);
   return robot;
 }
 

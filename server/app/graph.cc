@@ -258,11 +258,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   if (config_.dds.enabled) {
     drivers::dds::Participant* participant = devices_.dds;
     if (participant == nullptr) {
-      drivers::dds::ParticipantOptions o;
-      o.domain_id = DdsDomain(config_.dds);
-      o.peers = config_.dds.peers;
-      o.interfaces = config_.dds.interfaces;
-      own_dds_ = std::make_unique<drivers::dds::Participant>(o);
+      own_dds_ = MakeParticipant(config_.dds);
       participant = own_dds_.get();
     }
     RobotFrames frames;

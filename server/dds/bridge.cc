@@ -15,7 +15,6 @@ using drivers::dds::Qos;
 constexpr double kBridgeRateHz = 2.0;       // the state's rate; diagnostics every other tick (1 Hz, as ROS does)
 constexpr double kMapOdomToleranceS = 0.5;  // map -> odom is dated this far ahead (AMCL's transform_tolerance)
 constexpr double kMapOdomPeriodS = 0.1;     // and sent at most this often (it changes only with localization)
-constexpr double kRefusalLogPeriodS = 5.0;
 constexpr double kDepthScanIncrementRad = 0.5 * M_PI / 180.0;
 
 std::uint8_t DiagnosticLevel(const std::string& health) {
@@ -32,6 +31,14 @@ tf2_msgs::msg::TFMessage OneTransform(geometry_msgs::msg::TransformStamped t) {
 }
 
 }  // namespace
+
+std::unique_ptr<dds::Participant> MakeParticipant(const DdsOptions& options) {
+  dds::ParticipantOptions o;
+  o.domain_id = DdsDomain(options);
+  o.peers = options.peers;
+  o.interfaces = options.interfaces;
+  return std::make_unique<dds::Participant>(o);
+}
 
 DdsBridge::DdsBridge(Executor& executor, Bus& bus, dds::Participant& participant, const DdsOptions& options,
                      RobotFrames frames, const Api& api, Executor& io, const MapLibrary& maps,
@@ -65,7 +72,7 @@ void DdsBridge::Activate() {
     // Reliable, as everything here: a reliable writer meets best-effort readers too, and RViz's displays ask for
     // reliable by default.
     depth_ = participant_.Advertise<sensor_msgs::msg::ImagePubSubType>("/camera/depth/image_raw", Qos::kDefault,
-                                                                      /*large=*/true);
+                                                                       /*large=*/true);
     camera_info_ =
         participant_.Advertise<sensor_msgs::msg::CameraInfoPubSubType>("/camera/depth/camera_info", Qos::kDefault);
   }
@@ -153,56 +160,55 @@ void DdsBridge::Activate() {
   }
 
   // What ROS 2 tools send.
-  subscriptions_.push_back(participant_.Subscribe<geometry_msgs::msg::TwistPubSubType>(
-      options_.cmd_vel_topic, Qos::kDefault, [this](const geometry_msgs::msg::Twist& twist) {
-        if (!options_.allow_writes) return Refuse(options_.cmd_vel_topic, "writes over DDS are off (dds.allow_writes)");
-        try {
-          bus().Get(topics::kTeleop).Publish(TeleopCommand{dds::FromRos(twist), clock().Now(), "dds"});
-        } catch (const std::invalid_argument& e) {
-          Refuse(options_.cmd_vel_topic, e.what());
-        }
-      }));
-  subscriptions_.push_back(participant_.Subscribe<geometry_msgs::msg::PoseStampedPubSubType>(
-      "/goal_pose", Qos::kDefault, [this](const geometry_msgs::msg::PoseStamped& goal) {
-        if (!options_.allow_writes) return Refuse("/goal_pose", "writes over DDS are off (dds.allow_writes)");
-        const std::string& frame = goal.header().frame_id();
-        if (!frame.empty() && frame != dds::kMapFrame) {
-          return Refuse("/goal_pose", "goals must be in the map frame, not '" + frame + "'");
-        }
-        try {
-          const nav::Pose2 p = dds::FromRos(goal.pose());
-          CallApi("/goal_pose", boost::beast::http::verb::post, "/api/v1/missions",
-                  {{"waypoints", {{{"x", p.x_m}, {"y", p.y_m}, {"yaw", p.yaw_rad}}}}});
-        } catch (const std::invalid_argument& e) {
-          Refuse("/goal_pose", e.what());
-        }
-      }));
-  subscriptions_.push_back(participant_.Subscribe<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType>(
-      "/initialpose", Qos::kDefault, [this](const geometry_msgs::msg::PoseWithCovarianceStamped& pose) {
-        if (!options_.allow_writes) return Refuse("/initialpose", "writes over DDS are off (dds.allow_writes)");
-        const std::string& frame = pose.header().frame_id();
-        if (!frame.empty() && frame != dds::kMapFrame) {
-          return Refuse("/initialpose", "poses must be in the map frame, not '" + frame + "'");
-        }
-        try {
-          const nav::Pose2 p = dds::FromRos(pose.pose().pose());
-          const auto& c = pose.pose().covariance();
-          nlohmann::json body = {{"x", p.x_m}, {"y", p.y_m}, {"yaw", p.yaw_rad}};
-          // RViz's 2D Pose Estimate sends 0.25 m^2 on x and y and (pi/12)^2 on yaw: take its spread when it gives one.
-          if (c[0] > 0.0 && c[7] > 0.0 && std::isfinite(c[0] + c[7])) body["sigma_m"] = std::sqrt(0.5 * (c[0] + c[7]));
-          if (c[35] > 0.0 && std::isfinite(c[35])) body["sigma_yaw"] = std::sqrt(c[35]);
-          CallApi("/initialpose", boost::beast::http::verb::put, "/api/v1/localization/pose", body);
-        } catch (const std::invalid_argument& e) {
-          Refuse("/initialpose", e.what());
-        }
-      }));
+  TakeWrites<geometry_msgs::msg::TwistPubSubType>(options_.cmd_vel_topic, [this](const geometry_msgs::msg::Twist& t) {
+    bus().Get(topics::kTeleop).Publish(TeleopCommand{dds::FromRos(t), clock().Now(), "dds"});
+  });
+  TakeWrites<geometry_msgs::msg::PoseStampedPubSubType>("/goal_pose", [this](const geometry_msgs::msg::PoseStamped& g) {
+    const nav::Pose2 p = dds::FromRos(g.pose());
+    RequireMapFrame(g.header());
+    CallApi("/goal_pose", boost::beast::http::verb::post, "/api/v1/missions",
+            {{"waypoints", {{{"x", p.x_m}, {"y", p.y_m}, {"yaw", p.yaw_rad}}}}});
+  });
+  TakeWrites<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType>(
+      "/initialpose", [this](const geometry_msgs::msg::PoseWithCovarianceStamped& pose) {
+        const nav::Pose2 p = dds::FromRos(pose.pose().pose());
+        RequireMapFrame(pose.header());
+        const auto& c = pose.pose().covariance();
+        nlohmann::json body = {{"x", p.x_m}, {"y", p.y_m}, {"yaw", p.yaw_rad}};
+        // RViz's 2D Pose Estimate sends 0.25 m^2 on x and y and (pi/12)^2 on yaw: take its spread when it gives one.
+        if (c[0] > 0.0 && c[7] > 0.0 && std::isfinite(c[0] + c[7])) body["sigma_m"] = std::sqrt(0.5 * (c[0] + c[7]));
+        if (c[35] > 0.0 && std::isfinite(c[35])) body["sigma_yaw"] = std::sqrt(c[35]);
+        CallApi("/initialpose", boost::beast::http::verb::put, "/api/v1/localization/pose", body);
+      });
   PeriodicNode::Activate();
   SetHealth(Health::kOk, "domain " + std::to_string(participant_.options().domain_id));
 }
 
 void DdsBridge::Deactivate() {
   subscriptions_.clear();  // nothing from ROS 2 moves the robot from here on
+  drops_.clear();
   PeriodicNode::Deactivate();
+}
+
+template <typename PubSubType>
+void DdsBridge::TakeWrites(const std::string& topic, std::function<void(const typename PubSubType::type&)> take) {
+  auto& drops = *drops_.emplace_back(std::make_unique<dds::DropLog>(topic));
+  subscriptions_.push_back(participant_.Subscribe<PubSubType>(
+      topic, Qos::kDefault, [this, &drops, take = std::move(take)](const typename PubSubType::type& message) {
+        if (!options_.allow_writes) return drops.Drop("writes over DDS are off (dds.allow_writes)");
+        try {
+          take(message);
+        } catch (const std::invalid_argument& e) {
+          drops.Drop(e.what());
+        }
+      }));
+}
+
+void DdsBridge::RequireMapFrame(const std_msgs::msg::Header& header) {
+  const std::string& frame = header.frame_id();
+  if (!frame.empty() && frame != dds::kMapFrame) {
+    throw std::invalid_argument("poses must be in the map frame, not '" + frame + "'");
+  }
 }
 
 void DdsBridge::Tick() {
@@ -215,7 +221,6 @@ void DdsBridge::Tick() {
 
 void DdsBridge::PublishMap() {
   std::shared_ptr<const nav::OccupancyGrid> grid;
-  std::string name;
   const auto mapping = bus().Get(topics::kMapping).latest();
   if (mapping && mapping->active && mapping->grid) {
     // Mapping a new building: the map as it grows.
@@ -280,20 +285,9 @@ void DdsBridge::CallApi(const std::string& what, boost::beast::http::verb method
         spdlog::info("dds: {} taken ({})", what, response.result_int());
         return;
       }
-      ++refused_;
       spdlog::warn("dds: {} refused ({}): {}", what, response.result_int(), response.body());
     });
   });
-}
-
-void DdsBridge::Refuse(const std::string& topic, const std::string& why) {
-  ++refused_;
-  const drivers::TimeNs now = clock().Now();
-  std::lock_guard lock(refuse_mutex_);
-  drivers::TimeNs& last = last_refusal_log_[topic];
-  if (last != 0 && now - last < drivers::FromSeconds(kRefusalLogPeriodS)) return;
-  last = now;
-  spdlog::warn("dds: a sample on {} was refused: {}", topic, why);
 }
 
 }  // namespace corridor::server

@@ -11,7 +11,6 @@
 
 #include <Eigen/Geometry>
 
-#include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
@@ -31,6 +30,9 @@
 
 namespace corridor::server {
 
+// The participant dds.* asks for (the domain from DdsDomain), shared by the bridge and the devices over DDS.
+std::unique_ptr<drivers::dds::Participant> MakeParticipant(const DdsOptions& dds);
+
 // What the bridge publishes about the robot's body, from its devices.
 struct RobotFrames {
   std::optional<Eigen::Isometry3d> base_T_laser;  // none: no laser (/scan then comes from the depth camera)
@@ -48,9 +50,6 @@ class DdsBridge final : public PeriodicNode {
   void Activate() override;
   void Deactivate() override;
 
-  // Samples from ROS 2 that were refused (bad values, writes not allowed), for tests and the state.
-  std::uint64_t refused() const { return refused_.load(); }
-
  private:
   void Tick() override;
   void PublishMap();
@@ -58,8 +57,12 @@ class DdsBridge final : public PeriodicNode {
   // A request to the API as a trusted caller, on the io executor; its answer is logged.
   void CallApi(const std::string& what, boost::beast::http::verb method, const std::string& target,
                const nlohmann::json& body);
-  // Drops a sample from ROS 2 with a warning (once per topic every few seconds).
-  void Refuse(const std::string& topic, const std::string& why);
+  // Subscribes `topic` for what ROS 2 tools send: a sample is refused (DropLog) unless dds.allow_writes, or when
+  // `take` throws std::invalid_argument (a value that cannot be used).
+  template <typename PubSubType>
+  void TakeWrites(const std::string& topic, std::function<void(const typename PubSubType::type&)> take);
+  // Throws std::invalid_argument unless the header names the map frame (or none: RViz's tools always do).
+  static void RequireMapFrame(const std_msgs::msg::Header& header);
 
   drivers::dds::Participant& participant_;
   DdsOptions options_;
@@ -69,7 +72,6 @@ class DdsBridge final : public PeriodicNode {
   const MapLibrary& maps_;
   const Lifecycle& lifecycle_;
   const drivers::dds::StampClock stamps_;
-  std::atomic<std::uint64_t> refused_{0};
 
   template <typename T>
   using WriterOf = std::unique_ptr<drivers::dds::Writer<T>>;
@@ -85,6 +87,7 @@ class DdsBridge final : public PeriodicNode {
   WriterOf<sensor_msgs::msg::ImagePubSubType> depth_;
   WriterOf<sensor_msgs::msg::CameraInfoPubSubType> camera_info_;
   std::vector<std::unique_ptr<drivers::dds::Subscription>> subscriptions_;
+  std::vector<std::unique_ptr<drivers::dds::DropLog>> drops_;  // one per topic taken, for subscriptions_
 
   // On the bridge's executor only.
   std::string map_name_;
@@ -94,8 +97,6 @@ class DdsBridge final : public PeriodicNode {
   drivers::TimeNs next_depth_ns_ = 0;
   drivers::TimeNs next_map_odom_ns_ = 0;
   int ticks_ = 0;
-  std::mutex refuse_mutex_;
-  std::map<std::string, drivers::TimeNs> last_refusal_log_;  // guarded by refuse_mutex_
 };
 
 }  // namespace corridor::server

@@ -1,7 +1,5 @@
 #include "server/runtime/config.h"
 
-#include <arpa/inet.h>
-
 #include <charconv>
 #include <cstdlib>
 
@@ -10,7 +8,6 @@
 #include <set>
 #include <string>
 
-#include "nav/geometry/camera_model.h"
 #include "server/runtime/config_reader.h"
 
 namespace corridor::server {
@@ -438,27 +435,21 @@ void ReadDds(ConfigReader& r, DdsOptions& d) {
       c.Read("depth_topic", o.camera.depth_topic);
       c.Read("info_topic", o.camera.info_topic);
       c.Read("color_topic", o.camera.color_topic);
-      double x = 0.1, height = 0.3, tilt_deg = 0.0;
-      c.Read("mount_x_m", x, -2.0, 2.0);
-      c.Read("mount_height_m", height, 0.0, 3.0);
-      c.Read("tilt_deg", tilt_deg, -90.0, 90.0);
-      o.camera.base_T_camera = nav::CameraMount(x, height, tilt_deg * std::numbers::pi / 180.0);
+      c.Read("mount_x_m", o.camera.mount_x_m, -2.0, 2.0);
+      c.Read("mount_height_m", o.camera.mount_height_m, 0.0, 3.0);
+      c.Read("tilt_deg", o.camera.tilt_deg, -90.0, 90.0);
       c.Read("min_range_m", o.camera.min_range_m, 0.0, 5.0);
       c.Read("max_range_m", o.camera.max_range_m, 0.5, 50.0);
     });
     s.Section("laser", [&](ConfigReader& l) {
-      std::string topic;
-      l.Read("topic", topic);
-      o.laser = !topic.empty();
-      if (o.laser) o.laser_options.topic = topic;
-      l.Read("mount_x_m", o.laser_options.base_T_laser.x_m, -2.0, 2.0);
-      l.Read("mount_height_m", o.laser_options.height_m, 0.0, 3.0);
+      l.Read("topic", o.laser.topic);
+      l.Read("mount_x_m", o.laser.base_T_laser.x_m, -2.0, 2.0);
+      l.Read("mount_height_m", o.laser.height_m, 0.0, 3.0);
     });
     s.Section("base", [&](ConfigReader& b) {
       b.Read("odom_topic", o.base.odom_topic);
       b.Read("cmd_vel_topic", o.base.cmd_vel_topic);
       drivers::BaseLimits& l = o.base.limits;
-      l = {0.5, 1.5, 1.0, 3.0, 0.2};
       b.Read("max_linear_mps", l.max_linear_mps, 0.01, 5.0);
       b.Read("max_angular_rps", l.max_angular_rps, 0.01, 10.0);
       b.Read("max_linear_accel_mps2", l.max_linear_accel_mps2, 0.01, 20.0);
@@ -468,15 +459,14 @@ void ReadDds(ConfigReader& r, DdsOptions& d) {
     s.Read("info_wait_s", o.info_wait_s, 0.5, 600.0);
   });
   for (const std::string& topic : {d.cmd_vel_topic, d.devices.camera.depth_topic, d.devices.camera.info_topic,
-                                   d.devices.camera.color_topic, d.devices.laser_options.topic,
+                                   d.devices.camera.color_topic, d.devices.laser.topic,
                                    d.devices.base.odom_topic, d.devices.base.cmd_vel_topic}) {
     if (!topic.empty() && !drivers::dds::IsRosTopicName(topic)) {
       throw ConfigError(r.path() + ": '" + topic + "' is not a ROS 2 topic name");
     }
   }
   for (const std::string& peer : d.peers) {
-    in_addr address{};
-    if (::inet_pton(AF_INET, peer.c_str(), &address) != 1) {
+    if (!drivers::dds::IsIpv4Address(peer)) {
       throw ConfigError(r.PathOf("peers") + ": '" + peer + "' is not an IPv4 address");
     }
   }

@@ -269,8 +269,7 @@ std::string SimMapName(const Config& config);
 // The robot's devices served by ROS 2 drivers over DDS (drivers/dds/devices.h), used when the simulator is off.
 struct DdsDevicesOptions {
   drivers::dds::DdsCameraOptions camera;
-  bool laser = false;  // dds.devices.laser.topic given
-  drivers::dds::DdsLaserOptions laser_options;
+  drivers::dds::DdsLaserOptions laser;  // its topic empty: no laser
   drivers::dds::DdsBaseOptions base;
   double info_wait_s = 10.0;  // how long corridord waits at start for the camera's CameraInfo
 };

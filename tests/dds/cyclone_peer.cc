@@ -48,16 +48,16 @@ dds_entity_t CyclonePeer::TopicFor(const std::string& name, const dds_topic_desc
   const std::string topic = TopicName(name);
   if (const auto it = topics_.find(topic); it != topics_.end()) return it->second;
   const std::string ros_name = RosTypeName(type.m_typename);
-  auto& descriptor = descriptors_[ros_name];
-  if (!descriptor) {
-    type_names_[ros_name] = ros_name;
+  const auto [it, added] = descriptors_.try_emplace(ros_name);
+  auto& descriptor = it->second;
+  if (added) {
     // The same layout and marshalling program as idlc made, under ROS 2's name, without XTypes information (which
     // would carry idlc's name; Fast DDS here sends none, so types match by name, as between ROS 2 vendors).
     descriptor.reset(new dds_topic_descriptor_t{type.m_size,
                                                 type.m_align,
                                                 type.m_flagset & ~DDS_TOPIC_XTYPES_METADATA,
                                                 type.m_nkeys,
-                                                type_names_[ros_name].c_str(),
+                                                it->first.c_str(),  // the map's key: stable
                                                 type.m_keys,
                                                 type.m_nops,
                                                 type.m_ops,
@@ -72,20 +72,21 @@ dds_entity_t CyclonePeer::TopicFor(const std::string& name, const dds_topic_desc
   return t;
 }
 
-dds_entity_t CyclonePeer::Reader(const std::string& name, const dds_topic_descriptor_t& type, PeerQos qos) {
+dds_entity_t CyclonePeer::Create(Endpoint create, const std::string& name, const dds_topic_descriptor_t& type,
+                                 PeerQos qos) {
   dds_qos_t* q = QosFor(qos);
-  const dds_entity_t r = dds_create_reader(participant_, TopicFor(name, type), q, nullptr);
+  const dds_entity_t e = create(participant_, TopicFor(name, type), q, nullptr);
   dds_delete_qos(q);
-  Check(r, "create reader of " + name);
-  return r;
+  Check(e, "create a reader or writer of " + name);
+  return e;
+}
+
+dds_entity_t CyclonePeer::Reader(const std::string& name, const dds_topic_descriptor_t& type, PeerQos qos) {
+  return Create(dds_create_reader, name, type, qos);
 }
 
 dds_entity_t CyclonePeer::Writer(const std::string& name, const dds_topic_descriptor_t& type, PeerQos qos) {
-  dds_qos_t* q = QosFor(qos);
-  const dds_entity_t w = dds_create_writer(participant_, TopicFor(name, type), q, nullptr);
-  dds_delete_qos(q);
-  Check(w, "create writer of " + name);
-  return w;
+  return Create(dds_create_writer, name, type, qos);
 }
 
 int CyclonePeer::Matched(dds_entity_t writer) const {

@@ -69,12 +69,14 @@ class CyclonePeer {
 
  private:
   dds_entity_t TopicFor(const std::string& name, const dds_topic_descriptor_t& type);
+  // dds_create_reader or dds_create_writer.
+  using Endpoint = dds_entity_t (*)(dds_entity_t, dds_entity_t, const dds_qos_t*, const dds_listener_t*);
+  dds_entity_t Create(Endpoint create, const std::string& name, const dds_topic_descriptor_t& type, PeerQos qos);
 
   dds_entity_t domain_ = 0;
   dds_entity_t participant_ = 0;
-  // ROS 2's type names: a renamed copy of each descriptor, kept alive as long as the peer.
+  // By ROS 2's type name (which each names): a renamed copy of idlc's descriptor, kept as long as the peer.
   std::map<std::string, std::unique_ptr<dds_topic_descriptor_t>> descriptors_;
-  std::map<std::string, std::string> type_names_;
   std::map<std::string, dds_entity_t> topics_;
 };
 

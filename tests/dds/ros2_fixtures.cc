@@ -1,6 +1,7 @@
 #include "tests/dds/ros2_fixtures.h"
 
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -78,6 +79,7 @@ DaemonProcess::DaemonProcess(const fs::path& corridord, const fs::path& source, 
   }
   pid_ = ::fork();
   if (pid_ == 0) {
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);  // a test or bench killed half-way takes its daemon with it
     std::freopen(log_file.c_str(), "w", stderr);
     ::execl(corridord.c_str(), corridord.c_str(), "--config", config_file.c_str(), "--port", "0", "--state-dir",
             state.c_str(), static_cast<char*>(nullptr));
