@@ -280,7 +280,7 @@ void DdsBridge::CallApi(const std::string& what, boost::beast::http::verb method
   request->body() = body.dump();
   request->prepare_payload();
   io_.Post([this, what, request] {
-    api_.Handle(*request, [this, what](Response response) {
+    api_.Handle(*request, [what](Response response) {
       if (response.result_int() < 300) {
         spdlog::info("dds: {} taken ({})", what, response.result_int());
         return;
