@@ -2,7 +2,7 @@
 // (tests/dds/cyclone_peer.h) on loopback receives /odom, /tf, /map and corridor's state from the real daemon running
 // the simulator, drives the robot with /cmd_vel and sees it move, sends RViz's /goal_pose and sees the mission
 // succeed; with writes off, sees /cmd_vel refused; and, with the simulator off, plays the robot's ROS 2 drivers (a
-// depth camera and a base) that corridord runs on.
+// depth camera and a base) that corridord runs on; with DDS Security, lets in only peers of its keystore.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -296,6 +296,49 @@ TEST(DdsInterop, CorridorRunsOnRos2DriversAndAToolDrivesItThroughThem) {
     }
   }
   EXPECT_NEAR(scan_rate, 10.0, 2.0) << watch.latest["nodes"].dump();
+}
+
+// With DDS Security (tools/dds-keystore's enclaves, Fast DDS's plugins in corridord, Cyclone's in the peer): a tool
+// holding an enclave of the robot's keystore sees the robot and drives it; a peer without security, or with a
+// certificate from another keystore's CA, is not let in: it sees nothing and its commands match no reader.
+TEST(DdsInterop, SecuredDomainLetsInOnlyTheKeystoresPeers) {
+  Keystore keystore(CORRIDOR_SOURCE_DIR, "corridor-dds-keystore");
+  Keystore stranger(CORRIDOR_SOURCE_DIR, "corridor-dds-stranger");
+  const std::string robot = keystore.Enclave("corridor");
+  const std::string tool = keystore.Enclave("tool");
+  const std::string impostor = stranger.Enclave("tool");
+  const int domain = Domain(3);
+  Daemon daemon(domain, /*allow_writes=*/true, "  security: {enclave: " + robot + "}\n");
+  EXPECT_NE(daemon.log().find("secured by " + robot), std::string::npos) << daemon.log();
+
+  {
+    CyclonePeer trusted(domain, tool);
+    const dds_entity_t odom = trusted.Reader("/odom", nav_msgs_msg_Odometry_desc);
+    const dds_entity_t cmd_vel = trusted.Writer("/cmd_vel", geometry_msgs_msg_Twist_desc);
+    ASSERT_TRUE(trusted.TakeUntil<nav_msgs_msg_Odometry>(
+        odom, [](const auto&) {}, [&] { return trusted.Matched(cmd_vel) > 0; }, 30s))
+        << daemon.log();
+    double fastest = 0.0;
+    for (int i = 0; i < 20; ++i) {
+      SendTwist(cmd_vel, 0.3, 0.0);
+      trusted.Take<nav_msgs_msg_Odometry>(
+          odom, [&](const nav_msgs_msg_Odometry& o) { fastest = std::max(fastest, o.twist.twist.linear.x); });
+      std::this_thread::sleep_for(100ms);
+    }
+    SendTwist(cmd_vel, 0.0, 0.0);
+    EXPECT_NEAR(fastest, 0.3, 0.05) << daemon.log();
+  }
+  // One after the other (a process holds one Cyclone domain at a time), each as long as the trusted peer needed.
+  for (const std::string& enclave : {std::string(), impostor}) {
+    CyclonePeer peer(domain, enclave);
+    const dds_entity_t odom = peer.Reader("/odom", nav_msgs_msg_Odometry_desc);
+    const dds_entity_t cmd_vel = peer.Writer("/cmd_vel", geometry_msgs_msg_Twist_desc);
+    int seen = 0;
+    EXPECT_FALSE(peer.TakeUntil<nav_msgs_msg_Odometry>(
+        odom, [&](const auto&) { ++seen; }, [&] { return seen > 0 || peer.Matched(cmd_vel) > 0; }, 5s))
+        << (enclave.empty() ? "a peer without security" : "a peer of another keystore") << " was let in";
+  }
+  EXPECT_NE(daemon.log().find("failed authentication"), std::string::npos) << daemon.log();
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <arpa/inet.h>
 
+#include <array>
 #include <cctype>
 #include <string>
 
@@ -30,6 +31,11 @@ inline bool IsIpv4Address(const std::string& text) {
   in_addr address{};
   return ::inet_pton(AF_INET, text.c_str(), &address) == 1;
 }
+
+// The files of a DDS Security enclave, in its directory: ROS 2's layout (`ros2 security create_enclave`), which
+// tools/dds-keystore makes too.
+inline constexpr std::array<const char*, 6> kEnclaveFiles = {
+    "identity_ca.cert.pem", "cert.pem", "key.pem", "permissions_ca.cert.pem", "governance.p7s", "permissions.p7s"};
 
 struct DdsCameraOptions {
   std::string depth_topic = "/camera/depth/image_rect_raw";  // sensor_msgs/Image, 16UC1 (mm) or 32FC1 (m)

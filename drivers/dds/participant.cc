@@ -5,6 +5,7 @@
 #include <arpa/inet.h>
 #include <ifaddrs.h>
 #include <netinet/in.h>
+#include <unistd.h>
 #include <spdlog/spdlog.h>
 
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
@@ -15,6 +16,8 @@
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+
+#include <sstream>
 
 namespace corridor::drivers::dds {
 namespace {
@@ -34,6 +37,30 @@ void ApplyProfile(EntityQos& q, Qos qos) {
   q.history().depth = qos == Qos::kLatched ? 1 : qos == Qos::kSensor ? 5 : qos == Qos::kTf ? 100 : 10;
   // Samples go over the network transport only (no shared memory): what other vendors' peers see is what ours see.
   q.data_sharing().off();
+}
+
+// DDS Security's builtin plugins (authentication by PKI-DH, access control by signed permissions, AES-GCM-GMAC
+// cryptography) with the enclave's files.
+void ApplySecurity(fdds::DomainParticipantQos& qos, const std::string& enclave) {
+  for (const char* file : kEnclaveFiles) {
+    const std::string path = enclave + "/" + file;
+    if (::access(path.c_str(), R_OK) != 0) {
+      throw std::invalid_argument("dds: the security enclave has no readable " + path);
+    }
+  }
+  auto uri = [&](const char* file) { return "file://" + enclave + "/" + file; };
+  const std::pair<const char*, std::string> properties[] = {
+      {"dds.sec.auth.plugin", "builtin.PKI-DH"},
+      {"dds.sec.auth.builtin.PKI-DH.identity_ca", uri("identity_ca.cert.pem")},
+      {"dds.sec.auth.builtin.PKI-DH.identity_certificate", uri("cert.pem")},
+      {"dds.sec.auth.builtin.PKI-DH.private_key", uri("key.pem")},
+      {"dds.sec.access.plugin", "builtin.Access-Permissions"},
+      {"dds.sec.access.builtin.Access-Permissions.permissions_ca", uri("permissions_ca.cert.pem")},
+      {"dds.sec.access.builtin.Access-Permissions.governance", uri("governance.p7s")},
+      {"dds.sec.access.builtin.Access-Permissions.permissions", uri("permissions.p7s")},
+      {"dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC"},
+  };
+  for (const auto& [name, value] : properties) qos.properties().properties().emplace_back(name, value);
 }
 
 }  // namespace
@@ -76,6 +103,17 @@ class Participant::ParticipantListener final : public fdds::DomainParticipantLis
       spdlog::info("dds: discovered participant '{}'", info.info.m_participantName.to_string());
     } else if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
       spdlog::info("dds: participant '{}' left", info.info.m_participantName.to_string());
+    }
+  }
+  void onParticipantAuthentication(fdds::DomainParticipant*,
+                                   eprosima::fastrtps::rtps::ParticipantAuthenticationInfo&& info) override {
+    using Status = eprosima::fastrtps::rtps::ParticipantAuthenticationInfo::AUTHENTICATION_STATUS;
+    std::ostringstream guid;
+    guid << info.guid;
+    if (info.status == Status::UNAUTHORIZED_PARTICIPANT) {
+      spdlog::warn("dds: participant {} failed authentication: not let in", guid.str());
+    } else {
+      spdlog::info("dds: participant {} authenticated", guid.str());
     }
   }
 };
@@ -138,12 +176,19 @@ Participant::Participant(const ParticipantOptions& options)
     qos.wire_protocol().default_unicast_locator_list.push_back(any);
     builtin.metatrafficMulticastLocatorList.clear();
   }
+  if (!options.security_enclave.empty()) ApplySecurity(qos, options.security_enclave);
   participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
       static_cast<fdds::DomainId_t>(options.domain_id), qos, participant_listener_.get(),
       // Discovery only: with data_on_readers in its mask the participant's listener would take every reader's data
       // before the readers' own listeners see it.
       fdds::StatusMask::none());
-  if (participant_ == nullptr) throw std::runtime_error("dds: cannot create the participant (see the log above)");
+  if (participant_ == nullptr) {
+    throw std::runtime_error(options.security_enclave.empty()
+                                 ? "dds: cannot create the participant (see the log above)"
+                                 : "dds: cannot create the participant with the security enclave " +
+                                       options.security_enclave + " (see the log above: a certificate, key or " +
+                                       "signed document that does not verify)");
+  }
   publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
   subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
   if (publisher_ == nullptr || subscriber_ == nullptr) {

@@ -32,6 +32,9 @@ struct ParticipantOptions {
   std::vector<std::string> peers;       // unicast discovery peers (IPv4 addresses); none: multicast discovery
   std::vector<std::string> interfaces;  // interface names ("lo", "eth0") or IPv4 addresses; none: every interface
   std::string name = "corridor";        // the participant's name, as DDS tools show it
+  // A DDS Security enclave's directory (kEnclaveFiles): authenticated, access-controlled and encrypted as its
+  // governance says; only peers with certificates from its CA meet this participant. Empty: no security.
+  std::string security_enclave;
 };
 
 // ROS 2's QoS profiles (rclcpp's defaults and the ones map_server, tf2 and sensor drivers use).
@@ -112,8 +115,9 @@ class Writer {
 
 class Participant {
  public:
-  // Throws std::invalid_argument for an interface or peer that is not there, std::runtime_error when DDS cannot
-  // create the participant (a bad domain, ports taken).
+  // Throws std::invalid_argument for an interface or peer that is not there, or an enclave missing a file;
+  // std::runtime_error when DDS cannot create the participant (a bad domain, ports taken, an enclave whose
+  // certificates or signed documents do not verify).
   explicit Participant(const ParticipantOptions& options);
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;

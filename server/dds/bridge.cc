@@ -37,6 +37,7 @@ std::unique_ptr<dds::Participant> MakeParticipant(const DdsOptions& options) {
   o.domain_id = DdsDomain(options);
   o.peers = options.peers;
   o.interfaces = options.interfaces;
+  o.security_enclave = options.security_enclave.string();
   return std::make_unique<dds::Participant>(o);
 }
 
@@ -181,7 +182,9 @@ void DdsBridge::Activate() {
         CallApi("/initialpose", boost::beast::http::verb::put, "/api/v1/localization/pose", body);
       });
   PeriodicNode::Activate();
-  SetHealth(Health::kOk, "domain " + std::to_string(participant_.options().domain_id));
+  const dds::ParticipantOptions& o = participant_.options();
+  SetHealth(Health::kOk, "domain " + std::to_string(o.domain_id) +
+                             (o.security_enclave.empty() ? ", no security" : ", secured by " + o.security_enclave));
 }
 
 void DdsBridge::Deactivate() {

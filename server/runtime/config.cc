@@ -421,7 +421,7 @@ void ReadBuilding(ConfigReader& r, BuildingOptions& b, nav::LiftOptions& ride, c
   }
 }
 
-void ReadDds(ConfigReader& r, DdsOptions& d) {
+void ReadDds(ConfigReader& r, DdsOptions& d, const fs::path& base) {
   r.Read("enabled", d.enabled);
   r.Read("domain_id", d.domain_id, -1, 232);
   r.Read("peers", d.peers);
@@ -457,6 +457,16 @@ void ReadDds(ConfigReader& r, DdsOptions& d) {
       b.Read("footprint_radius_m", l.footprint_radius_m, 0.05, 2.0);
     });
     s.Read("info_wait_s", o.info_wait_s, 0.5, 600.0);
+  });
+  r.Section("security", [&](ConfigReader& s) {
+    ReadPath(s, "enclave", d.security_enclave, base);
+    if (d.security_enclave.empty()) return;
+    for (const char* file : drivers::dds::kEnclaveFiles) {
+      if (!fs::is_regular_file(d.security_enclave / file)) {
+        throw ConfigError(s.PathOf("enclave") + ": " + (d.security_enclave / file).string() +
+                          " is missing (make an enclave with tools/dds-keystore or ros2 security create_enclave)");
+      }
+    }
   });
   for (const std::string& topic : {d.cmd_vel_topic, d.devices.camera.depth_topic, d.devices.camera.info_topic,
                                    d.devices.camera.color_topic, d.devices.laser.topic,
@@ -768,7 +778,7 @@ Config ConfigFromYaml(const YAML::Node& root, const fs::path& file) {
     r.Section("fleet", [&](ConfigReader& s) { ReadFleet(s, config.fleet); });
     r.Section("doors", [&](ConfigReader& s) { ReadDoors(s, config.doors, config.mission.doors); });
     r.Section("building", [&](ConfigReader& s) { ReadBuilding(s, config.building, config.mission.lifts, base); });
-    r.Section("dds", [&](ConfigReader& s) { ReadDds(s, config.dds); });
+    r.Section("dds", [&](ConfigReader& s) { ReadDds(s, config.dds, base); });
     r.Section("auth", [&](ConfigReader& s) { ReadAuth(s, config.auth); });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();

@@ -280,7 +280,9 @@ struct DdsOptions {
   int domain_id = -1;                   // -1: the environment's ROS_DOMAIN_ID, else 0
   std::vector<std::string> peers;       // unicast discovery peers (IPv4); none: multicast discovery
   std::vector<std::string> interfaces;  // the only interfaces used (names or IPv4 addresses); none: all
-  bool allow_writes = false;            // take /cmd_vel, /goal_pose and /initialpose (DDS has no authentication)
+  bool allow_writes = false;            // take /cmd_vel, /goal_pose and /initialpose (from any peer let in)
+  // A DDS Security enclave (drivers/dds/participant.h); empty: no security, any peer on the network is let in.
+  std::filesystem::path security_enclave;
   double camera_hz = 0.0;               // depth image and camera info rate; 0: not published
   std::string cmd_vel_topic = "/cmd_vel";  // what ROS 2 tools drive the robot with (allow_writes)
   DdsDevicesOptions devices;             // when sim.enabled is false

@@ -150,6 +150,17 @@ TEST_F(ConfigTest, DdsIsOffByDefaultAndItsDomainComesFromTheEnvironmentUnlessSet
             std::string::npos);
 }
 
+TEST_F(ConfigTest, ADdsSecurityEnclaveIsFoundBesideTheConfigurationAndMustBeWhole) {
+  fs::create_directories(dir_ / "enclave");
+  for (const char* file : drivers::dds::kEnclaveFiles) std::ofstream(dir_ / "enclave" / file) << "x";
+  std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\ndds: {security: {enclave: enclave}}\n";
+  EXPECT_EQ(LoadConfig(dir_ / "c.yaml").dds.security_enclave, dir_ / "enclave");
+  fs::remove(dir_ / "enclave" / "permissions.p7s");
+  const std::string error = ErrorOf("sim: {enabled: false}\ndds: {security: {enclave: enclave}}\n");
+  EXPECT_NE(error.find("dds.security.enclave"), std::string::npos) << error;
+  EXPECT_NE(error.find("permissions.p7s is missing"), std::string::npos) << error;
+}
+
 TEST_F(ConfigTest, DoorsTheirControllerAndTheSimulatorsDoorsAreReadAndChecked) {
   std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false, doors: [{id: d1, x1_m: 4, y1_m: 1, x2_m: 4, y2_m: 2}]}\n"
                                     "doors:\n"

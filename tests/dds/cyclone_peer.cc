@@ -1,6 +1,7 @@
 #include "tests/dds/cyclone_peer.h"
 
 #include <stdexcept>
+#include <utility>
 
 namespace corridor::testing {
 namespace {
@@ -30,7 +31,7 @@ std::string RosTypeName(const std::string& idl_name) {
   return idl_name.substr(0, last) + "::dds_::" + idl_name.substr(last + 2) + "_";
 }
 
-CyclonePeer::CyclonePeer(int domain) {
+CyclonePeer::CyclonePeer(int domain, const std::string& enclave) {
   const std::string config =
       "<CycloneDDS><Domain id=\"any\"><General><Interfaces><NetworkInterface address=\"127.0.0.1\"/></Interfaces>"
       "<AllowMulticast>false</AllowMulticast></General><Discovery><ParticipantIndex>auto</ParticipantIndex>"
@@ -38,7 +39,29 @@ CyclonePeer::CyclonePeer(int domain) {
       "</Discovery></Domain></CycloneDDS>";
   domain_ = dds_create_domain(static_cast<dds_domainid_t>(domain), config.c_str());
   Check(domain_, "create domain");
-  participant_ = dds_create_participant(static_cast<dds_domainid_t>(domain), nullptr, nullptr);
+  dds_qos_t* qos = dds_create_qos();
+  if (!enclave.empty()) {
+    const std::pair<const char*, std::string> properties[] = {
+        {"dds.sec.auth.library.path", "dds_security_auth"},
+        {"dds.sec.auth.library.init", "init_authentication"},
+        {"dds.sec.auth.library.finalize", "finalize_authentication"},
+        {"dds.sec.crypto.library.path", "dds_security_crypto"},
+        {"dds.sec.crypto.library.init", "init_crypto"},
+        {"dds.sec.crypto.library.finalize", "finalize_crypto"},
+        {"dds.sec.access.library.path", "dds_security_ac"},
+        {"dds.sec.access.library.init", "init_access_control"},
+        {"dds.sec.access.library.finalize", "finalize_access_control"},
+        {"dds.sec.auth.identity_ca", "file:" + enclave + "/identity_ca.cert.pem"},
+        {"dds.sec.auth.identity_certificate", "file:" + enclave + "/cert.pem"},
+        {"dds.sec.auth.private_key", "file:" + enclave + "/key.pem"},
+        {"dds.sec.access.permissions_ca", "file:" + enclave + "/permissions_ca.cert.pem"},
+        {"dds.sec.access.governance", "file:" + enclave + "/governance.p7s"},
+        {"dds.sec.access.permissions", "file:" + enclave + "/permissions.p7s"},
+    };
+    for (const auto& [name, value] : properties) dds_qset_prop(qos, name, value.c_str());
+  }
+  participant_ = dds_create_participant(static_cast<dds_domainid_t>(domain), qos, nullptr);
+  dds_delete_qos(qos);
   Check(participant_, "create participant");
 }
 

@@ -23,8 +23,11 @@ enum class PeerQos {
 
 class CyclonePeer {
  public:
-  // Joins `domain` on loopback only, discovering by unicast to 127.0.0.1 (loopback has no multicast here).
-  explicit CyclonePeer(int domain);
+  // Joins `domain` on loopback only, discovering by unicast to 127.0.0.1 (loopback has no multicast here); with
+  // `enclave` (a DDS Security enclave's directory, drivers/dds/device_options.h's kEnclaveFiles), by Cyclone's own
+  // DDS Security plugins. One peer of a domain at a time in a process: Cyclone makes a domain once per process, and
+  // with the security of its first participant.
+  explicit CyclonePeer(int domain, const std::string& enclave = "");
   CyclonePeer(const CyclonePeer&) = delete;
   CyclonePeer& operator=(const CyclonePeer&) = delete;
   ~CyclonePeer();

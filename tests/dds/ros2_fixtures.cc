@@ -116,6 +116,25 @@ bool DaemonProcess::Stop() {
 
 std::string DaemonProcess::log() const { return ReadFile(dir_ / "corridord.log"); }
 
+Keystore::Keystore(const fs::path& source, const std::string& name)
+    : tool_(source / "tools/dds-keystore"),
+      dir_(fs::temp_directory_path() / (name + "-" + std::to_string(::getpid()))) {
+  fs::remove_all(dir_);
+  Run("create " + dir_.string());
+}
+
+Keystore::~Keystore() { fs::remove_all(dir_); }
+
+std::string Keystore::Enclave(const std::string& name, const std::string& flags) {
+  Run("enclave " + dir_.string() + " " + name + " " + flags);
+  return (dir_ / "enclaves" / name).string();
+}
+
+void Keystore::Run(const std::string& args) const {
+  const std::string command = tool_.string() + " " + args + " >/dev/null";
+  if (std::system(command.c_str()) != 0) throw std::runtime_error("failed: dds-keystore " + args);
+}
+
 int Domain(int offset) { return 100 + (static_cast<int>(::getpid()) * 2 + offset) % 120; }
 
 bool SendTwist(dds_entity_t writer, double linear, double angular) {

@@ -46,6 +46,23 @@ class DaemonProcess {
   bool exited_ok_ = false;
 };
 
+// A DDS Security keystore made by the tree's tools/dds-keystore in a directory of its own (named after `name` and the
+// process), removed at the end. Throws std::runtime_error when the tool fails.
+class Keystore {
+ public:
+  Keystore(const std::filesystem::path& source, const std::string& name);
+  Keystore(const Keystore&) = delete;
+  Keystore& operator=(const Keystore&) = delete;
+  ~Keystore();
+  // A new enclave's directory; `flags` as the tool takes them ("--read-only").
+  std::string Enclave(const std::string& name, const std::string& flags = "");
+
+ private:
+  void Run(const std::string& args) const;
+  std::filesystem::path tool_;
+  std::filesystem::path dir_;
+};
+
 // A domain of this process's own, so that parallel runs never meet.
 int Domain(int offset);
 
