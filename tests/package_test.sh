@@ -63,6 +63,14 @@ grep -q "redirect_port: $redirect " /etc/corridor/corridor.yaml || fail "could n
 sed -i -e '/^dds:/,/^$/ s|^  peers: \[\] .*|  peers: [127.0.0.1]|' -e '/^dds:/,/^$/ s|^  interfaces: \[\] .*|  interfaces: [lo]|' \
   /etc/corridor/corridor.yaml
 grep -q "^  interfaces: \[lo\]" /etc/corridor/corridor.yaml || fail "could not keep DDS on loopback"
+# DDS Security as docs/ros2.md says to turn it on: an enclave from the installed keystore tool, readable by corridor.
+keys=$(mktemp -d)
+/usr/libexec/corridor/dds-keystore create "$keys/ks" >/dev/null || fail "dds-keystore create"
+/usr/libexec/corridor/dds-keystore enclave "$keys/ks" corridor >/dev/null || fail "dds-keystore enclave"
+cp -r "$keys/ks/enclaves/corridor" /etc/corridor/dds-enclave && chown -R corridor: /etc/corridor/dds-enclave
+rm -rf "$keys"
+sed -i '/^dds:/,/^$/ s|^    enclave: "" .*|    enclave: /etc/corridor/dds-enclave|' /etc/corridor/corridor.yaml
+grep -q "^    enclave: /etc/corridor/dds-enclave" /etc/corridor/corridor.yaml || fail "could not set the DDS enclave"
 
 start_daemon
 # Whole replies first: with pipefail, `curl | grep -q` fails when grep stops reading before curl has written all.
@@ -72,7 +80,7 @@ grep -q '<title>corridor face</title>' <<<"$(api "https://127.0.0.1:$port/face")
 [ "$(api -o /dev/null -w '%{http_code}' "https://127.0.0.1:$port/api/v1/state")" = 401 ] || fail "state without login"
 [ "$(curl -s -o /dev/null -w '%{http_code}' "http://127.0.0.1:$redirect/")" = 308 ] || fail "no redirect"
 grep -q "setup code" "$log" || fail "no setup code in the log"
-grep -q "dds: ok: domain 0" "$log" || fail "DDS did not come up on domain 0"
+grep -q "dds: ok: domain 0, secured by /etc/corridor/dds-enclave" "$log" || fail "secured DDS did not come up"
 token=$(corridord token create --role admin --name package-test 2>/dev/null)
 [ "$(stat -c %U /var/lib/corridor/accounts.db)" = corridor ] || fail "accounts.db not the daemon's"
 added=$(api -H "Authorization: Bearer $token" -H 'Content-Type: application/json' \
@@ -95,6 +103,7 @@ stop_daemon
 dpkg --remove corridor-face corridor >/dev/null
 [ -f /var/lib/corridor/accounts.db ] || fail "remove deleted the state"
 getent passwd corridor >/dev/null || fail "remove deleted the user"
+rm -rf /etc/corridor/dds-enclave  # the admin's own files: purge leaves them, as dpkg does
 dpkg --purge corridor-face corridor >/dev/null
 for path in /var/lib/corridor /etc/corridor /usr/bin/corridord /usr/share/corridor /lib/systemd/system/corridor.service \
     /usr/libexec/corridor; do
