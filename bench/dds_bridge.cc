@@ -78,14 +78,16 @@ struct MissionRun {
 };
 
 // A mission round the start, measured over `seconds`; with `domain` >= 0, DDS on and the peer subscribed
-// to everything the bridge publishes by default.
-MissionRun Mission(int domain, double seconds) {
-  DaemonProcess daemon(CORRIDORD, CORRIDOR_SOURCE_DIR, domain, false);
+// to everything the bridge publishes by default; with `keystore`, both secured by enclaves of it.
+MissionRun Mission(int domain, double seconds, Keystore* keystore = nullptr) {
+  const std::string security =
+      keystore != nullptr ? "  security: {enclave: " + keystore->Enclave("corridor") + "}\n" : "";
+  DaemonProcess daemon(CORRIDORD, CORRIDOR_SOURCE_DIR, domain, false, security);
   MissionRun run;
   std::unique_ptr<CyclonePeer> peer;
   std::vector<std::pair<std::string, dds_entity_t>> readers;
   if (domain >= 0) {
-    peer = std::make_unique<CyclonePeer>(domain);
+    peer = std::make_unique<CyclonePeer>(domain, keystore != nullptr ? keystore->Enclave("tool") : "");
     readers = {
         {"/odom", peer->Reader("/odom", nav_msgs_msg_Odometry_desc)},
         {"/tf", peer->Reader("/tf", tf2_msgs_msg_TFMessage_desc, PeerQos::kTf)},
@@ -190,14 +192,19 @@ int Main(int argc, char** argv) {
   const double seconds = argc > 1 ? std::atof(argv[1]) : 30.0;
   const MissionRun off = Mission(-1, seconds);
   const MissionRun on = Mission(Domain(0), seconds);
+  Keystore keystore(CORRIDOR_SOURCE_DIR, "corridor-dds-bench");
+  const MissionRun secured = Mission(Domain(2), seconds, &keystore);
   std::printf(
       "corridord CPU driving a mission, %.0f s: DDS off %.1f %% of a core, on with a peer subscribed to "
-      "everything %.1f %%: the bridge %.1f %%\n",
-      seconds, off.cpu_percent, on.cpu_percent, on.cpu_percent - off.cpu_percent);
-  std::printf("control loop, depth frame to command p99: DDS off %.2f ms, on %.2f ms\n", off.control_p99_ms,
-              on.control_p99_ms);
+      "everything %.1f %%: the bridge %.1f %%; with DDS Security %.1f %%: the bridge %.1f %%\n",
+      seconds, off.cpu_percent, on.cpu_percent, on.cpu_percent - off.cpu_percent, secured.cpu_percent,
+      secured.cpu_percent - off.cpu_percent);
+  std::printf("control loop, depth frame to command p99: DDS off %.2f ms, on %.2f ms, secured %.2f ms\n",
+              off.control_p99_ms, on.control_p99_ms, secured.control_p99_ms);
   std::printf("samples the peer took in the window:");
   for (const auto& [topic, n] : on.received) std::printf(" %s %d;", topic.c_str(), n);
+  std::printf("\nsecured:");
+  for (const auto& [topic, n] : secured.received) std::printf(" %s %d;", topic.c_str(), n);
   std::printf("\n");
   int missed = 0;
   const Percentiles rt = Of(CmdVelRoundTrips(Domain(1), 400, missed));
