@@ -31,6 +31,20 @@ class Daemon : public DaemonProcess {
   ~Daemon() { EXPECT_TRUE(Stop()) << "corridord did not exit cleanly:\n" << log(); }
 };
 
+// Sends `speed` forward on `cmd_vel` at 10 Hz, as teleop_twist_keyboard does, for `ticks` ticks, then a stop;
+// returns the fastest speed odometry reported meanwhile.
+double FastestWhileDriving(CyclonePeer& peer, dds_entity_t cmd_vel, dds_entity_t odom, double speed, int ticks) {
+  double fastest = 0.0;
+  for (int i = 0; i < ticks; ++i) {
+    SendTwist(cmd_vel, speed, 0.0);
+    peer.Take<nav_msgs_msg_Odometry>(
+        odom, [&](const nav_msgs_msg_Odometry& o) { fastest = std::max(fastest, std::abs(o.twist.twist.linear.x)); });
+    std::this_thread::sleep_for(100ms);
+  }
+  SendTwist(cmd_vel, 0.0, 0.0);
+  return fastest;
+}
+
 TEST(DdsInterop, RosToolSeesTheRobotDrivesItAndSendsAGoal) {
   const int domain = Domain(0);
   Daemon daemon(domain, /*allow_writes=*/true, "  camera_hz: 2\n");
@@ -238,14 +252,7 @@ TEST(DdsInterop, WritesAreRefusedUnlessAllowed) {
   ASSERT_TRUE(peer.TakeUntil<nav_msgs_msg_Odometry>(
       odom, [](const auto&) {}, [&] { return peer.Matched(cmd_vel) > 0; }, 20s))
       << daemon.log();
-  double fastest = 0.0;
-  for (int i = 0; i < 15; ++i) {
-    SendTwist(cmd_vel, 0.3, 0.0);
-    peer.Take<nav_msgs_msg_Odometry>(
-        odom, [&](const nav_msgs_msg_Odometry& o) { fastest = std::max(fastest, std::abs(o.twist.twist.linear.x)); });
-    std::this_thread::sleep_for(100ms);
-  }
-  EXPECT_LT(fastest, 0.01);
+  EXPECT_LT(FastestWhileDriving(peer, cmd_vel, odom, 0.3, 15), 0.01);
   EXPECT_NE(daemon.log().find("writes over DDS are off"), std::string::npos) << daemon.log();
 }
 
@@ -318,17 +325,9 @@ TEST(DdsInterop, SecuredDomainLetsInOnlyTheKeystoresPeers) {
     ASSERT_TRUE(trusted.TakeUntil<nav_msgs_msg_Odometry>(
         odom, [](const auto&) {}, [&] { return trusted.Matched(cmd_vel) > 0; }, 30s))
         << daemon.log();
-    double fastest = 0.0;
-    for (int i = 0; i < 20; ++i) {
-      SendTwist(cmd_vel, 0.3, 0.0);
-      trusted.Take<nav_msgs_msg_Odometry>(
-          odom, [&](const nav_msgs_msg_Odometry& o) { fastest = std::max(fastest, o.twist.twist.linear.x); });
-      std::this_thread::sleep_for(100ms);
-    }
-    SendTwist(cmd_vel, 0.0, 0.0);
-    EXPECT_NEAR(fastest, 0.3, 0.05) << daemon.log();
+    EXPECT_NEAR(FastestWhileDriving(trusted, cmd_vel, odom, 0.3, 20), 0.3, 0.05) << daemon.log();
   }
-  // One after the other (a process holds one Cyclone domain at a time), each as long as the trusted peer needed.
+  // One after the other (a process holds one Cyclone domain at a time), each given 5 s.
   for (const std::string& enclave : {std::string(), impostor}) {
     CyclonePeer peer(domain, enclave);
     const dds_entity_t odom = peer.Reader("/odom", nav_msgs_msg_Odometry_desc);

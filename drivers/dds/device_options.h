@@ -3,6 +3,7 @@
 #pragma once
 
 #include <arpa/inet.h>
+#include <unistd.h>
 
 #include <array>
 #include <cctype>
@@ -36,6 +37,15 @@ inline bool IsIpv4Address(const std::string& text) {
 // tools/dds-keystore makes too.
 inline constexpr std::array<const char*, 6> kEnclaveFiles = {
     "identity_ca.cert.pem", "cert.pem", "key.pem", "permissions_ca.cert.pem", "governance.p7s", "permissions.p7s"};
+
+// The first of an enclave's files in `directory` this process cannot read; "" when it can read them all.
+inline std::string UnreadableEnclaveFile(const std::string& directory) {
+  for (const char* file : kEnclaveFiles) {
+    const std::string path = directory + "/" + file;
+    if (::access(path.c_str(), R_OK) != 0) return path;
+  }
+  return "";
+}
 
 struct DdsCameraOptions {
   std::string depth_topic = "/camera/depth/image_rect_raw";  // sensor_msgs/Image, 16UC1 (mm) or 32FC1 (m)

@@ -5,7 +5,6 @@
 #include <arpa/inet.h>
 #include <ifaddrs.h>
 #include <netinet/in.h>
-#include <unistd.h>
 #include <spdlog/spdlog.h>
 
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
@@ -42,11 +41,8 @@ void ApplyProfile(EntityQos& q, Qos qos) {
 // DDS Security's builtin plugins (authentication by PKI-DH, access control by signed permissions, AES-GCM-GMAC
 // cryptography) with the enclave's files.
 void ApplySecurity(fdds::DomainParticipantQos& qos, const std::string& enclave) {
-  for (const char* file : kEnclaveFiles) {
-    const std::string path = enclave + "/" + file;
-    if (::access(path.c_str(), R_OK) != 0) {
-      throw std::invalid_argument("dds: the security enclave has no readable " + path);
-    }
+  if (const std::string file = UnreadableEnclaveFile(enclave); !file.empty()) {
+    throw std::invalid_argument("dds: the security enclave has no readable " + file);
   }
   auto uri = [&](const char* file) { return "file://" + enclave + "/" + file; };
   const std::pair<const char*, std::string> properties[] = {

@@ -461,11 +461,9 @@ void ReadDds(ConfigReader& r, DdsOptions& d, const fs::path& base) {
   r.Section("security", [&](ConfigReader& s) {
     ReadPath(s, "enclave", d.security_enclave, base);
     if (d.security_enclave.empty()) return;
-    for (const char* file : drivers::dds::kEnclaveFiles) {
-      if (!fs::is_regular_file(d.security_enclave / file)) {
-        throw ConfigError(s.PathOf("enclave") + ": " + (d.security_enclave / file).string() +
-                          " is missing (make an enclave with tools/dds-keystore or ros2 security create_enclave)");
-      }
+    if (const std::string file = drivers::dds::UnreadableEnclaveFile(d.security_enclave); !file.empty()) {
+      throw ConfigError(s.PathOf("enclave") + ": " + file + " is missing or unreadable (make an enclave with " +
+                        "tools/dds-keystore or ros2 security create_enclave)");
     }
   });
   for (const std::string& topic : {d.cmd_vel_topic, d.devices.camera.depth_topic, d.devices.camera.info_topic,

@@ -41,6 +41,7 @@ CyclonePeer::CyclonePeer(int domain, const std::string& enclave) {
   Check(domain_, "create domain");
   dds_qos_t* qos = dds_create_qos();
   if (!enclave.empty()) {
+    auto uri = [&](const char* file) { return "file:" + enclave + "/" + file; };
     const std::pair<const char*, std::string> properties[] = {
         {"dds.sec.auth.library.path", "dds_security_auth"},
         {"dds.sec.auth.library.init", "init_authentication"},
@@ -51,12 +52,12 @@ CyclonePeer::CyclonePeer(int domain, const std::string& enclave) {
         {"dds.sec.access.library.path", "dds_security_ac"},
         {"dds.sec.access.library.init", "init_access_control"},
         {"dds.sec.access.library.finalize", "finalize_access_control"},
-        {"dds.sec.auth.identity_ca", "file:" + enclave + "/identity_ca.cert.pem"},
-        {"dds.sec.auth.identity_certificate", "file:" + enclave + "/cert.pem"},
-        {"dds.sec.auth.private_key", "file:" + enclave + "/key.pem"},
-        {"dds.sec.access.permissions_ca", "file:" + enclave + "/permissions_ca.cert.pem"},
-        {"dds.sec.access.governance", "file:" + enclave + "/governance.p7s"},
-        {"dds.sec.access.permissions", "file:" + enclave + "/permissions.p7s"},
+        {"dds.sec.auth.identity_ca", uri("identity_ca.cert.pem")},
+        {"dds.sec.auth.identity_certificate", uri("cert.pem")},
+        {"dds.sec.auth.private_key", uri("key.pem")},
+        {"dds.sec.access.permissions_ca", uri("permissions_ca.cert.pem")},
+        {"dds.sec.access.governance", uri("governance.p7s")},
+        {"dds.sec.access.permissions", uri("permissions.p7s")},
     };
     for (const auto& [name, value] : properties) dds_qset_prop(qos, name, value.c_str());
   }
