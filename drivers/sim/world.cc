@@ -7,8 +7,10 @@
 #include <boost/property_tree/xml_parser.hpp>
 #include <spdlog/spdlog.h>
 
+#include <cctype>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
@@ -58,8 +60,9 @@ Eigen::Affine3f PoseOf(const pt::ptree& element, const fs::path& file) {
 // Loads SDF worlds and models, caching meshes that several models share.
 class SdfLoader {
  public:
-  SdfLoader(const fs::path& world_file, const WorldOptions& options) : world_file_(world_file) {
-    const fs::path dir = world_file.parent_path();
+  // Model paths as Gazebo searches them: the configured ones (GAZEBO_MODEL_PATH's role), then beside the world.
+  SdfLoader(const fs::path& world_file, const WorldOptions& options) : world_file_(fs::absolute(world_file)) {
+    const fs::path dir = world_file_.parent_path();
     search_paths_ = options.model_paths;
     search_paths_.push_back(dir / "models");
     search_paths_.push_back(dir.parent_path() / "models");
@@ -81,7 +84,16 @@ class SdfLoader {
         } else {
           AddModelLinks(child, world_file_.parent_path(), world_file_, world_T_model, out);
         }
+      } else if (tag == "actor" || tag == "population" || tag == "road" || tag == "light") {
+        Skip("<" + tag + ">");
       }
+    }
+    if (!skipped_.empty()) {
+      std::string list;
+      for (const auto& [what, count] : skipped_) {
+        list += (list.empty() ? "" : ", ") + what + (count > 1 ? " x" + std::to_string(count) : "");
+      }
+      spdlog::warn("world {}: not simulated (nothing the robot can see or bump into): {}", world_file_.string(), list);
     }
     return out;
   }
@@ -97,14 +109,24 @@ class SdfLoader {
     return doc;
   }
 
-  fs::path ResolveModel(const std::string& name, const fs::path& referrer) const {
+  // The folder of model `name` in the model paths, or nullopt.
+  std::optional<fs::path> FindModel(const std::string& name) const {
     for (const fs::path& dir : search_paths_) {
       if (fs::exists(dir / name / "model.sdf")) return dir / name;
     }
-    Fail(referrer, "model://" + name + " not found in any model path");
+    return std::nullopt;
   }
 
-  // model://NAME/rest -> <model dir>/rest; other URIs relative to the referring file's folder.
+  fs::path ResolveModel(const std::string& name, const fs::path& referrer) const {
+    if (auto dir = FindModel(name)) return *dir;
+    std::string searched;
+    for (const fs::path& dir : search_paths_) searched += (searched.empty() ? "" : ", ") + dir.string();
+    Fail(referrer, "model://" + name + " not found in any model path (" + searched +
+                       "; more with sim.model_paths)");
+  }
+
+  // A URI as Gazebo resolves it: model://NAME/rest -> <NAME's folder in the model paths>/rest; file://PATH and plain
+  // paths absolute as they are, relative to the referring file's folder first, then to each model path.
   fs::path ResolveUri(const std::string& uri, const fs::path& base_dir, const fs::path& referrer) const {
     constexpr std::string_view kModel = "model://";
     constexpr std::string_view kFile = "file://";
@@ -114,13 +136,64 @@ class SdfLoader {
       const fs::path dir = ResolveModel(rest.substr(0, slash), referrer);
       return slash == std::string::npos ? dir : dir / rest.substr(slash + 1);
     }
-    if (uri.starts_with(kFile)) return fs::path(uri.substr(kFile.size()));
-    return fs::path(uri).is_absolute() ? fs::path(uri) : base_dir / uri;
+    if (!uri.starts_with(kFile) && uri.find("://") != std::string::npos) {
+      // A model on a server (Gazebo Fuel): only a copy in the model paths can be used.
+      const std::string name = ModelName(uri);
+      if (!name.empty()) {
+        if (auto dir = FindModel(name)) return *dir;
+      }
+      Fail(referrer, uri + " is not on this machine: put the model in a folder of sim.model_paths" +
+                         (name.empty() ? "" : " as '" + name + "'"));
+    }
+    const fs::path path(uri.starts_with(kFile) ? uri.substr(kFile.size()) : uri);
+    if (path.is_absolute()) return path;
+    if (fs::exists(base_dir / path)) return base_dir / path;
+    for (const fs::path& dir : search_paths_) {
+      if (fs::exists(dir / path)) return dir / path;
+    }
+    return base_dir / path;  // missing: the caller says so, naming this path
   }
+
+  // The model a URI names: NAME of model://NAME/..., or of a Gazebo Fuel URL (https://fuel.../models/NAME/...), with
+  // "%20" decoded; "" for other URIs.
+  static std::string ModelName(const std::string& uri) {
+    std::string rest;
+    if (uri.starts_with("model://")) {
+      rest = uri.substr(8);
+    } else if (const auto at = uri.find("/models/"); at != std::string::npos && uri.find("://") != std::string::npos) {
+      rest = uri.substr(at + 8);
+    }
+    rest = rest.substr(0, rest.find('/'));
+    std::string name;
+    for (std::size_t i = 0; i < rest.size(); ++i) {
+      const bool space = rest.compare(i, 3, "%20") == 0;
+      name += space ? ' ' : rest[i];
+      if (space) i += 2;
+    }
+    return name;
+  }
+
+  // What one of Gazebo's own models is, when the simulator has no use for it: "sun" (a light) and "ground_plane" (the
+  // simulator lays its own floor); nullopt for any other.
+  static std::optional<std::string> BuiltIn(std::string name) {
+    for (char& c : name) c = c == ' ' ? '_' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (name == "sun") return "the sun (a light)";
+    if (name == "ground_plane") return "the ground plane (the simulator lays its own floor)";
+    return std::nullopt;
+  }
+
+  void Skip(const std::string& what) { ++skipped_[what]; }
 
   void AddInclude(const pt::ptree& include, const Eigen::Affine3f& parent_T_include, TriangleMesh& out) {
     const std::string uri = include.get<std::string>("uri", "");
     if (uri.empty()) Fail(world_file_, "<include> without <uri>");
+    // Gazebo's own sun and ground plane are left out, unless the model paths hold a model of that name (a world may
+    // bring its own ground, walls and all).
+    const std::string name = ModelName(uri);
+    if (const auto built_in = BuiltIn(name); built_in && !FindModel(name)) {
+      Skip(*built_in);
+      return;
+    }
     const fs::path model_dir = ResolveUri(uri, world_file_.parent_path(), world_file_);
     const fs::path model_file = model_dir / "model.sdf";
     const pt::ptree doc = ReadXml(model_file);
@@ -156,7 +229,10 @@ class SdfLoader {
     if (!geometry) return false;
     if (auto mesh = geometry->get_child_optional("mesh")) {
       const fs::path mesh_file = ResolveUri(mesh->get<std::string>("uri", ""), model_dir, file);
-      if (!fs::exists(mesh_file)) return false;
+      if (!fs::exists(mesh_file)) {
+        Skip("missing mesh " + mesh_file.string());
+        return false;
+      }
       Eigen::Affine3f transform = world_T_shape;
       if (auto scale = mesh->get_optional<std::string>("scale")) {
         transform = transform * Eigen::Scaling(ParseVector3(*scale, file, "scale"));
@@ -171,6 +247,20 @@ class SdfLoader {
       out.Append(b, world_T_shape);
       return true;
     }
+    // Cylinders stand along their z axis, centred; spheres become the cylinder around them (what a depth camera and
+    // a footprint slice see of them is close enough).
+    const auto cylinder = geometry->get_child_optional("cylinder");
+    const auto sphere = geometry->get_child_optional("sphere");
+    if (cylinder || sphere) {
+      const float radius = (cylinder ? cylinder : sphere)->get<float>("radius", 0.0f);
+      const float length = cylinder ? cylinder->get<float>("length", 0.0f) : 2.0f * radius;
+      if (!(radius > 0.0f) || !(length > 0.0f)) Fail(file, "a cylinder or sphere without a positive size");
+      TriangleMesh c;
+      c.AddCylinder({0.0f, 0.0f}, radius, length, 24, kDefaultMeshColor);
+      out.Append(c, world_T_shape * Eigen::Translation3f(0.0f, 0.0f, -length / 2.0f));
+      return true;
+    }
+    for (const auto& [kind, unused] : *geometry) Skip("<" + kind + "> geometry");
     return false;
   }
 
@@ -211,6 +301,7 @@ class SdfLoader {
   fs::path world_file_;
   std::vector<fs::path> search_paths_;
   std::map<fs::path, TriangleMesh> cache_;
+  std::map<std::string, int> skipped_;  // what was left out, and how often: one warning at the end
 };
 
 // Clips a polygon to the half-space n . p >= d (one Sutherland-Hodgman step).
@@ -489,7 +580,9 @@ World WorldFromMap(const nav::OccupancyGrid& map, const WorldOptions& options) {
     if (map.cells()[i] >= kWallPercent) world.collision.mutable_cells()[i] = nav::kOccupiedCell;
   }
   world.source_map = map;
-  world.description = "map extruded to " + std::to_string(options.wall_height_m) + " m walls";
+  std::ostringstream description;
+  description << "map extruded to " << options.wall_height_m << " m walls";
+  world.description = description.str();
   return world;
 }
 

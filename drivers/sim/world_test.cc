@@ -89,5 +89,64 @@ TEST(LoadWorldTest, BrokenWorldFilesGiveErrorsThatNameTheFile) {
   fs::remove_all(dir);
 }
 
+// A world as people download them: Gazebo's sun and ground plane (as model:// and as Gazebo Fuel URLs), lights, a mesh
+// named file://meshes/... relative to the world's folder, a model's mesh by model://, cylinders. It loads from any
+// working directory, with what the simulator does not draw left out.
+TEST(LoadWorldTest, AWorldFromAPublicRepositoryOpens) {
+  const fs::path dir = fs::temp_directory_path() / ("corridor_gz_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "worlds/meshes");
+  fs::create_directories(dir / "models/crate/meshes");
+  // A 1 x 0.2 x 1 m wall (OBJ, as assimp reads it), at the world's folder's meshes/; the crate model's own box.
+  const auto box_obj = [](const fs::path& file, float sx, float sy, float sz) {
+    std::ofstream obj(file);
+    for (int i = 0; i < 8; ++i) obj << "v " << (i & 1 ? sx : 0) << ' ' << (i & 2 ? sy : 0) << ' ' << (i & 4 ? sz : 0) << '\n';
+    obj << "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+  };
+  box_obj(dir / "worlds/meshes/wall.obj", 1.0f, 0.2f, 1.0f);
+  box_obj(dir / "models/crate/meshes/crate.obj", 0.4f, 0.4f, 0.4f);
+  std::ofstream(dir / "models/crate/model.sdf")
+      << "<sdf version='1.6'><model name='crate'><link name='l'><collision name='c'><geometry><mesh>"
+         "<uri>model://crate/meshes/crate.obj</uri></mesh></geometry></collision></link></model></sdf>";
+  std::ofstream(dir / "worlds/office.world")
+      << "<?xml version='1.0'?><sdf version='1.6'><world name='default'>"
+         "<include><uri>model://sun</uri></include>"
+         "<include><uri>model://ground_plane</uri></include>"
+         "<include><uri>https://fuel.gazebosim.org/1.0/OpenRobotics/models/Ground%20Plane</uri></include>"
+         "<include><uri>https://fuel.gazebosim.org/1.0/OpenRobotics/models/Sun</uri></include>"
+         "<light name='lamp' type='point'><pose>0 0 2 0 0 0</pose></light>"
+         "<physics type='ode'/><scene><ambient>0.4 0.4 0.4 1</ambient></scene>"
+         "<model name='walls'><static>true</static><pose>2 2 0 0 0 0</pose><link name='l'><collision name='c'>"
+         "<geometry><mesh><uri>file://meshes/wall.obj</uri></mesh></geometry></collision></link></model>"
+         "<model name='pillar'><pose>4 1 0.5 0 0 0</pose><link name='l'><collision name='c'><geometry>"
+         "<cylinder><radius>0.2</radius><length>1</length></cylinder></geometry></collision></link></model>"
+         "<include><uri>model://crate</uri><pose>0 0 0 0 0 0</pose></include>"
+         "</world></sdf>";
+  const fs::path cwd = fs::current_path();
+  fs::current_path("/");  // not the world's folder: URIs must not depend on where the daemon runs
+  World world;
+  EXPECT_NO_THROW(world = LoadWorld(dir / "worlds/office.world", WorldOptions{}));
+  fs::current_path(cwd);
+  const auto occupied = [&](double x, double y) {
+    const auto c = world.collision.WorldToCell({x, y});
+    return c && world.collision.at(*c) == nav::kOccupiedCell;
+  };
+  EXPECT_TRUE(occupied(2.5, 2.1)) << "the wall from file://meshes/wall.obj";
+  EXPECT_TRUE(occupied(4.0, 1.0)) << "the pillar";
+  EXPECT_TRUE(occupied(0.2, 0.2)) << "the crate";
+  EXPECT_FALSE(occupied(3.0, 1.0));
+  // A model that is nowhere still stops the loader, naming what is missing and where it looked.
+  std::ofstream(dir / "worlds/chair.world")
+      << "<sdf version='1.6'><world name='w'>"
+         "<include><uri>https://fuel.gazebosim.org/1.0/OpenRobotics/models/Office%20Chair</uri></include>"
+         "</world></sdf>";
+  try {
+    LoadWorld(dir / "worlds/chair.world", WorldOptions{});
+    ADD_FAILURE() << "a missing model loaded";
+  } catch (const WorldFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("'Office Chair'"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace corridor::drivers::sim
