@@ -33,6 +33,8 @@ MapLibrary::MapLibrary(const fs::path& state_dir, std::string name, nav::Occupan
                        std::function<void(std::shared_ptr<const ActiveMap>)> on_change)
     : dir_(state_dir / "maps"), on_change_(std::move(on_change)) {
   if (!ValidMapName(name)) name = "map";
+  initial_name_ = name;
+  initial_ = std::make_shared<const nav::OccupancyGrid>(initial);
   const fs::path saved = dir_ / name / "map.yaml";
   if (fs::exists(saved)) {
     try {
@@ -65,6 +67,7 @@ std::vector<std::string> MapLibrary::Names() const {
     std::lock_guard lock(mutex_);
     for (const auto& [name, file] : configured_) others.insert(name);
   }
+  others.insert(initial_name_);
   others.erase(names[0]);
   names.insert(names.end(), others.begin(), others.end());
   return names;
@@ -135,6 +138,7 @@ nav::OccupancyGrid MapLibrary::Load(const std::string& name) const {
   if (!ValidMapName(name)) throw MapEditError("'" + name + "' is not a map name");
   fs::path file = dir_ / name / "map.yaml";
   if (!fs::exists(file)) {
+    if (name == initial_name_) return *initial_;
     std::lock_guard lock(mutex_);
     const auto it = configured_.find(name);
     if (it == configured_.end()) throw MapEditError("no map named '" + name + "'");
@@ -164,7 +168,7 @@ void MapLibrary::AddConfigured(const std::string& name, const fs::path& file) {
 }
 
 bool MapLibrary::Contains(const std::string& name) const {
-  if (name == active()->name || (ValidMapName(name) && fs::exists(dir_ / name / "map.yaml"))) return true;
+  if (name == active()->name || name == initial_name_ || (ValidMapName(name) && fs::exists(dir_ / name / "map.yaml"))) return true;
   std::lock_guard lock(mutex_);
   return configured_.contains(name);
 }

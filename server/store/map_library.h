@@ -37,7 +37,8 @@ struct CellEdit {
 
 class MapLibrary {
  public:
-  // Starts with `initial` named `name`; a saved edit of the same name in the state directory takes precedence.
+  // Starts with `initial` named `name`; a saved edit of the same name in the state directory takes precedence. The
+  // initial map stays among the maps (Names, Select, Grid) whatever is made active after it.
   // `on_change` runs (on the caller's thread) after every edit or selection, with the lock released.
   MapLibrary(const std::filesystem::path& state_dir, std::string name, nav::OccupancyGrid initial,
              std::function<void(std::shared_ptr<const ActiveMap>)> on_change);
@@ -72,6 +73,10 @@ class MapLibrary {
   mutable std::mutex mutex_;
   std::shared_ptr<const ActiveMap> active_;
   std::map<std::string, std::filesystem::path> configured_;  // guarded by mutex_
+  // The map the library started with, as configured (it may have no file: a world's collision slice). It stays
+  // selectable whatever becomes active after it; an edited copy saved under its name takes precedence.
+  std::string initial_name_;
+  std::shared_ptr<const nav::OccupancyGrid> initial_;
 };
 
 // The grid as an 8-bit grey PNG, map_server trinary shades, row 0 at the top.
