@@ -19,6 +19,12 @@ constexpr int kCancelPollMask = 4095;  // poll the cancel flag every 4096 expans
 // this much more than the optimum: a millimetre, against paths of metres.
 constexpr double kOpenQuantumM = 0.001;
 
+// A robot cut off from its goal by the inflated band crosses it (AStar) within kEscapeReachM of where it stands, keeping
+// this much from every obstacle cell (a map's unknown specks among them), each step through the band costing this many
+// times its length, so the way out is as short as it can be.
+constexpr double kEscapeClearanceM = 0.1;
+constexpr float kEscapeFactor = 4.0f;
+
 std::string Where(const Eigen::Vector2d& p) {
   std::ostringstream s;
   s.precision(3);
@@ -41,8 +47,14 @@ const char* ToString(PlanError error) {
   return "unknown";
 }
 
-SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
-                   const std::atomic<bool>* cancel, std::span<const float> extra_cost, bool robot_at_start) {
+namespace {
+
+// The search itself. With `escape`, the robot standing at `start` may also cross the inflated band anywhere within
+// kEscapeReachM of it (see AStar): where it keeps kEscapeClearanceM from every obstacle and the robot's radius from
+// every wall the map knows (unknown cells are obstacles to plans, not walls), at kEscapeFactor times the cost.
+SearchResult Search(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
+                    const std::atomic<bool>* cancel, std::span<const float> extra_cost, bool robot_at_start,
+                    bool escape) {
   SearchResult result;
   const OccupancyGrid& grid = costmap.grid();
   if (!extra_cost.empty() && extra_cost.size() != grid.cells().size()) {
@@ -98,6 +110,10 @@ SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const E
   };
   const double footprint_m = costmap.options().robot_radius_m;
   const auto near_start = [&](int nx, int ny) { return within(nx, ny, kEscapeRadiusM); };
+  const auto escape_through = [&](std::size_t i, int nx, int ny) {
+    return escape && !costmap.IsObstacle(i) && costmap.clearance_m(i) >= kEscapeClearanceM &&
+           within(nx, ny, kEscapeReachM) && !costmap.WallWithin(grid.CellCenter({nx, ny}), footprint_m);
+  };
   const auto blocked = [&](std::size_t i, int nx, int ny) {
     return costmap.IsObstacle(i) && (!robot_at_start || costmap.InKeepOut(i) || !within(nx, ny, footprint_m));
   };
@@ -120,7 +136,10 @@ SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const E
       if (!interior && (nx < 0 || ny < 0 || nx >= width || ny >= height)) continue;
       const std::size_t next = cur + static_cast<std::ptrdiff_t>(kDy[k]) * width + kDx[k];
       if (closed[next] || blocked(next, nx, ny)) continue;
-      const bool ok = costmap.Traversable(next) || (escaping && costmap.clearance_m(next) > costmap.clearance_m(cur)) ||
+      const bool traversable = costmap.Traversable(next);
+      const bool through_band = !traversable && escape_through(next, nx, ny);
+      const bool ok = traversable || through_band ||
+                      (escaping && costmap.clearance_m(next) > costmap.clearance_m(cur)) ||
                       (start_inside && near_start(nx, ny));
       if (!ok) continue;
       if (k >= 4) {
@@ -128,9 +147,10 @@ SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const E
         const std::size_t side_a = cur + kDx[k];
         const std::size_t side_b = cur + static_cast<std::ptrdiff_t>(kDy[k]) * width;
         if (blocked(side_a, nx, y) || blocked(side_b, x, ny)) continue;
-        if (!escaping && (!costmap.Traversable(side_a) || !costmap.Traversable(side_b))) continue;
+        if (!escaping && !escape && (!costmap.Traversable(side_a) || !costmap.Traversable(side_b))) continue;
       }
-      const float factor = costmap.step_factor(next) + (extra_cost.empty() ? 0.0f : extra_cost[next]);
+      const float factor = (through_band ? kEscapeFactor : 1.0f) * costmap.step_factor(next) +
+                           (extra_cost.empty() ? 0.0f : extra_cost[next]);
       const float candidate = cost[cur] + step_length[k] * factor;
       if (candidate < cost[next]) {
         cost[next] = candidate;
@@ -141,13 +161,29 @@ SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const E
   }
   if (!closed[g]) {
     result.error = PlanError::kNoPath;
-    result.detail = "no path from " + Where(start) + " to " + Where(goal) + " for a robot of radius " +
-                    std::to_string(costmap.options().robot_radius_m) + " m";
+    std::ostringstream detail;
+    detail << "no path from " << Where(start) << " to " << Where(goal) << " for a robot of radius "
+           << costmap.options().robot_radius_m << " m";
+    result.detail = detail.str();
     return result;
   }
   for (int i = static_cast<int>(g); i != -1; i = parent[i]) result.path.cells.push_back({i % width, i / width});
   std::reverse(result.path.cells.begin(), result.path.cells.end());
   result.path.cost = cost[g];
+  return result;
+}
+
+}  // namespace
+
+SearchResult AStar(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
+                   const std::atomic<bool>* cancel, std::span<const float> extra_cost, bool robot_at_start) {
+  SearchResult result = Search(costmap, start, goal, cancel, extra_cost, robot_at_start, false);
+  if (result.error == PlanError::kNoPath && robot_at_start) {
+    // Cut off from the goal by the inflated band (an island of free space among a map's specks, or deep in the band
+    // beside a wall): out through the band near the robot, slowly (PlanPath), then on.
+    SearchResult out = Search(costmap, start, goal, cancel, extra_cost, robot_at_start, true);
+    if (out.error != PlanError::kNoPath) return out;
+  }
   return result;
 }
 

@@ -16,6 +16,8 @@
 namespace corridor::nav {
 
 inline constexpr double kEscapeRadiusM = 0.5;
+// A robot cut off from its goal by the inflated band may cross it this far from where it stands (AStar).
+inline constexpr double kEscapeReachM = 3.0;
 
 enum class PlanError {
   kNone,
@@ -44,7 +46,10 @@ struct SearchResult {
 // that drove close to a wall, or into a tight spot among a map's specks) may leave it along increasing clearance,
 // and through any cell of the band within kEscapeRadiusM of it (the robot got there, so it can back out). With
 // robot_at_start (the robot stands at `start`, as when a mission plans from its pose), obstacle and unknown cells
-// under its footprint (robot_radius_m) are passable too: the map is wrong there, or the pose a little off. Otherwise a
+// under its footprint (robot_radius_m) are passable too: the map is wrong there, or the pose a little off; and when
+// that finds no way (the robot on an island of free space among a map's unknown specks, cut off by their inflation, or
+// deep in the band), a second search may cross the band within 3 m of it, 0.1 m from every obstacle cell and the
+// robot's radius from every wall the map knows, at four times the cost (PlanPath caps the speed there). Otherwise a
 // start on an obstacle cell is refused, and a start in a keep-out zone always is.
 // `cancel`, when non-null, is polled; setting it makes the search return kCancelled. Thread-compatible: one search
 // per Costmap at a time is not required (the costmap is read-only). `extra_cost`, when not empty, holds one

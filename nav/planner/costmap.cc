@@ -58,6 +58,22 @@ double Costmap::ClearanceAt(const Eigen::Vector2d& p) const {
   return cell ? clearance_m(Index(*cell)) : std::numeric_limits<double>::infinity();
 }
 
+bool Costmap::WallWithin(const Eigen::Vector2d& p, double radius_m) const {
+  const double res = grid_.resolution_m();
+  const Eigen::Vector2d local = grid_.origin().Inverse().Transform(p) / res;
+  const int reach = static_cast<int>(std::ceil(radius_m / res)) + 1;
+  const int cx = static_cast<int>(std::floor(local.x()));
+  const int cy = static_cast<int>(std::floor(local.y()));
+  for (int y = cy - reach; y <= cy + reach; ++y) {
+    for (int x = cx - reach; x <= cx + reach; ++x) {
+      const CellIndex c{x, y};
+      if (!grid_.Contains(c) || grid_.at(c) < options_.occupied_threshold) continue;
+      if ((grid_.CellCenter(c) - p).squaredNorm() <= radius_m * radius_m) return true;
+    }
+  }
+  return false;
+}
+
 std::optional<Eigen::Vector2d> MostOpenCell(const Costmap& costmap, const Eigen::Vector2d& near, double radius_m) {
   const OccupancyGrid& grid = costmap.grid();
   const Eigen::Vector2d local = grid.origin().Inverse().Transform(near) / grid.resolution_m();

@@ -48,6 +48,9 @@ class Costmap {
   float clearance_m(std::size_t i) const { return field_.distance_m[i]; }
   // The same at a map-frame point: +infinity outside the map (nothing known there to keep clear of).
   double ClearanceAt(const Eigen::Vector2d& p) const;
+  // Whether a wall the map knows (a cell at or above occupied_threshold: not unknown space, nor a keep-out zone) lies
+  // within radius_m of the map-frame point `p` (cell centres).
+  bool WallWithin(const Eigen::Vector2d& p, double radius_m) const;
   // The multiplier on step length: 1 + d(n).
   float step_factor(std::size_t i) const { return step_factor_[i]; }
   float speed_limit_mps(std::size_t i) const { return speed_limit_[i]; }

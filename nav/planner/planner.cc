@@ -45,13 +45,29 @@ bool SegmentTraversable(const Costmap& costmap, const Eigen::Vector2d& a, const 
   return true;
 }
 
-bool RestOfPathTraversable(const Costmap& costmap, const std::vector<Waypoint>& path, const Eigen::Vector2d& from) {
+bool RestOfPathTraversable(const Costmap& costmap, const std::vector<Waypoint>& path, const Eigen::Vector2d& from,
+                           double band_reach_m) {
   std::size_t nearest = 0;
   for (std::size_t i = 1; i < path.size(); ++i) {
     if ((path[i].pose.translation() - from).norm() < (path[nearest].pose.translation() - from).norm()) nearest = i;
   }
+  // Near the robot the path may cross the inflated band (its way out of it: AStar); an obstacle there, or anything
+  // but traversable cells farther on, and it no longer stands.
+  const double step = costmap.grid().resolution_m() / 2.0;
   for (std::size_t i = std::max<std::size_t>(nearest, 1); i < path.size(); ++i) {
-    if (!SegmentTraversable(costmap, path[i - 1].pose.translation(), path[i].pose.translation())) return false;
+    const Eigen::Vector2d a = path[i - 1].pose.translation();
+    const Eigen::Vector2d b = path[i].pose.translation();
+    const int samples = static_cast<int>(std::ceil((b - a).norm() / step)) + 1;
+    for (int k = 0; k <= samples; ++k) {
+      const Eigen::Vector2d p = a + (b - a) * (static_cast<double>(k) / samples);
+      const auto c = costmap.grid().WorldToCell(p);
+      if (!c) return false;
+      const std::size_t cell = costmap.Index(*c);
+      if (costmap.Traversable(cell)) continue;
+      const double away = (p - from).norm();
+      const bool under_robot = away <= costmap.options().robot_radius_m && !costmap.InKeepOut(cell);
+      if ((costmap.IsObstacle(cell) && !under_robot) || away > band_reach_m) return false;
+    }
   }
   return true;
 }
@@ -143,9 +159,12 @@ PlanResult PlanPath(const Costmap& costmap, const Eigen::Vector2d& start, const 
     Waypoint w;
     w.pose.x_m = p.x();
     w.pose.y_m = p.y();
-    // The speed limit on the way here: the lowest over the searched cells between the two waypoints.
+    // The speed limit on the way here: the lowest over the searched cells between the two waypoints; crossing the
+    // inflated band (a robot leaving it), kBandSpeedMps.
     for (std::size_t i = previous; i <= keep[k] && i < search.path.cells.size(); ++i) {
-      w.speed_limit_mps = std::min<double>(w.speed_limit_mps, costmap.speed_limit_mps(costmap.Index(search.path.cells[i])));
+      const std::size_t cell = costmap.Index(search.path.cells[i]);
+      w.speed_limit_mps = std::min<double>(w.speed_limit_mps, costmap.speed_limit_mps(cell));
+      if (!costmap.Traversable(cell)) w.speed_limit_mps = std::min(w.speed_limit_mps, kBandSpeedMps);
     }
     previous = keep[k];
     plan.waypoints.push_back(w);

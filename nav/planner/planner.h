@@ -10,6 +10,9 @@
 
 namespace corridor::nav {
 
+// Crossing the inflated band (a robot leaving it: AStar), the path's speed is capped at this.
+inline constexpr double kBandSpeedMps = 0.15;
+
 struct Waypoint {
   Pose2 pose;                                        // yaw: toward the next waypoint; the goal's yaw at the end
   double speed_limit_mps = Costmap::kNoSpeedLimit;   // the lowest speed zone on the way to this waypoint
@@ -64,8 +67,11 @@ bool PathsDiverge(const std::vector<Eigen::Vector2d>& candidate, const std::vect
 // True when every cell the straight segment a-b passes is traversable.
 bool SegmentTraversable(const Costmap& costmap, const Eigen::Vector2d& a, const Eigen::Vector2d& b);
 
-// True when the rest of `path` for a robot at `from` is traversable: its legs from the waypoint nearest `from` on.
-// For a path planned on an older map or zones: does it still stand?
-bool RestOfPathTraversable(const Costmap& costmap, const std::vector<Waypoint>& path, const Eigen::Vector2d& from);
+// True when the rest of `path` for a robot at `from` is traversable: its legs from the waypoint nearest `from` on, but
+// that within band_reach_m of `from` they may cross the inflated band (a robot's way out of it, as AStar plans it)
+// and, under the robot's footprint, obstacle cells outside keep-out zones. For a path planned on an older map or
+// zones: does it still stand? (band_reach_m 0: does it cross the band at all?)
+bool RestOfPathTraversable(const Costmap& costmap, const std::vector<Waypoint>& path, const Eigen::Vector2d& from,
+                           double band_reach_m = kEscapeReachM);
 
 }  // namespace corridor::nav

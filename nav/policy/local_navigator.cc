@@ -1,5 +1,7 @@
 #include "nav/policy/local_navigator.h"
 
+#include "nav/planner/planner.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -20,6 +22,15 @@ LocalNavigator::LocalNavigator(const LocalNavigatorOptions& options)
 }
 
 void LocalNavigator::SetPath(std::vector<Waypoint> path, std::shared_ptr<const Costmap> map) {
+  // A path the planner gave as a way out of the map's inflated band (it crosses the band, at the band's crawl) is
+  // followed there by the band's rules.
+  std::optional<Eigen::Vector2d> band_from;
+  const bool crawls = std::any_of(path.begin(), path.end(),
+                                  [](const Waypoint& w) { return w.speed_limit_mps <= kBandSpeedMps; });
+  if (map && crawls && !RestOfPathTraversable(*map, path, path.front().pose.translation(), 0.0)) {
+    band_from = path.front().pose.translation();
+  }
+  memory_.SetBandCrossing(band_from);
   follower_.SetPath(std::move(path));
   SetMap(std::move(map));
   avoid_ = MorpRb(options_.avoid);  // a new path: no side committed, no overtaking in progress

@@ -112,9 +112,13 @@ void ObstacleMemory::Forget(const Eigen::Vector2d& centre, double radius_m) {
 
 ObstacleMemory::Blocker ObstacleMemory::BlockedBy(const Pose2& robot, const Twist2& command, bool approach) const {
   const ObstacleMemoryOptions& o = options_;
-  const double clearance = o.robot_radius_m + (approach ? o.approach_margin_m : o.margin_m);
   const double map_clearance = o.robot_radius_m + o.map_margin_m;
   const double map_now = MapClearance(robot.translation());
+  // Crossing the band (at a crawl: the planner caps the speed there), what the camera saw is kept at the final
+  // approach's margin: the way out of a ring of specks passes closer than margin_m to some of them.
+  const bool in_band = map_now < map_clearance ||
+                       (band_from_ && (robot.translation() - *band_from_).norm() <= kEscapeReachM);
+  const double clearance = o.robot_radius_m + (approach || in_band ? o.approach_margin_m : o.margin_m);
   double now = std::numeric_limits<double>::infinity();
   for (const Point& p : points_) now = std::min(now, (p.world - robot.translation()).norm());
   Blocker blocker = Blocker::kNone;
@@ -123,7 +127,12 @@ ObstacleMemory::Blocker ObstacleMemory::BlockedBy(const Pose2& robot, const Twis
     // Closing in on the map's obstacles by more than the field's steps between neighbouring cells (driving along a
     // wall is not closing in).
     const double to_map = MapClearance(at);
-    if (to_map < map_clearance && to_map < map_now - kMapQuantumM) blocker = Blocker::kMap;
+    if (!in_band) {
+      if (to_map < map_clearance && to_map < map_now - kMapQuantumM) blocker = Blocker::kMap;
+    } else if ((to_map < o.band_clearance_m && to_map < map_now - kMapQuantumM) ||
+               (map_->WallWithin(at, o.robot_radius_m) && !map_->WallWithin(robot.translation(), o.robot_radius_m))) {
+      blocker = Blocker::kMap;
+    }
     for (const Point& p : points_) {
       const double d = (p.world - at).norm();
       // Inside the clearance and closing in: blocked. Already inside and moving away is how the robot gets out.

@@ -9,7 +9,8 @@
 //
 // The map's own obstacles are known without being seen: with a costmap set, a sweep that closes in on them (its
 // clearance field, nearer than robot_radius_m + map_margin_m) is refused the same way, so that a turn does not
-// swing the robot into a mapped speck or into unknown space beside it. What the bumper touched is remembered like a
+// swing the robot into a mapped speck or into unknown space beside it; a robot already that near (leaving the band a
+// plan crosses) is held only to band_clearance_m and off the walls the map knows. What the bumper touched is remembered like a
 // dead-end (Touched).
 //
 // The lanes look straight ahead, so of an obstacle the robot passes they sample only the face toward it: the side it
@@ -20,6 +21,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -27,6 +29,7 @@
 #include "nav/geometry/pose2.h"
 #include "nav/geometry/sensor_view.h"
 #include "nav/ground/morp.h"
+#include "nav/planner/astar.h"
 #include "nav/planner/costmap.h"
 
 namespace corridor::nav {
@@ -46,6 +49,11 @@ struct ObstacleMemoryOptions {
   // Kept from the map's obstacles: their cells are exact (no unsampled surface between lanes), and paths keep
   // robot_radius_m plus a cell from them.
   double map_margin_m = 0.03;
+  // Inside that already (crossing the inflated band on the way out a plan gave: nav/planner/astar.h), only closing in
+  // nearer than this to the map's obstacle cells is refused, and the footprint coming over a wall the map knows: its
+  // unknown specks are not walls, and a robot on an island of free space among them must cross to the rest. What the
+  // camera saw is then kept at approach_margin_m (the planner has the robot crawl there).
+  double band_clearance_m = 0.1;
   // Kept from remembered points on a goal's final approach, at a crawl: the goal itself may lie within margin_m of
   // what the camera saw around it (the planner let it be that close to the map's obstacles).
   double approach_margin_m = 0.05;
@@ -94,6 +102,10 @@ class ObstacleMemory {
 
   // The costmap of the map the robot drives in (null: none).
   void SetMap(std::shared_ptr<const Costmap> map) { map_ = std::move(map); }
+  // The robot's path crosses the map's inflated band near `from` (its way out of it, as the planner gives it to a robot
+  // on an island of free space or in the band: nav/planner/astar.h): within kEscapeReachM of `from`, the band's rules
+  // above hold even before the robot is in the band. nullopt: the path does not.
+  void SetBandCrossing(std::optional<Eigen::Vector2d> from) { band_from_ = from; }
   const Costmap* map() const { return map_.get(); }
 
   // The bumper is pressed with the robot at `robot`: something is touching its front (its back when `backing`), seen
@@ -121,6 +133,7 @@ class ObstacleMemory {
   ObstacleMemoryOptions options_;
   std::vector<Point> points_;
   std::shared_ptr<const Costmap> map_;
+  std::optional<Eigen::Vector2d> band_from_;
 };
 
 }  // namespace corridor::nav
