@@ -168,6 +168,11 @@ LiftRide::LiftRide(const LiftOptions& options, Lift lift, const std::string& fro
 
 std::vector<LiftRequest> LiftRide::Begin() { return {{lift_.id, from_->floor, false}}; }
 
+bool LiftRide::WindUp() {
+  winding_up_ = InCar(phase_);
+  return winding_up_;
+}
+
 std::vector<LiftRequest> LiftRide::Abandon() {
   if (released_) return {};
   released_ = true;
@@ -262,6 +267,14 @@ LiftStep LiftRide::Update(double now_s, const Pose2& pose, const Pose2& odom, co
       }
       break;
     case LiftPhase::kBoarding:
+      if (winding_up_) {
+        // Cancelled on the way in: back out to the lobby it came from, on this floor.
+        to_ = from_;
+        const Pose2 lobby_out{from_->lobby.x_m, from_->lobby.y_m, WrapAngle(from_->lobby.yaw_rad + M_PI)};
+        target_ = odom * pose.Inverse() * lobby_out;
+        enter(LiftPhase::kLeaving);
+        break;
+      }
       if (!open_at(*from_)) {
         // The door closing on the robot: stand still; the lift must open it again.
         step.phase = phase_;

@@ -13,6 +13,7 @@
 //              switches to that floor's map and sets the pose;
 //   leaving    straight out to the lobby there (turning round in the car first), facing away from the door; the
 //              lift is released.
+// Cancelled with the robot in the car, the ride winds up rather than stopping there (WindUp).
 // A refusal or failure from the lift controller, or a timeout (calling, an occupied car, riding), ends the mission
 // with the reason, and the lift is released.
 //
@@ -119,6 +120,10 @@ struct LiftRequest {
 
 enum class LiftPhase { kCalling, kWaitingForEmpty, kBoarding, kRiding, kLeaving, kDone, kFailed };
 const char* ToString(LiftPhase phase);
+// Boarding, riding or leaving: the robot is (partly) in the car; localization holds on odometry.
+inline bool InCar(LiftPhase phase) {
+  return phase == LiftPhase::kBoarding || phase == LiftPhase::kRiding || phase == LiftPhase::kLeaving;
+}
 
 struct LiftStep {
   Twist2 twist;
@@ -144,6 +149,12 @@ class LiftRide {
                   const LiftReport* report);
   // The ride is abandoned (the mission ended): the lift is released, unless that was done.
   std::vector<LiftRequest> Abandon();
+  // The mission is cancelled: true when the robot is in the car and the ride must go on until it is out, so that it
+  // is never left in a car that others call, nor on one floor with another floor's map. Boarding: it backs out to the
+  // lobby it came from. Riding: it goes on to the floor asked for (the caller switches maps on arrival) and out to the
+  // lobby there. Leaving: it goes on out. False before boarding: there is nothing to finish (Abandon releases the lift).
+  bool WindUp();
+  bool winding_up() const { return winding_up_; }
   LiftPhase phase() const { return phase_; }
   const std::string& lift_id() const { return lift_.id; }
 
@@ -164,6 +175,7 @@ class LiftRide {
   Pose2 target_;        // boarding or leaving, odometry frame
   Pose2 boarded_pose_;  // the robot's map pose in the car, on the boarding floor
   bool released_ = false;
+  bool winding_up_ = false;
 };
 
 }  // namespace corridor::nav

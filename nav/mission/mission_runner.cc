@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <string>
 
 #include "nav/policy/reactive_navigator.h"
 
@@ -29,11 +32,6 @@ PolicyMode ModeOf(MorpRbMode mode) {
       return PolicyMode::kOvertake;
   }
   return PolicyMode::kNone;
-}
-
-// Boarding, riding or leaving: localization holds on odometry.
-bool InCar(LiftPhase phase) {
-  return phase == LiftPhase::kBoarding || phase == LiftPhase::kRiding || phase == LiftPhase::kLeaving;
 }
 
 std::vector<Eigen::Vector2d> Positions(const std::vector<Waypoint>& path) {
@@ -92,7 +90,7 @@ MissionUpdate& MissionRunner::Settle(MissionUpdate& update) {
 void MissionRunner::ReleaseAll(MissionUpdate& update) {
   door_keeper_.ReleaseAll(update.doors);
   waiting_for_door_.clear();
-  if (ride_) {
+  if (ride_ && !ride_->winding_up()) {
     if (InCar(ride_->phase())) update.hold_localization = false;
     const std::vector<LiftRequest> release = ride_->Abandon();
     update.lifts.insert(update.lifts.end(), release.begin(), release.end());
@@ -123,7 +121,36 @@ MissionSnapshot MissionRunner::Snapshot() const {
   if (docking_) s.docking = ToString(docking_phase_);
   s.waiting_for_door = waiting_for_door_;
   if (ride_) s.lift = ToString(ride_->phase());
+  s.waiting = Waiting();
   return s;
+}
+
+std::string MissionRunner::Waiting() const {
+  if (!mission_ || (mission_->finished() && !leaving_lift())) return "";
+  if (leaving_lift()) return "the robot to leave lift " + ride_->lift_id() + "'s car";
+  if (mission_->status() == MissionStatus::kPaused) {
+    return paused_unlocalized_ ? "localization: the robot is lost and searches the map for itself" : "";
+  }
+  if (ride_) {
+    switch (ride_->phase()) {
+      case LiftPhase::kCalling: return "lift " + ride_->lift_id() + " to come with its door open";
+      case LiftPhase::kWaitingForEmpty: return "the car of lift " + ride_->lift_id() + " to be empty";
+      case LiftPhase::kRiding: return "lift " + ride_->lift_id() + " to arrive";
+      default: return "";
+    }
+  }
+  if (AtDockingGoal()) return "";
+  if (!waiting_for_door_.empty()) return "door " + waiting_for_door_ + " to open";
+  if (mode_ == PolicyMode::kWaitingForDepth) return "depth frames from the camera";
+  if (!policy_->has_path() && planning_) return "a plan";
+  if (headway_s_ >= 0.0 && now_s_ - headway_s_ >= options_.waiting_after_s) {
+    const int waited = static_cast<int>(now_s_ - headway_s_);
+    return "a way past what blocks it (no headway for " + std::to_string(waited) + " s" +
+           (options_.give_up_s > 0.0
+                ? ", giving up after " + std::to_string(static_cast<int>(options_.give_up_s)) + " s)"
+                : ")");
+  }
+  return "";
 }
 
 void MissionRunner::DropPath() {
@@ -139,6 +166,7 @@ MissionUpdate MissionRunner::Start(Mission mission, std::optional<MissionSnapsho
   mission_.emplace(std::move(mission));
   docking_.reset();
   paused_unlocalized_ = false;
+  ResetHeadway();
   DropPath();
   checking_ = false;
   leg_length_m_ = remaining_m_ = 0.0;
@@ -151,6 +179,7 @@ TransitionOutcome MissionRunner::Transition(const std::string& id, bool (Mission
                                             MissionUpdate* update) {
   if (!mission_ || mission_->id() != id) return TransitionOutcome::kNotFound;
   if (!((*mission_).*transition)()) return TransitionOutcome::kConflict;
+  ResetHeadway();  // a pause, resume or cancel: the time without headway starts again
   if (drop_path) DropPath();
   if (mission_->finished()) docking_.reset();
   update->persist = true;
@@ -173,6 +202,9 @@ TransitionOutcome MissionRunner::Resume(const std::string& id, MissionUpdate* up
   return Transition(id, &Mission::Resume, true, update);
 }
 TransitionOutcome MissionRunner::Cancel(const std::string& id, MissionUpdate* update) {
+  // In a lift's car, the ride winds up (LiftRide::WindUp) after the mission has ended: out of the car first.
+  const bool ours = mission_ && mission_->id() == id && !mission_->finished();
+  if (ours && ride_ && ride_->WindUp()) update->publish = true;
   return Transition(id, &Mission::Cancel, true, update);
 }
 
@@ -207,6 +239,12 @@ LegPlanQuery MissionRunner::LegQuery(const Pose2& from, bool reroute, bool block
 MissionUpdate MissionRunner::Tick(double now_s, const std::optional<Pose2>& pose, std::uint64_t planner_version,
                                   bool has_traffic) {
   MissionUpdate update;
+  now_s_ = now_s;
+  if (leaving_lift()) {
+    // The ride drives on the frames; without them the robot holds still.
+    if (last_frame_s_ < 0.0 || now_s - last_frame_s_ > options_.no_frames_s) update.command = Twist2{};
+    return update;
+  }
   if (!mission_ || mission_->finished()) return update;
   const Twist2 still;
   if (!pose || mission_->status() == MissionStatus::kPaused) {
@@ -257,6 +295,8 @@ MissionUpdate MissionRunner::FrameStep(const FrameInput& frame) {
   MissionUpdate update;
   const double dt_s = last_frame_s_ < 0.0 ? 0.0 : frame.now_s - last_frame_s_;
   last_frame_s_ = frame.now_s;
+  now_s_ = frame.now_s;
+  if (leaving_lift()) return LiftFrame(frame);
   if (!mission_ || mission_->finished() || mission_->status() == MissionStatus::kPaused) return update;
   if (AtDockingGoal()) return DockingFrame(frame);
   if (ride_) return LiftFrame(frame);
@@ -280,6 +320,7 @@ MissionUpdate MissionRunner::FrameStep(const FrameInput& frame) {
     return update;
   }
   if (door.hold) {
+    ResetHeadway();
     update.persist = waiting_for_door_ != door.waiting_for;
     waiting_for_door_ = door.waiting_for;
     mode_ = PolicyMode::kWaitingForDoor;
@@ -300,6 +341,7 @@ MissionUpdate MissionRunner::FrameStep(const FrameInput& frame) {
                                                              : ModeOf(step.mode);
   if (step.done) {
     policy_->Clear();
+    ResetHeadway();
     const MissionGoal& goal = mission_->current_goal();
     if (goal.action == GoalAction::kDock && frame.odom) {
       // At the staging pose: onto the dock, from where the map puts it (in the odometry frame, which docking drives
@@ -341,10 +383,34 @@ MissionUpdate MissionRunner::FrameStep(const FrameInput& frame) {
     update.command = step.twist;  // still, unless stepping out of someone's way
     return update;
   }
+  if (step.blocked) {
+    if (!blocked_at_ || (pose.translation() - *blocked_at_).norm() > options_.blocked_area_m) {
+      blocked_at_ = pose.translation();
+      blocked_count_ = 0;
+    }
+    if (options_.give_up_blocked > 0 && ++blocked_count_ >= options_.give_up_blocked) {
+      GiveUp(pose, "blocked " + std::to_string(blocked_count_) + " times in a row", update);
+      return update;
+    }
+  }
   if (step.blocked && !rerouting_) {
     rerouting_ = true;
     routed_s_ = frame.now_s;
     update.plan = LegQuery(pose, true, true);
+  }
+  // Headway: a mission that gets no nearer its waypoint for give_up_s, whatever it tried, ends with the reason.
+  // Headway is either measure falling: the path left (a detour is longer) or the straight line to the waypoint (a
+  // detour may first lead away). Both keep their best across replanning, so trying one way after another in front of
+  // the same obstacle is no headway.
+  const double direct_m = (mission_->current_goal().pose.translation() - pose.translation()).norm();
+  if (headway_s_ < 0.0 || remaining_m_ < best_remaining_m_ - options_.headway_m ||
+      direct_m < best_direct_m_ - options_.headway_m) {
+    best_remaining_m_ = std::min(best_remaining_m_, remaining_m_);
+    best_direct_m_ = std::min(best_direct_m_, direct_m);
+    headway_s_ = frame.now_s;
+  } else if (options_.give_up_s > 0.0 && frame.now_s - headway_s_ > options_.give_up_s) {
+    GiveUp(pose, "no headway for " + std::to_string(static_cast<int>(options_.give_up_s)) + " s", update);
+    return update;
   }
   update.command = step.twist;
   update.answers_frame = true;
@@ -352,7 +418,19 @@ MissionUpdate MissionRunner::FrameStep(const FrameInput& frame) {
   return update;
 }
 
+void MissionRunner::GiveUp(const Pose2& pose, const std::string& why, MissionUpdate& update) {
+  std::ostringstream error;
+  error << std::fixed << std::setprecision(2) << "no way forward: " << why << " toward waypoint "
+        << mission_->current() + 1 << " near (" << pose.x_m << ", " << pose.y_m << "), " << std::setprecision(1)
+        << remaining_m_ << " m from it; what the camera sees blocks every way the planner knows";
+  policy_->Clear();
+  mission_->Fail(error.str());
+  update.command = Twist2{};
+  update.persist = update.over = true;
+}
+
 void MissionRunner::NextGoal(MissionUpdate& update) {
+  ResetHeadway();
   mission_->GoalReached();
   ++generation_;
   remaining_m_ = leg_length_m_ = 0.0;
@@ -416,6 +494,13 @@ MissionUpdate MissionRunner::LiftFrame(const FrameInput& frame) {
   update.switch_floor = std::move(step.switch_floor);
   remaining_m_ = step.remaining_m;
   update.persist = step.phase != before || update.switch_floor.has_value();
+  if (ride_->winding_up() && (step.phase == LiftPhase::kFailed || step.phase == LiftPhase::kDone)) {
+    // Out of the car after a cancel (or the lift failed meanwhile): the mission ended already.
+    ride_.reset();
+    update.command = Twist2{};
+    update.publish = true;
+    return update;
+  }
   if (step.phase == LiftPhase::kFailed) {
     ride_.reset();
     mission_->Fail(step.error);

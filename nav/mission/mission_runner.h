@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -39,6 +40,18 @@ struct MissionRunnerOptions {
   DockingOptions docking;         // docking and undocking goals
   DoorOptions doors;              // doors on the way: asked ahead, waited for, released
   LiftOptions lifts;              // lift rides between floors
+  // A mission that cannot go on ends, saying why: no headway toward its waypoint (neither the path left nor the
+  // straight-line distance fell headway_m below its lowest since the waypoint became current, whatever was replanned)
+  // for give_up_s while driving fails it (0: never). A detour longer than give_up_s allows at the robot's speed before
+  // it gets nearer in either measure is given up too. Waiting for a door, a lift, localization or a person's resume does not count.
+  double give_up_s = 60.0;
+  double headway_m = 0.3;
+  // Also: blocked (the local policy's no headway, and a plan round what blocked it) this many times in a row within
+  // blocked_area_m of where it first was (0: never). A robot that circles in front of a closed way makes headway on
+  // each new path for a while, never for long.
+  int give_up_blocked = 4;
+  double blocked_area_m = 1.5;
+  double waiting_after_s = 5.0;  // no headway this long: the snapshot says what the robot waits for
 };
 
 // How the robot is driving its mission, as the console shows it.
@@ -72,6 +85,9 @@ struct MissionSnapshot {
   std::string docking;           // the current goal's docking phase (DockingPhase), "" when not docking
   std::string waiting_for_door;  // the door the robot holds short of, "" when none
   std::string lift;              // the current goal's lift ride phase (LiftPhase), "" when not riding
+  // What an unfinished mission waits for, for people ("a way past what blocks it (no headway for 12 s)", "door d1 to
+  // open", "localization: the robot is lost"); "" while it goes on.
+  std::string waiting;
 };
 
 // A path for the current leg, to plan on the current costmap with ExtraCosts(traffic, blocking...).
@@ -169,15 +185,37 @@ class MissionRunner {
   void SetBuilding(Building building) { building_ = std::move(building); }
 
   bool has_mission() const { return mission_.has_value(); }
+  // A mission was cancelled with the robot in a lift's car: it is still on its way out (LiftRide::WindUp). No new
+  // mission may start until it is out.
+  bool leaving_lift() const { return ride_ && ride_->winding_up(); }
   // No mission under way, or the current one paused because localization is lost: the robot may turn on the spot to
   // find itself (a mission a person paused keeps the robot still).
-  bool MayLookAround() const { return !mission_ || mission_->finished() || paused_unlocalized_; }
+  bool MayLookAround() const {
+    return !leaving_lift() && (!mission_ || mission_->finished() || paused_unlocalized_);
+  }
   const std::string& id() const;     // "" without a mission
   MissionSnapshot Snapshot() const;  // requires has_mission()
   const LocalPolicy& policy() const { return *policy_; }
 
  private:
   bool paused_unlocalized_ = false;  // the current mission was paused by SetLocalized(false)
+  double now_s_ = 0.0;               // the latest time given (a tick or a frame)
+  // Headway toward the current waypoint: the lowest distance left on any path to it and the lowest straight-line
+  // distance to it, and when either last fell by headway_m (negative: not counting, as while waiting for a door).
+  double best_remaining_m_ = std::numeric_limits<double>::infinity();
+  double best_direct_m_ = std::numeric_limits<double>::infinity();
+  double headway_s_ = -1.0;
+  std::optional<Eigen::Vector2d> blocked_at_;  // where the current run of blocked reports began
+  int blocked_count_ = 0;
+  void ResetHeadway() {
+    best_remaining_m_ = best_direct_m_ = std::numeric_limits<double>::infinity();
+    headway_s_ = -1.0;
+    blocked_at_.reset();
+    blocked_count_ = 0;
+  }
+  // Fails the mission: no way forward near `pose`, for `why`.
+  void GiveUp(const Pose2& pose, const std::string& why, MissionUpdate& update);
+  std::string Waiting() const;
   LegPlanQuery LegQuery(const Pose2& from, bool reroute, bool blocked) const;
   // The current path is dropped: the next tick plans the leg again.
   void DropPath();

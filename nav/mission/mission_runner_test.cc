@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace corridor::nav {
@@ -50,10 +51,15 @@ class Drive {
         in.now_s = now_;
         in.pose = pose_;
         in.view.lanes = &lanes_;
+        in.view.scan = &scan_;
         in.doors = &doors_;
+        in.odom = odom_;
+        in.lifts = &lifts_;
         if (Handle(runner_.Frame(in))) return true;
       }
-      pose_ = pose_ * Pose2{twist_.linear_mps * 0.005, 0.0, twist_.angular_rps * 0.005};
+      const Pose2 step{twist_.linear_mps * 0.005, 0.0, twist_.angular_rps * 0.005};
+      pose_ = pose_ * step;
+      odom_ = odom_ * step;
     }
     return false;
   }
@@ -62,6 +68,11 @@ class Drive {
   bool Handle(const MissionUpdate& u) {
     if (u.command) twist_ = *u.command;
     requests_.insert(requests_.end(), u.doors.begin(), u.doors.end());
+    lift_requests_.insert(lift_requests_.end(), u.lifts.begin(), u.lifts.end());
+    if (u.switch_floor) {
+      switched_ = u.switch_floor;
+      pose_ = u.switch_floor->second;  // the new floor's map frame; odometry goes on
+    }
     persisted_ += u.persist ? 1 : 0;
     if (u.check) {
       const bool free = RestOfPathTraversable(*costmap_, u.check->path, u.check->from);
@@ -86,6 +97,7 @@ class Drive {
   std::uint64_t version_ = 1;
   std::vector<float> traffic_;
   Pose2 pose_;
+  Pose2 odom_ = pose_;  // the odometry frame: the start's map frame, exact
   Twist2 twist_;
   bool frames_ = true;
   std::vector<LaneResult> lanes_ = FreeLanes();
@@ -96,6 +108,10 @@ class Drive {
   int plans_ = 0;
   DoorReports doors_;
   std::vector<DoorRequest> requests_;
+  std::vector<Eigen::Vector2d> scan_;  // the depth scan: nothing seen
+  LiftReports lifts_;
+  std::vector<LiftRequest> lift_requests_;
+  std::optional<std::pair<std::string, Pose2>> switched_;
 };
 
 TEST(MissionRunnerTest, PlansItsLegAndDrivesItToTheGoal) {
@@ -303,6 +319,93 @@ TEST(MissionRunnerTest, TheVoxelReactivePolicyDrivesTheSameMissionsOnObstaclePoi
   EXPECT_EQ(runner.Snapshot().policy, PolicyMode::kReactive);
   drive.For(20.0);
   EXPECT_LT((drive.pose_.translation() - Eigen::Vector2d(6.0, 5.0)).norm(), 0.3);
+}
+
+// A lift with its door at x = 2 (y 0..1) on L1, lobby (1, 0.5) facing it; on L2 at y = 3 (x 5..6), lobby (5.5, 2).
+Building OneLift() {
+  Building b;
+  b.floors = {{"L1", "ground"}, {"L2", "first"}};
+  Lift lift;
+  lift.id = "east";
+  lift.stops = {{"L1", {"east@L1", {2.0, 0.0}, {2.0, 1.0}}, {1.0, 0.5, 0.0}},
+                {"L2", {"east@L2", {5.0, 3.0}, {6.0, 3.0}}, {5.5, 2.0, M_PI / 2}}};
+  b.lifts = {lift};
+  return b;
+}
+
+Mission RideFromL1ToL2(const std::string& id) {
+  MissionGoal ride;
+  ride.pose = {1.0, 0.5, 0.0};
+  ride.has_yaw = true;
+  ride.action = GoalAction::kRideLift;
+  ride.lift = "east";
+  ride.floor = "L1";
+  ride.ride_to = "L2";
+  return Mission(id, {ride}, std::numeric_limits<double>::infinity());
+}
+
+LiftReport OpenAt(const std::string& floor) {
+  LiftReport r;
+  r.floor = floor;
+  r.door_open = true;
+  return r;
+}
+
+// Cancelled while the car travels, the robot is not left in it with the old floor's map: the ride goes on to the floor
+// asked for, the map is switched there, the robot leaves to the lobby, and only then is the lift released.
+TEST(MissionRunnerTest, ACancelWhileTheCarTravelsEndsOutOfTheCarOnTheFloorItArrivesAt) {
+  MissionRunner runner(MissionRunnerOptions{});
+  runner.SetBuilding(OneLift());
+  runner.Start(RideFromL1ToL2("m1"));
+  Drive drive(runner, Room(), {1.0, 0.5, 0.0});
+  drive.lifts_["east"] = OpenAt("L1");
+  for (int i = 0; i < 600 && runner.Snapshot().lift != "riding"; ++i) drive.For(0.05);
+  ASSERT_EQ(runner.Snapshot().lift, "riding");
+  drive.lifts_["east"].door_open = false;
+  drive.lifts_["east"].moving = true;
+  drive.For(1.0);
+  MissionUpdate cancel;
+  ASSERT_EQ(runner.Cancel("m1", &cancel), TransitionOutcome::kOk);
+  drive.Handle(cancel);
+  EXPECT_EQ(runner.Snapshot().status, MissionStatus::kCanceled);
+  EXPECT_TRUE(runner.leaving_lift());
+  EXPECT_FALSE(runner.MayLookAround());
+  const auto released = [&] {
+    return std::any_of(drive.lift_requests_.begin(), drive.lift_requests_.end(),
+                       [](const LiftRequest& r) { return r.release; });
+  };
+  EXPECT_FALSE(released()) << "the lift was let go with the robot in its car";
+  drive.For(2.0);
+  EXPECT_LT((drive.pose_.translation() - Eigen::Vector2d(2.7, 0.5)).norm(), 0.06) << "it moved in the car";
+  drive.lifts_["east"] = OpenAt("L2");
+  for (int i = 0; i < 600 && runner.leaving_lift(); ++i) drive.For(0.05);
+  EXPECT_FALSE(runner.leaving_lift());
+  ASSERT_TRUE(drive.switched_) << "no switch to the floor it arrived at";
+  EXPECT_EQ(drive.switched_->first, "L2");
+  EXPECT_LT((drive.pose_.translation() - Eigen::Vector2d(5.5, 2.0)).norm(), 0.06) << "not out at the lobby on L2";
+  EXPECT_TRUE(released());
+  EXPECT_EQ(runner.Snapshot().status, MissionStatus::kCanceled);
+}
+
+// Cancelled on the way into the car, it backs out to the lobby it came from, on the same floor, then lets the lift go.
+TEST(MissionRunnerTest, ACancelWhileBoardingBacksOutToTheLobby) {
+  MissionRunner runner(MissionRunnerOptions{});
+  runner.SetBuilding(OneLift());
+  runner.Start(RideFromL1ToL2("m1"));
+  Drive drive(runner, Room(), {1.0, 0.5, 0.0});
+  drive.lifts_["east"] = OpenAt("L1");
+  for (int i = 0; i < 600 && drive.pose_.x_m < 1.8; ++i) drive.For(0.05);
+  ASSERT_EQ(runner.Snapshot().lift, "boarding");
+  MissionUpdate cancel;
+  ASSERT_EQ(runner.Cancel("m1", &cancel), TransitionOutcome::kOk);
+  drive.Handle(cancel);
+  for (int i = 0; i < 600 && runner.leaving_lift(); ++i) drive.For(0.05);
+  EXPECT_FALSE(runner.leaving_lift());
+  EXPECT_FALSE(drive.switched_);
+  EXPECT_LT((drive.pose_.translation() - Eigen::Vector2d(1.0, 0.5)).norm(), 0.06) << "not back at the lobby";
+  ASSERT_FALSE(drive.lift_requests_.empty());
+  EXPECT_TRUE(drive.lift_requests_.back().release);
+  for (const LiftRequest& r : drive.lift_requests_) EXPECT_NE(r.floor, "L2") << "it asked for the other floor";
 }
 
 }  // namespace
