@@ -139,7 +139,7 @@ void MonteCarloLocalization::SetPose(const Pose2& pose, double sigma_m, double s
   estimate_.health = LocalizationHealth::kUncertain;
   update_pose_ = pose;
   last_update_odom_ = last_odom_;
-  force_update_ = true;
+  forced_updates_ = std::max(1, options_.settle_updates);
   bad_updates_ = 0;
   good_updates_ = 0;
   doubtful_updates_ = 0;
@@ -308,17 +308,26 @@ const LocalizationEstimate& MonteCarloLocalization::Update(const Pose2& odom_pos
   if (!last_update_odom_) last_update_odom_ = odom_pose;
   last_odom_ = odom_pose;
   const Pose2 since = last_update_odom_->Inverse() * odom_pose;
-  const bool moved = force_update_ || since.translation().norm() >= options_.update_distance_m ||
+  const bool moved = since.translation().norm() >= options_.update_distance_m ||
                      std::abs(since.yaw_rad) >= options_.update_angle_rad;
-  if (!moved) {
+  const bool forced = forced_updates_ > 0;
+  if (!moved && !forced) {
     // Standing still the filter does not change, but whether the scans still fit the map does (a kidnapped robot).
     estimate_.pose = update_pose_ * since;
     UpdateHealth(scan.hits);
     return estimate_;
   }
   Move(*last_update_odom_, odom_pose);
+  if (forced && !moved) {
+    std::normal_distribution<double> normal(0.0, 1.0);
+    for (Particle& p : particles_) {
+      p.pose = {p.pose.x_m + options_.settle_jitter_m * normal(random_),
+                p.pose.y_m + options_.settle_jitter_m * normal(random_),
+                WrapAngle(p.pose.yaw_rad + options_.settle_jitter_rad * normal(random_))};
+    }
+  }
+  forced_updates_ = std::max(0, forced_updates_ - 1);
   last_update_odom_ = odom_pose;
-  force_update_ = false;
   const std::vector<Eigen::Vector2f> beams = SpreadBeams(scan.hits, options_.max_beams);
   Weigh(beams);
   Estimate(scan.hits);

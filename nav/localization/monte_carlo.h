@@ -47,6 +47,12 @@ struct MonteCarloOptions {
   // The filter updates once the odometry moved this far or turned this much.
   double update_distance_m = 0.05;
   double update_angle_rad = 0.05;
+  // After SetPose, this many scans are weighed whatever the motion (AMCL's "no-motion update"), so that a pose given
+  // while the robot stands still settles without it having to move; standing still, each of those spreads the
+  // particles by settle_jitter_* first, so that weighing the same view again does not collapse them onto a few.
+  int settle_updates = 10;
+  double settle_jitter_m = 0.01;
+  double settle_jitter_rad = 0.005;
   // Likelihood field.
   double sigma_hit_m = 0.05;
   double z_hit = 0.9;
@@ -114,6 +120,9 @@ class MonteCarloLocalization {
   const LocalizationEstimate& Update(const Pose2& odom_pose, const RangeScan& scan);
 
   const LocalizationEstimate& estimate() const { return estimate_; }
+  // The fraction of `hits` (base frame) within agree_distance_m of a wall with the robot at `pose` (map frame): how
+  // well a scan fits the map there (0 for no hits).
+  double AgreementAt(std::span<const Eigen::Vector2f> hits, const Pose2& pose) const { return Agreement(hits, pose); }
   std::span<const Particle> particles() const { return particles_; }
   const OccupancyGrid& map() const { return map_; }
 
@@ -144,7 +153,7 @@ class MonteCarloLocalization {
   std::optional<Pose2> last_update_odom_;  // at the last filter update
   Pose2 update_pose_;                      // the estimate at the last filter update
   LocalizationEstimate estimate_;
-  bool force_update_ = true;               // weigh by the next scan whatever the motion (after SetPose)
+  int forced_updates_ = 1;                 // scans to weigh whatever the motion (after SetPose: settle_updates)
   int bad_updates_ = 0;   // scans in a row that the map explains too little
   int good_updates_ = 0;  // and well
   int doubtful_updates_ = 0;  // scans in a row that agree less than ok_agreement

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
@@ -46,6 +48,29 @@ std::pair<std::size_t, double> DensestBand(const std::vector<Eigen::Vector2d>& p
 
 Pose2 StagingPose(const Pose2& docked, const DockGeometry& dock) {
   return docked * Pose2{-dock.staging_distance_m, 0.0, 0.0};
+}
+
+std::optional<std::string> DockUnreachable(const Costmap& costmap, const Pose2& docked, const DockGeometry& dock) {
+  const Pose2 staging = StagingPose(docked, dock);
+  std::ostringstream why;
+  why << std::fixed << std::setprecision(2) << "its staging pose (" << staging.x_m << ", " << staging.y_m << "), "
+      << dock.staging_distance_m << " m straight back from the docked pose,";
+  const auto cell = costmap.grid().WorldToCell(staging.translation());
+  if (!cell) {
+    why << " is outside the map";
+    return why.str();
+  }
+  const std::size_t i = costmap.Index(*cell);
+  if (costmap.Traversable(i)) return std::nullopt;
+  if (costmap.InKeepOut(i)) {
+    why << " is in a keep-out zone";
+  } else if (costmap.IsObstacle(i)) {
+    why << " is on an obstacle or unknown space";
+  } else {
+    why << " is " << costmap.clearance_m(i) << " m from an obstacle; the robot needs "
+        << costmap.options().robot_radius_m << " m and half a cell";
+  }
+  return why.str();
 }
 
 MissionGoal DockGoal(const Place& dock, const DockGeometry& geometry) {

@@ -28,6 +28,7 @@
 #include "nav/geometry/pose2.h"
 #include "nav/map/zones.h"
 #include "nav/mission/mission.h"
+#include "nav/planner/costmap.h"
 #include "nav/policy/polar_controller.h"
 
 namespace corridor::nav {
@@ -41,6 +42,11 @@ struct DockGeometry {
 
 // The staging pose of a dock whose docked pose is `docked` (same heading, staging_distance_m back).
 Pose2 StagingPose(const Pose2& docked, const DockGeometry& dock);
+
+// Why no mission can dock at a dock whose docked pose is `docked` on `costmap` ("its staging pose (x, y) is ..."): its
+// staging pose, where docking missions go first, is off the map, in a keep-out zone, on an obstacle or unknown space,
+// or closer to an obstacle than the robot's radius allows; nullopt when a mission can go there.
+std::optional<std::string> DockUnreachable(const Costmap& costmap, const Pose2& docked, const DockGeometry& dock);
 
 // A mission goal that docks at `dock` (a place of kind dock): its staging pose, then onto it.
 MissionGoal DockGoal(const Place& dock, const DockGeometry& geometry);

@@ -147,5 +147,29 @@ TEST(DockingTest, AnIdleRobotLowOnChargeGoesToChargeAndRetriesLater) {
   EXPECT_TRUE(policy.ShouldGo(64.0, 0.14, false, false));  // that did not work out: again
 }
 
+// A dock against a room's wall docks from a staging pose in the open; one whose staging pose is near another wall, or in a
+// keep-out zone, or off the map, is named with the reason.
+TEST(DockingTest, ADockWhoseStagingPoseCannotBeReachedIsNamed) {
+  OccupancyGrid room(82, 62, 0.05, Pose2{-0.05, -0.05, 0.0}, kFreeCell);  // 4 x 3 m inside, walled by one cell
+  for (int x = 0; x < room.width(); ++x) room.at({x, 0}) = room.at({x, room.height() - 1}) = kOccupiedCell;
+  for (int y = 0; y < room.height(); ++y) room.at({0, y}) = room.at({room.width() - 1, y}) = kOccupiedCell;
+  const DockGeometry dock;  // staging 0.7 m back
+  const Costmap costmap(room, {}, CostmapOptions{});
+  EXPECT_EQ(DockUnreachable(costmap, {3.75, 1.5, 0.0}, dock), std::nullopt);  // facing the east wall
+  // Facing the north wall 0.12 m from the west wall: the staging pose is as close to it.
+  const auto near_wall = DockUnreachable(costmap, {0.12, 2.75, std::numbers::pi / 2.0}, dock);
+  ASSERT_TRUE(near_wall);
+  EXPECT_NE(near_wall->find("m from an obstacle; the robot needs 0.20 m"), std::string::npos) << *near_wall;
+  EXPECT_NE(near_wall->find("(0.12, 2.05)"), std::string::npos) << *near_wall;
+  const auto outside = DockUnreachable(costmap, {0.3, 1.5, 0.0}, dock);  // backs out through the west wall
+  ASSERT_TRUE(outside);
+  EXPECT_NE(outside->find("outside the map"), std::string::npos) << *outside;
+  const Zone keep_out{"z", "no-go", ZoneKind::kKeepOut, {{2.5, 1.0}, {3.5, 1.0}, {3.5, 2.0}, {2.5, 2.0}}, 0.0};
+  const Costmap zoned(room, std::vector<Zone>{keep_out}, CostmapOptions{});
+  const auto zone = DockUnreachable(zoned, {3.75, 1.5, 0.0}, dock);
+  ASSERT_TRUE(zone);
+  EXPECT_NE(zone->find("keep-out zone"), std::string::npos) << *zone;
+}
+
 }  // namespace
 }  // namespace corridor::nav
