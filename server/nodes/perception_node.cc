@@ -2,10 +2,12 @@
 
 #include <cmath>
 
+#include "face/detect/depth_people.h"
 #include "face/detect/dnn_detector.h"
 #include "face/detect/face_cascade.h"
 #include "face/detect/hog_people.h"
 #include "face/detect/locate.h"
+#include "face/detect/people_detector.h"
 #include "server/runtime/topics.h"
 
 namespace corridor::server {
@@ -24,9 +26,12 @@ PerceptionNode::PerceptionNode(Executor& executor, Bus& bus, const PerceptionOpt
     case Detector::kDnn: detector_ = std::make_unique<face::DnnDetector>(options.dnn); break;
     case Detector::kAuto:
     case Detector::kHog: detector_ = std::make_unique<face::HogPeopleDetector>(options.hog); break;
+    case Detector::kPeople: detector_ = std::make_unique<face::PeopleDetector>(options.people); break;
   }
-  // The simulator's colour image has no faces to find.
-  if (options.faces && !simulated) faces_ = std::make_unique<face::FaceCascadeDetector>(options.face_cascade);
+  // The simulator's colour image has no faces to find; the people detector looks for faces itself.
+  if (options.faces && !simulated && kind != Detector::kPeople) {
+    faces_ = std::make_unique<face::FaceCascadeDetector>(options.face_cascade);
+  }
 }
 
 void PerceptionNode::Push(ExternalDetections detections) {
@@ -60,8 +65,26 @@ std::vector<face::Detection> PerceptionNode::DetectInFrame() {
   const bool registered = frame->depth_mm.cols == camera_.width && frame->depth_mm.rows == camera_.height &&
                           (frame->color_bgr.empty() || frame->color_bgr.size() == frame->depth_mm.size());
   face::LocateDetections(found, registered ? frame->depth_mm : cv::Mat(), camera_);
+  if (!simulated_ && options_.depth_people) {
+    std::vector<face::Detection> depth = face::NotAlreadyFound(DepthPeople(*frame), found);
+    found.insert(found.end(), depth.begin(), depth.end());
+  }
   built_in_ = std::move(found);
   return built_in_;
+}
+
+std::vector<face::Detection> PerceptionNode::DepthPeople(const drivers::RgbdFrame& frame) {
+  const auto tracked = bus().Get(topics::kTrackedObjects).latest();
+  const auto pose = bus().Get(topics::kPose).latest();
+  if (!tracked || !pose || frame.depth_mm.empty()) return {};
+  // The tracker's objects (map frame) near enough to be seen, in the base frame.
+  const nav::Pose2 base_T_map = pose->pose.Inverse();
+  std::vector<face::DepthCandidate> candidates;
+  for (const nav::TrackedObject& o : tracked->surroundings.objects) {
+    if (!o.seen) continue;
+    candidates.push_back({base_T_map.Transform(o.position), o.radius_m});
+  }
+  return face::DepthPeople(frame.depth_mm, camera_, candidates, options_.depth);
 }
 
 void PerceptionNode::Tick() {

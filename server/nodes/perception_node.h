@@ -1,7 +1,8 @@
 // People and faces in the camera (the detection hook, face/detect), at perception.rate_hz on the perception executor,
 // off the control path: the newest colour + depth frame goes through the configured detector (the simulated people
-// with the simulator, whose camera shows prisms rather than people; HOG or the user's network on a real camera) and,
-// on a real camera, the frontal face cascade; detections are located by the depth in their box (implausible sizes
+// with the simulator, whose camera shows prisms rather than people; HOG with head-and-shoulders and face cascades, or
+// the user's network, on a real camera) and, with an image detector, the person-shaped objects of the tracker in the
+// depth image (face/detect/depth_people.h); detections are located by the depth in their box (implausible sizes
 // dropped), merged with those an external detector pushed in (Push, from POST /api/v1/detections, until their ttl),
 // given track ids in the map frame, and published on perception/detections.
 #pragma once
@@ -9,6 +10,7 @@
 #include <map>
 #include <memory>
 
+#include "drivers/depth_camera.h"
 #include "face/detect/detection.h"
 #include "face/detect/simulated_people.h"
 #include "face/detect/tracker.h"
@@ -32,6 +34,8 @@ class PerceptionNode final : public PeriodicNode {
   void Tick() override;
   // The built-in detectors on the newest frame (none if it was seen already).
   std::vector<face::Detection> DetectInFrame();
+  // The objects the tracker follows that `frame`'s depth image shows person-shaped.
+  std::vector<face::Detection> DepthPeople(const drivers::RgbdFrame& frame);
 
   PerceptionOptions options_;
   nav::PinholeCamera camera_;
