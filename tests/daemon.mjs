@@ -5,6 +5,7 @@ import { mkdtempSync, readdirSync, rmSync, writeFileSync, readFileSync } from 'n
 import { createRequire } from 'node:module';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
+import { Worker } from 'node:worker_threads';
 
 export const sourceDir = new URL('..', import.meta.url).pathname;
 export const require = createRequire(join(sourceDir, 'web/package.json'));
@@ -240,4 +241,12 @@ export function threadTicks(pid) {
     out.set(tid, { name, ticks: Number(fields[11]) + Number(fields[12]) });
   }
   return out;
+}
+
+// Keeps `threads` cores busy (worker threads spinning) until the returned function is called: a machine loaded by
+// other work, for checks whose outcome must not depend on the load.
+export function loadMachine(threads = 2) {
+  const workers = Array.from({ length: threads },
+    () => new Worker('for (;;) {}', { eval: true }));
+  return async () => { await Promise.all(workers.map((w) => w.terminate())); };
 }

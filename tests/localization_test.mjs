@@ -1,7 +1,8 @@
-// Localization in the daemon: Monte Carlo localization from the simulated laser in the default world (Willow
-// Garage), checked against the simulator's ground truth: it follows a mission within centimetres, a kidnapped robot
-// is noticed, its mission paused, and it is found again by a search of the map; an initial pose can be set. Without
-// a laser, from the depth camera alone: it follows a mission, and a kidnapped robot turns on the spot to find itself.
+// Localization in the real-time daemon: Monte Carlo localization from the simulated laser in the default world (Willow
+// Garage), checked against the simulator's ground truth: a kidnapped robot is noticed, its mission paused, and it is
+// found again by a search of the map; an initial pose can be set; the pose survives a restart. Without a laser, from
+// the depth camera alone, a kidnapped robot turns on the spot to find itself. How closely localization follows a
+// mission is measured in simulated time (tests/navigation_lockstep_test.cc), where the machine's load cannot decide it.
 import assert from 'node:assert/strict';
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -9,7 +10,7 @@ import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
 import {
-  driveFor, getJson, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor,
+  driveFor, getJson, loadMachine, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor,
 } from './daemon.mjs';
 
 const api = openApiValidator();
@@ -19,24 +20,6 @@ const wrap = (a) => Math.atan2(Math.sin(a), Math.cos(a));
 // How far the daemon's pose is from the simulator's truth: metres and degrees.
 const errorOf = (s) => [Math.hypot(s.pose.x - s.sim_true_pose.x, s.pose.y - s.sim_true_pose.y),
   Math.abs(wrap(s.pose.yaw - s.sim_true_pose.yaw)) * 180 / Math.PI];
-// Runs a mission through `waypoints` to its end, sampling the error to the truth: the last state and the worst
-// [metres, degrees].
-async function missionError(url, waypoints, ms) {
-  const res = await postJson(`${url}/api/v1/missions`, { waypoints });
-  assert.equal(res.status, 201, JSON.stringify(res.body));
-  let worst = [0, 0];
-  let s;
-  const deadline = Date.now() + ms;
-  do {
-    s = await state(url);
-    const [m, deg] = errorOf(s);
-    worst = [Math.max(worst[0], m), Math.max(worst[1], deg)];
-    assert.ok(Date.now() < deadline, `mission still ${s.mission?.status}`);
-    await sleep(100);
-  } while (s.mission?.status === 'active');
-  return { s, worst };
-}
-
 // Carries the simulated robot to `pose` and waits until the state shows it there (the simulator publishes its truth
 // on its next step): before that, the old truth and the old estimate agree.
 async function kidnap(url, pose) {
@@ -52,18 +35,9 @@ describe('localization from the laser in the default world', () => {
   before(async () => { daemon = await startDaemon(); });
   after(async () => { await daemon?.stop(); });
 
-  test('it localizes at the start and follows a mission within centimetres of the truth', async (t) => {
-    const first = await waitFor(() => localization(daemon.url), (l) => l.health === 'ok', 10000, 'localization ok');
-    api.check('Localization', first);
-    assert.equal(first.source, 'mcl');
-    assert.ok(first.particles.length > 0 && first.particle_count >= first.particles.length);
-    const { s, worst } = await missionError(daemon.url,
-      [{ x: 24.4, y: 26.5 }, { x: 25.0, y: 27.2 }, { x: 24.4, y: 24.6 }], 120000);
-    t.diagnostic(`worst error during the mission: ${(100 * worst[0]).toFixed(1)} cm, ${worst[1].toFixed(2)} deg`);
-    assert.equal(s.mission.status, 'succeeded', JSON.stringify(s.mission));
-    assert.ok(worst[0] < 0.05 && worst[1] < 3, `worst ${worst}`);
-  });
-
+  // How closely it follows a mission is measured in simulated time (tests/navigation_lockstep_test.cc): read over
+  // HTTP from a real-time daemon, the estimate and the truth come from different moments, and a busy machine widened
+  // the gap past what the test allowed (issue 36).
   test('a kidnapped robot is noticed, its mission paused, and found again by a search of the map', async (t) => {
     api.check('SimPoseAccepted', await kidnap(daemon.url, { x: 25.0, y: 27.2, yaw: 0.5 }));
     // It believes it is still at the last goal; the mission's goal is 2 m from there.
@@ -94,9 +68,8 @@ describe('localization from the laser in the default world', () => {
     const set = await sendJson('PUT', `${daemon.url}/api/v1/localization/pose`, { ...near, sigma_m: 0.3 });
     assert.equal(set.status, 202, JSON.stringify(set.body));
     api.check('LocalizationPoseAccepted', set.body);
-    // The filter starts around the given pose and settles on the truth. Standing still it weighs its particles once
-    // (then only after 5 cm or 0.05 rad of motion, as AMCL does), so turn on the spot for it, as a person would.
-    await driveFor(daemon.url, { linear_mps: 0, angular_rps: 0.5 }, 1500);
+    assert.equal(set.body.agrees, true, JSON.stringify(set.body));
+    // The filter starts around the given pose and settles on the truth, the robot standing still.
     await waitFor(async () => ({ l: await localization(daemon.url), s: await state(daemon.url) }),
       ({ l, s: now }) => l.health === 'ok' && errorOf(now)[0] < 0.05, 15000, 'settled on the truth');
     const re = await postJson(`${daemon.url}/api/v1/localization/relocalize`, {});
@@ -121,28 +94,47 @@ describe('the pose across a restart', () => {
   const stateDir = mkdtempSync(join(tmpdir(), 'corridor-restart-'));
   after(() => rmSync(stateDir, { recursive: true, force: true }));
 
-  test('the robot stays where it stopped and localization starts there, without a search', async () => {
+  // Issue 36: on a loaded machine a restart once came back at the configured start, 31 m from where the robot had
+  // been found. Both daemons run here beside two busy threads, and the first stops as soon as the robot is found
+  // and has been nudged a few centimetres (less than the distance that saves the pose while running).
+  test('the robot stays where it stopped and localization starts there, without a search, under load', async () => {
+    const unload = loadMachine(2);
+    try {
+      await restartsWhereItStopped();
+    } finally {
+      await unload();
+    }
+  });
+
+  async function restartsWhereItStopped() {
     let daemon = await startDaemon({ stateDir });
     let before;
     try {
-      await waitFor(() => localization(daemon.url), (l) => l.health === 'ok', 10000, 'localization ok');
-      // Carried off the start (a restart must not put it back there), then left standing.
-      await kidnap(daemon.url, { x: 25.0, y: 27.2, yaw: 0.5 });
+      await waitFor(() => localization(daemon.url), (l) => l.health === 'ok', 20000, 'localization ok');
+      // Carried off the start (a restart must not put it back there), found again, then nudged.
+      await kidnap(daemon.url, { x: 6.0, y: 6.0, yaw: 0.0 });
+      assert.equal((await postJson(`${daemon.url}/api/v1/localization/relocalize`, {})).status, 202);
       await waitFor(async () => ({ l: await localization(daemon.url), s: await state(daemon.url) }),
-        ({ l, s }) => l.health === 'ok' && errorOf(s)[0] < 0.05, 15000, 'relocalized');
-      await sleep(500);
-      before = await state(daemon.url);
+        ({ l, s }) => l.health === 'ok' && errorOf(s)[0] < 0.05, 30000, 'relocalized');
+      await driveFor(daemon.url, { linear_mps: 0.1, angular_rps: 0 }, 500);
+      before = await waitFor(() => state(daemon.url), (s) => Math.abs(s.velocity?.linear_mps ?? 0) < 0.005 &&
+        s.pose.x > 6.02, 10000, 'nudged forward and standing');
     } finally {
       await daemon.stop();
     }
     daemon = await startDaemon({ stateDir });
     try {
-      const l = await waitFor(() => localization(daemon.url), (x) => x.health === 'ok', 10000, 'localization ok after the restart')
+      const l = await waitFor(() => localization(daemon.url), (x) => x.health === 'ok', 20000, 'localization ok after the restart')
         .catch((e) => { throw new Error(`${e.message}\n${daemon.log()}`); });
       const s = await state(daemon.url);
       assert.ok(Math.hypot(s.sim_true_pose.x - before.sim_true_pose.x, s.sim_true_pose.y - before.sim_true_pose.y) < 0.02,
         `the simulated robot moved: ${JSON.stringify([before.sim_true_pose, s.sim_true_pose])}`);
       assert.ok(errorOf(s)[0] < 0.05, `localized ${errorOf(s)[0]} m off`);
+      // Not merely found again: it started where it had stopped, nudge included.
+      const restored = daemon.log().match(/starting where the robot was in map '[^']+': \(([-\d.]+), ([-\d.]+)\)/);
+      assert.ok(restored, daemon.log());
+      assert.ok(Math.hypot(restored[1] - before.pose.x, restored[2] - before.pose.y) < 0.02,
+        `restored at (${restored[1]}, ${restored[2]}), stopped at ${JSON.stringify(before.pose)}`);
       assert.equal(l.source, 'mcl');
       assert.doesNotMatch(daemon.log(), /search of the whole map/);
       assert.match(daemon.log(), /starting where the robot was in map/);
@@ -158,7 +150,7 @@ describe('the pose across a restart', () => {
     } finally {
       await daemon.stop();
     }
-  });
+  }
 });
 
 describe('localization by odometry alone', () => {
@@ -196,16 +188,6 @@ localization: {source: mcl}
 ` });
   });
   after(async () => { await daemon?.stop(); });
-
-  test('it follows a mission from the camera\'s depth scans within centimetres of the truth', async (t) => {
-    const first = await waitFor(() => localization(daemon.url), (l) => l.health === 'ok', 10000, 'localization ok');
-    api.check('Localization', first);
-    assert.equal(first.sensor, 'depth');
-    const { s, worst } = await missionError(daemon.url, [{ x: 24.4, y: 26.5 }, { x: 25.0, y: 27.2 }], 90000);
-    t.diagnostic(`worst error during the mission: ${(100 * worst[0]).toFixed(1)} cm, ${worst[1].toFixed(2)} deg`);
-    assert.equal(s.mission.status, 'succeeded', JSON.stringify(s.mission));
-    assert.ok(worst[0] < 0.1 && worst[1] < 4, `worst ${worst}`);
-  });
 
   test('a kidnapped robot turns on the spot until it has seen enough, and is found again', async (t) => {
     await kidnap(daemon.url, { x: 24.4, y: 24.2, yaw: 2.5 });

@@ -130,6 +130,13 @@ describe('missions in the arena', () => {
     assert.equal(created.status, 201);
     api.check('Place', created.body);
     assert.equal((await postJson(`${daemon.url}/api/v1/places`, { name: 'dock', x: 1, y: 1 })).status, 409);
+    // Issue 36: a place the robot cannot stand at (on the wall between the rooms, off the map) is refused, saying why.
+    for (const [where, why] of [[{ x: 3.0, y: 1.5 }, /wall|too close/], [{ x: 100, y: 100 }, /outside the map/]]) {
+      const refused = await postJson(`${daemon.url}/api/v1/places`, { name: 'nowhere', ...where });
+      assert.equal(refused.status, 422, JSON.stringify(refused.body));
+      assert.match(refused.body.detail, why);
+    }
+    assert.ok(!(await getJson(`${daemon.url}/api/v1/places`)).body.places.some((p) => p.name === 'nowhere'));
     const id = await startMission(daemon.url, { waypoints: [{ place: 'dock' }] });
     const done = await waitFor(() => mission(daemon.url, id), (m) => m.status !== 'active', 30000, 'the end');
     assert.equal(done.status, 'succeeded', done.error);

@@ -68,14 +68,16 @@ localization: {source: sim_truth}
   test('a person in view is detected where they stand, tracked, and the face looks at them', async () => {
     const robot = await faceThePerson(2.5);
     const expected = inBase(robot, person);
-    const seen = await waitFor(() => detections(daemon.url), (d) => d.some((x) => x.class === 'person'), 3000,
-      'a person detected');
-    const found = seen.find((x) => x.class === 'person');
+    // The near surface of the body: its centre less the crowd's radius (0.25 m). Detections made from frames before
+    // the robot was carried may still be the latest for a moment (more of them on a busy machine): the test waits for
+    // one from where the robot now stands, not for the first one.
+    const error = (x) => Math.hypot(x.position.x - (expected.x - 0.25), x.position.y - expected.y);
+    const person_ = (d) => d.find((x) => x.class === 'person');
+    const seen = await waitFor(() => detections(daemon.url), (d) => person_(d) && error(person_(d)) < 0.2, 5000,
+      `the person detected where they stand, ${JSON.stringify(expected)}`);
+    const found = person_(seen);
     assert.equal(found.source, 'sim');
     assert.ok(found.track_id > 0);
-    // The near surface of the body: its centre less the crowd's radius (0.25 m).
-    const err = Math.hypot(found.position.x - (expected.x - 0.25), found.position.y - expected.y);
-    assert.ok(err < 0.2, `${JSON.stringify(found.position)} against ${JSON.stringify(expected)}`);
     const later = await waitFor(() => detections(daemon.url), (d) => d.some((x) => x.class === 'person'), 3000,
       'the person again');
     assert.equal(later.find((x) => x.class === 'person').track_id, found.track_id);

@@ -371,7 +371,9 @@ json Api::State() const {
   const auto fleet = c_.bus.Get(topics::kFleetOrder).latest();
   state["fleet"] = fleet ? ToJson(*fleet) : json(nullptr);
   const auto map = c_.maps.active();
-  state["map"] = {{"name", map->name}, {"revision", map->revision}};
+  const auto traffic = c_.planner.traffic();
+  const bool has_traffic = traffic && traffic->size() == map->grid.cells().size();
+  state["map"] = {{"name", map->name}, {"revision", map->revision}, {"traffic", has_traffic}};
   // Floors are the configuration's alone: no store read on every state pushed to the stream.
   const nav::Building building = BuildingOf(c_.config.building);
   const nav::Floor* floor = building.FloorOfMap(map->name);

@@ -21,6 +21,7 @@
 #include "server/fleet/rmf.h"
 #include "server/nodes/explore_node.h"
 #include "server/nodes/face_node.h"
+#include "server/nodes/localization_node.h"
 #include "server/nodes/mission_node.h"
 #include "server/nodes/octree_node.h"
 #include "server/nodes/perception_node.h"
@@ -82,6 +83,7 @@ struct ApiContext {
   ExploreNode& explore;
   OctreeNode* octree;  // null when the 3D map is off (octomap.enabled: false)
   PerceptionNode* perception;  // null when perception.enabled is false
+  LocalizationNode& localization;
   const SpokenPhrases& spoken;  // the audio of what the face said lately
   Webhooks& webhooks;           // on the io executor, as the handlers are
   auth::AccessControl& access;  // users, sessions, tokens, the audit log, who may call what

@@ -141,10 +141,13 @@ void Api::AddAuthRoutes() {
     return res;
   };
 
+  // Public: whether the robot is still to be set up, and who the caller is logged in as (null: nobody), so that a
+  // page can tell without a request that fails.
   AddWithCaller(http::verb::get, "/api/v1/setup",
-                [this](const Request& r, const Params&, const Caller& caller, const Identity&) {
+                [this](const Request& r, const Params&, const Caller& caller, const Identity& identity) {
                   const auto code = c_.access.setup.code();
                   json body = {{"needed", code.has_value()}};
+                  body["session"] = identity.who ? PrincipalJson(*identity.who) : json(nullptr);
                   // The code is shown on the robot's own screen (and in its journal), never sent over the network.
                   if (code && caller.local && c_.access.options.local_face) body["code"] = *code;
                   if (!c_.tls_fingerprint.empty()) body["tls_fingerprint"] = c_.tls_fingerprint;

@@ -2,6 +2,7 @@
 // /api/v1/localization/relocalize, and, with the simulator, PUT /api/v1/sim/pose (a kidnapped robot); for mapping a
 // new building: POST /api/v1/mapping/start and /stop, GET /api/v1/mapping and /api/v1/mapping/image.
 #include <numbers>
+#include <sstream>
 
 #include "server/api/api.h"
 #include "server/runtime/topics.h"
@@ -44,10 +45,10 @@ nav::Pose2 Api::ParsePoseOnMap(const json& body, const std::string& where) const
                         nav::WrapAngle(RequireNumber(body, "yaw", where))};
   const auto map = c_.maps.active();
   if (!map->grid.WorldToCell(pose.translation())) {
-    throw ApiError(http::status::unprocessable_entity, "Pose outside the map",
-                   "(" + std::to_string(pose.x_m) + ", " + std::to_string(pose.y_m) + ") is not on map '" + map->name +
-                       "'",
-                   "outside_map");
+    std::ostringstream detail;
+    detail.precision(3);
+    detail << "(" << pose.x_m << ", " << pose.y_m << ") is not on map '" << map->name << "'";
+    throw ApiError(http::status::unprocessable_entity, "Pose outside the map", detail.str(), "outside_map");
   }
   return pose;
 }
@@ -63,26 +64,32 @@ void Api::AddLocalizationRoutes() {
         if (const auto pose = c_.bus.Get(topics::kPose).latest()) body["pose"] = ToJson(pose->pose);
         return JsonResponse(r, body);
       }));
-  Add(http::verb::put, "/api/v1/localization/pose", Sync([this](const Request& r, const Params&) {
-        RequireLocalizing();
-        const json body = ParseJsonBody(r);
-        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
-        AllowOnlyKeys(body, {"x", "y", "yaw", "sigma_m", "sigma_yaw"}, "");
-        LocalizationCommand command;
-        command.kind = LocalizationCommand::Kind::kSetPose;
-        command.pose = ParsePoseOnMap(body, "");
-        if (body.contains("sigma_m")) command.sigma_m = RequireNumber(body, "sigma_m", "");
-        if (body.contains("sigma_yaw")) command.sigma_rad = RequireNumber(body, "sigma_yaw", "");
-        if (!(command.sigma_m >= 0.0 && command.sigma_m <= 10.0) ||
-            !(command.sigma_rad >= 0.0 && command.sigma_rad <= std::numbers::pi)) {
-          throw ApiError(http::status::bad_request, "Invalid request",
-                         "sigma_m must be within [0, 10] m and sigma_yaw within [0, pi] rad");
-        }
-        c_.bus.Get(topics::kLocalizationCommand).Publish(command);
-        return JsonResponse(r, {{"pose", ToJson(command.pose)}, {"sigma_m", command.sigma_m},
-                                {"sigma_yaw", command.sigma_rad}},
-                            http::status::accepted);
-      }));
+  // The pose is taken on localization's executor, which says how well the last scan fits the map there: a pose the
+  // sensors contradict is taken, and the reply says so (the filter will likely move away from it).
+  Add(http::verb::put, "/api/v1/localization/pose", [this](const Request& r, const Params&, Reply reply) {
+    RequireLocalizing();
+    const json body = ParseJsonBody(r);
+    if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
+    AllowOnlyKeys(body, {"x", "y", "yaw", "sigma_m", "sigma_yaw"}, "");
+    const nav::Pose2 pose = ParsePoseOnMap(body, "");
+    LocalizationCommand defaults;
+    const double sigma_m = body.contains("sigma_m") ? RequireNumber(body, "sigma_m", "") : defaults.sigma_m;
+    const double sigma_rad = body.contains("sigma_yaw") ? RequireNumber(body, "sigma_yaw", "") : defaults.sigma_rad;
+    if (!(sigma_m >= 0.0 && sigma_m <= 10.0) || !(sigma_rad >= 0.0 && sigma_rad <= std::numbers::pi)) {
+      throw ApiError(http::status::bad_request, "Invalid request",
+                     "sigma_m must be within [0, 10] m and sigma_yaw within [0, pi] rad");
+    }
+    c_.localization.SetPose(pose, sigma_m, sigma_rad, [this, r, reply, pose, sigma_m, sigma_rad](PoseCheck check) {
+      Answer(r, reply, [&]() -> Response {
+        if (!check.taken) throw ApiError(http::status::conflict, "Not now", check.detail, "mapping");
+        json answer{{"pose", ToJson(pose)}, {"sigma_m", sigma_m}, {"sigma_yaw", sigma_rad},
+                    {"agrees", check.agrees}, {"detail", check.detail}};
+        answer["agreement"] = check.checked ? json(check.agreement) : json(nullptr);
+        answer["agreement_before"] = check.checked ? json(check.agreement_before) : json(nullptr);
+        return JsonResponse(r, answer, http::status::accepted);
+      });
+    });
+  });
   Add(http::verb::post, "/api/v1/localization/relocalize", Sync([this](const Request& r, const Params&) {
         RequireLocalizing();
         LocalizationCommand command;

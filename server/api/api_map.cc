@@ -111,6 +111,23 @@ nav::Place ParsePlace(const json& body, std::string id) {
           kind};
 }
 
+// Why no mission could go to `place` on `costmap`, or nullopt.
+std::optional<std::string> PlaceProblem(const nav::Costmap& costmap, const nav::Place& place,
+                                        const nav::DockGeometry& dock) {
+  const auto cell = costmap.grid().WorldToCell(place.pose.translation());
+  if (!cell) return "the place is outside the map";
+  const std::size_t i = costmap.Index(*cell);
+  if (place.kind == nav::PlaceKind::kDock) {
+    if (costmap.IsObstacle(i)) return "the docked pose is on a wall, unknown space or in a keep-out zone";
+    if (const auto why = nav::DockUnreachable(costmap, place.pose, dock)) return "no mission can dock there: " + *why;
+    return std::nullopt;
+  }
+  if (costmap.Traversable(i)) return std::nullopt;
+  if (costmap.InKeepOut(i)) return "the place is in a keep-out zone";
+  if (costmap.IsObstacle(i)) return "the place is on a wall or in unknown space";
+  return "the place is too close to a wall for the robot";
+}
+
 void ExpectMapEdit(const std::function<void()>& edit) {
   try {
     edit();
@@ -444,14 +461,30 @@ void Api::AddMapRoutes() {
                      "goal_outside_map");
     }
   };
-  Add(http::verb::post, "/api/v1/places", Sync([this, check_name_free](const Request& r, const Params&) {
-        const nav::Place place = ParsePlace(ParseJsonBody(r), NewId());
-        check_name_free(place);
-        c_.store.PutPlace(c_.maps.active()->name, place);
-        Response res = JsonResponse(r, PlaceJson(place, c_.config.mission.docking.dock), http::status::created);
-        res.set(http::field::location, "/api/v1/places/" + place.id);
-        return res;
-      }));
+  // A place is somewhere a mission can go: on the planner's costmap (the map, its zones, what the 3D map found), free
+  // and clear of walls by the robot's radius, as a goal must be; a dock, its staging pose so (nav::DockUnreachable),
+  // with the docked pose itself off any obstacle. Then it is stored, on the io executor.
+  const auto put_place = [this, check_name_free](const Request& r, Reply reply, nav::Place place, bool made) {
+    check_name_free(place);
+    c_.planner.WithCostmap([this, r, reply, place = std::move(place), made, check_name_free](
+                               std::shared_ptr<const nav::Costmap> costmap, std::uint64_t) {
+      const auto problem = PlaceProblem(*costmap, place, c_.config.mission.docking.dock);
+      boost::asio::post(c_.io.context(), [this, r, reply, place, made, problem, check_name_free] {
+        Answer(r, reply, [&]() -> Response {
+          if (problem) throw ApiError(http::status::unprocessable_entity, "Place unreachable", *problem, "goal_occupied");
+          check_name_free(place);  // again: another request may have taken the name meanwhile
+          c_.store.PutPlace(c_.maps.active()->name, place);
+          Response res = JsonResponse(r, PlaceJson(place, c_.config.mission.docking.dock),
+                                      made ? http::status::created : http::status::ok);
+          if (made) res.set(http::field::location, "/api/v1/places/" + place.id);
+          return res;
+        });
+      });
+    });
+  };
+  Add(http::verb::post, "/api/v1/places", [put_place](const Request& r, const Params&, Reply reply) {
+    put_place(r, std::move(reply), ParsePlace(ParseJsonBody(r), NewId()), true);
+  });
   const auto find_place = [this](const std::string& id) {
     for (const nav::Place& p : c_.store.Places(c_.maps.active()->name)) {
       if (p.id == id) return p;
@@ -461,14 +494,10 @@ void Api::AddMapRoutes() {
   Add(http::verb::get, "/api/v1/places/{id}", Sync([this, find_place](const Request& r, const Params& p) {
         return JsonResponse(r, PlaceJson(find_place(p.at("id")), c_.config.mission.docking.dock));
       }));
-  Add(http::verb::put, "/api/v1/places/{id}",
-      Sync([this, find_place, check_name_free](const Request& r, const Params& p) {
-        find_place(p.at("id"));
-        const nav::Place place = ParsePlace(ParseJsonBody(r), p.at("id"));
-        check_name_free(place);
-        c_.store.PutPlace(c_.maps.active()->name, place);
-        return JsonResponse(r, PlaceJson(place, c_.config.mission.docking.dock));
-      }));
+  Add(http::verb::put, "/api/v1/places/{id}", [find_place, put_place](const Request& r, const Params& p, Reply reply) {
+    find_place(p.at("id"));
+    put_place(r, std::move(reply), ParsePlace(ParseJsonBody(r), p.at("id")), false);
+  });
   Add(http::verb::delete_, "/api/v1/places/{id}", Sync([this](const Request& r, const Params& p) {
         if (!c_.store.DeletePlace(c_.maps.active()->name, p.at("id"))) {
           throw ApiError(http::status::not_found, "Not found", "no place " + p.at("id"));

@@ -98,6 +98,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
       executors_.mapping, bus_, config_.localization, config_.sim.robot.start, base_T_laser,
       devices_.camera.info().camera, pose_file, LoadSavedPose(pose_file), map_built);
   LocalizationNode* const localization = localization_node.get();
+  localization_ = localization;
   // The 3D map, from the depth camera at the estimated poses; its layer goes to the planner.
   std::unique_ptr<OctreeNode> octree_node;
   if (config_.octomap.enabled) {
@@ -140,9 +141,16 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
       }
     });
   };
-  // The simulator's dock is a place on the map it stands in (as an installer would add a real one).
+  // The simulator's dock is a place on the map it stands in (as an installer would add a real one). A dock no mission
+  // can reach (its staging pose against a wall) is a configuration error: it is refused here, before anything runs.
   if (devices_.sim != nullptr && devices_.sim->dock() && maps_->active()->name == SimMapName(config_)) {
-    AddSimulatedDock(store_, maps_->active()->name, devices_.sim->dock()->options().pose);
+    const nav::Pose2 dock = devices_.sim->dock()->options().pose;
+    const nav::Costmap costmap(maps_->active()->grid, store_.Zones(maps_->active()->name), config_.planner);
+    if (const auto why = nav::DockUnreachable(costmap, dock, config_.mission.docking.dock)) {
+      throw ConfigError("sim.dock: no mission can dock there on map '" + maps_->active()->name + "': " + *why +
+                        " (move the dock, or shorten docking.staging_distance_m)");
+    }
+    AddSimulatedDock(store_, maps_->active()->name, dock);
   }
   // Low on charge, an idle robot goes to the dock nearest to it on the active map.
   const auto nearest_dock = [this](const nav::Pose2& robot) -> std::optional<nav::MissionGoal> {
@@ -246,7 +254,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   lifecycle_.ConfigureAll();
 
   api_ = std::make_unique<Api>(ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *explore_, octree_,
-                                          perception_, *spoken_, *webhooks_, access_, config_, clock_, executors_.io,
+                                          perception_, *localization_, *spoken_, *webhooks_, access_, config_, clock_, executors_.io,
                                           executors_.control, devices_.sim, std::move(tls_fingerprint), hooks.robot,
                                           [this] {
                                             const std::string active = maps_->active()->name;

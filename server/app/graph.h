@@ -105,6 +105,7 @@ class Graph {
   ExploreNode* explore_ = nullptr;   // owned by lifecycle_
   OctreeNode* octree_ = nullptr;     // owned by lifecycle_; null when octomap.enabled is false
   PerceptionNode* perception_ = nullptr;  // owned by lifecycle_; null when perception.enabled is false
+  LocalizationNode* localization_ = nullptr;  // owned by lifecycle_
   std::shared_ptr<SpokenPhrases> spoken_ = std::make_shared<SpokenPhrases>();  // the face's, for the API
   std::shared_ptr<EventLog> events_ = std::make_shared<EventLog>();           // the face node's, for webhooks and API
   std::unique_ptr<Webhooks> webhooks_;                                          // on the io executor

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <random>
+#include <sstream>
 
 #include "nav/map/map_io.h"
 #include "server/store/saved_pose.h"
@@ -97,8 +98,11 @@ Simulator MakeSimulator(const Config& config) {
   {
     drivers::sim::DiffDriveSim probe(sim.world->collision, config.sim.robot.base, start);
     if (probe.Collides(start)) {
-      throw std::runtime_error("sim.start: the robot at (" + std::to_string(start.x_m) + ", " +
-                               std::to_string(start.y_m) + ") overlaps an obstacle or is outside the world");
+      std::ostringstream what;
+      what.precision(3);
+      what << "sim.start: the robot at (" << start.x_m << ", " << start.y_m
+           << ") overlaps an obstacle or is outside the world";
+      throw std::runtime_error(what.str());
     }
   }
   sim.robot = std::make_unique<drivers::sim::SimRobot>(sim.world, options);

@@ -44,10 +44,10 @@ LocalizationNode::LocalizationNode(Executor& executor, Bus& bus, const Localizat
   }
 }
 
-void LocalizationNode::Save(const nav::Pose2& pose, double sigma_m, double sigma_rad) {
+void LocalizationNode::Save(const nav::Pose2& pose, double sigma_m, double sigma_rad, bool always) {
   if (pose_file_.empty()) return;
   const SavedPose now{map_name_, pose, sigma_m, sigma_rad};
-  if (saved_ && !MovedEnough(*saved_, now)) return;
+  if (!always && saved_ && !MovedEnough(*saved_, now)) return;
   SavePose(pose_file_, now);  // a failure is a fault of this loop: logged, the node degraded
   saved_ = now;
 }
@@ -81,10 +81,32 @@ void LocalizationNode::ResetFilter(const nav::Pose2& pose, double sigma_m, doubl
   relocalize_ = false;
 }
 
+void LocalizationNode::Cleanup() {
+  // Where the robot stands at the stop is the pose after the restart. Without this, the file could hold a pose from
+  // before the last few centimetres, or (had the daemon stopped between a search finding the robot and the next
+  // update) from another room.
+  if (map_name_.empty() || slam_) return;
+  try {
+    if (filter_) {
+      const nav::LocalizationEstimate& estimate = filter_->estimate();
+      if (estimate.health == nav::LocalizationHealth::kLost) return;  // the file keeps the last pose found
+      const Eigen::Matrix3d& c = estimate.covariance;
+      Save(estimate.pose, std::sqrt(c(0, 0) + c(1, 1)), std::sqrt(c(2, 2)), true);
+    } else if (options_.source == LocalizationOptions::Source::kOdometry) {
+      Save(map_T_odom_ * LatestOdometry(), options_.initial_sigma_m, Radians(options_.initial_sigma_deg), true);
+    }
+  } catch (const std::exception& e) {
+    spdlog::error("localization: the pose at the stop was not saved: {}", e.what());
+  }
+}
+
 void LocalizationNode::Activate() {
+  // The configured initial pose (or the one restored by SetMap, which runs first on this executor) is known before
+  // the first odometry arrives. Published from the executor: SetMap may be changing it right now.
+  executor().Post([this] {
+    Run("map", [this] { bus().Get(topics::kPose).Publish(StampedPose{clock().Now(), map_T_odom_}); });
+  });
   auto& pose = bus().Get(topics::kPose);
-  // The configured initial pose is known before the first odometry arrives.
-  pose.Publish(StampedPose{clock().Now(), map_T_odom_});
   using Source = LocalizationOptions::Source;
   if (options_.source == Source::kSimTruth) {
     Subscribe(topics::kSimTruePose, "truth", [&pose](const auto& truth) { pose.Publish(truth); });
@@ -195,6 +217,7 @@ void LocalizationNode::Localize(drivers::TimeNs stamp_ns, const nav::RangeScan& 
       spdlog::warn("localization: a search of the whole map ({:.0f} ms) found nothing that fits the scan", ms);
     }
   }
+  last_scan_ = std::make_pair(*odom, range);
   const nav::LocalizationEstimate& estimate = filter_->Update(*odom, range);
   if (estimate.health == nav::LocalizationHealth::kLost && !lost) {
     // Just lost: what the camera saw before may be where the robot was carried from.
@@ -219,8 +242,7 @@ void LocalizationNode::Localize(drivers::TimeNs stamp_ns, const nav::RangeScan& 
 void LocalizationNode::OnCommand(const LocalizationCommand& command) {
   using Kind = LocalizationCommand::Kind;
   if (command.kind == Kind::kSetPose && options_.source == LocalizationOptions::Source::kOdometry) {
-    // Dead reckoning goes on from the pose given.
-    map_T_odom_ = command.pose * LatestOdometry().Inverse();
+    TakePose(command.pose, command.sigma_m, command.sigma_rad);
     return;
   }
   if (!filter_) return;
@@ -246,9 +268,62 @@ void LocalizationNode::OnCommand(const LocalizationCommand& command) {
     history_.Clear();  // asked to search: the robot may have been carried
     return;
   }
-  ResetFilter(command.pose, command.sigma_m, command.sigma_rad);
-  map_T_odom_ = command.pose * LatestOdometry().Inverse();
+  TakePose(command.pose, command.sigma_m, command.sigma_rad);
+}
+
+void LocalizationNode::SetPose(const nav::Pose2& pose, double sigma_m, double sigma_rad,
+                               std::function<void(PoseCheck)> done) {
+  executor().Post([this, pose, sigma_m, sigma_rad, done = std::move(done)] {
+    PoseCheck check;
+    if (!Run("command", [&] { check = TakePose(pose, sigma_m, sigma_rad); })) {
+      check.detail = "localization failed to take the pose (see the log)";
+    }
+    done(std::move(check));
+  });
+}
+
+PoseCheck LocalizationNode::TakePose(const nav::Pose2& pose, double sigma_m, double sigma_rad) {
+  PoseCheck check;
+  if (options_.source == LocalizationOptions::Source::kOdometry || !filter_) {
+    // Dead reckoning goes on from the pose given (or, with no map yet, the filter starts there).
+    map_T_odom_ = pose * LatestOdometry().Inverse();
+    check.taken = true;
+    check.detail = filter_ || options_.source == LocalizationOptions::Source::kOdometry
+                       ? "taken: dead reckoning goes on from it"
+                       : "taken; there is no map to localize in yet";
+    return check;
+  }
+  if (slam_) {
+    check.detail = "mapping '" + mapping_.name + "' is under way: the map being built says where the robot is";
+    return check;
+  }
+  if (last_scan_) {
+    // The last scan, at the given pose carried back to when it was taken, against where the filter had the robot then.
+    const auto& [scan_odom, scan] = *last_scan_;
+    const nav::Pose2 then = pose * LatestOdometry().Inverse() * scan_odom;
+    check.checked = true;
+    check.agreement = filter_->AgreementAt(scan.hits, then);
+    check.agreement_before = filter_->AgreementAt(scan.hits, filter_->estimate().pose);
+    const double ok = options_.mcl.ok_agreement;
+    check.agrees = check.agreement >= ok || check.agreement >= 0.8 * check.agreement_before;
+  }
+  ResetFilter(pose, sigma_m, sigma_rad);
+  map_T_odom_ = pose * LatestOdometry().Inverse();
   Publish(clock().Now());
+  check.taken = true;
+  const auto percent = [](double f) { return std::to_string(static_cast<int>(std::lround(100.0 * f))) + " %"; };
+  if (!check.checked) {
+    check.detail = "taken; no scan yet to check it against";
+  } else if (check.agrees) {
+    check.detail = "taken: the scan fits the map there (" + percent(check.agreement) + " of it on walls)";
+  } else {
+    check.detail = "taken, but the scan does not fit the map there: " + percent(check.agreement) +
+                   " of it on walls, against " + percent(check.agreement_before) +
+                   " where localization had the robot; it will likely move the robot back";
+  }
+  spdlog::info("localization: pose ({:.2f}, {:.2f}, {:.0f} deg) {}", pose.x_m, pose.y_m,
+               pose.yaw_rad * 180.0 / std::numbers::pi, check.detail);
+  return check;
 }
 
 void LocalizationNode::Publish(drivers::TimeNs stamp_ns) {

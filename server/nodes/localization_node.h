@@ -30,6 +30,16 @@
 
 namespace corridor::server {
 
+// What localization made of a pose it was given (LocalizationNode::SetPose).
+struct PoseCheck {
+  bool taken = false;        // false: not now (mapping under way); `detail` says why
+  bool checked = false;      // the last scan was held against the map at the pose (mcl with a scan so far)
+  double agreement = 0.0;         // the fraction of that scan on the map's walls at the given pose
+  double agreement_before = 0.0;  // and at the pose localization had
+  bool agrees = true;        // the scan fits the map at the given pose (or it could not be checked)
+  std::string detail;        // for people
+};
+
 class LocalizationNode final : public Node {
  public:
   // Saves a map just built under `name` and makes it the active one; throws std::exception (with why) if it cannot.
@@ -44,9 +54,16 @@ class LocalizationNode final : public Node {
                    std::filesystem::path pose_file = {},
                    std::optional<SavedPose> restored = std::nullopt, MapBuilt on_map_built = {});
   void Activate() override;
+  // Saves the last estimate, however little the robot moved since the last save (the node's executor has stopped).
+  void Cleanup() override;
   // The map to localize in (mcl), by name. Thread-safe: applied on the node's executor. A new map keeps the pose if
   // it lies on the map; the filter restarts around it.
   void SetMap(std::string name, std::shared_ptr<const nav::OccupancyGrid> map);
+  // Takes `pose` (map frame) with its spread, as the localization/command kSetPose does, and answers with how well the
+  // last scan fits the map there against where localization had the robot: a pose the sensors contradict is taken,
+  // but the caller is told that the filter will likely move away from it. Thread-safe: applied on the node's executor,
+  // where `done` is called, once.
+  void SetPose(const nav::Pose2& pose, double sigma_m, double sigma_rad, std::function<void(PoseCheck)> done);
 
  private:
   void OnOdometry(const drivers::WheelOdometry& odometry);
@@ -55,13 +72,16 @@ class LocalizationNode final : public Node {
   // One scan (base frame) taken at stamp_ns: the filter's update, a search when one is due, the pose published.
   void Localize(drivers::TimeNs stamp_ns, const nav::RangeScan& scan);
   void OnCommand(const LocalizationCommand& command);
+  PoseCheck TakePose(const nav::Pose2& pose, double sigma_m, double sigma_rad);
   // The odometry at `stamp_ns`, interpolated between the readings around it; nullopt before any.
   std::optional<nav::Pose2> OdometryAt(drivers::TimeNs stamp_ns) const;
   // The last odometry reading; the identity before any.
   nav::Pose2 LatestOdometry() const;
   void Publish(drivers::TimeNs stamp_ns);
   void ResetFilter(const nav::Pose2& pose, double sigma_m, double sigma_rad);
-  void Save(const nav::Pose2& pose, double sigma_m, double sigma_rad);
+  // Writes the pose to pose_file_ when it moved enough since the last write (always with `always`). Throws when the
+  // file cannot be written.
+  void Save(const nav::Pose2& pose, double sigma_m, double sigma_rad, bool always = false);
   void StartMapping(const std::string& name);
   void StopMapping();
   // One scan into the map being built.
@@ -83,6 +103,7 @@ class LocalizationNode final : public Node {
   std::unique_ptr<nav::MonteCarloLocalization> filter_;
   std::deque<drivers::WheelOdometry> odometry_;  // the last second
   bool relocalize_ = false;                      // search the whole map on the next scan
+  std::optional<std::pair<nav::Pose2, nav::RangeScan>> last_scan_;  // the last one localized with, and its odometry
   drivers::TimeNs last_search_ns_ = 0;
   MapBuilt on_map_built_;
   std::unique_ptr<nav::GraphSlam> slam_;  // while mapping

@@ -200,7 +200,8 @@ void ReadPerception(ConfigReader& r, PerceptionOptions& p) {
   r.Read("enabled", p.enabled);
   using Detector = PerceptionOptions::Detector;
   r.ReadChoice<Detector>("detector", p.detector, {{"auto", Detector::kAuto}, {"sim", Detector::kSimulated},
-                                                  {"hog", Detector::kHog}, {"dnn", Detector::kDnn}});
+                                                  {"hog", Detector::kHog}, {"people", Detector::kPeople},
+                                                  {"dnn", Detector::kDnn}});
   r.Read("faces", p.faces);
   r.Read("rate_hz", p.rate_hz, 0.2, 30.0);
   r.Read("max_ttl_s", p.max_ttl_s, 0.1, 600.0);
@@ -211,6 +212,27 @@ void ReadPerception(ConfigReader& r, PerceptionOptions& p) {
     h.Read("padding_px", p.hog.padding_px, 0, 64);
     h.Read("min_score", p.hog.min_score, 0.0, 1.0);
   });
+  r.Section("people", [&](ConfigReader& c) {
+    c.Read("upper_body", p.people.upper_body);
+    c.Read("upper_body_neighbours", p.people.upper_body_neighbours, 1, 50);
+    c.Read("upper_body_min_px", p.people.upper_body_min_px, 16, 2000);
+    c.Read("faces", p.people.faces);
+    c.Read("face_neighbours", p.people.face_neighbours, 1, 50);
+    c.Read("face_min_px", p.people.face_min_px, 8, 2000);
+    c.Read("merge_iou", p.people.merge_iou, 0.01, 0.99);
+  });
+  p.people.hog = p.hog;
+  r.Read("depth_people", p.depth_people);
+  r.Section("depth", [&](ConfigReader& d) {
+    d.Read("min_height_m", p.depth.min_height_m, 0.3, 2.5);
+    d.Read("max_height_m", p.depth.max_height_m, 0.5, 3.0);
+    d.Read("max_floor_gap_m", p.depth.max_floor_gap_m, 0.0, 1.0);
+    d.Read("min_width_m", p.depth.min_width_m, 0.0, 2.0);
+    d.Read("max_width_m", p.depth.max_width_m, 0.05, 3.0);
+  });
+  if (p.depth.max_height_m <= p.depth.min_height_m) {
+    throw ConfigError(r.PathOf("depth") + ": max_height_m must be above min_height_m");
+  }
   r.Section("face_cascade", [&](ConfigReader& f) {
     std::string cascade = p.face_cascade.cascade.string();
     f.Read("file", cascade);
@@ -686,6 +708,7 @@ nav::Building BuildingOf(const BuildingOptions& o) {
 
 std::string SimMapName(const Config& config) {
   if (!config.building.floors.empty()) return config.building.floors.front().map.stem().string();
+  if (!config.map.file.empty()) return config.map.file.stem().string();
   return config.sim.world.stem().string();
 }
 

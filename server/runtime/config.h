@@ -11,8 +11,10 @@
 #include "drivers/sim/world.h"
 #include "nav/ground/depth_scan.h"
 #include "face/detect/dnn_detector.h"
+#include "face/detect/depth_people.h"
 #include "face/detect/face_cascade.h"
 #include "face/detect/hog_people.h"
+#include "face/detect/people_detector.h"
 #include "face/detect/simulated_people.h"
 #include "face/detect/tracker.h"
 #include "face/events.h"
@@ -139,12 +141,18 @@ struct FaceOptions {
 // People and faces in the camera (server/nodes/perception_node.h), and what the robot does about them.
 struct PerceptionOptions {
   bool enabled = true;
-  // auto: the simulated people with the simulator, HOG on a real camera; sim; hog; dnn (the user's model, `dnn`).
-  enum class Detector { kAuto, kSimulated, kHog, kDnn };
+  // auto: the simulated people with the simulator, hog on a real camera; sim; hog (HOG alone); people (HOG, head and
+  // shoulders and faces: face/detect/people_detector.h; finds more, five times the cost); dnn (the user's model).
+  enum class Detector { kAuto, kSimulated, kHog, kPeople, kDnn };
   Detector detector = Detector::kAuto;
   bool faces = true;          // also the frontal face cascade (a face turned to the robot: a person looking at it)
   double rate_hz = 5.0;       // detections a second, on the perception executor
-  face::HogOptions hog;
+  face::HogOptions hog;           // for hog, and people's own HOG
+  face::PeopleOptions people;     // its hog is `hog`
+  // With an image detector (hog, people, dnn) and a depth image: an object the tracker follows that the depth image
+  // shows person-shaped (face/detect/depth_people.h) is a person too, where the image's detector saw none.
+  bool depth_people = true;
+  face::DepthPeopleOptions depth;
   face::FaceCascadeOptions face_cascade;
   face::DnnOptions dnn;
   face::SimulatedPeopleOptions sim;
@@ -262,8 +270,9 @@ struct BuildingOptions {
 nav::Building BuildingOf(const BuildingOptions& building);
 
 struct Config;
-// The map the simulator's world is drawn in (its dock, doors and start are in that map's frame): the world's own, or
-// with a building, the first floor's.
+// The map the simulator's world is drawn in (its dock, doors and start are in that map's frame): with a building, the
+// first floor's; else the configured map (map.file, a map of the simulated world, as a robot's SLAM made it), else the
+// world's own.
 std::string SimMapName(const Config& config);
 
 // The robot's devices served by ROS 2 drivers over DDS (drivers/dds/devices.h), used when the simulator is off.

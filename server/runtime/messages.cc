@@ -124,6 +124,7 @@ nlohmann::json ToJson(const MissionState& m) {
           {"error", m.error},
           {"docking", m.docking},
           {"waiting_for_door", m.waiting_for_door},
+          {"waiting", m.waiting},
           {"lift", m.lift},
           {"speed_limit_mps", std::isfinite(m.speed_limit_mps) ? nlohmann::json(m.speed_limit_mps) : nullptr}};
 }
