@@ -38,5 +38,6 @@ cpSync('index.html', `${dist}index.html`);
 cpSync('admin.html', `${dist}admin.html`);
 cpSync('face.html', `${dist}face.html`);
 cpSync('style.css', `${dist}style.css`);
+cpSync('favicon.svg', `${dist}favicon.svg`);
 cpSync('node_modules/leaflet/dist/leaflet.css', `${dist}leaflet.css`);
 cpSync('node_modules/@geoman-io/leaflet-geoman-free/dist/leaflet-geoman.css', `${dist}leaflet-geoman.css`);

@@ -17,7 +17,7 @@ export interface State {
   sim_true_pose: Pose | null;
   face: 'neutral' | 'happy' | 'focused' | 'surprised' | 'worried' | 'sleepy' | 'confused' | 'sad';
   mission: Mission | null;
-  map: { name: string; revision: number };
+  map: { name: string; revision: number; traffic: boolean };
   nodes: NodeStatus[];
   sim_pedestrians: SimPerson[];
   sim_obstacles: SimObstacle[];
@@ -54,6 +54,11 @@ export interface Localization {
   health: 'ok' | 'uncertain' | 'lost'; agreement?: number; particle_count: number;
   particles: [number, number, number][];
 }
+// PUT /api/v1/localization/pose: taken, and whether the last scan fits the map there.
+export interface PoseTaken {
+  pose: Pose; sigma_m: number; sigma_yaw: number; agrees: boolean; agreement: number | null;
+  agreement_before: number | null; detail: string;
+}
 export interface Mapping {
   active: boolean; exploring: boolean; name: string; scans: number; submaps: number; loop_closures: number;
   saved: string; error: string; map: Omit<MapInfo, 'name'> | null;
@@ -64,7 +69,10 @@ export interface Octomap {
 }
 export interface Problem { type: string; title: string; status: number; detail: string; }
 // GET /api/v1/setup: whether the first admin is still to be made; the code only to the robot's own screen.
-export interface SetupStatus { needed: boolean; code?: string; tls_fingerprint?: string; }
+export interface SetupStatus {
+  needed: boolean; code?: string; tls_fingerprint?: string;
+  session: { name: string; role: 'viewer' | 'operator' | 'admin'; kind: string } | null;
+}
 
 
 export interface MissionWaypoint {
@@ -78,6 +86,7 @@ export interface Mission {
   docking: '' | 'seeking' | 'approaching' | 'final' | 'docked' | 'undocking' | 'undocked' | 'failed';
   lift?: string;
   waiting_for_door?: string;
+  waiting?: string;  // what an unfinished mission waits for; "" while it goes on
 }
 // GET /api/v1/building: the floors (each with its map and places), the floor the robot is on, the lifts.
 export interface LiftStop {

@@ -4,7 +4,7 @@
 import L from 'leaflet';
 
 import { send, type Building, type Doors, type Place, type Pose } from './api';
-import { byId } from './dom';
+import { byId, type Report } from './dom';
 import { toLatLng } from './map_view';
 import { permitted } from './session';
 
@@ -14,7 +14,7 @@ export class BuildingLayers {
   private building: Building | null = null;
   private shownDoors = '';
 
-  constructor(map: L.Map, private readonly report: (message: string) => void) {
+  constructor(map: L.Map, private readonly report: Report) {
     this.lifts.addTo(map);
     this.doors.addTo(map);
     byId('floor-select').addEventListener('change', () => this.showPlaces());
@@ -98,7 +98,7 @@ export class BuildingLayers {
       await send('POST', '/api/v1/missions', { waypoints: [{ place, floor }] });
       this.report(`going to ${place} on floor ${floor}`);
     } catch (e) {
-      this.report((e as Error).message);
+      this.report(e as Error);
     }
   }
 }

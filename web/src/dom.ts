@@ -9,3 +9,7 @@ export function byId<T extends HTMLElement>(id: string): T {
 export function escapeHtml(text: string): string {
   return text.replace(/[&<>"']/g, (c) => `&#${c.charCodeAt(0)};`);
 }
+
+// Tells the person at the console what happened: a string for what went as asked, an Error for what did not (shown
+// as an error). `undo`, when given, is offered beside the message for as long as it shows.
+export type Report = (message: string | Error, undo?: { label: string; run: () => void }) => void;

@@ -3,8 +3,9 @@
 import L from 'leaflet';
 
 import { send, type Localization } from './api';
-import { byId } from './dom';
+import { byId, type Report } from './dom';
 import { toLatLng, type MapView } from './map_view';
+import { repeat } from './poll';
 
 const kPollMs = 500;
 const kChiSquare2d95 = 5.991;  // the 95 % ellipse of a 2D Gaussian: x' S^-1 x = 5.991
@@ -32,30 +33,27 @@ export class LocalizationPanel {
   private readonly spread: L.Polygon;
   private last: Localization | null = null;
 
-  constructor(view: MapView, private readonly report: (message: string) => void) {
+  constructor(view: MapView, private readonly report: Report) {
     this.layer.addTo(view.map);
     this.spread = L.polygon([], { color: '#d29922', weight: 1, fillOpacity: 0.15, className: 'localization-ellipse' })
       .addTo(view.map);
     byId('relocalize').addEventListener('click', () => {
       send('POST', '/api/v1/localization/relocalize')
         .then(() => this.report('searching the whole map for the robot'))
-        .catch((e: Error) => this.report(e.message));
+        .catch((e: Error) => this.report(e));
     });
     byId<HTMLInputElement>('show-particles').addEventListener('change', () => this.draw());
-    void this.poll();
+    repeat(async () => {
+      this.last = await send<Localization>('GET', '/api/v1/localization');
+      this.draw();
+    }, kPollMs, (e) => {
+      const health = byId('localization-health');
+      health.textContent = `unavailable: ${e.message}`;
+      health.className = 'health-error';
+    });
   }
 
   get latest(): Localization | null { return this.last; }
-
-  private async poll(): Promise<void> {
-    try {
-      this.last = await send<Localization>('GET', '/api/v1/localization');
-      this.draw();
-    } catch (e) {
-      byId('localization-health').textContent = `unavailable: ${(e as Error).message}`;
-    }
-    window.setTimeout(() => void this.poll(), kPollMs);
-  }
 
   private draw(): void {
     const l = this.last;

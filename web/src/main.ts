@@ -1,6 +1,7 @@
 // The corridor console: map, live pose, camera, telemetry, teleoperation, and the navigation tools.
 import { send, type Detections, type GroundLanes, type MapInfo, type Mission, type Pose, type State, type Twist } from './api';
-import { byId } from './dom';
+import { byId, type Report } from './dom';
+import { repeat } from './poll';
 import { LocalizationPanel } from './localization';
 import { MapView } from './map_view';
 import { MappingPanel } from './mapping';
@@ -21,9 +22,26 @@ function deg(rad: number): string {
   return `${((rad * 180) / Math.PI).toFixed(1)}°`;
 }
 
-function report(message: string): void {
-  byId('message').textContent = message;
-}
+// The message line under the mission panel: the latest outcome only, an error in red, gone after a while.
+let reportTimer = 0;
+const report: Report = (message, undo) => {
+  const line = byId('message');
+  const error = message instanceof Error;
+  line.textContent = error ? message.message : message;
+  line.className = error ? 'error' : 'muted';
+  if (undo) {
+    const button = document.createElement('button');
+    button.textContent = undo.label;
+    button.dataset.testid = 'message-undo';
+    button.addEventListener('click', () => {
+      line.textContent = '';
+      undo.run();
+    });
+    line.append(' ', button);
+  }
+  window.clearTimeout(reportTimer);
+  reportTimer = window.setTimeout(() => { line.textContent = ''; }, error ? 15000 : undo ? 10000 : 6000);
+};
 
 function showMission(mission: Mission | null): void {
   const status = byId('mission-status');
@@ -34,12 +52,15 @@ function showMission(mission: Mission | null): void {
     const where = mission.waypoints.length > 1 ? ` (waypoint ${mission.current_waypoint + 1} of ${mission.waypoints.length})` : '';
     const docking = live && mission.docking ? `, docking: ${mission.docking}` : '';
     const lift = live && mission.lift ? `, lift: ${mission.lift.replaceAll('_', ' ')}` : '';
-    const door = live && mission.waiting_for_door ? `, waiting for door ${mission.waiting_for_door}` : '';
     status.textContent =
-      `${mission.status}${live ? where : ''}${docking}${lift}${door}${mission.error ? `: ${mission.error}` : ''}`;
+      `${mission.status}${live ? where : ''}${docking}${lift}${mission.error ? `: ${mission.error}` : ''}`;
   }
   byId<HTMLProgressElement>('mission-progress').value = mission?.progress ?? 0;
-  byId('mission-eta').textContent = live ? `about ${Math.ceil(mission.eta_s)} s to go` : '';
+  // While it waits (for a door, a lift, a way past what blocks it), the console says what for, not a frozen ETA.
+  const waiting = mission?.waiting ?? '';
+  const eta = byId('mission-eta');
+  eta.textContent = waiting ? `waiting for ${waiting}` : live ? `about ${Math.ceil(mission.eta_s)} s to go` : '';
+  eta.classList.toggle('waiting', waiting !== '');
   const enable = (id: string, on: boolean) => {
     const button = byId<HTMLButtonElement>(id);
     button.disabled = !on || !permitted(button);
@@ -118,7 +139,7 @@ function showState(state: State, view: MapView | null): void {
   view?.showRobot(state.pose, state.sim_true_pose);
   view?.showSimulation(state.sim_pedestrians, state.sim_obstacles);
   view?.showTracked(state.tracked_objects);
-  view?.showTraffic();
+  view?.showTraffic(state.map.traffic);
   view?.showMission(state.mission);
   view?.showFleetOrder(state.fleet);
 }
@@ -129,22 +150,16 @@ function startCamera(): void {
   const kind = byId<HTMLSelectElement>('camera-kind');
   const status = byId('camera-status');
   let url: string | null = null;
-  const tick = async () => {
+  repeat(async () => {
     const path = kind.value === 'depth' ? '/api/v1/camera/depth?colormap=true' : '/api/v1/camera/color';
-    try {
-      const res = await fetch(path, { cache: 'no-store' });
-      if (!res.ok) throw new Error(`HTTP ${res.status}`);
-      const next = URL.createObjectURL(await res.blob());
-      img.src = next;
-      if (url) URL.revokeObjectURL(url);
-      url = next;
-      status.textContent = `frame ${res.headers.get('X-Frame-Sequence') ?? '?'}`;
-    } catch (e) {
-      status.textContent = `no image: ${(e as Error).message}`;
-    }
-    window.setTimeout(tick, kCameraPeriodMs);
-  };
-  void tick();
+    const res = await fetch(path, { cache: 'no-store' });
+    if (!res.ok) throw new Error(`HTTP ${res.status}`);
+    const next = URL.createObjectURL(await res.blob());
+    img.src = next;
+    if (url) URL.revokeObjectURL(url);
+    url = next;
+    status.textContent = `frame ${res.headers.get('X-Frame-Sequence') ?? '?'}`;
+  }, kCameraPeriodMs, (e) => { status.textContent = `no image: ${e.message}`; });
 }
 
 // An overlay canvas over the camera view, cleared and sized to the shown image, with the scale from image pixels; null
@@ -210,7 +225,7 @@ function showDetections(detections: Detections, view: MapView | null, pose: Pose
 function missionAction(action: 'pause' | 'resume' | 'cancel', current: () => Mission | null): void {
   byId(`mission-${action}`).addEventListener('click', () => {
     const mission = current();
-    if (mission) void send('POST', `/api/v1/missions/${mission.id}/${action}`).catch((e: Error) => report(e.message));
+    if (mission) void send('POST', `/api/v1/missions/${mission.id}/${action}`).catch((e: Error) => report(e));
   });
 }
 
@@ -221,15 +236,21 @@ async function main(): Promise<void> {
   let tools: Tools | null = null;
   let building: BuildingLayers | null = null;
   let mission: Mission | null = null;
+  let zones: ZoneLayers | null = null;
   let mapRevision = -1;
-  // The active map again (after an edit, a change of map, or mapping).
+  let mapName = '';
+  // The active map again (after an edit, a change of map, or mapping). Another map brings its own zones, places and
+  // doors: what was drawn for the one before goes.
   const showActiveMap = () => {
     void send<MapInfo>('GET', '/api/v1/map').then((info) => {
       view?.setMap(info);
       byId('map-name').textContent = info.name;
       tools?.clearPaintPreview();
-      void building?.reload().catch((e: Error) => report(e.message));
-    }).catch((e: Error) => report(e.message));
+      const reloads = [building?.reload()];
+      if (info.name !== mapName) reloads.push(zones?.reload(), tools?.reloadPlaces());
+      mapName = info.name;
+      void Promise.all(reloads).catch((e: Error) => report(e));
+    }).catch((e: Error) => report(e));
   };
   const octomap = new OctomapView(byId<HTMLDetailsElement>('octomap-panel'), byId('octomap-view'));
   try {
@@ -237,7 +258,8 @@ async function main(): Promise<void> {
     byId('map-name').textContent = info.name;
     view = new MapView(byId('map'), info, kFootprintRadius);
     mapRevision = info.revision;
-    const zones = new ZoneLayers(view.map, report);
+    mapName = info.name;
+    zones = new ZoneLayers(view.map, report);
     tools = new Tools(view, zones, report);
     tools.attachPlaces();
     building = new BuildingLayers(view.map, report);

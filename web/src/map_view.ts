@@ -6,6 +6,8 @@ import L from 'leaflet';
 import type { Detection, FleetOrder, MapInfo, Mission, Pose, SimObstacle, SimPerson, TrackedObject } from './api';
 
 const kTrailLength = 600;
+// An empty (transparent) image for overlays with nothing to show.
+const kNoImage = 'data:image/gif;base64,R0lGODlhAQABAIAAAAAAAP///yH5BAEAAAAALAAAAAABAAEAAAIBRAA7';
 
 export const toLatLng = (x: number, y: number): L.LatLng => L.latLng(y, x);
 
@@ -36,7 +38,7 @@ export class MapView {
     this.map = L.map(element, { crs: L.CRS.Simple, minZoom: -3, maxZoom: 7, zoomSnap: 0.25, attributionControl: false });
     this.image = L.imageOverlay(info.image_url, this.bounds(info), { className: 'map-image' }).addTo(this.map);
     // Where people have been walking (the planner's traffic costs), over the map; hidden while there is none.
-    this.traffic = L.imageOverlay('/api/v1/map/traffic', this.bounds(info), { className: 'traffic-image', opacity: 0 })
+    this.traffic = L.imageOverlay(kNoImage, this.bounds(info), { className: 'traffic-image', opacity: 0 })
       .addTo(this.map);
     this.traffic.on('load', () => this.traffic.setOpacity(1));
     this.traffic.on('error', () => this.traffic.setOpacity(0));
@@ -69,8 +71,13 @@ export class MapView {
   }
 
   // Fetches the traffic overlay again, at most every two seconds (the tracker hands the planner new costs every
-  // second).
-  showTraffic(): void {
+  // second), while there is any (`present`, from the state); hides it when there is none.
+  showTraffic(present: boolean): void {
+    if (!present) {
+      if (this.trafficAt !== 0) this.traffic.setOpacity(0).setUrl(kNoImage);
+      this.trafficAt = 0;
+      return;
+    }
     const now = Date.now();
     if (now - this.trafficAt < 2000) return;
     this.trafficAt = now;

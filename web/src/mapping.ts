@@ -3,8 +3,9 @@
 // growing every few seconds; once saved it is the active map and the view returns to it (main.ts follows the
 // active map's revision).
 import { send, type MapInfo, type Mapping } from './api';
-import { byId } from './dom';
+import { byId, type Report } from './dom';
 import type { MapView } from './map_view';
+import { repeat } from './poll';
 
 const kPollMs = 1000;
 
@@ -12,11 +13,11 @@ export class MappingPanel {
   private shownRevision = -1;
   private wasActive = false;
 
-  constructor(private readonly view: MapView, private readonly report: (message: string) => void,
+  constructor(private readonly view: MapView, private readonly report: Report,
     private readonly showActiveMap: () => void) {
     const name = byId<HTMLInputElement>('mapping-name');
     const post = (path: string, body?: unknown) => {
-      send('POST', path, body).then(() => this.poll(false)).catch((e: Error) => this.report(e.message));
+      send('POST', path, body).then(() => this.poll()).catch((e: Error) => this.report(e));
     };
     byId('mapping-start').addEventListener('click', () => post('/api/v1/mapping/start', { name: name.value.trim() }));
     byId('mapping-explore').addEventListener('click', () => {
@@ -24,16 +25,11 @@ export class MappingPanel {
       post('/api/v1/mapping/explore', this.wasActive ? {} : { name: name.value.trim() });
     });
     byId('mapping-stop').addEventListener('click', () => post('/api/v1/mapping/stop'));
-    void this.poll(true);
+    repeat(() => this.poll(), kPollMs, (e) => { byId('mapping-status').textContent = `unavailable: ${e.message}`; });
   }
 
-  private async poll(again: boolean): Promise<void> {
-    try {
-      this.show(await send<Mapping>('GET', '/api/v1/mapping'));
-    } catch (e) {
-      byId('mapping-status').textContent = `unavailable: ${(e as Error).message}`;
-    }
-    if (again) window.setTimeout(() => void this.poll(true), kPollMs);
+  private async poll(): Promise<void> {
+    this.show(await send<Mapping>('GET', '/api/v1/mapping'));
   }
 
   private show(m: Mapping): void {

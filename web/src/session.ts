@@ -3,6 +3,7 @@
 // sets (HttpOnly, SameSite=Strict); the page reloads once it has one.
 import { send, type SetupStatus } from './api';
 import { byId } from './dom';
+import { stopRepeating } from './poll';
 
 export type Role = 'viewer' | 'operator' | 'admin';
 export interface Me { name: string; role: Role; kind: string; }
@@ -13,18 +14,17 @@ export function mayDo(me: Me, needed: Role): boolean {
   return kRank[me.role] >= kRank[needed];
 }
 
-// The logged-in user; null when nobody is.
+// The logged-in user; null when nobody is. Asked of the public setup status, which says who the caller is: a page
+// opened before logging in makes no request that fails.
 export async function whoAmI(): Promise<Me | null> {
-  const res = await fetch('/api/v1/session', { cache: 'no-store' });
-  return res.ok ? (await res.json()) as Me : null;
+  return (await send<SetupStatus>('GET', '/api/v1/setup')).session;
 }
 
 // Resolves with the logged-in user; otherwise shows the login (or setup) form and never resolves: the page reloads
 // after logging in.
 export async function requireSession(): Promise<Me> {
-  const me = await whoAmI();
-  if (me) return me;
   const setup = await send<SetupStatus>('GET', '/api/v1/setup');
+  if (setup.session) return setup.session;
   const dialog = byId<HTMLDialogElement>('login');
   const form = byId<HTMLFormElement>('login-form');
   const error = byId('login-error');
@@ -52,6 +52,7 @@ export function applyRole(me: Me): void {
   byId('user').textContent = `${me.name} (${me.role})`;
   byId('admin-link').hidden = !mayDo(me, 'admin');
   byId('logout').addEventListener('click', () => {
+    stopRepeating();  // nothing asks for what the session no longer allows
     void send('DELETE', '/api/v1/session').finally(() => location.reload());
   });
   document.body.dataset.role = me.role;

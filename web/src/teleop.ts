@@ -1,9 +1,11 @@
 // Teleoperation from the keyboard (arrows or WASD) and an on-screen joystick. While anything is held the current
 // command is sent ten times a second; on release one stop is sent. The daemon's deadman stops the robot if the
 // commands stop arriving for any other reason (a closed tab, a lost network).
-import nipplejs from 'nipplejs';
-
+//
+// The keys drive whenever the focus is not in a text field: they are taken on the window before anything else sees
+// them (the map, once clicked, would otherwise pan with the arrows and never let them through).
 import type { Twist } from './api';
+import { Joystick } from './joystick';
 
 const kSendPeriodMs = 100;
 
@@ -11,6 +13,7 @@ export interface TeleopLimits { maxLinear: number; maxAngular: number; }
 
 export class Teleop {
   private readonly keys = new Set<string>();
+  private readonly stick: Joystick;
   private joystick: Twist | null = null;
   private timer: number | null = null;
 
@@ -19,20 +22,17 @@ export class Teleop {
     joystickZone: HTMLElement,
     private readonly send: (command: Twist) => void,
   ) {
-    window.addEventListener('keydown', (e) => this.onKey(e, true));
-    window.addEventListener('keyup', (e) => this.onKey(e, false));
+    window.addEventListener('keydown', (e) => this.onKey(e, true), { capture: true });
+    window.addEventListener('keyup', (e) => this.onKey(e, false), { capture: true });
     window.addEventListener('blur', () => {
       this.keys.clear();
+      this.stick.release();
       this.update();
     });
-    const manager = nipplejs.create({ zone: joystickZone, mode: 'static', position: { left: '50%', top: '50%' },
-      size: 120, color: '#58a6ff' });
-    manager.on('move', (evt) => {
-      const v = evt.data.vector;
+    this.stick = new Joystick(joystickZone, 60, (v) => {
       this.joystick = { linear_mps: v.y * this.limits.maxLinear, angular_rps: -v.x * this.limits.maxAngular };
       this.update();
-    });
-    manager.on('end', () => {
+    }, () => {
       this.joystick = null;
       this.update();
     });
@@ -40,9 +40,11 @@ export class Teleop {
 
   private onKey(e: KeyboardEvent, down: boolean): void {
     const key = normalise(e.key);
-    if (key === null) return;
-    if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return;
+    if (key === null || isTextField(e.target)) return;
+    // A held key is let go even with a modifier pressed since; a new press with one is the browser's shortcut.
+    if (down && (e.ctrlKey || e.altKey || e.metaKey)) return;
     e.preventDefault();
+    e.stopPropagation();
     if (down) this.keys.add(key);
     else this.keys.delete(key);
     this.update();
@@ -74,6 +76,15 @@ export class Teleop {
       }, kSendPeriodMs);
     }
   }
+}
+
+// Where the keys type rather than drive: text inputs, text areas, selects (arrows pick an option) and editable text.
+function isTextField(target: EventTarget | null): boolean {
+  if (target instanceof HTMLTextAreaElement || target instanceof HTMLSelectElement) return true;
+  if (target instanceof HTMLInputElement) {
+    return !['button', 'checkbox', 'radio', 'submit', 'reset', 'color', 'file', 'image'].includes(target.type);
+  }
+  return target instanceof HTMLElement && target.isContentEditable;
 }
 
 function normalise(key: string): 'up' | 'down' | 'left' | 'right' | null {

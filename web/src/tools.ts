@@ -3,8 +3,8 @@
 // as RViz's 2D Pose Estimate). One tool is active at a time; Pan gives the mouse back to the map.
 import L from 'leaflet';
 
-import { send, type Building, type Goal, type Place, type PlanResult } from './api';
-import { byId, escapeHtml } from './dom';
+import { send, type PoseTaken, type Building, type Goal, type Place, type PlanResult } from './api';
+import { byId, escapeHtml, type Report } from './dom';
 import { toLatLng, type MapView } from './map_view';
 import type { ZoneLayers } from './zones';
 
@@ -24,7 +24,7 @@ export class Tools {
   private places: Place[] = [];
 
   constructor(private readonly view: MapView, private readonly zones: ZoneLayers,
-    private readonly report: (message: string) => void) {
+    private readonly report: Report) {
     const map = view.map;
     this.preview.addTo(map);
     for (const button of document.querySelectorAll<HTMLButtonElement>('#tools button[data-tool]')) {
@@ -42,7 +42,7 @@ export class Tools {
     byId('place-delete').addEventListener('click', () => void this.deletePlace());
     byId('dock').addEventListener('click', () => void this.dock());
     byId('undock').addEventListener('click', () => {
-      send('POST', '/api/v1/undock').then(() => this.report('undocking'), (e: Error) => this.report(e.message));
+      send('POST', '/api/v1/undock').then(() => this.report('undocking'), (e: Error) => this.report(e));
     });
   }
 
@@ -53,7 +53,7 @@ export class Tools {
       await send('POST', '/api/v1/dock', picked ? { dock: picked.name } : {});
       this.report(`docking at ${picked ? `'${picked.name}'` : 'the nearest dock'}`);
     } catch (e) {
-      this.report((e as Error).message);
+      this.report(e as Error);
     }
   }
 
@@ -163,7 +163,7 @@ export class Tools {
         this.report(`place '${name}' added`);
         await this.reloadPlaces();
       } catch (e) {
-        this.report((e as Error).message);
+        this.report(e as Error);
       }
     } else if (this.tool.startsWith('paint_') && press) {
       await this.flushPaint();
@@ -178,10 +178,12 @@ export class Tools {
     }
     const pose = { x: press.lng, y: press.lat, yaw: Math.atan2(at.lat - press.lat, at.lng - press.lng) };
     try {
-      await send('PUT', '/api/v1/localization/pose', pose);
-      this.report(`pose set: x ${pose.x.toFixed(2)} m, y ${pose.y.toFixed(2)} m`);
+      const taken = await send<PoseTaken>('PUT', '/api/v1/localization/pose', pose);
+      const where = `pose x ${pose.x.toFixed(2)} m, y ${pose.y.toFixed(2)} m`;
+      // Taken either way; when the scan contradicts it, say so as a warning: localization will likely move it back.
+      this.report(taken.agrees ? `${where} ${taken.detail}` : new Error(`${where} ${taken.detail}`));
     } catch (e) {
-      this.report((e as Error).message);
+      this.report(e as Error);
     }
   }
 
@@ -221,7 +223,7 @@ export class Tools {
       this.clear();
       this.report('mission started');
     } catch (e) {
-      this.report((e as Error).message);
+      this.report(e as Error);
     }
   }
 
@@ -235,7 +237,7 @@ export class Tools {
       this.report(`door '${id}' added`);
       window.dispatchEvent(new Event('corridor:doors-changed'));
     } catch (e) {
-      this.report((e as Error).message);
+      this.report(e as Error);
     }
   }
 
@@ -263,7 +265,7 @@ export class Tools {
       this.report(`lift '${id}' stops on floor ${floor}`);
       window.dispatchEvent(new Event('corridor:building-changed'));
     } catch (e) {
-      this.report((e as Error).message);
+      this.report(e as Error);
     }
   }
 
@@ -282,14 +284,14 @@ export class Tools {
       this.report(`dock '${name}' added`);
       await this.reloadPlaces();
     } catch (e) {
-      this.report((e as Error).message);
+      this.report(e as Error);
     }
   }
 
   private async deletePlace(): Promise<void> {
     const place = this.places.find((p) => p.name === byId<HTMLSelectElement>('places').value);
     if (!place) return;
-    await send('DELETE', `/api/v1/places/${place.id}`).catch((e: Error) => this.report(e.message));
+    await send('DELETE', `/api/v1/places/${place.id}`).catch((e: Error) => this.report(e));
     await this.reloadPlaces();
   }
 
@@ -319,7 +321,7 @@ export class Tools {
       await send('PUT', '/api/v1/map/cells', { rects });
       this.report('map edited');
     } catch (e) {
-      this.report((e as Error).message);
+      this.report(e as Error);
     }
     // The new map image replaces the preview when the state reports the new revision.
   }

@@ -3,6 +3,7 @@
 import '@geoman-io/leaflet-geoman-free';
 import L from 'leaflet';
 
+import type { Report } from './dom';
 import { send, type Zone } from './api';
 import { toLatLng } from './map_view';
 
@@ -11,7 +12,7 @@ type ZoneLayer = L.Polygon & { zone?: Zone };
 export class ZoneLayers {
   private readonly group = L.featureGroup();
 
-  constructor(private readonly map: L.Map, private readonly report: (message: string) => void) {
+  constructor(private readonly map: L.Map, private readonly report: Report) {
     this.group.addTo(map);
     // Only zones are editable: everything else on the map (robot, path) stays out of Geoman's reach.
     L.PM.setOptIn(true);
@@ -23,6 +24,16 @@ export class ZoneLayers {
     const { zones } = await send<{ zones: Zone[] }>('GET', '/api/v1/zones');
     this.group.clearLayers();
     for (const zone of zones) this.add(zone);
+    // Geoman's global modes take the layers there when they were turned on: zones shown since (one put back with
+    // Undo) join the mode in use.
+    if (this.map.pm.globalRemovalModeEnabled()) {
+      this.map.pm.disableGlobalRemovalMode();
+      this.map.pm.enableGlobalRemovalMode();
+    }
+    if (this.map.pm.globalEditModeEnabled()) {
+      this.map.pm.disableGlobalEditMode();
+      this.edit(true);
+    }
   }
 
   // Starts drawing a zone of `kind`; the polygon closes on a click of its first point.
@@ -81,7 +92,7 @@ export class ZoneLayers {
       await send<Zone>('POST', '/api/v1/zones', body);
       this.report(drawing.kind === 'keep_out' ? 'no-go zone added' : `slow zone added (${drawing.speed} m/s)`);
     } catch (e) {
-      this.report((e as Error).message);
+      this.report(e as Error);
     }
     await this.reload();
     if (this.drawing) this.draw(this.drawing.kind, this.drawing.speed);  // ready for the next one
@@ -93,19 +104,32 @@ export class ZoneLayers {
       await send<Zone>('PUT', `/api/v1/zones/${layer.zone.id}`, { ...layer.zone, polygon: this.polygonOf(layer) });
       this.report('zone moved');
     } catch (e) {
-      this.report((e as Error).message);
+      this.report(e as Error);
       await this.reload();
     }
   }
 
+  // One click deletes (the Delete zone tool is chosen on purpose); the message offers to put the zone back.
   private async removed(layer: ZoneLayer): Promise<void> {
-    if (!layer.zone) return;
+    const zone = layer.zone;
+    if (!zone) return;
     try {
-      await send<null>('DELETE', `/api/v1/zones/${layer.zone.id}`);
-      this.report('zone deleted');
+      await send<null>('DELETE', `/api/v1/zones/${zone.id}`);
+      this.report(`zone '${zone.name}' deleted`, { label: 'Undo', run: () => void this.restore(zone) });
     } catch (e) {
-      this.report((e as Error).message);
+      this.report(e as Error);
       await this.reload();
     }
+  }
+
+  private async restore(zone: Zone): Promise<void> {
+    const { id: _, ...body } = zone;
+    try {
+      await send<Zone>('POST', '/api/v1/zones', body);
+      this.report(`zone '${zone.name}' restored`);
+    } catch (e) {
+      this.report(e as Error);
+    }
+    await this.reload();
   }
 }

@@ -1,0 +1,267 @@
+// The console as people use it, at the three sizes it is used at: a desktop with a mouse (1280 x 800), a tablet with
+// touch (1024 x 768) and a phone with touch (390 x 844), in a real browser against a real corridord.
+// What is checked is what the console sends and shows: the teleop commands the keys and the joystick send (read off the
+// WebSocket), and that a session leaves no error in the browser's console.
+import assert from 'node:assert/strict';
+import { after, before, test } from 'node:test';
+
+import { getJson, gotoConsole, launchBrowser, sendJson, startDaemon } from './daemon.mjs';
+
+const kSizes = [
+  { name: 'desktop', viewport: { width: 1280, height: 800 }, touch: false },
+  { name: 'tablet', viewport: { width: 1024, height: 768 }, touch: true },
+  { name: 'phone', viewport: { width: 390, height: 844 }, touch: true },
+];
+
+let daemon;
+let browser;
+
+before(async () => {
+  daemon = await startDaemon();
+  browser = await launchBrowser();
+});
+
+after(async () => {
+  await browser?.close();
+  await daemon?.stop();
+});
+
+// A logged-in console at `size`; `sent` holds every teleop command the page has sent on the stream, in order.
+async function openAt(size) {
+  const context = await browser.newContext({ viewport: size.viewport, hasTouch: size.touch, isMobile: size.touch });
+  const page = await context.newPage();
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(`page error: ${e.message}`));
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(`console: ${m.text()}`); });
+  // A request the console makes that fails is an error too (Chromium logs most of them; this names them all).
+  page.on('response', (r) => { if (r.status() >= 400) errors.push(`${r.status()} ${r.request().method()} ${r.url()}`); });
+  const sent = [];
+  page.on('websocket', (ws) => ws.on('framesent', ({ payload }) => {
+    if (typeof payload !== 'string') return;
+    const message = JSON.parse(payload);
+    if (message.type === 'teleop') sent.push(message);
+  }));
+  await gotoConsole(page, daemon.url);
+  return { context, page, errors, sent };
+}
+
+// The first teleop command sent after `count` commands that satisfies `predicate`, waiting for it up to 3 s.
+async function nextCommand(sent, count, predicate, what) {
+  const end = Date.now() + 3000;
+  for (;;) {
+    const found = sent.slice(count).find(predicate);
+    if (found) return found;
+    if (Date.now() > end) {
+      throw new Error(`no teleop command ${what}; sent after: ${JSON.stringify(sent.slice(count).slice(-5))}`);
+    }
+    await new Promise((r) => setTimeout(r, 20));
+  }
+}
+
+const isStop = (c) => c.linear_mps === 0 && c.angular_rps === 0;
+
+// Presses the joystick's centre, drags (dx, dy) pixels, reads the command that drag sends, and releases: with the
+// mouse, or with a finger through the DevTools protocol (Playwright's touchscreen only taps).
+async function drag(page, touch, dx, dy) {
+  const box = await page.getByTestId('joystick').boundingBox();
+  const x = box.x + box.width / 2;
+  const y = box.y + box.height / 2;
+  if (!touch) {
+    await page.mouse.move(x, y);
+    await page.mouse.down();
+    await page.mouse.move(x + dx, y + dy, { steps: 4 });
+    return async () => page.mouse.up();
+  }
+  const cdp = await page.context().newCDPSession(page);
+  await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [{ x, y }] });
+  for (let i = 1; i <= 4; ++i) {
+    await cdp.send('Input.dispatchTouchEvent',
+      { type: 'touchMove', touchPoints: [{ x: x + (dx * i) / 4, y: y + (dy * i) / 4 }] });
+  }
+  return async () => {
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
+    await cdp.detach();
+  };
+}
+
+// Drags the joystick up, down, left and right by 80 px (past its 60 px ring) and checks each command: full speed the
+// way it points, nothing the other way; a stop on each release.
+async function dragFourWays(page, sent, touch, where) {
+  const ways = [
+    { name: 'up', dx: 0, dy: -80, want: (c) => c.linear_mps > 0.35 && Math.abs(c.angular_rps) < 0.05 },
+    { name: 'down', dx: 0, dy: 80, want: (c) => c.linear_mps < -0.35 && Math.abs(c.angular_rps) < 0.05 },
+    { name: 'left', dx: -80, dy: 0, want: (c) => c.angular_rps > 0.9 && Math.abs(c.linear_mps) < 0.02 },
+    { name: 'right', dx: 80, dy: 0, want: (c) => c.angular_rps < -0.9 && Math.abs(c.linear_mps) < 0.02 },
+  ];
+  for (const way of ways) {
+    const count = sent.length;
+    const release = await drag(page, touch, way.dx, way.dy);
+    // The last command of the drag is what the robot is told while the finger stays there.
+    await nextCommand(sent, count, (c) => !isStop(c), `while dragging ${way.name} (${where})`);
+    await new Promise((r) => setTimeout(r, 50));
+    const moving = sent.slice(count).filter((c) => !isStop(c));
+    const last = moving[moving.length - 1];
+    assert.ok(way.want(last), `dragging ${way.name} ${where} sent ${JSON.stringify(last)}`);
+    const before = sent.length;
+    await release();
+    await nextCommand(sent, before, isStop, `stop after releasing ${way.name} (${where})`);
+  }
+}
+
+// Scrolls the side panel (or the page) until the joystick is in view: it moves on the screen after it was made.
+async function scrollToJoystick(page) {
+  const joystick = page.getByTestId('joystick');
+  await joystick.scrollIntoViewIfNeeded();
+  const moved = await page.evaluate(() => {
+    const aside = document.querySelector('aside');
+    return (aside?.scrollTop ?? 0) + window.scrollY;
+  });
+  return moved;
+}
+
+for (const size of kSizes) {
+  test(`${size.name}: the keys and the joystick command what they point at, scrolled, resized and turned`, async () => {
+    const { context, page, errors, sent } = await openAt(size);
+    try {
+      // The map is the first thing anyone clicks; the arrow keys still drive after it (they do not pan the map).
+      await page.getByTestId('map').click({ position: { x: 20, y: 20 } });
+      let count = sent.length;
+      await page.keyboard.down('ArrowUp');
+      const up = await nextCommand(sent, count, (c) => !isStop(c), 'for the up arrow after clicking the map');
+      assert.deepEqual([up.linear_mps, up.angular_rps], [0.4, 0]);
+      count = sent.length;
+      await page.keyboard.up('ArrowUp');
+      await nextCommand(sent, count, isStop, 'stop on releasing the up arrow');
+      count = sent.length;
+      await page.keyboard.down('ArrowLeft');
+      const left = await nextCommand(sent, count, (c) => !isStop(c), 'for the left arrow');
+      assert.deepEqual([left.linear_mps, left.angular_rps], [0, 1]);
+      await page.keyboard.up('ArrowLeft');
+      // In a text field the keys type and do not drive.
+      await page.getByTestId('mapping-name').focus();
+      count = sent.length;
+      await page.keyboard.press('ArrowDown');
+      await page.keyboard.type('sd');
+      assert.equal(await page.getByTestId('mapping-name').inputValue(), 'sd');
+      assert.deepEqual(sent.slice(count).filter((c) => !isStop(c)), [], 'keys in a text field sent commands');
+      await page.getByTestId('mapping-name').fill('');
+
+      // The joystick is below the fold at every size: the panel scrolls to reach it after it was made.
+      assert.ok(await scrollToJoystick(page) > 0, 'the joystick was reached without scrolling');
+      await dragFourWays(page, sent, size.touch, 'after scrolling to it');
+      // A resize, or the phone or tablet turned: the joystick moves again.
+      await page.setViewportSize({ width: size.viewport.height, height: size.viewport.width });
+      await scrollToJoystick(page);
+      await dragFourWays(page, sent, size.touch, 'after turning the screen');
+      assert.deepEqual(errors, []);
+    } finally {
+      await context.close();
+    }
+  });
+}
+
+// The page coordinates of a map-frame point, with the map centred on it at `zoom` first (on a phone the map is small).
+async function showAt(page, x, y, zoom = 6) {
+  return page.evaluate(([px, py, z]) => {
+    const { map } = window.corridorConsole.view;
+    map.setView([py, px], z, { animate: false });
+    const p = map.latLngToContainerPoint([py, px]);
+    const box = map.getContainer().getBoundingClientRect();
+    return { x: box.left + p.x, y: box.top + p.y, scale: 2 ** z };
+  }, [x, y, zoom]);
+}
+
+async function tool(page, name) {
+  const button = page.getByRole('button', { name, exact: true });
+  await button.scrollIntoViewIfNeeded();
+  await button.click();
+}
+
+// Issue 36, done when: a normal session (log in, drive with keys and joystick, send a goal, draw a zone, dock, map and
+// stop mapping, log out) at each of the three sizes leaves no error in the browser's console and no failed request.
+for (const size of kSizes) {
+  test(`${size.name}: a whole session leaves no error in the browser's console`, async () => {
+    const { context, page, errors, sent } = await openAt(size);
+    const url = daemon.url;
+    const message = page.getByTestId('message');
+    try {
+      await page.waitForFunction(() => window.corridorConsole !== undefined);
+      await page.getByTestId('pose').filter({ hasText: 'x ' }).waitFor();
+      // Drive: a key, then the joystick.
+      await page.getByTestId('map').click({ position: { x: 10, y: 10 } });
+      await page.keyboard.down('ArrowLeft');
+      await nextCommand(sent, 0, (c) => c.angular_rps > 0, 'for the left arrow');
+      await page.keyboard.up('ArrowLeft');
+      await scrollToJoystick(page);
+      const count = sent.length;
+      const release = await drag(page, size.touch, 0, -40);
+      await nextCommand(sent, count, (c) => c.linear_mps > 0, 'for the joystick pushed up');
+      await release();
+      await page.getByTestId('mode').filter({ hasText: 'idle' }).waitFor({ timeout: 5000 });
+
+      // A goal: previewed, driven, cancelled.
+      await tool(page, 'Go to');
+      const goal = await showAt(page, 23.4, 24.3);
+      await page.mouse.click(goal.x, goal.y);
+      await page.getByTestId('plan-summary').filter({ hasText: /m, clearance/ }).waitFor({ timeout: 10000 });
+      await page.getByTestId('plan-go').click();
+      await page.getByTestId('mission-status').filter({ hasText: /^active/ }).waitFor({ timeout: 5000 });
+      await page.locator('#mission-cancel').click();
+      await page.getByTestId('mission-status').filter({ hasText: /^canceled/ }).waitFor({ timeout: 5000 });
+
+      // A no-go zone, deleted, put back with Undo, then deleted for good.
+      await tool(page, 'No-go zone');
+      const corners = [[25.2, 24.2], [25.6, 24.2], [25.6, 24.6], [25.2, 24.6], [25.2, 24.2]];
+      const centre = await showAt(page, 25.4, 24.4, 7);
+      for (const [x, y] of corners) {
+        await page.mouse.click(centre.x + (x - 25.4) * centre.scale, centre.y - (y - 24.4) * centre.scale);
+      }
+      await message.filter({ hasText: 'no-go zone added' }).waitFor({ timeout: 10000 });
+      await tool(page, 'Delete zone');
+      await page.mouse.click(centre.x, centre.y);
+      await message.filter({ hasText: /zone 'no-go' deleted/ }).waitFor({ timeout: 5000 });
+      await page.getByTestId('message-undo').click();
+      await message.filter({ hasText: /restored/ }).waitFor({ timeout: 5000 });
+      assert.equal((await getJson(`${url}/api/v1/zones`)).body.zones.length, 1);
+      await page.mouse.click(centre.x, centre.y);
+      await message.filter({ hasText: /zone 'no-go' deleted/ }).waitFor({ timeout: 5000 });
+      assert.equal((await getJson(`${url}/api/v1/zones`)).body.zones.length, 0);
+      await tool(page, 'Pan');
+
+      // Dock: the mission starts (issue 36: it was refused in this world), then cancelled.
+      await page.getByTestId('dock').scrollIntoViewIfNeeded();
+      await page.getByTestId('dock').click();
+      await page.getByTestId('mission-status').filter({ hasText: /^active/ }).waitFor({ timeout: 10000 });
+      await page.locator('#mission-cancel').click();
+      await page.getByTestId('mission-status').filter({ hasText: /^canceled/ }).waitFor({ timeout: 5000 });
+
+      // Map while turning on the spot, stop: the new map is in use and the building's map is still there.
+      const name = `session-${size.name}`;
+      await page.getByTestId('mapping-name').fill(name);
+      await page.getByTestId('mapping-start').click();
+      await page.getByTestId('mapping-status').filter({ hasText: new RegExp(`^mapping '${name}': [1-9]`) })
+        .waitFor({ timeout: 10000 });
+      await page.locator('body').click({ position: { x: 1, y: 1 } });
+      await page.keyboard.down('ArrowLeft');
+      await page.waitForTimeout(1000);  // turning: the keys are held as long as a person would
+      await page.keyboard.up('ArrowLeft');
+      await page.getByTestId('mapping-stop').click();
+      await page.getByTestId('mapping-status').filter({ hasText: `'${name}' saved and in use` })
+        .waitFor({ timeout: 15000 });
+      await page.locator('#map-name').filter({ hasText: name }).waitFor({ timeout: 5000 });
+      const maps = (await getJson(`${url}/api/v1/maps`)).body.maps.map((m) => m.name ?? m);
+      assert.ok(maps.includes('willow-full-0.05') && maps.includes(name), JSON.stringify(maps));
+      const back = await sendJson('PUT', `${url}/api/v1/map/active`, { name: 'willow-full-0.05' });
+      assert.ok(back.status < 300, JSON.stringify(back.body));
+      await page.locator('#map-name').filter({ hasText: 'willow-full-0.05' }).waitFor({ timeout: 5000 });
+
+      // Log out: the login form, and nothing on the page failed along the way.
+      await page.getByTestId('logout').scrollIntoViewIfNeeded();
+      await page.getByTestId('logout').click();
+      await page.getByTestId('login').waitFor({ state: 'visible', timeout: 10000 });
+      assert.deepEqual(errors, []);
+    } finally {
+      await context.close();
+    }
+  });
+}
