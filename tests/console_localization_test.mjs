@@ -70,7 +70,10 @@ test('the health, the particles and their ellipse; a pose set by press and drag;
   assert.ok(Math.hypot(sent.x - truth.x, sent.y - truth.y) < 0.05, JSON.stringify({ sent, truth }));
   assert.ok(Math.abs(sent.yaw) < 0.05, `yaw ${sent.yaw}`);
   assert.equal((await response).status(), 202);
-  await page.getByTestId('message').filter({ hasText: /^pose set/ }).waitFor();
+  // The reply says whether the scan fits the map there (it does: this is where the robot is), not in red.
+  const said = page.getByTestId('message').filter({ hasText: /^pose x [\d.]+ m, y [\d.]+ m taken: the scan fits/ });
+  await said.waitFor();
+  assert.ok(!(await said.evaluate((e) => e.classList.contains('error'))), 'a pose that fits is reported as an error');
   await page.getByTestId('localization-health').filter({ hasText: /^ok$/ }).waitFor({ timeout: 15000 });
   const l = (await getJson(`${daemon.url}/api/v1/localization`)).body;
   assert.ok(Math.hypot(l.pose.x - truth.x, l.pose.y - truth.y) < 0.1, JSON.stringify(l.pose));

@@ -94,9 +94,13 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
     maps_->Add(name, std::move(grid));
     planner_.SetZones(store_.Zones(name));
   };
+  // Where it was, when that was in the map it starts in: the first pose published (LocalizationNode::SetMap then
+  // starts the filter there).
+  std::optional<SavedPose> saved = LoadSavedPose(pose_file);
+  const nav::Pose2 start = saved && saved->place == map.name ? saved->pose : config_.sim.robot.start;
   auto localization_node = std::make_unique<LocalizationNode>(
-      executors_.mapping, bus_, config_.localization, config_.sim.robot.start, base_T_laser,
-      devices_.camera.info().camera, pose_file, LoadSavedPose(pose_file), map_built);
+      executors_.mapping, bus_, config_.localization, start, base_T_laser, devices_.camera.info().camera, pose_file,
+      std::move(saved), map_built);
   LocalizationNode* const localization = localization_node.get();
   localization_ = localization;
   // The 3D map, from the depth camera at the estimated poses; its layer goes to the planner.

@@ -42,6 +42,9 @@ LocalizationNode::LocalizationNode(Executor& executor, Bus& bus, const Localizat
     options_.mcl.max_range_m = options_.depth.max_range_m;
     options_.mcl.doubtful_after = options_.depth_doubtful_scans;
   }
+  // The initial pose is known before the first odometry arrives. Published here, before the executors run: from
+  // Activate it raced SetMap, which may change it on the executor.
+  bus.Get(topics::kPose).Publish(StampedPose{clock().Now(), map_T_odom_});
 }
 
 void LocalizationNode::Save(const nav::Pose2& pose, double sigma_m, double sigma_rad, bool always) {
@@ -101,11 +104,6 @@ void LocalizationNode::Cleanup() {
 }
 
 void LocalizationNode::Activate() {
-  // The configured initial pose (or the one restored by SetMap, which runs first on this executor) is known before
-  // the first odometry arrives. Published from the executor: SetMap may be changing it right now.
-  executor().Post([this] {
-    Run("map", [this] { bus().Get(topics::kPose).Publish(StampedPose{clock().Now(), map_T_odom_}); });
-  });
   auto& pose = bus().Get(topics::kPose);
   using Source = LocalizationOptions::Source;
   if (options_.source == Source::kSimTruth) {

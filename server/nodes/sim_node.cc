@@ -1,5 +1,7 @@
 #include "server/nodes/sim_node.h"
 
+#include <spdlog/spdlog.h>
+
 #include "server/runtime/topics.h"
 
 namespace corridor::server {
@@ -35,6 +37,15 @@ void SimNode::Activate() {
 void SimNode::Deactivate() {
   if (timer_) timer_->Stop();
   SetHealth(Health::kInactive, "");
+}
+
+void SimNode::Cleanup() {
+  if (pose_file_.empty()) return;
+  try {
+    SavePose(pose_file_, {world_, robot_.true_pose(), 0.0, 0.0});
+  } catch (const std::exception& e) {
+    spdlog::error("sim: the robot's pose at the stop was not saved: {}", e.what());
+  }
 }
 
 void SimNode::Step() {

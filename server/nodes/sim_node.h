@@ -23,6 +23,8 @@ class SimNode final : public Node {
           std::string world = {}, std::shared_ptr<const drivers::sim::Floors> floors = nullptr);
   void Activate() override;
   void Deactivate() override;
+  // Saves the robot's true pose, however little it moved since the last save (the executors have stopped).
+  void Cleanup() override;
   // Lockstep: one physics step, on the caller's thread, and the ground truth after it.
   void Step();
 

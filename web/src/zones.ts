@@ -126,10 +126,11 @@ export class ZoneLayers {
     const { id: _, ...body } = zone;
     try {
       await send<Zone>('POST', '/api/v1/zones', body);
+      await this.reload();  // on the map (and in the tool's mode) before it is said to be back
       this.report(`zone '${zone.name}' restored`);
     } catch (e) {
       this.report(e as Error);
+      await this.reload();
     }
-    await this.reload();
   }
 }
