@@ -7,6 +7,19 @@
 namespace corridor::nav {
 namespace {
 
+// Whether `ok(point, cell)` holds at every half-cell sample of the segment a-b (false where a sample is off the map).
+template <typename Ok>
+bool EverySample(const Costmap& costmap, const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Ok& ok) {
+  const double step = costmap.grid().resolution_m() / 2.0;
+  const int samples = static_cast<int>(std::ceil((b - a).norm() / step)) + 1;
+  for (int i = 0; i <= samples; ++i) {
+    const Eigen::Vector2d p = a + (b - a) * (static_cast<double>(i) / samples);
+    const auto c = costmap.grid().WorldToCell(p);
+    if (!c || !ok(p, costmap.Index(*c))) return false;
+  }
+  return true;
+}
+
 double DistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   const Eigen::Vector2d ab = b - a;
   const double len2 = ab.squaredNorm();
@@ -36,13 +49,7 @@ void Simplify(const Costmap& costmap, const std::vector<Eigen::Vector2d>& points
 }  // namespace
 
 bool SegmentTraversable(const Costmap& costmap, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  const double step = costmap.grid().resolution_m() / 2.0;
-  const int samples = static_cast<int>(std::ceil((b - a).norm() / step)) + 1;
-  for (int i = 0; i <= samples; ++i) {
-    const auto c = costmap.grid().WorldToCell(a + (b - a) * (static_cast<double>(i) / samples));
-    if (!c || !costmap.Traversable(costmap.Index(*c))) return false;
-  }
-  return true;
+  return EverySample(costmap, a, b, [&](const Eigen::Vector2d&, std::size_t cell) { return costmap.Traversable(cell); });
 }
 
 bool RestOfPathTraversable(const Costmap& costmap, const std::vector<Waypoint>& path, const Eigen::Vector2d& from,
@@ -53,21 +60,14 @@ bool RestOfPathTraversable(const Costmap& costmap, const std::vector<Waypoint>& 
   }
   // Near the robot the path may cross the inflated band (its way out of it: AStar); an obstacle there, or anything
   // but traversable cells farther on, and it no longer stands.
-  const double step = costmap.grid().resolution_m() / 2.0;
+  const auto stands = [&](const Eigen::Vector2d& p, std::size_t cell) {
+    if (costmap.Traversable(cell)) return true;
+    const double away = (p - from).norm();
+    const bool under_robot = away <= costmap.options().robot_radius_m && !costmap.InKeepOut(cell);
+    return (!costmap.IsObstacle(cell) || under_robot) && away <= band_reach_m;
+  };
   for (std::size_t i = std::max<std::size_t>(nearest, 1); i < path.size(); ++i) {
-    const Eigen::Vector2d a = path[i - 1].pose.translation();
-    const Eigen::Vector2d b = path[i].pose.translation();
-    const int samples = static_cast<int>(std::ceil((b - a).norm() / step)) + 1;
-    for (int k = 0; k <= samples; ++k) {
-      const Eigen::Vector2d p = a + (b - a) * (static_cast<double>(k) / samples);
-      const auto c = costmap.grid().WorldToCell(p);
-      if (!c) return false;
-      const std::size_t cell = costmap.Index(*c);
-      if (costmap.Traversable(cell)) continue;
-      const double away = (p - from).norm();
-      const bool under_robot = away <= costmap.options().robot_radius_m && !costmap.InKeepOut(cell);
-      if ((costmap.IsObstacle(cell) && !under_robot) || away > band_reach_m) return false;
-    }
+    if (!EverySample(costmap, path[i - 1].pose.translation(), path[i].pose.translation(), stands)) return false;
   }
   return true;
 }
