@@ -112,7 +112,9 @@ describe('roles, tokens and sessions', () => {
     assert.equal(me.status, 200);
     api.check('Principal', me.body);
     assert.deepEqual([me.body.name, me.body.role], ['admin1', 'admin']);
-    const place = { name: 'lobby', x: 1, y: 1, yaw: 0 };
+    // Where the robot stands is free floor on any map.
+    const { pose } = (await sendJson('GET', `${daemon.url}/api/v1/state`, undefined, undefined, { Cookie: cookie })).body;
+    const place = { name: 'lobby', x: pose.x, y: pose.y, yaw: 0 };
     const foreign = await sendJson('POST', `${daemon.url}/api/v1/places`, place, 'application/json',
       { Cookie: cookie, Origin: 'http://evil.example' });
     assert.equal(foreign.status, 403);
@@ -284,7 +286,7 @@ describe('first start: the setup code', () => {
       { code, username: 'root2', password: 'a-long-password' }, 'application/json', none);
     assert.equal(again.status, 409);
     const after = await sendJson('GET', `${daemon.url}/api/v1/setup`, undefined, undefined, none);
-    assert.deepEqual(after.body, { needed: false });
+    assert.deepEqual(after.body, { needed: false, session: null });
     // The last admin cannot be deleted.
     const last = await sendJson('DELETE', `${daemon.url}/api/v1/users/root`);
     assert.equal(last.status, 409);

@@ -310,23 +310,32 @@ const LocalizationEstimate& MonteCarloLocalization::Update(const Pose2& odom_pos
   const Pose2 since = last_update_odom_->Inverse() * odom_pose;
   const bool moved = since.translation().norm() >= options_.update_distance_m ||
                      std::abs(since.yaw_rad) >= options_.update_angle_rad;
-  const bool forced = forced_updates_ > 0;
-  if (!moved && !forced) {
+  // The first scan after SetPose is weighed whatever the motion; the rest of the settling ones only while the robot
+  // stands still, each after spreading the particles a little, so that weighing the same view again does not collapse
+  // them onto a few. Once the robot moves, the usual updates take over.
+  const bool first = forced_updates_ == std::max(1, options_.settle_updates);
+  const bool still = since.translation().norm() < 0.001 && std::abs(since.yaw_rad) < 0.002;
+  const bool settling = forced_updates_ > 0 && (first || still);
+  if (!moved && !settling) {
     // Standing still the filter does not change, but whether the scans still fit the map does (a kidnapped robot).
     estimate_.pose = update_pose_ * since;
     UpdateHealth(scan.hits);
     return estimate_;
   }
   Move(*last_update_odom_, odom_pose);
-  if (forced && !moved) {
-    std::normal_distribution<double> normal(0.0, 1.0);
-    for (Particle& p : particles_) {
-      p.pose = {p.pose.x_m + options_.settle_jitter_m * normal(random_),
-                p.pose.y_m + options_.settle_jitter_m * normal(random_),
-                WrapAngle(p.pose.yaw_rad + options_.settle_jitter_rad * normal(random_))};
+  if (moved) {
+    forced_updates_ = 0;
+  } else {
+    if (!first) {
+      std::normal_distribution<double> normal(0.0, 1.0);
+      for (Particle& p : particles_) {
+        p.pose = {p.pose.x_m + options_.settle_jitter_m * normal(random_),
+                  p.pose.y_m + options_.settle_jitter_m * normal(random_),
+                  WrapAngle(p.pose.yaw_rad + options_.settle_jitter_rad * normal(random_))};
+      }
     }
+    --forced_updates_;
   }
-  forced_updates_ = std::max(0, forced_updates_ - 1);
   last_update_odom_ = odom_pose;
   const std::vector<Eigen::Vector2f> beams = SpreadBeams(scan.hits, options_.max_beams);
   Weigh(beams);
