@@ -19,11 +19,11 @@ constexpr int kCancelPollMask = 4095;  // poll the cancel flag every 4096 expans
 // this much more than the optimum: a millimetre, against paths of metres.
 constexpr double kOpenQuantumM = 0.001;
 
-// A robot cut off from its goal by the inflated band crosses it (AStar) within kEscapeReachM of where it stands, keeping
-// this much from every obstacle cell (a map's unknown specks among them), each step through the band costing this many
-// times its length, so the way out is as short as it can be.
-constexpr double kEscapeClearanceM = 0.1;
+// A robot cut off from its goal by the inflated band crosses it (AStar) within kEscapeReachM of where it stands, each
+// step through the band costing kEscapeFactor times its length and each step over the map's unknown specks
+// kUnknownEscapeFactor times, so that the way out is short and over known floor where there is room.
 constexpr float kEscapeFactor = 4.0f;
+constexpr float kUnknownEscapeFactor = 8.0f;
 
 std::string Where(const Eigen::Vector2d& p) {
   std::ostringstream s;
@@ -49,9 +49,10 @@ const char* ToString(PlanError error) {
 
 namespace {
 
-// The search itself. With `escape`, the robot standing at `start` may also cross the inflated band anywhere within
-// kEscapeReachM of it (see AStar): where it keeps kEscapeClearanceM from every obstacle and the robot's radius from
-// every wall the map knows (unknown cells are obstacles to plans, not walls), at kEscapeFactor times the cost.
+// The search itself. With `escape`, the robot standing at `start` may also cross the inflated band and the map's
+// unknown specks anywhere within kEscapeReachM of it (see AStar), where its footprint keeps a cell from every wall the
+// map knows (unknown cells are obstacles to plans, not walls: the robot got onto its island over them), at
+// kEscapeFactor (kUnknownEscapeFactor) times the cost. Keep-out zones stay closed.
 SearchResult Search(const Costmap& costmap, const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
                     const std::atomic<bool>* cancel, std::span<const float> extra_cost, bool robot_at_start,
                     bool escape) {
@@ -110,12 +111,19 @@ SearchResult Search(const Costmap& costmap, const Eigen::Vector2d& start, const 
   };
   const double footprint_m = costmap.options().robot_radius_m;
   const auto near_start = [&](int nx, int ny) { return within(nx, ny, kEscapeRadiusM); };
+  // Through the band, the footprint keeps a cell from every wall the map knows (cells are squares, and paths keep a
+  // cell more), except under the footprint at the start.
+  const double wall_clearance_m = footprint_m + res;
+  const auto clear_of_walls = [&](int nx, int ny) {
+    return within(nx, ny, footprint_m) ||
+           !costmap.WallWithin(grid.CellCenter({nx, ny}), wall_clearance_m);
+  };
   const auto escape_through = [&](std::size_t i, int nx, int ny) {
-    return escape && !costmap.IsObstacle(i) && costmap.clearance_m(i) >= kEscapeClearanceM &&
-           within(nx, ny, kEscapeReachM) && !costmap.WallWithin(grid.CellCenter({nx, ny}), footprint_m);
+    return escape && !costmap.InKeepOut(i) && within(nx, ny, kEscapeReachM) && clear_of_walls(nx, ny);
   };
   const auto blocked = [&](std::size_t i, int nx, int ny) {
-    return costmap.IsObstacle(i) && (!robot_at_start || costmap.InKeepOut(i) || !within(nx, ny, footprint_m));
+    return costmap.IsObstacle(i) && (!robot_at_start || costmap.InKeepOut(i) || !within(nx, ny, footprint_m)) &&
+           !escape_through(i, nx, ny);
   };
   for (int top = open.Pop(); top >= 0; top = open.Pop()) {
     const std::size_t cur = static_cast<std::size_t>(top);
@@ -138,9 +146,10 @@ SearchResult Search(const Costmap& costmap, const Eigen::Vector2d& start, const 
       if (closed[next] || blocked(next, nx, ny)) continue;
       const bool traversable = costmap.Traversable(next);
       const bool through_band = !traversable && escape_through(next, nx, ny);
-      const bool ok = traversable || through_band ||
-                      (escaping && costmap.clearance_m(next) > costmap.clearance_m(cur)) ||
-                      (start_inside && near_start(nx, ny));
+      // Out of the band along rising clearance, or near a start inside it.
+      const bool leaving = (escaping && costmap.clearance_m(next) > costmap.clearance_m(cur)) ||
+                           (start_inside && near_start(nx, ny));
+      const bool ok = traversable || through_band || (leaving && clear_of_walls(nx, ny));
       if (!ok) continue;
       if (k >= 4) {
         // No cutting corners: both cells beside the diagonal must be passable too.
@@ -149,7 +158,8 @@ SearchResult Search(const Costmap& costmap, const Eigen::Vector2d& start, const 
         if (blocked(side_a, nx, y) || blocked(side_b, x, ny)) continue;
         if (!escaping && !escape && (!costmap.Traversable(side_a) || !costmap.Traversable(side_b))) continue;
       }
-      const float factor = (through_band ? kEscapeFactor : 1.0f) * costmap.step_factor(next) +
+      const float escape_factor = costmap.IsObstacle(next) ? kUnknownEscapeFactor : kEscapeFactor;
+      const float factor = (through_band ? escape_factor : 1.0f) * costmap.step_factor(next) +
                            (extra_cost.empty() ? 0.0f : extra_cost[next]);
       const float candidate = cost[cur] + step_length[k] * factor;
       if (candidate < cost[next]) {

@@ -48,9 +48,9 @@ struct SearchResult {
 // robot_at_start (the robot stands at `start`, as when a mission plans from its pose), obstacle and unknown cells
 // under its footprint (robot_radius_m) are passable too: the map is wrong there, or the pose a little off; and when
 // that finds no way (the robot on an island of free space among a map's unknown specks, cut off by their inflation, or
-// deep in the band), a second search may cross the band within 3 m of it, 0.1 m from every obstacle cell and the
-// robot's radius from every wall the map knows, at four times the cost (PlanPath caps the speed there). Otherwise a
-// start on an obstacle cell is refused, and a start in a keep-out zone always is.
+// deep in the band), a second search may cross the band and the unknown specks within 3 m of it, the robot's radius
+// and a cell from every wall the map knows, at four (unknown: eight) times the cost (PlanPath has the robot crawl
+// until it is across). Otherwise a start on an obstacle cell is refused, and a start in a keep-out zone always is.
 // `cancel`, when non-null, is polled; setting it makes the search return kCancelled. Thread-compatible: one search
 // per Costmap at a time is not required (the costmap is read-only). `extra_cost`, when not empty, holds one
 // non-negative value per cell (costmap.Index) added to the cell's step factor: costs that change faster than the

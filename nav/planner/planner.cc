@@ -153,18 +153,24 @@ PlanResult PlanPath(const Costmap& costmap, const Eigen::Vector2d& start, const 
   std::vector<std::size_t> keep = {0};
   Simplify(costmap, plan.dense, 0, plan.dense.size() - 1, options.simplify_tolerance_m, keep);
   keep.push_back(plan.dense.size() - 1);
+  // A path that crosses the inflated band (a way out of it, or off an island of free space ringed by it) crawls from
+  // its start until it is across: on an island too the way out is tight, and the follower cuts corners at speed.
+  std::size_t crawl_until = 0;
+  for (std::size_t i = 0; i < search.path.cells.size(); ++i) {
+    if (!costmap.Traversable(costmap.Index(search.path.cells[i]))) crawl_until = i + 1;
+  }
   std::size_t previous = 0;
   for (std::size_t k = 0; k < keep.size(); ++k) {
     const Eigen::Vector2d& p = plan.dense[keep[k]];
     Waypoint w;
     w.pose.x_m = p.x();
     w.pose.y_m = p.y();
-    // The speed limit on the way here: the lowest over the searched cells between the two waypoints; crossing the
-    // inflated band (a robot leaving it), kBandSpeedMps.
+    // The speed limit on the way here: the lowest over the searched cells between the two waypoints; until across
+    // the inflated band, kBandSpeedMps.
     for (std::size_t i = previous; i <= keep[k] && i < search.path.cells.size(); ++i) {
       const std::size_t cell = costmap.Index(search.path.cells[i]);
       w.speed_limit_mps = std::min<double>(w.speed_limit_mps, costmap.speed_limit_mps(cell));
-      if (!costmap.Traversable(cell)) w.speed_limit_mps = std::min(w.speed_limit_mps, kBandSpeedMps);
+      if (i < crawl_until) w.speed_limit_mps = std::min(w.speed_limit_mps, kBandSpeedMps);
     }
     previous = keep[k];
     plan.waypoints.push_back(w);

@@ -214,22 +214,60 @@ TEST(PlannerTest, StartTooCloseToAWallCanStillLeave) {
 
 TEST(PlannerTest, ARobotInATightSpotAmongAMapsSpecksCanPlanItsWayOut) {
   // Where a robot drove (avoiding what its camera saw) near the default world's start: inside the inflated band of
-  // the map's specks, at a spot from which clearance falls in every direction before it rises. Leaving along rising
-  // clearance alone found no way; crossing the band near the start (the robot got in, it can back out) does.
+  // the map's specks, at a spot from which clearance falls in every direction before it rises, and the goal beyond a
+  // line of specks and wall cells whose gaps (a cell wide, beside a wall cell) no robot fits through. Leaving along
+  // rising clearance alone finds no way; the robot standing there crosses the band and the unknown specks near it,
+  // clear of the walls.
   const OccupancyGrid& g = Map(kWillow);
   const Costmap c(g, {}, CostmapOptions{});
+  PathOptions stood;
+  stood.robot_at_start = true;
   for (const Eigen::Vector2d& start : {Eigen::Vector2d(24.25, 25.3), Eigen::Vector2d(23.85, 25.77)}) {
     ASSERT_FALSE(c.Traversable(c.Index(*g.WorldToCell(start))));
-    const PlanResult r = PlanPath(c, start, {24.4, 26.5});
+    EXPECT_EQ(PlanPath(c, start, {24.4, 26.5}).error, PlanError::kNoPath) << "through a gap beside a wall cell";
+    const PlanResult r = PlanPath(c, start, {24.4, 26.5}, std::nullopt, nullptr, stood);
     ASSERT_TRUE(r.ok()) << r.detail;
-    // Only the way out crosses the band (past kEscapeRadiusM along rising clearance); the rest keeps the robot's
-    // clearance.
+    // Only the way out crosses the band, near the start and clear of the walls.
     for (const Eigen::Vector2d& p : r.plan.dense) {
-      if ((p - start).norm() > 2.0 * kEscapeRadiusM) {
-        EXPECT_TRUE(c.Traversable(c.Index(*g.WorldToCell(p)))) << p.transpose() << " at " << (p - start).norm();
-      }
+      if (c.Traversable(c.Index(*g.WorldToCell(p))) || (p - start).norm() <= c.options().robot_radius_m) continue;
+      EXPECT_LE((p - start).norm(), kEscapeReachM) << p.transpose();
+      EXPECT_FALSE(c.WallWithin(p, c.options().robot_radius_m + g.resolution_m())) << p.transpose();
     }
   }
+}
+
+TEST(PlannerTest, ARobotOnAnIslandAmongAMapsSpecksCrossesThemClearOfTheWallsAtACrawl) {
+  // Where the robot stood after driving by hand in the default world (issue 36): free floor ringed by the inflation of
+  // unknown specks and a few wall cells, the gap between two of those walls 0.45 m across, for a robot 0.4 m wide.
+  const OccupancyGrid& g = Map(kWillow);
+  const Costmap c(g, {}, CostmapOptions{});
+  const Eigen::Vector2d start{24.0, 25.5};
+  PathOptions stood;
+  stood.robot_at_start = true;
+  const PlanResult r = PlanPath(c, start, {18.0, 26.0}, std::nullopt, nullptr, stood);
+  ASSERT_TRUE(r.ok()) << r.detail;
+  bool over_unknown = false;
+  std::size_t last_crawl = 0;
+  for (std::size_t i = 0; i < r.plan.dense.size(); ++i) {
+    const Eigen::Vector2d& p = r.plan.dense[i];
+    const std::size_t cell = c.Index(*g.WorldToCell(p));
+    // A cell more than the robot's radius from every wall the map knows, where it crosses the band and the specks.
+    if (!c.Traversable(cell)) {
+      EXPECT_FALSE(c.WallWithin(p, c.options().robot_radius_m + g.resolution_m())) << p.transpose();
+      over_unknown |= c.IsObstacle(cell);
+      last_crawl = i;
+    }
+  }
+  EXPECT_TRUE(over_unknown) << "the way out known to the map is a cell narrower than that";
+  // It crawls from where it stands until it is across, and not beyond.
+  const Eigen::Vector2d across = r.plan.dense[last_crawl];
+  for (const Waypoint& w : r.plan.waypoints) {
+    const double along = (w.pose.translation() - start).norm();
+    if (along < 0.3) {
+      EXPECT_LE(w.speed_limit_mps, kBandSpeedMps + 1e-9) << w.pose.x_m << ", " << w.pose.y_m;
+    }
+  }
+  EXPECT_GT(r.plan.waypoints.back().speed_limit_mps, kBandSpeedMps) << "crawling beyond " << across.transpose();
 }
 
 TEST(PlannerTest, WhatIsUnderTheRobotIsPassableWhenItPlansFromWhereItStands) {

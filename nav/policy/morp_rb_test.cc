@@ -146,7 +146,8 @@ TEST(LocalNavigatorTest, WhatTheMapShowsIsThePathsBusinessWhatItDoesNotIsMorpRbs
     return std::make_shared<const Costmap>(g, std::span<const Zone>{}, CostmapOptions{});
   };
   const LocalNavigatorOptions o;
-  // On the map (a speck the path passes, a wall it turns before): follow the path, slowed for it.
+  // On the map (a speck the path passes, a wall it turns before): follow the path. (The obstacle memory does not
+  // keep dead-ends on the map's walls: its rule for the map's cells keeps the robot off them.)
   LocalNavigator mapped(o);
   mapped.SetPath(StraightPath(), costmap_with({1.72, 0.12}));
   const LocalStep follow = mapped.Update(Pose2{1.0, 0.0, 0.0}, lanes, 1e9, 0.05);
@@ -154,7 +155,6 @@ TEST(LocalNavigatorTest, WhatTheMapShowsIsThePathsBusinessWhatItDoesNotIsMorpRbs
   EXPECT_EQ(follow.mode, MorpRbMode::kFollow);
   EXPECT_NEAR(follow.nearest_m, 0.7, 1e-9);
   EXPECT_GT(follow.twist.linear_mps, 0.0);
-  EXPECT_LT(follow.twist.linear_mps, o.follower.max_linear_mps);
   // Not on it (the map's speck is elsewhere, or no map): change lane.
   for (const auto& map : {costmap_with({3.0, -1.0}), std::shared_ptr<const Costmap>()}) {
     LocalNavigator unmapped(o);

@@ -35,7 +35,9 @@ void ObstacleMemory::Update(const Pose2& robot, const std::vector<LaneResult>& l
   for (const LaneResult& lane : lanes) {
     if (!lane.dead_end || lane.blind) continue;
     const Eigen::Vector2d world = robot.Transform(Eigen::Vector2d(lane.point.x(), lane.point.y()));
-    if ((world - robot.translation()).norm() <= o.keep_radius_m) Remember(world);
+    // The map's own obstacles are known without it (as in See).
+    if ((world - robot.translation()).norm() > o.keep_radius_m || OnMapWall(world)) continue;
+    Remember(world);
   }
 }
 
@@ -72,7 +74,7 @@ void ObstacleMemory::See(const Pose2& robot, const std::vector<Eigen::Vector2d>&
     last = &p;
     const Eigen::Vector2d world = robot.Transform(p);
     if ((world - robot.translation()).norm() > o.keep_radius_m) continue;
-    if (MapClearance(world) < o.scan_map_tolerance_m) continue;
+    if (OnMapWall(world)) continue;
     Remember(world, true);
   }
 }
@@ -93,6 +95,10 @@ void ObstacleMemory::Touched(const Pose2& robot, bool backing) {
   for (const double bearing : {-0.8, -0.4, 0.0, 0.4, 0.8}) {
     Remember(robot.Transform(Eigen::Vector2d(r * std::cos(bearing), r * std::sin(bearing))));
   }
+}
+
+bool ObstacleMemory::OnMapWall(const Eigen::Vector2d& at) const {
+  return map_ && map_->WallWithin(at, options_.scan_map_tolerance_m);
 }
 
 double ObstacleMemory::MapClearance(const Eigen::Vector2d& at) const {
@@ -119,6 +125,8 @@ ObstacleMemory::Blocker ObstacleMemory::BlockedBy(const Pose2& robot, const Twis
   const bool in_band = map_now < map_clearance ||
                        (band_from_ && (robot.translation() - *band_from_).norm() <= kEscapeReachM);
   const double clearance = o.robot_radius_m + (approach || in_band ? o.approach_margin_m : o.margin_m);
+  // The footprint touches a wall cell (a square) up to half its diagonal nearer than the cell's centre.
+  const double wall_contact_m = map_ ? o.robot_radius_m + 0.75 * map_->grid().resolution_m() : 0.0;
   double now = std::numeric_limits<double>::infinity();
   for (const Point& p : points_) now = std::min(now, (p.world - robot.translation()).norm());
   Blocker blocker = Blocker::kNone;
@@ -129,8 +137,7 @@ ObstacleMemory::Blocker ObstacleMemory::BlockedBy(const Pose2& robot, const Twis
     const double to_map = MapClearance(at);
     if (!in_band) {
       if (to_map < map_clearance && to_map < map_now - kMapQuantumM) blocker = Blocker::kMap;
-    } else if ((to_map < o.band_clearance_m && to_map < map_now - kMapQuantumM) ||
-               (map_->WallWithin(at, o.robot_radius_m) && !map_->WallWithin(robot.translation(), o.robot_radius_m))) {
+    } else if (map_->WallWithin(at, wall_contact_m) && !map_->WallWithin(robot.translation(), wall_contact_m)) {
       blocker = Blocker::kMap;
     }
     for (const Point& p : points_) {

@@ -9,9 +9,10 @@
 //
 // The map's own obstacles are known without being seen: with a costmap set, a sweep that closes in on them (its
 // clearance field, nearer than robot_radius_m + map_margin_m) is refused the same way, so that a turn does not
-// swing the robot into a mapped speck or into unknown space beside it; a robot already that near (leaving the band a
-// plan crosses) is held only to band_clearance_m and off the walls the map knows. What the bumper touched is remembered like a
-// dead-end (Touched).
+// swing the robot into a mapped speck or into unknown space beside it; a robot already that near (leaving the band, or
+// an island among unknown specks, the way a plan gives) is held only off the walls the map knows: unknown specks are
+// not walls, and what the camera sees there is remembered. What the bumper touched is remembered like a dead-end
+// (Touched).
 //
 // The lanes look straight ahead, so of an obstacle the robot passes they sample only the face toward it: the side it
 // passes beside was never in a lane (a 0.5 m cylinder passed on the left showed two points 0.6 m apart, and a lane
@@ -49,11 +50,10 @@ struct ObstacleMemoryOptions {
   // Kept from the map's obstacles: their cells are exact (no unsampled surface between lanes), and paths keep
   // robot_radius_m plus a cell from them.
   double map_margin_m = 0.03;
-  // Inside that already (crossing the inflated band on the way out a plan gave: nav/planner/astar.h), only closing in
-  // nearer than this to the map's obstacle cells is refused, and the footprint coming over a wall the map knows: its
-  // unknown specks are not walls, and a robot on an island of free space among them must cross to the rest. What the
-  // camera saw is then kept at approach_margin_m (the planner has the robot crawl there).
-  double band_clearance_m = 0.1;
+  // Inside that already (crossing the inflated band on the way out a plan gave: nav/planner/astar.h), only the
+  // footprint coming over a wall the map knows is refused: its unknown specks are not walls, and a robot on an island
+  // of free space among them must cross to the rest. What the camera saw is then kept at approach_margin_m (the
+  // planner has the robot crawl there).
   // Kept from remembered points on a goal's final approach, at a crawl: the goal itself may lie within margin_m of
   // what the camera saw around it (the planner let it be that close to the map's obstacles).
   double approach_margin_m = 0.05;
@@ -64,7 +64,8 @@ struct ObstacleMemoryOptions {
   // farther than it by more than scan_clear_m: seen past.
   double scan_bearing_rad = 0.0175;
   double scan_clear_m = 0.1;
-  // Scan points this near the map's obstacles are the map's (walls): not remembered.
+  // Scan points and dead-ends this near a wall the map knows are the map's: not remembered (what is seen over its
+  // unknown space is).
   double scan_map_tolerance_m = 0.1;
 };
 
@@ -128,6 +129,8 @@ class ObstacleMemory {
   };
   // The map's clearance at `at` (+infinity without a map or outside it).
   double MapClearance(const Eigen::Vector2d& at) const;
+  // Whether `at` lies within scan_map_tolerance_m of a wall the map knows (false without a map).
+  bool OnMapWall(const Eigen::Vector2d& at) const;
   void Remember(const Eigen::Vector2d& world, bool scanned = false);
 
   ObstacleMemoryOptions options_;
