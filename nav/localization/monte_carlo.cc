@@ -290,7 +290,8 @@ void MonteCarloLocalization::UpdateHealth(std::span<const Eigen::Vector2f> hits)
   const bool dropped = options_.lost_drop_ratio > 0.0 && usual_agreement_ >= 0.0 &&
                        estimate_.agreement < options_.lost_drop_ratio * usual_agreement_;
   dropped_updates_ = dropped ? dropped_updates_ + 1 : 0;
-  const bool stays_lost = estimate_.health == LocalizationHealth::kLost && good_updates_ < options_.lost_after;
+  const bool stays_lost = estimate_.health == LocalizationHealth::kLost &&
+                          (options_.lost_until_found || good_updates_ < options_.lost_after);
   const bool doubtful = options_.doubtful_after > 0 && doubtful_updates_ >= options_.doubtful_after;
   if (bad_updates_ >= options_.lost_after || dropped_updates_ >= options_.lost_after || doubtful || stays_lost) {
     estimate_.health = LocalizationHealth::kLost;

@@ -143,6 +143,36 @@ TEST(MonteCarloLocalizationTest, ScansThatDoNotFitTheMapMakeItLost) {
   EXPECT_EQ(mcl.estimate().health, LocalizationHealth::kOk);
 }
 
+TEST(MonteCarloLocalizationTest, LostUntilFoundHoldsLostThoughTheScansAgreeAgainUntilASearchFindsTheRobot) {
+  for (const bool until_found : {false, true}) {
+    MonteCarloOptions options;
+    options.lost_until_found = until_found;
+    MonteCarloLocalization mcl(RoomMap(), options, 8);
+    mcl.SetPose(Pose2{0.0, 0.0, 0.0}, 0.05, 0.02);
+    const std::vector<Wall> corridor = {{{-20, -1}, {20, -1}}, {{-20, 1}, {20, 1}}};
+    Pose2 odom;
+    for (int i = 0; i < 20; ++i) {
+      odom = odom * Pose2{0.1, 0.0, 0.0};
+      mcl.Update(odom, ScanAt(corridor, Pose2{0.1 * i, 0.0, 0.0}));
+    }
+    ASSERT_EQ(mcl.estimate().health, LocalizationHealth::kLost);
+    // The scans fit the map at the estimate again (as a narrow view may at a wrong heading, by chance).
+    for (int i = 0; i < 3 * options.lost_after; ++i) {
+      odom = odom * Pose2{0.0, 0.0, 0.06};
+      mcl.Update(odom, ScanAt(Room(), mcl.estimate().pose * Pose2{0.0, 0.0, 0.06}));
+    }
+    EXPECT_EQ(mcl.estimate().health, until_found ? LocalizationHealth::kLost : LocalizationHealth::kOk) << until_found;
+    // A search that finds it ends being lost.
+    const Pose2 truth{2.5, 1.0, 0.7};
+    ASSERT_TRUE(mcl.Relocalize(ScanAt(Room(), truth)));
+    for (int i = 1; i <= 2; ++i) {
+      odom = odom * Pose2{0.1, 0.0, 0.0};
+      mcl.Update(odom, ScanAt(Room(), truth * Pose2{0.1 * i, 0.0, 0.0}));
+    }
+    EXPECT_EQ(mcl.estimate().health, LocalizationHealth::kOk) << until_found;
+  }
+}
+
 TEST(MonteCarloLocalizationTest, ScansThatOnlyHalfFitMakeItLostWhenAskedTo) {
   // A third of each scan on the map's walls, the rest half a metre beyond them: not lost by lost_agreement (0.2),
   // never ok either. doubtful_after makes that lost too.

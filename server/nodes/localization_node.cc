@@ -41,6 +41,8 @@ LocalizationNode::LocalizationNode(Executor& executor, Bus& bus, const Localizat
     // The likelihood field's random-measurement floor spreads over what the sensor can see.
     options_.mcl.max_range_m = options_.depth.max_range_m;
     options_.mcl.doubtful_after = options_.depth_doubtful_scans;
+    // Its narrow view is found again by the search after a look around, not by agreeing with some wall.
+    options_.mcl.lost_until_found = true;
   }
   // The initial pose is known before the first odometry arrives. Published here, before the executors run: from
   // Activate it raced SetMap, which may change it on the executor.
