@@ -5,6 +5,14 @@
 #include <limits>
 
 namespace corridor::face {
+namespace {
+
+// Points this near the floor are the floor around the object's feet, not the object: counted, they put its nearest
+// surface on the floor in front of it (0.3 m nearer than the person, in the simulator). A depth camera's floor is
+// within a few centimetres of 0 out to several metres.
+constexpr double kFloorM = 0.06;
+
+}  // namespace
 
 std::vector<Detection> DepthPeople(const cv::Mat& depth_mm, const nav::PinholeCamera& camera,
                                    const std::vector<DepthCandidate>& candidates, const DepthPeopleOptions& options) {
@@ -30,6 +38,7 @@ std::vector<Detection> DepthPeople(const cv::Mat& depth_mm, const nav::PinholeCa
     for (int u = 0; u < depth_mm.cols; u += 2) {
       if (row[u] == 0) continue;
       const Eigen::Vector3d p = camera.base_T_camera * (camera.Ray(u, v) * (row[u] * 0.001));
+      if (p.z() < kFloorM) continue;
       for (std::size_t i = 0; i < candidates.size(); ++i) {
         const DepthCandidate& c = candidates[i];
         const Eigen::Vector2d d = p.head<2>() - c.position;
