@@ -1,0 +1,179 @@
+#include "drivers/rplidar/rplidar_protocol.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+namespace corridor::drivers::rplidar {
+namespace {
+
+// Nodes in a row that must pass their check bits, each turning on clockwise by less than kMaxStepDeg, before nodes are
+// taken at an alignment (a misaligned one passes the check bits one time in four). Devices measure every degree or
+// finer.
+constexpr std::size_t kAlignNodes = 3;
+constexpr double kMaxStepDeg = 10.0;
+
+std::uint16_t Little16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] | (p[1] << 8)); }
+
+}  // namespace
+
+std::vector<std::uint8_t> EncodeRequest(Command command, std::span<const std::uint8_t> payload) {
+  std::vector<std::uint8_t> out = {kStartFlag1, static_cast<std::uint8_t>(command)};
+  if (payload.empty()) return out;
+  if (payload.size() > 255) throw std::invalid_argument("rplidar: a request's payload is at most 255 bytes");
+  out.push_back(static_cast<std::uint8_t>(payload.size()));
+  out.insert(out.end(), payload.begin(), payload.end());
+  std::uint8_t checksum = 0;
+  for (const std::uint8_t b : out) checksum ^= b;
+  out.push_back(checksum);
+  return out;
+}
+
+std::array<std::uint8_t, kDescriptorBytes> EncodeDescriptor(const Descriptor& descriptor) {
+  const std::uint32_t word = (descriptor.length & 0x3FFFFFFFu) | (descriptor.repeated ? 1u << 30 : 0u);
+  return {kStartFlag1,
+          kStartFlag2,
+          static_cast<std::uint8_t>(word),
+          static_cast<std::uint8_t>(word >> 8),
+          static_cast<std::uint8_t>(word >> 16),
+          static_cast<std::uint8_t>(word >> 24),
+          descriptor.type};
+}
+
+std::optional<Descriptor> DecodeDescriptor(std::span<const std::uint8_t, kDescriptorBytes> bytes) {
+  if (bytes[0] != kStartFlag1 || bytes[1] != kStartFlag2) return std::nullopt;
+  const std::uint32_t word = static_cast<std::uint32_t>(bytes[2]) | static_cast<std::uint32_t>(bytes[3]) << 8 |
+                             static_cast<std::uint32_t>(bytes[4]) << 16 | static_cast<std::uint32_t>(bytes[5]) << 24;
+  return Descriptor{word & 0x3FFFFFFFu, (word >> 30) == 1u, bytes[6]};
+}
+
+DeviceInfo DecodeInfo(std::span<const std::uint8_t, kInfoBytes> bytes) {
+  DeviceInfo info;
+  info.model = bytes[0];
+  info.firmware_minor = bytes[1];
+  info.firmware_major = bytes[2];
+  info.hardware = bytes[3];
+  static constexpr char kHex[] = "0123456789ABCDEF";
+  for (std::size_t i = 4; i < kInfoBytes; ++i) {
+    info.serial += kHex[bytes[i] >> 4];
+    info.serial += kHex[bytes[i] & 0x0F];
+  }
+  return info;
+}
+
+DeviceHealth DecodeHealth(std::span<const std::uint8_t, kHealthBytes> bytes) {
+  return DeviceHealth{bytes[0], Little16(&bytes[1])};
+}
+
+std::array<std::uint8_t, kNodeBytes> EncodeNode(const Node& node) {
+  const int quality = std::clamp(node.quality, 0, 63);
+  const double wrapped = std::fmod(std::fmod(node.angle_deg, 360.0) + 360.0, 360.0);
+  const auto angle_q6 = static_cast<std::uint16_t>(std::lround(wrapped * 64.0) & 0x7FFF);
+  const auto distance_q2 =
+      static_cast<std::uint16_t>(std::clamp<long>(std::lround(node.distance_m * 4000.0), 0, 0xFFFF));
+  return {static_cast<std::uint8_t>(quality << 2 | (node.start ? 0x01 : 0x02)),
+          static_cast<std::uint8_t>((angle_q6 & 0x7F) << 1 | 0x01),
+          static_cast<std::uint8_t>(angle_q6 >> 7),
+          static_cast<std::uint8_t>(distance_q2),
+          static_cast<std::uint8_t>(distance_q2 >> 8)};
+}
+
+std::optional<Node> DecodeNode(std::span<const std::uint8_t, kNodeBytes> bytes) {
+  const bool start = (bytes[0] & 0x01) != 0;
+  const bool not_start = (bytes[0] & 0x02) != 0;
+  if (start == not_start || (bytes[1] & 0x01) == 0) return std::nullopt;
+  Node node;
+  node.start = start;
+  node.quality = bytes[0] >> 2;
+  node.angle_deg = static_cast<double>((bytes[1] >> 1) | (bytes[2] << 7)) / 64.0;
+  node.distance_m = static_cast<double>(Little16(&bytes[3])) / 4000.0;
+  return node;
+}
+
+void NodeStream::Push(std::span<const std::uint8_t> bytes, std::vector<Node>& out) {
+  pending_.insert(pending_.end(), bytes.begin(), bytes.end());
+  const auto node_at = [&](std::size_t at) {
+    return DecodeNode(std::span<const std::uint8_t, kNodeBytes>(pending_.data() + at, kNodeBytes));
+  };
+  // Whether `node` may follow a node at `before` (degrees) in a revolution.
+  const auto follows = [](const std::optional<Node>& node, std::optional<double> before) {
+    return node && node->angle_deg < 360.0 &&
+           (!before || std::fmod(node->angle_deg - *before + 360.0, 360.0) < kMaxStepDeg);
+  };
+  std::size_t at = 0;
+  while (pending_.size() - at >= kNodeBytes) {
+    if (!in_sync_) {
+      if (pending_.size() - at < kAlignNodes * kNodeBytes) break;  // too few bytes yet to judge this alignment
+      std::optional<double> last;
+      std::size_t run = 0;
+      for (; run < kAlignNodes; ++run) {
+        const std::optional<Node> node = node_at(at + run * kNodeBytes);
+        if (!follows(node, last)) break;
+        last = node->angle_deg;
+      }
+      if (run < kAlignNodes) {
+        ++at;
+        ++skipped_;
+        continue;
+      }
+      in_sync_ = true;
+      last_angle_deg_.reset();
+    }
+    const std::optional<Node> node = node_at(at);
+    if (!follows(node, last_angle_deg_)) {
+      in_sync_ = false;
+      ++at;
+      ++skipped_;
+      continue;
+    }
+    out.push_back(*node);
+    last_angle_deg_ = node->angle_deg;
+    at += kNodeBytes;
+  }
+  pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(at));
+}
+
+SweepAssembler::SweepAssembler(const SweepOptions& options) : options_(options) {
+  if (options.bins < 4 || !(options.range_min_m >= 0.0) || !(options.range_max_m > options.range_min_m)) {
+    throw std::invalid_argument("rplidar: need bins >= 4 and 0 <= range_min_m < range_max_m");
+  }
+  ranges_.assign(static_cast<std::size_t>(options.bins), std::numeric_limits<float>::infinity());
+}
+
+std::optional<LaserScan> SweepAssembler::Add(const Node& node, TimeNs stamp_ns) {
+  std::optional<LaserScan> scan;
+  if (node.start) {
+    if (started_ && nodes_ >= options_.min_nodes) scan = Finish(stamp_ns);
+    std::fill(ranges_.begin(), ranges_.end(), std::numeric_limits<float>::infinity());
+    nodes_ = 0;
+    started_ = true;
+  }
+  if (!started_) return scan;  // the rest of a revolution begun before the first start flag
+  ++nodes_;
+  if (node.quality < options_.min_quality || node.distance_m < options_.range_min_m ||
+      node.distance_m > options_.range_max_m) {
+    return scan;
+  }
+  // Clockwise from forward in the device; counter-clockwise from -pi in the scan.
+  const double angle = -node.angle_deg * std::numbers::pi / 180.0;
+  const double increment = 2.0 * std::numbers::pi / options_.bins;
+  const long index = std::lround((angle + std::numbers::pi) / increment);
+  const auto bin = static_cast<std::size_t>(((index % options_.bins) + options_.bins) % options_.bins);
+  ranges_[bin] = std::min(ranges_[bin], static_cast<float>(node.distance_m));
+  return scan;
+}
+
+LaserScan SweepAssembler::Finish(TimeNs stamp_ns) {
+  LaserScan scan;
+  scan.stamp_ns = stamp_ns;
+  scan.angle_min_rad = -std::numbers::pi;
+  scan.angle_increment_rad = 2.0 * std::numbers::pi / options_.bins;
+  scan.range_min_m = options_.range_min_m;
+  scan.range_max_m = options_.range_max_m;
+  scan.ranges = ranges_;
+  return scan;
+}
+
+}  // namespace corridor::drivers::rplidar

@@ -1,0 +1,133 @@
+// The Slamtec RPLIDAR serial protocol, from Slamtec's public "RPLIDAR Interface Protocol and Application Notes":
+// requests, response descriptors, the device's information and health, and the standard scan's 5-byte measurement
+// nodes, assembled into sweeps. Bytes in and out only: the driver does the I/O, and the emulator in the tests speaks
+// the device's side from the same document (written apart from this code, so that a misreading shows as a mismatch).
+//
+// Scans from the device are clockwise seen from above (angle 0 forward); a LaserScan is counter-clockwise (REP-103):
+// SweepAssembler turns one into the other.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "drivers/laser2d.h"
+
+namespace corridor::drivers::rplidar {
+
+inline constexpr std::uint8_t kStartFlag1 = 0xA5;
+inline constexpr std::uint8_t kStartFlag2 = 0x5A;
+
+enum class Command : std::uint8_t {
+  kStop = 0x25,
+  kReset = 0x40,
+  kScan = 0x20,
+  kForceScan = 0x21,
+  kGetInfo = 0x50,
+  kGetHealth = 0x52,
+  kGetSampleRate = 0x59,
+  kSetMotorPwm = 0xF0,  // A2/A3: the motor's duty (0-1023) as a 16-bit little-endian payload; the A1 uses DTR
+};
+
+// A request: A5 and the command; with a payload, its size, the payload, and the XOR of every byte before it.
+std::vector<std::uint8_t> EncodeRequest(Command command, std::span<const std::uint8_t> payload = {});
+
+// The response descriptor that answers a request: A5 5A, a 30-bit length and 2-bit send mode (little endian), and the
+// data type.
+enum class DataType : std::uint8_t { kInfo = 0x04, kHealth = 0x06, kSampleRate = 0x15, kScan = 0x81 };
+struct Descriptor {
+  std::uint32_t length = 0;  // bytes in one response
+  bool repeated = false;     // send mode 1: responses follow one another until the device is stopped
+  std::uint8_t type = 0;     // DataType
+};
+inline constexpr std::size_t kDescriptorBytes = 7;
+std::array<std::uint8_t, kDescriptorBytes> EncodeDescriptor(const Descriptor& descriptor);
+// Nothing unless the bytes begin with A5 5A.
+std::optional<Descriptor> DecodeDescriptor(std::span<const std::uint8_t, kDescriptorBytes> bytes);
+
+// GET_INFO's 20 bytes.
+struct DeviceInfo {
+  int model = 0;
+  int firmware_major = 0;
+  int firmware_minor = 0;
+  int hardware = 0;
+  std::string serial;  // 16 bytes as 32 upper-case hex digits
+};
+inline constexpr std::size_t kInfoBytes = 20;
+DeviceInfo DecodeInfo(std::span<const std::uint8_t, kInfoBytes> bytes);
+
+// GET_HEALTH's 3 bytes: 0 good, 1 warning, 2 error (the device needs a reset), and the device's error code.
+struct DeviceHealth {
+  int status = 0;
+  int error_code = 0;
+};
+inline constexpr std::size_t kHealthBytes = 3;
+DeviceHealth DecodeHealth(std::span<const std::uint8_t, kHealthBytes> bytes);
+
+// One measurement of the standard scan: byte 0 the quality (6 bits) over the start flag and its inverse, bytes 1-2
+// the angle in 1/64 degree over a check bit that is always 1, bytes 3-4 the distance in 1/4 mm (0: no measurement).
+struct Node {
+  bool start = false;       // the first measurement of a new revolution
+  int quality = 0;          // 0..63
+  double angle_deg = 0.0;   // clockwise from the device's forward
+  double distance_m = 0.0;  // 0: none
+};
+inline constexpr std::size_t kNodeBytes = 5;
+std::array<std::uint8_t, kNodeBytes> EncodeNode(const Node& node);
+// Nothing when the check bits are wrong (the start flag and its inverse equal, or the check bit 0).
+std::optional<Node> DecodeNode(std::span<const std::uint8_t, kNodeBytes> bytes);
+
+// Nodes from a byte stream as the serial port delivers it, in pieces of any size. Where the check bits fail (noise,
+// a byte lost) bytes are skipped one at a time until the nodes line up again. A node's check bits leave one chance
+// in four that a misaligned one passes, and a byte lost after them goes unseen by them: a node is taken only where it
+// turns on clockwise from the one before by a few degrees, as a revolution's measurements do, and after a skip (and
+// at first) only where three in a row pass so.
+class NodeStream {
+ public:
+  // Appends the whole nodes `bytes` completes to `out`.
+  void Push(std::span<const std::uint8_t> bytes, std::vector<Node>& out);
+  std::uint64_t skipped_bytes() const { return skipped_; }
+  // Forgets a partial node and the alignment (the port reopened).
+  void Clear() {
+    pending_.clear();
+    in_sync_ = false;
+    last_angle_deg_.reset();
+  }
+
+ private:
+  std::vector<std::uint8_t> pending_;
+  bool in_sync_ = false;  // the nodes line up
+  std::optional<double> last_angle_deg_;  // of the last node taken
+  std::uint64_t skipped_ = 0;
+};
+
+struct SweepOptions {
+  int bins = 360;                // the scan's beams over the full turn, counter-clockwise from forward
+  double range_min_m = 0.15;     // nearer measurements are dropped (inside the housing)
+  double range_max_m = 12.0;     // farther ones too
+  int min_quality = 1;           // measurements of lower quality are dropped (0: the device saw nothing)
+  int min_nodes = 50;            // a sweep with fewer measurements is not a scan (the motor still spinning up)
+};
+
+// Revolutions from nodes: each node with the start flag ends the sweep before it. A sweep becomes a LaserScan
+// (counter-clockwise from forward, REP-103) of `bins` beams, each the nearest good measurement in it, +infinity
+// where there is none.
+class SweepAssembler {
+ public:
+  explicit SweepAssembler(const SweepOptions& options = {});
+  // The scan the node completes, stamped `stamp_ns` (when the sweep's last byte arrived), or nothing.
+  std::optional<LaserScan> Add(const Node& node, TimeNs stamp_ns);
+
+ private:
+  LaserScan Finish(TimeNs stamp_ns);
+
+  SweepOptions options_;
+  std::vector<float> ranges_;
+  int nodes_ = 0;
+  bool started_ = false;  // a start flag was seen: the sweep under way is whole
+};
+
+}  // namespace corridor::drivers::rplidar
