@@ -1,0 +1,257 @@
+#include "drivers/rplidar/rplidar_laser.h"
+
+#include <sys/ioctl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <stdexcept>
+#include <vector>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/serial_port.hpp>
+#include <boost/asio/write.hpp>
+#include <spdlog/spdlog.h>
+
+namespace corridor::drivers::rplidar {
+
+const char* ToString(LinkState state) {
+  switch (state) {
+    case LinkState::kConnecting: return "connecting";
+    case LinkState::kScanning: return "scanning";
+    case LinkState::kSilent: return "silent";
+    case LinkState::kDisconnected: return "disconnected";
+  }
+  return "unknown";
+}
+
+// The serial port, with reads that give up after a while (Boost.Asio's serial port has no timeouts of its own).
+class RplidarLaser::Port {
+ public:
+  explicit Port(const RplidarOptions& options) : port_(io_) {
+    using boost::asio::serial_port_base;
+    port_.open(options.port.string());
+    port_.set_option(serial_port_base::baud_rate(static_cast<unsigned>(options.baud_rate)));
+    port_.set_option(serial_port_base::character_size(8));
+    port_.set_option(serial_port_base::parity(serial_port_base::parity::none));
+    port_.set_option(serial_port_base::stop_bits(serial_port_base::stop_bits::one));
+    port_.set_option(serial_port_base::flow_control(serial_port_base::flow_control::none));
+  }
+
+  void Write(std::span<const std::uint8_t> bytes) {
+    boost::asio::write(port_, boost::asio::buffer(bytes.data(), bytes.size()));
+  }
+
+  // What arrives within timeout_s, at most into.size() bytes: 0 when nothing did. Throws when the port fails.
+  std::size_t Read(std::span<std::uint8_t> into, double timeout_s) {
+    boost::system::error_code error;
+    std::size_t got = 0;
+    bool done = false;
+    port_.async_read_some(boost::asio::buffer(into.data(), into.size()),
+                          [&](const boost::system::error_code& e, std::size_t n) {
+                            error = e;
+                            got = n;
+                            done = true;
+                          });
+    io_.restart();
+    io_.run_for(std::chrono::microseconds(static_cast<std::int64_t>(timeout_s * 1e6)));
+    if (!done) {
+      port_.cancel();
+      io_.restart();
+      io_.run();  // the cancelled read's handler (or its data, had it just arrived)
+    }
+    if (error == boost::asio::error::operation_aborted) return 0;
+    if (error) throw boost::system::system_error(error, "reading " + std::string("the port"));
+    return got;
+  }
+
+  // The A1's motor runs while DTR is clear (its USB adapter inverts it into MOTOCTL); other models ignore DTR. A pseudo-
+  // terminal has no modem lines: refused, which is not an error.
+  void SetMotor(bool on) {
+    int dtr = TIOCM_DTR;
+    (void)::ioctl(port_.native_handle(), on ? TIOCMBIC : TIOCMBIS, &dtr);
+  }
+
+ private:
+  boost::asio::io_context io_;
+  boost::asio::serial_port port_;
+};
+
+namespace {
+
+// Reads until `count` bytes have arrived, within timeout_s in all; false if they did not.
+bool ReadExactly(auto& port, std::vector<std::uint8_t>& out, std::size_t count, double timeout_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  std::array<std::uint8_t, 256> buffer{};
+  while (out.size() < count) {
+    const double left = std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();
+    if (left <= 0.0) return false;
+    const std::size_t want = std::min(buffer.size(), count - out.size());
+    const std::size_t n = port.Read(std::span<std::uint8_t>(buffer.data(), want), left);
+    out.insert(out.end(), buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(n));
+  }
+  return true;
+}
+
+// The descriptor answering a request, past any bytes before its start flags; then `length` bytes of response when
+// `length` > 0. Nothing when it does not come within timeout_s or is of another type.
+std::optional<std::vector<std::uint8_t>> Answer(auto& port, DataType type, std::size_t length, double timeout_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  const auto left = [&] { return std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count(); };
+  std::vector<std::uint8_t> bytes;
+  while (true) {
+    // Drop what comes before the first A5 5A (keeping a last A5, which may begin one).
+    const auto flag = std::adjacent_find(bytes.begin(), bytes.end(), [](std::uint8_t a, std::uint8_t b) {
+      return a == kStartFlag1 && b == kStartFlag2;
+    });
+    if (flag != bytes.end()) {
+      bytes.erase(bytes.begin(), flag);
+    } else {
+      const bool keep_last = !bytes.empty() && bytes.back() == kStartFlag1;
+      bytes.erase(bytes.begin(), bytes.end() - (keep_last ? 1 : 0));
+    }
+    if (bytes.size() >= kDescriptorBytes && bytes[0] == kStartFlag1 && bytes[1] == kStartFlag2) break;
+    if (left() <= 0.0 || !ReadExactly(port, bytes, bytes.size() + 1, left())) return std::nullopt;
+  }
+  const std::optional<Descriptor> descriptor =
+      DecodeDescriptor(std::span<const std::uint8_t, kDescriptorBytes>(bytes.data(), kDescriptorBytes));
+  if (!descriptor || descriptor->type != static_cast<std::uint8_t>(type)) return std::nullopt;
+  std::vector<std::uint8_t> response(bytes.begin() + kDescriptorBytes, bytes.end());
+  if (length > 0 && (response.size() < length && !ReadExactly(port, response, length, std::max(0.0, left())))) {
+    return std::nullopt;
+  }
+  return response;
+}
+
+}  // namespace
+
+RplidarLaser::RplidarLaser(const RplidarOptions& options, const Clock& clock)
+    : options_(options), clock_(clock) {
+  if (options.port.empty()) throw std::invalid_argument("rplidar: no port given");
+  if (!(options.silence_s > 0.0) || !(options.reconnect_s > 0.0) || !(options.answer_s > 0.0)) {
+    throw std::invalid_argument("rplidar: silence_s, reconnect_s and answer_s must be positive");
+  }
+  SweepAssembler check(options.sweep);  // throws for bad sweep options here, not on the thread
+  thread_ = std::jthread([this](std::stop_token stop) { Run(stop); });
+}
+
+RplidarLaser::~RplidarLaser() {
+  thread_.request_stop();
+  if (thread_.joinable()) thread_.join();
+}
+
+void RplidarLaser::SetScanHandler(ScanHandler handler) {
+  std::lock_guard lock(mutex_);
+  handler_ = std::move(handler);
+}
+
+RplidarStatus RplidarLaser::status() const {
+  std::lock_guard lock(mutex_);
+  return status_;
+}
+
+void RplidarLaser::SetState(LinkState state, std::string error) {
+  std::lock_guard lock(mutex_);
+  if (state != status_.state || (!error.empty() && error != status_.last_error)) {
+    if (error.empty()) {
+      spdlog::info("rplidar {}: {}", options_.port.string(), ToString(state));
+    } else {
+      spdlog::warn("rplidar {}: {}: {}", options_.port.string(), ToString(state), error);
+    }
+  }
+  status_.state = state;
+  if (!error.empty()) status_.last_error = std::move(error);
+}
+
+void RplidarLaser::Run(std::stop_token stop) {
+  std::mutex wait_mutex;
+  std::condition_variable_any wake;
+  bool first = true;
+  while (!stop.stop_requested()) {
+    if (!first) {
+      std::lock_guard lock(mutex_);
+      ++status_.reconnects;
+    }
+    first = false;
+    try {
+      Port port(options_);
+      Scan(port, stop);
+    } catch (const std::exception& e) {
+      SetState(LinkState::kDisconnected, e.what());
+    }
+    std::unique_lock lock(wait_mutex);
+    wake.wait_for(lock, stop, std::chrono::duration<double>(options_.reconnect_s), [] { return false; });
+  }
+}
+
+void RplidarLaser::Scan(Port& port, std::stop_token stop) {
+  SetState(LinkState::kConnecting);
+  port.SetMotor(true);
+  port.Write(EncodeRequest(Command::kStop));
+  // What the device was sending before the stop took (a scan under way) is not an answer.
+  std::array<std::uint8_t, 256> buffer{};
+  while (port.Read(buffer, 0.02) > 0) {
+  }
+  port.Write(EncodeRequest(Command::kGetInfo));
+  const auto info = Answer(port, DataType::kInfo, kInfoBytes, options_.answer_s);
+  if (!info) {
+    SetState(LinkState::kSilent, "no answer to GET_INFO");
+    return;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    status_.info = DecodeInfo(std::span<const std::uint8_t, kInfoBytes>(info->data(), kInfoBytes));
+  }
+  port.Write(EncodeRequest(Command::kGetHealth));
+  const auto health = Answer(port, DataType::kHealth, kHealthBytes, options_.answer_s);
+  if (!health) {
+    SetState(LinkState::kSilent, "no answer to GET_HEALTH");
+    return;
+  }
+  const DeviceHealth h = DecodeHealth(std::span<const std::uint8_t, kHealthBytes>(health->data(), kHealthBytes));
+  if (h.status == 2) {
+    // The protocol's remedy: reset, and start again once it has rebooted.
+    SetState(LinkState::kConnecting, "the device reports error " + std::to_string(h.error_code) + ": resetting it");
+    port.Write(EncodeRequest(Command::kReset));
+    return;
+  }
+  port.Write(EncodeRequest(Command::kScan));
+  const auto started = Answer(port, DataType::kScan, 0, options_.answer_s);
+  if (!started) {
+    SetState(LinkState::kSilent, "no answer to SCAN");
+    return;
+  }
+  NodeStream stream;
+  SweepAssembler sweeps(options_.sweep);
+  std::vector<Node> nodes;
+  const auto take = [&](std::span<const std::uint8_t> bytes) {
+    nodes.clear();
+    stream.Push(bytes, nodes);
+    for (const Node& node : nodes) {
+      std::optional<LaserScan> scan = sweeps.Add(node, clock_.Now());
+      if (!scan) continue;
+      ScanHandler handler;
+      {
+        std::lock_guard lock(mutex_);
+        ++status_.scans;
+        status_.skipped_bytes = stream.skipped_bytes();
+        handler = handler_;
+      }
+      if (handler) handler(std::make_shared<const LaserScan>(std::move(*scan)));
+    }
+  };
+  take(*started);  // nodes that came with the descriptor
+  SetState(LinkState::kScanning);
+  while (!stop.stop_requested()) {
+    const std::size_t n = port.Read(buffer, options_.silence_s);
+    if (n == 0) {
+      SetState(LinkState::kSilent, fmt::format("no data for {:.1f} s: restarting the scan", options_.silence_s));
+      return;
+    }
+    take(std::span<const std::uint8_t>(buffer.data(), n));
+  }
+  port.Write(EncodeRequest(Command::kStop));
+  port.SetMotor(false);
+}
+
+}  // namespace corridor::drivers::rplidar

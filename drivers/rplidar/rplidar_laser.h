@@ -1,0 +1,71 @@
+// A Slamtec RPLIDAR (A1, A2, A3, C1, S-series) on a serial port, in standard scan mode (rplidar_protocol.h): the
+// driver's thread opens the port, starts the motor (the A1's through DTR, inverted by its USB adapter; a pseudo-
+// terminal has no modem lines and refuses, which is not an error), checks the device's health (resetting it once on
+// an error), starts the scan and hands each revolution to the scan handler. A port that fails or goes away (the
+// device unplugged) is reopened every reconnect_s; a device that says nothing for silence_s is restarted, so that one
+// plugged back in under the same path (udev's stable name) scans again by itself. What it is doing is in status().
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "drivers/laser2d.h"
+#include "drivers/rplidar/rplidar_protocol.h"
+
+namespace corridor::drivers::rplidar {
+
+struct RplidarOptions {
+  std::filesystem::path port;    // a serial device: /dev/ttyUSB0, /dev/corridor/rplidar
+  int baud_rate = 115200;        // A1/A2: 115200; A3: 256000; S1/S2/C1: 256000 or 460800 (the device's fixed rate)
+  nav::Pose2 base_T_laser;       // where it is mounted, base frame
+  double height_m = 0.2;
+  SweepOptions sweep;
+  double silence_s = 0.5;        // no byte for this long: the device is restarted (and the scans are stale)
+  double reconnect_s = 0.5;      // between attempts to open a port that failed or went away
+  double answer_s = 1.0;         // a request's descriptor must arrive within this
+};
+
+enum class LinkState { kConnecting, kScanning, kSilent, kDisconnected };
+const char* ToString(LinkState state);
+
+struct RplidarStatus {
+  LinkState state = LinkState::kConnecting;
+  std::uint64_t scans = 0;           // revolutions handed on
+  std::uint64_t skipped_bytes = 0;   // noise and lost bytes skipped in the node stream
+  std::uint64_t reconnects = 0;      // times the port was opened again after a failure
+  std::optional<DeviceInfo> info;
+  std::string last_error;            // empty: none yet
+};
+
+class RplidarLaser final : public Laser2D {
+ public:
+  // Starts the driver's thread; `clock` stamps the scans (when a revolution's last byte arrived) and must outlive it.
+  RplidarLaser(const RplidarOptions& options, const Clock& clock);
+  ~RplidarLaser() override;  // stops the scan and the motor, joins the thread
+
+  nav::Pose2 base_T_laser() const override { return options_.base_T_laser; }
+  double height_m() const override { return options_.height_m; }
+  void SetScanHandler(ScanHandler handler) override;
+  RplidarStatus status() const;
+
+ private:
+  class Port;
+  void Run(std::stop_token stop);
+  // One session on an open port: handshake, then revolutions until the port fails, goes silent, or `stop`.
+  void Scan(Port& port, std::stop_token stop);
+  void SetState(LinkState state, std::string error = {});
+
+  RplidarOptions options_;
+  const Clock& clock_;
+  mutable std::mutex mutex_;  // guards handler_ and status_
+  ScanHandler handler_;
+  RplidarStatus status_;
+  std::jthread thread_;  // last: started after everything it uses
+};
+
+}  // namespace corridor::drivers::rplidar

@@ -1,0 +1,165 @@
+// The RPLIDAR driver against the emulated device on a pseudo-terminal (testing/emulators/rplidar_emulator.h): real
+// serial I/O on real threads, since the transport is the point; every wait is for a condition, with a deadline.
+#include "drivers/rplidar/rplidar_laser.h"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "testing/emulators/rplidar_emulator.h"
+#include "testing/eventually.h"
+
+namespace corridor::drivers::rplidar {
+namespace {
+
+using corridor::testing::Eventually;
+using corridor::testing::RplidarEmulator;
+using corridor::testing::RplidarEmulatorOptions;
+using namespace std::chrono_literals;
+
+// A room where the robot's right (90 degrees clockwise in the device) is a wall 1 m away, everything else 3 m.
+double Room(double angle_cw_deg) { return std::abs(angle_cw_deg - 90.0) < 5.0 ? 1.0 : 3.0; }
+
+std::filesystem::path Link(const std::string& name) {
+  return std::filesystem::temp_directory_path() / ("corridor_rplidar_" + name + "_" + std::to_string(::getpid()));
+}
+
+// Scans handed on by a driver, and whether each matched the room.
+struct Received {
+  std::mutex mutex;
+  int scans = 0;
+  int wrong = 0;  // beams whose range is not the room's at their angle
+  void Take(const LaserScan& scan) {
+    int bad = 0;
+    for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
+      if (!std::isfinite(scan.ranges[i])) continue;
+      // Counter-clockwise in the scan: the device's clockwise angle is its negative.
+      const double ccw_deg = (scan.angle_min_rad + i * scan.angle_increment_rad) * 180.0 / std::numbers::pi;
+      const double cw_deg = std::fmod(-ccw_deg + 720.0, 360.0);
+      if (std::abs(scan.ranges[i] - Room(cw_deg)) > 1e-3) ++bad;
+    }
+    std::lock_guard lock(mutex);
+    ++scans;
+    wrong += bad;
+  }
+  int count() {
+    std::lock_guard lock(mutex);
+    return scans;
+  }
+};
+
+RplidarOptions OptionsFor(const std::filesystem::path& port) {
+  RplidarOptions options;
+  options.port = port;
+  options.silence_s = 0.3;
+  options.reconnect_s = 0.1;
+  return options;
+}
+
+TEST(RplidarLaserTest, ScansArriveCounterClockwiseFromForwardWithTheDevicesInformation) {
+  const std::filesystem::path link = Link("scan");
+  RplidarEmulator device(link, RplidarEmulatorOptions{.range = Room});
+  SteadyClock clock;
+  RplidarLaser laser(OptionsFor(link), clock);
+  Received received;
+  std::shared_ptr<const LaserScan> last;
+  std::mutex last_mutex;
+  laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) {
+    received.Take(*scan);
+    std::lock_guard lock(last_mutex);
+    last = std::move(scan);
+  });
+  ASSERT_TRUE(Eventually([&] { return received.count() >= 3; }, 5000ms)) << laser.status().last_error;
+  EXPECT_EQ(received.wrong, 0);
+  const RplidarStatus status = laser.status();
+  EXPECT_EQ(status.state, LinkState::kScanning);
+  ASSERT_TRUE(status.info);
+  EXPECT_EQ(status.info->model, 0x18);
+  EXPECT_EQ(status.info->firmware_major, 1);
+  // The wall on the right is at -90 degrees in the scan.
+  std::lock_guard lock(last_mutex);
+  const auto beam = static_cast<std::size_t>(std::lround((-std::numbers::pi / 2 - last->angle_min_rad) / last->angle_increment_rad));
+  EXPECT_NEAR(last->ranges[beam], 1.0, 1e-3);
+}
+
+TEST(RplidarLaserTest, NoiseABadCheckBitAndALostByteCostAFewMeasurementsNotTheScans) {
+  const std::filesystem::path link = Link("faults");
+  RplidarEmulator device(link, RplidarEmulatorOptions{.range = Room});
+  SteadyClock clock;
+  RplidarLaser laser(OptionsFor(link), clock);
+  Received received;
+  laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { received.Take(*scan); });
+  ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
+  device.Noise({0x00, 0xFF, 0xA5, 0x13, 0x37});
+  ASSERT_TRUE(Eventually([&] { return received.count() >= 4; }, 3000ms));
+  device.BadCheckBit();
+  ASSERT_TRUE(Eventually([&] { return received.count() >= 6; }, 3000ms));
+  device.DropByte();
+  ASSERT_TRUE(Eventually([&] { return received.count() >= 8; }, 3000ms));
+  EXPECT_EQ(received.wrong, 0) << "a beam from a misread node";
+  EXPECT_GT(laser.status().skipped_bytes, 0u);
+  EXPECT_EQ(laser.status().state, LinkState::kScanning);
+}
+
+TEST(RplidarLaserTest, UnpluggedItSaysSoAndScansAgainOncePluggedBackIn) {
+  const std::filesystem::path link = Link("unplug");
+  RplidarEmulator device(link, RplidarEmulatorOptions{.range = Room});
+  SteadyClock clock;
+  RplidarLaser laser(OptionsFor(link), clock);
+  Received received;
+  laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { received.Take(*scan); });
+  ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
+  device.Unplug();
+  ASSERT_TRUE(Eventually([&] { return laser.status().state == LinkState::kDisconnected; }, 3000ms))
+      << ToString(laser.status().state);
+  EXPECT_FALSE(laser.status().last_error.empty());
+  const int before = received.count();
+  device.Replug();
+  ASSERT_TRUE(Eventually([&] { return received.count() >= before + 2; }, 5000ms)) << laser.status().last_error;
+  EXPECT_EQ(laser.status().state, LinkState::kScanning);
+  EXPECT_GT(laser.status().reconnects, 0u);
+  EXPECT_EQ(received.wrong, 0);
+}
+
+TEST(RplidarLaserTest, ADeviceThatFallsSilentIsCalledSilentAndScansAgainWhenItAnswers) {
+  const std::filesystem::path link = Link("silent");
+  RplidarEmulator device(link, RplidarEmulatorOptions{.range = Room});
+  SteadyClock clock;
+  RplidarLaser laser(OptionsFor(link), clock);
+  Received received;
+  laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { received.Take(*scan); });
+  ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
+  device.Silence();
+  ASSERT_TRUE(Eventually([&] { return laser.status().state == LinkState::kSilent; }, 3000ms));
+  const int before = received.count();
+  device.Resume();
+  ASSERT_TRUE(Eventually([&] { return received.count() >= before + 2; }, 5000ms)) << laser.status().last_error;
+  EXPECT_GE(device.scans_started(), 2);
+}
+
+TEST(RplidarLaserTest, ADeviceReportingAnErrorIsResetAndThenScans) {
+  const std::filesystem::path link = Link("error");
+  RplidarEmulator device(link, RplidarEmulatorOptions{.range = Room, .health_status = 2});
+  SteadyClock clock;
+  RplidarLaser laser(OptionsFor(link), clock);
+  Received received;
+  laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { received.Take(*scan); });
+  ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
+  EXPECT_EQ(device.resets(), 1);
+  EXPECT_EQ(received.wrong, 0);
+}
+
+TEST(RplidarLaserTest, ANamelessPortOrBadOptionsAreRefused) {
+  SteadyClock clock;
+  EXPECT_THROW(RplidarLaser(RplidarOptions{}, clock), std::invalid_argument);
+  RplidarOptions options = OptionsFor("/dev/null");
+  options.silence_s = 0.0;
+  EXPECT_THROW(RplidarLaser(options, clock), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace corridor::drivers::rplidar
