@@ -1,16 +1,11 @@
 #include "drivers/rplidar/rplidar_laser.h"
 
-#include <sys/ioctl.h>
-
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <stdexcept>
 #include <vector>
 
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/serial_port.hpp>
-#include <boost/asio/write.hpp>
 #include <spdlog/spdlog.h>
 
 namespace corridor::drivers::rplidar {
@@ -25,77 +20,11 @@ const char* ToString(LinkState state) {
   return "unknown";
 }
 
-// The serial port, with reads that give up after a while (Boost.Asio's serial port has no timeouts of its own).
-class RplidarLaser::Port {
- public:
-  explicit Port(const RplidarOptions& options) : port_(io_) {
-    using boost::asio::serial_port_base;
-    port_.open(options.port.string());
-    port_.set_option(serial_port_base::baud_rate(static_cast<unsigned>(options.baud_rate)));
-    port_.set_option(serial_port_base::character_size(8));
-    port_.set_option(serial_port_base::parity(serial_port_base::parity::none));
-    port_.set_option(serial_port_base::stop_bits(serial_port_base::stop_bits::one));
-    port_.set_option(serial_port_base::flow_control(serial_port_base::flow_control::none));
-  }
-
-  void Write(std::span<const std::uint8_t> bytes) {
-    boost::asio::write(port_, boost::asio::buffer(bytes.data(), bytes.size()));
-  }
-
-  // What arrives within timeout_s, at most into.size() bytes: 0 when nothing did. Throws when the port fails.
-  std::size_t Read(std::span<std::uint8_t> into, double timeout_s) {
-    boost::system::error_code error;
-    std::size_t got = 0;
-    bool done = false;
-    port_.async_read_some(boost::asio::buffer(into.data(), into.size()),
-                          [&](const boost::system::error_code& e, std::size_t n) {
-                            error = e;
-                            got = n;
-                            done = true;
-                          });
-    io_.restart();
-    io_.run_for(std::chrono::microseconds(static_cast<std::int64_t>(timeout_s * 1e6)));
-    if (!done) {
-      port_.cancel();
-      io_.restart();
-      io_.run();  // the cancelled read's handler (or its data, had it just arrived)
-    }
-    if (error == boost::asio::error::operation_aborted) return 0;
-    if (error) throw boost::system::system_error(error, "reading " + std::string("the port"));
-    return got;
-  }
-
-  // The A1's motor runs while DTR is clear (its USB adapter inverts it into MOTOCTL); other models ignore DTR. A pseudo-
-  // terminal has no modem lines: refused, which is not an error.
-  void SetMotor(bool on) {
-    int dtr = TIOCM_DTR;
-    (void)::ioctl(port_.native_handle(), on ? TIOCMBIC : TIOCMBIS, &dtr);
-  }
-
- private:
-  boost::asio::io_context io_;
-  boost::asio::serial_port port_;
-};
-
 namespace {
-
-// Reads until `count` bytes have arrived, within timeout_s in all; false if they did not.
-bool ReadExactly(auto& port, std::vector<std::uint8_t>& out, std::size_t count, double timeout_s) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-  std::array<std::uint8_t, 256> buffer{};
-  while (out.size() < count) {
-    const double left = std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();
-    if (left <= 0.0) return false;
-    const std::size_t want = std::min(buffer.size(), count - out.size());
-    const std::size_t n = port.Read(std::span<std::uint8_t>(buffer.data(), want), left);
-    out.insert(out.end(), buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(n));
-  }
-  return true;
-}
 
 // The descriptor answering a request, past any bytes before its start flags; then `length` bytes of response when
 // `length` > 0. Nothing when it does not come within timeout_s or is of another type.
-std::optional<std::vector<std::uint8_t>> Answer(auto& port, DataType type, std::size_t length, double timeout_s) {
+std::optional<std::vector<std::uint8_t>> Answer(SerialPort& port, DataType type, std::size_t length, double timeout_s) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   const auto left = [&] { return std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count(); };
   std::vector<std::uint8_t> bytes;
@@ -111,13 +40,13 @@ std::optional<std::vector<std::uint8_t>> Answer(auto& port, DataType type, std::
       bytes.erase(bytes.begin(), bytes.end() - (keep_last ? 1 : 0));
     }
     if (bytes.size() >= kDescriptorBytes && bytes[0] == kStartFlag1 && bytes[1] == kStartFlag2) break;
-    if (left() <= 0.0 || !ReadExactly(port, bytes, bytes.size() + 1, left())) return std::nullopt;
+    if (left() <= 0.0 || !port.ReadExactly(bytes, bytes.size() + 1, left())) return std::nullopt;
   }
   const std::optional<Descriptor> descriptor =
       DecodeDescriptor(std::span<const std::uint8_t, kDescriptorBytes>(bytes.data(), kDescriptorBytes));
   if (!descriptor || descriptor->type != static_cast<std::uint8_t>(type)) return std::nullopt;
   std::vector<std::uint8_t> response(bytes.begin() + kDescriptorBytes, bytes.end());
-  if (length > 0 && (response.size() < length && !ReadExactly(port, response, length, std::max(0.0, left())))) {
+  if (length > 0 && response.size() < length && !port.ReadExactly(response, length, std::max(0.0, left()))) {
     return std::nullopt;
   }
   return response;
@@ -174,7 +103,7 @@ void RplidarLaser::Run(std::stop_token stop) {
     }
     first = false;
     try {
-      Port port(options_);
+      SerialPort port(options_.port, options_.baud_rate);
       Scan(port, stop);
     } catch (const std::exception& e) {
       SetState(LinkState::kDisconnected, e.what());
@@ -184,14 +113,13 @@ void RplidarLaser::Run(std::stop_token stop) {
   }
 }
 
-void RplidarLaser::Scan(Port& port, std::stop_token stop) {
+void RplidarLaser::Scan(SerialPort& port, std::stop_token stop) {
   SetState(LinkState::kConnecting);
-  port.SetMotor(true);
+  // The A1's motor runs while DTR is clear (its USB adapter inverts it into MOTOCTL); other models ignore DTR. A
+  // pseudo-terminal has no modem lines and refuses, which is not an error.
+  port.SetDtr(false);
   port.Write(EncodeRequest(Command::kStop));
-  // What the device was sending before the stop took (a scan under way) is not an answer.
-  std::array<std::uint8_t, 256> buffer{};
-  while (port.Read(buffer, 0.02) > 0) {
-  }
+  port.Drain(0.02);  // what the device was sending before the stop took (a scan under way) is not an answer
   port.Write(EncodeRequest(Command::kGetInfo));
   const auto info = Answer(port, DataType::kInfo, kInfoBytes, options_.answer_s);
   if (!info) {
@@ -242,6 +170,7 @@ void RplidarLaser::Scan(Port& port, std::stop_token stop) {
   };
   take(*started);  // nodes that came with the descriptor
   SetState(LinkState::kScanning);
+  std::array<std::uint8_t, 256> buffer{};
   while (!stop.stop_requested()) {
     const std::size_t n = port.Read(buffer, options_.silence_s);
     if (n == 0) {
@@ -251,7 +180,7 @@ void RplidarLaser::Scan(Port& port, std::stop_token stop) {
     take(std::span<const std::uint8_t>(buffer.data(), n));
   }
   port.Write(EncodeRequest(Command::kStop));
-  port.SetMotor(false);
+  port.SetDtr(true);
 }
 
 }  // namespace corridor::drivers::rplidar

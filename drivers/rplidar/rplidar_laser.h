@@ -16,6 +16,7 @@
 
 #include "drivers/laser2d.h"
 #include "drivers/rplidar/rplidar_protocol.h"
+#include "drivers/serial/serial_port.h"
 
 namespace corridor::drivers::rplidar {
 
@@ -54,10 +55,9 @@ class RplidarLaser final : public Laser2D {
   RplidarStatus status() const;
 
  private:
-  class Port;
   void Run(std::stop_token stop);
   // One session on an open port: handshake, then revolutions until the port fails, goes silent, or `stop`.
-  void Scan(Port& port, std::stop_token stop);
+  void Scan(SerialPort& port, std::stop_token stop);
   void SetState(LinkState state, std::string error = {});
 
   RplidarOptions options_;
