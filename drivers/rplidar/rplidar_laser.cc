@@ -10,16 +10,6 @@
 
 namespace corridor::drivers::rplidar {
 
-const char* ToString(LinkState state) {
-  switch (state) {
-    case LinkState::kConnecting: return "connecting";
-    case LinkState::kScanning: return "scanning";
-    case LinkState::kSilent: return "silent";
-    case LinkState::kDisconnected: return "disconnected";
-  }
-  return "unknown";
-}
-
 namespace {
 
 // The descriptor answering a request, past any bytes before its start flags; then `length` bytes of response when
@@ -169,7 +159,7 @@ void RplidarLaser::Scan(SerialPort& port, std::stop_token stop) {
     }
   };
   take(*started);  // nodes that came with the descriptor
-  SetState(LinkState::kScanning);
+  SetState(LinkState::kRunning);
   std::array<std::uint8_t, 256> buffer{};
   while (!stop.stop_requested()) {
     const std::size_t n = port.Read(buffer, options_.silence_s);

@@ -16,6 +16,7 @@
 
 #include "drivers/laser2d.h"
 #include "drivers/rplidar/rplidar_protocol.h"
+#include "drivers/serial/link_state.h"
 #include "drivers/serial/serial_port.h"
 
 namespace corridor::drivers::rplidar {
@@ -30,9 +31,6 @@ struct RplidarOptions {
   double reconnect_s = 0.5;      // between attempts to open a port that failed or went away
   double answer_s = 1.0;         // a request's descriptor must arrive within this
 };
-
-enum class LinkState { kConnecting, kScanning, kSilent, kDisconnected };
-const char* ToString(LinkState state);
 
 struct RplidarStatus {
   LinkState state = LinkState::kConnecting;

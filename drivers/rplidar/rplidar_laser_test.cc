@@ -76,7 +76,7 @@ TEST(RplidarLaserTest, ScansArriveCounterClockwiseFromForwardWithTheDevicesInfor
   ASSERT_TRUE(Eventually([&] { return received.count() >= 3; }, 5000ms)) << laser.status().last_error;
   EXPECT_EQ(received.wrong, 0);
   const RplidarStatus status = laser.status();
-  EXPECT_EQ(status.state, LinkState::kScanning);
+  EXPECT_EQ(status.state, LinkState::kRunning);
   ASSERT_TRUE(status.info);
   EXPECT_EQ(status.info->model, 0x18);
   EXPECT_EQ(status.info->firmware_major, 1);
@@ -102,7 +102,7 @@ TEST(RplidarLaserTest, NoiseABadCheckBitAndALostByteCostAFewMeasurementsNotTheSc
   ASSERT_TRUE(Eventually([&] { return received.count() >= 8; }, 3000ms));
   EXPECT_EQ(received.wrong, 0) << "a beam from a misread node";
   EXPECT_GT(laser.status().skipped_bytes, 0u);
-  EXPECT_EQ(laser.status().state, LinkState::kScanning);
+  EXPECT_EQ(laser.status().state, LinkState::kRunning);
 }
 
 TEST(RplidarLaserTest, UnpluggedItSaysSoAndScansAgainOncePluggedBackIn) {
@@ -120,7 +120,7 @@ TEST(RplidarLaserTest, UnpluggedItSaysSoAndScansAgainOncePluggedBackIn) {
   const int before = received.count();
   device.Replug();
   ASSERT_TRUE(Eventually([&] { return received.count() >= before + 2; }, 5000ms)) << laser.status().last_error;
-  EXPECT_EQ(laser.status().state, LinkState::kScanning);
+  EXPECT_EQ(laser.status().state, LinkState::kRunning);
   EXPECT_GT(laser.status().reconnects, 0u);
   EXPECT_EQ(received.wrong, 0);
 }
