@@ -1,16 +1,11 @@
 #include "testing/emulators/rplidar_emulator.h"
 
-#include <fcntl.h>
-#include <poll.h>
-#include <pty.h>
-#include <termios.h>
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <thread>
 
 namespace corridor::testing {
 namespace {
@@ -30,43 +25,13 @@ std::vector<std::uint8_t> Descriptor(std::uint32_t length, bool repeated, std::u
 }  // namespace
 
 RplidarEmulator::RplidarEmulator(std::filesystem::path link, RplidarEmulatorOptions options)
-    : link_(std::move(link)), options_(std::move(options)), health_status_(options_.health_status) {
-  Open();
+    : options_(std::move(options)), terminal_(std::move(link)), health_status_(options_.health_status) {
   thread_ = std::jthread([this](std::stop_token stop) { Serve(stop); });
 }
 
 RplidarEmulator::~RplidarEmulator() {
   thread_.request_stop();
   if (thread_.joinable()) thread_.join();
-  Close();
-}
-
-void RplidarEmulator::Open() {
-  int master = -1;
-  int slave = -1;
-  if (::openpty(&master, &slave, nullptr, nullptr, nullptr) != 0) {
-    throw std::system_error(errno, std::generic_category(), "openpty");
-  }
-  termios raw{};
-  ::tcgetattr(slave, &raw);
-  ::cfmakeraw(&raw);
-  ::tcsetattr(slave, TCSANOW, &raw);
-  ::fcntl(master, F_SETFL, ::fcntl(master, F_GETFL) | O_NONBLOCK);
-  const std::string name = ::ttyname(slave);
-  std::filesystem::remove(link_);
-  std::filesystem::create_symlink(name, link_);
-  master_ = master;
-  slave_ = slave;
-  scanning_ = false;
-  request_.clear();
-}
-
-void RplidarEmulator::Close() {
-  if (master_ >= 0) ::close(master_);
-  if (slave_ >= 0) ::close(slave_);
-  master_ = slave_ = -1;
-  std::error_code ignored;
-  std::filesystem::remove(link_, ignored);
 }
 
 void RplidarEmulator::Noise(std::vector<std::uint8_t> bytes) {
@@ -91,27 +56,15 @@ void RplidarEmulator::Resume() {
 }
 void RplidarEmulator::Unplug() {
   std::lock_guard lock(mutex_);
-  Close();
+  terminal_.Unplug();
+  scanning_ = false;
 }
 void RplidarEmulator::Replug() {
   std::lock_guard lock(mutex_);
-  Close();
-  Open();
+  terminal_.Plug();
+  scanning_ = false;
+  request_.clear();
   health_status_ = options_.health_status;
-}
-
-void RplidarEmulator::Send(const std::vector<std::uint8_t>& bytes) {
-  std::size_t at = 0;
-  while (master_ >= 0 && at < bytes.size()) {
-    const ssize_t n = ::write(master_, bytes.data() + at, bytes.size() - at);
-    if (n <= 0) {
-      if (errno != EAGAIN) return;  // nobody at the other end
-      pollfd p{master_, POLLOUT, 0};
-      ::poll(&p, 1, 5);
-      continue;
-    }
-    at += static_cast<std::size_t>(n);
-  }
 }
 
 void RplidarEmulator::SendNode(int index) {
@@ -186,47 +139,45 @@ void RplidarEmulator::Handle(std::uint8_t command) {
 
 void RplidarEmulator::Serve(std::stop_token stop) {
   while (!stop.stop_requested()) {
-    int master = -1;
     {
       std::lock_guard lock(mutex_);
-      master = master_;
+      Step();
     }
-    pollfd p{master, POLLIN, 0};
-    ::poll(master >= 0 ? &p : nullptr, master >= 0 ? 1 : 0, 2);
-    std::lock_guard lock(mutex_);
-    if (master_ < 0 || master_ != master) continue;
-    std::uint8_t buffer[64];
-    for (ssize_t n; (n = ::read(master_, buffer, sizeof buffer)) > 0;) {
-      if (!silent_) request_.insert(request_.end(), buffer, buffer + n);  // silent: deaf too
-    }
-    // Requests: A5 and the command; commands from 0x80 up carry a size, a payload and a checksum.
-    while (!request_.empty()) {
-      if (request_[0] != 0xA5) {
-        request_.erase(request_.begin());
-        continue;
-      }
-      if (request_.size() < 2) break;
-      const std::uint8_t command = request_[1];
-      std::size_t length = 2;
-      if (command >= 0x80) {
-        if (request_.size() < 3) break;
-        length = 3 + request_[2] + 1;
-      }
-      if (request_.size() < length) break;
-      request_.erase(request_.begin(), request_.begin() + static_cast<std::ptrdiff_t>(length));
-      Handle(command);
-    }
-    if (!scanning_ || silent_) {
-      sent_until_s_ = NowS();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));  // the device's pace; the faults' lock free meanwhile
+  }
+}
+
+void RplidarEmulator::Step() {
+  std::vector<std::uint8_t> received;
+  terminal_.Receive(received, 0);
+  if (!silent_) request_.insert(request_.end(), received.begin(), received.end());  // silent: deaf too
+  // Requests: A5 and the command; commands from 0x80 up carry a size, a payload and a checksum.
+  while (!request_.empty()) {
+    if (request_[0] != 0xA5) {
+      request_.erase(request_.begin());
       continue;
     }
-    // The samples due by now, at the device's rate.
-    const double period_s = 1.0 / (options_.revolutions_hz * options_.samples);
-    for (int sent = 0; sent_until_s_ + period_s <= NowS() && sent < 1000; ++sent) {
-      SendNode(next_sample_);
-      next_sample_ = (next_sample_ + 1) % options_.samples;
-      sent_until_s_ += period_s;
+    if (request_.size() < 2) break;
+    const std::uint8_t command = request_[1];
+    std::size_t length = 2;
+    if (command >= 0x80) {
+      if (request_.size() < 3) break;
+      length = 3 + request_[2] + 1;
     }
+    if (request_.size() < length) break;
+    request_.erase(request_.begin(), request_.begin() + static_cast<std::ptrdiff_t>(length));
+    Handle(command);
+  }
+  if (!scanning_ || silent_) {
+    sent_until_s_ = NowS();
+    return;
+  }
+  // The samples due by now, at the device's rate.
+  const double period_s = 1.0 / (options_.revolutions_hz * options_.samples);
+  for (int sent = 0; sent_until_s_ + period_s <= NowS() && sent < 1000; ++sent) {
+    SendNode(next_sample_);
+    next_sample_ = (next_sample_ + 1) % options_.samples;
+    sent_until_s_ += period_s;
   }
 }
 

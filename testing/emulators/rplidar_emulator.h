@@ -13,6 +13,8 @@
 #include <thread>
 #include <vector>
 
+#include "testing/emulators/pseudo_terminal.h"
+
 namespace corridor::testing {
 
 struct RplidarEmulatorOptions {
@@ -48,18 +50,15 @@ class RplidarEmulator {
   int resets() const { return resets_.load(); }
 
  private:
-  void Open();
-  void Close();
   void Serve(std::stop_token stop);
+  void Step();  // one turn of the device: requests answered, the samples due sent
   void Handle(std::uint8_t command);
-  void Send(const std::vector<std::uint8_t>& bytes);
+  void Send(const std::vector<std::uint8_t>& bytes) { terminal_.Send(bytes); }
   void SendNode(int index);
 
-  std::filesystem::path link_;
   RplidarEmulatorOptions options_;
   std::mutex mutex_;  // guards everything below but the counters
-  int master_ = -1;
-  int slave_ = -1;
+  PseudoTerminal terminal_;
   bool scanning_ = false;
   bool silent_ = false;
   int health_status_ = 0;
