@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
-#include <condition_variable>
 #include <stdexcept>
 #include <vector>
 
 #include <spdlog/spdlog.h>
+
+#include "drivers/serial/reconnect.h"
 
 namespace corridor::drivers::rplidar {
 
@@ -83,24 +84,17 @@ void RplidarLaser::SetState(LinkState state, std::string error) {
 }
 
 void RplidarLaser::Run(std::stop_token stop) {
-  std::mutex wait_mutex;
-  std::condition_variable_any wake;
-  bool first = true;
-  while (!stop.stop_requested()) {
-    if (!first) {
-      std::lock_guard lock(mutex_);
-      ++status_.reconnects;
-    }
-    first = false;
-    try {
-      SerialPort port(options_.port, options_.baud_rate);
-      Scan(port, stop);
-    } catch (const std::exception& e) {
-      SetState(LinkState::kDisconnected, e.what());
-    }
-    std::unique_lock lock(wait_mutex);
-    wake.wait_for(lock, stop, std::chrono::duration<double>(options_.reconnect_s), [] { return false; });
-  }
+  RunReconnecting(
+      stop, options_.reconnect_s,
+      [&] {
+        SerialPort port(options_.port, options_.baud_rate);
+        Scan(port, stop);
+      },
+      [&](const std::string& error) { SetState(LinkState::kDisconnected, error); },
+      [&] {
+        std::lock_guard lock(mutex_);
+        ++status_.reconnects;
+      });
 }
 
 void RplidarLaser::Scan(SerialPort& port, std::stop_token stop) {

@@ -1,0 +1,99 @@
+// An iRobot Create 2 (or Roomba 600-900; the base of a TurtleBot 2e) on a serial port, through its Open Interface
+// (open_interface.h): the driver's thread starts the OI in Safe mode, streams the sensors it needs (every 15 ms), turns
+// the wheels' encoder counts into odometry, and drives the wheels with Drive Direct on every frame, ramped to the
+// acceleration limits. The wheels stop when commands stop arriving for command_timeout_s, and while a cliff or a
+// dropped wheel is reported (the robot's own Safe mode stops them too and falls back to Passive; the driver returns it
+// to Safe once the floor is back). A port that fails (unplugged) is reopened every reconnect_s; a stream silent for
+// silence_s is restarted.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <filesystem>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "drivers/battery.h"
+#include "drivers/create2/open_interface.h"
+#include "drivers/diff_drive_base.h"
+#include "drivers/serial/link_state.h"
+#include "drivers/serial/serial_port.h"
+
+namespace corridor::drivers::create2 {
+
+struct Create2Options {
+  std::filesystem::path port;  // /dev/ttyUSB0, /dev/corridor/create2
+  int baud_rate = 115200;      // the OI's default
+  WheelGeometry wheels;
+  double max_linear_mps = 0.5;         // the OI's 500 mm/s a wheel
+  double max_angular_rps = 4.0;
+  double max_linear_accel_mps2 = 1.0;
+  double max_angular_accel_rps2 = 4.0;
+  double footprint_radius_m = 0.17;
+  double command_timeout_s = 0.5;
+  double silence_s = 0.2;     // no whole frame for this long: the stream is restarted
+  double reconnect_s = 0.5;
+  double battery_period_s = 1.0;
+};
+
+struct Create2Status {
+  LinkState state = LinkState::kConnecting;
+  std::uint64_t frames = 0;          // sensor frames decoded
+  std::uint64_t dropped_frames = 0;  // bad checksums and frames that did not add up
+  std::uint64_t reconnects = 0;
+  int oi_mode = 0;                   // 0 off, 1 passive, 2 safe, 3 full
+  bool cliff = false;
+  bool wheel_drop = false;
+  std::string last_error;
+};
+
+class Create2Base final : public DiffDriveBase, public Battery {
+ public:
+  // Starts the driver's thread; `clock` stamps the odometry and must outlive the driver.
+  Create2Base(const Create2Options& options, const Clock& clock);
+  ~Create2Base() override;  // stops the wheels and the OI, joins the thread
+
+  BaseLimits limits() const override;
+  void SetVelocity(const nav::Twist2& command) override;
+  void SetOdometryHandler(OdometryHandler handler) override;
+  void SetBatteryHandler(BatteryHandler handler) override;
+  Create2Status status() const;
+
+ private:
+  void Run(std::stop_token stop);
+  // One session on an open port: the OI started and streaming, frames until the port fails, goes silent, or `stop`.
+  void Drive(SerialPort& port, std::stop_token stop);
+  // The frame's odometry and battery handed on, and the wheels' command for it.
+  void Take(SerialPort& port, const SensorFrame& frame);
+  void SetState(LinkState state, std::string error = {});
+
+  Create2Options options_;
+  const Clock& clock_;
+  mutable std::mutex mutex_;  // guards the command, the handlers and status_
+  nav::Twist2 command_;
+  TimeNs command_ns_ = 0;
+  OdometryHandler odometry_handler_;
+  BatteryHandler battery_handler_;
+  Create2Status status_;
+  // The driver's thread only.
+  std::optional<std::pair<std::uint16_t, std::uint16_t>> last_counts_;  // left, right
+  TimeNs last_frame_ns_ = 0;
+  TimeNs last_battery_ns_ = 0;
+  TimeNs last_safe_ns_ = 0;
+  nav::Pose2 pose_;
+  // The distance travelled and the heading turned, with when: the velocity is taken over the last kVelocityWindowS
+  // (frames arrive bunched on a busy host; one frame's counts over its arrival gap were off by a quarter).
+  struct Travelled {
+    TimeNs stamp_ns;
+    double distance_m;
+    double yaw_rad;
+  };
+  std::deque<Travelled> travelled_;
+  double distance_m_ = 0.0;
+  double yaw_rad_ = 0.0;
+  nav::Twist2 driven_;  // the ramped command sent last
+  std::jthread thread_;  // last: started after everything it uses
+};
+
+}  // namespace corridor::drivers::create2
