@@ -19,7 +19,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   boost::beast::error_code ec;
   parser.eager(true);
   parser.put(boost::asio::buffer(data, size), ec);
-  if (ec || !parser.is_done()) {
+  if (ec) return 0;  // the server answers 400
+  if (!parser.is_done()) {
+    // The connection closing after a message without a length. Only after some of it: Beast asserts that much.
+    if (!parser.got_some()) return 0;
     parser.put_eof(ec);
     if (ec || !parser.is_done()) return 0;
   }
