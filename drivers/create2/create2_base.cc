@@ -67,15 +67,7 @@ Create2Status Create2Base::status() const {
 
 void Create2Base::SetState(LinkState state, std::string error) {
   std::lock_guard lock(mutex_);
-  if (state != status_.state || (!error.empty() && error != status_.last_error)) {
-    if (error.empty()) {
-      spdlog::info("create2 {}: {}", options_.port.string(), ToString(state));
-    } else {
-      spdlog::warn("create2 {}: {}: {}", options_.port.string(), ToString(state), error);
-    }
-  }
-  status_.state = state;
-  if (!error.empty()) status_.last_error = std::move(error);
+  status_.Set("create2", options_.port.string(), state, std::move(error));
 }
 
 void Create2Base::Run(std::stop_token stop) {

@@ -37,15 +37,12 @@ struct Create2Options {
   double battery_period_s = 1.0;
 };
 
-struct Create2Status {
-  LinkState state = LinkState::kConnecting;
+struct Create2Status : LinkStatus {
   std::uint64_t frames = 0;          // sensor frames decoded
   std::uint64_t dropped_frames = 0;  // bad checksums and frames that did not add up
-  std::uint64_t reconnects = 0;
   int oi_mode = 0;                   // 0 off, 1 passive, 2 safe, 3 full
   bool cliff = false;
   bool wheel_drop = false;
-  std::string last_error;
 };
 
 class Create2Base final : public DiffDriveBase, public Battery {

@@ -30,7 +30,7 @@ std::optional<std::vector<std::uint8_t>> Answer(SerialPort& port, DataType type,
       const bool keep_last = !bytes.empty() && bytes.back() == kStartFlag1;
       bytes.erase(bytes.begin(), bytes.end() - (keep_last ? 1 : 0));
     }
-    if (bytes.size() >= kDescriptorBytes && bytes[0] == kStartFlag1 && bytes[1] == kStartFlag2) break;
+    if (bytes.size() >= kDescriptorBytes) break;  // from A5 5A on
     if (left() <= 0.0 || !port.ReadExactly(bytes, bytes.size() + 1, left())) return std::nullopt;
   }
   const std::optional<Descriptor> descriptor =
@@ -72,15 +72,7 @@ RplidarStatus RplidarLaser::status() const {
 
 void RplidarLaser::SetState(LinkState state, std::string error) {
   std::lock_guard lock(mutex_);
-  if (state != status_.state || (!error.empty() && error != status_.last_error)) {
-    if (error.empty()) {
-      spdlog::info("rplidar {}: {}", options_.port.string(), ToString(state));
-    } else {
-      spdlog::warn("rplidar {}: {}: {}", options_.port.string(), ToString(state), error);
-    }
-  }
-  status_.state = state;
-  if (!error.empty()) status_.last_error = std::move(error);
+  status_.Set("rplidar", options_.port.string(), state, std::move(error));
 }
 
 void RplidarLaser::Run(std::stop_token stop) {

@@ -32,13 +32,10 @@ struct RplidarOptions {
   double answer_s = 1.0;         // a request's descriptor must arrive within this
 };
 
-struct RplidarStatus {
-  LinkState state = LinkState::kConnecting;
+struct RplidarStatus : LinkStatus {
   std::uint64_t scans = 0;           // revolutions handed on
   std::uint64_t skipped_bytes = 0;   // noise and lost bytes skipped in the node stream
-  std::uint64_t reconnects = 0;      // times the port was opened again after a failure
   std::optional<DeviceInfo> info;
-  std::string last_error;            // empty: none yet
 };
 
 class RplidarLaser final : public Laser2D {

@@ -5,7 +5,23 @@
 #include <exception>
 #include <mutex>
 
+#include <spdlog/spdlog.h>
+
+#include "drivers/serial/link_state.h"
+
 namespace corridor::drivers {
+
+void LinkStatus::Set(std::string_view device, std::string_view port, LinkState to, std::string error) {
+  if (to != state || (!error.empty() && error != last_error)) {
+    if (error.empty()) {
+      spdlog::info("{} {}: {}", device, port, ToString(to));
+    } else {
+      spdlog::warn("{} {}: {}: {}", device, port, ToString(to), error);
+    }
+  }
+  state = to;
+  if (!error.empty()) last_error = std::move(error);
+}
 
 void RunReconnecting(std::stop_token stop, double reconnect_s, const std::function<void()>& session,
                      const std::function<void(const std::string&)>& failed, const std::function<void()>& retrying) {

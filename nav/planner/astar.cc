@@ -121,10 +121,12 @@ SearchResult Search(const Costmap& costmap, const Eigen::Vector2d& start, const 
   const auto escape_through = [&](std::size_t i, int nx, int ny) {
     return escape && !costmap.InKeepOut(i) && within(nx, ny, kEscapeReachM) && clear_of_walls(nx, ny);
   };
-  const auto blocked = [&](std::size_t i, int nx, int ny) {
-    return costmap.IsObstacle(i) && (!robot_at_start || costmap.InKeepOut(i) || !within(nx, ny, footprint_m)) &&
-           !escape_through(i, nx, ny);
+  // An obstacle cell the search may not enter: any but those under the footprint where the robot stands; then the
+  // escape's crossing may still open it (blocked).
+  const auto obstacle = [&](std::size_t i, int nx, int ny) {
+    return costmap.IsObstacle(i) && (!robot_at_start || costmap.InKeepOut(i) || !within(nx, ny, footprint_m));
   };
+  const auto blocked = [&](std::size_t i, int nx, int ny) { return obstacle(i, nx, ny) && !escape_through(i, nx, ny); };
   for (int top = open.Pop(); top >= 0; top = open.Pop()) {
     const std::size_t cur = static_cast<std::size_t>(top);
     if (closed[cur]) continue;
@@ -143,9 +145,10 @@ SearchResult Search(const Costmap& costmap, const Eigen::Vector2d& start, const 
       const int ny = y + kDy[k];
       if (!interior && (nx < 0 || ny < 0 || nx >= width || ny >= height)) continue;
       const std::size_t next = cur + static_cast<std::ptrdiff_t>(kDy[k]) * width + kDx[k];
-      if (closed[next] || blocked(next, nx, ny)) continue;
+      if (closed[next]) continue;
       const bool traversable = costmap.Traversable(next);
-      const bool through_band = !traversable && escape_through(next, nx, ny);
+      const bool through_band = !traversable && escape_through(next, nx, ny);  // the walls looked up once a cell
+      if (!through_band && obstacle(next, nx, ny)) continue;
       // Out of the band along rising clearance, or near a start inside it.
       const bool leaving = (escaping && costmap.clearance_m(next) > costmap.clearance_m(cur)) ||
                            (start_inside && near_start(nx, ny));
