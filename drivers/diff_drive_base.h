@@ -16,13 +16,14 @@ struct BaseLimits {
   double footprint_radius_m = 0.0;
 };
 
-// Wheel odometry: the base's dead-reckoned pose in its odometry frame (drifts), its measured velocity, and
-// whether the bumper is pressed.
+// Wheel odometry: the base's dead-reckoned pose in its odometry frame (drifts), its measured velocity, whether the
+// bumper is pressed, and whether the base sees a cliff or a dropped wheel (bases without such sensors say no).
 struct WheelOdometry {
   TimeNs stamp_ns = 0;
   nav::Pose2 odom_T_base;
   nav::Twist2 velocity;
   bool bumper_pressed = false;
+  bool cliff = false;
 };
 
 class DiffDriveBase {

@@ -25,10 +25,12 @@ double Ramp(double from, double to, double max_step) { return from + std::clamp(
 
 Create2Base::Create2Base(const Create2Options& options, const Clock& clock) : options_(options), clock_(clock) {
   if (options.port.empty()) throw std::invalid_argument("create2: no port given");
-  if (!(options.command_timeout_s > 0.0) || !(options.silence_s > 0.0) || !(options.reconnect_s > 0.0) ||
+  if (!(options.command_timeout_s > 0.0) || !(options.stale_s > 0.0) || !(options.silence_s > options.stale_s) ||
+      !(options.reconnect_s > 0.0) ||
       !(options.wheels.track_m > 0.0) || !(options.wheels.wheel_diameter_m > 0.0) ||
       !(options.wheels.counts_per_revolution > 0.0)) {
-    throw std::invalid_argument("create2: timeouts and wheel geometry must be positive");
+    throw std::invalid_argument(
+        "create2: timeouts and wheel geometry must be positive, and silence_s longer than stale_s");
   }
   thread_ = std::jthread([this](std::stop_token stop) { Run(stop); });
 }
@@ -65,9 +67,21 @@ Create2Status Create2Base::status() const {
   return status_;
 }
 
-void Create2Base::SetState(LinkState state, std::string error) {
+void Create2Base::SetLinkHandler(LinkHandler handler) {
   std::lock_guard lock(mutex_);
-  status_.Set("create2", options_.port.string(), state, std::move(error));
+  link_handler_ = std::move(handler);
+}
+
+void Create2Base::SetState(LinkState state, std::string error) {
+  LinkHandler handler;
+  LinkStatus now;
+  {
+    std::lock_guard lock(mutex_);
+    if (!status_.Set("create2", options_.port.string(), state, std::move(error))) return;
+    handler = link_handler_;
+    now = status_;
+  }
+  if (handler) handler(now);
 }
 
 void Create2Base::Run(std::stop_token stop) {
@@ -97,7 +111,7 @@ void Create2Base::Drive(SerialPort& port, std::stop_token stop) {
   std::array<std::uint8_t, 256> buffer{};
   last_frame_ns_ = clock_.Now();
   while (!stop.stop_requested()) {
-    const std::size_t n = port.Read(buffer, options_.silence_s);
+    const std::size_t n = port.Read(buffer, options_.stale_s);
     frames.clear();
     parser.Push(std::span<const std::uint8_t>(buffer.data(), n), frames);
     {
@@ -105,9 +119,15 @@ void Create2Base::Drive(SerialPort& port, std::stop_token stop) {
       status_.dropped_frames = parser.dropped();
     }
     for (const SensorFrame& frame : frames) Take(port, frame);
-    if (ToSeconds(clock_.Now() - last_frame_ns_) > options_.silence_s) {
+    const double quiet_s = ToSeconds(clock_.Now() - last_frame_ns_);
+    if (quiet_s > options_.silence_s) {
       SetState(LinkState::kSilent, fmt::format("no sensor frame for {:.1f} s: restarting the stream", options_.silence_s));
       return;
+    }
+    if (quiet_s > options_.stale_s) {
+      SetState(LinkState::kStale, fmt::format("no sensor frame for {:.0f} ms", quiet_s * 1e3));
+      port.Write(EncodeDriveDirect(0, 0));  // the robot keeps its last command: stop it while it may still listen
+      driven_ = {};
     }
   }
   port.Write(EncodeDriveDirect(0, 0));
@@ -168,7 +188,7 @@ void Create2Base::Take(SerialPort& port, const SensorFrame& frame) {
     last_safe_ns_ = now;
   }
   if (odometry) {
-    odometry(WheelOdometry{now, pose_, velocity, frame.bump_left || frame.bump_right});
+    odometry(WheelOdometry{now, pose_, velocity, frame.bump_left || frame.bump_right, floor_missing});
   }
   if (battery) {
     last_battery_ns_ = now;

@@ -15,27 +15,13 @@
 #include <thread>
 
 #include "drivers/battery.h"
+#include "drivers/create2/create2_options.h"
 #include "drivers/create2/open_interface.h"
 #include "drivers/diff_drive_base.h"
 #include "drivers/serial/link_state.h"
 #include "drivers/serial/serial_port.h"
 
 namespace corridor::drivers::create2 {
-
-struct Create2Options {
-  std::filesystem::path port;  // /dev/ttyUSB0, /dev/corridor/create2
-  int baud_rate = 115200;      // the OI's default
-  WheelGeometry wheels;
-  double max_linear_mps = 0.5;         // the OI's 500 mm/s a wheel
-  double max_angular_rps = 4.0;
-  double max_linear_accel_mps2 = 1.0;
-  double max_angular_accel_rps2 = 4.0;
-  double footprint_radius_m = 0.17;
-  double command_timeout_s = 0.5;
-  double silence_s = 0.2;     // no whole frame for this long: the stream is restarted
-  double reconnect_s = 0.5;
-  double battery_period_s = 1.0;
-};
 
 struct Create2Status : LinkStatus {
   std::uint64_t frames = 0;          // sensor frames decoded
@@ -45,7 +31,7 @@ struct Create2Status : LinkStatus {
   bool wheel_drop = false;
 };
 
-class Create2Base final : public DiffDriveBase, public Battery {
+class Create2Base final : public DiffDriveBase, public Battery, public DeviceLink {
  public:
   // Starts the driver's thread; `clock` stamps the odometry and must outlive the driver.
   Create2Base(const Create2Options& options, const Clock& clock);
@@ -56,6 +42,8 @@ class Create2Base final : public DiffDriveBase, public Battery {
   void SetOdometryHandler(OdometryHandler handler) override;
   void SetBatteryHandler(BatteryHandler handler) override;
   Create2Status status() const;
+  LinkStatus link() const override { return status(); }
+  void SetLinkHandler(LinkHandler handler) override;
 
  private:
   void Run(std::stop_token stop);
@@ -72,6 +60,7 @@ class Create2Base final : public DiffDriveBase, public Battery {
   TimeNs command_ns_ = 0;
   OdometryHandler odometry_handler_;
   BatteryHandler battery_handler_;
+  LinkHandler link_handler_;
   Create2Status status_;
   // The driver's thread only.
   std::optional<std::pair<std::uint16_t, std::uint16_t>> last_counts_;  // left, right

@@ -48,8 +48,10 @@ std::optional<std::vector<std::uint8_t>> Answer(SerialPort& port, DataType type,
 RplidarLaser::RplidarLaser(const RplidarOptions& options, const Clock& clock)
     : options_(options), clock_(clock) {
   if (options.port.empty()) throw std::invalid_argument("rplidar: no port given");
-  if (!(options.silence_s > 0.0) || !(options.reconnect_s > 0.0) || !(options.answer_s > 0.0)) {
-    throw std::invalid_argument("rplidar: silence_s, reconnect_s and answer_s must be positive");
+  if (!(options.stale_s > 0.0) || !(options.silence_s > options.stale_s) || !(options.reconnect_s > 0.0) ||
+      !(options.answer_s > 0.0)) {
+    throw std::invalid_argument(
+        "rplidar: stale_s, reconnect_s and answer_s must be positive, and silence_s longer than stale_s");
   }
   SweepAssembler check(options.sweep);  // throws for bad sweep options here, not on the thread
   thread_ = std::jthread([this](std::stop_token stop) { Run(stop); });
@@ -70,9 +72,21 @@ RplidarStatus RplidarLaser::status() const {
   return status_;
 }
 
-void RplidarLaser::SetState(LinkState state, std::string error) {
+void RplidarLaser::SetLinkHandler(LinkHandler handler) {
   std::lock_guard lock(mutex_);
-  status_.Set("rplidar", options_.port.string(), state, std::move(error));
+  link_handler_ = std::move(handler);
+}
+
+void RplidarLaser::SetState(LinkState state, std::string error) {
+  LinkHandler handler;
+  LinkStatus now;
+  {
+    std::lock_guard lock(mutex_);
+    if (!status_.Set("rplidar", options_.port.string(), state, std::move(error))) return;
+    handler = link_handler_;
+    now = status_;
+  }
+  if (handler) handler(now);
 }
 
 void RplidarLaser::Run(std::stop_token stop) {
@@ -147,12 +161,21 @@ void RplidarLaser::Scan(SerialPort& port, std::stop_token stop) {
   take(*started);  // nodes that came with the descriptor
   SetState(LinkState::kRunning);
   std::array<std::uint8_t, 256> buffer{};
+  TimeNs last_byte_ns = clock_.Now();
   while (!stop.stop_requested()) {
-    const std::size_t n = port.Read(buffer, options_.silence_s);
+    const std::size_t n = port.Read(buffer, options_.stale_s);
+    const TimeNs now = clock_.Now();
     if (n == 0) {
-      SetState(LinkState::kSilent, fmt::format("no data for {:.1f} s: restarting the scan", options_.silence_s));
-      return;
+      const double quiet_s = ToSeconds(now - last_byte_ns);
+      if (quiet_s >= options_.silence_s) {
+        SetState(LinkState::kSilent, fmt::format("no data for {:.1f} s: restarting the scan", options_.silence_s));
+        return;
+      }
+      if (quiet_s >= options_.stale_s) SetState(LinkState::kStale, fmt::format("no data for {:.0f} ms", quiet_s * 1e3));
+      continue;
     }
+    last_byte_ns = now;
+    SetState(LinkState::kRunning);
     take(std::span<const std::uint8_t>(buffer.data(), n));
   }
   port.Write(EncodeRequest(Command::kStop));

@@ -15,22 +15,12 @@
 #include <thread>
 
 #include "drivers/laser2d.h"
+#include "drivers/rplidar/rplidar_options.h"
 #include "drivers/rplidar/rplidar_protocol.h"
 #include "drivers/serial/link_state.h"
 #include "drivers/serial/serial_port.h"
 
 namespace corridor::drivers::rplidar {
-
-struct RplidarOptions {
-  std::filesystem::path port;    // a serial device: /dev/ttyUSB0, /dev/corridor/rplidar
-  int baud_rate = 115200;        // A1/A2: 115200; A3: 256000; S1/S2/C1: 256000 or 460800 (the device's fixed rate)
-  nav::Pose2 base_T_laser;       // where it is mounted, base frame
-  double height_m = 0.2;
-  SweepOptions sweep;
-  double silence_s = 0.5;        // no byte for this long: the device is restarted (and the scans are stale)
-  double reconnect_s = 0.5;      // between attempts to open a port that failed or went away
-  double answer_s = 1.0;         // a request's descriptor must arrive within this
-};
 
 struct RplidarStatus : LinkStatus {
   std::uint64_t scans = 0;           // revolutions handed on
@@ -38,7 +28,7 @@ struct RplidarStatus : LinkStatus {
   std::optional<DeviceInfo> info;
 };
 
-class RplidarLaser final : public Laser2D {
+class RplidarLaser final : public Laser2D, public DeviceLink {
  public:
   // Starts the driver's thread; `clock` stamps the scans (when a revolution's last byte arrived) and must outlive it.
   RplidarLaser(const RplidarOptions& options, const Clock& clock);
@@ -48,6 +38,8 @@ class RplidarLaser final : public Laser2D {
   double height_m() const override { return options_.height_m; }
   void SetScanHandler(ScanHandler handler) override;
   RplidarStatus status() const;
+  LinkStatus link() const override { return status(); }
+  void SetLinkHandler(LinkHandler handler) override;
 
  private:
   void Run(std::stop_token stop);
@@ -57,8 +49,9 @@ class RplidarLaser final : public Laser2D {
 
   RplidarOptions options_;
   const Clock& clock_;
-  mutable std::mutex mutex_;  // guards handler_ and status_
+  mutable std::mutex mutex_;  // guards the handlers and status_
   ScanHandler handler_;
+  LinkHandler link_handler_;
   RplidarStatus status_;
   std::jthread thread_;  // last: started after everything it uses
 };

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 
@@ -10,6 +11,7 @@ namespace corridor::drivers {
 enum class LinkState {
   kConnecting,    // the port is open, the device being set up
   kRunning,       // data flows
+  kStale,         // nothing came for stale_s: the robot must not rely on the device (it stops)
   kSilent,        // the port is open but the device said nothing for a while: restarting it
   kDisconnected,  // the port failed or is gone (unplugged): reopening it
 };
@@ -18,6 +20,7 @@ inline const char* ToString(LinkState state) {
   switch (state) {
     case LinkState::kConnecting: return "connecting";
     case LinkState::kRunning: return "running";
+    case LinkState::kStale: return "stale";
     case LinkState::kSilent: return "silent";
     case LinkState::kDisconnected: return "disconnected";
   }
@@ -29,8 +32,25 @@ struct LinkStatus {
   LinkState state = LinkState::kConnecting;
   std::uint64_t reconnects = 0;  // times the port was opened again after a failure or silence
   std::string last_error;        // empty: none yet
-  // Sets the state, and the error when one is given; a change is logged as `device` on `port`.
-  void Set(std::string_view device, std::string_view port, LinkState to, std::string error = {});
+  // Sets the state, and the error when one is given; a change is logged as `device` on `port`. True when the state
+  // changed.
+  bool Set(std::string_view device, std::string_view port, LinkState to, std::string error = {});
+};
+
+// A native driver's link to its device, watched byte by byte: the daemon's device health reads it, and the command
+// gate stops the robot while it is not running.
+class DeviceLink {
+ public:
+  using LinkHandler = std::function<void(const LinkStatus&)>;
+
+  DeviceLink() = default;
+  DeviceLink(const DeviceLink&) = delete;
+  DeviceLink& operator=(const DeviceLink&) = delete;
+  virtual ~DeviceLink() = default;
+
+  virtual LinkStatus link() const = 0;
+  // Called on the driver's thread whenever the link's state changes; must return quickly.
+  virtual void SetLinkHandler(LinkHandler handler) = 0;
 };
 
 }  // namespace corridor::drivers

@@ -11,8 +11,9 @@
 
 namespace corridor::drivers {
 
-void LinkStatus::Set(std::string_view device, std::string_view port, LinkState to, std::string error) {
-  if (to != state || (!error.empty() && error != last_error)) {
+bool LinkStatus::Set(std::string_view device, std::string_view port, LinkState to, std::string error) {
+  const bool changed = to != state;
+  if (changed || (!error.empty() && error != last_error)) {
     if (error.empty()) {
       spdlog::info("{} {}: {}", device, port, ToString(to));
     } else {
@@ -21,6 +22,7 @@ void LinkStatus::Set(std::string_view device, std::string_view port, LinkState t
   }
   state = to;
   if (!error.empty()) last_error = std::move(error);
+  return changed;
 }
 
 void RunReconnecting(std::stop_token stop, double reconnect_s, const std::function<void()>& session,
