@@ -27,15 +27,35 @@ const char* ToString(GateReason reason) {
     case GateReason::kSlowedForObstacle: return "slowed for an obstacle ahead";
     case GateReason::kNoDepth: return "no depth frames: not driving forward";
     case GateReason::kSlowedForPerson: return "slowed near a person ahead";
+    case GateReason::kNoLaser: return "no laser scans: not driving forward";
+    case GateReason::kCliff: return "a cliff or a dropped wheel: stopped";
+    case GateReason::kDeviceDown: return "a device is not answering";
   }
   return "unknown";
 }
 
-void CommandGate::Odometry(double now_s, bool bumper_pressed) {
+const char* ToString(Device device) {
+  switch (device) {
+    case Device::kBase: return "base";
+    case Device::kLaser: return "laser";
+    case Device::kCamera: return "camera";
+  }
+  return "unknown";
+}
+
+void CommandGate::Odometry(double now_s, bool bumper_pressed, bool cliff) {
   last_odometry_s_ = now_s;
+  cliff_ = cliff;
   if (!bumper_pressed) return;
   last_bump_s_ = now_s;
   if (last_moving_linear_mps_ != 0.0) bump_direction_ = last_moving_linear_mps_ > 0.0 ? 1 : -1;
+}
+
+std::optional<Device> CommandGate::down() const {
+  for (int d = 0; d < kDeviceCount; ++d) {
+    if (down_[d]) return static_cast<Device>(d);
+  }
+  return std::nullopt;
 }
 
 void CommandGate::Sight(double now_s, const std::vector<LaneResult>& lanes) {
@@ -70,6 +90,16 @@ GateDecision CommandGate::Decide(double now_s, const TimedTwist* teleop, const T
     out.reason = GateReason::kNoOdometry;
     return out;
   }
+  if (down()) {
+    out.mode = ControlMode::kStopped;
+    out.reason = GateReason::kDeviceDown;
+    return out;
+  }
+  if (cliff_) {
+    out.mode = ControlMode::kStopped;
+    out.reason = GateReason::kCliff;
+    return out;
+  }
   if (now_s - last_fault_s_ <= options_.fault_hold_s) {
     out.mode = ControlMode::kStopped;
     out.reason = GateReason::kProtectiveStop;
@@ -100,6 +130,10 @@ GateDecision CommandGate::Decide(double now_s, const TimedTwist* teleop, const T
     if (out.twist.linear_mps > cap) {
       out.twist.linear_mps = cap;
       out.reason = fresh ? GateReason::kSlowedForObstacle : GateReason::kNoDepth;
+    }
+    if (options_.require_laser && now_s - last_scan_s_ > options_.laser_timeout_s && out.twist.linear_mps > 0.0) {
+      out.twist.linear_mps = 0.0;
+      out.reason = GateReason::kNoLaser;
     }
   }
   const double person_cap = options_.person_speed_factor * options_.max_linear_mps;

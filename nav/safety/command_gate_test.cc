@@ -179,5 +179,44 @@ TEST(CommandGateTest, APersonAheadWithinOneAndAHalfMetresHalvesTheSpeedWhileTheR
   EXPECT_DOUBLE_EQ(gate.Decide(11.2, nullptr, &later).twist.linear_mps, 0.5);
 }
 
+TEST(CommandGateTest, ADeviceDownOrACliffStopsTheRobotUntilItIsBack) {
+  CommandGate gate = Seeing(10.0);
+  const TimedTwist teleop{{0.3, 0.4}, 10.0};
+  gate.Link(Device::kLaser, false);
+  GateDecision c = gate.Decide(10.01, &teleop, nullptr);
+  EXPECT_EQ(c.mode, ControlMode::kStopped);
+  EXPECT_EQ(c.reason, GateReason::kDeviceDown);
+  EXPECT_EQ(c.twist.angular_rps, 0.0);
+  ASSERT_TRUE(gate.down());
+  EXPECT_STREQ(ToString(*gate.down()), "laser");
+  gate.Link(Device::kLaser, true);
+  EXPECT_FALSE(gate.down());
+  EXPECT_DOUBLE_EQ(gate.Decide(10.02, &teleop, nullptr).twist.linear_mps, 0.3);
+  // The base sees no floor: everything stops (backing away included) until the next odometry says it is back.
+  gate.Odometry(10.03, false, /*cliff=*/true);
+  const TimedTwist back{{-0.2, 0.0}, 10.03};
+  c = gate.Decide(10.03, &back, nullptr);
+  EXPECT_EQ(c.reason, GateReason::kCliff);
+  EXPECT_EQ(c.twist.linear_mps, 0.0);
+  gate.Odometry(10.04, false, false);
+  EXPECT_DOUBLE_EQ(gate.Decide(10.04, &back, nullptr).twist.linear_mps, -0.2);
+}
+
+TEST(CommandGateTest, WithALaserForwardNeedsFreshScans) {
+  CommandGateOptions o;
+  o.require_laser = true;
+  CommandGate gate = Seeing(10.0, o);
+  const TimedTwist forward{{0.3, 0.2}, 10.0};
+  EXPECT_EQ(gate.Decide(10.0, &forward, nullptr).reason, GateReason::kNoLaser);  // none yet
+  gate.Scan(10.0);
+  EXPECT_DOUBLE_EQ(gate.Decide(10.0, &forward, nullptr).twist.linear_mps, 0.3);
+  gate.Odometry(10.0 + o.laser_timeout_s + 0.01, false);
+  gate.Sight(10.0 + o.laser_timeout_s + 0.01, LanesAt(-1.0));
+  const GateDecision late = gate.Decide(10.0 + o.laser_timeout_s + 0.01, &forward, nullptr);
+  EXPECT_EQ(late.reason, GateReason::kNoLaser);
+  EXPECT_EQ(late.twist.linear_mps, 0.0);
+  EXPECT_DOUBLE_EQ(late.twist.angular_rps, 0.2);  // turning stays allowed
+}
+
 }  // namespace
 }  // namespace corridor::nav
