@@ -10,10 +10,10 @@ import { getJson, postJson, sendJson, sleep, startDaemon, waitFor, writeRoom } f
 
 const dir = mkdtempSync(join(tmpdir(), 'corridor-bench-'));
 const daemon = await startDaemon({ config: `
+devices: {laser: {driver: none}}
 sim:
   world: "${writeRoom(dir, 12, 8)}"
   start: {x_m: 1.0, y_m: 4.0, yaw_deg: 0}
-  laser: {enabled: false}
 ` });
 const state = async () => (await getJson(`${daemon.url}/api/v1/state`)).body;
 const rows = [];

@@ -22,6 +22,7 @@ const vga = process.argv.includes('--vga');
 const hog = process.argv.includes('--hog');
 const dir = mkdtempSync(join(tmpdir(), 'corridor-bench-'));
 const daemon = await startDaemon({ config: `
+devices: {laser: {driver: ${withLaser ? 'sim' : 'none'}}}
 sim:
   world: "${writeRoom(dir, 12, 8)}"
   start: {x_m: 1.0, y_m: 4.0, yaw_deg: 0}
@@ -29,7 +30,6 @@ sim:
     - {shape: cylinder, x_m: 4.0, y_m: 4.1, size_m: 0.3, height_m: 1.0}
     - {shape: box, x_m: 8.0, y_m: 3.8, size_m: 0.3, height_m: 1.0}
   pedestrians: 3
-  laser: {enabled: ${withLaser}}
 ${vga ? '  camera: {width: 640, height: 480}\n' : ''}${hog ? 'perception: {detector: hog}\n' : ''}` });
 let ws = null;
 let camera = null;

@@ -65,6 +65,7 @@ Run DockOnce(std::uint32_t seed, const fs::path& state_dir) {
   server::Config config;
   config.store.state_dir = state_dir;
   config.sim.robot = sim;
+  config.devices.laser.driver = server::DeviceDriver::kNone;
   config.localization.source = server::LocalizationOptions::Source::kOdometry;
   server::ApplyDerivedOptions(config);
   const server::Devices devices{robot, robot, nullptr, &robot, &robot, nullptr};

@@ -60,10 +60,10 @@ const rms = (values) => Math.sqrt(values.reduce((a, v) => a + v * v, 0) / values
 
 const daemon = await startDaemon({ config: `
 map: {file: "${mapFile}"}
+devices: {laser: {driver: ${sensor === 'laser' ? 'sim' : 'none'}}}
 sim:
   world: "${mapFile}"
   start: {x_m: 24.38, y_m: 24.07, yaw_deg: 90}
-  laser: {enabled: ${sensor === 'laser'}}
 localization: {source: mcl}
 ` });
 const state = async () => (await getJson(`${daemon.url}/api/v1/state`)).body;

@@ -12,8 +12,8 @@
 #include <iostream>
 
 #include "server/api/http_server.h"
-#include "server/app/dds_robot.h"
 #include "server/app/graph.h"
+#include "server/app/robot_devices.h"
 #include "server/app/service.h"
 #include "server/app/simulator.h"
 #include "server/runtime/config.h"
@@ -171,15 +171,9 @@ int Run(const CommandLine& cl) {
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
-  // The simulator, or the robot's devices served by ROS 2 drivers over DDS.
+  // The robot's devices: the simulator's, or the robot's own through their drivers (devices.*).
   drivers::SteadyClock device_clock;
-  std::optional<Simulator> sim;
-  std::optional<DdsRobot> dds_robot;
-  if (config.sim.enabled) {
-    sim = MakeSimulator(config);
-  } else {
-    dds_robot = MakeDdsRobot(config, device_clock);
-  }
+  RobotDevices devices(config, device_clock);
 
   std::optional<TlsIdentity> tls;
   if (config.server.tls.enabled) {
@@ -187,8 +181,9 @@ int Run(const CommandLine& cl) {
     spdlog::info("TLS certificate {}{}, SHA-256 fingerprint {}", tls->certificate.string(),
                  tls->generated ? " (self-signed, made now)" : "", tls->fingerprint);
   }
-  Graph graph(config, sim ? sim->devices(config) : dds_robot->devices(),
-              InitialMap(config, sim ? sim->world.get() : nullptr), Schedule::kThreads, tls ? tls->fingerprint : "");
+  const Simulator* sim = devices.simulator();
+  Graph graph(config, devices.devices(), InitialMap(config, sim ? sim->world.get() : nullptr), Schedule::kThreads,
+              tls ? tls->fingerprint : "");
   HttpServer server(graph.executors().io, graph.api(), config.server, tls);
   server.Start();
   graph.Start();
@@ -209,7 +204,7 @@ int Run(const CommandLine& cl) {
   spdlog::info("{}: stopping the robot, then shutting down", strsignal(signal_number));
   service.Stopping();
   graph.Stop();
-  if (dds_robot) dds_robot->Stop();  // no driver callback may reach the graph once it is gone
+  devices.Stop();  // no driver callback may reach the graph once it is gone
   server.Stop();
   spdlog::info("stopped");
   return 0;

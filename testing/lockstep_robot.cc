@@ -33,7 +33,9 @@ LockstepRobot::LockstepRobot(const fs::path& config_file, const std::function<vo
     adjust(config_);
     server::ApplyDerivedOptions(config_);
   }
-  if (!config_.sim.enabled) throw std::invalid_argument("a lockstep robot needs the simulator (sim.enabled)");
+  if (!server::Simulated(config_)) {
+    throw std::invalid_argument("a lockstep robot needs the simulator (devices.base.driver: sim)");
+  }
   sim_ = server::MakeSimulator(config_);
   graph_ = std::make_unique<server::Graph>(config_, sim_.devices(config_),
                                            server::InitialMap(config_, sim_.world.get()), server::Schedule::kLockstep);

@@ -19,8 +19,9 @@ const api = openApiValidator();
 const dir = mkdtempSync(join(tmpdir(), 'corridor-room-'));
 const room = writeRoom(dir, 10, 6);
 after(() => rmSync(dir, { recursive: true, force: true }));
-// The room, the robot at its west end looking east, and `sim` keys of the test's own.
-const roomConfig = (sim) => `
+// The room, the robot at its west end looking east, `sim` keys of the test's own, and the laser's driver.
+const roomConfig = (sim, laser = 'sim') => `
+devices: {laser: {driver: ${laser}}}
 sim:
   world: "${room}"
   start: {x_m: 1.5, y_m: 3.0, yaw_deg: 0}
@@ -32,12 +33,11 @@ describe('local navigation among unmapped obstacles and people', () => {
   before(async () => {
     daemon = await startDaemon({ config: roomConfig(`
   camera: {rate_hz: 15}
-  laser: {enabled: false}
   obstacles:
     - {shape: cylinder, x_m: ${pillar.x}, y_m: ${pillar.y}, size_m: ${pillar.r}, height_m: 1.0}
 # The 3D map would put the pillar in the planner's costmap once seen: this is about what the planner does not know.
 octomap: {costmap_layer: false}
-`) });
+`, 'none') });
     await sleep(300);
   });
   after(async () => { await daemon?.stop(); });
@@ -219,9 +219,8 @@ describe('simulated people, a robot without a laser: tracked with its camera', (
   before(async () => {
     daemon = await startDaemon({ config: roomConfig(`
   camera: {width: 160, height: 120}
-  laser: {enabled: false}
   pedestrians: 2
-`) });
+`, 'none') });
   });
   after(async () => { await daemon?.stop(); });
 

@@ -182,10 +182,10 @@ describe('localization from the depth camera alone', () => {
   let daemon;
   before(async () => {
     daemon = await startDaemon({ config: `
+devices: {laser: {driver: none}}
 sim:
   world: "${new URL('../config/worlds/willow_garage/willow-full-0.05.yaml', import.meta.url).pathname}"
   start: {x_m: 24.38, y_m: 24.07, yaw_deg: 90}
-  laser: {enabled: false}
 localization: {source: mcl}
 ` });
   });

@@ -104,7 +104,7 @@ TEST(NavigationLockstep, LocalizationFollowsAMissionWithinCentimetresOfTheTruth)
 
 // The same from the depth camera's scans alone (no laser): within 10 cm and 4 degrees.
 TEST(NavigationLockstep, LocalizationFromTheDepthCameraFollowsAMission) {
-  LockstepRobot robot(DefaultConfig(), [](server::Config& c) { c.sim.robot.laser.enabled = false; });
+  LockstepRobot robot(DefaultConfig(), [](server::Config& c) { c.devices.laser.driver = server::DeviceDriver::kNone; });
   ASSERT_TRUE(robot.StepUntil([&] { return Health(robot) == "ok"; }, 10.0)) << "localization never ok";
   const MissionRun run = RunMission(robot, json::array({{{"x", 24.4}, {"y", 26.5}}, {{"x", 25.0}, {"y", 27.2}}}), 90.0);
   EXPECT_EQ(run.status, "succeeded");

@@ -10,11 +10,11 @@ import { getJson, openApiValidator, postJson, sendJson, sleep, sourceDir, startD
 
 const api = openApiValidator();
 const config = `
+devices: {laser: {driver: none}}
 sim:
   world: "${sourceDir}tests/data/maps/lse_arena/lse_arena.yaml"
   start: {x_m: 1.0, y_m: 0.75, yaw_deg: 0}
   camera: {rate_hz: 15, width: 160, height: 120}
-  laser: {enabled: false}
   base: {odom_linear_noise: 0, odom_angular_noise: 0}
 `;
 const upperRoom = { x: 1.0, y: 2.4 };

@@ -24,7 +24,7 @@ const config = (tls) => `
 sim:
   world: "${room}"
   start: {x_m: 1.0, y_m: 1.0, yaw_deg: 0}
-  camera: {rate_hz: 10, width: 160, height: 120}
+  camera: {rate_hz: 15, width: 160, height: 120}
 server:
   tls:
 ${Object.entries(tls).map(([k, v]) => `    ${k}: ${JSON.stringify(v)}`).join('\n')}

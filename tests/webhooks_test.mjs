@@ -75,7 +75,7 @@ const config = (stateTls) => `
 sim:
   world: "${room}"
   start: {x_m: 1.0, y_m: 1.5, yaw_deg: 0}
-  camera: {rate_hz: 10, width: 160, height: 120}
+  camera: {rate_hz: 15, width: 160, height: 120}
 localization: {source: sim_truth}
 perception: {detector: sim}
 webhooks:

@@ -293,6 +293,23 @@ void Api::AddCoreRoutes() {
       Sync([this](const Request& r, const Params&) { return CameraImage(r, true); }));
   Add(http::verb::get, "/api/v1/camera/color",
       Sync([this](const Request& r, const Params&) { return CameraImage(r, false); }));
+  Add(http::verb::get, "/api/v1/devices", Sync([this](const Request& r, const Params&) {
+        const auto health = c_.bus.Get(topics::kDevices).latest();
+        if (!health) {
+          throw ApiError(http::status::service_unavailable, "Not yet", "the devices' health is not reported yet");
+        }
+        return JsonResponse(r, ToJson(*health));
+      }));
+  Add(http::verb::get, "/api/v1/laser/scan", Sync([this](const Request& r, const Params&) {
+        if (c_.laser == nullptr) throw ApiError(http::status::not_found, "No laser", "this robot has no laser");
+        const auto scan = c_.bus.Get(topics::kScan).latest();
+        if (!scan) throw ApiError(http::status::service_unavailable, "No scan", "the laser has not sent a scan yet");
+        json body = ToJson(*scan);
+        body["frame"] = "laser";
+        body["base_T_laser"] = ToJson(c_.laser->base_T_laser());
+        body["height_m"] = c_.laser->height_m();
+        return JsonResponse(r, body);
+      }));
   Add(http::verb::get, "/api/v1/topics", Sync([this](const Request& r, const Params&) {
         return JsonResponse(r, {{"topics", c_.bus.names()}});
       }));
@@ -367,6 +384,8 @@ json Api::State() const {
   state["mission"] = mission ? ToJson(*mission) : json(nullptr);
   const auto battery = c_.bus.Get(topics::kBattery).latest();
   state["battery"] = battery ? ToJson(*battery) : json(nullptr);
+  const auto devices = c_.bus.Get(topics::kDevices).latest();
+  state["devices"] = devices ? ToJson(*devices)["devices"] : json::array();
   state["docked"] = c_.missions.docked();
   const auto fleet = c_.bus.Get(topics::kFleetOrder).latest();
   state["fleet"] = fleet ? ToJson(*fleet) : json(nullptr);

@@ -8,6 +8,7 @@
 #include "server/app/simulator.h"
 #include "server/dds/bridge.h"
 #include "server/nodes/control_node.h"
+#include "server/nodes/devices_node.h"
 #include "server/nodes/door_node.h"
 #include "server/nodes/driver_bridge.h"
 #include "server/nodes/event_node.h"
@@ -133,7 +134,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
     spdlog::info("map '{}': {} x {} cells at {} m", active->name, active->grid.width(), active->grid.height(),
                  active->grid.resolution_m());
   }
-  ConnectDrivers(bus_, clock_, devices_.camera, devices_.base, devices_.laser, devices_.battery);
+  ConnectDrivers(bus_, clock_, devices_.camera, devices_.base, devices_.laser, devices_.battery, devices_.slots);
 
   // Mission documents are written to the database on the io executor, off the control path.
   const auto persist = [this](const MissionState& state) {
@@ -228,6 +229,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   lifecycle_.Add(std::move(mission_node));
   lifecycle_.Add(std::move(explore_node));
   lifecycle_.Add(std::make_unique<ControlNode>(executors_.control, bus_, devices_.base, config_.safety));
+  lifecycle_.Add(std::make_unique<DevicesNode>(executors_.io, bus_, devices_.slots, config_.safety));
   // The building's door controller, when one is configured: missions ask it to open the doors on their way.
   if (config_.doors.controller.configured()) {
     const DoorControllerOptions& o = config_.doors.controller;
@@ -264,7 +266,8 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
                                             const std::string active = maps_->active()->name;
                                             planner_.SetDoors(DoorsOn(active));
                                             missions_->SetDoors(DoorsOn(active));
-                                          }});
+                                          },
+                                          devices_.laser});
 
   // ROS 2 over DDS: last up, first down.
   if (config_.dds.enabled) {
@@ -280,7 +283,12 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
       frames.base_T_laser = t;
     }
     frames.camera = devices_.camera.info();
-    frames.devices_over_dds = devices_.dds != nullptr;
+    for (const DeviceSlot& slot : devices_.slots) {
+      if (slot.driver != "dds") continue;
+      if (slot.device == nav::Device::kBase) frames.base_over_dds = true;
+      if (slot.device == nav::Device::kLaser) frames.laser_over_dds = true;
+      if (slot.device == nav::Device::kCamera) frames.camera_over_dds = true;
+    }
     lifecycle_.Add(std::make_unique<DdsBridge>(executors_.dds, bus_, *participant, config_.dds, std::move(frames),
                                                *api_, executors_.io, *maps_, lifecycle_));
   }

@@ -20,6 +20,7 @@
 #include "nav/map/occupancy_grid.h"
 #include "server/api/api.h"
 #include "server/api/webhooks.h"
+#include "server/nodes/driver_bridge.h"
 #include "server/nodes/face_node.h"
 #include "server/nodes/mission_node.h"
 #include "server/nodes/planner_service.h"
@@ -46,6 +47,8 @@ struct Devices {
   // The DDS participant the devices served over DDS use, for the bridge to share; null: the graph makes its own when
   // dds.enabled.
   drivers::dds::Participant* dds = nullptr;
+  // The devices present, for their health (GET /api/v1/devices) and, with links, the gate's stop when one goes down.
+  std::vector<DeviceSlot> slots{};
 };
 
 // The map to start in: the map library's first map.

@@ -11,8 +11,12 @@
 namespace corridor::server {
 
 Devices Simulator::devices(const Config& config) const {
-  return Devices{*robot, *robot, config.sim.robot.laser.enabled ? robot.get() : nullptr, robot.get(), robot.get(),
-                 floors};
+  const bool laser = config.devices.laser.driver == DeviceDriver::kSim;
+  Devices out{*robot, *robot, laser ? robot.get() : nullptr, robot.get(), robot.get(), floors};
+  out.slots.push_back({nav::Device::kBase, "sim", "", nullptr});
+  if (laser) out.slots.push_back({nav::Device::kLaser, "sim", "", nullptr});
+  out.slots.push_back({nav::Device::kCamera, "sim", "", nullptr});
+  return out;
 }
 
 std::filesystem::path SimPoseFile(const Config& config) { return config.store.state_dir / "sim_pose.json"; }

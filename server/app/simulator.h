@@ -16,7 +16,7 @@ struct Simulator {
   std::unique_ptr<drivers::sim::SimRobot> robot;
   std::shared_ptr<const drivers::sim::Floors> floors;  // a building's floors side by side; null: one floor
 
-  // The simulated robot as the graph's devices (with its laser when sim.laser.enabled).
+  // The simulated robot as the graph's devices (with its laser when devices.laser.driver is sim).
   Devices devices(const Config& config) const;
 };
 

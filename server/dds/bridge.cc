@@ -56,12 +56,12 @@ DdsBridge::DdsBridge(Executor& executor, Bus& bus, dds::Participant& participant
 
 void DdsBridge::Activate() {
   // Writers first, so that no bus message finds one missing.
-  if (!frames_.devices_over_dds) {
+  if (!frames_.base_over_dds) {
     odom_ = participant_.Advertise<nav_msgs::msg::OdometryPubSubType>("/odom", Qos::kDefault);
   }
   tf_ = participant_.Advertise<tf2_msgs::msg::TFMessagePubSubType>("/tf", Qos::kTf);
   tf_static_ = participant_.Advertise<tf2_msgs::msg::TFMessagePubSubType>("/tf_static", Qos::kLatched);
-  if (!(frames_.devices_over_dds && frames_.base_T_laser)) {
+  if (!frames_.laser_over_dds) {
     scan_ = participant_.Advertise<sensor_msgs::msg::LaserScanPubSubType>("/scan", Qos::kDefault);
   }
   map_ = participant_.Advertise<nav_msgs::msg::OccupancyGridPubSubType>("/map", Qos::kLatched, /*large=*/true);
@@ -69,7 +69,7 @@ void DdsBridge::Activate() {
   pose_ = participant_.Advertise<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType>("/amcl_pose", Qos::kLatched);
   diagnostics_ = participant_.Advertise<diagnostic_msgs::msg::DiagnosticArrayPubSubType>("/diagnostics", Qos::kDefault);
   state_ = participant_.Advertise<std_msgs::msg::StringPubSubType>("/corridor/state", Qos::kDefault);
-  if (options_.camera_hz > 0.0 && !frames_.devices_over_dds) {
+  if (options_.camera_hz > 0.0 && !frames_.camera_over_dds) {
     // Reliable, as everything here: a reliable writer meets best-effort readers too, and RViz's displays ask for
     // reliable by default.
     depth_ = participant_.Advertise<sensor_msgs::msg::ImagePubSubType>("/camera/depth/image_raw", Qos::kDefault,
@@ -91,7 +91,7 @@ void DdsBridge::Activate() {
   }
 
   // The table: bus topic -> ROS 2 topic.
-  if (!frames_.devices_over_dds) {
+  if (!frames_.base_over_dds) {
     Subscribe(topics::kOdometry, "odom", [this](const auto& odometry) {
       const nav_msgs::msg::Odometry message = dds::ToRos(*odometry, stamps_);
       odom_->Write(message);
@@ -120,7 +120,7 @@ void DdsBridge::Activate() {
     }
     pose_->Write(message);
   });
-  if (frames_.base_T_laser && !frames_.devices_over_dds) {
+  if (frames_.base_T_laser && !frames_.laser_over_dds) {
     Subscribe(topics::kScan, "scan",
               [this](const auto& scan) { scan_->Write(dds::ToRos(*scan, stamps_, dds::kLaserFrame)); });
   } else if (!frames_.base_T_laser) {
@@ -272,6 +272,26 @@ void DdsBridge::PublishDiagnostics() {
       s.values().push_back(mean);
     }
     array.status().push_back(std::move(s));
+  }
+  // Each device, as ROS drivers report theirs: its health, its port as the hardware id, its rate and last error.
+  if (const auto devices = bus().Get(topics::kDevices).latest()) {
+    for (const DeviceReport& d : devices->devices) {
+      diagnostic_msgs::msg::DiagnosticStatus s;
+      s.level(d.state == nav::DeviceState::kOk ? 0 : d.state == nav::DeviceState::kStale ? 1 : 2);  // OK, WARN, ERROR
+      s.name("corridor/devices/" + d.device);
+      s.message(std::string(nav::ToString(d.state)) + (d.last_error.empty() ? "" : ": " + d.last_error));
+      s.hardware_id(d.driver + (d.port.empty() ? "" : " " + d.port));
+      for (const auto& [key, value] : {std::pair<std::string, std::string>{"rate (Hz)", std::to_string(d.rate_hz)},
+                                       {"age (s)", std::to_string(d.age_s)},
+                                       {"link", d.link},
+                                       {"reconnects", std::to_string(d.reconnects)}}) {
+        diagnostic_msgs::msg::KeyValue kv;
+        kv.key(key);
+        kv.value(value);
+        s.values().push_back(kv);
+      }
+      array.status().push_back(std::move(s));
+    }
   }
   diagnostics_->Write(array);
 }

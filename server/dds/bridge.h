@@ -37,9 +37,11 @@ std::unique_ptr<drivers::dds::Participant> MakeParticipant(const DdsOptions& dds
 struct RobotFrames {
   std::optional<Eigen::Isometry3d> base_T_laser;  // none: no laser (/scan then comes from the depth camera)
   drivers::CameraInfo camera;                     // with its pose in the base frame, and its range
-  // The devices are served by ROS 2 drivers (drivers/dds/devices.h): their drivers publish odometry, odom ->
-  // base_link, scans and images themselves, so the bridge does not.
-  bool devices_over_dds = false;
+  // Devices served by ROS 2 drivers (drivers/dds/devices.h) publish themselves what the bridge would: the base its
+  // odometry and odom -> base_link, the laser its scans, the camera its images.
+  bool base_over_dds = false;
+  bool laser_over_dds = false;
+  bool camera_over_dds = false;
 };
 
 class DdsBridge final : public PeriodicNode {

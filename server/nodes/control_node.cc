@@ -18,16 +18,24 @@ ControlNode::ControlNode(Executor& executor, Bus& bus, drivers::DiffDriveBase& b
 void ControlNode::Activate() {
   Subscribe(topics::kOdometry, "odometry", [this](const auto& odometry) {
     const drivers::TimeNs now = clock().Now();
-    gate_.Odometry(drivers::ToSeconds(now), odometry->bumper_pressed);
+    gate_.Odometry(drivers::ToSeconds(now), odometry->bumper_pressed, odometry->cliff);
     if (odometry->bumper_pressed) bus().Get(topics::kBumped).Publish(Bumped{now, gate_.bumped_backing()});
   });
   Subscribe(topics::kGroundLanes, "sight", [this](const auto& ground) {
-    const double now_s = drivers::ToSeconds(clock().Now());
+    // Fresh from when the frame arrived, not from when its lanes were ready: the gate's patience is the camera's.
+    const double now_s = drivers::ToSeconds(ground->arrival_ns >= 0 ? ground->arrival_ns : clock().Now());
     if (!ground->lanes.empty()) {
       gate_.Sight(now_s, ground->lanes);
     } else {
       gate_.Sight(now_s, ground->obstacles);
     }
+  });
+  Subscribe(topics::kScan, "scan", [this](const auto&) { gate_.Scan(drivers::ToSeconds(clock().Now())); });
+  // A native driver says its device stopped answering (or answers again): the robot stops at once, not at the tick.
+  Subscribe(topics::kDeviceLinks, "link", [this](const auto& change) {
+    gate_.Link(change->device, change->up);
+    device_detail_[static_cast<int>(change->device)] = change->detail;
+    Act();
   });
   Subscribe(topics::kDetections, "people", [this](const auto& detections) {
     std::vector<Eigen::Vector2d> people;
@@ -99,7 +107,9 @@ void ControlNode::Act() {
     const LatencyStats::Summary s = latency_.Summarise(sent_ns);
     bus().Get(topics::kControlLatency).Publish(ControlLatency{s.rate_hz, s.p50_ms, s.p99_ms, s.max_ms, s.samples});
   }
-  const std::string detail = decision.reason == nav::GateReason::kProtectiveStop ? fault_detail_ : "";
+  std::string detail;
+  if (decision.reason == nav::GateReason::kProtectiveStop) detail = fault_detail_;
+  if (decision.reason == nav::GateReason::kDeviceDown) detail = device_detail_[static_cast<int>(*gate_.down())];
   bus().Get(topics::kCmdVel).Publish(BaseCommand{now, decision.twist, decision.mode, decision.reason, detail});
   if (decision.mode == nav::ControlMode::kStopped) {
     SetHealth(decision.reason == nav::GateReason::kProtectiveStop ? Health::kDegraded : Health::kError,

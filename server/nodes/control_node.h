@@ -3,8 +3,12 @@
 // mission sends a command, which it does once per depth frame: the robot answers a frame without waiting for the next
 // tick. The latency from a frame's arrival to the base command that answers it is published on control/latency; each
 // bump on safety/bumped with the way the base was driving; a fault of any node (safety/faults) puts the robot in a
-// protective stop. On deactivation (shutdown) it commands zero velocity last.
+// protective stop; a device whose native driver says it went down (devices/links) stops the robot at once. On
+// deactivation (shutdown) it commands zero velocity last.
 #pragma once
+
+#include <array>
+#include <string>
 
 #include "drivers/diff_drive_base.h"
 #include "nav/safety/command_gate.h"
@@ -32,6 +36,7 @@ class ControlNode final : public PeriodicNode {
   // On the control executor only:
   nav::CommandGate gate_;
   std::string fault_detail_;  // the latest fault, for the protective stop's reason
+  std::array<std::string, nav::kDeviceCount> device_detail_;  // each device's latest link change, for the stop's reason
   LatencyStats latency_;
   drivers::TimeNs answered_frame_ns_ = -1;  // arrival of the last frame a command answered
   drivers::TimeNs next_latency_publish_ns_ = 0;

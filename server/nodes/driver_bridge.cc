@@ -4,8 +4,14 @@
 
 namespace corridor::server {
 
+std::string Describe(const DeviceSlot& slot) {
+  std::string text = std::string(nav::ToString(slot.device)) + " (" + slot.driver;
+  if (!slot.port.empty()) text += " on " + slot.port;
+  return text + ")";
+}
+
 void ConnectDrivers(Bus& bus, const drivers::Clock& clock, drivers::DepthCamera& camera, drivers::DiffDriveBase& base,
-                    drivers::Laser2D* laser, drivers::Battery* battery) {
+                    drivers::Laser2D* laser, drivers::Battery* battery, const std::vector<DeviceSlot>& slots) {
   auto& rgbd = bus.Get(topics::kRgbd);
   camera.SetFrameHandler([&rgbd, &clock](std::shared_ptr<drivers::RgbdFrame> frame) {
     frame->arrival_ns = clock.Now();
@@ -20,6 +26,18 @@ void ConnectDrivers(Bus& bus, const drivers::Clock& clock, drivers::DepthCamera&
   if (battery != nullptr) {
     auto& state = bus.Get(topics::kBattery);
     battery->SetBatteryHandler([&state](const drivers::BatteryState& b) { state.Publish(b); });
+  }
+  auto& links = bus.Get(topics::kDeviceLinks);
+  for (const DeviceSlot& slot : slots) {
+    if (slot.link == nullptr) continue;
+    auto report = [&links, &clock, device = slot.device, name = Describe(slot)](const drivers::LinkStatus& s) {
+      const bool up = s.state == drivers::LinkState::kRunning;
+      std::string detail = name + ": " + drivers::ToString(s.state);
+      if (!up && !s.last_error.empty()) detail += ": " + s.last_error;
+      links.Publish(DeviceLinkChange{clock.Now(), device, up, std::move(detail)});
+    };
+    slot.link->SetLinkHandler(report);
+    report(slot.link->link());  // a change before the handler was set is not lost
   }
 }
 

@@ -23,6 +23,19 @@ void ReadPath(ConfigReader& r, const char* key, fs::path& value, const fs::path&
   value = text.empty() || fs::path(text).is_absolute() ? fs::path(text) : base / text;
 }
 
+// A key that has moved elsewhere: its old place names the new one.
+void RefuseMoved(ConfigReader& r, const char* key, const std::string& to) {
+  YAML::Node value;
+  r.Read(key, value);
+  if (!value.IsNull()) throw ConfigError(r.PathOf(key) + ": moved to " + to);  // a default node is null
+}
+
+void CheckTopic(const ConfigReader& r, const char* key, const std::string& topic) {
+  if (!topic.empty() && !drivers::dds::IsRosTopicName(topic)) {
+    throw ConfigError(r.PathOf(key) + ": '" + topic + "' is not a ROS 2 topic name");
+  }
+}
+
 void ReadServer(ConfigReader& r, ServerOptions& o, const fs::path& base) {
   r.Read("port", o.port, 0, 65535);
   r.Read("bind_address", o.bind_address);
@@ -55,6 +68,7 @@ void ReadSafety(ConfigReader& r, SafetyOptions& o) {
   r.Read("odometry_timeout_s", o.odometry_timeout_s, 0.05, 5.0);
   r.Read("control_rate_hz", o.control_rate_hz, 5.0, 200.0);
   r.Read("depth_timeout_s", o.depth_timeout_s, 0.02, 5.0);
+  r.Read("laser_timeout_s", o.laser_timeout_s, 0.02, 5.0);
   r.Read("front_offset_m", o.front_offset_m, 0.0, 2.0);
   r.Read("corridor_half_width_m", o.corridor_half_width_m, 0.01, 2.0);
   r.Read("max_decel_mps2", o.stopping.max_decel_mps2, 0.05, 10.0);
@@ -97,7 +111,7 @@ void ReadCamera(ConfigReader& r, drivers::sim::SimCameraOptions& o) {
 }
 
 void ReadLaser(ConfigReader& r, drivers::sim::SimLaserOptions& o) {
-  r.Read("enabled", o.enabled);
+  RefuseMoved(r, "enabled", "devices.laser.driver (sim or none)");
   r.Read("beams", o.beams, 8, 8192);
   r.Read("mount_height_m", o.mount_height_m, 0.01, 3.0);
   r.Read("min_range_m", o.min_range_m, 0.0, 10.0);
@@ -443,6 +457,116 @@ void ReadBuilding(ConfigReader& r, BuildingOptions& b, nav::LiftOptions& ride, c
   }
 }
 
+void ReadBaseLimits(ConfigReader& r, drivers::BaseLimits& l) {
+  r.Read("max_linear_mps", l.max_linear_mps, 0.01, 5.0);
+  r.Read("max_angular_rps", l.max_angular_rps, 0.01, 10.0);
+  r.Read("max_linear_accel_mps2", l.max_linear_accel_mps2, 0.01, 20.0);
+  r.Read("max_angular_accel_rps2", l.max_angular_accel_rps2, 0.01, 50.0);
+  r.Read("footprint_radius_m", l.footprint_radius_m, 0.05, 2.0);
+}
+
+// A serial device: a path, and a baud rate a UART takes.
+void ReadSerial(ConfigReader& r, fs::path& port, int& baud_rate, const fs::path& base) {
+  ReadPath(r, "port", port, base);
+  if (port.empty()) throw ConfigError(r.PathOf("port") + ": required (a serial device, e.g. /dev/ttyUSB0)");
+  static const std::set<int> kRates = {9600, 19200, 38400, 57600, 115200, 230400, 256000, 460800, 921600, 1000000};
+  r.Read("baud_rate", baud_rate);
+  if (!kRates.contains(baud_rate)) {
+    throw ConfigError(r.PathOf("baud_rate") + ": " + std::to_string(baud_rate) + " is not a serial rate the drivers use");
+  }
+}
+
+// The mounting pose of a device on the base (base frame): x_m, y_m forward and left of the base's centre, yaw_deg.
+void ReadMount(ConfigReader& r, nav::Pose2& pose) {
+  double yaw_deg = pose.yaw_rad / kDegToRad;
+  r.Read("mount_x_m", pose.x_m, -2.0, 2.0);
+  r.Read("mount_y_m", pose.y_m, -2.0, 2.0);
+  r.Read("mount_yaw_deg", yaw_deg, -180.0, 180.0);
+  pose.yaw_rad = yaw_deg * kDegToRad;
+}
+
+void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
+  using D = DeviceDriver;
+  const auto driver = [](ConfigReader& s, DeviceDriver& value, std::vector<std::pair<std::string, D>> choices) {
+    s.ReadChoice("driver", value, choices);
+  };
+  r.Section("base", [&](ConfigReader& s) {
+    BaseSlotOptions& o = d.base;
+    driver(s, o.driver, {{"sim", D::kSim}, {"dds", D::kDds}, {"create2", D::kCreate2}});
+    if (o.driver == D::kDds) {
+      s.Read("odom_topic", o.dds.odom_topic);
+      s.Read("cmd_vel_topic", o.dds.cmd_vel_topic);
+      CheckTopic(s, "odom_topic", o.dds.odom_topic);
+      CheckTopic(s, "cmd_vel_topic", o.dds.cmd_vel_topic);
+      ReadBaseLimits(s, o.dds.limits);
+    } else if (o.driver == D::kCreate2) {
+      drivers::create2::Create2Options& c = o.create2;
+      ReadSerial(s, c.port, c.baud_rate, base);
+      s.Read("wheel_diameter_m", c.wheels.wheel_diameter_m, 0.01, 1.0);
+      s.Read("track_m", c.wheels.track_m, 0.05, 2.0);
+      s.Read("counts_per_revolution", c.wheels.counts_per_revolution, 1.0, 1e6);
+      s.Read("max_linear_mps", c.max_linear_mps, 0.01, 0.5);
+      s.Read("max_angular_rps", c.max_angular_rps, 0.01, 10.0);
+      s.Read("max_linear_accel_mps2", c.max_linear_accel_mps2, 0.01, 20.0);
+      s.Read("max_angular_accel_rps2", c.max_angular_accel_rps2, 0.01, 50.0);
+      s.Read("footprint_radius_m", c.footprint_radius_m, 0.05, 2.0);
+      s.Read("command_timeout_s", c.command_timeout_s, 0.05, 5.0);
+      s.Read("stale_s", c.stale_s, 0.02, 1.0);
+      s.Read("silence_s", c.silence_s, c.stale_s, 10.0);
+    }
+  });
+  r.Section("laser", [&](ConfigReader& s) {
+    LaserSlotOptions& o = d.laser;
+    driver(s, o.driver, {{"sim", D::kSim}, {"dds", D::kDds}, {"rplidar", D::kRplidar}, {"none", D::kNone}});
+    if (o.driver == D::kDds) {
+      s.Read("topic", o.dds.topic);
+      if (o.dds.topic.empty()) throw ConfigError(s.PathOf("topic") + ": required with driver dds (e.g. /scan)");
+      CheckTopic(s, "topic", o.dds.topic);
+      ReadMount(s, o.dds.base_T_laser);
+      s.Read("mount_height_m", o.dds.height_m, 0.0, 3.0);
+    } else if (o.driver == D::kRplidar) {
+      drivers::rplidar::RplidarOptions& l = o.rplidar;
+      ReadSerial(s, l.port, l.baud_rate, base);
+      ReadMount(s, l.base_T_laser);
+      s.Read("mount_height_m", l.height_m, 0.0, 3.0);
+      s.Read("beams", l.sweep.bins, 8, 8192);
+      s.Read("min_range_m", l.sweep.range_min_m, 0.0, 10.0);
+      s.Read("max_range_m", l.sweep.range_max_m, 0.5, 100.0);
+      s.Read("stale_s", l.stale_s, 0.02, 1.0);
+      s.Read("silence_s", l.silence_s, l.stale_s, 10.0);
+    }
+  });
+  r.Section("camera", [&](ConfigReader& s) {
+    CameraSlotOptions& o = d.camera;
+    driver(s, o.driver, {{"sim", D::kSim}, {"dds", D::kDds}});
+    if (o.driver == D::kDds) {
+      drivers::dds::DdsCameraOptions& c = o.dds;
+      s.Read("depth_topic", c.depth_topic);
+      s.Read("info_topic", c.info_topic);
+      s.Read("color_topic", c.color_topic);
+      CheckTopic(s, "depth_topic", c.depth_topic);
+      CheckTopic(s, "info_topic", c.info_topic);
+      CheckTopic(s, "color_topic", c.color_topic);
+      s.Read("mount_x_m", c.mount_x_m, -2.0, 2.0);
+      s.Read("mount_height_m", c.mount_height_m, 0.0, 3.0);
+      s.Read("tilt_deg", c.tilt_deg, -90.0, 90.0);
+      s.Read("min_range_m", c.min_range_m, 0.0, 5.0);
+      s.Read("max_range_m", c.max_range_m, 0.5, 50.0);
+      s.Read("info_wait_s", o.info_wait_s, 0.5, 600.0);
+    }
+  });
+  // The simulator's robot is all of the devices or none of them.
+  const bool sim_base = d.base.driver == D::kSim;
+  if (sim_base != (d.camera.driver == D::kSim)) {
+    throw ConfigError(r.PathOf("camera.driver") + ": " + ToString(d.camera.driver) + " with a " +
+                      ToString(d.base.driver) + " base: the simulator's camera rides only on the simulator's base");
+  }
+  if (sim_base ? (d.laser.driver != D::kSim && d.laser.driver != D::kNone) : d.laser.driver == D::kSim) {
+    throw ConfigError(r.PathOf("laser.driver") + ": " + ToString(d.laser.driver) + " with a " +
+                      ToString(d.base.driver) + " base: the simulator's laser rides only on the simulator's base");
+  }
+}
+
 void ReadDds(ConfigReader& r, DdsOptions& d, const fs::path& base) {
   r.Read("enabled", d.enabled);
   r.Read("domain_id", d.domain_id, -1, 232);
@@ -451,35 +575,7 @@ void ReadDds(ConfigReader& r, DdsOptions& d, const fs::path& base) {
   r.Read("allow_writes", d.allow_writes);
   r.Read("camera_hz", d.camera_hz, 0.0, 30.0);
   r.Read("cmd_vel_topic", d.cmd_vel_topic);
-  r.Section("devices", [&](ConfigReader& s) {
-    DdsDevicesOptions& o = d.devices;
-    s.Section("camera", [&](ConfigReader& c) {
-      c.Read("depth_topic", o.camera.depth_topic);
-      c.Read("info_topic", o.camera.info_topic);
-      c.Read("color_topic", o.camera.color_topic);
-      c.Read("mount_x_m", o.camera.mount_x_m, -2.0, 2.0);
-      c.Read("mount_height_m", o.camera.mount_height_m, 0.0, 3.0);
-      c.Read("tilt_deg", o.camera.tilt_deg, -90.0, 90.0);
-      c.Read("min_range_m", o.camera.min_range_m, 0.0, 5.0);
-      c.Read("max_range_m", o.camera.max_range_m, 0.5, 50.0);
-    });
-    s.Section("laser", [&](ConfigReader& l) {
-      l.Read("topic", o.laser.topic);
-      l.Read("mount_x_m", o.laser.base_T_laser.x_m, -2.0, 2.0);
-      l.Read("mount_height_m", o.laser.height_m, 0.0, 3.0);
-    });
-    s.Section("base", [&](ConfigReader& b) {
-      b.Read("odom_topic", o.base.odom_topic);
-      b.Read("cmd_vel_topic", o.base.cmd_vel_topic);
-      drivers::BaseLimits& l = o.base.limits;
-      b.Read("max_linear_mps", l.max_linear_mps, 0.01, 5.0);
-      b.Read("max_angular_rps", l.max_angular_rps, 0.01, 10.0);
-      b.Read("max_linear_accel_mps2", l.max_linear_accel_mps2, 0.01, 20.0);
-      b.Read("max_angular_accel_rps2", l.max_angular_accel_rps2, 0.01, 50.0);
-      b.Read("footprint_radius_m", l.footprint_radius_m, 0.05, 2.0);
-    });
-    s.Read("info_wait_s", o.info_wait_s, 0.5, 600.0);
-  });
+  RefuseMoved(r, "devices", "devices.base, devices.laser and devices.camera with driver: dds");
   r.Section("security", [&](ConfigReader& s) {
     ReadPath(s, "enclave", d.security_enclave, base);
     if (d.security_enclave.empty()) return;
@@ -488,13 +584,7 @@ void ReadDds(ConfigReader& r, DdsOptions& d, const fs::path& base) {
                         "tools/dds-keystore or ros2 security create_enclave)");
     }
   });
-  for (const std::string& topic : {d.cmd_vel_topic, d.devices.camera.depth_topic, d.devices.camera.info_topic,
-                                   d.devices.camera.color_topic, d.devices.laser.topic,
-                                   d.devices.base.odom_topic, d.devices.base.cmd_vel_topic}) {
-    if (!topic.empty() && !drivers::dds::IsRosTopicName(topic)) {
-      throw ConfigError(r.path() + ": '" + topic + "' is not a ROS 2 topic name");
-    }
-  }
+  CheckTopic(r, "cmd_vel_topic", d.cmd_vel_topic);
   for (const std::string& peer : d.peers) {
     if (!drivers::dds::IsIpv4Address(peer)) {
       throw ConfigError(r.PathOf("peers") + ": '" + peer + "' is not an IPv4 address");
@@ -634,7 +724,7 @@ void ReadDocking(ConfigReader& r, nav::DockingOptions& o, nav::ChargingOptions& 
 }
 
 void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
-  r.Read("enabled", o.enabled);
+  RefuseMoved(r, "enabled", "devices.base.driver (sim, or dds or create2 for the robot's own base)");
   ReadPath(r, "world", o.world, base);
   drivers::sim::WorldOptions& w = o.world_options;
   r.Read("wall_height_m", w.wall_height_m, 0.1, 20.0);
@@ -695,6 +785,39 @@ void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
   });
 }
 
+// What the devices ask of the rest of the configuration.
+void CheckDevices(const Config& config) {
+  const DevicesOptions& d = config.devices;
+  const bool any_dds = d.base.driver == DeviceDriver::kDds || d.laser.driver == DeviceDriver::kDds ||
+                       d.camera.driver == DeviceDriver::kDds;
+  if (any_dds && !config.dds.enabled) {
+    throw ConfigError("devices: a driver dds needs dds.enabled (the robot's ROS 2 drivers are reached over DDS)");
+  }
+  if (d.base.driver == DeviceDriver::kDds && config.dds.allow_writes &&
+      config.dds.cmd_vel_topic == d.base.dds.cmd_vel_topic) {
+    throw ConfigError("dds.cmd_vel_topic: '" + config.dds.cmd_vel_topic + "' is the base's own command topic " +
+                      "(devices.base.cmd_vel_topic): give ROS 2 tools another, e.g. /corridor/cmd_vel");
+  }
+  if (!Simulated(config) && config.map.file.empty() && config.building.floors.empty()) {
+    throw ConfigError("map.file: required with the robot's own devices (a ROS map_server map of where it works)");
+  }
+  if (Simulated(config)) {
+    if (config.sim.world.empty() && config.building.floors.empty()) {
+      throw ConfigError("sim.world: required with the simulator's devices (unless building.floors are its world)");
+    }
+    // A frame period longer than the gate's patience would never let the robot drive forward.
+    if (1.0 / config.sim.robot.camera.rate_hz >= config.safety.depth_timeout_s) {
+      throw ConfigError("sim.camera.rate_hz: frames every " + std::to_string(1.0 / config.sim.robot.camera.rate_hz) +
+                        " s are always older than safety.depth_timeout_s: raise the rate or the timeout");
+    }
+    if (d.laser.driver == DeviceDriver::kSim &&
+        1.0 / config.sim.robot.laser.rate_hz >= config.safety.laser_timeout_s) {
+      throw ConfigError("sim.laser.rate_hz: scans every " + std::to_string(1.0 / config.sim.robot.laser.rate_hz) +
+                        " s are always older than safety.laser_timeout_s: raise the rate or the timeout");
+    }
+  }
+}
+
 }  // namespace
 
 // The floors' names and maps (by their files' stems), and the lifts, for the mission runner.
@@ -712,7 +835,21 @@ std::string SimMapName(const Config& config) {
   return config.sim.world.stem().string();
 }
 
+const char* ToString(DeviceDriver driver) {
+  switch (driver) {
+    case DeviceDriver::kSim: return "sim";
+    case DeviceDriver::kDds: return "dds";
+    case DeviceDriver::kCreate2: return "create2";
+    case DeviceDriver::kRplidar: return "rplidar";
+    case DeviceDriver::kNone: return "none";
+  }
+  return "unknown";
+}
+
 void ApplyDerivedOptions(Config& config) {
+  // The simulator's laser is fitted when the laser's slot takes it; the gate wants fresh scans from any laser.
+  config.sim.robot.laser.enabled = config.devices.laser.driver == DeviceDriver::kSim;
+  config.safety.require_laser = config.devices.laser.driver != DeviceDriver::kNone;
   // MORP-RB and the comparison policy brake by the control loop's model.
   nav::LocalNavigatorOptions& navigator = config.mission.navigator;
   navigator.avoid.stopping = config.safety.stopping;
@@ -785,6 +922,7 @@ Config ConfigFromYaml(const YAML::Node& root, const fs::path& file) {
     r.Section("store", [&](ConfigReader& s) { ReadPath(s, "state_dir", config.store.state_dir, base); });
     r.Section("map", [&](ConfigReader& s) { ReadPath(s, "file", config.map.file, base); });
     r.Section("safety", [&](ConfigReader& s) { ReadSafety(s, config.safety); });
+    r.Section("devices", [&](ConfigReader& s) { ReadDevices(s, config.devices, base); });
     r.Section("sim", [&](ConfigReader& s) { ReadSim(s, config.sim, base); });
     r.Section("ground", [&](ConfigReader& s) { ReadGround(s, config.ground); });
     r.Section("planner", [&](ConfigReader& s) { ReadPlanner(s, config.planner); });
@@ -803,14 +941,7 @@ Config ConfigFromYaml(const YAML::Node& root, const fs::path& file) {
     r.Section("auth", [&](ConfigReader& s) { ReadAuth(s, config.auth); });
     r.Section("log", [&](ConfigReader& s) { s.Read("level", config.log.level); });
     r.Finish();
-    if (!config.sim.enabled && config.dds.enabled && config.dds.allow_writes &&
-        config.dds.cmd_vel_topic == config.dds.devices.base.cmd_vel_topic) {
-      throw ConfigError("dds.cmd_vel_topic: '" + config.dds.cmd_vel_topic + "' is the base's own command topic " +
-                        "(dds.devices.base.cmd_vel_topic): give ROS 2 tools another, e.g. /corridor/cmd_vel");
-    }
-    if (config.sim.enabled && config.sim.world.empty() && config.building.floors.empty()) {
-      throw ConfigError("sim.world: required when the simulator is enabled (unless building.floors are its world)");
-    }
+    CheckDevices(config);
     // MORP-RB brakes by the control loop's model.
     ApplyDerivedOptions(config);
   } catch (const ConfigError& e) {

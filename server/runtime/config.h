@@ -6,7 +6,9 @@
 #include <optional>
 #include <string>
 
+#include "drivers/create2/create2_options.h"
 #include "drivers/dds/device_options.h"
+#include "drivers/rplidar/rplidar_options.h"
 #include "drivers/sim/sim_robot.h"
 #include "drivers/sim/world.h"
 #include "nav/ground/depth_scan.h"
@@ -63,8 +65,8 @@ struct MapOptions {
 // safety: the command gate's options (nav/safety/command_gate.h).
 using SafetyOptions = nav::CommandGateOptions;
 
+// The simulator (the robot's devices when devices.base.driver is sim).
 struct SimulatorOptions {
-  bool enabled = true;
   std::filesystem::path world;          // .yaml map, .world/.sdf, or a mesh file
   drivers::sim::WorldOptions world_options;
   drivers::sim::SimOptions robot;
@@ -275,12 +277,35 @@ struct Config;
 // world's own.
 std::string SimMapName(const Config& config);
 
-// The robot's devices served by ROS 2 drivers over DDS (drivers/dds/devices.h), used when the simulator is off.
-struct DdsDevicesOptions {
-  drivers::dds::DdsCameraOptions camera;
-  drivers::dds::DdsLaserOptions laser;  // its topic empty: no laser
-  drivers::dds::DdsBaseOptions base;
-  double info_wait_s = 10.0;  // how long corridord waits at start for the camera's CameraInfo
+// devices.*: the driver serving each of the robot's devices (docs/hardware.md): the simulator's robot (sim), a ROS 2
+// driver over DDS (dds, drivers/dds/devices.h), a native driver (create2, rplidar), or none (a robot without a
+// laser). The simulator's robot is all of the devices or none: a simulated base carries the simulated camera and the
+// simulated laser (or none); the other drivers mix freely.
+enum class DeviceDriver { kSim, kDds, kCreate2, kRplidar, kNone };
+const char* ToString(DeviceDriver driver);
+
+struct BaseSlotOptions {
+  DeviceDriver driver = DeviceDriver::kSim;
+  drivers::dds::DdsBaseOptions dds;
+  drivers::create2::Create2Options create2;
+};
+
+struct LaserSlotOptions {
+  DeviceDriver driver = DeviceDriver::kSim;
+  drivers::dds::DdsLaserOptions dds;
+  drivers::rplidar::RplidarOptions rplidar;
+};
+
+struct CameraSlotOptions {
+  DeviceDriver driver = DeviceDriver::kSim;
+  drivers::dds::DdsCameraOptions dds;
+  double info_wait_s = 10.0;  // dds: how long corridord waits at start for the camera's CameraInfo
+};
+
+struct DevicesOptions {
+  BaseSlotOptions base;
+  LaserSlotOptions laser;
+  CameraSlotOptions camera;
 };
 
 // ROS 2 over DDS (server/dds, drivers/dds): the robot's topics for ROS 2 tools, and what they may send.
@@ -294,7 +319,6 @@ struct DdsOptions {
   std::filesystem::path security_enclave;
   double camera_hz = 0.0;               // depth image and camera info rate; 0: not published
   std::string cmd_vel_topic = "/cmd_vel";  // what ROS 2 tools drive the robot with (allow_writes)
-  DdsDevicesOptions devices;             // when sim.enabled is false
 };
 
 // The domain DDS joins: dds.domain_id, else ROS_DOMAIN_ID, else 0. Throws ConfigError for a ROS_DOMAIN_ID that is
@@ -310,6 +334,7 @@ struct Config {
   StoreOptions store;
   MapOptions map;
   SafetyOptions safety;
+  DevicesOptions devices;
   SimulatorOptions sim;
   nav::MorpOptions ground;
   nav::CostmapOptions planner;
@@ -329,6 +354,9 @@ struct Config {
   LogOptions log;
   std::filesystem::path file;  // where it was read from (absolute); empty when built in code
 };
+
+// The simulator drives the robot (devices.base.driver is sim).
+inline bool Simulated(const Config& config) { return config.devices.base.driver == DeviceDriver::kSim; }
 
 // Values given on the command line; each replaces its key before validation, so the same checks apply.
 struct ConfigOverrides {

@@ -49,7 +49,7 @@ TEST_F(ConfigTest, EveryShippedConfigLoadsAndItsWorldExists) {
 }
 
 TEST_F(ConfigTest, DefaultsApplyToAnEmptyFileButTheWorldIsRequired) {
-  EXPECT_EQ(ErrorOf("sim: {enabled: false}\n"), "");
+  EXPECT_EQ(ErrorOf("sim: {world: w.yaml}\n"), "");
   EXPECT_NE(ErrorOf("log: {level: info}\n").find("sim.world: required"), std::string::npos);
 }
 
@@ -59,66 +59,66 @@ TEST_F(ConfigTest, RelativePathsAreRelativeToTheFile) {
 }
 
 TEST_F(ConfigTest, UnknownKeysAreNamedWithTheirPath) {
-  EXPECT_NE(ErrorOf("sim: {enabled: false, camera: {widht: 640}}\n").find("sim.camera.widht: unknown key"),
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml, camera: {widht: 640}}\n").find("sim.camera.widht: unknown key"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\nserverr: {}\n").find("serverr: unknown key"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\nserverr: {}\n").find("serverr: unknown key"), std::string::npos);
 }
 
 // Found by fuzz_config: YAML allows a mapping as a key ("? {a: 1}: 2"), which used to throw yaml-cpp's own
 // exception out of LoadConfig instead of a ConfigError.
 TEST_F(ConfigTest, KeysThatAreNotNamesAreNamedWithTheirSection) {
-  const std::string e = ErrorOf("sim:\n  enabled: false\n  base:\n    ? max_angular_rps: 1.5\n    : 2\n");
+  const std::string e = ErrorOf("sim:\n  world: w.yaml\n  base:\n    ? max_angular_rps: 1.5\n    : 2\n");
   EXPECT_NE(e.find("sim.base: a key must be a plain name, got a mapping (line 4)"), std::string::npos) << e;
-  const std::string top = ErrorOf("sim: {enabled: false}\n? [a, b]\n: 1\n");
+  const std::string top = ErrorOf("sim: {world: w.yaml}\n? [a, b]\n: 1\n");
   EXPECT_NE(top.find("the file: a key must be a plain name, got a list (line 2)"), std::string::npos) << top;
 }
 
 TEST_F(ConfigTest, WrongTypesAreNamed) {
-  const std::string e = ErrorOf("sim: {enabled: false}\nserver: {port: eighty}\n");
+  const std::string e = ErrorOf("sim: {world: w.yaml}\nserver: {port: eighty}\n");
   EXPECT_NE(e.find("server.port: expected an integer, got 'eighty'"), std::string::npos) << e;
-  EXPECT_NE(ErrorOf("sim: {enabled: false, base: [1, 2]}\n").find("sim.base: expected a mapping"), std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: maybe}\n").find("sim.enabled: expected true or false"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml, base: [1, 2]}\n").find("sim.base: expected a mapping"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {enabled: maybe}\n").find("sim.enabled: moved to devices.base.driver"), std::string::npos);
 }
 
 TEST_F(ConfigTest, OutOfRangeValuesAreNamedWithTheRange) {
-  const std::string e = ErrorOf("sim: {enabled: false, camera: {width: 5}}\n");
+  const std::string e = ErrorOf("sim: {world: w.yaml, camera: {width: 5}}\n");
   EXPECT_NE(e.find("sim.camera.width: must be between 16 and 4096, got 5"), std::string::npos) << e;
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\nsafety: {teleop_deadman_s: -1}\n").find("safety.teleop_deadman_s"),
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\nsafety: {teleop_deadman_s: -1}\n").find("safety.teleop_deadman_s"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false, camera: {min_range_m: 7, max_range_m: 6}}\n").find("min_range_m"),
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml, camera: {min_range_m: 7, max_range_m: 6}}\n").find("min_range_m"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\nlog: {level: loud}\n").find("log.level"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\nlog: {level: loud}\n").find("log.level"), std::string::npos);
 }
 
 TEST_F(ConfigTest, PolarGainsAreCheckedForConvergence) {
-  const std::string e = ErrorOf("sim: {enabled: false}\nmission: {k_beta: 0.5}\n");
+  const std::string e = ErrorOf("sim: {world: w.yaml}\nmission: {k_beta: 0.5}\n");
   EXPECT_NE(e.find("k_beta must be < 0"), std::string::npos) << e;
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\nmission: {k_rho: 3, k_alpha: 2}\n").find("k_alpha - k_rho must be > 0"),
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\nmission: {k_rho: 3, k_alpha: 2}\n").find("k_alpha - k_rho must be > 0"),
             std::string::npos);
-  EXPECT_EQ(ErrorOf("sim: {enabled: false}\nmission: {k_rho: 0.5, k_alpha: 1.5, k_beta: -0.3}\n"), "");
+  EXPECT_EQ(ErrorOf("sim: {world: w.yaml}\nmission: {k_rho: 0.5, k_alpha: 1.5, k_beta: -0.3}\n"), "");
 }
 
 TEST_F(ConfigTest, TheVdaBrokerIsOffByDefaultAndTheFlagSetsIt) {
-  std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n";
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\n";
   EXPECT_EQ(LoadConfig(dir_ / "c.yaml").fleet.vda5050.broker, "");
   ConfigOverrides flag;
   flag.mqtt = "mqtt://127.0.0.1:1883";
   const Config c = LoadConfig(dir_ / "c.yaml", flag);
   EXPECT_EQ(c.fleet.vda5050.broker, "mqtt://127.0.0.1:1883");
   EXPECT_EQ(c.fleet.vda5050.interface_name, "uagv");
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\nfleet: {vda5050: {broker: 'http://x:80'}}\n").find("fleet.vda5050.broker"),
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\nfleet: {vda5050: {broker: 'http://x:80'}}\n").find("fleet.vda5050.broker"),
             std::string::npos);
   flag.mqtt = "127.0.0.1";
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\n", flag).find("fleet.vda5050.broker"), std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\nfleet: {vda5050: {serial_number: 'a/#'}}\n")
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\n", flag).find("fleet.vda5050.broker"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\nfleet: {vda5050: {serial_number: 'a/#'}}\n")
                 .find("fleet.vda5050.serial_number"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\nfleet: {vda5050: {qos: 3}}\n").find("fleet.vda5050.qos"),
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\nfleet: {vda5050: {qos: 3}}\n").find("fleet.vda5050.qos"),
             std::string::npos);
 }
 
 TEST_F(ConfigTest, DdsIsOffByDefaultAndItsDomainComesFromTheEnvironmentUnlessSet) {
-  std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n";
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\n";
   const Config off = LoadConfig(dir_ / "c.yaml");
   EXPECT_FALSE(off.dds.enabled);
   EXPECT_FALSE(off.dds.allow_writes);
@@ -130,39 +130,103 @@ TEST_F(ConfigTest, DdsIsOffByDefaultAndItsDomainComesFromTheEnvironmentUnlessSet
   EXPECT_THROW(DdsDomain(off.dds), ConfigError);
   ::setenv("ROS_DOMAIN_ID", "x", 1);
   EXPECT_THROW(DdsDomain(off.dds), ConfigError);
-  std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n"
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\n"
                                     "dds: {enabled: true, domain_id: 7, peers: [127.0.0.1], interfaces: [lo]}\n";
   const Config on = LoadConfig(dir_ / "c.yaml");
   EXPECT_EQ(DdsDomain(on.dds), 7);  // the configuration's, not the environment's
   ::unsetenv("ROS_DOMAIN_ID");
   EXPECT_EQ(on.dds.peers, std::vector<std::string>{"127.0.0.1"});
   EXPECT_EQ(on.dds.interfaces, std::vector<std::string>{"lo"});
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndds: {domain_id: 233}\n").find("dds.domain_id"), std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndds: {peers: [robot.local]}\n").find("dds.peers"), std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndds: {peers: 127.0.0.1}\n").find("dds.peers"), std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndds: {camera_hz: -1}\n").find("dds.camera_hz"), std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndds: {devices: {base: {odom_topic: 'odom odom'}}}\n")
-                .find("not a ROS 2 topic name"),
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ndds: {domain_id: 233}\n").find("dds.domain_id"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ndds: {peers: [robot.local]}\n").find("dds.peers"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ndds: {peers: 127.0.0.1}\n").find("dds.peers"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ndds: {camera_hz: -1}\n").find("dds.camera_hz"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ndds: {devices: {base: {odom_topic: /odom}}}\n").find("dds.devices: moved"),
             std::string::npos);
-  // With devices over DDS, ROS tools' velocities must not arrive on the base's own command topic.
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\nmap: {file: x.yaml}\ndds: {enabled: true, allow_writes: true}\n")
+}
+
+// devices.*: each slot's driver with its own options; the simulator's robot is all or nothing; DDS drivers need DDS.
+TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
+  const std::string dds = "dds: {enabled: true, peers: [127.0.0.1], interfaces: [lo]}\nmap: {file: x.yaml}\n";
+  std::ofstream(dir_ / "c.yaml")
+      << dds
+      << "devices:\n"
+         "  base: {driver: create2, port: /dev/ttyUSB0, wheel_diameter_m: 0.07, stale_s: 0.04}\n"
+         "  laser: {driver: rplidar, port: /dev/corridor/rplidar, baud_rate: 256000, mount_yaw_deg: 180}\n"
+         "  camera: {driver: dds, depth_topic: /cam/depth, info_wait_s: 3}\n";
+  const Config c = LoadConfig(dir_ / "c.yaml");
+  EXPECT_FALSE(Simulated(c));
+  EXPECT_EQ(c.devices.base.driver, DeviceDriver::kCreate2);
+  EXPECT_EQ(c.devices.base.create2.port, "/dev/ttyUSB0");
+  EXPECT_DOUBLE_EQ(c.devices.base.create2.wheels.wheel_diameter_m, 0.07);
+  EXPECT_DOUBLE_EQ(c.devices.base.create2.stale_s, 0.04);
+  EXPECT_EQ(c.devices.laser.rplidar.baud_rate, 256000);
+  EXPECT_NEAR(c.devices.laser.rplidar.base_T_laser.yaw_rad, M_PI, 1e-9);
+  EXPECT_EQ(c.devices.camera.dds.depth_topic, "/cam/depth");
+  EXPECT_DOUBLE_EQ(c.devices.camera.info_wait_s, 3.0);
+  EXPECT_TRUE(c.safety.require_laser);
+  EXPECT_FALSE(c.sim.robot.laser.enabled);
+
+  // Defaults: the simulator's robot with its laser.
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\n";
+  const Config sim = LoadConfig(dir_ / "c.yaml");
+  EXPECT_TRUE(Simulated(sim));
+  EXPECT_TRUE(sim.sim.robot.laser.enabled);
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\ndevices: {laser: {driver: none}}\n";
+  const Config blind = LoadConfig(dir_ / "c.yaml");
+  EXPECT_FALSE(blind.sim.robot.laser.enabled);
+  EXPECT_FALSE(blind.safety.require_laser);
+
+  const auto error = [&](const std::string& devices) { return ErrorOf(dds + "devices: " + devices + "\n"); };
+  EXPECT_NE(error("{base: {driver: kobold}}").find("devices.base.driver: must be sim, dds or create2, got 'kobold'"),
+            std::string::npos);
+  EXPECT_NE(error("{base: {driver: create2}, camera: {driver: dds}}").find("devices.base.port: required"),
+            std::string::npos);
+  EXPECT_NE(error("{base: {driver: create2, port: /dev/x, baud_rate: 12345}, camera: {driver: dds}}")
+                .find("devices.base.baud_rate"),
+            std::string::npos);
+  // A key of another driver is unknown to this one.
+  EXPECT_NE(error("{base: {driver: dds, port: /dev/x}, camera: {driver: dds}}").find("devices.base.port: unknown"),
+            std::string::npos);
+  EXPECT_NE(error("{base: {driver: dds}, camera: {driver: sim}}").find("devices.camera.driver: sim with a dds base"),
+            std::string::npos);
+  EXPECT_NE(error("{laser: {driver: rplidar, port: /dev/x}}").find("devices.laser.driver: rplidar with a sim base"),
+            std::string::npos);
+  EXPECT_NE(error("{base: {driver: dds, odom_topic: 'odom odom'}, camera: {driver: dds}}")
+                .find("devices.base.odom_topic: 'odom odom' is not a ROS 2 topic name"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("map: {file: x.yaml}\n"
+                    "devices: {base: {driver: dds}, laser: {driver: none}, camera: {driver: dds}}\n")
+                .find("needs dds.enabled"),
+            std::string::npos);
+  // With the base over DDS, ROS tools' velocities must not arrive on the base's own command topic.
+  EXPECT_NE(ErrorOf("map: {file: x.yaml}\ndds: {enabled: true, allow_writes: true}\n"
+                    "devices: {base: {driver: dds}, laser: {driver: none}, camera: {driver: dds}}\n")
                 .find("dds.cmd_vel_topic"),
             std::string::npos);
+  EXPECT_NE(ErrorOf("dds: {enabled: true}\ndevices: {base: {driver: dds}, laser: {driver: none}, camera: {driver: dds}}\n")
+                .find("map.file: required"),
+            std::string::npos);
+  // The old places of the keys say where they went.
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml, laser: {enabled: false}}\n").find("sim.laser.enabled: moved to devices"),
+            std::string::npos);
+  // A simulated camera slower than the gate's patience would never drive forward.
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml, camera: {rate_hz: 10}}\n").find("sim.camera.rate_hz"), std::string::npos);
 }
 
 TEST_F(ConfigTest, ADdsSecurityEnclaveIsFoundBesideTheConfigurationAndMustBeWhole) {
   fs::create_directories(dir_ / "enclave");
   for (const char* file : drivers::dds::kEnclaveFiles) std::ofstream(dir_ / "enclave" / file) << "x";
-  std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\ndds: {security: {enclave: enclave}}\n";
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\ndds: {security: {enclave: enclave}}\n";
   EXPECT_EQ(LoadConfig(dir_ / "c.yaml").dds.security_enclave, dir_ / "enclave");
   fs::remove(dir_ / "enclave" / "permissions.p7s");
-  const std::string error = ErrorOf("sim: {enabled: false}\ndds: {security: {enclave: enclave}}\n");
+  const std::string error = ErrorOf("sim: {world: w.yaml}\ndds: {security: {enclave: enclave}}\n");
   EXPECT_NE(error.find("dds.security.enclave"), std::string::npos) << error;
   EXPECT_NE(error.find("permissions.p7s is missing"), std::string::npos) << error;
 }
 
 TEST_F(ConfigTest, DoorsTheirControllerAndTheSimulatorsDoorsAreReadAndChecked) {
-  std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false, doors: [{id: d1, x1_m: 4, y1_m: 1, x2_m: 4, y2_m: 2}]}\n"
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml, doors: [{id: d1, x1_m: 4, y1_m: 1, x2_m: 4, y2_m: 2}]}\n"
                                     "doors:\n"
                                     "  hold_m: 1.2\n"
                                     "  controller:\n"
@@ -177,14 +241,14 @@ TEST_F(ConfigTest, DoorsTheirControllerAndTheSimulatorsDoorsAreReadAndChecked) {
   EXPECT_EQ(c.doors.controller.headers.size(), 1u);
   ASSERT_EQ(c.doors.list.size(), 1u);
   EXPECT_EQ(c.doors.list[0].map, "willow");
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndoors: {controller: {open: {url: 'ftp://x'}}}\n")
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ndoors: {controller: {open: {url: 'ftp://x'}}}\n")
                 .find("doors.controller.open.url"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndoors: {controller: {open: {method: FETCH}}}\n").find("method"),
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ndoors: {controller: {open: {method: FETCH}}}\n").find("method"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndoors: {request_m: 1, hold_m: 2}\n").find("doors.request_m"),
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ndoors: {request_m: 1, hold_m: 2}\n").find("doors.request_m"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\ndoors: {list: [{x1_m: 1}]}\n").find("doors.list[0].id"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ndoors: {list: [{x1_m: 1}]}\n").find("doors.list[0].id"), std::string::npos);
 }
 
 TEST_F(ConfigTest, ABuildingsFloorsLiftsAndLiftControllerAreReadAndChecked) {
@@ -218,7 +282,7 @@ TEST_F(ConfigTest, ABuildingsFloorsLiftsAndLiftControllerAreReadAndChecked) {
 }
 
 TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
-  std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n"
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\n"
                                     "tracking: {enabled: false, camera: false, window_scans: 6, coast_s: 0.5,"
                                     " unseen_coast_s: 3, merged_hold_s: 2, walk_end_memory_s: 20,"
                                     " traffic: {weight: 5}}\n"
@@ -231,9 +295,9 @@ TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
   EXPECT_DOUBLE_EQ(c.tracking.objects.coast_s, 0.5);
   EXPECT_DOUBLE_EQ(c.tracking.objects.unseen_coast_s, 3.0);
   EXPECT_DOUBLE_EQ(c.tracking.objects.merged_hold_s, 2.0);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\ntracking: {coast_s: 2, merged_hold_s: 1}\n").find("tracking.merged_hold_s"),
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ntracking: {coast_s: 2, merged_hold_s: 1}\n").find("tracking.merged_hold_s"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\ntracking: {coast_s: 2, unseen_coast_s: 1}\n")
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ntracking: {coast_s: 2, unseen_coast_s: 1}\n")
                 .find("tracking.unseen_coast_s"),
             std::string::npos);
   EXPECT_DOUBLE_EQ(c.tracking.objects.walk_end_memory_s, 20.0);
@@ -243,16 +307,16 @@ TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
   EXPECT_DOUBLE_EQ(c.mission.navigator.evade.margin_m, 0.25);
   EXPECT_DOUBLE_EQ(c.mission.navigator.evade.horizon_s, 4.0);
   EXPECT_DOUBLE_EQ(c.mission.navigator.evade.max_linear_mps, 0.4);  // the mission's own top speed
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\ntracking: {window_scans: 1}\n").find("tracking.window_scans"),
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ntracking: {window_scans: 1}\n").find("tracking.window_scans"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\ntracking: {traffic: {memory_s: 0}}\n").find("tracking.traffic.memory_s"),
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ntracking: {traffic: {memory_s: 0}}\n").find("tracking.traffic.memory_s"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\nmission: {evade: {horizon_s: 0}}\n").find("mission.evade.horizon_s"),
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\nmission: {evade: {horizon_s: 0}}\n").find("mission.evade.horizon_s"),
             std::string::npos);
 }
 
 TEST_F(ConfigTest, LocalizationKeysAreReadAndChecked) {
-  std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n"
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\n"
                                     "localization: {source: mcl, initial_sigma_m: 0.3, initial_sigma_deg: 10,"
                                     " relocalize_every_s: 5, mcl: {seed: 7, min_particles: 100, max_particles: 500,"
                                     " sigma_hit_m: 0.1, max_beams: 60, update_distance_m: 0.1, update_angle_deg: 6}}\n";
@@ -268,33 +332,33 @@ TEST_F(ConfigTest, LocalizationKeysAreReadAndChecked) {
   EXPECT_EQ(c.localization.mcl.max_beams, 60);
   EXPECT_DOUBLE_EQ(c.localization.mcl.update_distance_m, 0.1);
   EXPECT_NEAR(c.localization.mcl.update_angle_rad, 0.10472, 1e-5);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\nlocalization: {source: amcl}\n")
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\nlocalization: {source: amcl}\n")
                 .find("localization.source: must be odometry, sim_truth or mcl, got 'amcl'"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\nlocalization: {mcl: {min_particles: 500, max_particles: 100}}\n")
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\nlocalization: {mcl: {min_particles: 500, max_particles: 100}}\n")
                 .find("localization.mcl.max_particles: must be at least min_particles"),
             std::string::npos);
 }
 
 TEST_F(ConfigTest, SimulatedObstaclesAreAListCheckedItemByItem) {
-  EXPECT_EQ(ErrorOf("sim:\n  enabled: false\n  obstacles:\n    - {shape: box, x_m: 1, y_m: 2, size_m: 0.3}\n"
+  EXPECT_EQ(ErrorOf("sim:\n  world: w.yaml\n  obstacles:\n    - {shape: box, x_m: 1, y_m: 2, size_m: 0.3}\n"
                     "    - {x_m: 3, y_m: 2}\n"), "");
-  const std::string shape = ErrorOf("sim:\n  enabled: false\n  obstacles:\n    - {x_m: 1}\n    - {shape: cone}\n");
+  const std::string shape = ErrorOf("sim:\n  world: w.yaml\n  obstacles:\n    - {x_m: 1}\n    - {shape: cone}\n");
   EXPECT_NE(shape.find("sim.obstacles[1].shape: must be cylinder, box or table"), std::string::npos) << shape;
-  const std::string unknown = ErrorOf("sim:\n  enabled: false\n  obstacles:\n    - {radius: 1}\n");
+  const std::string unknown = ErrorOf("sim:\n  world: w.yaml\n  obstacles:\n    - {radius: 1}\n");
   EXPECT_NE(unknown.find("sim.obstacles[0].radius: unknown key"), std::string::npos) << unknown;
-  const std::string not_list = ErrorOf("sim:\n  enabled: false\n  obstacles: {x_m: 1}\n");
+  const std::string not_list = ErrorOf("sim:\n  world: w.yaml\n  obstacles: {x_m: 1}\n");
   EXPECT_NE(not_list.find("sim.obstacles: expected a list"), std::string::npos) << not_list;
-  const std::string people = ErrorOf("sim: {enabled: false, pedestrians: 50}\n");
+  const std::string people = ErrorOf("sim: {world: w.yaml, pedestrians: 50}\n");
   EXPECT_NE(people.find("sim.pedestrians: must be between 0 and 20"), std::string::npos) << people;
 }
 
 TEST_F(ConfigTest, CommandLineOverridesGetTheSameChecks) {
   ConfigOverrides o;
   o.port = 70000;
-  EXPECT_NE(ErrorOf("sim: {enabled: false}\n", o).find("server.port: must be between 0 and 65535"), std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\n", o).find("server.port: must be between 0 and 65535"), std::string::npos);
   o.port = 9090;
-  std::ofstream(dir_ / "c.yaml") << "sim: {enabled: false}\n";
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\n";
   EXPECT_EQ(LoadConfig(dir_ / "c.yaml", o).server.port, 9090);
 }
 

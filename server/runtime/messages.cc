@@ -212,7 +212,21 @@ std::string StopReason(const BaseCommand& command) {
   if (command.reason == nav::GateReason::kProtectiveStop && !command.detail.empty()) {
     return std::string("protective stop: ") + command.detail;
   }
+  if (command.reason == nav::GateReason::kDeviceDown && !command.detail.empty()) return command.detail;
   return nav::ToString(command.reason);
+}
+
+nlohmann::json ToJson(const DevicesHealth& health) {
+  nlohmann::json devices = nlohmann::json::array();
+  for (const DeviceReport& d : health.devices) {
+    devices.push_back({{"device", d.device}, {"driver", d.driver}, {"port", d.port},
+                       {"state", nav::ToString(d.state)}, {"rate_hz", d.rate_hz},
+                       {"age_s", d.age_s >= 0.0 ? nlohmann::json(d.age_s) : nlohmann::json(nullptr)},
+                       {"link", d.link.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.link)},
+                       {"reconnects", d.reconnects},
+                       {"last_error", d.last_error.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.last_error)}});
+  }
+  return {{"stamp_s", drivers::ToSeconds(health.stamp_ns)}, {"devices", std::move(devices)}};
 }
 
 nlohmann::json ToJson(const Fault& fault) {

@@ -20,6 +20,7 @@
 #include "nav/localization/monte_carlo.h"
 #include "nav/mission/mission_runner.h"
 #include "nav/safety/command_gate.h"
+#include "nav/safety/device_health.h"
 #include "nav/tracking/moving_objects.h"
 #include "server/fleet/fleet_order.h"
 
@@ -53,6 +54,32 @@ struct Fault {
   std::string node;
   std::string loop;
   std::string what;
+};
+
+// A native driver says its device's link changed (drivers/serial/link_state.h): the command gate stops the robot
+// while a device is not up.
+struct DeviceLinkChange {
+  drivers::TimeNs stamp_ns = 0;
+  nav::Device device = nav::Device::kBase;
+  bool up = true;
+  std::string detail;  // "laser (rplidar on /dev/ttyUSB0): stale: no data for 52 ms"
+};
+
+// Each device's health (nav/safety/device_health.h), published a few times a second by the devices node.
+struct DeviceReport {
+  std::string device;      // base, laser, camera
+  std::string driver;      // sim, dds, create2, rplidar
+  std::string port;        // the serial device or the ROS 2 topic; empty for the simulator
+  nav::DeviceState state = nav::DeviceState::kStale;
+  double rate_hz = 0.0;    // data (odometry, scans, frames) a second
+  double age_s = -1.0;     // since the last data; negative: none yet
+  std::string link;        // a native driver's link state (running, stale, silent, ...); empty for the others
+  std::uint64_t reconnects = 0;
+  std::string last_error;  // the driver's last error; empty: none
+};
+struct DevicesHealth {
+  drivers::TimeNs stamp_ns = 0;
+  std::vector<DeviceReport> devices;
 };
 
 // The bumper was pressed (published by the control node with every odometry that says so): which way the base was
@@ -232,6 +259,7 @@ nlohmann::json ToJson(const drivers::LaserScan& scan);
 nlohmann::json ToJson(const TeleopCommand& command);
 nlohmann::json ToJson(const BaseCommand& command);
 nlohmann::json ToJson(const Fault& fault);
+nlohmann::json ToJson(const DevicesHealth& health);
 // What the console and the API show as the reason the command is not what was asked ("" when it is).
 std::string StopReason(const BaseCommand& command);
 

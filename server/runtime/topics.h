@@ -20,6 +20,8 @@ inline constexpr TopicName<TeleopCommand> kTeleop{"teleop"};
 inline constexpr TopicName<BaseCommand> kCmdVel{"cmd_vel"};
 inline constexpr TopicName<Bumped> kBumped{"safety/bumped"};
 inline constexpr TopicName<Fault> kFaults{"safety/faults"};  // a node's callback threw
+inline constexpr TopicName<DeviceLinkChange> kDeviceLinks{"devices/links"};  // native drivers' links
+inline constexpr TopicName<DevicesHealth> kDevices{"devices"};
 inline constexpr TopicName<FaceState> kFaceExpression{"face/expression"};
 inline constexpr TopicName<FaceCommand> kFaceCommand{"face/command"};
 inline constexpr TopicName<Detections> kDetections{"perception/detections"};

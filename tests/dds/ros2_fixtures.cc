@@ -12,6 +12,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+
 #include "tests/dds/idl/geometry_msgs.h"
 #include "tests/dds/idl/nav_msgs.h"
 #include "tests/dds/idl/sensor_msgs.h"
@@ -28,7 +32,8 @@ std::string ReadFile(const fs::path& file) {
   return s.str();
 }
 
-std::string DdsConfig(const fs::path& source, int domain, bool allow_writes, const std::string& extra) {
+std::string DdsConfig(const fs::path& source, int domain, bool allow_writes, const std::string& extra,
+                      const std::string& devices) {
   std::string config = ReadFile(source / "config/corridor.yaml");
   const std::size_t begin = config.find("\ndds:\n");
   const std::size_t end = config.find("\nlog:\n");
@@ -39,9 +44,10 @@ std::string DdsConfig(const fs::path& source, int domain, bool allow_writes, con
   dds += allow_writes ? "  allow_writes: true\n" : "  allow_writes: false\n";
   dds += extra;
   config.replace(begin, end - begin, dds);
-  if (extra.find("\n  devices:") != std::string::npos || extra.rfind("  devices:", 0) == 0) {
+  if (!devices.empty()) {
+    const std::string slots = "\ndevices:\n  base:\n    driver: sim\n  laser:\n    driver: sim\n  camera:\n    driver: sim\n";
     for (const auto& [from, to] :
-         {std::pair<std::string, std::string>{"\nsim:\n  enabled: true\n", "\nsim:\n  enabled: false\n"},
+         {std::pair<std::string, std::string>{slots, "\ndevices:\n" + devices},
           {"\n  source: mcl ", "\n  source: odometry "},
           {"\nmap:\n  file: \"\"", "\nmap:\n  file: \"worlds/willow_garage/willow-full-0.05.yaml\""}}) {
       const std::size_t at = config.find(from);
@@ -57,12 +63,34 @@ std::string DdsConfig(const fs::path& source, int domain, bool allow_writes, con
   return config;
 }
 
+std::pair<int, nlohmann::json> DaemonProcess::Call(const std::string& method, const std::string& target,
+                                                   const nlohmann::json& body) const {
+  namespace http = boost::beast::http;
+  boost::asio::io_context io;
+  boost::beast::tcp_stream stream(io);
+  boost::asio::ip::tcp::resolver resolver(io);
+  stream.connect(resolver.resolve("127.0.0.1", std::to_string(port_)));
+  http::request<http::string_body> request{http::string_to_verb(method), target, 11};
+  request.set(http::field::host, "127.0.0.1");
+  request.set(http::field::authorization, "Bearer " + token_);
+  if (!body.is_null()) {
+    request.set(http::field::content_type, "application/json");
+    request.body() = body.dump();
+  }
+  request.prepare_payload();
+  http::write(stream, request);
+  boost::beast::flat_buffer buffer;
+  http::response<http::string_body> response;
+  http::read(stream, buffer, response);
+  return {response.result_int(), nlohmann::json::parse(response.body(), nullptr, false)};
+}
+
 DaemonProcess::DaemonProcess(const fs::path& corridord, const fs::path& source, int domain, bool allow_writes,
-                             const std::string& extra) {
+                             const std::string& extra, const std::string& devices) {
   dir_ = fs::temp_directory_path() / ("corridor-dds-" + std::to_string(::getpid()) + "-" + std::to_string(domain));
   fs::remove_all(dir_);
   fs::create_directories(dir_);
-  const std::string config = DdsConfig(source, domain, allow_writes, extra);
+  const std::string config = DdsConfig(source, domain, allow_writes, extra, devices);
   if (config.empty()) throw std::runtime_error("config/corridor.yaml has changed: cannot make the configuration");
   std::ofstream(dir_ / "corridor.yaml") << config;
   const std::string log_file = (dir_ / "corridord.log").string();
@@ -233,7 +261,7 @@ void RosDrivers::Run() {
       scan.ranges._length = scan.ranges._maximum = 180;
       scan.ranges._buffer = ranges.data();
       dds_write(scan_, &scan);
-      next_frame = now + 100ms;
+      next_frame = now + 40ms;
       sensor_msgs_msg_CameraInfo info{};
       info.header.stamp = stamp;
       info.header.frame_id = const_cast<char*>("camera_depth_optical_frame");

@@ -18,16 +18,18 @@ namespace corridor::testing {
 std::string ReadFile(const std::filesystem::path& file);
 
 // The tree's configuration (`source`/config/corridor.yaml) with DDS on loopback (unicast peers: loopback has no
-// multicast) in `domain` (negative: DDS off), and `extra` keys of the dds section (indented by two); when they hold
-// `devices:`, the simulator off and the robot's devices over DDS. "" when the tree's file has changed shape.
-std::string DdsConfig(const std::filesystem::path& source, int domain, bool allow_writes, const std::string& extra);
+// multicast) in `domain` (negative: DDS off), `extra` keys of the dds section (indented by two), and `devices`, the
+// devices section's slots (indented by two) in place of the simulator's (empty: the simulator's robot). "" when the
+// tree's file has changed shape.
+std::string DdsConfig(const std::filesystem::path& source, int domain, bool allow_writes, const std::string& extra,
+                      const std::string& devices = "");
 
 // A corridord of its own (a fresh state directory, an admin API token), stopped with SIGTERM at the end. Throws
 // std::runtime_error when it does not start within 30 s.
 class DaemonProcess {
  public:
   DaemonProcess(const std::filesystem::path& corridord, const std::filesystem::path& source, int domain,
-                bool allow_writes, const std::string& extra = "");
+                bool allow_writes, const std::string& extra = "", const std::string& devices = "");
   DaemonProcess(const DaemonProcess&) = delete;
   DaemonProcess& operator=(const DaemonProcess&) = delete;
   ~DaemonProcess();
@@ -37,6 +39,10 @@ class DaemonProcess {
   int pid() const { return pid_; }
   int port() const { return port_; }
   const std::string& token() const { return token_; }
+  // One HTTP request to its API on loopback with its admin token: the status and the JSON body (discarded when none).
+  // Throws boost::system::system_error when it does not answer.
+  std::pair<int, nlohmann::json> Call(const std::string& method, const std::string& target,
+                                      const nlohmann::json& body = nullptr) const;
 
  private:
   std::filesystem::path dir_;
@@ -75,7 +81,7 @@ struct StateWatch {
 };
 
 // The robot's ROS 2 drivers, played by the peer on a thread of its own: a depth camera (camera info and 16UC1 images
-// of a flat floor, 160 x 120 at 10 Hz), a laser (/scan, 10 Hz) and a differential base (odometry at 50 Hz from the last
+// of a flat floor, 160 x 120 at 20 Hz), a laser (/scan, 20 Hz) and a differential base (odometry at 50 Hz from the last
 // /cmd_vel, which it holds for 0.5 s, as diff_drive_controller's timeout does).
 class RosDrivers {
  public:

@@ -155,6 +155,7 @@ server::Config GraphConfig(const drivers::sim::SimOptions& sim, Policy policy, c
   server::Config config;
   config.store.state_dir = state_dir;
   config.sim.robot = sim;
+  config.devices.laser.driver = sim.laser.enabled ? server::DeviceDriver::kSim : server::DeviceDriver::kNone;
   config.localization.source = server::LocalizationOptions::Source::kSimTruth;
   config.planner.robot_radius_m = kRobotRadiusM;
   config.safety.front_offset_m = kRobotRadiusM;

@@ -27,6 +27,12 @@ export interface State {
   docked: boolean;
   fleet: FleetOrder | null;
   floor: string | null;
+  devices: Device[];
+}
+// One of the robot's devices (GET /api/v1/devices): its driver and where it is reached, its health and data rate.
+export interface Device {
+  device: 'base' | 'laser' | 'camera'; driver: string; port: string; state: 'ok' | 'stale' | 'disconnected';
+  rate_hz: number; age_s: number | null; link: string | null; reconnects: number; last_error: string | null;
 }
 // A fleet manager's order (VDA 5050): the last node traversed, the nodes still to traverse, base (released) then
 // horizon, and their edges.

@@ -1,5 +1,5 @@
 // The corridor console: map, live pose, camera, telemetry, teleoperation, and the navigation tools.
-import { send, type Detections, type GroundLanes, type MapInfo, type Mission, type Pose, type State, type Twist } from './api';
+import { send, type Detections, type Device, type GroundLanes, type MapInfo, type Mission, type Pose, type State, type Twist } from './api';
 import { byId, type Report } from './dom';
 import { repeat } from './poll';
 import { LocalizationPanel } from './localization';
@@ -90,6 +90,25 @@ function showBattery(state: State): void {
   dock.disabled = state.docked || !permitted(dock);
 }
 
+// Each device's health: state (coloured), rate and driver; its port, link and last error on hover.
+function showDevices(devices: Device[]): void {
+  const health = { ok: 'ok', stale: 'degraded', disconnected: 'error' } as const;
+  byId('devices').replaceChildren(...devices.map((d) => {
+    const tr = document.createElement('tr');
+    tr.dataset.device = d.device;
+    tr.title = [d.port, d.link ? `link ${d.link}` : '', d.reconnects > 0 ? `${d.reconnects} reconnects` : '',
+      d.last_error ?? ''].filter((t) => t !== '').join(', ');
+    for (const [text, cls] of [[d.device, ''], [d.state, `health-${health[d.state]}`],
+      [`${d.rate_hz.toFixed(1)} Hz`, ''], [d.driver, '']]) {
+      const td = document.createElement('td');
+      td.textContent = text;
+      if (cls) td.className = cls;
+      tr.appendChild(td);
+    }
+    return tr;
+  }));
+}
+
 // The fleet manager's connection and order (VDA 5050), when one is configured.
 function showFleet(state: State): void {
   const f = state.fleet;
@@ -135,6 +154,7 @@ function showState(state: State, view: MapView | null): void {
     return tr;
   });
   byId('nodes').replaceChildren(...rows);
+  showDevices(state.devices);
   showMission(state.mission);
   view?.showRobot(state.pose, state.sim_true_pose);
   view?.showSimulation(state.sim_pedestrians, state.sim_obstacles);

@@ -1,0 +1,84 @@
+#include "server/app/robot_devices.h"
+
+#include <spdlog/spdlog.h>
+
+#include "server/dds/bridge.h"
+
+namespace corridor::server {
+
+RobotDevices::RobotDevices(const Config& config, const drivers::Clock& clock) {
+  const DevicesOptions& d = config.devices;
+  if (Simulated(config)) {
+    sim_ = MakeSimulator(config);
+    const Devices simulated = sim_->devices(config);
+    camera_ = &simulated.camera;
+    base_ = &simulated.base;
+    laser_ = simulated.laser;
+    battery_ = simulated.battery;
+    slots_ = simulated.slots;
+    return;
+  }
+  const bool any_dds = d.base.driver == DeviceDriver::kDds || d.laser.driver == DeviceDriver::kDds ||
+                       d.camera.driver == DeviceDriver::kDds;
+  if (any_dds) participant_ = MakeParticipant(config.dds);
+  switch (d.base.driver) {
+    case DeviceDriver::kDds:
+      dds_base_ = std::make_unique<drivers::dds::DdsBase>(*participant_, d.base.dds, clock);
+      base_ = dds_base_.get();
+      slots_.push_back({nav::Device::kBase, "dds", d.base.dds.odom_topic, nullptr});
+      break;
+    case DeviceDriver::kCreate2:
+      create2_ = std::make_unique<drivers::create2::Create2Base>(d.base.create2, clock);
+      base_ = create2_.get();
+      battery_ = create2_.get();
+      slots_.push_back({nav::Device::kBase, "create2", d.base.create2.port.string(), create2_.get()});
+      break;
+    default: throw ConfigError(std::string("devices.base.driver: ") + ToString(d.base.driver) + " is not a base");
+  }
+  switch (d.laser.driver) {
+    case DeviceDriver::kDds:
+      dds_laser_ = std::make_unique<drivers::dds::DdsLaser>(*participant_, d.laser.dds, clock);
+      laser_ = dds_laser_.get();
+      slots_.push_back({nav::Device::kLaser, "dds", d.laser.dds.topic, nullptr});
+      break;
+    case DeviceDriver::kRplidar:
+      rplidar_ = std::make_unique<drivers::rplidar::RplidarLaser>(d.laser.rplidar, clock);
+      laser_ = rplidar_.get();
+      slots_.push_back({nav::Device::kLaser, "rplidar", d.laser.rplidar.port.string(), rplidar_.get()});
+      break;
+    case DeviceDriver::kNone: break;
+    default: throw ConfigError(std::string("devices.laser.driver: ") + ToString(d.laser.driver) + " is not a laser");
+  }
+  if (d.camera.driver != DeviceDriver::kDds) {
+    throw ConfigError(std::string("devices.camera.driver: ") + ToString(d.camera.driver) +
+                      " without the simulator: only dds drives a camera yet");
+  }
+  dds_camera_ = std::make_unique<drivers::dds::DdsDepthCamera>(*participant_, d.camera.dds, clock);
+  camera_ = dds_camera_.get();
+  slots_.push_back({nav::Device::kCamera, "dds", d.camera.dds.depth_topic, nullptr});
+  spdlog::info("dds: waiting for the camera's info on {} (domain {})", d.camera.dds.info_topic,
+               participant_->options().domain_id);
+  dds_camera_->WaitForInfo(std::chrono::milliseconds(static_cast<long>(d.camera.info_wait_s * 1000.0)));
+  const nav::PinholeCamera& k = dds_camera_->info().camera;
+  spdlog::info("dds: camera {} x {} (fx {:.1f}), depth on {}", k.width, k.height, k.fx, d.camera.dds.depth_topic);
+  for (const DeviceSlot& slot : slots_) spdlog::info("device: {}", Describe(slot));
+}
+
+RobotDevices::~RobotDevices() { Stop(); }
+
+Devices RobotDevices::devices() const {
+  Devices out{*camera_, *base_, laser_, sim_ ? sim_->robot.get() : nullptr, battery_,
+              sim_ ? sim_->floors : nullptr, participant_.get()};
+  out.slots = slots_;
+  return out;
+}
+
+void RobotDevices::Stop() {
+  if (dds_camera_) dds_camera_->Stop();
+  if (dds_laser_) dds_laser_->Stop();
+  if (dds_base_) dds_base_->Stop();
+  rplidar_.reset();
+  create2_.reset();
+}
+
+}  // namespace corridor::server

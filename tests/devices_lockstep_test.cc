@@ -1,0 +1,78 @@
+// The devices' health through the daemon's graph in simulated time (testing/lockstep_robot.h): every device of the
+// simulator's robot reported ok at its rate, the laser's latest scan readable, and a camera that stops sending frames
+// reported stale while the robot holds its forward motion; a robot without a laser has no scan to give.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "testing/lockstep_robot.h"
+#include "testing/source_dir.h"
+
+namespace corridor {
+namespace {
+
+using json = nlohmann::json;
+using testing::LockstepRobot;
+
+std::filesystem::path DefaultConfig() { return testing::SourceDir() / "config/corridor.yaml"; }
+
+json Device(const json& health, const std::string& name) {
+  for (const json& d : health["devices"]) {
+    if (d["device"] == name) return d;
+  }
+  return nullptr;
+}
+
+TEST(DevicesLockstep, TheSimulatorsDevicesAreOkAtTheirRatesAndAStoppedCameraIsStale) {
+  LockstepRobot robot(DefaultConfig());
+  robot.StepFor(3.0);
+  const LockstepRobot::Reply health = robot.Call("GET", "/api/v1/devices");
+  ASSERT_EQ(health.status, 200) << health.body.dump();
+  ASSERT_EQ(health.body["devices"].size(), 3u) << health.body.dump();
+  const auto rate = [&](const std::string& name) { return Device(health.body, name)["rate_hz"].get<double>(); };
+  for (const char* name : {"base", "laser", "camera"}) {
+    EXPECT_EQ(Device(health.body, name)["state"], "ok") << health.body.dump();
+    EXPECT_EQ(Device(health.body, name)["driver"], "sim");
+    EXPECT_TRUE(Device(health.body, name)["link"].is_null());  // the simulator watches no link
+  }
+  EXPECT_NEAR(rate("base"), robot.config().sim.robot.odometry_rate_hz, 2.0);
+  EXPECT_NEAR(rate("laser"), robot.config().sim.robot.laser.rate_hz, 1.0);
+  EXPECT_NEAR(rate("camera"), robot.config().sim.robot.camera.rate_hz, 1.0);
+  EXPECT_EQ(robot.State()["devices"].size(), 3u);
+
+  const LockstepRobot::Reply scan = robot.Call("GET", "/api/v1/laser/scan");
+  ASSERT_EQ(scan.status, 200);
+  EXPECT_EQ(scan.body["frame"], "laser");
+  EXPECT_EQ(scan.body["ranges"].size(), static_cast<std::size_t>(robot.config().sim.robot.laser.beams));
+
+  // Driving forward; then the camera stops: forward motion holds, and the camera is stale.
+  const json forward{{"linear_mps", 0.3}, {"angular_rps", 0.0}};
+  ASSERT_EQ(robot.Call("PUT", "/api/v1/sim/faults", {{"camera_stopped", true}}).status, 200);
+  ASSERT_TRUE(robot.StepUntil(
+      [&] {
+        robot.Call("POST", "/api/v1/teleop", forward);
+        return robot.State()["stop_reason"] == "no depth frames: not driving forward";
+      },
+      2.0));
+  EXPECT_EQ(robot.State()["command"]["linear_mps"], 0.0);
+  EXPECT_TRUE(robot.StepUntil(
+      [&] { return Device(robot.Call("GET", "/api/v1/devices").body, "camera")["state"] == "stale"; }, 1.0));
+  ASSERT_EQ(robot.Call("PUT", "/api/v1/sim/faults", {{"camera_stopped", false}}).status, 200);
+  EXPECT_TRUE(robot.StepUntil(
+      [&] {
+        robot.Call("POST", "/api/v1/teleop", forward);
+        return robot.State()["command"]["linear_mps"].get<double>() > 0.0;
+      },
+      2.0));
+}
+
+TEST(DevicesLockstep, ARobotWithoutALaserHasNoScanToGive) {
+  LockstepRobot robot(DefaultConfig(), [](server::Config& c) { c.devices.laser.driver = server::DeviceDriver::kNone; });
+  robot.StepFor(1.0);
+  EXPECT_EQ(robot.Call("GET", "/api/v1/laser/scan").status, 404);
+  EXPECT_EQ(robot.Call("GET", "/api/v1/devices").body["devices"].size(), 2u);
+}
+
+}  // namespace
+}  // namespace corridor

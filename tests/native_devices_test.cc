@@ -1,0 +1,84 @@
+// corridord on native drivers, as on a robot built from a Create 2 and an RPLIDAR (tests/dds/native_robot.h: both on
+// pseudo-terminals played by their emulators, the depth camera a ROS 2 driver over DDS, so the slots mix as devices.*
+// allows). The transport is the point (real serial ports, a real daemon): the devices report ok with their rates, the
+// laser's scan is readable, teleop turns the emulated wheels, and a laser that goes quiet, a cliff, or a laser
+// unplugged and plugged back in stops the robot until it is back.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "tests/dds/native_robot.h"
+
+namespace corridor::testing {
+namespace {
+
+using json = nlohmann::json;
+using namespace std::chrono_literals;
+
+TEST(NativeDevices, ACreate2AndAnRplidarDriveTheRobotAndADeviceGoneStopsIt) {
+  NativeRobot robot(CORRIDORD, CORRIDOR_SOURCE_DIR, Domain(10));
+  DaemonProcess& daemon = robot.daemon();
+  const auto moving = [&] { return robot.moving(); };
+  const auto still = [&] { return robot.still(); };
+  const auto state = [&](const char* key) { return daemon.Call("GET", "/api/v1/state").second.value(key, ""); };
+
+  ASSERT_TRUE(robot.Until(false, 20s, [&] { return robot.AllOk(); }))
+      << daemon.Call("GET", "/api/v1/devices").second.dump() << daemon.log();
+  // Each device's rate, once a couple of seconds have been counted: the RPLIDAR's 10 turns a second, the Create 2's
+  // frame every 15 ms.
+  EXPECT_TRUE(robot.Until(false, 5s, [&] { return std::abs(robot.Rate("laser") - 10.0) < 2.0; }))
+      << robot.Rate("laser");
+  EXPECT_TRUE(robot.Until(false, 5s, [&] { return std::abs(robot.Rate("base") - 66.7) < 15.0; }))
+      << robot.Rate("base");
+  const json health = daemon.Call("GET", "/api/v1/devices").second;
+  for (const json& d : health["devices"]) {
+    if (d["device"] == "laser") {
+      EXPECT_EQ(d["driver"], "rplidar");
+      EXPECT_EQ(d["link"], "running");
+    }
+  }
+  // The laser's scan in its own frame (REP-103), 2 m all round as the emulator measures.
+  const auto [scan_status, scan] = daemon.Call("GET", "/api/v1/laser/scan");
+  ASSERT_EQ(scan_status, 200) << scan.dump();
+  EXPECT_EQ(scan["frame"], "laser");
+  EXPECT_NEAR(scan["base_T_laser"]["yaw"].get<double>(), M_PI, 1e-6) << scan.dump();
+  int near_two = 0;
+  for (const json& r : scan["ranges"]) near_two += r.is_number() && std::abs(r.get<double>() - 2.0) < 0.05;
+  EXPECT_GT(near_two, 300) << scan.dump();
+
+  // Teleop turns the Create 2's wheels.
+  ASSERT_TRUE(robot.Until(true, 10s, moving)) << state("stop_reason") << daemon.log();
+
+  // The laser goes quiet: the robot stops, says why, and the device is stale; it drives again once scans are back.
+  robot.laser().Silence();
+  ASSERT_TRUE(robot.Until(true, 3s, still)) << daemon.log();
+  EXPECT_NE(state("stop_reason").find("laser (rplidar on"), std::string::npos) << state("stop_reason");
+  EXPECT_TRUE(robot.Until(true, 3s, [&] { return robot.DeviceState("laser") != "ok"; }));
+  EXPECT_TRUE(robot.Until(true, 5s, [&] { return state("face") == "sad"; }));
+  robot.laser().Resume();
+  ASSERT_TRUE(robot.Until(true, 10s, moving)) << state("stop_reason") << daemon.log();
+
+  // A cliff under the base: stopped at once, whatever is asked.
+  robot.base().SetCliff(true);
+  ASSERT_TRUE(robot.Until(true, 3s, still)) << daemon.log();
+  EXPECT_TRUE(robot.Until(true, 3s, [&] { return state("stop_reason").find("cliff") != std::string::npos; }))
+      << state("stop_reason");
+  robot.base().SetCliff(false);
+  ASSERT_TRUE(robot.Until(true, 10s, moving)) << state("stop_reason") << daemon.log();
+
+  // The laser unplugged: stopped, disconnected; plugged back in under the same path, it is taken up by itself.
+  robot.laser().Unplug();
+  ASSERT_TRUE(robot.Until(true, 3s, still)) << daemon.log();
+  EXPECT_TRUE(robot.Until(true, 3s, [&] { return robot.DeviceState("laser") == "disconnected"; }))
+      << daemon.Call("GET", "/api/v1/devices").second.dump();
+  robot.laser().Replug();
+  ASSERT_TRUE(robot.Until(true, 15s, moving)) << state("stop_reason") << daemon.log();
+  EXPECT_TRUE(robot.Until(false, 5s, [&] { return robot.AllOk(); }));
+
+  EXPECT_TRUE(daemon.Stop()) << daemon.log();
+  EXPECT_TRUE(robot.Until(false, 2s, still));  // the driver stopped the wheels on its way out
+}
+
+}  // namespace
+}  // namespace corridor::testing
