@@ -3,6 +3,7 @@
 #   - the previous build installs: the corridor user, /var/lib/corridor (0700), the conffile;
 #   - corridord started as the corridor user with the installed configuration answers /api/v1/health over HTTPS and
 #     joins DDS domain 0 (kept on loopback here);
+#   - the udev rules give the native drivers' devices their stable names (/dev/corridor/...);
 #   - the units (corridor-face's too) pass systemd-analyze verify, and security --offline=yes gives corridor.service
 #     an exposure of at most 3.0;
 #   - an upgrade to this build keeps an edited conffile, the state directory and the users;
@@ -48,6 +49,11 @@ done
 [ "$(stat -c '%U %a' /var/lib/corridor)" = "corridor 700" ] || fail "/var/lib/corridor: $(stat -c '%U %a' /var/lib/corridor)"
 grep -q '^/etc/corridor/corridor.yaml$' /var/lib/dpkg/info/corridor.conffiles || fail "corridor.yaml is not a conffile"
 
+rules=$(ls /lib/udev/rules.d/*corridor.rules /usr/lib/udev/rules.d/*corridor.rules 2>/dev/null | head -1)
+[ -n "$rules" ] || fail "no udev rules installed"
+for name in corridor/rplidar corridor/create2; do
+  grep -q "SYMLINK+=\"$name\"" "$rules" || fail "$rules does not name $name"
+done
 systemd-analyze verify /lib/systemd/system/corridor.service /lib/systemd/system/corridor-face.service ||
   fail "systemd-analyze verify"
 sh -n /usr/libexec/corridor/face-kiosk || fail "face-kiosk does not parse"

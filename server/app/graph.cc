@@ -1,7 +1,11 @@
 #include "server/app/graph.h"
 
+#include <pthread.h>
+#include <sched.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
+
+#include <cstring>
 
 #include "nav/mission/docking.h"
 #include "nav/policy/evasion.h"
@@ -42,6 +46,10 @@ const drivers::Clock& ClockFor(Schedule schedule, const Devices& devices, const 
     throw std::runtime_error("a graph in lockstep needs the simulator: its clock is the graph's");
   return devices.sim->clock();
 }
+
+// The control executor's SCHED_FIFO priority: below the kernel's own threads (50), within corridor.service's
+// LimitRTPRIO.
+constexpr int kControlRtPriority = 10;
 
 // The machine's name, as the robot's in webhook payloads.
 std::string HostName() {
@@ -310,6 +318,19 @@ void Graph::Start() {
   if (started_) return;
   started_ = true;
   executors_.StartAll();
+  if (executors_.schedule() == Schedule::kThreads) {
+    // The control path at real-time priority where the service may have it (corridor.service grants LimitRTPRIO), so
+    // that a board busy with mapping, perception and clients does not delay the robot's answer to a frame.
+    executors_.control.Post([] {
+      const sched_param param{.sched_priority = kControlRtPriority};
+      if (const int error = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param); error != 0) {
+        spdlog::info("control executor: normal priority (real-time priority {} refused: {})", kControlRtPriority,
+                     std::strerror(error));
+      } else {
+        spdlog::info("control executor: real-time priority {} (SCHED_FIFO)", kControlRtPriority);
+      }
+    });
+  }
   lifecycle_.ActivateAll();
 }
 
