@@ -314,6 +314,16 @@ std::vector<nav::Door> Graph::DoorsOn(const std::string& map) const {
 
 Graph::~Graph() { Stop(); }
 
+void Graph::DisconnectDrivers() {
+  devices_.camera.SetFrameHandler({});
+  devices_.base.SetOdometryHandler({});
+  if (devices_.laser != nullptr) devices_.laser->SetScanHandler({});
+  if (devices_.battery != nullptr) devices_.battery->SetBatteryHandler({});
+  for (const DeviceSlot& slot : devices_.slots) {
+    if (slot.link != nullptr) slot.link->SetLinkHandler({});
+  }
+}
+
 void Graph::Start() {
   if (started_) return;
   started_ = true;
@@ -341,6 +351,7 @@ void Graph::Stop() {
   if (executors_.schedule() == Schedule::kLockstep) executors_.RunUntilIdle();
   executors_.StopAll();
   lifecycle_.CleanupAll();
+  DisconnectDrivers();
 }
 
 void Graph::Step() {

@@ -69,8 +69,8 @@ class Graph {
 
   // Activates the nodes and starts the executors (threads: their threads; lockstep: nothing runs until Step).
   void Start();
-  // Deactivates the nodes in reverse order (the control node first: the robot stops first), stops the executors and
-  // cleans up. Idempotent.
+  // Deactivates the nodes in reverse order (the control node first: the robot stops first), stops the executors,
+  // cleans up, and takes the graph's handlers off the drivers (which may outlive it). Idempotent.
   void Stop();
   // Lockstep: one physics step of the simulator, then every timer and handler that fell due.
   void Step();
@@ -88,6 +88,8 @@ class Graph {
   const Api& api() const { return *api_; }
 
  private:
+  // Nothing new of the drivers' reaches the bus after it (a driver's callback already under way may still finish).
+  void DisconnectDrivers();
   // The doors a mission on `map` asks the door controller to open (none without a controller).
   std::vector<nav::Door> DoorsOn(const std::string& map) const;
 
