@@ -80,13 +80,17 @@ void ReadSafety(ConfigReader& r, SafetyOptions& o) {
   r.Read("person_speed_factor", o.person_speed_factor, 0.0, 1.0);
 }
 
-void ReadBase(ConfigReader& r, drivers::sim::SimBaseOptions& o) {
-  drivers::BaseLimits& l = o.limits;
-  r.Read("max_linear_mps", l.max_linear_mps, 0.01, 3.0);
+// A base's limits; `max_linear_mps` bounds its top speed.
+void ReadBaseLimits(ConfigReader& r, drivers::BaseLimits& l, double max_linear_mps) {
+  r.Read("max_linear_mps", l.max_linear_mps, 0.01, max_linear_mps);
   r.Read("max_angular_rps", l.max_angular_rps, 0.01, 10.0);
   r.Read("max_linear_accel_mps2", l.max_linear_accel_mps2, 0.01, 20.0);
   r.Read("max_angular_accel_rps2", l.max_angular_accel_rps2, 0.01, 50.0);
   r.Read("footprint_radius_m", l.footprint_radius_m, 0.05, 2.0);
+}
+
+void ReadBase(ConfigReader& r, drivers::sim::SimBaseOptions& o) {
+  ReadBaseLimits(r, o.limits, 3.0);
   r.Read("command_timeout_s", o.command_timeout_s, 0.05, 5.0);
   r.Read("odom_linear_noise", o.odom_linear_noise, 0.0, 0.5);
   r.Read("odom_angular_noise", o.odom_angular_noise, 0.0, 0.5);
@@ -457,14 +461,6 @@ void ReadBuilding(ConfigReader& r, BuildingOptions& b, nav::LiftOptions& ride, c
   }
 }
 
-void ReadBaseLimits(ConfigReader& r, drivers::BaseLimits& l) {
-  r.Read("max_linear_mps", l.max_linear_mps, 0.01, 5.0);
-  r.Read("max_angular_rps", l.max_angular_rps, 0.01, 10.0);
-  r.Read("max_linear_accel_mps2", l.max_linear_accel_mps2, 0.01, 20.0);
-  r.Read("max_angular_accel_rps2", l.max_angular_accel_rps2, 0.01, 50.0);
-  r.Read("footprint_radius_m", l.footprint_radius_m, 0.05, 2.0);
-}
-
 // A serial device: a path, and a baud rate a UART takes.
 void ReadSerial(ConfigReader& r, fs::path& port, int& baud_rate, const fs::path& base) {
   ReadPath(r, "port", port, base);
@@ -498,7 +494,7 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
       s.Read("cmd_vel_topic", o.dds.cmd_vel_topic);
       CheckTopic(s, "odom_topic", o.dds.odom_topic);
       CheckTopic(s, "cmd_vel_topic", o.dds.cmd_vel_topic);
-      ReadBaseLimits(s, o.dds.limits);
+      ReadBaseLimits(s, o.dds.limits, 5.0);
     } else if (o.driver == D::kCreate2) {
       drivers::create2::Create2Options& c = o.create2;
       ReadSerial(s, c.port, c.baud_rate, base);
