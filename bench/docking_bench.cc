@@ -68,7 +68,7 @@ Run DockOnce(std::uint32_t seed, const fs::path& state_dir) {
   config.devices.laser.driver = server::DeviceDriver::kNone;
   config.localization.source = server::LocalizationOptions::Source::kOdometry;
   server::ApplyDerivedOptions(config);
-  const server::Devices devices{robot, robot, nullptr, &robot, &robot, nullptr};
+  const server::Devices devices{&robot, robot, nullptr, &robot, &robot, nullptr};
   server::Graph graph(config, devices, server::NamedMap{"room", map}, server::Schedule::kLockstep);
   graph.store().PutPlace("room", nav::Place{"dock", "dock", dock, nav::PlaceKind::kDock});
   graph.Start();

@@ -1,11 +1,13 @@
 // The devices' health through the daemon's graph in simulated time (testing/lockstep_robot.h): every device of the
 // simulator's robot reported ok at its rate, the laser's latest scan readable, and a camera that stops sending frames
-// reported stale while the robot holds its forward motion; a robot without a laser has no scan to give.
+// reported stale while the robot holds its forward motion; a robot without a laser has no scan to give; a robot without
+// a camera drives on its laser's lanes and stops short of a wall.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
+#include "server/runtime/topics.h"
 #include "testing/lockstep_robot.h"
 #include "testing/source_dir.h"
 
@@ -72,6 +74,38 @@ TEST(DevicesLockstep, ARobotWithoutALaserHasNoScanToGive) {
   robot.StepFor(1.0);
   EXPECT_EQ(robot.Call("GET", "/api/v1/laser/scan").status, 404);
   EXPECT_EQ(robot.Call("GET", "/api/v1/devices").body["devices"].size(), 2u);
+}
+
+TEST(DevicesLockstep, ARobotWithoutACameraStopsShortOfAWallOnItsLasersLanes) {
+  LockstepRobot robot(DefaultConfig(), [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
+  robot.StepFor(1.0);
+  const json devices = robot.Call("GET", "/api/v1/devices").body;
+  ASSERT_EQ(devices["devices"].size(), 2u) << devices.dump();
+  EXPECT_TRUE(Device(devices, "camera").is_null());
+  EXPECT_FALSE(robot.graph().bus().Get(server::topics::kRgbd).latest());  // nothing renders depth for nobody
+
+  // Down the corridor ahead, at 0.3 m/s by hand: the laser's lanes slow the robot to a stop before the wall across it
+  // (the map's specks at y = 26 m), and it never bumps.
+  const json forward{{"linear_mps", 0.3}, {"angular_rps", 0.0}};
+  double last_teleop_s = -1.0;
+  const auto drive = [&] {
+    if (robot.now_s() - last_teleop_s >= 0.1) {
+      robot.Call("POST", "/api/v1/teleop", forward);
+      last_teleop_s = robot.now_s();
+    }
+  };
+  const nav::Pose2 start = robot.sim().true_pose();
+  ASSERT_TRUE(robot.StepUntil(
+      [&] {
+        drive();
+        const json state = robot.State();
+        return robot.sim().true_pose().y_m - start.y_m > 0.5 && state["command"]["linear_mps"] == 0.0 &&
+               state["stop_reason"] == "slowed for an obstacle ahead";
+      },
+      90.0))
+      << robot.State().dump();
+  EXPECT_FALSE(robot.graph().bus().Get(server::topics::kBumped).latest());
+  EXPECT_FALSE(robot.sim().bumper_pressed());
 }
 
 }  // namespace

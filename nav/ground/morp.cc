@@ -22,19 +22,24 @@ constexpr double kExtraHeightM = 0.2;
 
 }  // namespace
 
+std::vector<double> LaneOffsets(const MorpOptions& options) {
+  const int n = options.lanes > 0 ? options.lanes
+                                  : std::max(1, static_cast<int>(std::lround(options.span_m / options.lane_width_m)));
+  std::vector<double> offsets;
+  for (int j = 0; j < n; ++j) offsets.push_back(options.span_m / 2.0 - (j + 0.5) * options.span_m / n);
+  return offsets;
+}
+
 Morp::Morp(const PinholeCamera& camera, const MorpOptions& options) : camera_(camera), options_(options) {
   if (!camera.Valid()) throw std::invalid_argument("Morp: the camera needs a positive size and focal length");
   if (!(options.span_m > 0.0) || !(options.lane_width_m > 0.0) || !(options.max_range_m > options.min_range_m)) {
     throw std::invalid_argument("Morp: widths must be positive and max_range_m above min_range_m");
   }
-  const int n = options.lanes > 0 ? options.lanes
-                                  : std::max(1, static_cast<int>(std::lround(options.span_m / options.lane_width_m)));
   const Eigen::Vector3f origin = camera.base_T_camera.translation().cast<float>();
   const Eigen::Matrix3d rotation = camera.base_T_camera.linear();
-  for (int j = 0; j < n; ++j) {
+  for (const double offset : LaneOffsets(options)) {
     Lane lane;
-    // Lane centres from left (+y) to right, evenly across the robot's width.
-    lane.offset_m = options.span_m / 2.0 - (j + 0.5) * options.span_m / n;
+    lane.offset_m = offset;
     int last_row = camera.height;
     for (double x = kLaneStepM; x <= options.max_range_m; x += kLaneStepM) {
       Eigen::Vector2d pixel;

@@ -57,6 +57,10 @@ struct LaneResult {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  // the dead-end in the base frame, when dead_end
 };
 
+// The lanes' centres, left of the robot's centre line, from left (+y) to right, evenly across span_m (the lanes of
+// MORP and of the laser's lanes, nav/ground/laser_lanes.h).
+std::vector<double> LaneOffsets(const MorpOptions& options);
+
 // The nearest dead-end among the lanes whose centre lies within half_width_m of the robot's centre line (the lanes
 // in front of its footprint); +infinity when there is none.
 double NearestDeadEnd(const std::vector<LaneResult>& lanes, double half_width_m);

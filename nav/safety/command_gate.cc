@@ -83,6 +83,18 @@ void CommandGate::People(double now_s, const std::vector<Eigen::Vector2d>& peopl
   }
 }
 
+double CommandGate::NextExpiry(double now_s) const {
+  double next = std::numeric_limits<double>::infinity();
+  const auto watch = [&](double last_s, double timeout_s) {
+    const double expiry = last_s + timeout_s;
+    if (expiry >= now_s) next = std::min(next, expiry);
+  };
+  watch(last_odometry_s_, options_.odometry_timeout_s);
+  watch(last_sight_s_, sight_timeout_s());
+  if (options_.require_laser) watch(last_scan_s_, options_.laser_timeout_s);
+  return next;
+}
+
 GateDecision CommandGate::Decide(double now_s, const TimedTwist* teleop, const TimedTwist* mission) {
   GateDecision out;
   if (now_s - last_odometry_s_ > options_.odometry_timeout_s) {
@@ -122,14 +134,16 @@ GateDecision CommandGate::Decide(double now_s, const TimedTwist* teleop, const T
   }
   if (out.twist.linear_mps > 0.0) {
     // Forward: only as fast as stops before the nearest obstacle the camera sees, and not at all without sight.
-    const bool fresh = now_s - last_sight_s_ <= options_.depth_timeout_s;
+    const bool fresh = now_s - last_sight_s_ <= sight_timeout_s();
     const double cap = !fresh                            ? 0.0
                        : out.mode == ControlMode::kDocking ? options_.docking_max_mps
                                                            : SpeedForFreeDistance(nearest_ahead_m_ - options_.front_offset_m,
                                                                                   options_.stopping);
     if (out.twist.linear_mps > cap) {
       out.twist.linear_mps = cap;
-      out.reason = fresh ? GateReason::kSlowedForObstacle : GateReason::kNoDepth;
+      out.reason = fresh                    ? GateReason::kSlowedForObstacle
+                   : options_.require_depth ? GateReason::kNoDepth
+                                            : GateReason::kNoLaser;
     }
     if (options_.require_laser && now_s - last_scan_s_ > options_.laser_timeout_s && out.twist.linear_mps > 0.0) {
       out.twist.linear_mps = 0.0;

@@ -9,7 +9,8 @@
 //     (turning and driving away are allowed);
 //   - forward only as fast as stops before the nearest obstacle the depth camera sees in the robot's way (the
 //     stopping model, from the front of the robot), and not at all without a depth frame for depth_timeout_s, nor,
-//     on a robot with a laser, without a scan for laser_timeout_s;
+//     on a robot with a laser, without a scan for laser_timeout_s; on a robot without a camera the laser's lanes
+//     stand in for the camera's (sight then goes stale after laser_timeout_s);
 //   - docking (a mission command that says so) drives up to the dock's face, which the camera sees as an obstacle:
 //     forward is capped at docking_max_mps instead, still only with fresh depth frames and with the bumper's rule.
 // Pure logic: the caller reports what arrived and when (seconds on one clock), and asks for a decision.
@@ -57,6 +58,7 @@ struct CommandGateOptions {
   double depth_timeout_s = 0.08;       // depth frames older than this are stale
   double laser_timeout_s = 0.3;        // with a laser (require_laser), scans older than this are stale
   bool require_laser = false;          // the robot has a laser: its scans must be fresh to drive forward
+  bool require_depth = true;           // the robot has a depth camera (else sight comes from the laser's lanes)
   double front_offset_m = 0.2;         // from the base's centre to its front
   double corridor_half_width_m = 0.3;  // what lies this close to the centre line is in the robot's way
   StoppingModel stopping{.max_decel_mps2 = 0.8, .reaction_time_s = 0.1, .margin_m = 0.05};
@@ -111,6 +113,10 @@ class CommandGate {
   // Some part of the daemon failed at now_s: protective stop.
   void Fault(double now_s) { last_fault_s_ = now_s; }
 
+  // The next moment after now_s at which something watched goes stale (odometry, sight, scans) and a decision may
+  // change with nothing arriving; +infinity when nothing is fresh. The caller decides again then.
+  double NextExpiry(double now_s) const;
+
   // The command for the base at now_s, from the latest teleop and mission requests (null: none). `mission` counts
   // only while active.
   GateDecision Decide(double now_s, const TimedTwist* teleop, const TimedTwist* mission);
@@ -122,6 +128,8 @@ class CommandGate {
 
  private:
   static constexpr double kNever = -std::numeric_limits<double>::infinity();
+
+  double sight_timeout_s() const { return options_.require_depth ? options_.depth_timeout_s : options_.laser_timeout_s; }
 
   CommandGateOptions options_;
   double last_odometry_s_ = kNever;

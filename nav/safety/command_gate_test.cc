@@ -1,5 +1,7 @@
 #include "nav/safety/command_gate.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 namespace corridor::nav {
@@ -216,6 +218,43 @@ TEST(CommandGateTest, WithALaserForwardNeedsFreshScans) {
   EXPECT_EQ(late.reason, GateReason::kNoLaser);
   EXPECT_EQ(late.twist.linear_mps, 0.0);
   EXPECT_DOUBLE_EQ(late.twist.angular_rps, 0.2);  // turning stays allowed
+}
+
+TEST(CommandGateTest, WithoutACameraTheLasersLanesAreTheSightAndGoStaleWithTheLaser) {
+  CommandGateOptions o;
+  o.require_laser = true;
+  o.require_depth = false;
+  CommandGate gate(o);
+  gate.Odometry(10.0, false);
+  gate.Scan(10.0);
+  gate.Sight(10.0, LanesAt(-1.0));
+  // Older than the depth timeout, younger than the laser's: still fresh.
+  const double later = 10.0 + o.depth_timeout_s + 0.05;
+  gate.Odometry(later, false);
+  const TimedTwist asked{{0.3, 0.0}, later};
+  EXPECT_DOUBLE_EQ(gate.Decide(later, &asked, nullptr).twist.linear_mps, 0.3);
+  const double stale = 10.0 + o.laser_timeout_s + 0.01;
+  gate.Odometry(stale, false);
+  const TimedTwist late{{0.3, 0.0}, stale};
+  const GateDecision c = gate.Decide(stale, &late, nullptr);
+  EXPECT_EQ(c.twist.linear_mps, 0.0);
+  EXPECT_EQ(c.reason, GateReason::kNoLaser);
+}
+
+TEST(CommandGateTest, TheNextExpiryIsTheEarliestWatchdogStillRunning) {
+  CommandGateOptions o;
+  o.require_laser = true;
+  CommandGate gate(o);
+  EXPECT_TRUE(std::isinf(gate.NextExpiry(10.0)));  // nothing seen: nothing to go stale
+  gate.Odometry(10.0, false);
+  gate.Sight(10.01, LanesAt(-1.0));
+  gate.Scan(10.02);
+  EXPECT_DOUBLE_EQ(gate.NextExpiry(10.0), 10.0 + o.odometry_timeout_s);
+  gate.Odometry(10.05, false);
+  EXPECT_DOUBLE_EQ(gate.NextExpiry(10.05), 10.01 + o.depth_timeout_s);
+  // Past the sight's and the odometry's, the scans' is next; past all, none.
+  EXPECT_DOUBLE_EQ(gate.NextExpiry(10.2), 10.02 + o.laser_timeout_s);
+  EXPECT_TRUE(std::isinf(gate.NextExpiry(11.0)));
 }
 
 }  // namespace

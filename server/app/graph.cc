@@ -37,6 +37,16 @@ namespace {
 Config Adjusted(Config config, const Devices& devices) {
   nav::EvasionOptions& evade = config.mission.navigator.evade;
   if (devices.laser == nullptr) evade = nav::ForForwardView(evade);
+  if (devices.camera == nullptr) {
+    if (devices.laser == nullptr) {
+      throw ConfigError("devices: a robot needs a depth camera or a laser to see (camera and laser are both none)");
+    }
+    // The laser's lanes are the robot's sight; what reads depth images has none to read.
+    config.safety.require_depth = false;
+    config.octomap.enabled = false;
+    config.perception.enabled = false;
+    config.tracking.camera = false;
+  }
   return config;
 }
 
@@ -85,7 +95,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   if (config_.tracking.enabled && (devices_.laser != nullptr || config_.tracking.camera)) {
     TrackingSource source;
     if (devices_.laser != nullptr) source.base_T_laser = devices_.laser->base_T_laser();
-    source.camera = devices_.camera.info().camera;
+    if (devices_.camera != nullptr) source.camera = devices_.camera->info().camera;
     tracking_node = std::make_unique<TrackingNode>(
         executors_.mapping, bus_, source, config_.tracking.objects, config_.tracking.traffic,
         [this](std::shared_ptr<const std::vector<float>> cost, const nav::OccupancyGrid* grid) {
@@ -106,17 +116,19 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   // Where it was, when that was in the map it starts in: the first pose published (LocalizationNode::SetMap then
   // starts the filter there).
   std::optional<SavedPose> saved = LoadSavedPose(pose_file);
+  // Without a camera there is a laser (CheckDevices), and localization reads the laser alone.
+  const nav::PinholeCamera camera = devices_.camera != nullptr ? devices_.camera->info().camera : nav::PinholeCamera{};
   const nav::Pose2 start = saved && saved->place == map.name ? saved->pose : config_.sim.robot.start;
   auto localization_node = std::make_unique<LocalizationNode>(
-      executors_.mapping, bus_, config_.localization, start, base_T_laser, devices_.camera.info().camera, pose_file,
+      executors_.mapping, bus_, config_.localization, start, base_T_laser, camera, pose_file,
       std::move(saved), map_built);
   LocalizationNode* const localization = localization_node.get();
   localization_ = localization;
   // The 3D map, from the depth camera at the estimated poses; its layer goes to the planner.
   std::unique_ptr<OctreeNode> octree_node;
-  if (config_.octomap.enabled) {
+  if (config_.octomap.enabled && devices_.camera != nullptr) {
     octree_node = std::make_unique<OctreeNode>(
-        executors_.mapping3d, bus_, config_.octomap, devices_.camera.info().camera,
+        executors_.mapping3d, bus_, config_.octomap, camera,
         config_.localization.source != LocalizationOptions::Source::kMonteCarlo, config_.store.state_dir / "maps",
         [this](std::shared_ptr<const std::vector<std::int8_t>> cells, const nav::OccupancyGrid* grid) {
           planner_.SetObstacleLayer(std::move(cells), grid);
@@ -210,9 +222,9 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   }
   lifecycle_.Add(std::move(localization_node));
   if (octree_node) lifecycle_.Add(std::move(octree_node));
-  if (config_.perception.enabled) {
-    auto perception_node = std::make_unique<PerceptionNode>(executors_.perception, bus_, config_.perception,
-                                                            devices_.camera.info().camera, devices_.sim != nullptr);
+  if (config_.perception.enabled && devices_.camera != nullptr) {
+    auto perception_node = std::make_unique<PerceptionNode>(executors_.perception, bus_, config_.perception, camera,
+                                                            devices_.sim != nullptr);
     perception_ = perception_node.get();
     lifecycle_.Add(std::move(perception_node));
   }
@@ -226,8 +238,13 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   if (hooks.robot.empty()) hooks.robot = HostName();
   webhooks_ = std::make_unique<Webhooks>(executors_.io.context(), store_, clock_, hooks);
   lifecycle_.Add(std::make_unique<EventNode>(executors_.io, bus_, *events_, store_, *webhooks_));
-  lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.camera.info(), config_.ground,
-                                              config_.mission.policy));
+  if (devices_.camera != nullptr) {
+    lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.camera->info(), config_.ground,
+                                                config_.mission.policy));
+  } else {
+    lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.laser->base_T_laser(),
+                                                devices_.laser->height_m(), config_.ground));
+  }
   if (tracking_node) lifecycle_.Add(std::move(tracking_node));
   auto explore_node = std::make_unique<ExploreNode>(executors_.mapping, bus_, planner_, *missions_, [this] {
     const auto active = maps_->active();
@@ -290,7 +307,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
       t.translation().z() = devices_.laser->height_m();
       frames.base_T_laser = t;
     }
-    frames.camera = devices_.camera.info();
+    if (devices_.camera != nullptr) frames.camera = devices_.camera->info();
     for (const DeviceSlot& slot : devices_.slots) {
       if (slot.driver != "dds") continue;
       if (slot.device == nav::Device::kBase) frames.base_over_dds = true;
@@ -315,7 +332,7 @@ std::vector<nav::Door> Graph::DoorsOn(const std::string& map) const {
 Graph::~Graph() { Stop(); }
 
 void Graph::DisconnectDrivers() {
-  devices_.camera.SetFrameHandler({});
+  if (devices_.camera != nullptr) devices_.camera->SetFrameHandler({});
   devices_.base.SetOdometryHandler({});
   if (devices_.laser != nullptr) devices_.laser->SetScanHandler({});
   if (devices_.battery != nullptr) devices_.battery->SetBatteryHandler({});

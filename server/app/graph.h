@@ -36,7 +36,7 @@ namespace corridor::server {
 
 // What the graph drives. All must outlive the graph.
 struct Devices {
-  drivers::DepthCamera& camera;
+  drivers::DepthCamera* camera = nullptr;  // null: no camera fitted (the laser's lanes then stand in, GroundNode)
   drivers::DiffDriveBase& base;
   drivers::Laser2D* laser = nullptr;      // null: no laser fitted
   drivers::sim::SimRobot* sim = nullptr;  // the simulator, when the devices are simulated (its faults, its truth)

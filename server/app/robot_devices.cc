@@ -11,7 +11,7 @@ RobotDevices::RobotDevices(const Config& config, const drivers::Clock& clock) {
   if (Simulated(config)) {
     sim_ = MakeSimulator(config);
     const Devices simulated = sim_->devices(config);
-    camera_ = &simulated.camera;
+    camera_ = simulated.camera;
     base_ = &simulated.base;
     laser_ = simulated.laser;
     battery_ = simulated.battery;
@@ -49,25 +49,28 @@ RobotDevices::RobotDevices(const Config& config, const drivers::Clock& clock) {
     case DeviceDriver::kNone: break;
     default: throw ConfigError(std::string("devices.laser.driver: ") + ToString(d.laser.driver) + " is not a laser");
   }
-  if (d.camera.driver != DeviceDriver::kDds) {
-    throw ConfigError(std::string("devices.camera.driver: ") + ToString(d.camera.driver) +
-                      " without the simulator: only dds drives a camera yet");
+  switch (d.camera.driver) {
+    case DeviceDriver::kDds: {
+      dds_camera_ = std::make_unique<drivers::dds::DdsDepthCamera>(*participant_, d.camera.dds, clock);
+      camera_ = dds_camera_.get();
+      slots_.push_back({nav::Device::kCamera, "dds", d.camera.dds.depth_topic, nullptr});
+      spdlog::info("dds: waiting for the camera's info on {} (domain {})", d.camera.dds.info_topic,
+                   participant_->options().domain_id);
+      dds_camera_->WaitForInfo(std::chrono::milliseconds(static_cast<long>(d.camera.info_wait_s * 1000.0)));
+      const nav::PinholeCamera& k = dds_camera_->info().camera;
+      spdlog::info("dds: camera {} x {} (fx {:.1f}), depth on {}", k.width, k.height, k.fx, d.camera.dds.depth_topic);
+      break;
+    }
+    case DeviceDriver::kNone: spdlog::info("device: no camera (the laser's lanes are the robot's sight)"); break;
+    default: throw ConfigError(std::string("devices.camera.driver: ") + ToString(d.camera.driver) + " is not a camera");
   }
-  dds_camera_ = std::make_unique<drivers::dds::DdsDepthCamera>(*participant_, d.camera.dds, clock);
-  camera_ = dds_camera_.get();
-  slots_.push_back({nav::Device::kCamera, "dds", d.camera.dds.depth_topic, nullptr});
-  spdlog::info("dds: waiting for the camera's info on {} (domain {})", d.camera.dds.info_topic,
-               participant_->options().domain_id);
-  dds_camera_->WaitForInfo(std::chrono::milliseconds(static_cast<long>(d.camera.info_wait_s * 1000.0)));
-  const nav::PinholeCamera& k = dds_camera_->info().camera;
-  spdlog::info("dds: camera {} x {} (fx {:.1f}), depth on {}", k.width, k.height, k.fx, d.camera.dds.depth_topic);
   for (const DeviceSlot& slot : slots_) spdlog::info("device: {}", Describe(slot));
 }
 
 RobotDevices::~RobotDevices() { Stop(); }
 
 Devices RobotDevices::devices() const {
-  Devices out{*camera_, *base_, laser_, sim_ ? sim_->robot.get() : nullptr, battery_,
+  Devices out{camera_, *base_, laser_, sim_ ? sim_->robot.get() : nullptr, battery_,
               sim_ ? sim_->floors : nullptr, participant_.get()};
   out.slots = slots_;
   return out;

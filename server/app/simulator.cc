@@ -12,10 +12,11 @@ namespace corridor::server {
 
 Devices Simulator::devices(const Config& config) const {
   const bool laser = config.devices.laser.driver == DeviceDriver::kSim;
-  Devices out{*robot, *robot, laser ? robot.get() : nullptr, robot.get(), robot.get(), floors};
+  const bool camera = config.devices.camera.driver == DeviceDriver::kSim;
+  Devices out{camera ? robot.get() : nullptr, *robot, laser ? robot.get() : nullptr, robot.get(), robot.get(), floors};
   out.slots.push_back({nav::Device::kBase, "sim", "", nullptr});
   if (laser) out.slots.push_back({nav::Device::kLaser, "sim", "", nullptr});
-  out.slots.push_back({nav::Device::kCamera, "sim", "", nullptr});
+  if (camera) out.slots.push_back({nav::Device::kCamera, "sim", "", nullptr});
   return out;
 }
 

@@ -69,7 +69,7 @@ void DdsBridge::Activate() {
   pose_ = participant_.Advertise<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType>("/amcl_pose", Qos::kLatched);
   diagnostics_ = participant_.Advertise<diagnostic_msgs::msg::DiagnosticArrayPubSubType>("/diagnostics", Qos::kDefault);
   state_ = participant_.Advertise<std_msgs::msg::StringPubSubType>("/corridor/state", Qos::kDefault);
-  if (options_.camera_hz > 0.0 && !frames_.camera_over_dds) {
+  if (options_.camera_hz > 0.0 && frames_.camera && !frames_.camera_over_dds) {
     // Reliable, as everything here: a reliable writer meets best-effort readers too, and RViz's displays ask for
     // reliable by default.
     depth_ = participant_.Advertise<sensor_msgs::msg::ImagePubSubType>("/camera/depth/image_raw", Qos::kDefault,
@@ -85,8 +85,10 @@ void DdsBridge::Activate() {
     if (frames_.base_T_laser) {
       statics.transforms().push_back(dds::Transform(now, dds::kBaseFrame, dds::kLaserFrame, *frames_.base_T_laser));
     }
-    statics.transforms().push_back(
-        dds::Transform(now, dds::kBaseFrame, dds::kCameraFrame, frames_.camera.camera.base_T_camera));
+    if (frames_.camera) {
+      statics.transforms().push_back(
+          dds::Transform(now, dds::kBaseFrame, dds::kCameraFrame, frames_.camera->camera.base_T_camera));
+    }
     tf_static_->Write(statics);
   }
 
@@ -123,12 +125,12 @@ void DdsBridge::Activate() {
   if (frames_.base_T_laser && !frames_.laser_over_dds) {
     Subscribe(topics::kScan, "scan",
               [this](const auto& scan) { scan_->Write(dds::ToRos(*scan, stamps_, dds::kLaserFrame)); });
-  } else if (!frames_.base_T_laser) {
+  } else if (!frames_.base_T_laser && frames_.camera) {
     // No laser: the depth camera's nearest obstacle per column, as a scan in base_link.
     Subscribe(topics::kGroundLanes, "scan", [this](const auto& ground) {
       if (ground->scan.empty()) return;
-      scan_->Write(dds::ScanFromPoints(ground->scan, kDepthScanIncrementRad, frames_.camera.min_range_m,
-                                       frames_.camera.max_range_m, stamps_.ToRos(ground->stamp_ns), dds::kBaseFrame));
+      scan_->Write(dds::ScanFromPoints(ground->scan, kDepthScanIncrementRad, frames_.camera->min_range_m,
+                                       frames_.camera->max_range_m, stamps_.ToRos(ground->stamp_ns), dds::kBaseFrame));
     });
   }
   Subscribe(topics::kMission, "plan", [this](const auto& mission) {
@@ -156,7 +158,7 @@ void DdsBridge::Activate() {
       next_depth_ns_ = now + drivers::FromSeconds(1.0 / options_.camera_hz);
       const auto stamp = stamps_.ToRos(frame->stamp_ns);
       depth_->Write(dds::DepthImage(frame->depth_mm, stamp, dds::kCameraFrame));
-      camera_info_->Write(dds::ToRos(frames_.camera.camera, stamp, dds::kCameraFrame));
+      camera_info_->Write(dds::ToRos(frames_.camera->camera, stamp, dds::kCameraFrame));
     });
   }
 

@@ -36,7 +36,7 @@ std::unique_ptr<drivers::dds::Participant> MakeParticipant(const DdsOptions& dds
 // What the bridge publishes about the robot's body, from its devices.
 struct RobotFrames {
   std::optional<Eigen::Isometry3d> base_T_laser;  // none: no laser (/scan then comes from the depth camera)
-  drivers::CameraInfo camera;                     // with its pose in the base frame, and its range
+  std::optional<drivers::CameraInfo> camera;      // with its pose in the base frame, and its range; none: no camera
   // Devices served by ROS 2 drivers (drivers/dds/devices.h) publish themselves what the bridge would: the base its
   // odometry and odom -> base_link, the laser its scans, the camera its images.
   bool base_over_dds = false;

@@ -1,5 +1,6 @@
 #include "server/nodes/control_node.h"
 
+#include <cmath>
 #include <future>
 
 #include "server/runtime/topics.h"
@@ -8,6 +9,7 @@ namespace corridor::server {
 namespace {
 
 constexpr double kLatencyPublishS = 0.5;
+constexpr drivers::TimeNs kPastExpiryNs = 100'000;  // 0.1 ms
 
 }  // namespace
 
@@ -16,10 +18,17 @@ ControlNode::ControlNode(Executor& executor, Bus& bus, drivers::DiffDriveBase& b
     : PeriodicNode("control", executor, bus, options.control_rate_hz), base_(base), gate_(options) {}
 
 void ControlNode::Activate() {
+  deadline_ = std::make_unique<DeadlineTimer>(executor(), [this] {
+    Run("deadline", [this] {
+      Act();
+      Watch();
+    });
+  });
   Subscribe(topics::kOdometry, "odometry", [this](const auto& odometry) {
     const drivers::TimeNs now = clock().Now();
     gate_.Odometry(drivers::ToSeconds(now), odometry->bumper_pressed, odometry->cliff);
     if (odometry->bumper_pressed) bus().Get(topics::kBumped).Publish(Bumped{now, gate_.bumped_backing()});
+    Watch();
   });
   Subscribe(topics::kGroundLanes, "sight", [this](const auto& ground) {
     // Fresh from when the frame arrived, not from when its lanes were ready: the gate's patience is the camera's.
@@ -29,8 +38,12 @@ void ControlNode::Activate() {
     } else {
       gate_.Sight(now_s, ground->obstacles);
     }
+    Watch();
   });
-  Subscribe(topics::kScan, "scan", [this](const auto&) { gate_.Scan(drivers::ToSeconds(clock().Now())); });
+  Subscribe(topics::kScan, "scan", [this](const auto&) {
+    gate_.Scan(drivers::ToSeconds(clock().Now()));
+    Watch();
+  });
   // A native driver says its device stopped answering (or answers again): the robot stops at once, not at the tick.
   Subscribe(topics::kDeviceLinks, "link", [this](const auto& change) {
     gate_.Link(change->device, change->up);
@@ -62,7 +75,14 @@ void ControlNode::Stop(nav::GateReason reason, std::string detail) {
 
 void ControlNode::OnFault() { Stop(nav::GateReason::kProtectiveStop, name() + " failed"); }
 
+void ControlNode::Watch() {
+  const double expiry = gate_.NextExpiry(drivers::ToSeconds(clock().Now()));
+  // Just past it: at the expiry itself what it watches is still fresh.
+  if (std::isfinite(expiry)) deadline_->At(drivers::FromSeconds(expiry) + kPastExpiryNs);
+}
+
 void ControlNode::Deactivate() {
+  if (deadline_) deadline_->Stop();
   PeriodicNode::Deactivate();
   const auto stop = [this] { Stop(nav::GateReason::kShuttingDown, ""); };
   if (executor().schedule() == Schedule::kLockstep) {

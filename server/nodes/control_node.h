@@ -1,13 +1,15 @@
 // The control loop: feeds the command gate (nav/safety/command_gate.h) with what arrives on the bus and sends its
-// decision to the base. It decides on a timer (safety.control_rate_hz, the watchdogs' clock) and at once whenever the
-// mission sends a command, which it does once per depth frame: the robot answers a frame without waiting for the next
-// tick. The latency from a frame's arrival to the base command that answers it is published on control/latency; each
+// decision to the base. It decides on a timer (safety.control_rate_hz), at once whenever the mission sends a command,
+// which it does once per depth frame (the robot answers a frame without waiting for the next tick), and the moment
+// a watchdog's timeout runs out (odometry, sight, scans: a silent device stops the robot at its timeout, not up to
+// a tick later). The latency from a frame's arrival to the base command that answers it is published on control/latency; each
 // bump on safety/bumped with the way the base was driving; a fault of any node (safety/faults) puts the robot in a
 // protective stop; a device whose native driver says it went down (devices/links) stops the robot at once. On
 // deactivation (shutdown) it commands zero velocity last.
 #pragma once
 
 #include <array>
+#include <memory>
 #include <string>
 
 #include "drivers/diff_drive_base.h"
@@ -28,6 +30,7 @@ class ControlNode final : public PeriodicNode {
  private:
   void Tick() override;
   void Act();  // one decision, sent to the base
+  void Watch();  // the deadline timer set at the gate's next expiry
   // Zero velocity to the base at once, and on cmd_vel with `reason`.
   void Stop(nav::GateReason reason, std::string detail);
   void OnFault() override;  // this node's own callback failed: stop from here
@@ -35,6 +38,7 @@ class ControlNode final : public PeriodicNode {
   drivers::DiffDriveBase& base_;
   // On the control executor only:
   nav::CommandGate gate_;
+  std::unique_ptr<DeadlineTimer> deadline_;  // while active
   std::string fault_detail_;  // the latest fault, for the protective stop's reason
   std::array<std::string, nav::kDeviceCount> device_detail_;  // each device's latest link change, for the stop's reason
   LatencyStats latency_;

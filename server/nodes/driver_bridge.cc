@@ -10,13 +10,15 @@ std::string Describe(const DeviceSlot& slot) {
   return text + ")";
 }
 
-void ConnectDrivers(Bus& bus, const drivers::Clock& clock, drivers::DepthCamera& camera, drivers::DiffDriveBase& base,
+void ConnectDrivers(Bus& bus, const drivers::Clock& clock, drivers::DepthCamera* camera, drivers::DiffDriveBase& base,
                     drivers::Laser2D* laser, drivers::Battery* battery, const std::vector<DeviceSlot>& slots) {
-  auto& rgbd = bus.Get(topics::kRgbd);
-  camera.SetFrameHandler([&rgbd, &clock](std::shared_ptr<drivers::RgbdFrame> frame) {
-    frame->arrival_ns = clock.Now();
-    rgbd.Publish(std::move(frame));
-  });
+  if (camera != nullptr) {
+    auto& rgbd = bus.Get(topics::kRgbd);
+    camera->SetFrameHandler([&rgbd, &clock](std::shared_ptr<drivers::RgbdFrame> frame) {
+      frame->arrival_ns = clock.Now();
+      rgbd.Publish(std::move(frame));
+    });
+  }
   auto& odometry = bus.Get(topics::kOdometry);
   base.SetOdometryHandler([&odometry](const drivers::WheelOdometry& o) { odometry.Publish(o); });
   if (laser != nullptr) {

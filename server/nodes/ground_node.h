@@ -1,11 +1,17 @@
-// The depth front end of the control path, on every depth frame, on the control executor: MORP ground segmentation
-// (nav/ground/morp.h) and the frame's depth scan for the obstacle memory, or, for the voxel-reactive comparison policy,
-// the voxel grid's obstacle points (nav/ground/voxel_obstacles.h). Published on ground/lanes with the front end's own
-// time; the local policy and the command gate read them.
+// The front end of the control path, on the control executor, published on ground/lanes with its own time; the local
+// policy and the command gate read them. On every depth frame: MORP ground segmentation (nav/ground/morp.h) and the
+// frame's depth scan for the obstacle memory, or, for the voxel-reactive comparison policy, the voxel grid's obstacle
+// points (nav/ground/voxel_obstacles.h). On a robot without a camera, on every laser scan: the same lanes from the
+// scan's hits (nav/ground/laser_lanes.h), and the hits for the obstacle memory.
 #pragma once
 
+#include <cstdint>
+#include <optional>
+
 #include "drivers/depth_camera.h"
+#include "drivers/laser2d.h"
 #include "nav/ground/depth_scan.h"
+#include "nav/ground/laser_lanes.h"
 #include "nav/ground/morp.h"
 #include "nav/ground/voxel_obstacles.h"
 #include "nav/policy/local_policy.h"
@@ -16,16 +22,27 @@ namespace corridor::server {
 
 class GroundNode final : public Node {
  public:
+  // From the depth camera's frames.
   GroundNode(Executor& control, Bus& bus, const drivers::CameraInfo& camera, const nav::MorpOptions& options,
              nav::LocalPolicyKind policy = nav::LocalPolicyKind::kMorpRb);
+  // From the laser's scans (no camera): the laser at `base_T_laser`, `height_m` above the floor.
+  GroundNode(Executor& control, Bus& bus, const nav::Pose2& base_T_laser, double height_m,
+             const nav::MorpOptions& options);
   void Activate() override;
 
  private:
   GroundLanes Process(const drivers::RgbdFrame& frame);
+  GroundLanes Process(const drivers::LaserScan& scan);
 
-  nav::Morp morp_;
-  nav::DepthScan scan_;  // for the obstacle memory (nav::ForObstacleMemory)
+  // From the camera:
+  std::optional<nav::Morp> morp_;
+  std::optional<nav::DepthScan> scan_;         // for the obstacle memory (nav::ForObstacleMemory)
   std::optional<nav::VoxelObstacles> voxels_;  // voxel-reactive's front end instead of MORP
+  // From the laser:
+  std::optional<nav::LaserLanes> laser_lanes_;
+  nav::Pose2 base_T_laser_;
+  double max_range_m_ = 0.0;  // the lanes' (options.max_range_m)
+  std::uint64_t laser_sequence_ = 0;
 };
 
 }  // namespace corridor::server

@@ -534,7 +534,7 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
   });
   r.Section("camera", [&](ConfigReader& s) {
     CameraSlotOptions& o = d.camera;
-    driver(s, o.driver, {{"sim", D::kSim}, {"dds", D::kDds}});
+    driver(s, o.driver, {{"sim", D::kSim}, {"dds", D::kDds}, {"none", D::kNone}});
     if (o.driver == D::kDds) {
       drivers::dds::DdsCameraOptions& c = o.dds;
       s.Read("depth_topic", c.depth_topic);
@@ -551,15 +551,19 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
       s.Read("info_wait_s", o.info_wait_s, 0.5, 600.0);
     }
   });
-  // The simulator's robot is all of the devices or none of them.
+  // The simulator's robot is all of the devices or none of them (less a camera or a laser it is built without).
   const bool sim_base = d.base.driver == D::kSim;
-  if (sim_base != (d.camera.driver == D::kSim)) {
+  if (sim_base ? (d.camera.driver != D::kSim && d.camera.driver != D::kNone) : d.camera.driver == D::kSim) {
     throw ConfigError(r.PathOf("camera.driver") + ": " + ToString(d.camera.driver) + " with a " +
                       ToString(d.base.driver) + " base: the simulator's camera rides only on the simulator's base");
   }
   if (sim_base ? (d.laser.driver != D::kSim && d.laser.driver != D::kNone) : d.laser.driver == D::kSim) {
     throw ConfigError(r.PathOf("laser.driver") + ": " + ToString(d.laser.driver) + " with a " +
                       ToString(d.base.driver) + " base: the simulator's laser rides only on the simulator's base");
+  }
+  if (d.camera.driver == D::kNone && d.laser.driver == D::kNone) {
+    throw ConfigError(r.PathOf("camera.driver") + ": none with no laser either: the robot needs a depth camera or a " +
+                      "laser to see");
   }
 }
 
@@ -802,7 +806,7 @@ void CheckDevices(const Config& config) {
       throw ConfigError("sim.world: required with the simulator's devices (unless building.floors are its world)");
     }
     // A frame period longer than the gate's patience would never let the robot drive forward.
-    if (1.0 / config.sim.robot.camera.rate_hz >= config.safety.depth_timeout_s) {
+    if (d.camera.driver == DeviceDriver::kSim && 1.0 / config.sim.robot.camera.rate_hz >= config.safety.depth_timeout_s) {
       throw ConfigError("sim.camera.rate_hz: frames every " + std::to_string(1.0 / config.sim.robot.camera.rate_hz) +
                         " s are always older than safety.depth_timeout_s: raise the rate or the timeout");
     }

@@ -278,9 +278,10 @@ struct Config;
 std::string SimMapName(const Config& config);
 
 // devices.*: the driver serving each of the robot's devices (docs/hardware.md): the simulator's robot (sim), a ROS 2
-// driver over DDS (dds, drivers/dds/devices.h), a native driver (create2, rplidar), or none (a robot without a
-// laser). The simulator's robot is all of the devices or none: a simulated base carries the simulated camera and the
-// simulated laser (or none); the other drivers mix freely.
+// driver over DDS (dds, drivers/dds/devices.h), a native driver (create2, rplidar), or none (a robot without a laser,
+// or without a camera: the laser's lanes are then its sight; not both). The simulator's robot is all of the devices or
+// none: a simulated base carries the simulated camera and the simulated laser (either may be none); the other drivers
+// mix freely.
 enum class DeviceDriver { kSim, kDds, kCreate2, kRplidar, kNone };
 const char* ToString(DeviceDriver driver);
 

@@ -210,8 +210,18 @@ TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
   // The old places of the keys say where they went.
   EXPECT_NE(ErrorOf("sim: {world: w.yaml, laser: {enabled: false}}\n").find("sim.laser.enabled: moved to devices"),
             std::string::npos);
-  // A simulated camera slower than the gate's patience would never drive forward.
+  // A simulated camera slower than the gate's patience would never drive forward; without a camera it does not count.
   EXPECT_NE(ErrorOf("sim: {world: w.yaml, camera: {rate_hz: 10}}\n").find("sim.camera.rate_hz"), std::string::npos);
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml, camera: {rate_hz: 10}}\ndevices: {camera: {driver: none}}\n";
+  EXPECT_EQ(LoadConfig(dir_ / "c.yaml").devices.camera.driver, DeviceDriver::kNone);
+  // A robot with neither a camera nor a laser sees nothing.
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ndevices: {camera: {driver: none}, laser: {driver: none}}\n")
+                .find("devices.camera.driver: none with no laser either"),
+            std::string::npos);
+  EXPECT_NE(error("{base: {driver: create2, port: /dev/x}, laser: {driver: rplidar, port: /dev/y}, camera: "
+                  "{driver: none, depth_topic: /d}}")
+                .find("devices.camera.depth_topic: unknown"),
+            std::string::npos);
 }
 
 TEST_F(ConfigTest, ADdsSecurityEnclaveIsFoundBesideTheConfigurationAndMustBeWhole) {

@@ -5,6 +5,7 @@
 #include <pthread.h>
 #include <spdlog/spdlog.h>
 
+#include <limits>
 #include <optional>
 
 #include "server/runtime/demand.h"
@@ -12,8 +13,10 @@
 namespace corridor::server {
 
 struct Executor::TimerState {
+  static constexpr drivers::TimeNs kUnarmed = std::numeric_limits<drivers::TimeNs>::max();
+
   Executor& executor;
-  drivers::TimeNs period_ns;
+  drivers::TimeNs period_ns;  // 0: once (a DeadlineTimer), then unarmed until set again
   std::function<void()> tick;
   std::atomic<bool> stopped{false};
   drivers::TimeNs next_ns = 0;                      // on the executor's clock
@@ -31,17 +34,24 @@ struct Executor::TimerState {
     } catch (...) {
       executor.Escaped("an exception that is not a std::exception");
     }
+    if (period_ns == 0) {
+      next_ns = kUnarmed;
+      return;
+    }
     next_ns += period_ns;
     if (next_ns <= now) next_ns = now + period_ns;
   }
 
-  // kThreads: waits in real time for the clock to reach next_ns.
+  // kThreads: waits in real time for the clock to reach next_ns. A wait that ends early (the clock and the steady
+  // clock differ, or a deadline moved later after its wait had ended) waits again.
   static void Arm(const std::shared_ptr<TimerState>& self) {
+    if (self->next_ns == kUnarmed) return;
     const drivers::TimeNs wait = std::max<drivers::TimeNs>(0, self->next_ns - self->executor.clock().Now());
     self->timer->expires_after(std::chrono::nanoseconds(wait));
     self->timer->async_wait([self](const boost::system::error_code& ec) {
       if (ec || self->stopped) return;
-      self->Fire(self->executor.clock().Now());
+      const drivers::TimeNs now = self->executor.clock().Now();
+      if (now >= self->next_ns) self->Fire(now);
       Arm(self);
     });
   }
@@ -177,6 +187,29 @@ PeriodicTimer::PeriodicTimer(Executor& executor, std::chrono::nanoseconds period
 PeriodicTimer::~PeriodicTimer() { Stop(); }
 
 void PeriodicTimer::Stop() {
+  state_->stopped = true;
+  if (state_->timer) boost::asio::post(state_->timer->get_executor(), [s = state_] { s->timer->cancel(); });
+}
+
+DeadlineTimer::DeadlineTimer(Executor& executor, std::function<void()> fire)
+    : state_(std::make_shared<Executor::TimerState>(executor, 0, std::move(fire))) {
+  state_->next_ns = Executor::TimerState::kUnarmed;
+  if (executor.schedule() == Schedule::kLockstep) {
+    executor.AddLockstepTimer(state_);
+  } else {
+    state_->timer.emplace(executor.context());
+  }
+}
+
+DeadlineTimer::~DeadlineTimer() { Stop(); }
+
+void DeadlineTimer::At(drivers::TimeNs when_ns) {
+  if (state_->stopped) return;
+  state_->next_ns = when_ns;
+  if (state_->timer) Executor::TimerState::Arm(state_);  // a wait pending is cancelled by the new expiry
+}
+
+void DeadlineTimer::Stop() {
   state_->stopped = true;
   if (state_->timer) boost::asio::post(state_->timer->get_executor(), [s = state_] { s->timer->cancel(); });
 }

@@ -55,6 +55,7 @@ class Executor {
 
  private:
   friend class PeriodicTimer;
+  friend class DeadlineTimer;
   struct TimerState;
   void Escaped(const char* what);
   void AddLockstepTimer(std::shared_ptr<TimerState> timer);
@@ -104,6 +105,24 @@ class PeriodicTimer {
   PeriodicTimer& operator=(const PeriodicTimer&) = delete;
   ~PeriodicTimer();
   // Cancels future ticks. Call from any thread; a tick already running finishes.
+  void Stop();
+
+ private:
+  std::shared_ptr<Executor::TimerState> state_;
+};
+
+// Calls `fire` once on `executor` when its clock reaches the time last given to At (a watchdog's deadline, moved on
+// whenever what it watches arrives). Not armed until At is called; armed again only by the next At.
+class DeadlineTimer {
+ public:
+  DeadlineTimer(Executor& executor, std::function<void()> fire);
+  DeadlineTimer(const DeadlineTimer&) = delete;
+  DeadlineTimer& operator=(const DeadlineTimer&) = delete;
+  ~DeadlineTimer();
+  // Fires at `when_ns` (the executor's clock; at once when it is past) instead of any time set before. Call on the
+  // executor.
+  void At(drivers::TimeNs when_ns);
+  // Disarms it for good. Call from any thread; a firing already running finishes.
   void Stop();
 
  private:

@@ -97,5 +97,63 @@ TEST(ThreadsTest, AHandlerThatThrowsDoesNotEndTheThreadAndTimersTickInRealTime) 
   executor.Stop();
 }
 
+TEST(LockstepTest, ADeadlineFiresOnceAtTheLatestTimeSet) {
+  drivers::ManualClock clock;
+  Executor executor("test", clock, Schedule::kLockstep);
+  std::vector<double> fired;
+  DeadlineTimer deadline(executor, [&] { fired.push_back(drivers::ToSeconds(clock.Now())); });
+  const auto step_to = [&](double s) {
+    clock.Set(FromSeconds(s));
+    executor.Poll();
+  };
+  step_to(1.0);
+  EXPECT_TRUE(fired.empty());  // not armed
+  deadline.At(FromSeconds(1.08));
+  step_to(1.05);
+  deadline.At(FromSeconds(1.13));  // moved on: what it watched arrived again
+  step_to(1.1);
+  EXPECT_TRUE(fired.empty());
+  step_to(1.13);
+  ASSERT_EQ(fired.size(), 1u);
+  EXPECT_NEAR(fired[0], 1.13, 1e-9);
+  step_to(2.0);
+  EXPECT_EQ(fired.size(), 1u);  // once
+  deadline.At(FromSeconds(1.5));  // already past: at the next poll
+  step_to(2.0);
+  EXPECT_EQ(fired.size(), 2u);
+  deadline.At(FromSeconds(2.5));
+  deadline.Stop();
+  step_to(3.0);
+  EXPECT_EQ(fired.size(), 2u);
+}
+
+TEST(ThreadsTest, ADeadlineFiresInRealTimeAtTheLatestTimeSet) {
+  const drivers::SteadyClock clock;
+  Executor executor("test", clock, Schedule::kThreads);
+  executor.Start();
+  std::promise<drivers::TimeNs> fired;
+  int count = 0;
+  DeadlineTimer deadline(executor, [&] {
+    if (++count == 1) fired.set_value(clock.Now());
+  });
+  drivers::TimeNs asked = 0;
+  std::promise<void> armed;
+  executor.Post([&] {
+    deadline.At(clock.Now() + FromSeconds(0.02));
+    asked = clock.Now() + FromSeconds(0.05);  // moved later before the first ran out
+    deadline.At(asked);
+    armed.set_value();
+  });
+  armed.get_future().wait();
+  auto future = fired.get_future();
+  ASSERT_EQ(future.wait_for(std::chrono::seconds(5)), std::future_status::ready);
+  EXPECT_GE(future.get(), asked);
+  deadline.Stop();
+  std::promise<int> after;
+  executor.Post([&] { after.set_value(count); });
+  EXPECT_EQ(after.get_future().get(), 1);
+  executor.Stop();
+}
+
 }  // namespace
 }  // namespace corridor::server

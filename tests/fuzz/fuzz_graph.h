@@ -89,7 +89,7 @@ class FuzzGraph {
     const nav::OccupancyGrid room = drivers::sim::RoomMap(10.0, 10.0, 0.05);
     world_ = std::make_shared<const drivers::sim::World>(drivers::sim::WorldFromMap(room, {}));
     robot_ = std::make_unique<drivers::sim::SimRobot>(world_, config.sim.robot);
-    graph_ = std::make_unique<server::Graph>(config, server::Devices{*robot_, *robot_, robot_.get(), robot_.get()},
+    graph_ = std::make_unique<server::Graph>(config, server::Devices{robot_.get(), *robot_, robot_.get(), robot_.get()},
                                              server::NamedMap{"room", room}, server::Schedule::kLockstep);
     graph_->Start();
     for (int i = 0; i < 20; ++i) graph_->Step();  // a camera frame and odometry on the bus

@@ -385,7 +385,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   // The daemon's own graph, in lockstep with the simulator, in a state directory of its own.
   const StateDir state_dir;
   const server::Config config = GraphConfig(sim, policy, options, state_dir.path());
-  const server::Devices devices{robot, robot, sim.laser.enabled ? &robot : nullptr, &robot, &robot, nullptr};
+  const server::Devices devices{&robot, robot, sim.laser.enabled ? &robot : nullptr, &robot, &robot, nullptr};
   server::Graph graph(config, devices, server::NamedMap{"scenario", layout.map}, server::Schedule::kLockstep);
   graph.Start();
   FrameTimes times(graph);
