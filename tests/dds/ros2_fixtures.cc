@@ -33,7 +33,7 @@ std::string ReadFile(const fs::path& file) {
 }
 
 std::string DdsConfig(const fs::path& source, int domain, bool allow_writes, const std::string& extra,
-                      const std::string& devices) {
+                      const std::string& devices, bool laser_localization) {
   std::string config = ReadFile(source / "config/corridor.yaml");
   const std::size_t begin = config.find("\ndds:\n");
   const std::size_t end = config.find("\nlog:\n");
@@ -48,7 +48,7 @@ std::string DdsConfig(const fs::path& source, int domain, bool allow_writes, con
     const std::string slots = "\ndevices:\n  base:\n    driver: sim\n  laser:\n    driver: sim\n  camera:\n    driver: sim\n";
     for (const auto& [from, to] :
          {std::pair<std::string, std::string>{slots, "\ndevices:\n" + devices},
-          {"\n  source: mcl ", "\n  source: odometry "},
+          {"\n  source: mcl ", laser_localization ? "\n  source: mcl " : "\n  source: odometry "},
           {"\nmap:\n  file: \"\"", "\nmap:\n  file: \"worlds/willow_garage/willow-full-0.05.yaml\""}}) {
       const std::size_t at = config.find(from);
       if (at == std::string::npos) return "";
@@ -86,11 +86,11 @@ std::pair<int, nlohmann::json> DaemonProcess::Call(const std::string& method, co
 }
 
 DaemonProcess::DaemonProcess(const fs::path& corridord, const fs::path& source, int domain, bool allow_writes,
-                             const std::string& extra, const std::string& devices) {
+                             const std::string& extra, const std::string& devices, bool laser_localization) {
   dir_ = fs::temp_directory_path() / ("corridor-dds-" + std::to_string(::getpid()) + "-" + std::to_string(domain));
   fs::remove_all(dir_);
   fs::create_directories(dir_);
-  const std::string config = DdsConfig(source, domain, allow_writes, extra, devices);
+  const std::string config = DdsConfig(source, domain, allow_writes, extra, devices, laser_localization);
   if (config.empty()) throw std::runtime_error("config/corridor.yaml has changed: cannot make the configuration");
   std::ofstream(dir_ / "corridor.yaml") << config;
   const std::string log_file = (dir_ / "corridord.log").string();

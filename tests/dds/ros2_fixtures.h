@@ -19,17 +19,19 @@ std::string ReadFile(const std::filesystem::path& file);
 
 // The tree's configuration (`source`/config/corridor.yaml) with DDS on loopback (unicast peers: loopback has no
 // multicast) in `domain` (negative: DDS off), `extra` keys of the dds section (indented by two), and `devices`, the
-// devices section's slots (indented by two) in place of the simulator's (empty: the simulator's robot). "" when the
-// tree's file has changed shape.
+// devices section's slots (indented by two) in place of the simulator's (empty: the simulator's robot), with the
+// world's map as map.file and localization on odometry alone unless `laser_localization` (the devices' laser sees
+// that world: corridor-emulate's). "" when the tree's file has changed shape.
 std::string DdsConfig(const std::filesystem::path& source, int domain, bool allow_writes, const std::string& extra,
-                      const std::string& devices = "");
+                      const std::string& devices = "", bool laser_localization = false);
 
 // A corridord of its own (a fresh state directory, an admin API token), stopped with SIGTERM at the end. Throws
 // std::runtime_error when it does not start within 30 s.
 class DaemonProcess {
  public:
   DaemonProcess(const std::filesystem::path& corridord, const std::filesystem::path& source, int domain,
-                bool allow_writes, const std::string& extra = "", const std::string& devices = "");
+                bool allow_writes, const std::string& extra = "", const std::string& devices = "",
+                bool laser_localization = false);
   DaemonProcess(const DaemonProcess&) = delete;
   DaemonProcess& operator=(const DaemonProcess&) = delete;
   ~DaemonProcess();
