@@ -2,12 +2,16 @@
 // pseudo-terminals played by their emulators, the depth camera a ROS 2 driver over DDS, so the slots mix as devices.*
 // allows). The transport is the point (real serial ports, a real daemon): the devices report ok with their rates, the
 // laser's scan is readable, teleop turns the emulated wheels, and a laser that goes quiet, a cliff, or a laser
-// unplugged and plugged back in stops the robot until it is back.
+// unplugged and plugged back in stops the robot until it is back. And a TurtleBot 2's Kobuki with an RPLIDAR and no
+// camera, driven the same way.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <string>
+#include <thread>
 
+#include "testing/emulators/kobuki_emulator.h"
 #include "tests/dds/native_robot.h"
 
 namespace corridor::testing {
@@ -78,6 +82,52 @@ TEST(NativeDevices, ACreate2AndAnRplidarDriveTheRobotAndADeviceGoneStopsIt) {
 
   EXPECT_TRUE(daemon.Stop()) << daemon.log();
   EXPECT_TRUE(robot.Until(false, 2s, still));  // the driver stopped the wheels on its way out
+}
+
+// A TurtleBot 2: a Kobuki with an RPLIDAR and no camera (the laser's lanes its sight). Teleop turns the Kobuki's
+// wheels; the Kobuki unplugged stops the robot, and it drives again once plugged back in.
+TEST(NativeDevices, AKobukiWithAnRplidarAndNoCameraDrives) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("corridor-kobuki-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  KobukiEmulator kobuki(dir / "kobuki");
+  RplidarEmulator laser(dir / "rplidar", RplidarEmulatorOptions{});
+  const std::string devices = "  base: {driver: kobuki, port: " + (dir / "kobuki").string() + "}\n" +
+                              "  laser: {driver: rplidar, port: " + (dir / "rplidar").string() + "}\n" +
+                              "  camera: {driver: none}\n";
+  DaemonProcess daemon(CORRIDORD, CORRIDOR_SOURCE_DIR, -1, false, "", devices);
+  const auto until = [](std::chrono::seconds limit, const std::function<bool()>& done) {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (std::chrono::steady_clock::now() < end) {
+      if (done()) return true;
+      std::this_thread::sleep_for(100ms);  // a client's polling pace, not a wait for anything
+    }
+    return done();
+  };
+  const auto forward = [&] {
+    daemon.Call("POST", "/api/v1/teleop", {{"linear_mps", 0.2}, {"angular_rps", 0.0}});
+    return kobuki.wheels_mps().first > 0.1 && kobuki.wheels_mps().second > 0.1;
+  };
+  ASSERT_TRUE(until(20s, [&] {
+    const json d = daemon.Call("GET", "/api/v1/devices").second;
+    return d["devices"].size() == 2 && d["devices"][0]["state"] == "ok" && d["devices"][1]["state"] == "ok";
+  })) << daemon.Call("GET", "/api/v1/devices").second.dump() << daemon.log();
+  EXPECT_EQ(daemon.Call("GET", "/api/v1/devices").second["devices"][0]["driver"], "kobuki");
+  // The emulated laser sees 2 m all round: room enough to drive forward slowly.
+  ASSERT_TRUE(until(10s, forward)) << daemon.Call("GET", "/api/v1/state").second.value("stop_reason", "")
+                                   << daemon.log();
+  // Unplugged: the daemon stops commanding, and says the base is gone.
+  kobuki.Unplug();
+  EXPECT_TRUE(until(5s, [&] {
+    const json state = daemon.Call("GET", "/api/v1/state").second;
+    return state["command"]["linear_mps"] == 0.0 && state["devices"][0]["state"] != "ok";
+  })) << daemon.Call("GET", "/api/v1/state").second.dump();
+  kobuki.Replug();  // its wheels stopped, as a Kobuki powered up anew
+  ASSERT_TRUE(until(15s, forward)) << daemon.log();
+  EXPECT_TRUE(daemon.Stop()) << daemon.log();
+  EXPECT_TRUE(until(2s, [&] { return kobuki.wheels_mps() == std::make_pair(0.0, 0.0); }));
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
 }
 
 }  // namespace

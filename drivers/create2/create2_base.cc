@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "drivers/serial/reconnect.h"
+#include "drivers/wheels/command_ramp.h"
 
 namespace corridor::drivers::create2 {
 namespace {
@@ -16,19 +17,14 @@ namespace {
 // Safe mode is asked for again at most this often while the robot sits in Passive (after a cliff or a dropped
 // wheel): the OI takes a moment to change modes.
 constexpr double kSafeRetryS = 0.5;
-// The odometry's velocity is the travel over this much time.
-constexpr double kVelocityWindowS = 0.1;
-
-double Ramp(double from, double to, double max_step) { return from + std::clamp(to - from, -max_step, max_step); }
 
 }  // namespace
 
-Create2Base::Create2Base(const Create2Options& options, const Clock& clock) : options_(options), clock_(clock) {
+Create2Base::Create2Base(const Create2Options& options, const Clock& clock)
+    : options_(options), clock_(clock), odometry_(options.wheels.Valid() ? options.wheels : kCreate2Wheels) {
   if (options.port.empty()) throw std::invalid_argument("create2: no port given");
   if (!(options.command_timeout_s > 0.0) || !(options.stale_s > 0.0) || !(options.silence_s > options.stale_s) ||
-      !(options.reconnect_s > 0.0) ||
-      !(options.wheels.track_m > 0.0) || !(options.wheels.wheel_diameter_m > 0.0) ||
-      !(options.wheels.counts_per_revolution > 0.0)) {
+      !(options.reconnect_s > 0.0) || !options.wheels.Valid()) {
     throw std::invalid_argument(
         "create2: timeouts and wheel geometry must be positive, and silence_s longer than stale_s");
   }
@@ -73,15 +69,7 @@ void Create2Base::SetLinkHandler(LinkHandler handler) {
 }
 
 void Create2Base::SetState(LinkState state, std::string error) {
-  LinkHandler handler;
-  LinkStatus now;
-  {
-    std::lock_guard lock(mutex_);
-    if (!status_.Set("create2", options_.port.string(), state, std::move(error))) return;
-    handler = link_handler_;
-    now = status_;
-  }
-  if (handler) handler(now);
+  ChangeLink(mutex_, status_, link_handler_, "create2", options_.port.string(), state, std::move(error));
 }
 
 void Create2Base::Run(std::stop_token stop) {
@@ -100,8 +88,7 @@ void Create2Base::Run(std::stop_token stop) {
 
 void Create2Base::Drive(SerialPort& port, std::stop_token stop) {
   SetState(LinkState::kConnecting);
-  last_counts_.reset();  // the robot may have been power-cycled: its counts start anew
-  travelled_.clear();
+  odometry_.Restart();  // the robot may have been power-cycled: its counts start anew
   driven_ = {};
   port.Write(EncodeStart());
   port.Write(EncodeSafe());
@@ -139,25 +126,7 @@ void Create2Base::Take(SerialPort& port, const SensorFrame& frame) {
   const TimeNs now = clock_.Now();
   const double dt = std::max(1e-3, ToSeconds(now - last_frame_ns_));
   last_frame_ns_ = now;
-  // Odometry from the encoders (midpoint integration over the frame).
-  nav::Twist2 velocity;
-  if (frame.has_encoders) {
-    if (last_counts_) {
-      const double left = CountsToMetres(CountsDelta(last_counts_->first, frame.left_counts), options_.wheels);
-      const double right = CountsToMetres(CountsDelta(last_counts_->second, frame.right_counts), options_.wheels);
-      const double ds = 0.5 * (left + right);
-      const double dyaw = (right - left) / options_.wheels.track_m;
-      pose_ = pose_ * nav::Pose2{ds * std::cos(0.5 * dyaw), ds * std::sin(0.5 * dyaw), dyaw};
-      distance_m_ += ds;
-      yaw_rad_ += dyaw;
-    }
-    last_counts_ = std::make_pair(frame.left_counts, frame.right_counts);
-    travelled_.push_back({now, distance_m_, yaw_rad_});
-    while (travelled_.size() > 2 && ToSeconds(now - travelled_[1].stamp_ns) >= kVelocityWindowS) travelled_.pop_front();
-    const Travelled& then = travelled_.front();
-    const double span_s = ToSeconds(now - then.stamp_ns);
-    if (span_s > 0.0) velocity = {(distance_m_ - then.distance_m) / span_s, (yaw_rad_ - then.yaw_rad) / span_s};
-  }
+  if (frame.has_encoders) odometry_.Update(now, frame.left_counts, frame.right_counts);
   // The wheels' command: zero when commands stopped coming or the floor is not there.
   nav::Twist2 target;
   OdometryHandler odometry;
@@ -175,8 +144,7 @@ void Create2Base::Take(SerialPort& port, const SensorFrame& frame) {
   SetState(LinkState::kRunning);
   const bool floor_missing = frame.cliff || frame.wheel_drop_left || frame.wheel_drop_right;
   if (floor_missing) target = {};
-  driven_ = {Ramp(driven_.linear_mps, target.linear_mps, options_.max_linear_accel_mps2 * dt),
-             Ramp(driven_.angular_rps, target.angular_rps, options_.max_angular_accel_rps2 * dt)};
+  driven_ = RampToward(driven_, target, options_.max_linear_accel_mps2, options_.max_angular_accel_rps2, dt);
   if (floor_missing) driven_ = {};  // at once, not ramped
   const double half_track = 0.5 * options_.wheels.track_m;
   const auto mmps = [](double mps) { return static_cast<int>(std::lround(mps * 1000.0)); };
@@ -188,7 +156,8 @@ void Create2Base::Take(SerialPort& port, const SensorFrame& frame) {
     last_safe_ns_ = now;
   }
   if (odometry) {
-    odometry(WheelOdometry{now, pose_, velocity, frame.bump_left || frame.bump_right, floor_missing});
+    odometry(WheelOdometry{now, odometry_.pose(), odometry_.velocity(), frame.bump_left || frame.bump_right,
+                           floor_missing});
   }
   if (battery) {
     last_battery_ns_ = now;

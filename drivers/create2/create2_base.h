@@ -8,7 +8,6 @@
 #pragma once
 
 #include <cstdint>
-#include <deque>
 #include <filesystem>
 #include <mutex>
 #include <string>
@@ -20,6 +19,7 @@
 #include "drivers/diff_drive_base.h"
 #include "drivers/serial/link_state.h"
 #include "drivers/serial/serial_port.h"
+#include "drivers/wheels/encoder_odometry.h"
 
 namespace corridor::drivers::create2 {
 
@@ -63,21 +63,10 @@ class Create2Base final : public DiffDriveBase, public Battery, public DeviceLin
   LinkHandler link_handler_;
   Create2Status status_;
   // The driver's thread only.
-  std::optional<std::pair<std::uint16_t, std::uint16_t>> last_counts_;  // left, right
+  EncoderOdometry odometry_;
   TimeNs last_frame_ns_ = 0;
   TimeNs last_battery_ns_ = 0;
   TimeNs last_safe_ns_ = 0;
-  nav::Pose2 pose_;
-  // The distance travelled and the heading turned, with when: the velocity is taken over the last kVelocityWindowS
-  // (frames arrive bunched on a busy host; one frame's counts over its arrival gap were off by a quarter).
-  struct Travelled {
-    TimeNs stamp_ns;
-    double distance_m;
-    double yaw_rad;
-  };
-  std::deque<Travelled> travelled_;
-  double distance_m_ = 0.0;
-  double yaw_rad_ = 0.0;
   nav::Twist2 driven_;  // the ramped command sent last
   std::jthread thread_;  // last: started after everything it uses
 };

@@ -11,38 +11,19 @@
 
 #include "testing/emulators/create2_emulator.h"
 #include "testing/eventually.h"
+#include "testing/latest_reports.h"
 
 namespace corridor::drivers::create2 {
 namespace {
 
 using corridor::testing::Create2Emulator;
 using corridor::testing::Eventually;
+using corridor::testing::LatestReports;
 using namespace std::chrono_literals;
 
 std::filesystem::path Link(const std::string& name) {
   return std::filesystem::temp_directory_path() / ("corridor_create2_" + name + "_" + std::to_string(::getpid()));
 }
-
-// The newest odometry and battery a driver handed on.
-struct Latest {
-  std::mutex mutex;
-  std::optional<WheelOdometry> odometry;
-  std::optional<BatteryState> battery;
-  void Connect(Create2Base& base) {
-    base.SetOdometryHandler([this](const WheelOdometry& o) {
-      std::lock_guard lock(mutex);
-      odometry = o;
-    });
-    base.SetBatteryHandler([this](const BatteryState& b) {
-      std::lock_guard lock(mutex);
-      battery = b;
-    });
-  }
-  WheelOdometry Odometry() {
-    std::lock_guard lock(mutex);
-    return odometry.value_or(WheelOdometry{});
-  }
-};
 
 Create2Options OptionsFor(const std::filesystem::path& port, double command_timeout_s = 10.0) {
   Create2Options options;
@@ -57,7 +38,7 @@ TEST(Create2BaseTest, ItDrivesTheWheelsItIsToldToAndItsOdometryFollowsThem) {
   Create2Emulator robot(link);
   SteadyClock clock;
   Create2Base base(OptionsFor(link), clock);
-  Latest latest;
+  LatestReports latest;
   latest.Connect(base);
   ASSERT_TRUE(Eventually([&] { return robot.mode() == 2; }, 3000ms)) << "not in Safe mode: " << robot.mode();
   // Forward at 0.2 m/s (the encoders wrap at 65535 on the way: the emulator starts them near it).
@@ -113,20 +94,15 @@ TEST(Create2BaseTest, TheBumperAndTheBatteryAreReported) {
   robot.SetBattery(1348, 2696, true);
   SteadyClock clock;
   Create2Base base(OptionsFor(link), clock);
-  Latest latest;
+  LatestReports latest;
   latest.Connect(base);
-  ASSERT_TRUE(Eventually([&] {
-    std::lock_guard lock(latest.mutex);
-    return latest.battery.has_value();
-  }, 3000ms));
-  {
-    std::lock_guard lock(latest.mutex);
-    EXPECT_NEAR(latest.battery->charge, 0.5, 1e-9);
-    EXPECT_NEAR(latest.battery->voltage_v, 14.8, 1e-9);
-    EXPECT_TRUE(latest.battery->on_charger);
-    EXPECT_TRUE(latest.battery->charging);
-    EXPECT_GT(latest.battery->current_a, 0.0);
-  }
+  ASSERT_TRUE(Eventually([&] { return latest.Battery().has_value(); }, 3000ms));
+  const BatteryState battery = *latest.Battery();
+  EXPECT_NEAR(battery.charge, 0.5, 1e-9);
+  EXPECT_NEAR(battery.voltage_v, 14.8, 1e-9);
+  EXPECT_TRUE(battery.on_charger);
+  EXPECT_TRUE(battery.charging);
+  EXPECT_GT(battery.current_a, 0.0);
   EXPECT_FALSE(latest.Odometry().bumper_pressed);
   robot.SetBump(true);
   ASSERT_TRUE(Eventually([&] { return latest.Odometry().bumper_pressed; }, 2000ms));

@@ -10,7 +10,7 @@ namespace corridor::drivers::create2 {
 struct Create2Options {
   std::filesystem::path port;  // /dev/ttyUSB0, /dev/corridor/create2
   int baud_rate = 115200;      // the OI's default
-  WheelGeometry wheels;
+  WheelGeometry wheels = kCreate2Wheels;
   double max_linear_mps = 0.5;         // the OI's 500 mm/s a wheel
   double max_angular_rps = 4.0;
   double max_linear_accel_mps2 = 1.0;

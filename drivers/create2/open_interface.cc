@@ -147,12 +147,4 @@ void StreamParser::Push(std::span<const std::uint8_t> bytes, std::vector<SensorF
   pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(at));
 }
 
-double CountsToMetres(int counts, const WheelGeometry& wheels) {
-  return counts * std::numbers::pi * wheels.wheel_diameter_m / wheels.counts_per_revolution;
-}
-
-int CountsDelta(std::uint16_t before, std::uint16_t now) {
-  return static_cast<std::int16_t>(static_cast<std::uint16_t>(now - before));
-}
-
 }  // namespace corridor::drivers::create2

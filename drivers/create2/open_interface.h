@@ -10,6 +10,8 @@
 #include <span>
 #include <vector>
 
+#include "drivers/wheels/encoder_odometry.h"
+
 namespace corridor::drivers::create2 {
 
 // Opcodes (OI specification, "Open Interface Commands").
@@ -94,17 +96,8 @@ class StreamParser {
   std::uint64_t dropped_ = 0;
 };
 
-// The encoder counts' change from `before` to `now`, across the wrap at 65535 either way (a wheel turns far less
-// than half the range between two frames 15 ms apart).
-int CountsDelta(std::uint16_t before, std::uint16_t now);
-
-// The Create 2's wheels: 72 mm across, 235 mm apart, 508.8 counts a turn (OI specification, packets 43-44).
-struct WheelGeometry {
-  double wheel_diameter_m = 0.072;
-  double track_m = 0.235;
-  double counts_per_revolution = 508.8;
-};
-// How far a wheel rolled for `counts` encoder counts.
-double CountsToMetres(int counts, const WheelGeometry& wheels = {});
+// The Create 2's wheels: 72 mm across, 235 mm apart, 508.8 counts a turn (OI specification, packets 43-44); its
+// encoders' counts wrap at 65535 (drivers/wheels/encoder_odometry.h).
+inline constexpr WheelGeometry kCreate2Wheels{0.072, 0.235, 508.8};
 
 }  // namespace corridor::drivers::create2

@@ -89,14 +89,5 @@ TEST(OpenInterfaceTest, NoiseABadChecksumAndFramesCutAnywhereLoseOnlyTheBadFrame
   EXPECT_GE(parser.dropped(), 1u);
 }
 
-TEST(OpenInterfaceTest, EncoderCountsWrapEitherWayAndBecomeMetres) {
-  EXPECT_EQ(CountsDelta(100, 150), 50);
-  EXPECT_EQ(CountsDelta(65530, 4), 10);
-  EXPECT_EQ(CountsDelta(4, 65530), -10);
-  // A whole turn of the 72 mm wheel.
-  EXPECT_NEAR(CountsToMetres(509), std::numbers::pi * 0.072 * 509 / 508.8, 1e-12);
-  EXPECT_NEAR(CountsToMetres(-509), -CountsToMetres(509), 1e-12);
-}
-
 }  // namespace
 }  // namespace corridor::drivers::create2

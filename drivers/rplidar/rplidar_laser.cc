@@ -78,15 +78,7 @@ void RplidarLaser::SetLinkHandler(LinkHandler handler) {
 }
 
 void RplidarLaser::SetState(LinkState state, std::string error) {
-  LinkHandler handler;
-  LinkStatus now;
-  {
-    std::lock_guard lock(mutex_);
-    if (!status_.Set("rplidar", options_.port.string(), state, std::move(error))) return;
-    handler = link_handler_;
-    now = status_;
-  }
-  if (handler) handler(now);
+  ChangeLink(mutex_, status_, link_handler_, "rplidar", options_.port.string(), state, std::move(error));
 }
 
 void RplidarLaser::Run(std::stop_token stop) {

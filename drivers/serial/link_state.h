@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <mutex>
 #include <string>
 #include <string_view>
 
@@ -52,5 +53,21 @@ class DeviceLink {
   // Called on the driver's thread whenever the link's state changes; must return quickly.
   virtual void SetLinkHandler(LinkHandler handler) = 0;
 };
+
+// A driver's link going to `state`: `status` (a LinkStatus or a driver's status extending it) set under `mutex`, which
+// also guards `handler`, and the handler called outside it when the state changed.
+template <typename Status>
+void ChangeLink(std::mutex& mutex, Status& status, const DeviceLink::LinkHandler& handler, std::string_view device,
+                std::string_view port, LinkState state, std::string error = {}) {
+  DeviceLink::LinkHandler call;
+  LinkStatus now;
+  {
+    std::lock_guard lock(mutex);
+    if (!status.Set(device, port, state, std::move(error))) return;
+    call = handler;
+    now = status;
+  }
+  if (call) call(now);
+}
 
 }  // namespace corridor::drivers

@@ -33,6 +33,12 @@ RobotDevices::RobotDevices(const Config& config, const drivers::Clock& clock) {
       battery_ = create2_.get();
       slots_.push_back({nav::Device::kBase, "create2", d.base.create2.port.string(), create2_.get()});
       break;
+    case DeviceDriver::kKobuki:
+      kobuki_ = std::make_unique<drivers::kobuki::KobukiBase>(d.base.kobuki, clock);
+      base_ = kobuki_.get();
+      battery_ = kobuki_.get();
+      slots_.push_back({nav::Device::kBase, "kobuki", d.base.kobuki.port.string(), kobuki_.get()});
+      break;
     default: throw ConfigError(std::string("devices.base.driver: ") + ToString(d.base.driver) + " is not a base");
   }
   switch (d.laser.driver) {
@@ -82,6 +88,7 @@ void RobotDevices::Stop() {
   if (dds_base_) dds_base_->Stop();
   rplidar_.reset();
   create2_.reset();
+  kobuki_.reset();
 }
 
 }  // namespace corridor::server

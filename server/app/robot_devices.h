@@ -10,6 +10,7 @@
 #include "drivers/create2/create2_base.h"
 #include "drivers/dds/devices.h"
 #include "drivers/dds/participant.h"
+#include "drivers/kobuki/kobuki_base.h"
 #include "drivers/rplidar/rplidar_laser.h"
 #include "server/app/graph.h"
 #include "server/app/simulator.h"
@@ -42,6 +43,7 @@ class RobotDevices {
   std::unique_ptr<drivers::dds::DdsLaser> dds_laser_;
   std::unique_ptr<drivers::dds::DdsBase> dds_base_;
   std::unique_ptr<drivers::create2::Create2Base> create2_;
+  std::unique_ptr<drivers::kobuki::KobukiBase> kobuki_;
   std::unique_ptr<drivers::rplidar::RplidarLaser> rplidar_;
   drivers::DepthCamera* camera_ = nullptr;
   drivers::DiffDriveBase* base_ = nullptr;

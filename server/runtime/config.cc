@@ -472,6 +472,24 @@ void ReadSerial(ConfigReader& r, fs::path& port, int& baud_rate, const fs::path&
   }
 }
 
+// A base on a serial port with wheel encoders (Create 2, Kobuki): its port, wheels, limits (forward up to
+// `top_speed_mps`, the device's own) and link timeouts, the keys the same for each.
+template <typename Options>
+void ReadSerialBase(ConfigReader& s, Options& c, double top_speed_mps, const fs::path& base) {
+  ReadSerial(s, c.port, c.baud_rate, base);
+  s.Read("wheel_diameter_m", c.wheels.wheel_diameter_m, 0.01, 1.0);
+  s.Read("track_m", c.wheels.track_m, 0.05, 2.0);
+  s.Read("counts_per_revolution", c.wheels.counts_per_revolution, 1.0, 1e6);
+  s.Read("max_linear_mps", c.max_linear_mps, 0.01, top_speed_mps);
+  s.Read("max_angular_rps", c.max_angular_rps, 0.01, 10.0);
+  s.Read("max_linear_accel_mps2", c.max_linear_accel_mps2, 0.01, 20.0);
+  s.Read("max_angular_accel_rps2", c.max_angular_accel_rps2, 0.01, 50.0);
+  s.Read("footprint_radius_m", c.footprint_radius_m, 0.05, 2.0);
+  s.Read("command_timeout_s", c.command_timeout_s, 0.05, 5.0);
+  s.Read("stale_s", c.stale_s, 0.02, 1.0);
+  s.Read("silence_s", c.silence_s, c.stale_s, 10.0);
+}
+
 // The mounting pose of a device on the base (base frame): x_m, y_m forward and left of the base's centre, yaw_deg.
 void ReadMount(ConfigReader& r, nav::Pose2& pose) {
   double yaw_deg = pose.yaw_rad / kDegToRad;
@@ -488,7 +506,7 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
   };
   r.Section("base", [&](ConfigReader& s) {
     BaseSlotOptions& o = d.base;
-    driver(s, o.driver, {{"sim", D::kSim}, {"dds", D::kDds}, {"create2", D::kCreate2}});
+    driver(s, o.driver, {{"sim", D::kSim}, {"dds", D::kDds}, {"create2", D::kCreate2}, {"kobuki", D::kKobuki}});
     if (o.driver == D::kDds) {
       s.Read("odom_topic", o.dds.odom_topic);
       s.Read("cmd_vel_topic", o.dds.cmd_vel_topic);
@@ -496,19 +514,12 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
       CheckTopic(s, "cmd_vel_topic", o.dds.cmd_vel_topic);
       ReadBaseLimits(s, o.dds.limits, 5.0);
     } else if (o.driver == D::kCreate2) {
-      drivers::create2::Create2Options& c = o.create2;
-      ReadSerial(s, c.port, c.baud_rate, base);
-      s.Read("wheel_diameter_m", c.wheels.wheel_diameter_m, 0.01, 1.0);
-      s.Read("track_m", c.wheels.track_m, 0.05, 2.0);
-      s.Read("counts_per_revolution", c.wheels.counts_per_revolution, 1.0, 1e6);
-      s.Read("max_linear_mps", c.max_linear_mps, 0.01, 0.5);
-      s.Read("max_angular_rps", c.max_angular_rps, 0.01, 10.0);
-      s.Read("max_linear_accel_mps2", c.max_linear_accel_mps2, 0.01, 20.0);
-      s.Read("max_angular_accel_rps2", c.max_angular_accel_rps2, 0.01, 50.0);
-      s.Read("footprint_radius_m", c.footprint_radius_m, 0.05, 2.0);
-      s.Read("command_timeout_s", c.command_timeout_s, 0.05, 5.0);
-      s.Read("stale_s", c.stale_s, 0.02, 1.0);
-      s.Read("silence_s", c.silence_s, c.stale_s, 10.0);
+      ReadSerialBase(s, o.create2, 0.5, base);  // the OI's 500 mm/s a wheel
+    } else if (o.driver == D::kKobuki) {
+      drivers::kobuki::KobukiOptions& k = o.kobuki;
+      ReadSerialBase(s, k, 0.7, base);
+      s.Read("battery_empty_v", k.battery_empty_v, 5.0, 30.0);
+      s.Read("battery_full_v", k.battery_full_v, k.battery_empty_v + 0.1, 30.0);
     }
   });
   r.Section("laser", [&](ConfigReader& s) {
@@ -724,7 +735,7 @@ void ReadDocking(ConfigReader& r, nav::DockingOptions& o, nav::ChargingOptions& 
 }
 
 void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
-  RefuseMoved(r, "enabled", "devices.base.driver (sim, or dds or create2 for the robot's own base)");
+  RefuseMoved(r, "enabled", "devices.base.driver (sim, or dds, create2 or kobuki for the robot's own base)");
   ReadPath(r, "world", o.world, base);
   drivers::sim::WorldOptions& w = o.world_options;
   r.Read("wall_height_m", w.wall_height_m, 0.1, 20.0);
@@ -840,6 +851,7 @@ const char* ToString(DeviceDriver driver) {
     case DeviceDriver::kSim: return "sim";
     case DeviceDriver::kDds: return "dds";
     case DeviceDriver::kCreate2: return "create2";
+    case DeviceDriver::kKobuki: return "kobuki";
     case DeviceDriver::kRplidar: return "rplidar";
     case DeviceDriver::kNone: return "none";
   }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "drivers/create2/create2_options.h"
+#include "drivers/kobuki/kobuki_options.h"
 #include "drivers/dds/device_options.h"
 #include "drivers/rplidar/rplidar_options.h"
 #include "drivers/sim/sim_robot.h"
@@ -278,17 +279,18 @@ struct Config;
 std::string SimMapName(const Config& config);
 
 // devices.*: the driver serving each of the robot's devices (docs/hardware.md): the simulator's robot (sim), a ROS 2
-// driver over DDS (dds, drivers/dds/devices.h), a native driver (create2, rplidar), or none (a robot without a laser,
+// driver over DDS (dds, drivers/dds/devices.h), a native driver (create2, kobuki, rplidar), or none (a robot without a laser,
 // or without a camera: the laser's lanes are then its sight; not both). The simulator's robot is all of the devices or
 // none: a simulated base carries the simulated camera and the simulated laser (either may be none); the other drivers
 // mix freely.
-enum class DeviceDriver { kSim, kDds, kCreate2, kRplidar, kNone };
+enum class DeviceDriver { kSim, kDds, kCreate2, kKobuki, kRplidar, kNone };
 const char* ToString(DeviceDriver driver);
 
 struct BaseSlotOptions {
   DeviceDriver driver = DeviceDriver::kSim;
   drivers::dds::DdsBaseOptions dds;
   drivers::create2::Create2Options create2;
+  drivers::kobuki::KobukiOptions kobuki;
 };
 
 struct LaserSlotOptions {

@@ -178,12 +178,28 @@ TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
   EXPECT_FALSE(blind.safety.require_laser);
 
   const auto error = [&](const std::string& devices) { return ErrorOf(dds + "devices: " + devices + "\n"); };
-  EXPECT_NE(error("{base: {driver: kobold}}").find("devices.base.driver: must be sim, dds or create2, got 'kobold'"),
+  EXPECT_NE(error("{base: {driver: kobold}}")
+                .find("devices.base.driver: must be sim, dds, create2 or kobuki, got 'kobold'"),
             std::string::npos);
   EXPECT_NE(error("{base: {driver: create2}, camera: {driver: dds}}").find("devices.base.port: required"),
             std::string::npos);
   EXPECT_NE(error("{base: {driver: create2, port: /dev/x, baud_rate: 12345}, camera: {driver: dds}}")
                 .find("devices.base.baud_rate"),
+            std::string::npos);
+  // A Kobuki with the create2's keys, its battery's voltages its own; a Create 2 knows no battery voltages.
+  std::ofstream(dir_ / "c.yaml") << dds << "devices:\n  base: {driver: kobuki, port: /dev/kobuki, max_linear_mps: 0.7, "
+                                           "battery_empty_v: 13.0}\n  laser: {driver: none}\n  camera: {driver: dds}\n";
+  const Config kobuki = LoadConfig(dir_ / "c.yaml");
+  EXPECT_EQ(kobuki.devices.base.driver, DeviceDriver::kKobuki);
+  EXPECT_EQ(kobuki.devices.base.kobuki.port, "/dev/kobuki");
+  EXPECT_DOUBLE_EQ(kobuki.devices.base.kobuki.max_linear_mps, 0.7);
+  EXPECT_DOUBLE_EQ(kobuki.devices.base.kobuki.battery_empty_v, 13.0);
+  EXPECT_DOUBLE_EQ(kobuki.devices.base.kobuki.wheels.track_m, 0.230);
+  EXPECT_NE(error("{base: {driver: create2, port: /dev/x, max_linear_mps: 0.7}, camera: {driver: dds}}")
+                .find("devices.base.max_linear_mps"),
+            std::string::npos);
+  EXPECT_NE(error("{base: {driver: create2, port: /dev/x, battery_full_v: 16}, camera: {driver: dds}}")
+                .find("devices.base.battery_full_v: unknown"),
             std::string::npos);
   // A key of another driver is unknown to this one.
   EXPECT_NE(error("{base: {driver: dds, port: /dev/x}, camera: {driver: dds}}").find("devices.base.port: unknown"),
