@@ -83,6 +83,7 @@ TEST(DevicesLockstep, ARobotWithoutACameraStopsShortOfAWallOnItsLasersLanes) {
   ASSERT_EQ(devices["devices"].size(), 2u) << devices.dump();
   EXPECT_TRUE(Device(devices, "camera").is_null());
   EXPECT_FALSE(robot.graph().bus().Get(server::topics::kRgbd).latest());  // nothing renders depth for nobody
+  EXPECT_EQ(robot.Call("GET", "/api/v1/camera/depth").status, 404);
 
   // Down the corridor ahead, at 0.3 m/s by hand: the laser's lanes slow the robot to a stop before the wall across it
   // (the map's specks at y = 26 m), and it never bumps.

@@ -481,6 +481,9 @@ json Api::StreamMessage(const std::string& text, std::vector<std::string>& subsc
 }
 
 Response Api::CameraImage(const Request& request, bool depth) const {
+  if (c_.config.devices.camera.driver == DeviceDriver::kNone) {
+    throw ApiError(http::status::not_found, "No camera", "this robot has no camera (devices.camera.driver: none)");
+  }
   const auto frame = c_.bus.Get(topics::kRgbd).latest();
   if (!frame) throw ApiError(http::status::service_unavailable, "No camera frame", "the camera has not sent a frame yet");
   std::vector<std::uint8_t> bytes;
