@@ -1,12 +1,14 @@
 // What decoding the native devices' data costs (issue 37's target: a driver's decode of a scan or a sensor frame
 // timed): an RPLIDAR revolution of 720 standard-scan nodes through the node stream and the sweep assembler, and a
-// Create 2 sensor frame of the driver's 14 packets through the stream parser. Bytes made with the codecs' encoders.
+// Create 2 sensor frame of the driver's 14 packets through the stream parser, and a Kobuki feedback packet (Basic
+// Sensor Data, Inertial Sensor, Current) through the packet parser. Bytes made with the codecs' encoders.
 #include <benchmark/benchmark.h>
 
 #include <numeric>
 #include <vector>
 
 #include "drivers/create2/open_interface.h"
+#include "drivers/kobuki/kobuki_protocol.h"
 #include "drivers/rplidar/rplidar_protocol.h"
 
 namespace corridor::drivers {
@@ -61,6 +63,21 @@ void BM_Create2Frame(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Create2Frame)->Unit(benchmark::kNanosecond);
+
+void BM_KobukiPacket(benchmark::State& state) {
+  std::vector<std::uint8_t> payload{1, 15};
+  payload.insert(payload.end(), 15, 0x11);
+  payload.insert(payload.end(), {4, 7, 0x28, 0x23, 0, 0, 0, 0, 0, 6, 2, 12, 12});
+  const std::vector<std::uint8_t> packet = kobuki::EncodePacket(payload);
+  kobuki::PacketParser parser;
+  std::vector<kobuki::FeedbackPacket> packets;
+  for (auto _ : state) {
+    packets.clear();
+    parser.Push(packet, packets);
+    benchmark::DoNotOptimize(packets.data());
+  }
+}
+BENCHMARK(BM_KobukiPacket)->Unit(benchmark::kNanosecond);
 
 }  // namespace
 }  // namespace corridor::drivers
