@@ -12,6 +12,7 @@
 
 #include "server/runtime/config.h"
 #include "testing/emulated_robot.h"
+#include "testing/eventually.h"
 #include "tests/dds/ros2_fixtures.h"
 
 namespace corridor::testing {
@@ -33,22 +34,13 @@ TEST(EmulatedMission, CorridordRunsAMissionThroughACreate2AndAnRplidarWithoutACa
   EmulatedRobot robot(server::LoadConfig(dir / "corridor.yaml"), dir / "create2", dir / "rplidar");
   DaemonProcess daemon(CORRIDORD, CORRIDOR_SOURCE_DIR, -1, false, "", devices, /*laser_localization=*/true);
 
-  // Polls `done` every 100 ms (the pace of a client's polling, not a wait for anything) until it holds or `limit`.
-  const auto until = [](std::chrono::seconds limit, const std::function<bool()>& done) {
-    const auto end = std::chrono::steady_clock::now() + limit;
-    while (std::chrono::steady_clock::now() < end) {
-      if (done()) return true;
-      std::this_thread::sleep_for(100ms);
-    }
-    return done();
-  };
   const auto localization = [&] { return daemon.Call("GET", "/api/v1/localization").second; };
-  ASSERT_TRUE(until(30s, [&] {
+  ASSERT_TRUE(Eventually([&] {
     const json devices_now = daemon.Call("GET", "/api/v1/devices").second["devices"];
     bool ok = devices_now.size() == 2;
     for (const json& d : devices_now) ok = ok && d["state"] == "ok";
     return ok && localization().value("health", "") == "ok";
-  })) << daemon.Call("GET", "/api/v1/devices").second.dump() << localization().dump() << daemon.log();
+  }, 30s)) << daemon.Call("GET", "/api/v1/devices").second.dump() << localization().dump() << daemon.log();
 
   // Down the corridor west of the start and back (docs/hardware.md: goals in the open for a laser robot).
   const json waypoints = json::array({{{"x", 22.5}, {"y", 24.3}}, {{"x", 24.0}, {"y", 24.3}}});
@@ -56,10 +48,10 @@ TEST(EmulatedMission, CorridordRunsAMissionThroughACreate2AndAnRplidarWithoutACa
   ASSERT_EQ(status, 201) << started.dump();
   const std::string id = started["id"].get<std::string>();
   json mission;
-  ASSERT_TRUE(until(90s, [&] {
+  ASSERT_TRUE(Eventually([&] {
     mission = daemon.Call("GET", "/api/v1/missions/" + id).second;
     return mission.value("status", "") != "active";
-  })) << mission.dump();
+  }, 90s)) << mission.dump();
   EXPECT_EQ(mission["status"], "succeeded") << mission.dump() << daemon.log();
   // Where the simulator's truth has the robot: at the last waypoint, having hit nothing on the way.
   const nav::Pose2 truth = robot.true_pose();

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "testing/emulators/kobuki_emulator.h"
+#include "testing/eventually.h"
 #include "tests/dds/native_robot.h"
 
 namespace corridor::testing {
@@ -96,36 +97,28 @@ TEST(NativeDevices, AKobukiWithAnRplidarAndNoCameraDrives) {
                               "  laser: {driver: rplidar, port: " + (dir / "rplidar").string() + "}\n" +
                               "  camera: {driver: none}\n";
   DaemonProcess daemon(CORRIDORD, CORRIDOR_SOURCE_DIR, -1, false, "", devices);
-  const auto until = [](std::chrono::seconds limit, const std::function<bool()>& done) {
-    const auto end = std::chrono::steady_clock::now() + limit;
-    while (std::chrono::steady_clock::now() < end) {
-      if (done()) return true;
-      std::this_thread::sleep_for(100ms);  // a client's polling pace, not a wait for anything
-    }
-    return done();
-  };
   const auto forward = [&] {
     daemon.Call("POST", "/api/v1/teleop", {{"linear_mps", 0.2}, {"angular_rps", 0.0}});
     return kobuki.wheels_mps().first > 0.1 && kobuki.wheels_mps().second > 0.1;
   };
-  ASSERT_TRUE(until(20s, [&] {
+  ASSERT_TRUE(Eventually([&] {
     const json d = daemon.Call("GET", "/api/v1/devices").second;
     return d["devices"].size() == 2 && d["devices"][0]["state"] == "ok" && d["devices"][1]["state"] == "ok";
-  })) << daemon.Call("GET", "/api/v1/devices").second.dump() << daemon.log();
+  }, 20s)) << daemon.Call("GET", "/api/v1/devices").second.dump() << daemon.log();
   EXPECT_EQ(daemon.Call("GET", "/api/v1/devices").second["devices"][0]["driver"], "kobuki");
   // The emulated laser sees 2 m all round: room enough to drive forward slowly.
-  ASSERT_TRUE(until(10s, forward)) << daemon.Call("GET", "/api/v1/state").second.value("stop_reason", "")
-                                   << daemon.log();
+  ASSERT_TRUE(Eventually(forward, 10s)) << daemon.Call("GET", "/api/v1/state").second.value("stop_reason", "")
+                                       << daemon.log();
   // Unplugged: the daemon stops commanding, and says the base is gone.
   kobuki.Unplug();
-  EXPECT_TRUE(until(5s, [&] {
+  EXPECT_TRUE(Eventually([&] {
     const json state = daemon.Call("GET", "/api/v1/state").second;
     return state["command"]["linear_mps"] == 0.0 && state["devices"][0]["state"] != "ok";
-  })) << daemon.Call("GET", "/api/v1/state").second.dump();
+  }, 5s)) << daemon.Call("GET", "/api/v1/state").second.dump();
   kobuki.Replug();  // its wheels stopped, as a Kobuki powered up anew
-  ASSERT_TRUE(until(15s, forward)) << daemon.log();
+  ASSERT_TRUE(Eventually(forward, 15s)) << daemon.log();
   EXPECT_TRUE(daemon.Stop()) << daemon.log();
-  EXPECT_TRUE(until(2s, [&] { return kobuki.wheels_mps() == std::make_pair(0.0, 0.0); }));
+  EXPECT_TRUE(Eventually([&] { return kobuki.wheels_mps() == std::make_pair(0.0, 0.0); }, 2s));
   std::error_code ec;
   std::filesystem::remove_all(dir, ec);
 }
