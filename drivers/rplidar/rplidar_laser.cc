@@ -163,7 +163,7 @@ void RplidarLaser::Scan(SerialPort& port, std::stop_token stop) {
         SetState(LinkState::kSilent, fmt::format("no data for {:.1f} s: restarting the scan", options_.silence_s));
         return;
       }
-      if (quiet_s >= options_.stale_s) SetState(LinkState::kStale, fmt::format("no data for {:.0f} ms", quiet_s * 1e3));
+      if (quiet_s >= options_.stale_s) SetState(LinkState::kStale, fmt::format("no data for {:.0f} ms", options_.stale_s * 1e3));
       continue;
     }
     last_byte_ns = now;

@@ -90,7 +90,7 @@ class SerialBase : public DiffDriveBase, public Battery, public DeviceLink {
       return false;
     }
     if (quiet_s > options_.stale_s) {
-      SetState(LinkState::kStale, fmt::format("no {} for {:.0f} ms", report, quiet_s * 1e3));
+      SetState(LinkState::kStale, fmt::format("no {} for {:.0f} ms", report, options_.stale_s * 1e3));
       port.Write(stop_wheels);
       driven_ = {};
     }

@@ -1,0 +1,153 @@
+#include "drivers/serial_text/serial_text_base.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <vector>
+
+namespace corridor::drivers::serial_text {
+namespace {
+
+// Counts that changed by more than the wheels could turn at this many times the top speed, and a few counts of
+// play, are not believed.
+constexpr double kPlausibleSpeedFactor = 2.0;
+constexpr double kPlausibleSlackCounts = 20.0;
+// This many unbelievable replies in a row: the board counts anew (it restarted without the port closing).
+constexpr int kRestartAfter = 3;
+// While the board boots, the counts are asked for this often.
+constexpr double kBootPollS = 0.2;
+
+std::span<const std::uint8_t> Bytes(std::string_view text) {
+  return {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()};
+}
+
+}  // namespace
+
+SerialTextBase::SerialTextBase(const SerialTextOptions& options, const Clock& clock)
+    : SerialBase("serial-text", options, clock) {
+  if (!(options.pid_rate_hz > 0.0) || !(options.poll_period_s > 0.0) || !(options.boot_s > 0.0)) {
+    throw std::invalid_argument("serial-text: pid_rate_hz, poll_period_s and boot_s must be positive");
+  }
+  Start();
+}
+
+SerialTextBase::~SerialTextBase() { StopThread(); }
+
+void SerialTextBase::Session(SerialPort& port, std::stop_token stop) {
+  Begin();
+  last_counts_.reset();
+  implausible_run_ = 0;
+  LineSplitter lines;
+  AwaitBoard(port, lines, stop);
+  const std::string stop_wheels = EncodeMotorSpeeds(0, 0);
+  std::array<std::uint8_t, 256> buffer{};
+  while (!stop.stop_requested()) {
+    // Ask, then take what comes until the next question is due (a slow board's answer is taken in a later cycle).
+    const TimeNs cycle_end = clock_.Now() + FromSeconds(options_.poll_period_s);
+    port.Write(Bytes(kReadEncoders));
+    for (TimeNs now = clock_.Now(); now < cycle_end && !stop.stop_requested(); now = clock_.Now()) {
+      const std::size_t n = port.Read(buffer, ToSeconds(cycle_end - now));
+      Handle(port, lines, std::span<const std::uint8_t>(buffer.data(), n));
+    }
+    if (!Watch(port, Bytes(stop_wheels), "encoder reply")) return;
+  }
+  port.Write(Bytes(stop_wheels));
+}
+
+void SerialTextBase::AwaitBoard(SerialPort& port, LineSplitter& lines, std::stop_token stop) {
+  const TimeNs give_up = clock_.Now() + FromSeconds(options_.boot_s);
+  std::vector<std::string> got;
+  std::array<std::uint8_t, 256> buffer{};
+  while (!stop.stop_requested()) {
+    const TimeNs now = clock_.Now();
+    if (now >= give_up) {
+      throw std::runtime_error(fmt::format("no answer to 'e' within {:.1f} s (a ROSArduinoBridge-class board at {} baud?)",
+                                           options_.boot_s, options_.baud_rate));
+    }
+    port.Write(Bytes(kReadEncoders));
+    const std::size_t n = port.Read(buffer, std::min(kBootPollS, ToSeconds(give_up - now)));
+    got.clear();
+    lines.Push(std::span<const std::uint8_t>(buffer.data(), n), got);
+    for (const std::string& line : got) {
+      if (const std::optional<EncoderCounts> counts = ParseEncoders(line)) {
+        // Where counting starts; the stream is watched from here on.
+        last_counts_ = counts;
+        last_counts_ns_ = clock_.Now();
+        Reported(last_counts_ns_);
+        odometry_.Update(last_counts_ns_, static_cast<std::uint16_t>(counts->left),
+                         static_cast<std::uint16_t>(counts->right));
+        return;
+      }
+    }
+  }
+}
+
+void SerialTextBase::Handle(SerialPort& port, LineSplitter& lines, std::span<const std::uint8_t> bytes) {
+  std::vector<std::string> got;
+  std::uint64_t bad = static_cast<std::uint64_t>(lines.Push(bytes, got));
+  for (const std::string& line : got) {
+    if (const std::optional<EncoderCounts> counts = ParseEncoders(line)) {
+      Take(port, *counts);
+    } else if (line != "OK") {
+      ++bad;
+    }
+  }
+  if (bad == 0) return;
+  std::lock_guard lock(mutex_);
+  status_.bad_lines += bad;
+}
+
+void SerialTextBase::Take(SerialPort& port, const EncoderCounts& counts) {
+  const TimeNs now = clock_.Now();
+  // Believable only if neither wheel turned further than it can since the counts before.
+  const double top_mps = options_.max_linear_mps + options_.max_angular_rps * 0.5 * options_.wheels.track_m;
+  const double counts_per_m =
+      options_.wheels.counts_per_revolution / (std::numbers::pi * options_.wheels.wheel_diameter_m);
+  const double limit = kPlausibleSpeedFactor * top_mps * ToSeconds(now - last_counts_ns_) * counts_per_m +
+                       kPlausibleSlackCounts;
+  const bool believable = !last_counts_ ||
+                          (std::abs(CountsChange(last_counts_->left, counts.left)) <= limit &&
+                           std::abs(CountsChange(last_counts_->right, counts.right)) <= limit);
+  if (!believable && ++implausible_run_ < kRestartAfter) {
+    std::lock_guard lock(mutex_);
+    ++status_.implausible;
+    return;
+  }
+  if (!believable) {
+    odometry_.Restart();  // the pose stays; counting starts here
+    std::lock_guard lock(mutex_);
+    ++status_.implausible;
+    ++status_.restarts;
+  }
+  implausible_run_ = 0;
+  last_counts_ = counts;
+  last_counts_ns_ = now;
+  const double dt = Reported(now);
+  // The low 16 bits: the odometry's wrap-around arithmetic holds for any count width.
+  odometry_.Update(now, static_cast<std::uint16_t>(counts.left), static_cast<std::uint16_t>(counts.right));
+  nav::Twist2 target;
+  OdometryHandler odometry;
+  {
+    std::lock_guard lock(mutex_);
+    target = CommandAt(now);
+    ++status_.replies;
+    odometry = odometry_handler_;
+  }
+  SetState(LinkState::kRunning);
+  const nav::Twist2& driven = Drive(target, false, dt);
+  const double half_track = 0.5 * options_.wheels.track_m;
+  const std::string command = EncodeMotorSpeeds(CountsPerFrame(driven.linear_mps - half_track * driven.angular_rps),
+                                                 CountsPerFrame(driven.linear_mps + half_track * driven.angular_rps));
+  port.Write(Bytes(command));
+  if (odometry) odometry(WheelOdometry{now, odometry_.pose(), odometry_.velocity(), false, false});
+}
+
+int SerialTextBase::CountsPerFrame(double mps) const {
+  const double counts_per_s =
+      mps * options_.wheels.counts_per_revolution / (std::numbers::pi * options_.wheels.wheel_diameter_m);
+  return static_cast<int>(std::lround(counts_per_s / options_.pid_rate_hz));
+}
+
+}  // namespace corridor::drivers::serial_text
