@@ -8,24 +8,24 @@
 #include <span>
 #include <vector>
 
+#include "testing/emulators/device_end.h"
+
 namespace corridor::testing {
 
-class PseudoTerminal {
+class PseudoTerminal final : public DeviceEnd {
  public:
   // Opens one, and points `link` at its slave.
   explicit PseudoTerminal(std::filesystem::path link);
-  ~PseudoTerminal();
-  PseudoTerminal(const PseudoTerminal&) = delete;
-  PseudoTerminal& operator=(const PseudoTerminal&) = delete;
+  ~PseudoTerminal() override;
 
-  bool plugged() const { return master_ >= 0; }
+  bool plugged() const override { return master_ >= 0; }
   // Closes it and removes the link: a driver's reads fail. Plug: a new one under the same link.
-  void Unplug();
-  void Plug();
+  void Unplug() override;
+  void Plug() override;
   // Waits up to timeout_ms for the driver's bytes and appends what came; unplugged, just waits.
-  void Receive(std::vector<std::uint8_t>& into, int timeout_ms);
+  void Receive(std::vector<std::uint8_t>& into, int timeout_ms) override;
   // Sends to the driver (dropped when unplugged, or when nobody has the port open and its buffer is full).
-  void Send(std::span<const std::uint8_t> bytes);
+  void Send(std::span<const std::uint8_t> bytes) override;
 
  private:
   std::filesystem::path link_;
