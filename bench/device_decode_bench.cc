@@ -1,15 +1,22 @@
 // What decoding the native devices' data costs (issue 37's target: a driver's decode of a scan or a sensor frame
 // timed): an RPLIDAR revolution of 720 standard-scan nodes through the node stream and the sweep assembler, and a
-// Create 2 sensor frame of the driver's 14 packets through the stream parser, and a Kobuki feedback packet (Basic
-// Sensor Data, Inertial Sensor, Current) through the packet parser. Bytes made with the codecs' encoders.
+// Create 2 sensor frame of the driver's 14 packets through the stream parser, a Kobuki feedback packet (Basic Sensor
+// Data, Inertial Sensor, Current) through the packet parser, a TurtleBot 3's state (the OpenCR's 118-byte status
+// packet) through the DYNAMIXEL status parser, a serial text base's encoder reply cut into its line and parsed, and a
+// Hokuyo UST's scan (1081 ranges in SCIP 2.0's lines) read and decoded. Bytes made with the codecs' encoders or as
+// their documents lay them out.
 #include <benchmark/benchmark.h>
 
 #include <numeric>
 #include <vector>
 
 #include "drivers/create2/open_interface.h"
+#include "drivers/hokuyo/scip_protocol.h"
 #include "drivers/kobuki/kobuki_protocol.h"
 #include "drivers/rplidar/rplidar_protocol.h"
+#include "drivers/serial_text/serial_text_protocol.h"
+#include "drivers/turtlebot3/dynamixel_protocol.h"
+#include "drivers/turtlebot3/opencr_table.h"
 
 namespace corridor::drivers {
 namespace {
@@ -78,6 +85,62 @@ void BM_KobukiPacket(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_KobukiPacket)->Unit(benchmark::kNanosecond);
+
+void BM_TurtleBot3State(benchmark::State& state) {
+  // The board's answer to the driver's Read: a status packet of kStateLength bytes, framed as the board frames it.
+  std::vector<std::uint8_t> packet{0xFF, 0xFF, 0xFD, 0x00, turtlebot3::kOpenCrId};
+  const std::size_t length = turtlebot3::kStateLength + 4;
+  packet.insert(packet.end(), {static_cast<std::uint8_t>(length & 0xFF), static_cast<std::uint8_t>(length >> 8), 0x55, 0});
+  for (int i = 0; i < turtlebot3::kStateLength; ++i) packet.push_back(static_cast<std::uint8_t>(i * 7));
+  const std::uint16_t crc = dynamixel::Crc16(packet);
+  packet.push_back(crc & 0xFF);
+  packet.push_back(crc >> 8);
+  dynamixel::StatusParser parser;
+  std::vector<dynamixel::StatusPacket> packets;
+  for (auto _ : state) {
+    packets.clear();
+    parser.Push(packet, packets);
+    benchmark::DoNotOptimize(packets.data());
+  }
+}
+BENCHMARK(BM_TurtleBot3State)->Unit(benchmark::kNanosecond);
+
+void BM_SerialTextReply(benchmark::State& state) {
+  const std::string reply = "-2147480647 2147480647\r\n";
+  const std::span<const std::uint8_t> bytes(reinterpret_cast<const std::uint8_t*>(reply.data()), reply.size());
+  serial_text::LineSplitter lines;
+  std::vector<std::string> got;
+  for (auto _ : state) {
+    got.clear();
+    lines.Push(bytes, got);
+    benchmark::DoNotOptimize(serial_text::ParseEncoders(got.front()));
+  }
+}
+BENCHMARK(BM_SerialTextReply)->Unit(benchmark::kNanosecond);
+
+void BM_HokuyoScan(benchmark::State& state) {
+  // A UST-10LX's scan as SCIP 2.0 streams it: echo, status, time stamp, 1081 3-character ranges in lines of 64.
+  const auto line = [](const std::string& body) { return body + hokuyo::CheckCharacter(body) + "\n"; };
+  std::string data;
+  for (int i = 0; i < 1081; ++i) {
+    const int mm = 500 + (i * 37) % 20000;
+    data += {static_cast<char>(((mm >> 12) & 0x3F) + 0x30), static_cast<char>(((mm >> 6) & 0x3F) + 0x30),
+             static_cast<char>((mm & 0x3F) + 0x30)};
+  }
+  std::string text = "MD0000108001000\n99b\n" + line("0000");
+  for (std::size_t at = 0; at < data.size(); at += 64) text += line(data.substr(at, 64));
+  text += "\n";
+  const std::span<const std::uint8_t> bytes(reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
+  hokuyo::ResponseReader reader;
+  std::vector<hokuyo::Response> answers;
+  for (auto _ : state) {
+    answers.clear();
+    reader.Push(bytes, answers);
+    benchmark::DoNotOptimize(hokuyo::DecodeScan(answers.front()));
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * text.size()));
+}
+BENCHMARK(BM_HokuyoScan)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace corridor::drivers

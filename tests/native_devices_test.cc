@@ -2,16 +2,20 @@
 // pseudo-terminals played by their emulators, the depth camera a ROS 2 driver over DDS, so the slots mix as devices.*
 // allows). The transport is the point (real serial ports, a real daemon): the devices report ok with their rates, the
 // laser's scan is readable, teleop turns the emulated wheels, and a laser that goes quiet, a cliff, or a laser
-// unplugged and plugged back in stops the robot until it is back. And a TurtleBot 2's Kobuki with an RPLIDAR and no
-// camera, driven the same way.
+// unplugged and plugged back in stops the robot until it is back. And each other base (Kobuki, TurtleBot 3, a home-made
+// base's Arduino) with an RPLIDAR and no camera, driven the same way.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <string>
 #include <thread>
 
 #include "testing/emulators/kobuki_emulator.h"
+#include "testing/emulators/opencr_emulator.h"
+#include "testing/emulators/serial_text_emulator.h"
 #include "testing/eventually.h"
 #include "tests/dds/native_robot.h"
 
@@ -85,43 +89,74 @@ TEST(NativeDevices, ACreate2AndAnRplidarDriveTheRobotAndADeviceGoneStopsIt) {
   EXPECT_TRUE(robot.Until(false, 2s, still));  // the driver stopped the wheels on its way out
 }
 
-// A TurtleBot 2: a Kobuki with an RPLIDAR and no camera (the laser's lanes its sight). Teleop turns the Kobuki's
-// wheels; the Kobuki unplugged stops the robot, and it drives again once plugged back in.
-TEST(NativeDevices, AKobukiWithAnRplidarAndNoCameraDrives) {
+// A base of each protocol with an RPLIDAR and no camera (the laser's lanes its sight): a TurtleBot 2's Kobuki, a
+// TurtleBot 3's OpenCR, a home-made base's Arduino. Teleop turns the emulated wheels; the base unplugged stops the
+// robot, and it drives again once plugged back in.
+struct EmulatedBase {
+  std::function<std::pair<double, double>()> wheels_mps;
+  std::function<void()> unplug;
+  std::function<void()> replug;
+};
+
+class NativeBases : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(NativeBases, ABaseWithAnRplidarAndNoCameraDrives) {
+  const std::string driver = GetParam();
   const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("corridor-kobuki-" + std::to_string(::getpid()));
+      std::filesystem::temp_directory_path() / ("corridor-base-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  KobukiEmulator kobuki(dir / "kobuki");
+  const std::filesystem::path port = dir / "base";
+  std::string base_options;
+  std::unique_ptr<KobukiEmulator> kobuki;
+  std::unique_ptr<OpenCrEmulator> opencr;
+  std::unique_ptr<SerialTextEmulator> arduino;
+  EmulatedBase base;
+  if (driver == "kobuki") {
+    kobuki = std::make_unique<KobukiEmulator>(port);
+    base = {[&] { return kobuki->wheels_mps(); }, [&] { kobuki->Unplug(); }, [&] { kobuki->Replug(); }};
+  } else if (driver == "turtlebot3") {
+    opencr = std::make_unique<OpenCrEmulator>(port);
+    base = {[&] { return opencr->wheels_mps(); }, [&] { opencr->Unplug(); }, [&] { opencr->Replug(); }};
+  } else {
+    arduino = std::make_unique<SerialTextEmulator>(port);  // the emulator's wheels
+    base_options = ", wheel_diameter_m: 0.065, track_m: 0.2, counts_per_revolution: 1920";
+    base = {[&] { return arduino->wheels_mps(); }, [&] { arduino->Unplug(); }, [&] { arduino->Replug(); }};
+  }
   RplidarEmulator laser(dir / "rplidar", RplidarEmulatorOptions{});
-  const std::string devices = "  base: {driver: kobuki, port: " + (dir / "kobuki").string() + "}\n" +
+  const std::string devices = "  base: {driver: " + driver + ", port: " + port.string() + base_options + "}\n" +
                               "  laser: {driver: rplidar, port: " + (dir / "rplidar").string() + "}\n" +
                               "  camera: {driver: none}\n";
   DaemonProcess daemon(CORRIDORD, CORRIDOR_SOURCE_DIR, -1, false, "", devices);
   const auto forward = [&] {
-    daemon.Call("POST", "/api/v1/teleop", {{"linear_mps", 0.2}, {"angular_rps", 0.0}});
-    return kobuki.wheels_mps().first > 0.1 && kobuki.wheels_mps().second > 0.1;
+    daemon.Call("POST", "/api/v1/teleop", {{"linear_mps", 0.15}, {"angular_rps", 0.0}});
+    return base.wheels_mps().first > 0.1 && base.wheels_mps().second > 0.1;
   };
   ASSERT_TRUE(Eventually([&] {
     const json d = daemon.Call("GET", "/api/v1/devices").second;
     return d["devices"].size() == 2 && d["devices"][0]["state"] == "ok" && d["devices"][1]["state"] == "ok";
   }, 20s)) << daemon.Call("GET", "/api/v1/devices").second.dump() << daemon.log();
-  EXPECT_EQ(daemon.Call("GET", "/api/v1/devices").second["devices"][0]["driver"], "kobuki");
+  EXPECT_EQ(daemon.Call("GET", "/api/v1/devices").second["devices"][0]["driver"], driver);
   // The emulated laser sees 2 m all round: room enough to drive forward slowly.
   ASSERT_TRUE(Eventually(forward, 10s)) << daemon.Call("GET", "/api/v1/state").second.value("stop_reason", "")
                                        << daemon.log();
   // Unplugged: the daemon stops commanding, and says the base is gone.
-  kobuki.Unplug();
+  base.unplug();
   EXPECT_TRUE(Eventually([&] {
     const json state = daemon.Call("GET", "/api/v1/state").second;
     return state["command"]["linear_mps"] == 0.0 && state["devices"][0]["state"] != "ok";
   }, 5s)) << daemon.Call("GET", "/api/v1/state").second.dump();
-  kobuki.Replug();  // its wheels stopped, as a Kobuki powered up anew
+  base.replug();  // its wheels stopped, as a base powered up anew
   ASSERT_TRUE(Eventually(forward, 15s)) << daemon.log();
   EXPECT_TRUE(daemon.Stop()) << daemon.log();
-  EXPECT_TRUE(Eventually([&] { return kobuki.wheels_mps() == std::make_pair(0.0, 0.0); }, 2s));
+  EXPECT_TRUE(Eventually([&] { return base.wheels_mps() == std::make_pair(0.0, 0.0); }, 2s));
   std::error_code ec;
   std::filesystem::remove_all(dir, ec);
 }
+
+INSTANTIATE_TEST_SUITE_P(EachProtocol, NativeBases, ::testing::Values("kobuki", "turtlebot3", "serial-text"),
+                         [](const auto& instance) {
+                           return instance.param == "serial-text" ? std::string("serial_text") : instance.param;
+                         });
 
 }  // namespace
 }  // namespace corridor::testing

@@ -39,6 +39,17 @@ RobotDevices::RobotDevices(const Config& config, const drivers::Clock& clock) {
       battery_ = kobuki_.get();
       slots_.push_back({nav::Device::kBase, "kobuki", d.base.kobuki.port.string(), kobuki_.get()});
       break;
+    case DeviceDriver::kTurtlebot3:
+      turtlebot3_ = std::make_unique<drivers::turtlebot3::TurtleBot3Base>(d.base.turtlebot3, clock);
+      base_ = turtlebot3_.get();
+      battery_ = turtlebot3_.get();
+      slots_.push_back({nav::Device::kBase, "turtlebot3", d.base.turtlebot3.port.string(), turtlebot3_.get()});
+      break;
+    case DeviceDriver::kSerialText:  // no battery in its protocol
+      serial_text_ = std::make_unique<drivers::serial_text::SerialTextBase>(d.base.serial_text, clock);
+      base_ = serial_text_.get();
+      slots_.push_back({nav::Device::kBase, "serial-text", d.base.serial_text.port.string(), serial_text_.get()});
+      break;
     default: throw ConfigError(std::string("devices.base.driver: ") + ToString(d.base.driver) + " is not a base");
   }
   switch (d.laser.driver) {
@@ -51,6 +62,11 @@ RobotDevices::RobotDevices(const Config& config, const drivers::Clock& clock) {
       rplidar_ = std::make_unique<drivers::rplidar::RplidarLaser>(d.laser.rplidar, clock);
       laser_ = rplidar_.get();
       slots_.push_back({nav::Device::kLaser, "rplidar", d.laser.rplidar.port.string(), rplidar_.get()});
+      break;
+    case DeviceDriver::kHokuyo:
+      hokuyo_ = std::make_unique<drivers::hokuyo::HokuyoLaser>(d.laser.hokuyo, clock);
+      laser_ = hokuyo_.get();
+      slots_.push_back({nav::Device::kLaser, "hokuyo", d.laser.hokuyo.port, hokuyo_.get()});
       break;
     case DeviceDriver::kNone: break;
     default: throw ConfigError(std::string("devices.laser.driver: ") + ToString(d.laser.driver) + " is not a laser");
@@ -65,6 +81,20 @@ RobotDevices::RobotDevices(const Config& config, const drivers::Clock& clock) {
       dds_camera_->WaitForInfo(std::chrono::milliseconds(static_cast<long>(d.camera.info_wait_s * 1000.0)));
       const nav::PinholeCamera& k = dds_camera_->info().camera;
       spdlog::info("dds: camera {} x {} (fx {:.1f}), depth on {}", k.width, k.height, k.fx, d.camera.dds.depth_topic);
+      break;
+    }
+    case DeviceDriver::kRealsense: {
+      const drivers::realsense::RealSenseOptions& o = d.camera.realsense;
+      realsense_ = std::make_unique<drivers::realsense::RealSenseCamera>(o, clock);
+      camera_ = realsense_.get();
+      slots_.push_back({nav::Device::kCamera, "realsense", o.depth_node.empty() ? o.name : o.depth_node, realsense_.get()});
+      break;
+    }
+    case DeviceDriver::kOpenni2: {
+      const drivers::openni2::OpenNi2Options& o = d.camera.openni2;
+      openni2_ = std::make_unique<drivers::openni2::OpenNi2Camera>(o, clock);
+      camera_ = openni2_.get();
+      slots_.push_back({nav::Device::kCamera, "openni2", o.uri.empty() ? "any device" : o.uri, openni2_.get()});
       break;
     }
     case DeviceDriver::kNone: spdlog::info("device: no camera (the laser's lanes are the robot's sight)"); break;
@@ -87,8 +117,13 @@ void RobotDevices::Stop() {
   if (dds_laser_) dds_laser_->Stop();
   if (dds_base_) dds_base_->Stop();
   rplidar_.reset();
+  hokuyo_.reset();
+  realsense_.reset();
+  openni2_.reset();
   create2_.reset();
   kobuki_.reset();
+  turtlebot3_.reset();
+  serial_text_.reset();
 }
 
 }  // namespace corridor::server

@@ -10,8 +10,13 @@
 #include "drivers/create2/create2_base.h"
 #include "drivers/dds/devices.h"
 #include "drivers/dds/participant.h"
+#include "drivers/hokuyo/hokuyo_laser.h"
 #include "drivers/kobuki/kobuki_base.h"
+#include "drivers/openni2/openni2_camera.h"
+#include "drivers/realsense/realsense_camera.h"
 #include "drivers/rplidar/rplidar_laser.h"
+#include "drivers/serial_text/serial_text_base.h"
+#include "drivers/turtlebot3/turtlebot3_base.h"
 #include "server/app/graph.h"
 #include "server/app/simulator.h"
 #include "server/runtime/config.h"
@@ -44,7 +49,12 @@ class RobotDevices {
   std::unique_ptr<drivers::dds::DdsBase> dds_base_;
   std::unique_ptr<drivers::create2::Create2Base> create2_;
   std::unique_ptr<drivers::kobuki::KobukiBase> kobuki_;
+  std::unique_ptr<drivers::turtlebot3::TurtleBot3Base> turtlebot3_;
+  std::unique_ptr<drivers::serial_text::SerialTextBase> serial_text_;
   std::unique_ptr<drivers::rplidar::RplidarLaser> rplidar_;
+  std::unique_ptr<drivers::hokuyo::HokuyoLaser> hokuyo_;
+  std::unique_ptr<drivers::realsense::RealSenseCamera> realsense_;
+  std::unique_ptr<drivers::openni2::OpenNi2Camera> openni2_;
   drivers::DepthCamera* camera_ = nullptr;
   drivers::DiffDriveBase* base_ = nullptr;
   drivers::Laser2D* laser_ = nullptr;

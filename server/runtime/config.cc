@@ -8,6 +8,7 @@
 #include <set>
 #include <string>
 
+#include "drivers/serial/byte_stream.h"
 #include "server/runtime/config_reader.h"
 
 namespace corridor::server {
@@ -472,14 +473,24 @@ void ReadSerial(ConfigReader& r, fs::path& port, int& baud_rate, const fs::path&
   }
 }
 
-// A base on a serial port with wheel encoders (Create 2, Kobuki): its port, wheels, limits (forward up to
+// A base on a serial port with wheel encoders (Create 2, Kobuki, TurtleBot 3, serial text): its port, wheels, limits (forward up to
 // `top_speed_mps`, the device's own) and link timeouts, the keys the same for each.
+// A base whose driver knows no wheels of its own (serial-text) requires them.
 template <typename Options>
 void ReadSerialBase(ConfigReader& s, Options& c, double top_speed_mps, const fs::path& base) {
   ReadSerial(s, c.port, c.baud_rate, base);
-  s.Read("wheel_diameter_m", c.wheels.wheel_diameter_m, 0.01, 1.0);
-  s.Read("track_m", c.wheels.track_m, 0.05, 2.0);
-  s.Read("counts_per_revolution", c.wheels.counts_per_revolution, 1.0, 1e6);
+  const auto wheel = [&](const char* key, double& value, double min, double max) {
+    const bool has_default = value > 0.0;
+    s.Read(key, value);
+    if (!has_default && value == 0.0) {
+      throw ConfigError(s.PathOf(key) + ": required with this driver (the base's own wheels: wheel_diameter_m, "
+                                        "track_m, counts_per_revolution)");
+    }
+    s.Check(key, value, min, max);
+  };
+  wheel("wheel_diameter_m", c.wheels.wheel_diameter_m, 0.01, 1.0);
+  wheel("track_m", c.wheels.track_m, 0.05, 2.0);
+  wheel("counts_per_revolution", c.wheels.counts_per_revolution, 1.0, 1e6);
   s.Read("max_linear_mps", c.max_linear_mps, 0.01, top_speed_mps);
   s.Read("max_angular_rps", c.max_angular_rps, 0.01, 10.0);
   s.Read("max_linear_accel_mps2", c.max_linear_accel_mps2, 0.01, 20.0);
@@ -499,6 +510,25 @@ void ReadMount(ConfigReader& r, nav::Pose2& pose) {
   pose.yaw_rad = yaw_deg * kDegToRad;
 }
 
+// A native depth camera's image, intrinsics and mounting (drivers/camera_mount.h).
+void ReadCameraMount(ConfigReader& r, drivers::CameraMountOptions& c) {
+  r.Read("width", c.width, 16, 4096);
+  r.Read("height", c.height, 16, 4096);
+  r.Read("fps", c.fps, 1, 120);
+  r.Read("fx", c.fx, 0.0, 1e5);
+  r.Read("fy", c.fy, 0.0, 1e5);
+  r.Read("cx", c.cx, 0.0, 1e5);
+  r.Read("cy", c.cy, 0.0, 1e5);
+  r.Read("hfov_deg", c.hfov_deg, 1.0, 179.0);
+  r.Read("vfov_deg", c.vfov_deg, 1.0, 179.0);
+  r.Read("mount_x_m", c.mount_x_m, -2.0, 2.0);
+  r.Read("mount_height_m", c.mount_height_m, 0.0, 3.0);
+  r.Read("tilt_deg", c.tilt_deg, -90.0, 90.0);
+  r.Read("min_range_m", c.min_range_m, 0.0, 5.0);
+  r.Read("max_range_m", c.max_range_m, 0.5, 50.0);
+  if ((c.fx > 0.0) != (c.fy > 0.0)) throw ConfigError(r.PathOf("fx") + ", fy: both or neither (a calibration)");
+}
+
 void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
   using D = DeviceDriver;
   const auto driver = [](ConfigReader& s, DeviceDriver& value, std::vector<std::pair<std::string, D>> choices) {
@@ -506,7 +536,9 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
   };
   r.Section("base", [&](ConfigReader& s) {
     BaseSlotOptions& o = d.base;
-    driver(s, o.driver, {{"sim", D::kSim}, {"dds", D::kDds}, {"create2", D::kCreate2}, {"kobuki", D::kKobuki}});
+    driver(s, o.driver,
+           {{"sim", D::kSim}, {"dds", D::kDds}, {"create2", D::kCreate2}, {"kobuki", D::kKobuki},
+            {"turtlebot3", D::kTurtlebot3}, {"serial-text", D::kSerialText}});
     if (o.driver == D::kDds) {
       s.Read("odom_topic", o.dds.odom_topic);
       s.Read("cmd_vel_topic", o.dds.cmd_vel_topic);
@@ -520,11 +552,20 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
       ReadSerialBase(s, k, 0.7, base);
       s.Read("battery_empty_v", k.battery_empty_v, 5.0, 30.0);
       s.Read("battery_full_v", k.battery_full_v, k.battery_empty_v + 0.1, 30.0);
+    } else if (o.driver == D::kTurtlebot3) {
+      ReadSerialBase(s, o.turtlebot3, 0.26, base);  // the Waffle Pi's top speed; the Burger's is 0.22
+    } else if (o.driver == D::kSerialText) {
+      drivers::serial_text::SerialTextOptions& t = o.serial_text;
+      ReadSerialBase(s, t, 2.0, base);
+      s.Read("pid_rate_hz", t.pid_rate_hz, 1.0, 1000.0);
+      s.Read("poll_period_s", t.poll_period_s, 0.005, 0.5);
+      s.Read("boot_s", t.boot_s, 0.1, 30.0);
     }
   });
   r.Section("laser", [&](ConfigReader& s) {
     LaserSlotOptions& o = d.laser;
-    driver(s, o.driver, {{"sim", D::kSim}, {"dds", D::kDds}, {"rplidar", D::kRplidar}, {"none", D::kNone}});
+    driver(s, o.driver,
+           {{"sim", D::kSim}, {"dds", D::kDds}, {"rplidar", D::kRplidar}, {"hokuyo", D::kHokuyo}, {"none", D::kNone}});
     if (o.driver == D::kDds) {
       s.Read("topic", o.dds.topic);
       if (o.dds.topic.empty()) throw ConfigError(s.PathOf("topic") + ": required with driver dds (e.g. /scan)");
@@ -541,12 +582,53 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
       s.Read("max_range_m", l.sweep.range_max_m, 0.5, 100.0);
       s.Read("stale_s", l.stale_s, 0.02, 1.0);
       s.Read("silence_s", l.silence_s, l.stale_s, 10.0);
+    } else if (o.driver == D::kHokuyo) {
+      drivers::hokuyo::HokuyoOptions& h = o.hokuyo;
+      s.Read("port", h.port);
+      if (h.port.empty()) {
+        throw ConfigError(s.PathOf("port") + ": required (a serial device, e.g. /dev/ttyACM0, or host:port, e.g. " +
+                          "192.168.0.10:10940)");
+      }
+      if (drivers::IsNetworkPort(h.port)) {
+        const std::string number = h.port.substr(h.port.rfind(':') + 1);
+        int tcp_port = 0;
+        const auto [at, error] = std::from_chars(number.data(), number.data() + number.size(), tcp_port);
+        if (error != std::errc{} || at != number.data() + number.size() || tcp_port <= 0 || tcp_port > 65535) {
+          throw ConfigError(s.PathOf("port") + ": '" + h.port + "': " + number + " is not a TCP port");
+        }
+      } else {
+        h.port = (base / h.port).lexically_normal().string();  // a path relative to the configuration's directory
+      }
+      s.Read("baud_rate", h.baud_rate, 9600, 1000000);
+      ReadMount(s, h.base_T_laser);
+      s.Read("mount_height_m", h.height_m, 0.0, 3.0);
+      s.Read("min_range_m", h.min_range_m, 0.0, 10.0);
+      s.Read("max_range_m", h.max_range_m, 0.5, 100.0);
+      s.Read("stale_s", h.stale_s, 0.0, 1.0);
+      s.Read("silence_s", h.silence_s, std::max(h.stale_s, 0.1), 10.0);
     }
   });
   r.Section("camera", [&](ConfigReader& s) {
     CameraSlotOptions& o = d.camera;
-    driver(s, o.driver, {{"sim", D::kSim}, {"dds", D::kDds}, {"none", D::kNone}});
-    if (o.driver == D::kDds) {
+    driver(s, o.driver, {{"sim", D::kSim}, {"dds", D::kDds}, {"realsense", D::kRealsense}, {"openni2", D::kOpenni2},
+                         {"none", D::kNone}});
+    if (o.driver == D::kRealsense) {
+      drivers::realsense::RealSenseOptions& c = o.realsense;
+      s.Read("name", c.name);
+      s.Read("depth_node", c.depth_node);
+      s.Read("color_node", c.color_node);
+      ReadCameraMount(s, c.camera);
+      s.Read("depth_scale_m", c.depth_scale_m, 1e-5, 0.01);
+      s.Read("stale_s", c.stale_s, 0.02, 1.0);
+      s.Read("silence_s", c.silence_s, c.stale_s, 10.0);
+    } else if (o.driver == D::kOpenni2) {
+      drivers::openni2::OpenNi2Options& c = o.openni2;
+      s.Read("uri", c.uri);
+      s.Read("color", c.color);
+      ReadCameraMount(s, c.camera);
+      s.Read("stale_s", c.stale_s, 0.02, 1.0);
+      s.Read("silence_s", c.silence_s, c.stale_s, 10.0);
+    } else if (o.driver == D::kDds) {
       drivers::dds::DdsCameraOptions& c = o.dds;
       s.Read("depth_topic", c.depth_topic);
       s.Read("info_topic", c.info_topic);
@@ -735,7 +817,8 @@ void ReadDocking(ConfigReader& r, nav::DockingOptions& o, nav::ChargingOptions& 
 }
 
 void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
-  RefuseMoved(r, "enabled", "devices.base.driver (sim, or dds, create2 or kobuki for the robot's own base)");
+  RefuseMoved(r, "enabled",
+              "devices.base.driver (sim, or dds, create2, kobuki, turtlebot3 or serial-text for the robot's own base)");
   ReadPath(r, "world", o.world, base);
   drivers::sim::WorldOptions& w = o.world_options;
   r.Read("wall_height_m", w.wall_height_m, 0.1, 20.0);
@@ -812,6 +895,14 @@ void CheckDevices(const Config& config) {
   if (!Simulated(config) && config.map.file.empty() && config.building.floors.empty()) {
     throw ConfigError("map.file: required with the robot's own devices (a ROS map_server map of where it works)");
   }
+  // A native camera's frame period longer than the gate's patience would never let the robot drive forward.
+  for (const auto& [driver, fps] : {std::pair{DeviceDriver::kRealsense, d.camera.realsense.camera.fps},
+                                    std::pair{DeviceDriver::kOpenni2, d.camera.openni2.camera.fps}}) {
+    if (d.camera.driver == driver && 1.0 / fps >= config.safety.depth_timeout_s) {
+      throw ConfigError("devices.camera.fps: frames every " + std::to_string(1.0 / fps) +
+                        " s are always older than safety.depth_timeout_s: raise the rate or the timeout");
+    }
+  }
   if (Simulated(config)) {
     if (config.sim.world.empty() && config.building.floors.empty()) {
       throw ConfigError("sim.world: required with the simulator's devices (unless building.floors are its world)");
@@ -852,7 +943,12 @@ const char* ToString(DeviceDriver driver) {
     case DeviceDriver::kDds: return "dds";
     case DeviceDriver::kCreate2: return "create2";
     case DeviceDriver::kKobuki: return "kobuki";
+    case DeviceDriver::kTurtlebot3: return "turtlebot3";
+    case DeviceDriver::kSerialText: return "serial-text";
     case DeviceDriver::kRplidar: return "rplidar";
+    case DeviceDriver::kHokuyo: return "hokuyo";
+    case DeviceDriver::kRealsense: return "realsense";
+    case DeviceDriver::kOpenni2: return "openni2";
     case DeviceDriver::kNone: return "none";
   }
   return "unknown";

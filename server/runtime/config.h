@@ -7,7 +7,12 @@
 #include <string>
 
 #include "drivers/create2/create2_options.h"
+#include "drivers/hokuyo/hokuyo_options.h"
 #include "drivers/kobuki/kobuki_options.h"
+#include "drivers/openni2/openni2_options.h"
+#include "drivers/realsense/realsense_options.h"
+#include "drivers/serial_text/serial_text_options.h"
+#include "drivers/turtlebot3/turtlebot3_options.h"
 #include "drivers/dds/device_options.h"
 #include "drivers/rplidar/rplidar_options.h"
 #include "drivers/sim/sim_robot.h"
@@ -279,11 +284,17 @@ struct Config;
 std::string SimMapName(const Config& config);
 
 // devices.*: the driver serving each of the robot's devices (docs/hardware.md): the simulator's robot (sim), a ROS 2
-// driver over DDS (dds, drivers/dds/devices.h), a native driver (create2, kobuki, rplidar), or none (a robot without a laser,
+// driver over DDS (dds, drivers/dds/devices.h), a native driver (create2, kobuki, turtlebot3, serial-text; rplidar,
+// hokuyo; realsense, openni2), or none (a robot without a laser,
 // or without a camera: the laser's lanes are then its sight; not both). The simulator's robot is all of the devices or
 // none: a simulated base carries the simulated camera and the simulated laser (either may be none); the other drivers
 // mix freely.
-enum class DeviceDriver { kSim, kDds, kCreate2, kKobuki, kRplidar, kNone };
+enum class DeviceDriver {
+  kSim, kDds, kNone,
+  kCreate2, kKobuki, kTurtlebot3, kSerialText,  // bases
+  kRplidar, kHokuyo,                             // lasers
+  kRealsense, kOpenni2,                          // cameras
+};
 const char* ToString(DeviceDriver driver);
 
 struct BaseSlotOptions {
@@ -291,18 +302,23 @@ struct BaseSlotOptions {
   drivers::dds::DdsBaseOptions dds;
   drivers::create2::Create2Options create2;
   drivers::kobuki::KobukiOptions kobuki;
+  drivers::turtlebot3::TurtleBot3Options turtlebot3;
+  drivers::serial_text::SerialTextOptions serial_text;
 };
 
 struct LaserSlotOptions {
   DeviceDriver driver = DeviceDriver::kSim;
   drivers::dds::DdsLaserOptions dds;
   drivers::rplidar::RplidarOptions rplidar;
+  drivers::hokuyo::HokuyoOptions hokuyo;
 };
 
 struct CameraSlotOptions {
   DeviceDriver driver = DeviceDriver::kSim;
   drivers::dds::DdsCameraOptions dds;
   double info_wait_s = 10.0;  // dds: how long corridord waits at start for the camera's CameraInfo
+  drivers::realsense::RealSenseOptions realsense;
+  drivers::openni2::OpenNi2Options openni2;
 };
 
 struct DevicesOptions {

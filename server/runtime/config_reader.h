@@ -41,6 +41,11 @@ class ConfigReader {
   template <typename T>
   void Read(const char* key, T& value, T min, T max) {
     Read(key, value);
+    Check(key, value, min, max);
+  }
+  // Throws ConfigError unless min <= value <= max.
+  template <typename T>
+  void Check(const char* key, const T& value, T min, T max) const {
     if (!(value >= min && value <= max)) {
       std::ostringstream msg;
       msg << PathOf(key) << ": must be between " << min << " and " << max << ", got " << value;

@@ -179,7 +179,7 @@ TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
 
   const auto error = [&](const std::string& devices) { return ErrorOf(dds + "devices: " + devices + "\n"); };
   EXPECT_NE(error("{base: {driver: kobold}}")
-                .find("devices.base.driver: must be sim, dds, create2 or kobuki, got 'kobold'"),
+                .find("devices.base.driver: must be sim, dds, create2, kobuki, turtlebot3 or serial-text, got 'kobold'"),
             std::string::npos);
   EXPECT_NE(error("{base: {driver: create2}, camera: {driver: dds}}").find("devices.base.port: required"),
             std::string::npos);
@@ -200,6 +200,64 @@ TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
             std::string::npos);
   EXPECT_NE(error("{base: {driver: create2, port: /dev/x, battery_full_v: 16}, camera: {driver: dds}}")
                 .find("devices.base.battery_full_v: unknown"),
+            std::string::npos);
+  // A TurtleBot 3: a Burger unless told otherwise (a Waffle Pi's track).
+  std::ofstream(dir_ / "c.yaml") << dds << "devices:\n  base: {driver: turtlebot3, port: /dev/corridor/opencr, track_m: 0.287}\n"
+                                           "  laser: {driver: none}\n  camera: {driver: dds}\n";
+  const Config turtlebot3 = LoadConfig(dir_ / "c.yaml");
+  EXPECT_EQ(turtlebot3.devices.base.driver, DeviceDriver::kTurtlebot3);
+  EXPECT_EQ(turtlebot3.devices.base.turtlebot3.baud_rate, 1000000);
+  EXPECT_DOUBLE_EQ(turtlebot3.devices.base.turtlebot3.wheels.track_m, 0.287);
+  EXPECT_DOUBLE_EQ(turtlebot3.devices.base.turtlebot3.wheels.counts_per_revolution, 4096.0);
+  EXPECT_NE(error("{base: {driver: turtlebot3, port: /dev/x, max_linear_mps: 0.5}, camera: {driver: dds}}")
+                .find("devices.base.max_linear_mps"),
+            std::string::npos);
+  // A home-made base on the serial text protocol: its wheels are its own, and required.
+  std::ofstream(dir_ / "c.yaml") << dds << "devices:\n  base: {driver: serial-text, port: /dev/corridor/arduino, "
+                                           "wheel_diameter_m: 0.065, track_m: 0.2, counts_per_revolution: 1920, "
+                                           "pid_rate_hz: 1}\n  laser: {driver: none}\n  camera: {driver: dds}\n";
+  const Config home_made = LoadConfig(dir_ / "c.yaml");
+  EXPECT_EQ(home_made.devices.base.driver, DeviceDriver::kSerialText);
+  EXPECT_EQ(home_made.devices.base.serial_text.baud_rate, 57600);
+  EXPECT_DOUBLE_EQ(home_made.devices.base.serial_text.wheels.counts_per_revolution, 1920.0);
+  EXPECT_DOUBLE_EQ(home_made.devices.base.serial_text.pid_rate_hz, 1.0);
+  EXPECT_NE(error("{base: {driver: serial-text, port: /dev/x, track_m: 0.2}, camera: {driver: dds}}")
+                .find("devices.base.wheel_diameter_m: required with this driver (the base's own wheels"),
+            std::string::npos);
+  EXPECT_NE(error("{base: {driver: kobuki, port: /dev/x, pid_rate_hz: 30}, camera: {driver: dds}}")
+                .find("devices.base.pid_rate_hz: unknown"),
+            std::string::npos);
+  // A Hokuyo on Ethernet or USB; a RealSense and an OpenNI2 camera with their intrinsics and mounting.
+  std::ofstream(dir_ / "c.yaml") << dds << "devices:\n  base: {driver: kobuki, port: /dev/kobuki}\n"
+                                           "  laser: {driver: hokuyo, port: 192.168.0.10:10940, mount_yaw_deg: 90}\n"
+                                           "  camera: {driver: realsense, fx: 386.2, fy: 386.1, fps: 15, tilt_deg: 5}\n";
+  const Config ust = LoadConfig(dir_ / "c.yaml");
+  EXPECT_EQ(ust.devices.laser.driver, DeviceDriver::kHokuyo);
+  EXPECT_EQ(ust.devices.laser.hokuyo.port, "192.168.0.10:10940");
+  EXPECT_NEAR(ust.devices.laser.hokuyo.base_T_laser.yaw_rad, M_PI / 2, 1e-9);
+  EXPECT_EQ(ust.devices.camera.driver, DeviceDriver::kRealsense);
+  EXPECT_DOUBLE_EQ(ust.devices.camera.realsense.camera.fx, 386.2);
+  EXPECT_EQ(ust.devices.camera.realsense.camera.fps, 15);
+  EXPECT_DOUBLE_EQ(ust.devices.camera.realsense.depth_scale_m, 0.001);
+  std::ofstream(dir_ / "c.yaml") << dds << "devices:\n  base: {driver: kobuki, port: /dev/kobuki}\n"
+                                           "  laser: {driver: hokuyo, port: ttyACM0}\n"
+                                           "  camera: {driver: openni2, uri: '1d27/0601@1/5', color: false}\n";
+  const Config urg = LoadConfig(dir_ / "c.yaml");
+  EXPECT_EQ(urg.devices.laser.hokuyo.port, (dir_ / "ttyACM0").string());  // relative to the configuration
+  EXPECT_EQ(urg.devices.camera.openni2.uri, "1d27/0601@1/5");
+  EXPECT_FALSE(urg.devices.camera.openni2.color);
+  EXPECT_NE(error("{base: {driver: kobuki, port: /dev/x}, laser: {driver: hokuyo, port: 'robot:http'}, camera: "
+                  "{driver: none}}")
+                .find("devices.laser.port: 'robot:http': http is not a TCP port"),
+            std::string::npos);
+  EXPECT_NE(error("{base: {driver: kobuki, port: /dev/x}, laser: {driver: hokuyo}, camera: {driver: none}}")
+                .find("devices.laser.port: required"),
+            std::string::npos);
+  EXPECT_NE(error("{base: {driver: kobuki, port: /dev/x}, laser: {driver: none}, camera: {driver: realsense, fx: 380}}")
+                .find("devices.camera.fx, fy: both or neither"),
+            std::string::npos);
+  EXPECT_NE(error("{base: {driver: kobuki, port: /dev/x}, laser: {driver: none}, camera: {driver: openni2, fps: 5}}")
+                .find("devices.camera.fps: frames every"),
             std::string::npos);
   // A key of another driver is unknown to this one.
   EXPECT_NE(error("{base: {driver: dds, port: /dev/x}, camera: {driver: dds}}").find("devices.base.port: unknown"),
