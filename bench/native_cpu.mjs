@@ -67,8 +67,12 @@ rmSync(dir, { recursive: true, force: true });
 console.log(`corridord idle for ${seconds} s, a base and a laser, no camera:`);
 console.log(`  simulator's devices, beyond the simulator  ${sim.beyondSim.toFixed(1).padStart(5)} % of one core`
   + ` (the simulator ${(sim.total - sim.beyondSim).toFixed(1)} %)`);
+const threads = (run) => {
+  for (const [name, ticks] of [...run.byName].sort((a, b) => b[1] - a[1]).slice(0, 6)) {
+    console.log(`    ${name.padEnd(16)} ${run.percent(ticks).toFixed(1).padStart(5)} %`);
+  }
+};
+threads(sim);
 console.log(`  native devices (Create 2, RPLIDAR)         ${native.total.toFixed(1).padStart(5)} % of one core`);
-for (const [name, ticks] of [...native.byName].sort((a, b) => b[1] - a[1]).slice(0, 8)) {
-  console.log(`    ${name.padEnd(16)} ${native.percent(ticks).toFixed(1).padStart(5)} %`);
-}
+threads(native);
 console.log(`  ratio native / sim beyond the simulator    ${(native.total / sim.beyondSim).toFixed(2)}`);

@@ -57,7 +57,7 @@ void HokuyoLaser::SetState(LinkState state, std::string error) {
 
 void HokuyoLaser::Run(std::stop_token stop) {
   RunReconnecting(
-      stop, options_.reconnect_s,
+      stop, "hokuyo", options_.reconnect_s,
       [&] {
         SetState(LinkState::kConnecting);
         const std::unique_ptr<ByteStream> stream = OpenStream(options_.port, options_.baud_rate, options_.answer_s);

@@ -96,7 +96,7 @@ void OpenNi2Camera::SetState(LinkState state, std::string error) {
 
 void OpenNi2Camera::Run(std::stop_token stop) {
   RunReconnecting(
-      stop, options_.reconnect_s, [&] { Session(stop); },
+      stop, "openni2", options_.reconnect_s, [&] { Session(stop); },
       [&](const std::string& error) { SetState(LinkState::kDisconnected, error); },
       [&] {
         std::lock_guard lock(mutex_);

@@ -52,7 +52,7 @@ void RealSenseCamera::SetState(LinkState state, std::string error) {
 
 void RealSenseCamera::Run(std::stop_token stop) {
   RunReconnecting(
-      stop, options_.reconnect_s, [&] { Session(stop); },
+      stop, "realsense", options_.reconnect_s, [&] { Session(stop); },
       [&](const std::string& error) { SetState(LinkState::kDisconnected, error); },
       [&] {
         std::lock_guard lock(mutex_);

@@ -13,6 +13,8 @@ namespace corridor::drivers::rplidar {
 
 namespace {
 
+constexpr std::chrono::milliseconds kGather{5};
+
 // The descriptor answering a request, past any bytes before its start flags; then `length` bytes of response when
 // `length` > 0. Nothing when it does not come within timeout_s or is of another type.
 std::optional<std::vector<std::uint8_t>> Answer(SerialPort& port, DataType type, std::size_t length, double timeout_s) {
@@ -83,7 +85,7 @@ void RplidarLaser::SetState(LinkState state, std::string error) {
 
 void RplidarLaser::Run(std::stop_token stop) {
   RunReconnecting(
-      stop, options_.reconnect_s,
+      stop, "rplidar", options_.reconnect_s,
       [&] {
         SerialPort port(options_.port, options_.baud_rate);
         Scan(port, stop);
@@ -152,7 +154,7 @@ void RplidarLaser::Scan(SerialPort& port, std::stop_token stop) {
   };
   take(*started);  // nodes that came with the descriptor
   SetState(LinkState::kRunning);
-  std::array<std::uint8_t, 256> buffer{};
+  std::array<std::uint8_t, 1024> buffer{};
   TimeNs last_byte_ns = clock_.Now();
   while (!stop.stop_requested()) {
     const std::size_t n = port.Read(buffer, options_.stale_s);
@@ -169,6 +171,9 @@ void RplidarLaser::Scan(SerialPort& port, std::stop_token stop) {
     last_byte_ns = now;
     SetState(LinkState::kRunning);
     take(std::span<const std::uint8_t>(buffer.data(), n));
+    // A few bytes came (a USB adapter passes them on every millisecond or so): let more gather before the next read,
+    // rather than wake a thousand times a second. A revolution ends at most kGather later.
+    if (n < buffer.size() / 4) std::this_thread::sleep_for(kGather);
   }
   port.Write(EncodeRequest(Command::kStop));
   port.SetDtr(true);

@@ -1,5 +1,7 @@
 #include "drivers/serial/reconnect.h"
 
+#include <pthread.h>
+
 #include <chrono>
 #include <condition_variable>
 #include <exception>
@@ -25,8 +27,10 @@ bool LinkStatus::Set(std::string_view device, std::string_view port, LinkState t
   return changed;
 }
 
-void RunReconnecting(std::stop_token stop, double reconnect_s, const std::function<void()>& session,
-                     const std::function<void(const std::string&)>& failed, const std::function<void()>& retrying) {
+void RunReconnecting(std::stop_token stop, const std::string& device, double reconnect_s,
+                     const std::function<void()>& session, const std::function<void(const std::string&)>& failed,
+                     const std::function<void()>& retrying) {
+  pthread_setname_np(pthread_self(), ("dev-" + device).substr(0, 15).c_str());
   std::mutex mutex;
   std::condition_variable_any wake;
   for (bool first = true; !stop.stop_requested(); first = false) {

@@ -148,7 +148,7 @@ class SerialBase : public DiffDriveBase, public Battery, public DeviceLink {
   }
   void Run(std::stop_token stop) {
     RunReconnecting(
-        stop, options_.reconnect_s,
+        stop, device_, options_.reconnect_s,
         [&] {
           SerialPort port(options_.port, options_.baud_rate);
           Session(port, stop);
