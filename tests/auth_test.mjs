@@ -82,6 +82,9 @@ describe('roles, tokens and sessions', () => {
     assert.equal(state.status, 200);
     const users = await sendJson('GET', `${daemon.url}/api/v1/users`, undefined, undefined, bearer(tokens.viewer));
     assert.equal(users.status, 403);
+    const hardware = await sendJson('GET', `${daemon.url}/api/v1/devices/hardware`, undefined, undefined,
+      bearer(tokens.viewer));
+    assert.equal(hardware.status, 403);
     const anonymous = await sendJson('GET', `${daemon.url}/api/v1/state`, undefined, undefined, none);
     assert.equal(anonymous.status, 401);
     // Health and the contract stay open, for monitoring and for clients.
@@ -197,7 +200,7 @@ describe('roles, tokens and sessions', () => {
       await browser.close();
     }
   });
-  test('the admin page adds a user, makes and revokes a token, and shows the audit log', async () => {
+  test('the admin page adds a user, makes and revokes a token, lists devices, and shows the audit log', async () => {
     const browser = await launchBrowser();
     try {
       const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
@@ -222,6 +225,13 @@ describe('roles, tokens and sessions', () => {
       assert.equal((await use()).status, 401);
       await page.getByTestId('audit').filter({ hasText: 'POST /api/v1/users' }).waitFor();
       await page.getByTestId('audit').filter({ hasText: 'DELETE /api/v1/tokens' }).waitFor();
+      // What is plugged in: this machine has no robot devices, and says so.
+      await page.getByTestId('hardware').filter({ hasText: 'nothing plugged in' }).waitFor();
+      // The simulated camera's mounting measured from the floor ahead (its configuration is not written here: the
+      // daemon runs on the tree's own file).
+      await page.getByTestId('camera-measure').click();
+      await page.getByTestId('camera-calibration').filter({ hasText: /height 0\.\d+ m .*tilt \d+\.\d°/ }).waitFor();
+      assert.equal(await page.getByTestId('camera-keep').isVisible(), true);
       assert.deepEqual(errors, []);
       // A viewer is sent back to the console.
       const other = await browser.newPage();

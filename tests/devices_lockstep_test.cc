@@ -109,5 +109,34 @@ TEST(DevicesLockstep, ARobotWithoutACameraStopsShortOfAWallOnItsLasersLanes) {
   EXPECT_FALSE(robot.sim().bumper_pressed());
 }
 
+// What is plugged in: this machine's serial ports, video nodes and OpenNI2 devices (here, none of any: the lists are
+// empty, and answer all the same).
+TEST(DevicesLockstep, WhatIsPluggedInIsListed) {
+  LockstepRobot robot(DefaultConfig());
+  const LockstepRobot::Reply hardware = robot.Call("GET", "/api/v1/devices/hardware");
+  ASSERT_EQ(hardware.status, 200) << hardware.body.dump();
+  for (const char* kind : {"serial", "video", "openni2"}) {
+    ASSERT_TRUE(hardware.body[kind].is_array()) << hardware.body.dump();
+  }
+  for (const json& port : hardware.body["serial"]) EXPECT_TRUE(port["path"].get<std::string>().starts_with("/dev/tty"));
+}
+
+// The camera's mounting measured from the floor in its latest frame: the simulator's camera sits 0.3 m up, tilted
+// 10 degrees down, and the measurement says so, with the configuration's keys to keep it.
+TEST(DevicesLockstep, TheCamerasHeightAndTiltAreMeasuredFromTheFloor) {
+  LockstepRobot robot(DefaultConfig());
+  robot.StepFor(0.5);
+  const LockstepRobot::Reply fit = robot.Call("POST", "/api/v1/devices/camera/calibration", json::object());
+  ASSERT_EQ(fit.status, 200) << fit.body.dump();
+  EXPECT_NEAR(fit.body["height_m"].get<double>(), 0.3, 0.02) << fit.body.dump();
+  EXPECT_NEAR(fit.body["tilt_deg"].get<double>(), 10.0, 1.0) << fit.body.dump();
+  EXPECT_NEAR(fit.body["roll_deg"].get<double>(), 0.0, 1.0) << fit.body.dump();
+  EXPECT_NEAR(fit.body["configured"]["tilt_deg"].get<double>(), 10.0, 1e-6);
+  EXPECT_NEAR(fit.body["patch"]["sim"]["camera"]["mount_height_m"].get<double>(), 0.3, 0.02);
+  // A robot without a camera has nothing to measure.
+  LockstepRobot blind(DefaultConfig(), [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
+  EXPECT_EQ(blind.Call("POST", "/api/v1/devices/camera/calibration", json::object()).status, 404);
+}
+
 }  // namespace
 }  // namespace corridor

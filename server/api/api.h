@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "drivers/depth_camera.h"
 #include "drivers/laser2d.h"
 #include "drivers/sim/sim_robot.h"
 #include "server/api/webhooks.h"
@@ -97,6 +98,7 @@ struct ApiContext {
   std::string robot_name{};               // in robot_state (Open-RMF) and webhook payloads
   std::function<void()> doors_changed{};  // the doors of the map in use changed: planner and missions take them again
   const drivers::Laser2D* laser = nullptr;  // where the laser is mounted (GET /api/v1/laser/scan); null: no laser
+  const drivers::DepthCamera* camera = nullptr;  // its intrinsics and mounting (the camera's calibration); null: none
 };
 
 // The building as the robot uses it: the configuration's floors and lifts, with the lift stops drawn in the console

@@ -292,7 +292,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
                                             planner_.SetDoors(DoorsOn(active));
                                             missions_->SetDoors(DoorsOn(active));
                                           },
-                                          devices_.laser});
+                                          devices_.laser, devices_.camera});
 
   // ROS 2 over DDS: last up, first down.
   if (config_.dds.enabled) {

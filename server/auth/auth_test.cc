@@ -59,6 +59,8 @@ TEST(GateTest, RoutesNeedTheirRoles) {
   EXPECT_EQ(RequiredAccess("GET", "/api/v1/users"), Access::kAdmin);
   EXPECT_EQ(RequiredAccess("GET", "/api/v1/webhooks/x/deliveries"), Access::kAdmin);
   EXPECT_EQ(RequiredAccess("PATCH", "/api/v1/config"), Access::kAdmin);
+  EXPECT_EQ(RequiredAccess("GET", "/api/v1/devices"), Access::kViewer);
+  EXPECT_EQ(RequiredAccess("GET", "/api/v1/devices/hardware"), Access::kAdmin);  // devices' paths and serials
   // A prefix matches whole segments only, and a write nobody listed needs an admin.
   EXPECT_EQ(RequiredAccess("POST", "/api/v1/teleopx"), Access::kAdmin);
   EXPECT_EQ(RequiredAccess("DELETE", "/api/v1/something-new"), Access::kAdmin);

@@ -34,7 +34,8 @@ Access RequiredAccess(std::string_view method, std::string_view path) {
   }
   if (!read && UnderAny(path, {"/api/v1/setup", "/api/v1/session"})) return Access::kPublic;  // log in, log out
   if (read && UnderAny(path, {"/api/v1/face", "/api/v1/stream"})) return Access::kFace;
-  if (UnderAny(path, {"/api/v1/users", "/api/v1/tokens", "/api/v1/audit", "/api/v1/webhooks", "/api/v1/config"})) {
+  if (UnderAny(path, {"/api/v1/users", "/api/v1/tokens", "/api/v1/audit", "/api/v1/webhooks", "/api/v1/config",
+                      "/api/v1/devices/hardware"})) {
     return Access::kAdmin;
   }
   if (read) return Access::kViewer;

@@ -1,4 +1,4 @@
-// The admin page at /admin: users, API tokens, webhooks and the audit log. For admins; anyone else is sent to the
+// The admin page at /admin: users, API tokens, webhooks, the devices plugged in, and the audit log. For admins; anyone else is sent to the
 // console (which logs them in).
 import { send } from './api';
 import { byId } from './dom';
@@ -8,6 +8,15 @@ interface User { username: string; role: string; created: string; }
 interface Token { id: string; name: string; role: string; created: string; created_by: string; last_used: string | null; token?: string; }
 interface Webhook { id: string; url: string; events: string[]; description: string; }
 interface Delivery { status: string; event: string; response_status: number | null; }
+interface Hardware {
+  serial: { path: string; names: string[]; usb_id: string; driver: string }[];
+  video: { path: string; name: string; formats: string[]; driver: string }[];
+  openni2: { uri: string; name: string; vendor: string }[];
+}
+interface CameraCalibration {
+  height_m: number; tilt_deg: number; roll_deg: number; inlier_fraction: number;
+  configured: { height_m: number; tilt_deg: number }; patch: object;
+}
 interface AuditRecord { time: string; who: string; client: string; method: string; path: string; status: number; detail: string; }
 
 function report(e: Error): void {
@@ -73,8 +82,46 @@ async function showAudit(): Promise<void> {
     row([day(r.time), r.who, r.client, `${r.method} ${r.path}`, String(r.status), r.detail])));
 }
 
+// Serial ports (by their stable names and USB ids), video nodes and OpenNI2 devices, each with the driver it suggests.
+async function showHardware(): Promise<void> {
+  const h = await send<Hardware>('GET', '/api/v1/devices/hardware');
+  const rows = [
+    ...h.serial.map((p) => row(['serial', p.path, p.names.join(' '), p.usb_id ? `USB ${p.usb_id}` : '', p.driver || '—'])),
+    ...h.video.map((v) => row(['video', v.path, '', `${v.name} (${v.formats.join(', ')})`, v.driver || '—'])),
+    ...h.openni2.map((d) => row(['OpenNI2', d.uri, '', `${d.vendor} ${d.name}`, 'openni2'])),
+  ];
+  byId('hardware').replaceChildren(...(rows.length > 0 ? rows : [row(['nothing plugged in', '', '', '', ''])]));
+}
+
+// The camera's height and tilt measured from the floor, beside the configured ones; Keep it writes them.
+let measured: CameraCalibration | null = null;
+async function measureCamera(): Promise<void> {
+  const out = byId('camera-calibration');
+  const keep = byId<HTMLButtonElement>('camera-keep');
+  measured = null;
+  keep.hidden = true;
+  out.textContent = 'measuring…';
+  try {
+    const c = await send<CameraCalibration>('POST', '/api/v1/devices/camera/calibration', {});
+    measured = c;
+    out.textContent = `height ${c.height_m.toFixed(3)} m (configured ${c.configured.height_m.toFixed(3)}), `
+      + `tilt ${c.tilt_deg.toFixed(1)}° (configured ${c.configured.tilt_deg.toFixed(1)}), roll ${c.roll_deg.toFixed(1)}°, `
+      + `${(100 * c.inlier_fraction).toFixed(0)} % of the image's lower half on the floor`;
+    keep.hidden = false;
+  } catch (e) {
+    out.textContent = (e as Error).message;
+  }
+}
+
+async function keepCamera(): Promise<void> {
+  if (!measured) return;
+  const result = await send<{ detail: string }>('PATCH', '/api/v1/config', measured.patch);
+  byId('camera-calibration').textContent = `kept: ${result.detail}`;
+  byId<HTMLButtonElement>('camera-keep').hidden = true;
+}
+
 function refresh(me: Me): Promise<void> {
-  return Promise.all([showUsers(me), showTokens(me), showWebhooks(me), showAudit()]).then(() => undefined);
+  return Promise.all([showUsers(me), showTokens(me), showWebhooks(me), showHardware(), showAudit()]).then(() => undefined);
 }
 
 async function main(): Promise<void> {
@@ -107,6 +154,9 @@ async function main(): Promise<void> {
     }).catch(report);
   });
   byId('audit-refresh').addEventListener('click', () => void showAudit().catch(report));
+  byId('hardware-refresh').addEventListener('click', () => void showHardware().catch(report));
+  byId('camera-measure').addEventListener('click', () => void measureCamera());
+  byId('camera-keep').addEventListener('click', () => void keepCamera().catch(report));
   await refresh(me).catch(report);
 }
 
