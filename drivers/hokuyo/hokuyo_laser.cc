@@ -9,8 +9,6 @@
 
 #include <spdlog/fmt/fmt.h>
 
-#include "drivers/serial/reconnect.h"
-
 namespace corridor::drivers::hokuyo {
 namespace {
 
@@ -20,7 +18,8 @@ std::span<const std::uint8_t> Bytes(std::string_view text) {
 
 }  // namespace
 
-HokuyoLaser::HokuyoLaser(const HokuyoOptions& options, const Clock& clock) : options_(options), clock_(clock) {
+HokuyoLaser::HokuyoLaser(const HokuyoOptions& options, const Clock& clock)
+    : LinkedDevice("hokuyo", options.port), options_(options), clock_(clock) {
   if (options.port.empty()) throw std::invalid_argument("hokuyo: no port given");
   if (!(options.stale_s >= 0.0) || !(options.silence_s > options.stale_s) || !(options.reconnect_s > 0.0) ||
       !(options.answer_s > 0.0) || !(options.max_range_m > options.min_range_m)) {
@@ -41,33 +40,12 @@ void HokuyoLaser::SetScanHandler(ScanHandler handler) {
   handler_ = std::move(handler);
 }
 
-void HokuyoLaser::SetLinkHandler(LinkHandler handler) {
-  std::lock_guard lock(mutex_);
-  link_handler_ = std::move(handler);
-}
-
-HokuyoStatus HokuyoLaser::status() const {
-  std::lock_guard lock(mutex_);
-  return status_;
-}
-
-void HokuyoLaser::SetState(LinkState state, std::string error) {
-  ChangeLink(mutex_, status_, link_handler_, "hokuyo", options_.port, state, std::move(error));
-}
-
 void HokuyoLaser::Run(std::stop_token stop) {
-  RunReconnecting(
-      stop, "hokuyo", options_.reconnect_s,
-      [&] {
-        SetState(LinkState::kConnecting);
-        const std::unique_ptr<ByteStream> stream = OpenStream(options_.port, options_.baud_rate, options_.answer_s);
-        Session(*stream, stop);
-      },
-      [&](const std::string& error) { SetState(LinkState::kDisconnected, error); },
-      [&] {
-        std::lock_guard lock(mutex_);
-        ++status_.reconnects;
-      });
+  RunSessions(stop, options_.reconnect_s, [&] {
+    SetState(LinkState::kConnecting);
+    const std::unique_ptr<ByteStream> stream = OpenStream(options_.port, options_.baud_rate, options_.answer_s);
+    Session(*stream, stop);
+  });
 }
 
 std::optional<Response> HokuyoLaser::Ask(ByteStream& stream, ResponseReader& reader, const std::string& command) {

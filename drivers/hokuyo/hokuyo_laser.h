@@ -17,7 +17,7 @@
 #include "drivers/hokuyo/scip_protocol.h"
 #include "drivers/laser2d.h"
 #include "drivers/serial/byte_stream.h"
-#include "drivers/serial/link_state.h"
+#include "drivers/serial/linked_device.h"
 
 namespace corridor::drivers::hokuyo {
 
@@ -27,7 +27,7 @@ struct HokuyoStatus : LinkStatus {
   std::optional<Parameters> parameters;  // the device's, once read
 };
 
-class HokuyoLaser final : public Laser2D, public DeviceLink {
+class HokuyoLaser final : public Laser2D, public LinkedDevice<HokuyoStatus> {
  public:
   // Starts the driver's thread; `clock` stamps the scans (when a scan's last byte arrived) and must outlive it.
   // Throws std::invalid_argument for options that cannot work.
@@ -37,9 +37,6 @@ class HokuyoLaser final : public Laser2D, public DeviceLink {
   nav::Pose2 base_T_laser() const override { return options_.base_T_laser; }
   double height_m() const override { return options_.height_m; }
   void SetScanHandler(ScanHandler handler) override;
-  HokuyoStatus status() const;
-  LinkStatus link() const override { return status(); }
-  void SetLinkHandler(LinkHandler handler) override;
 
  private:
   void Run(std::stop_token stop);
@@ -48,14 +45,10 @@ class HokuyoLaser final : public Laser2D, public DeviceLink {
   // Sends `command` and waits answer_s for its answer (the one whose echo begins with it); none if it did not come.
   std::optional<Response> Ask(ByteStream& stream, ResponseReader& reader, const std::string& command);
   LaserScan ToScan(const Parameters& p, const ScanData& data, TimeNs stamp_ns) const;
-  void SetState(LinkState state, std::string error = {});
 
   HokuyoOptions options_;
   const Clock& clock_;
-  mutable std::mutex mutex_;  // guards the handlers and status_
   ScanHandler handler_;
-  LinkHandler link_handler_;
-  HokuyoStatus status_;
   std::jthread thread_;  // last: started after everything it uses
 };
 

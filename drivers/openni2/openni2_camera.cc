@@ -10,8 +10,6 @@
 #include <opencv2/imgproc.hpp>
 #include <spdlog/spdlog.h>
 
-#include "drivers/serial/reconnect.h"
-
 namespace corridor::drivers::openni2 {
 namespace {
 
@@ -55,10 +53,10 @@ std::vector<OpenNi2Device> ListOpenNi2Devices() {
   return out;
 }
 
-OpenNi2Camera::OpenNi2Camera(const OpenNi2Options& options, const Clock& clock) : options_(options), clock_(clock) {
+OpenNi2Camera::OpenNi2Camera(const OpenNi2Options& options, const Clock& clock)
+    : LinkedDevice("openni2", options.uri.empty() ? "any device" : options.uri), options_(options), clock_(clock) {
   const CameraMountOptions& c = options.camera;
-  if (!Usable(c) || !(options.stale_s > 0.0) ||
-      !(options.silence_s > options.stale_s) || !(options.reconnect_s > 0.0)) {
+  if (!Usable(c) || !(options.stale_s > 0.0) || !(options.silence_s > options.stale_s) || !(options.reconnect_s > 0.0)) {
     throw std::invalid_argument(
         "openni2: size, rate and timeouts must be positive, intrinsics given or fields of view within 0-180 degrees, "
         "and silence_s longer than stale_s");
@@ -79,29 +77,8 @@ void OpenNi2Camera::SetFrameHandler(FrameHandler handler) {
   handler_ = std::move(handler);
 }
 
-void OpenNi2Camera::SetLinkHandler(LinkHandler handler) {
-  std::lock_guard lock(mutex_);
-  link_handler_ = std::move(handler);
-}
-
-OpenNi2Status OpenNi2Camera::status() const {
-  std::lock_guard lock(mutex_);
-  return status_;
-}
-
-void OpenNi2Camera::SetState(LinkState state, std::string error) {
-  ChangeLink(mutex_, status_, link_handler_, "openni2", options_.uri.empty() ? "any device" : options_.uri, state,
-             std::move(error));
-}
-
 void OpenNi2Camera::Run(std::stop_token stop) {
-  RunReconnecting(
-      stop, "openni2", options_.reconnect_s, [&] { Session(stop); },
-      [&](const std::string& error) { SetState(LinkState::kDisconnected, error); },
-      [&] {
-        std::lock_guard lock(mutex_);
-        ++status_.reconnects;
-      });
+  RunSessions(stop, options_.reconnect_s, [&] { Session(stop); });
 }
 
 void OpenNi2Camera::Session(std::stop_token stop) {

@@ -13,7 +13,7 @@
 
 #include "drivers/depth_camera.h"
 #include "drivers/openni2/openni2_options.h"
-#include "drivers/serial/link_state.h"
+#include "drivers/serial/linked_device.h"
 
 namespace corridor::drivers::openni2 {
 
@@ -31,7 +31,7 @@ struct OpenNi2Device {
 };
 std::vector<OpenNi2Device> ListOpenNi2Devices();
 
-class OpenNi2Camera final : public DepthCamera, public DeviceLink {
+class OpenNi2Camera final : public DepthCamera, public LinkedDevice<OpenNi2Status> {
  public:
   // Starts the driver's thread; `clock` stamps the frames and must outlive it. Throws std::invalid_argument for
   // options that cannot work, std::runtime_error when OpenNI2 itself cannot start.
@@ -40,22 +40,15 @@ class OpenNi2Camera final : public DepthCamera, public DeviceLink {
 
   CameraInfo info() const override { return info_; }
   void SetFrameHandler(FrameHandler handler) override;
-  OpenNi2Status status() const;
-  LinkStatus link() const override { return status(); }
-  void SetLinkHandler(LinkHandler handler) override;
 
  private:
   void Run(std::stop_token stop);
   void Session(std::stop_token stop);
-  void SetState(LinkState state, std::string error = {});
 
   const OpenNi2Options options_;
   const Clock& clock_;
   CameraInfo info_;
-  mutable std::mutex mutex_;  // guards the handlers and status_
   FrameHandler handler_;
-  LinkHandler link_handler_;
-  OpenNi2Status status_;
   std::jthread thread_;  // last: started after everything it uses
 };
 

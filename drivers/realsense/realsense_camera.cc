@@ -6,15 +6,16 @@
 #include <spdlog/fmt/fmt.h>
 
 #include "drivers/realsense/v4l2_capture.h"
-#include "drivers/serial/reconnect.h"
 
 namespace corridor::drivers::realsense {
 
 RealSenseCamera::RealSenseCamera(const RealSenseOptions& options, const Clock& clock)
-    : options_(options), clock_(clock) {
+    : LinkedDevice("realsense", options.depth_node.empty() ? options.name : options.depth_node),
+      options_(options),
+      clock_(clock) {
   const CameraMountOptions& c = options.camera;
-  if (!Usable(c) || !(options.depth_scale_m > 0.0) ||
-      !(options.stale_s > 0.0) || !(options.silence_s > options.stale_s) || !(options.reconnect_s > 0.0)) {
+  if (!Usable(c) || !(options.depth_scale_m > 0.0) || !(options.stale_s > 0.0) ||
+      !(options.silence_s > options.stale_s) || !(options.reconnect_s > 0.0)) {
     throw std::invalid_argument(
         "realsense: size, rate, depth unit and timeouts must be positive, intrinsics given or fields of view within "
         "0-180 degrees, and silence_s longer than stale_s");
@@ -35,29 +36,8 @@ void RealSenseCamera::SetFrameHandler(FrameHandler handler) {
   handler_ = std::move(handler);
 }
 
-void RealSenseCamera::SetLinkHandler(LinkHandler handler) {
-  std::lock_guard lock(mutex_);
-  link_handler_ = std::move(handler);
-}
-
-RealSenseStatus RealSenseCamera::status() const {
-  std::lock_guard lock(mutex_);
-  return status_;
-}
-
-void RealSenseCamera::SetState(LinkState state, std::string error) {
-  const std::string where = options_.depth_node.empty() ? options_.name : options_.depth_node;
-  ChangeLink(mutex_, status_, link_handler_, "realsense", where, state, std::move(error));
-}
-
 void RealSenseCamera::Run(std::stop_token stop) {
-  RunReconnecting(
-      stop, "realsense", options_.reconnect_s, [&] { Session(stop); },
-      [&](const std::string& error) { SetState(LinkState::kDisconnected, error); },
-      [&] {
-        std::lock_guard lock(mutex_);
-        ++status_.reconnects;
-      });
+  RunSessions(stop, options_.reconnect_s, [&] { Session(stop); });
 }
 
 void RealSenseCamera::Session(std::stop_token stop) {

@@ -14,7 +14,7 @@
 
 #include "drivers/depth_camera.h"
 #include "drivers/realsense/realsense_options.h"
-#include "drivers/serial/link_state.h"
+#include "drivers/serial/linked_device.h"
 
 namespace corridor::drivers::realsense {
 
@@ -24,7 +24,7 @@ struct RealSenseStatus : LinkStatus {
   std::string color_node;
 };
 
-class RealSenseCamera final : public DepthCamera, public DeviceLink {
+class RealSenseCamera final : public DepthCamera, public LinkedDevice<RealSenseStatus> {
  public:
   // Starts the driver's thread; `clock` stamps the frames and must outlive it. Throws std::invalid_argument for
   // options that cannot work (no size, rate or depth unit, no intrinsics).
@@ -33,22 +33,15 @@ class RealSenseCamera final : public DepthCamera, public DeviceLink {
 
   CameraInfo info() const override { return info_; }
   void SetFrameHandler(FrameHandler handler) override;
-  RealSenseStatus status() const;
-  LinkStatus link() const override { return status(); }
-  void SetLinkHandler(LinkHandler handler) override;
 
  private:
   void Run(std::stop_token stop);
   void Session(std::stop_token stop);
-  void SetState(LinkState state, std::string error = {});
 
   const RealSenseOptions options_;
   const Clock& clock_;
   CameraInfo info_;
-  mutable std::mutex mutex_;  // guards the handlers and status_
   FrameHandler handler_;
-  LinkHandler link_handler_;
-  RealSenseStatus status_;
   std::jthread thread_;  // last: started after everything it uses
 };
 

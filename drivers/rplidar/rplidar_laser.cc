@@ -7,8 +7,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include "drivers/serial/reconnect.h"
-
 namespace corridor::drivers::rplidar {
 
 namespace {
@@ -48,7 +46,7 @@ std::optional<std::vector<std::uint8_t>> Answer(SerialPort& port, DataType type,
 }  // namespace
 
 RplidarLaser::RplidarLaser(const RplidarOptions& options, const Clock& clock)
-    : options_(options), clock_(clock) {
+    : LinkedDevice("rplidar", options.port.string()), options_(options), clock_(clock) {
   if (options.port.empty()) throw std::invalid_argument("rplidar: no port given");
   if (!(options.stale_s > 0.0) || !(options.silence_s > options.stale_s) || !(options.reconnect_s > 0.0) ||
       !(options.answer_s > 0.0)) {
@@ -69,32 +67,11 @@ void RplidarLaser::SetScanHandler(ScanHandler handler) {
   handler_ = std::move(handler);
 }
 
-RplidarStatus RplidarLaser::status() const {
-  std::lock_guard lock(mutex_);
-  return status_;
-}
-
-void RplidarLaser::SetLinkHandler(LinkHandler handler) {
-  std::lock_guard lock(mutex_);
-  link_handler_ = std::move(handler);
-}
-
-void RplidarLaser::SetState(LinkState state, std::string error) {
-  ChangeLink(mutex_, status_, link_handler_, "rplidar", options_.port.string(), state, std::move(error));
-}
-
 void RplidarLaser::Run(std::stop_token stop) {
-  RunReconnecting(
-      stop, "rplidar", options_.reconnect_s,
-      [&] {
-        SerialPort port(options_.port, options_.baud_rate);
-        Scan(port, stop);
-      },
-      [&](const std::string& error) { SetState(LinkState::kDisconnected, error); },
-      [&] {
-        std::lock_guard lock(mutex_);
-        ++status_.reconnects;
-      });
+  RunSessions(stop, options_.reconnect_s, [&] {
+    SerialPort port(options_.port, options_.baud_rate);
+    Scan(port, stop);
+  });
 }
 
 void RplidarLaser::Scan(SerialPort& port, std::stop_token stop) {

@@ -17,7 +17,7 @@
 #include "drivers/laser2d.h"
 #include "drivers/rplidar/rplidar_options.h"
 #include "drivers/rplidar/rplidar_protocol.h"
-#include "drivers/serial/link_state.h"
+#include "drivers/serial/linked_device.h"
 #include "drivers/serial/serial_port.h"
 
 namespace corridor::drivers::rplidar {
@@ -28,7 +28,7 @@ struct RplidarStatus : LinkStatus {
   std::optional<DeviceInfo> info;
 };
 
-class RplidarLaser final : public Laser2D, public DeviceLink {
+class RplidarLaser final : public Laser2D, public LinkedDevice<RplidarStatus> {
  public:
   // Starts the driver's thread; `clock` stamps the scans (when a revolution's last byte arrived) and must outlive it.
   RplidarLaser(const RplidarOptions& options, const Clock& clock);
@@ -37,22 +37,15 @@ class RplidarLaser final : public Laser2D, public DeviceLink {
   nav::Pose2 base_T_laser() const override { return options_.base_T_laser; }
   double height_m() const override { return options_.height_m; }
   void SetScanHandler(ScanHandler handler) override;
-  RplidarStatus status() const;
-  LinkStatus link() const override { return status(); }
-  void SetLinkHandler(LinkHandler handler) override;
 
  private:
   void Run(std::stop_token stop);
   // One session on an open port: handshake, then revolutions until the port fails, goes silent, or `stop`.
   void Scan(SerialPort& port, std::stop_token stop);
-  void SetState(LinkState state, std::string error = {});
 
   RplidarOptions options_;
   const Clock& clock_;
-  mutable std::mutex mutex_;  // guards the handlers and status_
   ScanHandler handler_;
-  LinkHandler link_handler_;
-  RplidarStatus status_;
   std::jthread thread_;  // last: started after everything it uses
 };
 

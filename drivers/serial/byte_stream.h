@@ -3,8 +3,10 @@
 // that stopped talking.
 #pragma once
 
+#include <charconv>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -31,6 +33,16 @@ std::unique_ptr<ByteStream> OpenStream(const std::string& port, int baud_rate, d
 inline bool IsNetworkPort(const std::string& port) {
   const std::size_t colon = port.rfind(':');
   return !port.empty() && port.front() != '/' && colon != std::string::npos && colon > 0 && colon + 1 < port.size();
+}
+// The TCP port of a network device's host:port; none when what follows the colon is not one (1-65535).
+inline std::optional<int> NetworkPortNumber(const std::string& port) {
+  const std::size_t colon = port.rfind(':');
+  if (!IsNetworkPort(port)) return std::nullopt;
+  int number = 0;
+  const char* end = port.data() + port.size();
+  const auto [at, error] = std::from_chars(port.data() + colon + 1, end, number);
+  if (error != std::errc{} || at != end || number <= 0 || number > 65535) return std::nullopt;
+  return number;
 }
 
 }  // namespace corridor::drivers

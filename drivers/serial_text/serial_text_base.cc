@@ -103,9 +103,7 @@ void SerialTextBase::Take(SerialPort& port, const EncoderCounts& counts) {
   const TimeNs now = clock_.Now();
   // Believable only if neither wheel turned further than it can since the counts before.
   const double top_mps = options_.max_linear_mps + options_.max_angular_rps * 0.5 * options_.wheels.track_m;
-  const double counts_per_m =
-      options_.wheels.counts_per_revolution / (std::numbers::pi * options_.wheels.wheel_diameter_m);
-  const double limit = kPlausibleSpeedFactor * top_mps * ToSeconds(now - last_counts_ns_) * counts_per_m +
+  const double limit = kPlausibleSpeedFactor * top_mps * ToSeconds(now - last_counts_ns_) * CountsPerMetre() +
                        kPlausibleSlackCounts;
   const bool believable = !last_counts_ ||
                           (std::abs(CountsChange(last_counts_->left, counts.left)) <= limit &&
@@ -144,10 +142,12 @@ void SerialTextBase::Take(SerialPort& port, const EncoderCounts& counts) {
   if (odometry) odometry(WheelOdometry{now, odometry_.pose(), odometry_.velocity(), false, false});
 }
 
+double SerialTextBase::CountsPerMetre() const {
+  return options_.wheels.counts_per_revolution / (std::numbers::pi * options_.wheels.wheel_diameter_m);
+}
+
 int SerialTextBase::CountsPerFrame(double mps) const {
-  const double counts_per_s =
-      mps * options_.wheels.counts_per_revolution / (std::numbers::pi * options_.wheels.wheel_diameter_m);
-  return static_cast<int>(std::lround(counts_per_s / options_.pid_rate_hz));
+  return static_cast<int>(std::lround(mps * CountsPerMetre() / options_.pid_rate_hz));
 }
 
 }  // namespace corridor::drivers::serial_text

@@ -39,6 +39,7 @@ class SerialTextBase final : public SerialBase<SerialTextOptions, SerialTextStat
   // What came: counts taken, the rest counted as bad.
   void Handle(SerialPort& port, LineSplitter& lines, std::span<const std::uint8_t> bytes);
   void Take(SerialPort& port, const EncoderCounts& counts);
+  double CountsPerMetre() const;
   // Counts a wheel at `mps` turns in one PID frame.
   int CountsPerFrame(double mps) const;
 

@@ -1,8 +1,8 @@
-// What the native base drivers (Create 2, Kobuki) share around their own protocol: options checked once, the velocity
-// asked for (clamped to the limits, with when it came), the odometry, battery and link handlers and the driver's status
-// under one mutex, the driver's thread running sessions on the serial port and reopening it when it fails
-// (drivers/serial/reconnect.h), the watch for a stream gone quiet, the wheels' command ramped, and the odometry from the
-// encoders. A driver supplies Session: one session on an open port, its protocol's commands and reports.
+// What the native base drivers (Create 2, Kobuki, TurtleBot 3, serial text) share around their own protocol: options
+// checked once, the velocity asked for (clamped to the limits, with when it came), the odometry, battery and link
+// handlers and the driver's status under one mutex, the driver's thread running sessions on the serial port and
+// reopening it when it fails (drivers/serial/linked_device.h), the watch for a stream gone quiet, the wheels' command
+// ramped, and the odometry from the encoders. A driver supplies Session: one session on an open port, its protocol's commands and reports.
 //
 // `Options` has the bases' common keys (port, baud_rate, wheels, max_linear_mps, max_angular_rps,
 // max_linear_accel_mps2, max_angular_accel_rps2, footprint_radius_m, command_timeout_s, stale_s, silence_s,
@@ -21,8 +21,7 @@
 
 #include "drivers/battery.h"
 #include "drivers/diff_drive_base.h"
-#include "drivers/serial/link_state.h"
-#include "drivers/serial/reconnect.h"
+#include "drivers/serial/linked_device.h"
 #include "drivers/serial/serial_port.h"
 #include "drivers/wheels/command_ramp.h"
 #include "drivers/wheels/encoder_odometry.h"
@@ -30,7 +29,7 @@
 namespace corridor::drivers {
 
 template <typename Options, typename Status>
-class SerialBase : public DiffDriveBase, public Battery, public DeviceLink {
+class SerialBase : public DiffDriveBase, public Battery, public LinkedDevice<Status> {
  public:
   ~SerialBase() override { StopThread(); }
 
@@ -52,21 +51,19 @@ class SerialBase : public DiffDriveBase, public Battery, public DeviceLink {
     std::lock_guard lock(mutex_);
     battery_handler_ = std::move(handler);
   }
-  void SetLinkHandler(LinkHandler handler) override {
-    std::lock_guard lock(mutex_);
-    link_handler_ = std::move(handler);
-  }
-  Status status() const {
-    std::lock_guard lock(mutex_);
-    return status_;
-  }
-  LinkStatus link() const override { return status(); }
 
  protected:
+  using LinkedDevice<Status>::mutex_;  // guards the command, the handlers and status_
+  using LinkedDevice<Status>::status_;
+  using LinkedDevice<Status>::SetState;
+
   // `device`: the driver's name in its errors and logs. Throws std::invalid_argument for options that cannot work (no
   // port, non-positive timeouts or wheel geometry, silence_s not longer than stale_s).
   SerialBase(std::string device, const Options& options, const Clock& clock)
-      : options_(Checked(device, options)), clock_(clock), odometry_(options_.wheels), device_(std::move(device)) {}
+      : LinkedDevice<Status>(device, options.port.string()),
+        options_(Checked(device, options)),
+        clock_(clock),
+        odometry_(options_.wheels) {}
 
   // Starts the driver's thread: the subclass's constructor calls it last. Its destructor calls StopThread first.
   void Start() { thread_ = std::jthread([this](std::stop_token stop) { Run(stop); }); }
@@ -78,9 +75,6 @@ class SerialBase : public DiffDriveBase, public Battery, public DeviceLink {
   // One session on an open port: until the port fails, the stream falls silent, or `stop`.
   virtual void Session(SerialPort& port, std::stop_token stop) = 0;
 
-  void SetState(LinkState state, std::string error = {}) {
-    ChangeLink(mutex_, status_, link_handler_, device_, options_.port.string(), state, std::move(error));
-  }
   // After each read: no report for stale_s and the link is stale (the wheels get `stop_wheels`: the robot keeps its last
   // command otherwise, for as long as it may still listen); for silence_s, false: the session ends.
   bool Watch(SerialPort& port, std::span<const std::uint8_t> stop_wheels, const char* report) {
@@ -130,9 +124,7 @@ class SerialBase : public DiffDriveBase, public Battery, public DeviceLink {
 
   const Options options_;
   const Clock& clock_;
-  mutable std::mutex mutex_;  // guards the command, the handlers and status_
   OdometryHandler odometry_handler_;
-  Status status_;
   // The driver's thread only.
   EncoderOdometry odometry_;
 
@@ -147,24 +139,15 @@ class SerialBase : public DiffDriveBase, public Battery, public DeviceLink {
     return o;
   }
   void Run(std::stop_token stop) {
-    RunReconnecting(
-        stop, device_, options_.reconnect_s,
-        [&] {
-          SerialPort port(options_.port, options_.baud_rate);
-          Session(port, stop);
-        },
-        [&](const std::string& error) { SetState(LinkState::kDisconnected, error); },
-        [&] {
-          std::lock_guard lock(mutex_);
-          ++status_.reconnects;
-        });
+    this->RunSessions(stop, options_.reconnect_s, [&] {
+      SerialPort port(options_.port, options_.baud_rate);
+      Session(port, stop);
+    });
   }
 
-  std::string device_;
   nav::Twist2 command_;
   TimeNs command_ns_ = 0;
   BatteryHandler battery_handler_;
-  LinkHandler link_handler_;
   TimeNs last_report_ns_ = 0;   // the driver's thread only
   TimeNs last_battery_ns_ = 0;  // under mutex_
   nav::Twist2 driven_;          // the ramped command sent last; the driver's thread only

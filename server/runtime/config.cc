@@ -590,11 +590,9 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
                           "192.168.0.10:10940)");
       }
       if (drivers::IsNetworkPort(h.port)) {
-        const std::string number = h.port.substr(h.port.rfind(':') + 1);
-        int tcp_port = 0;
-        const auto [at, error] = std::from_chars(number.data(), number.data() + number.size(), tcp_port);
-        if (error != std::errc{} || at != number.data() + number.size() || tcp_port <= 0 || tcp_port > 65535) {
-          throw ConfigError(s.PathOf("port") + ": '" + h.port + "': " + number + " is not a TCP port");
+        if (!drivers::NetworkPortNumber(h.port)) {
+          throw ConfigError(s.PathOf("port") + ": '" + h.port + "': " + h.port.substr(h.port.rfind(':') + 1) +
+                            " is not a TCP port");
         }
       } else {
         h.port = (base / h.port).lexically_normal().string();  // a path relative to the configuration's directory
