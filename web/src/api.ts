@@ -133,9 +133,30 @@ export interface Detection {
 export interface Detections { stamp: number; detections: Detection[]; }
 export type Goal = { x: number; y: number; yaw?: number } | { place: string };
 
+// Every request the console makes goes through request(). Logging out ends the session only after the requests already
+// on their way have been answered, and nothing is sent after it began (the page reloads): no request fails for want of
+// the session it was sent with.
+let leaving = false;
+const inFlight = new Set<Promise<Response>>();
+
+// fetch(), unless the page is leaving: then the request is not sent and never settles.
+export function request(url: string, init?: RequestInit): Promise<Response> {
+  if (leaving) return new Promise<Response>(() => undefined);
+  const sent = fetch(url, init);
+  inFlight.add(sent);
+  sent.then(() => inFlight.delete(sent), () => inFlight.delete(sent));
+  return sent;
+}
+
+// Stops sending and resolves once every request already sent is answered.
+export async function leavePage(): Promise<void> {
+  leaving = true;
+  await Promise.allSettled([...inFlight]);
+}
+
 // Sends a JSON request; resolves the parsed body, or rejects with the problem's title and detail.
 export async function send<T>(method: string, url: string, body?: unknown): Promise<T> {
-  const res = await fetch(url, {
+  const res = await request(url, {
     method,
     cache: 'no-store',
     headers: body === undefined ? {} : { 'Content-Type': 'application/json' },

@@ -1,5 +1,5 @@
 // The corridor console: map, live pose, camera, telemetry, teleoperation, and the navigation tools.
-import { send, type Detections, type Device, type GroundLanes, type MapInfo, type Mission, type Pose, type State, type Twist } from './api';
+import { request, send, type Detections, type Device, type GroundLanes, type MapInfo, type Mission, type Pose, type State, type Twist } from './api';
 import { byId, type Report } from './dom';
 import { repeat } from './poll';
 import { LocalizationPanel } from './localization';
@@ -172,7 +172,7 @@ function startCamera(): void {
   let url: string | null = null;
   repeat(async () => {
     const path = kind.value === 'depth' ? '/api/v1/camera/depth?colormap=true' : '/api/v1/camera/color';
-    const res = await fetch(path, { cache: 'no-store' });
+    const res = await request(path, { cache: 'no-store' });
     if (!res.ok) throw new Error(`HTTP ${res.status}`);
     const next = URL.createObjectURL(await res.blob());
     img.src = next;

@@ -4,7 +4,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 
-import { send, type Octomap, type Pose } from './api';
+import { request, send, type Octomap, type Pose } from './api';
 import { byId } from './dom';
 
 const kPollMs = 3000;
@@ -80,7 +80,7 @@ export class OctomapView {
     try {
       const info = await send<Octomap>('GET', '/api/v1/map/octomap');
       if (info.revision !== this.revision) {
-        const res = await fetch(info.voxels_url, { cache: 'no-store' });
+        const res = await request(info.voxels_url, { cache: 'no-store' });
         if (!res.ok) throw new Error(`voxels: HTTP ${res.status}`);
         this.show(new Float32Array(await res.arrayBuffer()));
         this.revision = info.revision;

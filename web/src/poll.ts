@@ -2,17 +2,10 @@
 // network gone) the next try waits twice as long as the one before, up to kMaxBackoffMs, and the period is back with
 // the first success: a console left open beside a stopped robot neither floods the network nor the browser's log.
 const kMaxBackoffMs = 8000;
-let stopped = false;
-
-// Every repeat stops (the page is leaving: logging out).
-export function stopRepeating(): void {
-  stopped = true;
-}
 
 export function repeat(tick: () => Promise<void>, periodMs: number, onError: (e: Error) => void): void {
   let delay = periodMs;
   const run = async () => {
-    if (stopped) return;
     try {
       await tick();
       delay = periodMs;

@@ -1,9 +1,8 @@
 // Logging in. The console asks who is logged in; when nobody is, it shows the login form, or before the first admin
 // exists the setup form, which takes the one-time code shown on the robot's screen. A session is a cookie the daemon
 // sets (HttpOnly, SameSite=Strict); the page reloads once it has one.
-import { send, type SetupStatus } from './api';
+import { leavePage, send, type SetupStatus } from './api';
 import { byId } from './dom';
-import { stopRepeating } from './poll';
 
 export type Role = 'viewer' | 'operator' | 'admin';
 export interface Me { name: string; role: Role; kind: string; }
@@ -52,8 +51,10 @@ export function applyRole(me: Me): void {
   byId('user').textContent = `${me.name} (${me.role})`;
   byId('admin-link').hidden = !mayDo(me, 'admin');
   byId('logout').addEventListener('click', () => {
-    stopRepeating();  // nothing asks for what the session no longer allows
-    void send('DELETE', '/api/v1/session').finally(() => location.reload());
+    // Nothing more is asked, and what was asked is answered, before the session ends; then the login form.
+    void leavePage()
+      .then(() => fetch('/api/v1/session', { method: 'DELETE', cache: 'no-store' }))
+      .finally(() => location.reload());
   });
   document.body.dataset.role = me.role;
   for (const element of document.querySelectorAll<HTMLElement>('[data-needs]')) {
