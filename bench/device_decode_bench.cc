@@ -13,6 +13,7 @@
 #include "drivers/create2/open_interface.h"
 #include "drivers/hokuyo/scip_protocol.h"
 #include "drivers/kobuki/kobuki_protocol.h"
+#include "drivers/lds/lds_protocol.h"
 #include "drivers/rplidar/rplidar_protocol.h"
 #include "drivers/serial_text/serial_text_protocol.h"
 #include "drivers/turtlebot3/dynamixel_protocol.h"
@@ -40,7 +41,7 @@ void BM_RplidarRevolution(benchmark::State& state) {
   std::vector<rplidar::Node> nodes;
   for (auto _ : state) {
     rplidar::NodeStream stream;
-    rplidar::SweepAssembler sweeps;
+    SweepAssembler sweeps;
     nodes.clear();
     stream.Push(bytes, nodes);  // a revolution and the next one's start, as pieces of a port's reads would give
     int scans = 0;
@@ -50,6 +51,42 @@ void BM_RplidarRevolution(benchmark::State& state) {
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * bytes.size()));
 }
 BENCHMARK(BM_RplidarRevolution)->Arg(360)->Arg(720)->Unit(benchmark::kMicrosecond);
+
+// An LDS-02 revolution: 30 packets of 12 points, each with its CRC, through the packet stream and the sweeps.
+void BM_Lds02Revolution(benchmark::State& state) {
+  std::vector<std::uint8_t> bytes;
+  const auto put16 = [&](unsigned v) {
+    bytes.push_back(static_cast<std::uint8_t>(v & 0xFF));
+    bytes.push_back(static_cast<std::uint8_t>(v >> 8));
+  };
+  for (int turn = 0; turn < 2; ++turn) {
+    for (unsigned p = 0; p < 30; ++p) {
+      const std::size_t begin = bytes.size();
+      bytes.insert(bytes.end(), {lds::kLd08Header, lds::kLd08VerLen});
+      put16(2160);
+      put16(p * 1200);
+      for (unsigned i = 0; i < 12; ++i) {
+        put16(1000 + 10 * i);
+        bytes.push_back(200);
+      }
+      put16(p * 1200 + 1100);
+      put16(p);
+      bytes.push_back(lds::Crc8(std::span<const std::uint8_t>(bytes).subspan(begin)));
+    }
+  }
+  std::vector<SweepPoint> points;
+  for (auto _ : state) {
+    lds::PacketStream stream(lds::Model::kLds02);
+    SweepAssembler sweeps;
+    points.clear();
+    stream.Push(bytes, points);
+    int scans = 0;
+    for (const SweepPoint& p : points) scans += sweeps.Add(p, 0).has_value() ? 1 : 0;
+    benchmark::DoNotOptimize(scans);
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * bytes.size()));
+}
+BENCHMARK(BM_Lds02Revolution)->Unit(benchmark::kMicrosecond);
 
 void BM_Create2Frame(benchmark::State& state) {
   std::vector<std::uint8_t> body;

@@ -28,7 +28,7 @@ fs::path UsbDevice(const fs::path& sys, const std::string& tty) {
 }  // namespace
 
 std::string SuggestedDriver(const std::string& usb_id, const std::string& serial) {
-  if (usb_id == "10c4:ea60") return "rplidar";
+  if (usb_id == "10c4:ea60") return "rplidar or lds";  // a TurtleBot 3's USB2LDS board is a CP210x too
   if (usb_id == "0403:6015") return "create2";
   if (usb_id == "0403:6001" && serial.starts_with("kobuki")) return "kobuki";
   if (usb_id == "0483:5740") return "turtlebot3";

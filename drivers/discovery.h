@@ -20,8 +20,8 @@ struct SerialPortInfo {
 // Every /dev/ttyUSB* and /dev/ttyACM*, in order of their names.
 std::vector<SerialPortInfo> ListSerialPorts(const std::filesystem::path& dev = "/dev",
                                             const std::filesystem::path& sys = "/sys");
-// The driver a USB serial device's vendor:product (and serial number) suggests: rplidar, create2, kobuki, turtlebot3,
-// serial-text, hokuyo, or "".
+// The driver a USB serial device's vendor:product (and serial number) suggests: "rplidar or lds" (the same chip),
+// create2, kobuki, turtlebot3, serial-text, hokuyo, or "".
 std::string SuggestedDriver(const std::string& usb_id, const std::string& serial);
 
 }  // namespace corridor::drivers

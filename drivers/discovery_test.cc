@@ -45,7 +45,7 @@ TEST(DiscoveryTest, SerialPortsComeWithTheirStableNamesUsbIdsAndSuggestedDrivers
   EXPECT_EQ(ports[0].names, std::vector<std::string>{(dev / "corridor/arduino").string()});
   EXPECT_EQ(ports[1].path, (dev / "ttyUSB0").string());
   EXPECT_EQ(ports[1].usb_id, "10c4:ea60");
-  EXPECT_EQ(ports[1].driver, "rplidar");
+  EXPECT_EQ(ports[1].driver, "rplidar or lds");
   EXPECT_EQ(ports[1].names.size(), 2u);
   EXPECT_EQ(ports[2].usb_id, "");
   EXPECT_EQ(ports[2].driver, "");

@@ -51,7 +51,7 @@ grep -q '^/etc/corridor/corridor.yaml$' /var/lib/dpkg/info/corridor.conffiles ||
 
 rules=$(ls /lib/udev/rules.d/*corridor.rules /usr/lib/udev/rules.d/*corridor.rules 2>/dev/null | head -1)
 [ -n "$rules" ] || fail "no udev rules installed"
-for name in corridor/rplidar corridor/create2 corridor/kobuki corridor/opencr corridor/arduino corridor/hokuyo; do
+for name in corridor/rplidar corridor/lds corridor/create2 corridor/kobuki corridor/opencr corridor/arduino corridor/hokuyo; do
   grep -q "SYMLINK+=\"$name\"" "$rules" || fail "$rules does not name $name"
 done
 systemd-analyze verify /lib/systemd/system/corridor.service /lib/systemd/system/corridor-face.service ||

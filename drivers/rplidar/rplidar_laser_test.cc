@@ -12,6 +12,7 @@
 
 #include "testing/emulators/rplidar_emulator.h"
 #include "testing/eventually.h"
+#include "testing/room_scans.h"
 
 namespace corridor::drivers::rplidar {
 namespace {
@@ -19,6 +20,7 @@ namespace {
 using corridor::testing::Eventually;
 using corridor::testing::RplidarEmulator;
 using corridor::testing::RplidarEmulatorOptions;
+using corridor::testing::RoomScans;
 using namespace std::chrono_literals;
 
 // A room where the robot's right (90 degrees clockwise in the device) is a wall 1 m away, everything else 3 m.
@@ -27,30 +29,6 @@ double Room(double angle_cw_deg) { return std::abs(angle_cw_deg - 90.0) < 5.0 ? 
 std::filesystem::path Link(const std::string& name) {
   return std::filesystem::temp_directory_path() / ("corridor_rplidar_" + name + "_" + std::to_string(::getpid()));
 }
-
-// Scans handed on by a driver, and whether each matched the room.
-struct Received {
-  std::mutex mutex;
-  int scans = 0;
-  int wrong = 0;  // beams whose range is not the room's at their angle
-  void Take(const LaserScan& scan) {
-    int bad = 0;
-    for (std::size_t i = 0; i < scan.ranges.size(); ++i) {
-      if (!std::isfinite(scan.ranges[i])) continue;
-      // Counter-clockwise in the scan: the device's clockwise angle is its negative.
-      const double ccw_deg = (scan.angle_min_rad + i * scan.angle_increment_rad) * 180.0 / std::numbers::pi;
-      const double cw_deg = std::fmod(-ccw_deg + 720.0, 360.0);
-      if (std::abs(scan.ranges[i] - Room(cw_deg)) > 1e-3) ++bad;
-    }
-    std::lock_guard lock(mutex);
-    ++scans;
-    wrong += bad;
-  }
-  int count() {
-    std::lock_guard lock(mutex);
-    return scans;
-  }
-};
 
 RplidarOptions OptionsFor(const std::filesystem::path& port) {
   RplidarOptions options;
@@ -65,7 +43,7 @@ TEST(RplidarLaserTest, ScansArriveCounterClockwiseFromForwardWithTheDevicesInfor
   RplidarEmulator device(link, RplidarEmulatorOptions{.range = Room});
   SteadyClock clock;
   RplidarLaser laser(OptionsFor(link), clock);
-  Received received;
+  RoomScans received(Room);
   std::shared_ptr<const LaserScan> last;
   std::mutex last_mutex;
   laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) {
@@ -74,7 +52,7 @@ TEST(RplidarLaserTest, ScansArriveCounterClockwiseFromForwardWithTheDevicesInfor
     last = std::move(scan);
   });
   ASSERT_TRUE(Eventually([&] { return received.count() >= 3; }, 5000ms)) << laser.status().last_error;
-  EXPECT_EQ(received.wrong, 0);
+  EXPECT_EQ(received.wrong(), 0);
   const RplidarStatus status = laser.status();
   EXPECT_EQ(status.state, LinkState::kRunning);
   ASSERT_TRUE(status.info);
@@ -91,7 +69,7 @@ TEST(RplidarLaserTest, NoiseABadCheckBitAndALostByteCostAFewMeasurementsNotTheSc
   RplidarEmulator device(link, RplidarEmulatorOptions{.range = Room});
   SteadyClock clock;
   RplidarLaser laser(OptionsFor(link), clock);
-  Received received;
+  RoomScans received(Room);
   laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { received.Take(*scan); });
   ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
   device.Noise({0x00, 0xFF, 0xA5, 0x13, 0x37});
@@ -100,7 +78,7 @@ TEST(RplidarLaserTest, NoiseABadCheckBitAndALostByteCostAFewMeasurementsNotTheSc
   ASSERT_TRUE(Eventually([&] { return received.count() >= 6; }, 3000ms));
   device.DropByte();
   ASSERT_TRUE(Eventually([&] { return received.count() >= 8; }, 3000ms));
-  EXPECT_EQ(received.wrong, 0) << "a beam from a misread node";
+  EXPECT_EQ(received.wrong(), 0) << "a beam from a misread node";
   EXPECT_GT(laser.status().skipped_bytes, 0u);
   EXPECT_EQ(laser.status().state, LinkState::kRunning);
 }
@@ -110,7 +88,7 @@ TEST(RplidarLaserTest, UnpluggedItSaysSoAndScansAgainOncePluggedBackIn) {
   RplidarEmulator device(link, RplidarEmulatorOptions{.range = Room});
   SteadyClock clock;
   RplidarLaser laser(OptionsFor(link), clock);
-  Received received;
+  RoomScans received(Room);
   laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { received.Take(*scan); });
   ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
   device.Unplug();
@@ -122,7 +100,7 @@ TEST(RplidarLaserTest, UnpluggedItSaysSoAndScansAgainOncePluggedBackIn) {
   ASSERT_TRUE(Eventually([&] { return received.count() >= before + 2; }, 5000ms)) << laser.status().last_error;
   EXPECT_EQ(laser.status().state, LinkState::kRunning);
   EXPECT_GT(laser.status().reconnects, 0u);
-  EXPECT_EQ(received.wrong, 0);
+  EXPECT_EQ(received.wrong(), 0);
 }
 
 TEST(RplidarLaserTest, ADeviceThatFallsSilentIsCalledSilentAndScansAgainWhenItAnswers) {
@@ -130,7 +108,7 @@ TEST(RplidarLaserTest, ADeviceThatFallsSilentIsCalledSilentAndScansAgainWhenItAn
   RplidarEmulator device(link, RplidarEmulatorOptions{.range = Room});
   SteadyClock clock;
   RplidarLaser laser(OptionsFor(link), clock);
-  Received received;
+  RoomScans received(Room);
   laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { received.Take(*scan); });
   ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
   device.Silence();
@@ -146,11 +124,11 @@ TEST(RplidarLaserTest, ADeviceReportingAnErrorIsResetAndThenScans) {
   RplidarEmulator device(link, RplidarEmulatorOptions{.range = Room, .health_status = 2});
   SteadyClock clock;
   RplidarLaser laser(OptionsFor(link), clock);
-  Received received;
+  RoomScans received(Room);
   laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { received.Take(*scan); });
   ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
   EXPECT_EQ(device.resets(), 1);
-  EXPECT_EQ(received.wrong, 0);
+  EXPECT_EQ(received.wrong(), 0);
 }
 
 TEST(RplidarLaserTest, ANamelessPortOrBadOptionsAreRefused) {

@@ -135,45 +135,4 @@ void NodeStream::Push(std::span<const std::uint8_t> bytes, std::vector<Node>& ou
   pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(at));
 }
 
-SweepAssembler::SweepAssembler(const SweepOptions& options) : options_(options) {
-  if (options.bins < 4 || !(options.range_min_m >= 0.0) || !(options.range_max_m > options.range_min_m)) {
-    throw std::invalid_argument("rplidar: need bins >= 4 and 0 <= range_min_m < range_max_m");
-  }
-  ranges_.assign(static_cast<std::size_t>(options.bins), std::numeric_limits<float>::infinity());
-}
-
-std::optional<LaserScan> SweepAssembler::Add(const Node& node, TimeNs stamp_ns) {
-  std::optional<LaserScan> scan;
-  if (node.start) {
-    if (started_ && nodes_ >= options_.min_nodes) scan = Finish(stamp_ns);
-    std::fill(ranges_.begin(), ranges_.end(), std::numeric_limits<float>::infinity());
-    nodes_ = 0;
-    started_ = true;
-  }
-  if (!started_) return scan;  // the rest of a revolution begun before the first start flag
-  ++nodes_;
-  if (node.quality < options_.min_quality || node.distance_m < options_.range_min_m ||
-      node.distance_m > options_.range_max_m) {
-    return scan;
-  }
-  // Clockwise from forward in the device; counter-clockwise from -pi in the scan.
-  const double angle = -node.angle_deg * std::numbers::pi / 180.0;
-  const double increment = 2.0 * std::numbers::pi / options_.bins;
-  const long index = std::lround((angle + std::numbers::pi) / increment);
-  const auto bin = static_cast<std::size_t>(((index % options_.bins) + options_.bins) % options_.bins);
-  ranges_[bin] = std::min(ranges_[bin], static_cast<float>(node.distance_m));
-  return scan;
-}
-
-LaserScan SweepAssembler::Finish(TimeNs stamp_ns) {
-  LaserScan scan;
-  scan.stamp_ns = stamp_ns;
-  scan.angle_min_rad = -std::numbers::pi;
-  scan.angle_increment_rad = 2.0 * std::numbers::pi / options_.bins;
-  scan.range_min_m = options_.range_min_m;
-  scan.range_max_m = options_.range_max_m;
-  scan.ranges = ranges_;
-  return scan;
-}
-
 }  // namespace corridor::drivers::rplidar

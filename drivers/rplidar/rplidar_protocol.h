@@ -3,8 +3,7 @@
 // nodes, assembled into sweeps. Bytes in and out only: the driver does the I/O, and the emulator in the tests speaks
 // the device's side from the same document (written apart from this code, so that a misreading shows as a mismatch).
 //
-// Scans from the device are clockwise seen from above (angle 0 forward); a LaserScan is counter-clockwise (REP-103):
-// SweepAssembler turns one into the other.
+// Scans from the device are clockwise seen from above (angle 0 forward): drivers/laser_sweep.h makes them LaserScans.
 #pragma once
 
 #include <array>
@@ -14,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "drivers/laser2d.h"
+#include "drivers/laser_sweep.h"
 
 namespace corridor::drivers::rplidar {
 
@@ -69,12 +68,8 @@ DeviceHealth DecodeHealth(std::span<const std::uint8_t, kHealthBytes> bytes);
 
 // One measurement of the standard scan: byte 0 the quality (6 bits) over the start flag and its inverse, bytes 1-2
 // the angle in 1/64 degree over a check bit that is always 1, bytes 3-4 the distance in 1/4 mm (0: no measurement).
-struct Node {
-  bool start = false;       // the first measurement of a new revolution
-  int quality = 0;          // 0..63
-  double angle_deg = 0.0;   // clockwise from the device's forward
-  double distance_m = 0.0;  // 0: none
-};
+// Its quality is 0..63.
+using Node = SweepPoint;
 inline constexpr std::size_t kNodeBytes = 5;
 std::array<std::uint8_t, kNodeBytes> EncodeNode(const Node& node);
 // Nothing when the check bits are wrong (the start flag and its inverse equal, or the check bit 0).
@@ -102,32 +97,6 @@ class NodeStream {
   bool in_sync_ = false;  // the nodes line up
   std::optional<double> last_angle_deg_;  // of the last node taken
   std::uint64_t skipped_ = 0;
-};
-
-struct SweepOptions {
-  int bins = 360;                // the scan's beams over the full turn, counter-clockwise from forward
-  double range_min_m = 0.15;     // nearer measurements are dropped (inside the housing)
-  double range_max_m = 12.0;     // farther ones too
-  int min_quality = 1;           // measurements of lower quality are dropped (0: the device saw nothing)
-  int min_nodes = 50;            // a sweep with fewer measurements is not a scan (the motor still spinning up)
-};
-
-// Revolutions from nodes: each node with the start flag ends the sweep before it. A sweep becomes a LaserScan
-// (counter-clockwise from forward, REP-103) of `bins` beams, each the nearest good measurement in it, +infinity
-// where there is none.
-class SweepAssembler {
- public:
-  explicit SweepAssembler(const SweepOptions& options = {});
-  // The scan the node completes, stamped `stamp_ns` (when the sweep's last byte arrived), or nothing.
-  std::optional<LaserScan> Add(const Node& node, TimeNs stamp_ns);
-
- private:
-  LaserScan Finish(TimeNs stamp_ns);
-
-  SweepOptions options_;
-  std::vector<float> ranges_;
-  int nodes_ = 0;
-  bool started_ = false;  // a start flag was seen: the sweep under way is whole
 };
 
 }  // namespace corridor::drivers::rplidar

@@ -136,7 +136,7 @@ TEST(RplidarProtocolTest, SweepsBecomeCounterClockwiseScansFromTheStartFlagOn) {
 TEST(RplidarProtocolTest, MeasurementsOfNoQualityOrOutOfRangeAreNotInTheScan) {
   SweepOptions options;
   options.bins = 8;
-  options.min_nodes = 1;
+  options.min_points = 1;
   SweepAssembler sweeps(options);
   EXPECT_FALSE(sweeps.Add(Node{true, 40, 0.0, 2.0}, 1));
   sweeps.Add(Node{false, 0, 45.0, 2.0}, 1);    // the device saw nothing

@@ -68,6 +68,11 @@ RobotDevices::RobotDevices(const Config& config, const drivers::Clock& clock) {
       laser_ = hokuyo_.get();
       slots_.push_back({nav::Device::kLaser, "hokuyo", d.laser.hokuyo.port, hokuyo_.get()});
       break;
+    case DeviceDriver::kLds:
+      lds_ = std::make_unique<drivers::lds::LdsLaser>(d.laser.lds, clock);
+      laser_ = lds_.get();
+      slots_.push_back({nav::Device::kLaser, "lds", d.laser.lds.port.string(), lds_.get()});
+      break;
     case DeviceDriver::kNone: break;
     default: throw ConfigError(std::string("devices.laser.driver: ") + ToString(d.laser.driver) + " is not a laser");
   }
@@ -118,6 +123,7 @@ void RobotDevices::Stop() {
   if (dds_base_) dds_base_->Stop();
   rplidar_.reset();
   hokuyo_.reset();
+  lds_.reset();
   realsense_.reset();
   openni2_.reset();
   create2_.reset();

@@ -12,6 +12,7 @@
 #include "drivers/dds/participant.h"
 #include "drivers/hokuyo/hokuyo_laser.h"
 #include "drivers/kobuki/kobuki_base.h"
+#include "drivers/lds/lds_laser.h"
 #include "drivers/openni2/openni2_camera.h"
 #include "drivers/realsense/realsense_camera.h"
 #include "drivers/rplidar/rplidar_laser.h"
@@ -53,6 +54,7 @@ class RobotDevices {
   std::unique_ptr<drivers::serial_text::SerialTextBase> serial_text_;
   std::unique_ptr<drivers::rplidar::RplidarLaser> rplidar_;
   std::unique_ptr<drivers::hokuyo::HokuyoLaser> hokuyo_;
+  std::unique_ptr<drivers::lds::LdsLaser> lds_;
   std::unique_ptr<drivers::realsense::RealSenseCamera> realsense_;
   std::unique_ptr<drivers::openni2::OpenNi2Camera> openni2_;
   drivers::DepthCamera* camera_ = nullptr;

@@ -565,7 +565,8 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
   r.Section("laser", [&](ConfigReader& s) {
     LaserSlotOptions& o = d.laser;
     driver(s, o.driver,
-           {{"sim", D::kSim}, {"dds", D::kDds}, {"rplidar", D::kRplidar}, {"hokuyo", D::kHokuyo}, {"none", D::kNone}});
+           {{"sim", D::kSim}, {"dds", D::kDds}, {"rplidar", D::kRplidar}, {"hokuyo", D::kHokuyo}, {"lds", D::kLds},
+            {"none", D::kNone}});
     if (o.driver == D::kDds) {
       s.Read("topic", o.dds.topic);
       if (o.dds.topic.empty()) throw ConfigError(s.PathOf("topic") + ": required with driver dds (e.g. /scan)");
@@ -578,6 +579,19 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
       ReadMount(s, l.base_T_laser);
       s.Read("mount_height_m", l.height_m, 0.0, 3.0);
       s.Read("beams", l.sweep.bins, 8, 8192);
+      s.Read("min_range_m", l.sweep.range_min_m, 0.0, 10.0);
+      s.Read("max_range_m", l.sweep.range_max_m, 0.5, 100.0);
+      s.Read("stale_s", l.stale_s, 0.02, 1.0);
+      s.Read("silence_s", l.silence_s, l.stale_s, 10.0);
+    } else if (o.driver == D::kLds) {
+      drivers::lds::LdsOptions& l = o.lds;
+      s.ReadChoice<drivers::lds::Model>("model", l.model,
+                                        {{"lds-02", drivers::lds::Model::kLds02}, {"lds-01", drivers::lds::Model::kLds01}});
+      // The LDS-01 measures to 3.5 m; the LDS-02 to 8 m.
+      if (l.model == drivers::lds::Model::kLds01) l.sweep.range_max_m = 3.5;
+      ReadSerial(s, l.port, l.baud_rate, base);
+      ReadMount(s, l.base_T_laser);
+      s.Read("mount_height_m", l.height_m, 0.0, 3.0);
       s.Read("min_range_m", l.sweep.range_min_m, 0.0, 10.0);
       s.Read("max_range_m", l.sweep.range_max_m, 0.5, 100.0);
       s.Read("stale_s", l.stale_s, 0.02, 1.0);
@@ -945,6 +959,7 @@ const char* ToString(DeviceDriver driver) {
     case DeviceDriver::kSerialText: return "serial-text";
     case DeviceDriver::kRplidar: return "rplidar";
     case DeviceDriver::kHokuyo: return "hokuyo";
+    case DeviceDriver::kLds: return "lds";
     case DeviceDriver::kRealsense: return "realsense";
     case DeviceDriver::kOpenni2: return "openni2";
     case DeviceDriver::kNone: return "none";

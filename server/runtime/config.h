@@ -9,6 +9,7 @@
 #include "drivers/create2/create2_options.h"
 #include "drivers/hokuyo/hokuyo_options.h"
 #include "drivers/kobuki/kobuki_options.h"
+#include "drivers/lds/lds_options.h"
 #include "drivers/openni2/openni2_options.h"
 #include "drivers/realsense/realsense_options.h"
 #include "drivers/serial_text/serial_text_options.h"
@@ -285,14 +286,14 @@ std::string SimMapName(const Config& config);
 
 // devices.*: the driver serving each of the robot's devices (docs/hardware.md): the simulator's robot (sim), a ROS 2
 // driver over DDS (dds, drivers/dds/devices.h), a native driver (create2, kobuki, turtlebot3, serial-text; rplidar,
-// hokuyo; realsense, openni2), or none (a robot without a laser,
+// hokuyo, lds; realsense, openni2), or none (a robot without a laser,
 // or without a camera: the laser's lanes are then its sight; not both). The simulator's robot is all of the devices or
 // none: a simulated base carries the simulated camera and the simulated laser (either may be none); the other drivers
 // mix freely.
 enum class DeviceDriver {
   kSim, kDds, kNone,
   kCreate2, kKobuki, kTurtlebot3, kSerialText,  // bases
-  kRplidar, kHokuyo,                             // lasers
+  kRplidar, kHokuyo, kLds,                       // lasers
   kRealsense, kOpenni2,                          // cameras
 };
 const char* ToString(DeviceDriver driver);
@@ -311,6 +312,7 @@ struct LaserSlotOptions {
   drivers::dds::DdsLaserOptions dds;
   drivers::rplidar::RplidarOptions rplidar;
   drivers::hokuyo::HokuyoOptions hokuyo;
+  drivers::lds::LdsOptions lds;
 };
 
 struct CameraSlotOptions {

@@ -246,6 +246,23 @@ TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
   EXPECT_EQ(urg.devices.laser.hokuyo.port, (dir_ / "ttyACM0").string());  // relative to the configuration
   EXPECT_EQ(urg.devices.camera.openni2.uri, "1d27/0601@1/5");
   EXPECT_FALSE(urg.devices.camera.openni2.color);
+  // A TurtleBot 3's laser: an LDS-02 unless said, an LDS-01 measuring to 3.5 m.
+  std::ofstream(dir_ / "c.yaml") << dds << "devices:\n  base: {driver: turtlebot3, port: /dev/corridor/opencr}\n"
+                                           "  laser: {driver: lds, port: /dev/corridor/lds}\n  camera: {driver: none}\n";
+  const Config burger = LoadConfig(dir_ / "c.yaml");
+  EXPECT_EQ(burger.devices.laser.driver, DeviceDriver::kLds);
+  EXPECT_EQ(burger.devices.laser.lds.model, drivers::lds::Model::kLds02);
+  EXPECT_EQ(burger.devices.laser.lds.baud_rate, 230400);
+  EXPECT_DOUBLE_EQ(burger.devices.laser.lds.sweep.range_max_m, 8.0);
+  std::ofstream(dir_ / "c.yaml") << dds << "devices:\n  base: {driver: turtlebot3, port: /dev/corridor/opencr}\n"
+                                           "  laser: {driver: lds, model: lds-01, port: /dev/corridor/lds}\n"
+                                           "  camera: {driver: none}\n";
+  EXPECT_EQ(LoadConfig(dir_ / "c.yaml").devices.laser.lds.model, drivers::lds::Model::kLds01);
+  EXPECT_DOUBLE_EQ(LoadConfig(dir_ / "c.yaml").devices.laser.lds.sweep.range_max_m, 3.5);
+  EXPECT_NE(error("{base: {driver: kobuki, port: /dev/x}, laser: {driver: lds, model: lds-03, port: /dev/x}, camera: "
+                  "{driver: none}}")
+                .find("devices.laser.model"),
+            std::string::npos);
   EXPECT_NE(error("{base: {driver: kobuki, port: /dev/x}, laser: {driver: hokuyo, port: 'robot:http'}, camera: "
                   "{driver: none}}")
                 .find("devices.laser.port: 'robot:http': http is not a TCP port"),

@@ -1,7 +1,8 @@
 // libFuzzer target: the native devices' byte streams, which come from whatever is plugged into the robot (noise, a
 // device at another baud rate, a different firmware), through each protocol's parser as the drivers feed it, in
 // pieces of any size: the RPLIDAR's nodes and sweeps, the Create 2's stream, the Kobuki's packets, DYNAMIXEL status
-// packets (TurtleBot 3), SCIP answers and scans (Hokuyo), and the serial text protocol's lines. Nothing may crash,
+// packets (TurtleBot 3), SCIP answers and scans (Hokuyo), the LDS-01/02 packets (TurtleBot 3's lasers), and the serial text
+// protocol's lines. Nothing may crash,
 // read out of bounds, or grow without bound; what a parser hands on must be whole.
 #include <fuzzer/FuzzedDataProvider.h>
 
@@ -13,6 +14,7 @@
 #include "drivers/create2/open_interface.h"
 #include "drivers/hokuyo/scip_protocol.h"
 #include "drivers/kobuki/kobuki_protocol.h"
+#include "drivers/lds/lds_protocol.h"
 #include "drivers/rplidar/rplidar_protocol.h"
 #include "drivers/serial_text/serial_text_protocol.h"
 #include "drivers/turtlebot3/dynamixel_protocol.h"
@@ -39,10 +41,10 @@ void Check(bool holds) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   FuzzedDataProvider input(data, size);
-  switch (input.ConsumeIntegralInRange<int>(0, 5)) {
+  switch (input.ConsumeIntegralInRange<int>(0, 7)) {
     case 0: {
       rplidar::NodeStream stream;
-      rplidar::SweepAssembler sweeps;
+      SweepAssembler sweeps;
       std::vector<rplidar::Node> nodes;
       InPieces(input, [&](std::span<const std::uint8_t> bytes) {
         nodes.clear();
@@ -81,6 +83,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         hokuyo::DecodeScan(answer);
         hokuyo::DecodeParameters(answer);
       }
+      break;
+    }
+    case 5:
+    case 6: {
+      lds::PacketStream stream(input.ConsumeBool() ? lds::Model::kLds01 : lds::Model::kLds02);
+      SweepAssembler sweeps;
+      std::vector<SweepPoint> points;
+      InPieces(input, [&](std::span<const std::uint8_t> bytes) {
+        points.clear();
+        stream.Push(bytes, points);
+        for (const SweepPoint& point : points) {
+          Check(point.angle_deg >= 0.0 && point.angle_deg < 360.0);
+          if (const auto scan = sweeps.Add(point, 0)) Check(scan->ranges.size() == 360);
+        }
+      });
       break;
     }
     default: {
