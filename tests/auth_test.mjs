@@ -232,6 +232,23 @@ describe('roles, tokens and sessions', () => {
       await page.getByTestId('camera-measure').click();
       await page.getByTestId('camera-calibration').filter({ hasText: /height 0\.\d+ m .*tilt \d+\.\d°/ }).waitFor();
       assert.equal(await page.getByTestId('camera-keep').isVisible(), true);
+      // The laser's yaw against the camera (the simulator's laser faces forward as configured); a wheel run finished
+      // where it started is no run, and the page says what to do.
+      await page.getByTestId('laser-measure').click();
+      await page.getByTestId('laser-calibration').filter({ hasText: /yaw -?0\.\d° \(configured 0\.0\), \d+ points/ }).waitFor();
+      assert.equal(await page.getByTestId('laser-keep').isVisible(), true);
+      await page.getByTestId('wheels-start').click();
+      await page.getByTestId('wheels-calibration').filter({ hasText: /^started: drive straight/ }).waitFor();
+      await page.getByTestId('wheels-finish').click();
+      await page.getByTestId('wheels-calibration').filter({ hasText: /odometry shows 0\.00 m .*drive straight at least/ }).waitFor();
+      assert.equal(await page.getByTestId('wheels-keep').isVisible(), false);
+      // The live view: each slot's driver and health, the base's motion; a jog turns the robot through teleop.
+      await page.locator('#live summary').click();
+      await page.locator('#slots').filter({ hasText: /laser\s*sim/ }).waitFor();
+      await page.getByTestId('live-base').filter({ hasText: /^base: -?0\.00 m\/s/ }).waitFor();
+      await page.getByTestId('jog-left').click();
+      await page.getByTestId('live-base').filter({ hasText: /m\/s, 0\.[1-9]\d rad\/s/ }).waitFor({ timeout: 5000 });
+      await page.waitForFunction(() => document.getElementById('live-depth').naturalWidth > 0);
       assert.deepEqual(errors, []);
       // A viewer is sent back to the console.
       const other = await browser.newPage();

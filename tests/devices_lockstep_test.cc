@@ -1,7 +1,8 @@
 // The devices' health through the daemon's graph in simulated time (testing/lockstep_robot.h): every device of the
 // simulator's robot reported ok at its rate, the laser's latest scan readable, and a camera that stops sending frames
 // reported stale while the robot holds its forward motion; a robot without a laser has no scan to give; a robot without
-// a camera drives on its laser's lanes and stops short of a wall.
+// a camera drives on its laser's lanes and stops short of a wall. And the calibrations: the camera's mounting from the
+// floor, the laser's yaw against the camera, the wheels from a straight run and a turn.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -136,6 +137,79 @@ TEST(DevicesLockstep, TheCamerasHeightAndTiltAreMeasuredFromTheFloor) {
   // A robot without a camera has nothing to measure.
   LockstepRobot blind(DefaultConfig(), [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
   EXPECT_EQ(blind.Call("POST", "/api/v1/devices/camera/calibration", json::object()).status, 404);
+}
+
+// The laser's yaw against the camera: the configuration says the simulator's laser is turned 4 degrees, it faces
+// forward, and laying its scan on the camera's view says so.
+TEST(DevicesLockstep, TheLasersYawIsMeasuredAgainstTheCamera) {
+  LockstepRobot robot(DefaultConfig(), [](server::Config& c) { c.sim.robot.laser.mount_yaw_deg = 4.0; });
+  robot.StepFor(0.5);
+  const LockstepRobot::Reply fit = robot.Call("POST", "/api/v1/devices/laser/calibration", json::object());
+  ASSERT_EQ(fit.status, 200) << fit.body.dump();
+  EXPECT_NEAR(fit.body["yaw_deg"].get<double>(), 0.0, 0.5) << fit.body.dump();
+  EXPECT_NEAR(fit.body["configured"]["yaw_deg"].get<double>(), 4.0, 1e-9);
+  EXPECT_GT(fit.body["points"].get<int>(), 20);
+  EXPECT_NEAR(fit.body["patch"]["sim"]["laser"]["mount_yaw_deg"].get<double>(), 0.0, 0.5);
+  // Moving, it does not measure; without a camera, there is nothing to measure against.
+  ASSERT_TRUE(robot.StepUntil(
+      [&] {
+        robot.Call("POST", "/api/v1/teleop", {{"linear_mps", 0.0}, {"angular_rps", 0.5}});
+        const auto odometry = robot.graph().bus().Get(server::topics::kOdometry).latest();
+        return odometry && std::abs(odometry->velocity.angular_rps) > 0.1;
+      },
+      2.0));
+  EXPECT_EQ(robot.Call("POST", "/api/v1/devices/laser/calibration", json::object()).status, 409);
+  LockstepRobot blind(DefaultConfig(), [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
+  blind.StepFor(0.5);
+  EXPECT_EQ(blind.Call("POST", "/api/v1/devices/laser/calibration", json::object()).status, 404);
+}
+
+// The wheels: the simulator's odometry counts with a wheel diameter 4 % too large and a track 3 % too small. A straight
+// run towards the wall ahead measures the diameter, a turn on the spot the track, and the patches undo both errors.
+TEST(DevicesLockstep, TheWheelsDiameterAndTrackAreMeasuredFromAStraightRunAndATurn) {
+  LockstepRobot robot(DefaultConfig(), [](server::Config& c) {
+    c.sim.robot.base.wheel_diameter_error = 1.04;
+    c.sim.robot.base.track_error = 0.97;
+  });
+  robot.StepFor(0.5);
+  EXPECT_EQ(robot.Call("POST", "/api/v1/devices/wheels/calibration/finish", json::object()).status, 409);  // not started
+  // Drives by hand (the console's keys) until `done`, then stands a second for a scan taken still.
+  const auto run = [&](const json& twist, const std::function<bool()>& done) {
+    ASSERT_EQ(robot.Call("POST", "/api/v1/devices/wheels/calibration/start", json::object()).status, 200);
+    double last_s = -1.0;
+    ASSERT_TRUE(robot.StepUntil(
+        [&] {
+          if (robot.now_s() - last_s >= 0.1) {
+            robot.Call("POST", "/api/v1/teleop", twist);
+            last_s = robot.now_s();
+          }
+          return done();
+        },
+        20.0));
+    robot.StepFor(1.0);
+  };
+  const nav::Pose2 start = robot.sim().true_pose();
+  run({{"linear_mps", 0.25}, {"angular_rps", 0.0}},
+      [&] { return (robot.sim().true_pose().translation() - start.translation()).norm() > 0.8; });
+  const LockstepRobot::Reply straight = robot.Call("POST", "/api/v1/devices/wheels/calibration/finish", json::object());
+  ASSERT_EQ(straight.status, 200) << straight.body.dump();
+  EXPECT_EQ(straight.body["run"], "straight");
+  const double travelled = (robot.sim().true_pose().translation() - start.translation()).norm();
+  EXPECT_NEAR(straight.body["measured"].get<double>(), travelled, 0.02) << straight.body.dump();
+  EXPECT_NEAR(straight.body["diameter_factor"].get<double>(), 1.0 / 1.04, 0.01) << straight.body.dump();
+  EXPECT_NEAR(straight.body["patch"]["sim"]["base"]["wheel_diameter_error"].get<double>(), 1.0, 0.01);
+
+  const double yaw0 = robot.sim().true_pose().yaw_rad;
+  run({{"linear_mps", 0.0}, {"angular_rps", 0.6}},
+      [&] { return nav::WrapAngle(robot.sim().true_pose().yaw_rad - yaw0) > 2.4; });
+  const LockstepRobot::Reply turn = robot.Call("POST", "/api/v1/devices/wheels/calibration/finish", json::object());
+  ASSERT_EQ(turn.status, 200) << turn.body.dump();
+  EXPECT_EQ(turn.body["run"], "turn");
+  const double turned_deg = nav::WrapAngle(robot.sim().true_pose().yaw_rad - yaw0) * 180.0 / M_PI;
+  EXPECT_NEAR(turn.body["measured"].get<double>(), turned_deg, 1.0) << turn.body.dump();
+  EXPECT_NEAR(turn.body["track_factor"].get<double>(), 1.0 / 0.97, 0.01) << turn.body.dump();
+  EXPECT_NEAR(turn.body["patch"]["sim"]["base"]["track_error"].get<double>(), 1.0, 0.01);
+  EXPECT_NEAR(turn.body["patch"]["sim"]["base"]["wheel_diameter_error"].get<double>(), 1.0, 0.01);
 }
 
 }  // namespace

@@ -75,12 +75,14 @@ void DiffDriveSim::Step(double dt_s, double now_s, std::mt19937& rng) {
     next = nav::Pose2{pose_.x_m, pose_.y_m, next.yaw_rad};
     velocity_.linear_mps = 0.0;
   }
-  // Odometry sees the wheels' real motion with a small multiplicative error.
+  // Odometry sees the wheels' real motion with a small multiplicative error, and the systematic ones of wheels
+  // configured wrong.
   const nav::Pose2 step = pose_.Inverse() * next;
   std::normal_distribution<double> lin(1.0, options_.odom_linear_noise);
   std::normal_distribution<double> ang(1.0, options_.odom_angular_noise);
-  const double fl = lin(rng);
-  odom_pose_ = odom_pose_ * nav::Pose2{step.x_m * fl, step.y_m * fl, step.yaw_rad * ang(rng)};
+  const double fl = lin(rng) * options_.wheel_diameter_error;
+  const double fa = ang(rng) * options_.wheel_diameter_error / options_.track_error;
+  odom_pose_ = odom_pose_ * nav::Pose2{step.x_m * fl, step.y_m * fl, step.yaw_rad * fa};
   pose_ = next;
 }
 

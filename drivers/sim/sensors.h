@@ -36,6 +36,9 @@ struct SimLaserOptions {
   double max_range_m = 8.0;
   double rate_hz = 10.0;
   double noise_m = 0.01;
+  // Where the configuration says the laser points (base_T_laser); the simulated laser really faces forward. Not 0:
+  // a laser whose mounting is set wrong, as the laser's calibration finds.
+  double mount_yaw_deg = 0.0;
 };
 
 // Intrinsics and mounting of the simulated camera.

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <numbers>
 #include <optional>
 #include <random>
 
@@ -85,7 +86,7 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   void SetVelocity(const nav::Twist2& command) override;
   void SetOdometryHandler(OdometryHandler handler) override { odometry_handler_ = std::move(handler); }
   // Laser2D
-  nav::Pose2 base_T_laser() const override { return {}; }
+  nav::Pose2 base_T_laser() const override { return {0.0, 0.0, options_.laser.mount_yaw_deg * std::numbers::pi / 180.0}; }
   double height_m() const override { return options_.laser.mount_height_m; }
   void SetScanHandler(ScanHandler handler) override { scan_handler_ = std::move(handler); }
   // Battery

@@ -7,7 +7,6 @@
 #include <charconv>
 #include <limits>
 #include <numbers>
-#include <random>
 #include <cmath>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -18,7 +17,6 @@
 #include "drivers/discovery.h"
 #include "drivers/openni2/openni2_camera.h"
 #include "drivers/realsense/v4l2_capture.h"
-#include "nav/ground/floor_fit.h"
 #include "server/runtime/config_file.h"
 #include "server/runtime/topics.h"
 
@@ -187,6 +185,7 @@ Api::Api(ApiContext context) : c_(context), start_ns_(context.clock.Now()) {
   AddWebhookRoutes();
   AddAuthRoutes();
   AddRmfRoutes();
+  AddCalibrationRoutes();
 }
 
 Api::Handler Api::Sync(std::function<Response(const Request&, const Params&)> f) {
@@ -341,40 +340,6 @@ void Api::AddCoreRoutes() {
   // paths and serial numbers).
   Add(http::verb::get, "/api/v1/devices/hardware",
       Sync([](const Request& r, const Params&) { return JsonResponse(r, Hardware()); }));
-  // The camera's height, tilt and roll measured from the floor in its latest depth frame (nav/ground/floor_fit.h), and
-  // the configuration's keys that would hold them; writing them is PATCH /api/v1/config's.
-  Add(http::verb::post, "/api/v1/devices/camera/calibration", Sync([this](const Request& r, const Params&) {
-        if (c_.camera == nullptr) {
-          throw ApiError(http::status::not_found, "No camera", "this robot has no camera (devices.camera.driver: none)");
-        }
-        const auto frame = c_.bus.Get(topics::kRgbd).latest();
-        if (!frame) throw ApiError(http::status::service_unavailable, "No camera frame", "the camera has not sent a frame yet");
-        const nav::PinholeCamera camera = c_.camera->info().camera;
-        std::mt19937 rng(1);
-        const std::optional<nav::FloorFit> fit = nav::FitFloor(frame->depth_mm, camera, nav::FloorFitOptions{}, rng);
-        if (!fit) {
-          throw ApiError(http::status::unprocessable_entity, "No floor",
-                         "no plane in the lower half of the depth image looks like the floor: point the robot at open "
-                         "floor (nothing in the nearest two metres ahead) and try again",
-                         "no_floor");
-        }
-        const Eigen::Isometry3d measured = nav::MountingFromFloor(*fit, camera.base_T_camera);
-        const double height_m = measured.translation().z();
-        const double tilt_deg = fit->tilt_rad * 180.0 / std::numbers::pi;
-        // The configured mounting: the optical axis's pitch below the horizontal, and the optical centre's height.
-        const Eigen::Vector3d axis = camera.base_T_camera.linear() * Eigen::Vector3d::UnitZ();
-        const double configured_tilt_deg = std::asin(std::clamp(-axis.z(), -1.0, 1.0)) * 180.0 / std::numbers::pi;
-        const json mount{{"mount_height_m", std::round(height_m * 1000.0) / 1000.0},
-                         {"tilt_deg", std::round(tilt_deg * 10.0) / 10.0}};
-        const bool sim = c_.config.devices.camera.driver == DeviceDriver::kSim;
-        return JsonResponse(r, {{"height_m", height_m},
-                                {"tilt_deg", tilt_deg},
-                                {"roll_deg", fit->roll_rad * 180.0 / std::numbers::pi},
-                                {"inlier_fraction", fit->inlier_fraction},
-                                {"configured", {{"height_m", camera.base_T_camera.translation().z()},
-                                                {"tilt_deg", configured_tilt_deg}}},
-                                {"patch", sim ? json{{"sim", {{"camera", mount}}}} : json{{"devices", {{"camera", mount}}}}}});
-      }));
   Add(http::verb::get, "/api/v1/laser/scan", Sync([this](const Request& r, const Params&) {
         if (c_.laser == nullptr) throw ApiError(http::status::not_found, "No laser", "this robot has no laser");
         const auto scan = c_.bus.Get(topics::kScan).latest();

@@ -181,6 +181,7 @@ class Api {
   void AddWebhookRoutes();
   void AddAuthRoutes();
   void AddRmfRoutes();
+  void AddCalibrationRoutes();
   // The Open-RMF robot state's inputs, from the bus now.
   RmfSample SampleForRmf() const;
   // {x, y, yaw} of `body`, on the active map (else 422 outside_map).
@@ -213,6 +214,7 @@ class Api {
   std::shared_ptr<std::atomic<bool>> control_stalled_ = std::make_shared<std::atomic<bool>>(false);
   std::vector<Route> routes_;
   std::shared_ptr<RmfCommands> rmf_commands_ = std::make_shared<RmfCommands>();
+  std::shared_ptr<struct WheelCalibration> wheel_calibration_;  // a wheel calibration run under way (api_calibration.cc)
 };
 
 // The OpenAPI 3.1 document (server/api/openapi.json, built into the binary).

@@ -95,6 +95,8 @@ void ReadBase(ConfigReader& r, drivers::sim::SimBaseOptions& o) {
   r.Read("command_timeout_s", o.command_timeout_s, 0.05, 5.0);
   r.Read("odom_linear_noise", o.odom_linear_noise, 0.0, 0.5);
   r.Read("odom_angular_noise", o.odom_angular_noise, 0.0, 0.5);
+  r.Read("wheel_diameter_error", o.wheel_diameter_error, 0.5, 2.0);
+  r.Read("track_error", o.track_error, 0.5, 2.0);
 }
 
 void ReadCamera(ConfigReader& r, drivers::sim::SimCameraOptions& o) {
@@ -123,6 +125,7 @@ void ReadLaser(ConfigReader& r, drivers::sim::SimLaserOptions& o) {
   r.Read("max_range_m", o.max_range_m, 0.1, 100.0);
   r.Read("rate_hz", o.rate_hz, 1.0, 100.0);
   r.Read("noise_m", o.noise_m, 0.0, 1.0);
+  r.Read("mount_yaw_deg", o.mount_yaw_deg, -180.0, 180.0);
 }
 
 void ReadGround(ConfigReader& r, nav::MorpOptions& o) {

@@ -1,7 +1,8 @@
 // The admin page at /admin: users, API tokens, webhooks, the devices plugged in, and the audit log. For admins; anyone else is sent to the
 // console (which logs them in).
-import { send } from './api';
+import { request, send, type LaserScanReading, type State, type Twist } from './api';
 import { byId } from './dom';
+import { repeat } from './poll';
 import { type Me, whoAmI } from './session';
 
 interface User { username: string; role: string; created: string; }
@@ -16,6 +17,11 @@ interface Hardware {
 interface CameraCalibration {
   height_m: number; tilt_deg: number; roll_deg: number; inlier_fraction: number;
   configured: { height_m: number; tilt_deg: number }; patch: object;
+}
+interface LaserCalibration { yaw_deg: number; configured: { yaw_deg: number }; score: number; points: number; patch: object; }
+interface WheelRun {
+  run: 'straight' | 'turn'; unit: string; odometry: number; measured: number; score: number;
+  diameter_factor: number; track_factor: number; patch: object | null;
 }
 interface AuditRecord { time: string; who: string; client: string; method: string; path: string; status: number; detail: string; }
 
@@ -93,31 +99,143 @@ async function showHardware(): Promise<void> {
   byId('hardware').replaceChildren(...(rows.length > 0 ? rows : [row(['nothing plugged in', '', '', '', ''])]));
 }
 
-// The camera's height and tilt measured from the floor, beside the configured ones; Keep it writes them.
-let measured: CameraCalibration | null = null;
-async function measureCamera(): Promise<void> {
-  const out = byId('camera-calibration');
-  const keep = byId<HTMLButtonElement>('camera-keep');
-  measured = null;
-  keep.hidden = true;
-  out.textContent = 'measuring…';
-  try {
-    const c = await send<CameraCalibration>('POST', '/api/v1/devices/camera/calibration', {});
-    measured = c;
-    out.textContent = `height ${c.height_m.toFixed(3)} m (configured ${c.configured.height_m.toFixed(3)}), `
+// A calibration's section on the page: the returned function runs a measurement (`measure` answers what to show and
+// the configuration patch that keeps it, or none) and shows it; Keep it writes the last patch (PATCH /api/v1/config,
+// read at the next start).
+type Measure = () => Promise<{ text: string; patch: object | null }>;
+function calibration(name: string): (measure: Measure) => void {
+  const out = byId(`${name}-calibration`);
+  const keep = byId<HTMLButtonElement>(`${name}-keep`);
+  let patch: object | null = null;
+  keep.addEventListener('click', () => {
+    if (!patch) return;
+    send<{ detail: string }>('PATCH', '/api/v1/config', patch).then((result) => {
+      out.textContent = `kept: ${result.detail}`;
+      keep.hidden = true;
+    }).catch(report);
+  });
+  return (measure) => {
+    patch = null;
+    keep.hidden = true;
+    out.textContent = 'measuring…';
+    measure().then((m) => {
+      out.textContent = m.text;
+      patch = m.patch;
+      keep.hidden = patch === null;
+    }).catch((e: Error) => { out.textContent = e.message; });
+  };
+}
+
+// The camera's height and tilt from the floor, beside the configured ones.
+async function measureCamera(): Promise<{ text: string; patch: object }> {
+  const c = await send<CameraCalibration>('POST', '/api/v1/devices/camera/calibration', {});
+  return {
+    text: `height ${c.height_m.toFixed(3)} m (configured ${c.configured.height_m.toFixed(3)}), `
       + `tilt ${c.tilt_deg.toFixed(1)}° (configured ${c.configured.tilt_deg.toFixed(1)}), roll ${c.roll_deg.toFixed(1)}°, `
-      + `${(100 * c.inlier_fraction).toFixed(0)} % of the image's lower half on the floor`;
-    keep.hidden = false;
-  } catch (e) {
-    out.textContent = (e as Error).message;
+      + `${(100 * c.inlier_fraction).toFixed(0)} % of the image's lower half on the floor`,
+    patch: c.patch,
+  };
+}
+
+// The laser's yaw laid on the camera's view.
+async function measureLaser(): Promise<{ text: string; patch: object }> {
+  const c = await send<LaserCalibration>('POST', '/api/v1/devices/laser/calibration', {});
+  return {
+    text: `yaw ${c.yaw_deg.toFixed(1)}° (configured ${c.configured.yaw_deg.toFixed(1)}), ${c.points} points matched, `
+      + `score ${c.score.toFixed(2)}`,
+    patch: c.patch,
+  };
+}
+
+// The wheels: a run started where the robot stands; finished after a straight run or a turn on the spot.
+async function startWheelRun(): Promise<{ text: string; patch: null }> {
+  const started = await send<{ next: string }>('POST', '/api/v1/devices/wheels/calibration/start', {});
+  return { text: `started: ${started.next}`, patch: null };
+}
+
+async function finishWheelRun(): Promise<{ text: string; patch: object | null }> {
+  const w = await send<WheelRun>('POST', '/api/v1/devices/wheels/calibration/finish', {});
+  const factor = w.run === 'straight'
+    ? `wheel diameter × ${w.diameter_factor.toFixed(4)}`
+    : `track × ${w.track_factor.toFixed(4)} (wheel diameter × ${w.diameter_factor.toFixed(4)})`;
+  return {
+    text: `${w.run}: ${w.measured.toFixed(w.unit === 'm' ? 3 : 1)} ${w.unit} measured, `
+      + `${w.odometry.toFixed(w.unit === 'm' ? 3 : 1)} ${w.unit} by odometry: ${factor}`
+      + (w.patch ? '' : ' (this base\'s odometry is its ROS 2 driver\'s: set its wheels there)'),
+    patch: w.patch,
+  };
+}
+
+// The devices as the robot runs them, while the live view is open: each slot's driver and health, the laser's scan
+// (robot at the centre, forward up), the depth camera's frame, the base's motion and battery.
+const kLivePeriodMs = 500;
+let depthUrl: string | null = null;
+async function showLive(): Promise<void> {
+  const state = await send<State>('GET', '/api/v1/state');
+  byId('slots').replaceChildren(...state.devices.map((d) => row([
+    d.device, d.driver, d.port || '—', d.link ? `${d.state} (${d.link})` : d.state, `${d.rate_hz.toFixed(1)} Hz`,
+    d.last_error ?? ''])));
+  const battery = state.battery
+    ? `battery ${state.battery.percent.toFixed(0)} % (${state.battery.voltage_v.toFixed(1)} V${state.battery.charging ? ', charging' : ''})`
+    : 'no battery reported';
+  byId('live-base').textContent = `base: ${state.velocity.linear_mps.toFixed(2)} m/s, `
+    + `${state.velocity.angular_rps.toFixed(2)} rad/s${state.bumper_pressed ? ', bumper pressed' : ''}; ${battery}`;
+  const has = (device: string) => state.devices.some((d) => d.device === device);
+  if (has('laser')) drawScan(await send<LaserScanReading>('GET', '/api/v1/laser/scan'));
+  if (has('camera')) {
+    const res = await request('/api/v1/camera/depth?colormap=true', { cache: 'no-store' });
+    if (res.ok) {
+      const next = URL.createObjectURL(await res.blob());
+      byId<HTMLImageElement>('live-depth').src = next;
+      if (depthUrl) URL.revokeObjectURL(depthUrl);
+      depthUrl = next;
+    }
   }
 }
 
-async function keepCamera(): Promise<void> {
-  if (!measured) return;
-  const result = await send<{ detail: string }>('PATCH', '/api/v1/config', measured.patch);
-  byId('camera-calibration').textContent = `kept: ${result.detail}`;
-  byId<HTMLButtonElement>('camera-keep').hidden = true;
+function drawScan(scan: LaserScanReading): void {
+  const canvas = byId<HTMLCanvasElement>('live-scan');
+  const ctx = canvas.getContext('2d');
+  if (!ctx) return;
+  const scale = canvas.width / 2 / Math.min(scan.range_max_m, 6);  // pixels a metre: 6 m to the edge at most
+  const cx = canvas.width / 2;
+  const cy = canvas.height / 2;
+  ctx.clearRect(0, 0, canvas.width, canvas.height);
+  ctx.strokeStyle = '#2b313b';
+  for (let r = 1; r * scale < canvas.width / 2; ++r) {
+    ctx.beginPath();
+    ctx.arc(cx, cy, r * scale, 0, 2 * Math.PI);
+    ctx.stroke();
+  }
+  ctx.fillStyle = '#f85149';
+  const mount = scan.base_T_laser;
+  scan.ranges.forEach((range, i) => {
+    if (range === null) return;
+    const a = scan.angle_min_rad + i * scan.angle_increment_rad + mount.yaw;
+    const x = mount.x + range * Math.cos(a);  // base frame: x forward (up on the canvas), y left
+    const y = mount.y + range * Math.sin(a);
+    ctx.fillRect(cx - y * scale - 1, cy - x * scale - 1, 2, 2);
+  });
+  ctx.fillStyle = '#58a6ff';
+  ctx.fillRect(cx - 3, cy - 3, 6, 6);
+}
+
+// A short move through the teleop path: the command repeated (a command lapses after half a second) for 1 s, then
+// zero. Moves 10 cm or turns 15 degrees where nothing stops it.
+const kJogs: Record<string, Twist> = {
+  forward: { linear_mps: 0.1, angular_rps: 0 },
+  back: { linear_mps: -0.1, angular_rps: 0 },
+  left: { linear_mps: 0, angular_rps: Math.PI / 12 },
+  right: { linear_mps: 0, angular_rps: -Math.PI / 12 },
+};
+async function jog(direction: string): Promise<void> {
+  const twist = kJogs[direction];
+  const end = Date.now() + 1000;
+  while (Date.now() < end) {
+    await send('POST', '/api/v1/teleop', twist);
+    await new Promise((resolve) => window.setTimeout(resolve, 100));
+  }
+  await send('POST', '/api/v1/teleop', { linear_mps: 0, angular_rps: 0 });
 }
 
 function refresh(me: Me): Promise<void> {
@@ -155,8 +273,18 @@ async function main(): Promise<void> {
   });
   byId('audit-refresh').addEventListener('click', () => void showAudit().catch(report));
   byId('hardware-refresh').addEventListener('click', () => void showHardware().catch(report));
-  byId('camera-measure').addEventListener('click', () => void measureCamera());
-  byId('camera-keep').addEventListener('click', () => void keepCamera().catch(report));
+  const camera = calibration('camera');
+  const laser = calibration('laser');
+  const wheels = calibration('wheels');
+  byId('camera-measure').addEventListener('click', () => camera(measureCamera));
+  byId('laser-measure').addEventListener('click', () => laser(measureLaser));
+  byId('wheels-start').addEventListener('click', () => wheels(startWheelRun));
+  byId('wheels-finish').addEventListener('click', () => wheels(finishWheelRun));
+  for (const button of document.querySelectorAll<HTMLButtonElement>('[data-jog]')) {
+    button.addEventListener('click', () => void jog(button.dataset.jog ?? '').catch(report));
+  }
+  const live = byId<HTMLDetailsElement>('live');
+  repeat(async () => { if (live.open) await showLive(); }, kLivePeriodMs, report);
   await refresh(me).catch(report);
 }
 

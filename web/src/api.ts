@@ -29,6 +29,11 @@ export interface State {
   floor: string | null;
   devices: Device[];
 }
+// The laser's latest scan (GET /api/v1/laser/scan), in its own frame; null ranges saw nothing.
+export interface LaserScanReading {
+  stamp_s: number; angle_min_rad: number; angle_increment_rad: number; range_max_m: number; ranges: (number | null)[];
+  frame: 'laser'; base_T_laser: Pose; height_m: number;
+}
 // One of the robot's devices (GET /api/v1/devices): its driver and where it is reached, its health and data rate.
 export interface Device {
   device: 'base' | 'laser' | 'camera'; driver: string; port: string; state: 'ok' | 'stale' | 'disconnected';
