@@ -19,6 +19,7 @@ std::optional<LaserScan> SweepAssembler::Add(const SweepPoint& point, TimeNs sta
   std::optional<LaserScan> scan;
   if (point.start) {
     if (started_ && points_ >= options_.min_points) scan = Finish(stamp_ns);
+    last_end_ns_ = stamp_ns;
     std::fill(ranges_.begin(), ranges_.end(), std::numeric_limits<float>::infinity());
     points_ = 0;
     started_ = true;
@@ -46,6 +47,11 @@ LaserScan SweepAssembler::Finish(TimeNs stamp_ns) {
   scan.range_min_m = options_.range_min_m;
   scan.range_max_m = options_.range_max_m;
   scan.ranges = ranges_;
+  // The sweep began where the one before ended, at the device's forward, and turned clockwise.
+  const double since_s = last_end_ns_ >= 0 ? ToSeconds(stamp_ns - last_end_ns_) : 0.0;
+  scan.sweep_s = since_s > 0.0 && since_s < 1.0 ? since_s : 0.0;
+  scan.sweep_start_rad = 0.0;
+  scan.sweep_clockwise = true;
   return scan;
 }
 

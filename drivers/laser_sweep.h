@@ -28,7 +28,8 @@ struct SweepOptions {
 
 // Revolutions from measurements: each with the start flag ends the sweep before it. A sweep becomes a LaserScan
 // (counter-clockwise from forward, REP-103) of `bins` beams, each the nearest good measurement in it, +infinity
-// where there is none.
+// where there is none, with its timing: clockwise from forward over the time since the sweep before ended (none for
+// the first, or after a gap of a second).
 class SweepAssembler {
  public:
   // Throws std::invalid_argument for options that cannot work.
@@ -43,6 +44,7 @@ class SweepAssembler {
   std::vector<float> ranges_;
   int points_ = 0;
   bool started_ = false;  // a start flag was seen: the sweep under way is whole
+  TimeNs last_end_ns_ = -1;  // when the sweep under way began (the last start flag)
 };
 
 }  // namespace corridor::drivers

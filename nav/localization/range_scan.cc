@@ -8,7 +8,7 @@
 namespace corridor::nav {
 
 RangeScan ScanFromRanges(const Pose2& base_T_sensor, double angle_min_rad, double increment_rad,
-                         std::span<const float> ranges_m, const RangeLimits& limits) {
+                         std::span<const float> ranges_m, const RangeLimits& limits, const BeamMotion& motion) {
   RangeScan scan;
   scan.origin = base_T_sensor.translation().cast<float>();
   scan.hits.reserve(ranges_m.size());
@@ -19,10 +19,11 @@ RangeScan ScanFromRanges(const Pose2& base_T_sensor, double angle_min_rad, doubl
     }
     const double angle = angle_min_rad + static_cast<double>(i) * increment_rad;
     const Eigen::Vector2d direction(std::cos(angle), std::sin(angle));
+    const Pose2 sensor = motion ? motion(i) * base_T_sensor : base_T_sensor;
     if (r >= limits.max_range_m) {
-      scan.misses.push_back(base_T_sensor.Transform(direction * limits.miss_length_m).cast<float>());
+      scan.misses.push_back(sensor.Transform(direction * limits.miss_length_m).cast<float>());
     } else {
-      scan.hits.push_back(base_T_sensor.Transform(direction * r).cast<float>());
+      scan.hits.push_back(sensor.Transform(direction * r).cast<float>());
     }
   }
   return scan;

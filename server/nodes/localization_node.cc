@@ -158,8 +158,17 @@ void LocalizationNode::OnScan(const drivers::LaserScan& scan) {
   nav::RangeLimits limits;
   limits.min_range_m = std::max(limits.min_range_m, scan.range_min_m);
   limits.max_range_m = scan.range_max_m;
-  Localize(scan.stamp_ns,
-           nav::ScanFromRanges(*base_T_laser_, scan.angle_min_rad, scan.angle_increment_rad, scan.ranges, limits));
+  // A rotating laser's beams are put where they lie at the stamp, by the odometry over the sweep.
+  nav::BeamMotion motion;
+  const std::optional<nav::Pose2> at_stamp = scan.sweep_s > 0.0 ? OdometryAt(scan.stamp_ns) : std::nullopt;
+  if (at_stamp) {
+    motion = [this, &scan, stamp_T_odom = at_stamp->Inverse()](std::size_t i) {
+      const auto age_ns = static_cast<drivers::TimeNs>(drivers::BeamAgeS(scan, i) * 1e9);
+      return stamp_T_odom * *OdometryAt(scan.stamp_ns - age_ns);
+    };
+  }
+  Localize(scan.stamp_ns, nav::ScanFromRanges(*base_T_laser_, scan.angle_min_rad, scan.angle_increment_rad,
+                                              scan.ranges, limits, motion));
 }
 
 void LocalizationNode::OnFrame(const drivers::RgbdFrame& frame) {
