@@ -47,10 +47,12 @@ LaserScan SweepAssembler::Finish(TimeNs stamp_ns) {
   scan.range_min_m = options_.range_min_m;
   scan.range_max_m = options_.range_max_m;
   scan.ranges = ranges_;
-  // The sweep began where the one before ended, at the device's forward, and turned clockwise.
+  // The sweep began where the one before ended, at the device's forward, and turned clockwise: the forward beam, which
+  // holds what was measured just either side of forward, is taken as the first (the turn begins half a beam left of
+  // it, so that no beam sits where it ends).
   const double since_s = last_end_ns_ >= 0 ? ToSeconds(stamp_ns - last_end_ns_) : 0.0;
   scan.sweep_s = since_s > 0.0 && since_s < 1.0 ? since_s : 0.0;
-  scan.sweep_start_rad = 0.0;
+  scan.sweep_start_rad = 0.5 * scan.angle_increment_rad;
   scan.sweep_clockwise = true;
   return scan;
 }

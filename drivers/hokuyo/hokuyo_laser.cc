@@ -138,10 +138,11 @@ LaserScan HokuyoLaser::ToScan(const Parameters& p, const ScanData& data, TimeNs 
     scan.ranges.push_back(good ? static_cast<float>(m) : std::numeric_limits<float>::infinity());
   }
   // The device turns counter-clockwise once a scan period and sends a scan as soon as its last step is measured:
-  // taken as a whole turn that ends on the last step (what it turned through unseen, behind, has no beams).
+  // taken as a whole turn that ends half a step past the last (what it turned through unseen, behind, has no beams).
   scan.sweep_s = 60.0 / std::max(1, p.scan_rpm);
   scan.sweep_clockwise = false;
-  scan.sweep_start_rad = scan.angle_min_rad + static_cast<double>(scan.ranges.size()) * scan.angle_increment_rad;
+  scan.sweep_start_rad =
+      scan.angle_min_rad + (static_cast<double>(scan.ranges.size()) - 0.5) * scan.angle_increment_rad;
   return scan;
 }
 

@@ -1,6 +1,7 @@
 #include "drivers/sim/sensors.h"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace corridor::drivers::sim {
@@ -80,27 +81,43 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& world_T_camera, std::mt19937&
   }
 }
 
-void CastScan(const RayCaster& caster, const Eigen::Isometry3d& world_T_laser, const SimLaserOptions& options,
-              std::mt19937& rng, LaserScan& scan) {
-  const int n = options.beams;
-  scan.angle_increment_rad = 2.0 * std::numbers::pi / n;
+void StartScan(const SimLaserOptions& options, LaserScan& scan) {
+  scan.angle_increment_rad = 2.0 * std::numbers::pi / options.beams;
   scan.angle_min_rad = -std::numbers::pi;
   scan.range_min_m = options.min_range_m;
   scan.range_max_m = options.max_range_m;
-  std::vector<Eigen::Vector3f> directions(n);
+  scan.ranges.assign(static_cast<std::size_t>(options.beams), std::numeric_limits<float>::infinity());
+}
+
+void CastBeams(const RayCaster& caster, const Eigen::Isometry3d& world_T_laser, const SimLaserOptions& options,
+               std::mt19937& rng, int first, int last, LaserScan& scan) {
+  const int n = options.beams;
+  if (first >= last) return;
+  std::vector<int> index(static_cast<std::size_t>(last - first));
+  std::vector<Eigen::Vector3f> directions(index.size());
   const Eigen::Matrix3f rotation = world_T_laser.linear().cast<float>();
-  for (int i = 0; i < n; ++i) {
+  for (int k = first; k < last; ++k) {
+    // k beams clockwise from forward is the scan's beam n/2 - k (forward is its middle).
+    const int i = ((n / 2 - k) % n + n) % n;
     const double a = scan.angle_min_rad + i * scan.angle_increment_rad;
-    directions[i] = rotation * Eigen::Vector3f(static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)), 0.0f);
+    index[static_cast<std::size_t>(k - first)] = i;
+    directions[static_cast<std::size_t>(k - first)] =
+        rotation * Eigen::Vector3f(static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)), 0.0f);
   }
-  std::vector<RayHit> hits(n);
+  std::vector<RayHit> hits(index.size());
   caster.CastFan(world_T_laser.translation().cast<float>(), directions, static_cast<float>(options.min_range_m),
                  static_cast<float>(options.max_range_m), hits);
   std::normal_distribution<float> noise(0.0f, static_cast<float>(options.noise_m));
-  scan.ranges.resize(n);
-  for (int i = 0; i < n; ++i) {
-    scan.ranges[i] = hits[i].hit() ? hits[i].distance + noise(rng) : std::numeric_limits<float>::infinity();
+  for (std::size_t j = 0; j < index.size(); ++j) {
+    scan.ranges[static_cast<std::size_t>(index[j])] =
+        hits[j].hit() ? hits[j].distance + noise(rng) : std::numeric_limits<float>::infinity();
   }
+}
+
+void CastScan(const RayCaster& caster, const Eigen::Isometry3d& world_T_laser, const SimLaserOptions& options,
+              std::mt19937& rng, LaserScan& scan) {
+  StartScan(options, scan);
+  CastBeams(caster, world_T_laser, options, rng, 0, options.beams, scan);
 }
 
 }  // namespace corridor::drivers::sim

@@ -39,6 +39,10 @@ struct SimLaserOptions {
   // Where the configuration says the laser points (base_T_laser); the simulated laser really faces forward. Not 0:
   // a laser whose mounting is set wrong, as the laser's calibration finds.
   double mount_yaw_deg = 0.0;
+  // A rotating laser (an RPLIDAR's, an LDS's): each beam measured as the laser turns clockwise past it from forward,
+  // once every 1 / rate_hz, from where the robot is then (to the physics step); its scans carry that timing. False:
+  // every beam at once.
+  bool sweep = false;
 };
 
 // Intrinsics and mounting of the simulated camera.
@@ -61,5 +65,11 @@ class RgbdRenderer {
 // Casts one laser sweep from the laser at world_T_laser (x forward, z up), ranges with Gaussian noise.
 void CastScan(const RayCaster& caster, const Eigen::Isometry3d& world_T_laser, const SimLaserOptions& options,
               std::mt19937& rng, LaserScan& scan);
+// A scan of the options' beams with nothing measured yet (every range +infinity).
+void StartScan(const SimLaserOptions& options, LaserScan& scan);
+// Casts the beams `first` to `last` (exclusive) of a rotating laser's order (clockwise from forward: beam k at k
+// beams' angle clockwise) into `scan` (StartScan's), from the laser at world_T_laser.
+void CastBeams(const RayCaster& caster, const Eigen::Isometry3d& world_T_laser, const SimLaserOptions& options,
+               std::mt19937& rng, int first, int last, LaserScan& scan);
 
 }  // namespace corridor::drivers::sim

@@ -1,5 +1,8 @@
 #include "drivers/sim/sim_robot.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace corridor::drivers::sim {
 namespace {
 
@@ -167,6 +170,8 @@ void SimRobot::Step() {
   }
   if (Due(now, options_.battery.rate_hz, next_battery_ns_) && battery_handler_) battery_handler_(battery);
   const bool frame_due = Due(now, options_.camera.rate_hz, next_frame_ns_) && frame_handler_ && !camera_stopped_;
+  const bool sweeping = options_.laser.enabled && options_.laser.sweep && scan_handler_;
+  // A rotating laser casts a few beams every step; the moving things are redrawn for it as each sweep begins.
   const bool scan_due = options_.laser.enabled && Due(now, options_.laser.rate_hz, next_scan_ns_) && scan_handler_;
   if ((!crowd_.empty() || movers_changed_) && (frame_due || scan_due)) {
     std::lock_guard lock(mutex_);
@@ -180,13 +185,43 @@ void SimRobot::Step() {
     renderer_.Render(pose.ToIsometry3() * camera_info_.camera.base_T_camera, rng_, *frame);
     frame_handler_(std::move(frame));
   }
-  if (scan_due) {
+  if (sweeping) {
+    SweepLaser(now, pose);
+  } else if (scan_due) {
     auto scan = std::make_shared<LaserScan>();
     scan->stamp_ns = now;
     Eigen::Isometry3d world_T_laser = pose.ToIsometry3();
     world_T_laser.translation().z() = options_.laser.mount_height_m;
     CastScan(caster_, world_T_laser, options_.laser, rng_, *scan);
     scan_handler_(std::move(scan));
+  }
+}
+
+void SimRobot::SweepLaser(TimeNs now, const nav::Pose2& pose) {
+  const SimLaserOptions& laser = options_.laser;
+  const TimeNs period_ns = PeriodNs(laser.rate_hz);
+  if (sweep_start_ns_ < 0 || now - sweep_start_ns_ > 2 * period_ns) sweep_start_ns_ = now;  // first, or a reset
+  Eigen::Isometry3d world_T_laser = pose.ToIsometry3();
+  world_T_laser.translation().z() = laser.mount_height_m;
+  while (true) {
+    if (!sweep_) {
+      sweep_ = std::make_shared<LaserScan>();
+      StartScan(laser, *sweep_);
+      sweep_done_ = 0;
+    }
+    // Beam k is measured k / beams of the turn after the sweep began.
+    const double turned = static_cast<double>(now - sweep_start_ns_) / static_cast<double>(period_ns);
+    const int due = std::min(laser.beams, static_cast<int>(std::floor(turned * laser.beams)) + 1);
+    CastBeams(caster_, world_T_laser, laser, rng_, sweep_done_, due, *sweep_);
+    sweep_done_ = std::max(sweep_done_, due);
+    if (sweep_done_ < laser.beams) return;
+    sweep_->stamp_ns = sweep_start_ns_ + period_ns;  // when the turn ended, its last beam just before
+    sweep_->sweep_s = ToSeconds(period_ns);
+    sweep_->sweep_start_rad = 0.0;
+    sweep_->sweep_clockwise = true;
+    scan_handler_(std::move(sweep_));
+    sweep_.reset();
+    sweep_start_ns_ += period_ns;
   }
 }
 

@@ -109,6 +109,8 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   bool movers_changed_ = true;  // the casters' moving geometry must be redone (guarded by mutex_)
   void ApplyDoors();            // lock held
   TriangleMesh MoversMesh() const;  // people, closed doors and the lifts' cars; lock held
+  // The rotating laser's beams due by `now` cast from the robot at `pose`; a sweep completed goes to the handler.
+  void SweepLaser(TimeNs now, const nav::Pose2& pose);
   DiffDriveSim base_;
   Crowd crowd_;
   BatterySim battery_;
@@ -120,6 +122,10 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   TimeNs next_odometry_ns_ = 0;
   TimeNs next_frame_ns_ = 0;
   TimeNs next_scan_ns_ = 0;
+  // A rotating laser's sweep under way (SimLaserOptions::sweep): its beams so far, when it began.
+  std::shared_ptr<LaserScan> sweep_;
+  int sweep_done_ = 0;
+  TimeNs sweep_start_ns_ = -1;
   TimeNs next_battery_ns_ = 0;
   std::uint64_t frame_sequence_ = 0;
   FrameHandler frame_handler_;

@@ -126,6 +126,7 @@ void ReadLaser(ConfigReader& r, drivers::sim::SimLaserOptions& o) {
   r.Read("rate_hz", o.rate_hz, 1.0, 100.0);
   r.Read("noise_m", o.noise_m, 0.0, 1.0);
   r.Read("mount_yaw_deg", o.mount_yaw_deg, -180.0, 180.0);
+  r.Read("sweep", o.sweep);
 }
 
 void ReadGround(ConfigReader& r, nav::MorpOptions& o) {
