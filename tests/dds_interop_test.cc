@@ -55,6 +55,7 @@ TEST(DdsInterop, RosToolSeesTheRobotDrivesItAndSendsAGoal) {
   const dds_entity_t amcl_pose =
       peer.Reader("/amcl_pose", geometry_msgs_msg_PoseWithCovarianceStamped_desc, PeerQos::kLatched);
   const dds_entity_t diagnostics = peer.Reader("/diagnostics", diagnostic_msgs_msg_DiagnosticArray_desc);
+  const dds_entity_t battery = peer.Reader("/battery_state", sensor_msgs_msg_BatteryState_desc);
   const dds_entity_t depth = peer.Reader("/camera/depth/image_raw", sensor_msgs_msg_Image_desc);
   const dds_entity_t camera_info = peer.Reader("/camera/depth/camera_info", sensor_msgs_msg_CameraInfo_desc);
   const dds_entity_t initial_pose = peer.Writer("/initialpose", geometry_msgs_msg_PoseWithCovarianceStamped_desc);
@@ -144,6 +145,19 @@ TEST(DdsInterop, RosToolSeesTheRobotDrivesItAndSendsAGoal) {
                healthy.contains("corridor/devices/camera") && healthy.contains("corridor/devices/base");
       },
       5s));
+  // The simulator's battery, as ROS 2's BatteryState says one (about once a second).
+  float percentage = -1.0f;
+  std::uint8_t supply_status = 0;
+  ASSERT_TRUE(peer.TakeUntil<sensor_msgs_msg_BatteryState>(
+      battery,
+      [&](const sensor_msgs_msg_BatteryState& m) {
+        percentage = m.percentage;
+        supply_status = m.power_supply_status;
+      },
+      [&] { return percentage >= 0.0f; }, 5s));
+  EXPECT_GT(percentage, 0.0f);
+  EXPECT_LE(percentage, 1.0f);
+  EXPECT_TRUE(supply_status == 1 || supply_status == 2 || supply_status == 4) << int{supply_status};
   std::string encoding;
   std::uint32_t image_bytes = 0;
   double fx = 0.0;
@@ -268,7 +282,8 @@ TEST(DdsInterop, CorridorRunsOnRos2DriversAndAToolDrivesItThroughThem) {
       "  camera: {driver: dds, depth_topic: /camera/depth/image_rect_raw, info_topic: /camera/depth/camera_info, "
       "mount_x_m: 0.1, mount_height_m: 0.3, tilt_deg: 10}\n"
       "  laser: {driver: dds, topic: /scan, mount_height_m: 0.2}\n"
-      "  base: {driver: dds, odom_topic: /odom, cmd_vel_topic: /cmd_vel, max_linear_mps: 0.5}\n";
+      "  base: {driver: dds, odom_topic: /odom, cmd_vel_topic: /cmd_vel, battery_topic: /battery_state, "
+      "max_linear_mps: 0.5}\n";
   Daemon daemon(domain, /*allow_writes=*/true, "  cmd_vel_topic: /corridor/cmd_vel\n", devices);
   EXPECT_NE(daemon.log().find("dds: camera 160 x 120"), std::string::npos) << daemon.log();
   drivers.SendBadImage();
@@ -296,6 +311,10 @@ TEST(DdsInterop, CorridorRunsOnRos2DriversAndAToolDrivesItThroughThem) {
       std::hypot(watch.latest["pose"]["x"].get<double>() - 24.38, watch.latest["pose"]["y"].get<double>() - 24.07), 0.2)
       << watch.latest.dump();
   EXPECT_NE(daemon.log().find("dds camera: a sample was dropped"), std::string::npos) << daemon.log();
+  // The base driver's battery is the robot's: 42 % from its percentage of 0.42.
+  ASSERT_TRUE(watch.latest["battery"].is_object()) << watch.latest.dump();
+  EXPECT_NEAR(watch.latest["battery"]["percent"].get<double>(), 42.0, 0.5) << watch.latest["battery"].dump();
+  EXPECT_FALSE(watch.latest["battery"]["charging"].get<bool>());
   // The driver's scans reach the tracker (its "scan" loop runs at the laser's rate).
   double scan_rate = 0.0;
   for (const auto& node : watch.latest["nodes"]) {

@@ -67,6 +67,8 @@ struct DdsLaserOptions {
 struct DdsBaseOptions {
   std::string odom_topic = "/odom";        // nav_msgs/Odometry from the base driver
   std::string cmd_vel_topic = "/cmd_vel";  // geometry_msgs/Twist to it
+  // sensor_msgs/BatteryState from it (kobuki_node's, turtlebot3_node's /battery_state); "": the base reports none.
+  std::string battery_topic;
   BaseLimits limits{0.5, 1.5, 1.0, 3.0, 0.2};
 };
 

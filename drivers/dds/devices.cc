@@ -118,7 +118,20 @@ DdsBase::DdsBase(Participant& participant, const DdsBaseOptions& options, const 
         }
         if (const OdometryHandler handler = handler_.Get()) handler(odometry);
       });
+  if (options_.battery_topic.empty()) return;
+  battery_subscription_ = participant.Subscribe<sensor_msgs::msg::BatteryStatePubSubType>(
+      options_.battery_topic, Qos::kSensor, [this](const sensor_msgs::msg::BatteryState& message) {
+        BatteryState battery;
+        try {
+          battery = FromRos(message, stamps_);
+        } catch (const std::invalid_argument& e) {
+          return drops_.Drop(e.what());
+        }
+        if (const BatteryHandler handler = battery_handler_.Get()) handler(battery);
+      });
 }
+
+void DdsBase::SetBatteryHandler(BatteryHandler handler) { battery_handler_.Set(std::move(handler)); }
 
 void DdsBase::SetVelocity(const nav::Twist2& command) {
   const BaseLimits& l = options_.limits;

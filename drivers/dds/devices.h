@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 
+#include "drivers/battery.h"
 #include "drivers/dds/device_options.h"
 #include "drivers/dds/participant.h"
 #include "drivers/dds/ros2_convert.h"
@@ -87,22 +88,31 @@ class DdsLaser final : public Laser2D {
   std::unique_ptr<Subscription> subscription_;
 };
 
-class DdsBase final : public DiffDriveBase {
+// A base driven by its ROS 2 driver: odometry in, velocity out, and its battery when options.battery_topic names it
+// (a Battery only then: has_battery()).
+class DdsBase final : public DiffDriveBase, public Battery {
  public:
   DdsBase(Participant& participant, const DdsBaseOptions& options, const Clock& clock);
   BaseLimits limits() const override { return options_.limits; }
   // Clamped to the limits and sent as a Twist; the base driver's own command timeout stops it when they stop.
   void SetVelocity(const nav::Twist2& command) override;
   void SetOdometryHandler(OdometryHandler handler) override;
-  void Stop() { subscription_.reset(); }  // as DdsDepthCamera::Stop
+  bool has_battery() const { return battery_subscription_ != nullptr; }
+  void SetBatteryHandler(BatteryHandler handler) override;
+  void Stop() {  // as DdsDepthCamera::Stop
+    subscription_.reset();
+    battery_subscription_.reset();
+  }
 
  private:
   DdsBaseOptions options_;
   const StampClock stamps_;
   DropLog drops_{"base"};
   HandlerSlot<OdometryHandler> handler_;
+  HandlerSlot<BatteryHandler> battery_handler_;
   std::unique_ptr<Writer<geometry_msgs::msg::TwistPubSubType>> cmd_vel_;
   std::unique_ptr<Subscription> subscription_;
+  std::unique_ptr<Subscription> battery_subscription_;
 };
 
 }  // namespace corridor::drivers::dds

@@ -2,8 +2,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 namespace corridor::drivers::dds {
@@ -145,6 +147,7 @@ sensor_msgs::msg::LaserScan ToRos(const LaserScan& scan, const StampClock& clock
   s.angle_increment(static_cast<float>(scan.angle_increment_rad));
   s.range_min(static_cast<float>(scan.range_min_m));
   s.range_max(static_cast<float>(scan.range_max_m));
+  s.scan_time(static_cast<float>(scan.sweep_s));
   s.ranges(scan.ranges);
   return s;
 }
@@ -166,7 +169,51 @@ LaserScan FromRos(const sensor_msgs::msg::LaserScan& scan, const StampClock& clo
     const bool hit = std::isfinite(r) && r >= scan.range_min() && r <= scan.range_max();
     s.ranges.push_back(hit ? r : std::numeric_limits<float>::infinity());
   }
+  // Beam i at the stamp plus i time increments: a turn of 2 pi / |increment| of them, in the increment's direction,
+  // taken to end half an increment after the last beam (no beam where LaserScan's sweep begins and ends).
+  const double dt = scan.time_increment();
+  const double n = static_cast<double>(s.ranges.size());
+  const double turn_s = std::isfinite(dt) ? dt * 2.0 * std::numbers::pi / std::abs(s.angle_increment_rad) : 0.0;
+  if (dt > 0.0 && s.ranges.size() > 1 && turn_s < 1.0) {
+    s.sweep_s = turn_s;
+    s.sweep_clockwise = s.angle_increment_rad < 0.0;
+    s.sweep_start_rad = s.angle_min_rad + (n - 0.5) * s.angle_increment_rad;
+    s.stamp_ns += static_cast<TimeNs>((n - 0.5) * dt * 1e9);
+  }
   return s;
+}
+
+sensor_msgs::msg::BatteryState ToRos(const BatteryState& battery, const StampClock& clock) {
+  constexpr float kUnknown = std::numeric_limits<float>::quiet_NaN();
+  constexpr std::uint8_t kCharging = 1, kDischarging = 2, kFull = 4;
+  sensor_msgs::msg::BatteryState b;
+  b.header(Header(clock.ToRos(battery.stamp_ns), kBaseFrame));
+  b.voltage(static_cast<float>(battery.voltage_v));
+  b.temperature(kUnknown);
+  b.current(static_cast<float>(battery.current_a));
+  b.charge(kUnknown);
+  b.capacity(kUnknown);
+  b.design_capacity(kUnknown);
+  b.percentage(static_cast<float>(battery.charge));
+  b.power_supply_status(battery.charging ? kCharging : battery.on_charger ? kFull : kDischarging);
+  b.present(true);
+  return b;
+}
+
+BatteryState FromRos(const sensor_msgs::msg::BatteryState& battery, const StampClock& clock) {
+  constexpr std::uint8_t kCharging = 1, kFull = 4;
+  const double percentage = battery.percentage();
+  if (!std::isfinite(percentage) || percentage < 0.0 || percentage > 100.0) {
+    throw std::invalid_argument("the battery's percentage is not a number from 0 to 1 (or 100)");
+  }
+  BatteryState b;
+  b.stamp_ns = clock.FromRos(battery.header().stamp());
+  b.charge = percentage > 1.0 ? percentage / 100.0 : percentage;
+  b.voltage_v = std::isfinite(battery.voltage()) ? battery.voltage() : 0.0;
+  b.current_a = std::isfinite(battery.current()) ? battery.current() : 0.0;
+  b.charging = battery.power_supply_status() == kCharging;
+  b.on_charger = b.charging || battery.power_supply_status() == kFull;
+  return b;
 }
 
 sensor_msgs::msg::LaserScan ScanFromPoints(const std::vector<Eigen::Vector2d>& points, double increment_rad,

@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "drivers/battery.h"
 #include "drivers/clock.h"
 #include "drivers/depth_camera.h"
 #include "drivers/diff_drive_base.h"
@@ -63,10 +64,21 @@ nav_msgs::msg::Odometry ToRos(const WheelOdometry& odometry, const StampClock& c
 // Throws std::invalid_argument for odometry that is not finite.
 WheelOdometry FromRos(const nav_msgs::msg::Odometry& odometry, const StampClock& clock);
 
-// A scan in `frame`; +infinity stays +infinity (REP 117: nothing within range).
+// A scan in `frame`; +infinity stays +infinity (REP 117: nothing within range). A sweep's duration goes in
+// scan_time (its beams' times are not in index order: time_increment stays 0).
 sensor_msgs::msg::LaserScan ToRos(const LaserScan& scan, const StampClock& clock, const std::string& frame);
-// Throws std::invalid_argument for a scan whose angles or limits are not usable.
+// Throws std::invalid_argument for a scan whose angles or limits are not usable. A positive time_increment (the beams
+// measured in index order from the stamp, a rotating laser's) becomes the sweep's timing, stamped after its last
+// beam.
 LaserScan FromRos(const sensor_msgs::msg::LaserScan& scan, const StampClock& clock);
+
+// The battery as sensor_msgs/BatteryState: percentage 0-1, current positive while charging, status charging,
+// discharging, or full (on the charger and not charging); what corridor does not know is NaN.
+sensor_msgs::msg::BatteryState ToRos(const BatteryState& battery, const StampClock& clock);
+// From a base driver's: the charge from the percentage (0-1; some drivers send 0-100, taken as such above 1), charging
+// from the status, on the charger while charging or full. Throws std::invalid_argument when the percentage is not a
+// number in 0-100.
+BatteryState FromRos(const sensor_msgs::msg::BatteryState& battery, const StampClock& clock);
 
 // A scan in `frame` from points in that frame (a depth camera's nearest obstacle per column): the nearest point in
 // each `increment_rad` of bearing over the points' span; +infinity where no point falls.

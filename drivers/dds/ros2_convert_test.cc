@@ -82,6 +82,7 @@ TEST(Ros2Cdr, TypeNamesAreRos2s) {
   EXPECT_EQ(std::string(geometry_msgs::msg::TwistPubSubType().getName()), "geometry_msgs::msg::dds_::Twist_");
   EXPECT_EQ(std::string(std_msgs::msg::StringPubSubType().getName()), "std_msgs::msg::dds_::String_");
   EXPECT_EQ(std::string(tf2_msgs::msg::TFMessagePubSubType().getName()), "tf2_msgs::msg::dds_::TFMessage_");
+  EXPECT_EQ(std::string(sensor_msgs::msg::BatteryStatePubSubType().getName()), "sensor_msgs::msg::dds_::BatteryState_");
   EXPECT_EQ(RosTopic("/cmd_vel"), "rt/cmd_vel");
   EXPECT_EQ(RosTopic("camera/depth/image_raw"), "rt/camera/depth/image_raw");
   EXPECT_THROW(RosTopic("/"), std::invalid_argument);
@@ -153,6 +154,38 @@ TEST(Ros2Cdr, LaserScan) {
                             .le<std::uint32_t>(0)
                             .bytes();
   EXPECT_EQ(Serialize<sensor_msgs::msg::LaserScanPubSubType>(ToRos(scan, StampClock(0), "laser")), expected);
+}
+
+TEST(Ros2Cdr, BatteryState) {
+  BatteryState battery;
+  battery.stamp_ns = 3 * kNsPerSecond + 4;
+  battery.charge = 0.5;
+  battery.voltage_v = 12.0;
+  battery.current_a = -1.5;
+  // 0 sec, 4 nanosec, 8 "base_link" (length 10, to 22), 2 bytes to align the floats at 24, seven floats (what is not
+  // known NaN), at 52 the status (2: discharging), health, technology and present, at 56 two empty sequences, at 64
+  // location "", 3 bytes to align, at 72 serial_number "".
+  constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+  const auto expected = Bytes()
+                            .le<std::int32_t>(3)
+                            .le<std::uint32_t>(4)
+                            .str("base_link")
+                            .pad(2)
+                            .le(12.0f)
+                            .le(kNaN)
+                            .le(-1.5f)
+                            .le(kNaN)
+                            .le(kNaN)
+                            .le(kNaN)
+                            .le(0.5f)
+                            .raw({2, 0, 0, 1})
+                            .le<std::uint32_t>(0)
+                            .le<std::uint32_t>(0)
+                            .str("")
+                            .pad(3)
+                            .str("")
+                            .bytes();
+  EXPECT_EQ(Serialize<sensor_msgs::msg::BatteryStatePubSubType>(ToRos(battery, StampClock(0))), expected);
 }
 
 TEST(Ros2Cdr, OccupancyGrid) {
@@ -399,6 +432,74 @@ TEST(Ros2Convert, ScansFromRosFollowRep117) {
   for (std::size_t i = 1; i < 5; ++i) EXPECT_TRUE(std::isinf(scan.ranges[i])) << i;
   s.angle_increment(0.0f);
   EXPECT_THROW(FromRos(s, StampClock(0)), std::invalid_argument);
+}
+
+// A laser driver's time_increment: beam i measured i increments after the stamp, a turn of 2 pi / angle_increment
+// beams; corridor's scan ends half an increment after the last beam, and each beam's age says when it was measured.
+TEST(Ros2Convert, AScansTimeIncrementIsItsSweep) {
+  sensor_msgs::msg::LaserScan s;
+  s.header().stamp(Stamp(2, 0));
+  s.angle_min(static_cast<float>(-M_PI));
+  s.angle_increment(static_cast<float>(2 * M_PI / 360));
+  s.range_min(0.1f);
+  s.range_max(10.0f);
+  s.time_increment(0.1f / 360);
+  s.ranges(std::vector<float>(360, 2.0f));
+  const LaserScan scan = FromRos(s, StampClock(0));
+  EXPECT_NEAR(scan.sweep_s, 0.1, 1e-6);
+  EXPECT_FALSE(scan.sweep_clockwise);
+  EXPECT_NEAR(ToSeconds(scan.stamp_ns), 2.0 + 359.5 * 0.1 / 360, 1e-6);  // half a beam after the last
+  for (const std::size_t i : {std::size_t{0}, std::size_t{90}, std::size_t{359}}) {
+    EXPECT_NEAR(ToSeconds(scan.stamp_ns) - BeamAgeS(scan, i), 2.0 + i * 0.1 / 360, 1e-6) << i;
+  }
+  // Counting clockwise (a negative increment): the same, turning the other way.
+  s.angle_min(static_cast<float>(M_PI));
+  s.angle_increment(static_cast<float>(-2 * M_PI / 360));
+  const LaserScan clockwise = FromRos(s, StampClock(0));
+  EXPECT_TRUE(clockwise.sweep_clockwise);
+  EXPECT_NEAR(ToSeconds(clockwise.stamp_ns) - BeamAgeS(clockwise, 90), 2.0 + 90 * 0.1 / 360, 1e-6);
+  // No time increment: every beam at the stamp, as before.
+  s.time_increment(0.0f);
+  EXPECT_EQ(FromRos(s, StampClock(0)).sweep_s, 0.0);
+  EXPECT_EQ(FromRos(s, StampClock(0)).stamp_ns, 2 * kNsPerSecond);
+}
+
+// A base driver's BatteryState: the charge from the percentage (0-1, or 0-100 from drivers that send that), charging
+// and on the charger from the status; a percentage that is not a number is refused.
+TEST(Ros2Convert, TheBatteryFromABaseDriver) {
+  sensor_msgs::msg::BatteryState b;
+  b.header().stamp(Stamp(5, 0));
+  b.percentage(0.42f);
+  b.voltage(12.1f);
+  b.current(std::nanf(""));
+  b.power_supply_status(2);
+  BatteryState battery = FromRos(b, StampClock(0));
+  EXPECT_NEAR(battery.charge, 0.42, 1e-6);
+  EXPECT_NEAR(battery.voltage_v, 12.1, 1e-6);
+  EXPECT_EQ(battery.current_a, 0.0);
+  EXPECT_FALSE(battery.charging);
+  EXPECT_FALSE(battery.on_charger);
+  EXPECT_EQ(battery.stamp_ns, 5 * kNsPerSecond);
+  b.percentage(87.0f);
+  b.power_supply_status(1);
+  battery = FromRos(b, StampClock(0));
+  EXPECT_NEAR(battery.charge, 0.87, 1e-6);
+  EXPECT_TRUE(battery.charging);
+  EXPECT_TRUE(battery.on_charger);
+  b.power_supply_status(4);
+  EXPECT_TRUE(FromRos(b, StampClock(0)).on_charger);
+  EXPECT_FALSE(FromRos(b, StampClock(0)).charging);
+  for (const float bad : {std::nanf(""), -0.1f, 101.0f}) {
+    b.percentage(bad);
+    EXPECT_THROW(FromRos(b, StampClock(0)), std::invalid_argument) << bad;
+  }
+  // Back: full on the dock is status 4, charging 1.
+  BatteryState docked;
+  docked.charge = 1.0;
+  docked.on_charger = true;
+  EXPECT_EQ(ToRos(docked, StampClock(0)).power_supply_status(), 4);
+  docked.charging = true;
+  EXPECT_EQ(ToRos(docked, StampClock(0)).power_supply_status(), 1);
 }
 
 TEST(Ros2Convert, DepthImagesIn16UC1Or32FC1) {

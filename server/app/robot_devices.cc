@@ -25,6 +25,7 @@ RobotDevices::RobotDevices(const Config& config, const drivers::Clock& clock) {
     case DeviceDriver::kDds:
       dds_base_ = std::make_unique<drivers::dds::DdsBase>(*participant_, d.base.dds, clock);
       base_ = dds_base_.get();
+      if (dds_base_->has_battery()) battery_ = dds_base_.get();
       slots_.push_back({nav::Device::kBase, "dds", d.base.dds.odom_topic, nullptr});
       break;
     case DeviceDriver::kCreate2:

@@ -58,6 +58,7 @@ void DdsBridge::Activate() {
   // Writers first, so that no bus message finds one missing.
   if (!frames_.base_over_dds) {
     odom_ = participant_.Advertise<nav_msgs::msg::OdometryPubSubType>("/odom", Qos::kDefault);
+    battery_ = participant_.Advertise<sensor_msgs::msg::BatteryStatePubSubType>("/battery_state", Qos::kDefault);
   }
   tf_ = participant_.Advertise<tf2_msgs::msg::TFMessagePubSubType>("/tf", Qos::kTf);
   tf_static_ = participant_.Advertise<tf2_msgs::msg::TFMessagePubSubType>("/tf_static", Qos::kLatched);
@@ -94,6 +95,8 @@ void DdsBridge::Activate() {
 
   // The table: bus topic -> ROS 2 topic.
   if (!frames_.base_over_dds) {
+    Subscribe(topics::kBattery, "battery",
+              [this](const auto& battery) { battery_->Write(dds::ToRos(*battery, stamps_)); });
     Subscribe(topics::kOdometry, "odom", [this](const auto& odometry) {
       const nav_msgs::msg::Odometry message = dds::ToRos(*odometry, stamps_);
       odom_->Write(message);

@@ -78,6 +78,7 @@ class DdsBridge final : public PeriodicNode {
   template <typename T>
   using WriterOf = std::unique_ptr<drivers::dds::Writer<T>>;
   WriterOf<nav_msgs::msg::OdometryPubSubType> odom_;
+  WriterOf<sensor_msgs::msg::BatteryStatePubSubType> battery_;
   WriterOf<tf2_msgs::msg::TFMessagePubSubType> tf_;
   WriterOf<tf2_msgs::msg::TFMessagePubSubType> tf_static_;
   WriterOf<sensor_msgs::msg::LaserScanPubSubType> scan_;

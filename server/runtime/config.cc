@@ -548,6 +548,8 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
       s.Read("cmd_vel_topic", o.dds.cmd_vel_topic);
       CheckTopic(s, "odom_topic", o.dds.odom_topic);
       CheckTopic(s, "cmd_vel_topic", o.dds.cmd_vel_topic);
+      s.Read("battery_topic", o.dds.battery_topic);
+      if (!o.dds.battery_topic.empty()) CheckTopic(s, "battery_topic", o.dds.battery_topic);
       ReadBaseLimits(s, o.dds.limits, 5.0);
     } else if (o.driver == D::kCreate2) {
       ReadSerialBase(s, o.create2, 0.5, base);  // the OI's 500 mm/s a wheel

@@ -180,6 +180,7 @@ RosDrivers::RosDrivers(CyclonePeer& peer)
       depth_(peer.Writer("/camera/depth/image_rect_raw", sensor_msgs_msg_Image_desc)),
       odom_(peer.Writer("/odom", nav_msgs_msg_Odometry_desc)),
       scan_(peer.Writer("/scan", sensor_msgs_msg_LaserScan_desc)),
+      battery_(peer.Writer("/battery_state", sensor_msgs_msg_BatteryState_desc)),
       cmd_vel_(peer.Reader("/cmd_vel", geometry_msgs_msg_Twist_desc)),
       floor_(kWidth * kHeight) {
   // The floor as a camera 0.3 m up, pitched down 10 degrees, sees it (depth along the optical axis, mm).
@@ -215,6 +216,7 @@ void RosDrivers::SendBadImage() {
 void RosDrivers::Run() {
   using Clock = std::chrono::steady_clock;
   auto next_frame = Clock::now();
+  auto next_battery = Clock::now();
   auto last = Clock::now();
   auto commanded = Clock::now() - 1s;
   double v = 0.0;
@@ -258,6 +260,8 @@ void RosDrivers::Run() {
       scan.angle_max = scan.angle_min + 179 * scan.angle_increment;
       scan.range_min = 0.1f;
       scan.range_max = 8.0f;
+      scan.time_increment = 0.04f / 180;  // a laser turning once a frame, beam after beam
+      scan.scan_time = 0.04f;
       scan.ranges._length = scan.ranges._maximum = 180;
       scan.ranges._buffer = ranges.data();
       dds_write(scan_, &scan);
@@ -280,6 +284,21 @@ void RosDrivers::Run() {
       image.data._length = image.data._maximum = kWidth * kHeight * 2;
       image.data._buffer = reinterpret_cast<std::uint8_t*>(floor_.data());
       dds_write(depth_, &image);
+    }
+    if (now >= next_battery) {
+      // A base driver's battery, once a second: 42 %, discharging.
+      sensor_msgs_msg_BatteryState battery{};
+      battery.header.stamp = stamp;
+      battery.header.frame_id = const_cast<char*>("base_link");
+      battery.voltage = 12.1f;
+      battery.current = -0.8f;
+      battery.percentage = 0.42f;
+      battery.power_supply_status = 2;
+      battery.present = true;
+      battery.location = const_cast<char*>("");
+      battery.serial_number = const_cast<char*>("");
+      dds_write(battery_, &battery);
+      next_battery = now + 1s;
     }
     std::this_thread::sleep_for(20ms);
   }

@@ -112,6 +112,7 @@ class RosDrivers {
   dds_entity_t depth_;
   dds_entity_t odom_;
   dds_entity_t scan_;
+  dds_entity_t battery_;
   dds_entity_t cmd_vel_;
   std::vector<std::uint16_t> floor_;
   std::atomic<bool> stop_{false};
