@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "server/runtime/topics.h"
@@ -150,6 +151,7 @@ TEST(DevicesLockstep, TheLasersYawIsMeasuredAgainstTheCamera) {
   EXPECT_NEAR(fit.body["configured"]["yaw_deg"].get<double>(), 4.0, 1e-9);
   EXPECT_GT(fit.body["points"].get<int>(), 20);
   EXPECT_NEAR(fit.body["patch"]["sim"]["laser"]["mount_yaw_deg"].get<double>(), 0.0, 0.5);
+  std::printf("the laser's yaw: configured 4.0 degrees, measured %.2f (truly 0)\n", fit.body["yaw_deg"].get<double>());
   // Moving, it does not measure; without a camera, there is nothing to measure against.
   ASSERT_TRUE(robot.StepUntil(
       [&] {
@@ -210,6 +212,11 @@ TEST(DevicesLockstep, TheWheelsDiameterAndTrackAreMeasuredFromAStraightRunAndATu
   EXPECT_NEAR(turn.body["track_factor"].get<double>(), 1.0 / 0.97, 0.01) << turn.body.dump();
   EXPECT_NEAR(turn.body["patch"]["sim"]["base"]["track_error"].get<double>(), 1.0, 0.01);
   EXPECT_NEAR(turn.body["patch"]["sim"]["base"]["wheel_diameter_error"].get<double>(), 1.0, 0.01);
+  std::printf("the wheels: diameter factor %.4f (truly %.4f), track factor %.4f (truly %.4f); %.3f m and %.1f degrees "
+              "measured, %.3f m and %.1f truly\n",
+              straight.body["diameter_factor"].get<double>(), 1.0 / 1.04, turn.body["track_factor"].get<double>(),
+              1.0 / 0.97, straight.body["measured"].get<double>(), turn.body["measured"].get<double>(), travelled,
+              turned_deg);
 }
 
 }  // namespace
