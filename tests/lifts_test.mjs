@@ -176,7 +176,9 @@ describe('lifts between floors', () => {
     const { done, phases } = await rideToL2(daemon);
     assert.equal(done.status, 'succeeded', done.error);
     api.check('Mission', done);
-    for (const phase of ['calling', 'boarding', 'riding', 'leaving']) assert.ok(phases.has(phase), [...phases].join());
+    // Sampled by polling: a call the car answers at once (it waits at L1) can pass between two polls, so the call is
+    // checked at the controller below.
+    for (const phase of ['boarding', 'riding', 'leaving']) assert.ok(phases.has(phase), [...phases].join());
     await assertArrivedOnL2(daemon);
     assert.deepEqual(controller.calls.filter((c) => !c.startsWith('GET')),
       ['PUT lift {"floor": "L1"}', 'PUT lift {"floor": "L2"}', 'POST /release']);
