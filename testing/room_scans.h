@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <numbers>
 
@@ -15,6 +16,11 @@ class RoomScans {
  public:
   // `room`: the distance in metres at an angle clockwise from the device's forward (degrees).
   explicit RoomScans(std::function<double(double)> room) : room_(std::move(room)) {}
+
+  // Takes every scan `laser` hands on from now (the laser must not outlive this).
+  void Connect(drivers::Laser2D& laser) {
+    laser.SetScanHandler([this](std::shared_ptr<const drivers::LaserScan> scan) { Take(*scan); });
+  }
 
   void Take(const drivers::LaserScan& scan) {
     int bad = 0;

@@ -87,7 +87,7 @@ TEST_P(LdsLaserTest, NoiseABadPacketAndALostByteCostAFewMeasurementsNotTheScans)
   SteadyClock clock;
   LdsLaser laser(OptionsFor(link, GetParam()), clock);
   RoomScans received(Room);
-  laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { received.Take(*scan); });
+  received.Connect(laser);
   ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
   device.Noise({0x54, 0x2C, 0xFA, 0xA0, 0x13, 0x37});
   ASSERT_TRUE(Eventually([&] { return received.count() >= 4; }, 3000ms));
@@ -106,7 +106,7 @@ TEST_P(LdsLaserTest, UnpluggedItSaysSoAndScansAgainOncePluggedBackIn) {
   SteadyClock clock;
   LdsLaser laser(OptionsFor(link, GetParam()), clock);
   RoomScans received(Room);
-  laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { received.Take(*scan); });
+  received.Connect(laser);
   ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
   device.Unplug();
   ASSERT_TRUE(Eventually([&] { return laser.status().state == LinkState::kDisconnected; }, 3000ms))
@@ -132,7 +132,7 @@ TEST_P(LdsLaserTest, ADeviceThatFallsSilentIsStaleThenSilentAndScansAgainWhenItS
     std::lock_guard lock(mutex);
     states.push_back(status.state);
   });
-  laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { received.Take(*scan); });
+  received.Connect(laser);
   ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
   device.Silence();
   ASSERT_TRUE(Eventually([&] { return laser.status().state == LinkState::kSilent; }, 3000ms));

@@ -70,7 +70,7 @@ TEST(RplidarLaserTest, NoiseABadCheckBitAndALostByteCostAFewMeasurementsNotTheSc
   SteadyClock clock;
   RplidarLaser laser(OptionsFor(link), clock);
   RoomScans received(Room);
-  laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { received.Take(*scan); });
+  received.Connect(laser);
   ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
   device.Noise({0x00, 0xFF, 0xA5, 0x13, 0x37});
   ASSERT_TRUE(Eventually([&] { return received.count() >= 4; }, 3000ms));
@@ -89,7 +89,7 @@ TEST(RplidarLaserTest, UnpluggedItSaysSoAndScansAgainOncePluggedBackIn) {
   SteadyClock clock;
   RplidarLaser laser(OptionsFor(link), clock);
   RoomScans received(Room);
-  laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { received.Take(*scan); });
+  received.Connect(laser);
   ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
   device.Unplug();
   ASSERT_TRUE(Eventually([&] { return laser.status().state == LinkState::kDisconnected; }, 3000ms))
@@ -109,7 +109,7 @@ TEST(RplidarLaserTest, ADeviceThatFallsSilentIsCalledSilentAndScansAgainWhenItAn
   SteadyClock clock;
   RplidarLaser laser(OptionsFor(link), clock);
   RoomScans received(Room);
-  laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { received.Take(*scan); });
+  received.Connect(laser);
   ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
   device.Silence();
   ASSERT_TRUE(Eventually([&] { return laser.status().state == LinkState::kSilent; }, 3000ms));
@@ -125,7 +125,7 @@ TEST(RplidarLaserTest, ADeviceReportingAnErrorIsResetAndThenScans) {
   SteadyClock clock;
   RplidarLaser laser(OptionsFor(link), clock);
   RoomScans received(Room);
-  laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { received.Take(*scan); });
+  received.Connect(laser);
   ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
   EXPECT_EQ(device.resets(), 1);
   EXPECT_EQ(received.wrong(), 0);

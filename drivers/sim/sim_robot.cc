@@ -171,7 +171,7 @@ void SimRobot::Step() {
   if (Due(now, options_.battery.rate_hz, next_battery_ns_) && battery_handler_) battery_handler_(battery);
   const bool frame_due = Due(now, options_.camera.rate_hz, next_frame_ns_) && frame_handler_ && !camera_stopped_;
   const bool sweeping = options_.laser.enabled && options_.laser.sweep && scan_handler_;
-  // A rotating laser casts a few beams every step; the moving things are redrawn for it as each sweep begins.
+  // A rotating laser casts a few beams every step; the moving things are redrawn for it at its rate, as for a scan.
   const bool scan_due = options_.laser.enabled && Due(now, options_.laser.rate_hz, next_scan_ns_) && scan_handler_;
   if ((!crowd_.empty() || movers_changed_) && (frame_due || scan_due)) {
     std::lock_guard lock(mutex_);
