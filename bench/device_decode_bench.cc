@@ -1,5 +1,6 @@
 // What decoding the native devices' data costs (issue 37's target: a driver's decode of a scan or a sensor frame
-// timed): an RPLIDAR revolution of 720 standard-scan nodes through the node stream and the sweep assembler, and a
+// timed): an RPLIDAR revolution of 720 standard-scan nodes (or express-scan capsules) through its stream and the
+// sweep assembler, and a
 // Create 2 sensor frame of the driver's 14 packets through the stream parser, a Kobuki feedback packet (Basic Sensor
 // Data, Inertial Sensor, Current) through the packet parser, a TurtleBot 3's state (the OpenCR's 118-byte status
 // packet) through the DYNAMIXEL status parser, a serial text base's encoder reply cut into its line and parsed, and a
@@ -7,6 +8,7 @@
 // their documents lay them out.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <numeric>
 #include <vector>
 
@@ -51,6 +53,36 @@ void BM_RplidarRevolution(benchmark::State& state) {
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * bytes.size()));
 }
 BENCHMARK(BM_RplidarRevolution)->Arg(360)->Arg(720)->Unit(benchmark::kMicrosecond);
+
+// An RPLIDAR A1's express-scan revolution (720 samples at 5.5 Hz): two revolutions of capsules through the capsule
+// stream and the sweep assembler, as for the standard scan above.
+void BM_RplidarExpressRevolution(benchmark::State& state) {
+  constexpr int kSamples = 720;
+  std::vector<std::uint8_t> bytes;
+  for (int first = 0; first < 2 * kSamples + 64; first += static_cast<int>(rplidar::kCapsuleSamples)) {
+    rplidar::Capsule capsule;
+    capsule.start = first == 0;
+    capsule.start_angle_deg = std::fmod(360.0 * first / kSamples, 360.0);
+    for (std::size_t k = 0; k < rplidar::kCapsuleSamples; ++k) {
+      capsule.distance_m[k] = 1.0 + static_cast<double>(k % 50) * 0.1;
+      capsule.correction_deg[k] = static_cast<double>(k % 5) * 0.25 - 0.5;
+    }
+    const auto encoded = rplidar::EncodeCapsule(capsule);
+    bytes.insert(bytes.end(), encoded.begin(), encoded.end());
+  }
+  std::vector<SweepPoint> points;
+  for (auto _ : state) {
+    rplidar::CapsuleStream stream;
+    SweepAssembler sweeps;
+    points.clear();
+    stream.Push(bytes, points);
+    int scans = 0;
+    for (const SweepPoint& p : points) scans += sweeps.Add(p, 0).has_value() ? 1 : 0;
+    benchmark::DoNotOptimize(scans);
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * bytes.size()));
+}
+BENCHMARK(BM_RplidarExpressRevolution)->Unit(benchmark::kMicrosecond);
 
 // An LDS-02 revolution: 30 packets of 12 points, each with its CRC, through the packet stream and the sweeps.
 void BM_Lds02Revolution(benchmark::State& state) {

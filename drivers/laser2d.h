@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <memory>
+#include <numbers>
 #include <vector>
 
 #include "drivers/clock.h"
@@ -33,7 +34,7 @@ struct LaserScan {
 // How long before the scan's stamp beam i was measured, seconds in [0, sweep_s].
 inline double BeamAgeS(const LaserScan& scan, std::size_t i) {
   if (!(scan.sweep_s > 0.0)) return 0.0;
-  constexpr double kTurn = 2.0 * 3.14159265358979323846;
+  constexpr double kTurn = 2.0 * std::numbers::pi;
   const double angle = scan.angle_min_rad + static_cast<double>(i) * scan.angle_increment_rad;
   const double turned = scan.sweep_clockwise ? scan.sweep_start_rad - angle : angle - scan.sweep_start_rad;
   const double fraction = (turned - kTurn * std::floor(turned / kTurn)) / kTurn;  // of the turn done at this beam

@@ -1,17 +1,14 @@
 // A TurtleBot 3's laser, LDS-01 or LDS-02 (lds_protocol.h), on a serial port: the driver's thread opens the port,
 // starts an LDS-01 (the LDS-02 sends from power-up), and hands each revolution to the scan handler. A port that fails
-// or goes away (the device unplugged) is reopened every reconnect_s, and one that says nothing for silence_s too, so
-// that a device plugged back in under the same path (udev's stable name) scans again by itself. What it is doing is
-// in status().
+// or goes away (the device unplugged) is reopened every reconnect_s, and one that sends no packet for silence_s too
+// (rotating_laser.h). What it is doing is in status().
 #pragma once
 
 #include <cstdint>
 #include <thread>
 
-#include "drivers/laser2d.h"
 #include "drivers/lds/lds_options.h"
-#include "drivers/serial/linked_device.h"
-#include "drivers/serial/serial_port.h"
+#include "drivers/rotating_laser.h"
 
 namespace corridor::drivers::lds {
 
@@ -22,25 +19,18 @@ struct LdsStatus : LinkStatus {
   double speed_deg_s = 0.0;         // an LDS-02's rotation speed as it reports it
 };
 
-class LdsLaser final : public Laser2D, public LinkedDevice<LdsStatus> {
+class LdsLaser final : public RotatingLaser<LdsStatus> {
  public:
   // Starts the driver's thread; `clock` stamps the scans (when a revolution's last byte arrived) and must outlive it.
   // Throws std::invalid_argument for options that cannot work.
   LdsLaser(const LdsOptions& options, const Clock& clock);
   ~LdsLaser() override;  // stops an LDS-01, joins the thread
 
-  nav::Pose2 base_T_laser() const override { return options_.base_T_laser; }
-  double height_m() const override { return options_.height_m; }
-  void SetScanHandler(ScanHandler handler) override;
-
  private:
-  void Run(std::stop_token stop);
   // One session on an open port: revolutions until the port fails, goes silent, or `stop`.
   void Scan(SerialPort& port, std::stop_token stop);
 
   LdsOptions options_;
-  const Clock& clock_;
-  ScanHandler handler_;
   std::jthread thread_;  // last: started after everything it uses
 };
 

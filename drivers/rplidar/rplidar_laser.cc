@@ -3,15 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
+#include <string>
 #include <vector>
-
-#include <spdlog/spdlog.h>
 
 namespace corridor::drivers::rplidar {
 
 namespace {
-
-constexpr std::chrono::milliseconds kGather{5};
 
 // The descriptor answering a request, past any bytes before its start flags; then `length` bytes of response when
 // `length` > 0. Nothing when it does not come within timeout_s or is of another type.
@@ -46,15 +43,13 @@ std::optional<std::vector<std::uint8_t>> Answer(SerialPort& port, DataType type,
 }  // namespace
 
 RplidarLaser::RplidarLaser(const RplidarOptions& options, const Clock& clock)
-    : LinkedDevice("rplidar", options.port.string()), options_(options), clock_(clock) {
-  if (options.port.empty()) throw std::invalid_argument("rplidar: no port given");
-  if (!(options.stale_s > 0.0) || !(options.silence_s > options.stale_s) || !(options.reconnect_s > 0.0) ||
-      !(options.answer_s > 0.0)) {
-    throw std::invalid_argument(
-        "rplidar: stale_s, reconnect_s and answer_s must be positive, and silence_s longer than stale_s");
-  }
-  SweepAssembler check(options.sweep);  // throws for bad sweep options here, not on the thread
-  thread_ = std::jthread([this](std::stop_token stop) { Run(stop); });
+    : RotatingLaser("rplidar", {options.port, options.stale_s, options.silence_s, options.reconnect_s},
+                    options.base_T_laser, options.height_m, options.sweep, clock),
+      options_(options) {
+  if (!(options.answer_s > 0.0)) throw std::invalid_argument("rplidar: answer_s must be positive");
+  thread_ = std::jthread([this](std::stop_token stop) {
+    RunPortSessions(stop, options_.baud_rate, [&](SerialPort& port) { Scan(port, stop); });
+  });
 }
 
 RplidarLaser::~RplidarLaser() {
@@ -62,20 +57,7 @@ RplidarLaser::~RplidarLaser() {
   if (thread_.joinable()) thread_.join();
 }
 
-void RplidarLaser::SetScanHandler(ScanHandler handler) {
-  std::lock_guard lock(mutex_);
-  handler_ = std::move(handler);
-}
-
-void RplidarLaser::Run(std::stop_token stop) {
-  RunSessions(stop, options_.reconnect_s, [&] {
-    SerialPort port(options_.port, options_.baud_rate);
-    Scan(port, stop);
-  });
-}
-
 void RplidarLaser::Scan(SerialPort& port, std::stop_token stop) {
-  SetState(LinkState::kConnecting);
   // The A1's motor runs while DTR is clear (its USB adapter inverts it into MOTOCTL); other models ignore DTR. A
   // pseudo-terminal has no modem lines and refuses, which is not an error.
   port.SetDtr(false);
@@ -104,54 +86,31 @@ void RplidarLaser::Scan(SerialPort& port, std::stop_token stop) {
     port.Write(EncodeRequest(Command::kReset));
     return;
   }
-  port.Write(EncodeRequest(Command::kScan));
-  const auto started = Answer(port, DataType::kScan, 0, options_.answer_s);
+  const bool express = options_.scan_mode == ScanMode::kExpress;
+  port.Write(express ? EncodeExpressScanRequest() : EncodeRequest(Command::kScan));
+  const auto started = Answer(port, express ? DataType::kCapsule : DataType::kScan, 0, options_.answer_s);
   if (!started) {
-    SetState(LinkState::kSilent, "no answer to SCAN");
+    // Firmware before 1.17 knows no express scan and says nothing: the log says what to change.
+    SetState(LinkState::kSilent, express ? "no answer to EXPRESS_SCAN (firmware before 1.17 has none: scan: standard)"
+                                         : "no answer to SCAN");
     return;
   }
-  NodeStream stream;
-  SweepAssembler sweeps(options_.sweep);
-  std::vector<Node> nodes;
-  const auto take = [&](std::span<const std::uint8_t> bytes) {
-    nodes.clear();
-    stream.Push(bytes, nodes);
-    for (const Node& node : nodes) {
-      std::optional<LaserScan> scan = sweeps.Add(node, clock_.Now());
-      if (!scan) continue;
-      ScanHandler handler;
-      {
-        std::lock_guard lock(mutex_);
-        ++status_.scans;
-        status_.skipped_bytes = stream.skipped_bytes();
-        handler = handler_;
-      }
-      if (handler) handler(std::make_shared<const LaserScan>(std::move(*scan)));
-    }
-  };
-  take(*started);  // nodes that came with the descriptor
-  SetState(LinkState::kRunning);
-  std::array<std::uint8_t, 1024> buffer{};
-  TimeNs last_byte_ns = clock_.Now();
-  while (!stop.stop_requested()) {
-    const std::size_t n = port.Read(buffer, options_.stale_s);
-    const TimeNs now = clock_.Now();
-    if (n == 0) {
-      const double quiet_s = ToSeconds(now - last_byte_ns);
-      if (quiet_s >= options_.silence_s) {
-        SetState(LinkState::kSilent, fmt::format("no data for {:.1f} s: restarting the scan", options_.silence_s));
-        return;
-      }
-      if (quiet_s >= options_.stale_s) SetState(LinkState::kStale, fmt::format("no data for {:.0f} ms", options_.stale_s * 1e3));
-      continue;
-    }
-    last_byte_ns = now;
-    SetState(LinkState::kRunning);
-    take(std::span<const std::uint8_t>(buffer.data(), n));
-    // A few bytes came (a USB adapter passes them on every millisecond or so): let more gather before the next read,
-    // rather than wake a thousand times a second. A revolution ends at most kGather later.
-    if (n < buffer.size() / 4) std::this_thread::sleep_for(kGather);
-  }
+  NodeStream nodes;
+  CapsuleStream capsules;
+  ReadSweeps(
+      port, stop, *started,
+      [&](std::span<const std::uint8_t> bytes, std::vector<SweepPoint>& points) -> std::uint64_t {
+        if (express) {
+          const std::uint64_t before = capsules.capsules();
+          capsules.Push(bytes, points);
+          return capsules.capsules() - before;
+        }
+        nodes.Push(bytes, points);
+        return points.size();
+      },
+      [&](RplidarStatus& status) {
+        status.skipped_bytes = express ? capsules.skipped_bytes() : nodes.skipped_bytes();
+      });
   port.Write(EncodeRequest(Command::kStop));
   port.SetDtr(true);
 }

@@ -18,13 +18,15 @@ namespace corridor::drivers::rplidar {
 namespace {
 
 using corridor::testing::Eventually;
+using corridor::testing::RoomScans;
 using corridor::testing::RplidarEmulator;
 using corridor::testing::RplidarEmulatorOptions;
-using corridor::testing::RoomScans;
 using namespace std::chrono_literals;
 
-// A room where the robot's right (90 degrees clockwise in the device) is a wall 1 m away, everything else 3 m.
-double Room(double angle_cw_deg) { return std::abs(angle_cw_deg - 90.0) < 5.0 ? 1.0 : 3.0; }
+// A room where the robot's right (90 degrees clockwise in the device) is a wall 1 m away, everything else 3 m. Its
+// edges lie half-way between beams, so that express samples (whole degrees less a correction of under half a degree)
+// fall on the same side as their beam.
+double Room(double angle_cw_deg) { return std::abs(angle_cw_deg - 90.0) < 4.5 ? 1.0 : 3.0; }
 
 std::filesystem::path Link(const std::string& name) {
   return std::filesystem::temp_directory_path() / ("corridor_rplidar_" + name + "_" + std::to_string(::getpid()));
@@ -60,7 +62,8 @@ TEST(RplidarLaserTest, ScansArriveCounterClockwiseFromForwardWithTheDevicesInfor
   EXPECT_EQ(status.info->firmware_major, 1);
   // The wall on the right is at -90 degrees in the scan.
   std::lock_guard lock(last_mutex);
-  const auto beam = static_cast<std::size_t>(std::lround((-std::numbers::pi / 2 - last->angle_min_rad) / last->angle_increment_rad));
+  const auto beam =
+      static_cast<std::size_t>(std::lround((-std::numbers::pi / 2 - last->angle_min_rad) / last->angle_increment_rad));
   EXPECT_NEAR(last->ranges[beam], 1.0, 1e-3);
 }
 
@@ -79,6 +82,29 @@ TEST(RplidarLaserTest, NoiseABadCheckBitAndALostByteCostAFewMeasurementsNotTheSc
   device.DropByte();
   ASSERT_TRUE(Eventually([&] { return received.count() >= 8; }, 3000ms));
   EXPECT_EQ(received.wrong(), 0) << "a beam from a misread node";
+  EXPECT_GT(laser.status().skipped_bytes, 0u);
+  EXPECT_EQ(laser.status().state, LinkState::kRunning);
+}
+
+TEST(RplidarLaserTest, InExpressModeScansArriveAndAFaultCostsOnlyTheCapsulesItTouches) {
+  const std::filesystem::path link = Link("express");
+  RplidarEmulator device(link, RplidarEmulatorOptions{.range = Room});
+  SteadyClock clock;
+  RplidarOptions options = OptionsFor(link);
+  options.scan_mode = ScanMode::kExpress;
+  RplidarLaser laser(options, clock);
+  RoomScans received(Room);
+  received.Connect(laser);
+  ASSERT_TRUE(Eventually([&] { return received.count() >= 2; }, 5000ms)) << laser.status().last_error;
+  EXPECT_EQ(device.express_scans_started(), 1);
+  EXPECT_EQ(device.scans_started(), 0);
+  device.Noise({0x00, 0xA5, 0x5A, 0x13, 0x37});
+  ASSERT_TRUE(Eventually([&] { return received.count() >= 4; }, 3000ms));
+  device.BadCheckBit();
+  ASSERT_TRUE(Eventually([&] { return received.count() >= 6; }, 3000ms));
+  device.DropByte();
+  ASSERT_TRUE(Eventually([&] { return received.count() >= 8; }, 3000ms));
+  EXPECT_EQ(received.wrong(), 0) << "a beam from a misread capsule";
   EXPECT_GT(laser.status().skipped_bytes, 0u);
   EXPECT_EQ(laser.status().state, LinkState::kRunning);
 }

@@ -1,5 +1,6 @@
 // The RPLIDAR protocol's frames byte for byte as Slamtec's "RPLIDAR Interface Protocol and Application Notes" gives
-// them, and the byte stream's faults a serial port shows: noise before the first frame, a byte lost, a bad check bit.
+// them (standard nodes and express capsules), and the byte stream's faults a serial port shows: noise before the first
+// frame, a byte lost, a bad check bit or checksum.
 #include "drivers/rplidar/rplidar_protocol.h"
 
 #include <gtest/gtest.h>
@@ -126,7 +127,8 @@ TEST(RplidarProtocolTest, SweepsBecomeCounterClockwiseScansFromTheStartFlagOn) {
   // 90 degrees clockwise (the robot's right) is -90 degrees in the scan; 90 counter-clockwise is the device's 270.
   const auto at = [&](double deg) {
     const double a = deg * std::numbers::pi / 180.0;
-    return scan->ranges[static_cast<std::size_t>(std::lround((a - scan->angle_min_rad) / scan->angle_increment_rad)) % 360];
+    return scan
+        ->ranges[static_cast<std::size_t>(std::lround((a - scan->angle_min_rad) / scan->angle_increment_rad)) % 360];
   };
   EXPECT_NEAR(at(-90.0), RangeOf(90.0), 1e-3);
   EXPECT_NEAR(at(90.0), RangeOf(270.0), 1e-3);
@@ -139,9 +141,9 @@ TEST(RplidarProtocolTest, MeasurementsOfNoQualityOrOutOfRangeAreNotInTheScan) {
   options.min_points = 1;
   SweepAssembler sweeps(options);
   EXPECT_FALSE(sweeps.Add(Node{true, 40, 0.0, 2.0}, 1));
-  sweeps.Add(Node{false, 0, 45.0, 2.0}, 1);    // the device saw nothing
-  sweeps.Add(Node{false, 40, 90.0, 0.05}, 1);  // inside the housing
-  sweeps.Add(Node{false, 40, 135.0, 30.0}, 1); // past the range
+  sweeps.Add(Node{false, 0, 45.0, 2.0}, 1);     // the device saw nothing
+  sweeps.Add(Node{false, 40, 90.0, 0.05}, 1);   // inside the housing
+  sweeps.Add(Node{false, 40, 135.0, 30.0}, 1);  // past the range
   sweeps.Add(Node{false, 40, 180.0, 3.0}, 1);
   const std::optional<LaserScan> scan = sweeps.Add(Node{true, 40, 0.0, 2.0}, 2);
   ASSERT_TRUE(scan);
@@ -151,6 +153,143 @@ TEST(RplidarProtocolTest, MeasurementsOfNoQualityOrOutOfRangeAreNotInTheScan) {
   EXPECT_FLOAT_EQ(scan->ranges[4], 2.0f);  // forward: -pi + 4 x 45 degrees
   EXPECT_FLOAT_EQ(scan->ranges[0], 3.0f);  // behind
   EXPECT_THROW(SweepAssembler(SweepOptions{.bins = 2}), std::invalid_argument);
+}
+
+TEST(RplidarProtocolTest, ExpressScanIsRequestedWithWorkingModeZeroAndAnsweredWith84ByteCapsules) {
+  // A5 82, five payload bytes (mode 0, four reserved), the XOR of all before: A5 ^ 82 ^ 05 = 22.
+  EXPECT_EQ(EncodeExpressScanRequest(), (Bytes{0xA5, 0x82, 0x05, 0x00, 0x00, 0x00, 0x00, 0x00, 0x22}));
+  const std::array<std::uint8_t, kDescriptorBytes> answer = {0xA5, 0x5A, 0x54, 0x00, 0x00, 0x40, 0x82};
+  const std::optional<Descriptor> d = DecodeDescriptor(answer);
+  ASSERT_TRUE(d);
+  EXPECT_EQ(d->length, kCapsuleBytes);
+  EXPECT_TRUE(d->repeated);
+  EXPECT_EQ(d->type, static_cast<std::uint8_t>(DataType::kCapsule));
+}
+
+TEST(RplidarProtocolTest, ACapsuleIsSyncNibblesOverItsChecksumTheStartAngleAndSixteenCabins) {
+  // Built by hand from the document's figure: start angle 90 degrees (0x1680) with S set; cabin 0's first sample
+  // 1000 mm with a correction of +1.5 degrees (12 eighths: 0b001100), its second 2000 mm with -0.5 (-4: 0b111100);
+  // every other sample none, correction 0.
+  std::array<std::uint8_t, kCapsuleBytes> bytes{};
+  bytes[2] = 0x80;
+  bytes[3] = 0x16 | 0x80;
+  const std::uint16_t first = 1000 << 2 | 0b00;   // correction's bits 5:4 = 00
+  const std::uint16_t second = 2000 << 2 | 0b11;  // 11
+  bytes[4] = first & 0xFF;
+  bytes[5] = first >> 8;
+  bytes[6] = second & 0xFF;
+  bytes[7] = second >> 8;
+  bytes[8] = 0b1100 | 0b1100 << 4;  // the first's bits 3:0 low, the second's high
+  std::uint8_t checksum = 0;
+  for (std::size_t i = 2; i < kCapsuleBytes; ++i) checksum ^= bytes[i];
+  bytes[0] = 0xA0 | (checksum & 0x0F);
+  bytes[1] = 0x50 | checksum >> 4;
+  const std::optional<Capsule> capsule = DecodeCapsule(bytes);
+  ASSERT_TRUE(capsule);
+  EXPECT_TRUE(capsule->start);
+  EXPECT_DOUBLE_EQ(capsule->start_angle_deg, 90.0);
+  EXPECT_DOUBLE_EQ(capsule->distance_m[0], 1.0);
+  EXPECT_DOUBLE_EQ(capsule->correction_deg[0], 1.5);
+  EXPECT_DOUBLE_EQ(capsule->distance_m[1], 2.0);
+  EXPECT_DOUBLE_EQ(capsule->correction_deg[1], -0.5);
+  EXPECT_DOUBLE_EQ(capsule->distance_m[2], 0.0);
+  EXPECT_EQ(EncodeCapsule(*capsule), bytes);
+  // A wrong checksum, wrong sync nibbles, an angle of 360 degrees or more: not a capsule.
+  auto broken = bytes;
+  broken[10] ^= 0x01;
+  EXPECT_FALSE(DecodeCapsule(broken));
+  broken = bytes;
+  broken[0] = 0xB0 | (checksum & 0x0F);
+  EXPECT_FALSE(DecodeCapsule(broken));
+  Capsule wide = *capsule;
+  auto past = EncodeCapsule(wide);
+  past[2] = 0x00;
+  past[3] = 0x5A;  // 0x5A00 / 64 = 360 degrees
+  std::uint8_t c = 0;
+  for (std::size_t i = 2; i < kCapsuleBytes; ++i) c ^= past[i];
+  past[0] = 0xA0 | (c & 0x0F);
+  past[1] = 0x50 | c >> 4;
+  EXPECT_FALSE(DecodeCapsule(past));
+}
+
+TEST(RplidarProtocolTest, ACapsulesSamplesLieBetweenItsStartAngleAndTheNextLessTheirCorrections) {
+  Capsule capsule;
+  capsule.start_angle_deg = 350.0;
+  capsule.distance_m.fill(1.0);
+  capsule.correction_deg[0] = 0.5;
+  capsule.correction_deg[16] = -0.25;
+  std::vector<SweepPoint> points;
+  CapsuleSamples(capsule, 6.0, points);  // the next starts at 6 degrees: 16 degrees on, through forward
+  ASSERT_EQ(points.size(), kCapsuleSamples);
+  EXPECT_DOUBLE_EQ(points[0].angle_deg, 349.5);
+  EXPECT_DOUBLE_EQ(points[1].angle_deg, 350.5);
+  EXPECT_DOUBLE_EQ(points[16].angle_deg, 358.25);
+  EXPECT_DOUBLE_EQ(points[20].angle_deg, 0.0);
+  EXPECT_DOUBLE_EQ(points[31].angle_deg, 5.5);
+  // The revolution starts at the sample whose place passes forward, whatever its correction.
+  for (std::size_t k = 0; k < points.size(); ++k) EXPECT_EQ(points[k].start, k == 20) << k;
+  EXPECT_GT(points[0].quality, 0);
+}
+
+// Capsules of 32 samples over `count` samples a revolution, from sample `first` on, each sample at `range(angle)`.
+Bytes Capsules(int first, int capsules, int count, double (*range)(double), bool start) {
+  Bytes out;
+  for (int i = 0; i < capsules; ++i) {
+    Capsule capsule;
+    capsule.start = start && i == 0;
+    capsule.start_angle_deg = std::fmod(360.0 * (first + i * 32) / count, 360.0);
+    for (std::size_t k = 0; k < kCapsuleSamples; ++k) {
+      capsule.correction_deg[k] = (static_cast<int>(k) % 3 - 1) * 0.125;
+      const double angle = capsule.start_angle_deg + 360.0 * static_cast<double>(k) / count - capsule.correction_deg[k];
+      capsule.distance_m[k] = range(std::fmod(angle + 360.0, 360.0));
+    }
+    const auto bytes = EncodeCapsule(capsule);
+    out.insert(out.end(), bytes.begin(), bytes.end());
+  }
+  return out;
+}
+
+TEST(RplidarProtocolTest, TheCapsuleStreamDropsOnlyTheCapsulesANoiseBurstOrABadChecksumTouches) {
+  // Twelve capsules; noise before the first, a lost byte in the sixth. Each capsule's samples come with the next.
+  const Bytes clean = Capsules(0, 12, 384, RangeOf, true);
+  Bytes bytes = {0x00, 0xA5, 0x5A, 0x13};
+  bytes.insert(bytes.end(), clean.begin(), clean.end());
+  bytes.erase(bytes.begin() + 4 + 5 * kCapsuleBytes + 30);
+  CapsuleStream stream;
+  std::vector<SweepPoint> points;
+  for (std::size_t at = 0, piece = 1; at < bytes.size(); at += piece, piece = piece % 97 + 1) {
+    stream.Push(std::span<const std::uint8_t>(bytes).subspan(at, std::min(piece, bytes.size() - at)), points);
+  }
+  EXPECT_EQ(stream.capsules(), 11u);
+  EXPECT_GT(stream.skipped_bytes(), 0u);
+  // Capsules 0-3 (4 waits for 5, which is broken, and is dropped), 6-10 (11 waits): nine of them.
+  EXPECT_EQ(points.size(), 9 * kCapsuleSamples);
+  for (const SweepPoint& p : points) EXPECT_NEAR(p.distance_m, RangeOf(p.angle_deg), 1e-3) << p.angle_deg;
+}
+
+TEST(RplidarProtocolTest, ExpressRevolutionsBecomeScansWhereTheAngleFallsBackPastForward) {
+  SweepOptions options;
+  options.bins = 360;
+  SweepAssembler sweeps(options);
+  CapsuleStream stream;
+  std::vector<SweepPoint> points;
+  // 720 samples a revolution (an A1 at 5.5 Hz in express mode): 22.5 capsules, so revolutions begin mid-capsule.
+  stream.Push(Capsules(0, 70, 720, RangeOf, true), points);
+  std::vector<LaserScan> scans;
+  for (const SweepPoint& p : points) {
+    if (auto scan = sweeps.Add(p, 1)) scans.push_back(std::move(*scan));
+  }
+  // 69 capsules' samples (the 70th waits for the next): revolutions begin at samples 0, 720, 1440 and 2160.
+  ASSERT_EQ(scans.size(), 3u);
+  for (const LaserScan& scan : scans) {
+    const auto at = [&](double deg) {
+      const double a = deg * std::numbers::pi / 180.0;
+      return scan
+          .ranges[static_cast<std::size_t>(std::lround((a - scan.angle_min_rad) / scan.angle_increment_rad)) % 360];
+    };
+    EXPECT_NEAR(at(-90.0), RangeOf(90.0), 2e-3);
+    EXPECT_NEAR(at(90.0), RangeOf(270.0), 2e-3);
+  }
 }
 
 }  // namespace

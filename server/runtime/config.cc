@@ -584,6 +584,9 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
       ReadSerial(s, l.port, l.baud_rate, base);
       ReadMount(s, l.base_T_laser);
       s.Read("mount_height_m", l.height_m, 0.0, 3.0);
+      s.ReadChoice<drivers::rplidar::ScanMode>(
+          "scan", l.scan_mode,
+          {{"standard", drivers::rplidar::ScanMode::kStandard}, {"express", drivers::rplidar::ScanMode::kExpress}});
       s.Read("beams", l.sweep.bins, 8, 8192);
       s.Read("min_range_m", l.sweep.range_min_m, 0.0, 10.0);
       s.Read("max_range_m", l.sweep.range_max_m, 0.5, 100.0);

@@ -152,7 +152,7 @@ TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
       << dds
       << "devices:\n"
          "  base: {driver: create2, port: /dev/ttyUSB0, wheel_diameter_m: 0.07, stale_s: 0.04}\n"
-         "  laser: {driver: rplidar, port: /dev/corridor/rplidar, baud_rate: 256000, mount_yaw_deg: 180}\n"
+         "  laser: {driver: rplidar, port: /dev/corridor/rplidar, baud_rate: 256000, mount_yaw_deg: 180, scan: express}\n"
          "  camera: {driver: dds, depth_topic: /cam/depth, info_wait_s: 3}\n";
   const Config c = LoadConfig(dir_ / "c.yaml");
   EXPECT_FALSE(Simulated(c));
@@ -161,6 +161,7 @@ TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
   EXPECT_DOUBLE_EQ(c.devices.base.create2.wheels.wheel_diameter_m, 0.07);
   EXPECT_DOUBLE_EQ(c.devices.base.create2.stale_s, 0.04);
   EXPECT_EQ(c.devices.laser.rplidar.baud_rate, 256000);
+  EXPECT_EQ(c.devices.laser.rplidar.scan_mode, drivers::rplidar::ScanMode::kExpress);
   EXPECT_NEAR(c.devices.laser.rplidar.base_T_laser.yaw_rad, M_PI, 1e-9);
   EXPECT_EQ(c.devices.camera.dds.depth_topic, "/cam/depth");
   EXPECT_DOUBLE_EQ(c.devices.camera.info_wait_s, 3.0);

@@ -1,5 +1,6 @@
 // An RPLIDAR for tests, on a pseudo-terminal: the device's side of Slamtec's "RPLIDAR Interface Protocol and
-// Application Notes" (GET_INFO, GET_HEALTH, RESET, SCAN, STOP; the standard scan's 5-byte nodes at the device's rate),
+// Application Notes" (GET_INFO, GET_HEALTH, RESET, SCAN, EXPRESS_SCAN, STOP; the standard scan's 5-byte nodes and the
+// legacy express scan's 84-byte capsules of 32 samples, each with an angle correction, at the device's rate),
 // written from that document apart from the driver's codec, and the faults real devices show: noise, a node with a
 // bad check bit, a byte lost, silence, an error state that a reset clears, unplugging and plugging back in under the
 // same path (a symbolic link, as udev's stable names are).
@@ -33,8 +34,8 @@ class RplidarEmulator {
   RplidarEmulator(const RplidarEmulator&) = delete;
   RplidarEmulator& operator=(const RplidarEmulator&) = delete;
 
-  // Faults, each played once at the next node: bytes of noise before it, its check bit cleared, one of its bytes left
-  // out.
+  // Faults, each played once at the next node or capsule: bytes of noise before it, its check bit cleared (a capsule:
+  // its checksum wrong), one of its bytes left out.
   void Noise(std::vector<std::uint8_t> bytes);
   void BadCheckBit();
   void DropByte();
@@ -47,6 +48,7 @@ class RplidarEmulator {
   void Replug();
 
   int scans_started() const { return scans_started_.load(); }
+  int express_scans_started() const { return express_scans_started_.load(); }
   int resets() const { return resets_.load(); }
 
  private:
@@ -55,11 +57,15 @@ class RplidarEmulator {
   void Handle(std::uint8_t command);
   void Send(const std::vector<std::uint8_t>& bytes) { terminal_.Send(bytes); }
   void SendNode(int index);
+  void SendCapsule(int first_index);  // samples first_index.. first_index + 31
+  void SendWithFaults(std::vector<std::uint8_t> bytes, std::size_t check_byte, std::uint8_t check_mask);
 
   RplidarEmulatorOptions options_;
   std::mutex mutex_;  // guards everything below but the counters
   PseudoTerminal terminal_;
   bool scanning_ = false;
+  bool express_ = false;  // scanning in capsules
+  bool first_capsule_ = false;
   bool silent_ = false;
   int health_status_ = 0;
   int next_sample_ = 0;
@@ -69,6 +75,7 @@ class RplidarEmulator {
   bool drop_byte_ = false;
   std::vector<std::uint8_t> request_;  // a request being received
   std::atomic<int> scans_started_{0};
+  std::atomic<int> express_scans_started_{0};
   std::atomic<int> resets_{0};
   std::jthread thread_;
 };
