@@ -240,6 +240,26 @@ fleet:
     assert.equal(error.errorReferences[0].referenceValue, 'c2');
   });
 
+  test('an order to a node the console would refuse is refused on arrival, naming the node, and nothing moves', async () => {
+    const here = master.last('state').agvPosition;
+    const count = master.messages.length;
+    master.publish('order', { orderId: 'o7', orderUpdateId: 0,
+      nodes: [node('s', 0, true, here.x, here.y), node('wall', 2, true, 3.0, 0.02)],
+      edges: [edge('s', 'wall', 1, true)] });
+    const refused = await master.waitFor('state', (s) => s.errors.some((e) => e.errorType === 'noRouteError'), 5000,
+      'noRouteError', count);
+    const error = refused.errors.find((e) => e.errorType === 'noRouteError');
+    const reference = (key) => error.errorReferences.find((r) => r.referenceKey === key)?.referenceValue;
+    assert.equal(reference('nodeId'), 'wall', JSON.stringify(error));
+    assert.equal(reference('orderId'), 'o7');
+    assert.equal(refused.orderId, 'o1', 'the refused order is not taken');
+    assert.deepEqual(nodeIds(refused), []);
+    // Nothing started: the robot stands where it stood.
+    const later = await master.waitFor('state', () => true, 5000, 'a later state', master.messages.length);
+    assert.equal(later.driving, false);
+    assert.ok(near(later, here.x, here.y, 0.05), JSON.stringify(later.agvPosition));
+  });
+
   test('the broker stopping and coming back loses no order', async () => {
     const here = master.last('state').agvPosition;
     master.publish('order', { orderId: 'o3', orderUpdateId: 0,

@@ -19,6 +19,7 @@
 #include "drivers/laser2d.h"
 #include "drivers/sim/sim_robot.h"
 #include "server/api/webhooks.h"
+#include "server/app/robot_core.h"
 #include "server/auth/gate.h"
 #include "server/fleet/rmf.h"
 #include "server/nodes/explore_node.h"
@@ -64,6 +65,9 @@ class ApiError : public std::runtime_error {
   int retry_after_s_ = 0;
 };
 
+// A mission the core refused, as a 422 problem naming the goal by its place in the request's `list` ("waypoints").
+ApiError RefusalError(const nav::MissionRefusal& refusal, const std::string& list);
+
 Response ProblemResponse(http::status status, const std::string& title, const std::string& detail,
                          unsigned version, bool keep_alive, const std::string& code = "");
 
@@ -81,7 +85,8 @@ struct ApiContext {
   MapLibrary& maps;
   Store& store;
   PlannerService& planner;
-  MissionNode& missions;
+  MissionNode& missions;  // read only: missions start, pause and end through the core
+  const RobotCore& core;  // every command that moves the robot or sets its pose
   ExploreNode& explore;
   OctreeNode* octree;  // null when the 3D map is off (octomap.enabled: false)
   PerceptionNode* perception;  // null when perception.enabled is false
@@ -100,10 +105,6 @@ struct ApiContext {
   const drivers::Laser2D* laser = nullptr;  // where the laser is mounted (GET /api/v1/laser/scan); null: no laser
   const drivers::DepthCamera* camera = nullptr;  // its intrinsics and mounting (the camera's calibration); null: none
 };
-
-// The building as the robot uses it: the configuration's floors and lifts, with the lift stops drawn in the console
-// (the store's) put in.
-nav::Building CurrentBuilding(const Config& config, const Store& store);
 
 class Api {
  public:

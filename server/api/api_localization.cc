@@ -1,8 +1,8 @@
 // Routes for localization: GET /api/v1/localization, PUT /api/v1/localization/pose, POST
 // /api/v1/localization/relocalize, and, with the simulator, PUT /api/v1/sim/pose (a kidnapped robot); for mapping a
 // new building: POST /api/v1/mapping/start and /stop, GET /api/v1/mapping and /api/v1/mapping/image.
-#include <numbers>
 #include <sstream>
+#include <variant>
 
 #include "server/api/api.h"
 #include "server/runtime/topics.h"
@@ -71,18 +71,28 @@ void Api::AddLocalizationRoutes() {
     const json body = ParseJsonBody(r);
     if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
     AllowOnlyKeys(body, {"x", "y", "yaw", "sigma_m", "sigma_yaw"}, "");
-    const nav::Pose2 pose = ParsePoseOnMap(body, "");
-    LocalizationCommand defaults;
-    const double sigma_m = body.contains("sigma_m") ? RequireNumber(body, "sigma_m", "") : defaults.sigma_m;
-    const double sigma_rad = body.contains("sigma_yaw") ? RequireNumber(body, "sigma_yaw", "") : defaults.sigma_rad;
-    if (!(sigma_m >= 0.0 && sigma_m <= 10.0) || !(sigma_rad >= 0.0 && sigma_rad <= std::numbers::pi)) {
-      throw ApiError(http::status::bad_request, "Invalid request",
-                     "sigma_m must be within [0, 10] m and sigma_yaw within [0, pi] rad");
-    }
-    c_.localization.SetPose(pose, sigma_m, sigma_rad, [this, r, reply, pose, sigma_m, sigma_rad](PoseCheck check) {
+    PoseOrder order;
+    order.pose = {RequireNumber(body, "x", ""), RequireNumber(body, "y", ""), nav::WrapAngle(RequireNumber(body, "yaw", ""))};
+    if (body.contains("sigma_m")) order.sigma_m = RequireNumber(body, "sigma_m", "");
+    if (body.contains("sigma_yaw")) order.sigma_rad = RequireNumber(body, "sigma_yaw", "");
+    order.origin = "rest";
+    c_.core.SetPose(order, [this, r, reply, order](PoseResult result) {
       Answer(r, reply, [&]() -> Response {
-        if (!check.taken) throw ApiError(http::status::conflict, "Not now", check.detail, "mapping");
-        json answer{{"pose", ToJson(pose)}, {"sigma_m", sigma_m}, {"sigma_yaw", sigma_rad},
+        if (const auto* refused = std::get_if<PoseRefused>(&result)) {
+          switch (refused->reason) {
+            case PoseRefusal::kNotLocalizing:
+              throw ApiError(http::status::conflict, "Not localizing", refused->detail, "not_localizing");
+            case PoseRefusal::kOutsideMap:
+              throw ApiError(http::status::unprocessable_entity, "Pose outside the map", refused->detail,
+                             "outside_map");
+            case PoseRefusal::kBadSpread:
+              throw ApiError(http::status::bad_request, "Invalid request", refused->detail);
+            case PoseRefusal::kBusy:
+              throw ApiError(http::status::conflict, "Not now", refused->detail, "mapping");
+          }
+        }
+        const PoseCheck& check = std::get<PoseCheck>(result);
+        json answer{{"pose", ToJson(order.pose)}, {"sigma_m", order.sigma_m}, {"sigma_yaw", order.sigma_rad},
                     {"agrees", check.agrees}, {"detail", check.detail}};
         answer["agreement"] = check.checked ? json(check.agreement) : json(nullptr);
         answer["agreement_before"] = check.checked ? json(check.agreement_before) : json(nullptr);

@@ -138,12 +138,6 @@ void ExpectMapEdit(const std::function<void()>& edit) {
 
 }  // namespace
 
-nav::Building CurrentBuilding(const Config& config, const Store& store) {
-  nav::Building building = BuildingOf(config.building);
-  for (auto& [lift, stop] : store.LiftStops()) nav::PutStop(building, lift, std::move(stop));
-  return building;
-}
-
 void Api::ZonesChanged() const { c_.planner.SetZones(c_.store.Zones(c_.maps.active()->name)); }
 
 void Api::AddMapRoutes() {

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <limits>
+#include <variant>
 
 #include "nav/mission/docking.h"
 #include "server/api/api.h"
@@ -45,6 +46,21 @@ std::string TitleFor(nav::PlanError error) {
 json NumberOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 }  // namespace
+
+ApiError RefusalError(const nav::MissionRefusal& refusal, const std::string& list) {
+  const std::string detail = nav::Describe(refusal, refusal.goal ? list + "[" + std::to_string(*refusal.goal) + "]" : "");
+  const char* title = "Mission refused";
+  switch (refusal.reason) {
+    case nav::GoalRefusal::kOutsideMap: title = "Goal outside the map"; break;
+    case nav::GoalRefusal::kOccupied: title = "Goal occupied"; break;
+    case nav::GoalRefusal::kInKeepOut: title = "Goal in a keep-out zone"; break;
+    case nav::GoalRefusal::kUnknownFloor: title = "Unknown floor"; break;
+    case nav::GoalRefusal::kNotOnFloor: title = "Not on a floor"; break;
+    case nav::GoalRefusal::kNoLiftController: title = "No lift controller"; break;
+    case nav::GoalRefusal::kNoLiftRoute: title = "No way between floors"; break;
+  }
+  return ApiError(http::status::unprocessable_entity, title, detail, nav::ToString(refusal.reason));
+}
 
 nav::MissionGoal Api::ParseGoal(const json& j, const std::string& where) const {
   if (!j.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "'" + where + "' must be an object");
@@ -235,59 +251,11 @@ void Api::Undock(const Request& request, Reply reply) const {
 
 void Api::StartGoals(const Request& request, Reply reply, std::vector<nav::MissionGoal> goals, double speed_limit,
                      std::function<json(const MissionState&)> started) const {
-  // Every waypoint must be somewhere the robot can stand; say which one is not before anything moves.
-  c_.planner.WithCostmap([this, request, reply, goals = std::move(goals), speed_limit, started](
-                             std::shared_ptr<const nav::Costmap> map, std::uint64_t) mutable {
-    const nav::Costmap& costmap = *map;
+  // Every waypoint must be somewhere the robot can stand: the core says which one is not before anything moves.
+  c_.core.StartMission({std::move(goals), speed_limit, "rest"}, [this, request, reply, started](MissionResult result) {
     Answer(request, reply, [&]() -> Response {
-      const nav::Building building = CurrentBuilding(c_.config, c_.store);
-      const nav::Floor* here = building.FloorOfMap(c_.maps.active()->name);
-      for (std::size_t i = 0; i < goals.size(); ++i) {
-        if (goals[i].action == nav::GoalAction::kUndock) continue;
-        const std::string where = "waypoints[" + std::to_string(i) + "]";
-        const auto outside = [&] {
-          throw ApiError(http::status::unprocessable_entity, "Goal outside the map", where + " is outside the map",
-                         "goal_outside_map");
-        };
-        if (!goals[i].floor.empty() && (here == nullptr || goals[i].floor != here->name)) {
-          // On another floor: its map must show the goal free (the costmap there is made when the robot arrives).
-          const auto grid = c_.maps.Grid(building.FloorNamed(goals[i].floor)->map);
-          const auto cell = grid->WorldToCell(goals[i].pose.translation());
-          if (!cell) outside();
-          if (grid->at(*cell) != nav::kFreeCell) {
-            throw ApiError(http::status::unprocessable_entity, "Goal occupied",
-                           where + " is not free on floor " + goals[i].floor + "'s map", "goal_occupied");
-          }
-          continue;
-        }
-        const auto cell = costmap.grid().WorldToCell(goals[i].pose.translation());
-        if (!cell) outside();
-        if (!costmap.Traversable(costmap.Index(*cell))) {
-          const std::string why = costmap.InKeepOut(costmap.Index(*cell)) ? " is in a keep-out zone"
-                                                                          : " is occupied or too close to an obstacle";
-          throw ApiError(http::status::unprocessable_entity, "Goal occupied", where + why, "goal_occupied");
-        }
-      }
-      // Goals on other floors: through the building's lifts.
-      if (std::any_of(goals.begin(), goals.end(), [](const nav::MissionGoal& g) { return !g.floor.empty(); })) {
-        if (here == nullptr) {
-          throw ApiError(http::status::unprocessable_entity, "Not on a floor",
-                         "the map in use, '" + c_.maps.active()->name + "', is no floor of the building", "no_floor");
-        }
-        if (!c_.config.building.controller.configured() &&
-            std::any_of(goals.begin(), goals.end(),
-                        [&](const nav::MissionGoal& g) { return !g.floor.empty() && g.floor != here->name; })) {
-          throw ApiError(http::status::unprocessable_entity, "No lift controller",
-                         "goals on other floors need the building's lift controller (building.controller)",
-                         "no_lift");
-        }
-        try {
-          goals = nav::ThroughLifts(building, here->name, std::move(goals));
-        } catch (const std::invalid_argument& e) {
-          throw ApiError(http::status::unprocessable_entity, "No way between floors", e.what(), "no_lift");
-        }
-      }
-      const MissionState state = c_.missions.Start(std::move(goals), speed_limit);
+      if (const auto* refusal = std::get_if<nav::MissionRefusal>(&result)) throw RefusalError(*refusal, "waypoints");
+      const MissionState& state = std::get<MissionState>(result);
       Response res = JsonResponse(request, started ? started(state) : ToJson(state), http::status::created);
       res.set(http::field::location, "/api/v1/missions/" + state.id);
       return res;

@@ -20,6 +20,7 @@
 #include "nav/map/occupancy_grid.h"
 #include "server/api/api.h"
 #include "server/api/webhooks.h"
+#include "server/app/robot_core.h"
 #include "server/nodes/driver_bridge.h"
 #include "server/nodes/face_node.h"
 #include "server/nodes/mission_node.h"
@@ -86,6 +87,7 @@ class Graph {
   Store& store() { return store_; }
   auth::AccessControl& access() { return access_; }
   const Api& api() const { return *api_; }
+  const RobotCore& core() const { return *core_; }
 
  private:
   // Nothing new of the drivers' reaches the bus after it (a driver's callback already under way may still finish).
@@ -114,6 +116,7 @@ class Graph {
   std::shared_ptr<SpokenPhrases> spoken_ = std::make_shared<SpokenPhrases>();  // the face's, for the API
   std::shared_ptr<EventLog> events_ = std::make_shared<EventLog>();           // the face node's, for webhooks and API
   std::unique_ptr<Webhooks> webhooks_;                                          // on the io executor
+  std::unique_ptr<RobotCore> core_;  // over the nodes lifecycle_ owns
   std::unique_ptr<Api> api_;
   bool started_ = false;
   bool stopped_ = false;

@@ -3,6 +3,8 @@
 #include <spdlog/spdlog.h>
 
 #include <cmath>
+#include <limits>
+#include <variant>
 
 #include "server/runtime/topics.h"
 
@@ -42,14 +44,14 @@ std::unique_ptr<dds::Participant> MakeParticipant(const DdsOptions& options) {
 }
 
 DdsBridge::DdsBridge(Executor& executor, Bus& bus, dds::Participant& participant, const DdsOptions& options,
-                     RobotFrames frames, const Api& api, Executor& io, const MapLibrary& maps,
+                     RobotFrames frames, const Api& api, const RobotCore& core, const MapLibrary& maps,
                      const Lifecycle& lifecycle)
     : PeriodicNode("dds", executor, bus, kBridgeRateHz),
       participant_(participant),
       options_(options),
       frames_(std::move(frames)),
       api_(api),
-      io_(io),
+      core_(core),
       maps_(maps),
       lifecycle_(lifecycle),
       stamps_(dds::StampClock::For(executor.clock())) {}
@@ -172,19 +174,34 @@ void DdsBridge::Activate() {
   TakeWrites<geometry_msgs::msg::PoseStampedPubSubType>("/goal_pose", [this](const geometry_msgs::msg::PoseStamped& g) {
     const nav::Pose2 p = dds::FromRos(g.pose());
     RequireMapFrame(g.header());
-    CallApi("/goal_pose", boost::beast::http::verb::post, "/api/v1/missions",
-            {{"waypoints", {{{"x", p.x_m}, {"y", p.y_m}, {"yaw", p.yaw_rad}}}}});
+    nav::MissionGoal goal;
+    goal.pose = p;
+    goal.has_yaw = true;
+    core_.StartMission({{goal}, std::numeric_limits<double>::infinity(), "dds /goal_pose"}, [](MissionResult result) {
+      if (const auto* refusal = std::get_if<nav::MissionRefusal>(&result)) {
+        spdlog::warn("dds: /goal_pose refused ({}): {}", nav::ToString(refusal->reason),
+                     nav::Describe(*refusal, "the goal"));
+      }
+    });
   });
   TakeWrites<geometry_msgs::msg::PoseWithCovarianceStampedPubSubType>(
       "/initialpose", [this](const geometry_msgs::msg::PoseWithCovarianceStamped& pose) {
         const nav::Pose2 p = dds::FromRos(pose.pose().pose());
         RequireMapFrame(pose.header());
         const auto& c = pose.pose().covariance();
-        nlohmann::json body = {{"x", p.x_m}, {"y", p.y_m}, {"yaw", p.yaw_rad}};
+        PoseOrder order;
+        order.pose = p;
+        order.origin = "dds /initialpose";
         // RViz's 2D Pose Estimate sends 0.25 m^2 on x and y and (pi/12)^2 on yaw: take its spread when it gives one.
-        if (c[0] > 0.0 && c[7] > 0.0 && std::isfinite(c[0] + c[7])) body["sigma_m"] = std::sqrt(0.5 * (c[0] + c[7]));
-        if (c[35] > 0.0 && std::isfinite(c[35])) body["sigma_yaw"] = std::sqrt(c[35]);
-        CallApi("/initialpose", boost::beast::http::verb::put, "/api/v1/localization/pose", body);
+        if (c[0] > 0.0 && c[7] > 0.0 && std::isfinite(c[0] + c[7])) order.sigma_m = std::sqrt(0.5 * (c[0] + c[7]));
+        if (c[35] > 0.0 && std::isfinite(c[35])) order.sigma_rad = std::sqrt(c[35]);
+        core_.SetPose(order, [](PoseResult result) {
+          if (const auto* refused = std::get_if<PoseRefused>(&result)) {
+            spdlog::warn("dds: /initialpose refused: {}", refused->detail);
+          } else {
+            spdlog::info("dds: /initialpose taken: {}", std::get<PoseCheck>(result).detail);
+          }
+        });
       });
   PeriodicNode::Activate();
   const dds::ParticipantOptions& o = participant_.options();
@@ -299,23 +316,6 @@ void DdsBridge::PublishDiagnostics() {
     }
   }
   diagnostics_->Write(array);
-}
-
-void DdsBridge::CallApi(const std::string& what, boost::beast::http::verb method, const std::string& target,
-                        const nlohmann::json& body) {
-  auto request = std::make_shared<Request>(method, target, 11);
-  request->set(boost::beast::http::field::content_type, "application/json");
-  request->body() = body.dump();
-  request->prepare_payload();
-  io_.Post([this, what, request] {
-    api_.Handle(*request, [what](Response response) {
-      if (response.result_int() < 300) {
-        spdlog::info("dds: {} taken ({})", what, response.result_int());
-        return;
-      }
-      spdlog::warn("dds: {} refused ({}): {}", what, response.result_int(), response.body());
-    });
-  });
 }
 
 }  // namespace corridor::server

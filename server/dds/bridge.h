@@ -1,8 +1,8 @@
 // The DDS bridge: the bus as ROS 2 topics, a subscriber of the bus like the WebSocket stream. Each row of its table
 // (bridge.cc, Activate) takes one bus topic to one ROS 2 topic with ROS 2's type, frame and QoS; adding a row exposes
-// another topic. What ROS 2 tools send (/cmd_vel, /goal_pose, /initialpose) goes the way the console's requests go:
+// another topic. What ROS 2 tools send (/cmd_vel, /goal_pose, /initialpose) goes the way the console's commands go:
 // velocity onto the teleop topic (the command gate's deadman, limits and protective stop apply), goals and poses
-// through the API as a trusted in-process caller (the same checks, the same audit log). Those writes are taken only
+// through the robot core (server/app/robot_core.h: the same checks; a refusal is logged). Those writes are taken only
 // with dds.allow_writes: DDS has no authentication here.
 //
 // Frames (REP 105): map -> odom (localization, dated ahead by kMapOdomToleranceS as AMCL does), odom -> base_link
@@ -46,9 +46,10 @@ struct RobotFrames {
 
 class DdsBridge final : public PeriodicNode {
  public:
-  // Everything must outlive the bridge. `io`: where API requests run (the HTTP server's executor).
+  // Everything must outlive the bridge. `api`: the state it publishes; `core`: where goals and poses go.
   DdsBridge(Executor& executor, Bus& bus, drivers::dds::Participant& participant, const DdsOptions& options,
-            RobotFrames frames, const Api& api, Executor& io, const MapLibrary& maps, const Lifecycle& lifecycle);
+            RobotFrames frames, const Api& api, const RobotCore& core, const MapLibrary& maps,
+            const Lifecycle& lifecycle);
   void Activate() override;
   void Deactivate() override;
 
@@ -56,9 +57,6 @@ class DdsBridge final : public PeriodicNode {
   void Tick() override;
   void PublishMap();
   void PublishDiagnostics();
-  // A request to the API as a trusted caller, on the io executor; its answer is logged.
-  void CallApi(const std::string& what, boost::beast::http::verb method, const std::string& target,
-               const nlohmann::json& body);
   // Subscribes `topic` for what ROS 2 tools send: a sample is refused (DropLog) unless dds.allow_writes, or when
   // `take` throws std::invalid_argument (a value that cannot be used).
   template <typename PubSubType>
@@ -70,7 +68,7 @@ class DdsBridge final : public PeriodicNode {
   DdsOptions options_;
   RobotFrames frames_;
   const Api& api_;
-  Executor& io_;
+  const RobotCore& core_;
   const MapLibrary& maps_;
   const Lifecycle& lifecycle_;
   const drivers::dds::StampClock stamps_;

@@ -1,6 +1,8 @@
 #include "server/fleet/vda5050_agent.h"
 
 #include <algorithm>
+#include <tuple>
+#include <utility>
 #include <cmath>
 #include <limits>
 
@@ -280,6 +282,7 @@ VdaCommands VdaAgent::Order(const json& order, const VdaRobotNow& robot) {
           {{"nodeId", first_id}});
       return commands;
     }
+    order_before_ = std::pair(order_id_, order_update_id_);
     Take(order, false);
     std::vector<nav::MissionGoal> goals;
     if (const Node first = nodes_.front(); first.released) {
@@ -298,6 +301,7 @@ VdaCommands VdaAgent::Order(const json& order, const VdaRobotNow& robot) {
       }
     }
     Drive(std::move(goals), commands);
+    if (!commands.start) order_before_.reset();  // taken: nothing to drive yet, nothing to refuse
     return commands;
   }
   if (update_id < order_update_id_) {
@@ -425,6 +429,7 @@ void VdaAgent::Traverse(std::uint32_t sequence, VdaCommands& commands) {
 }
 
 VdaCommands VdaAgent::Started(const std::string& mission_id, std::size_t offset, const std::string& error) {
+  order_before_.reset();
   VdaCommands commands;
   commands.send_state = true;
   if (!mission_id.empty()) {
@@ -456,6 +461,44 @@ VdaCommands VdaAgent::Started(const std::string& mission_id, std::size_t offset,
   offset_ = offset;
   goals_for_ = std::move(batch);
   reached_ = 0;
+  return commands;
+}
+
+VdaCommands VdaAgent::Refused(const std::string& type, const std::string& description, const std::string& node_id) {
+  VdaCommands commands;
+  commands.send_state = true;
+  std::vector<GoalFor> batch = std::move(batch_);
+  batch_.clear();
+  if (!instant_mission_action_.empty()) {
+    if (Action* a = FindAction(instant_mission_action_)) SetStatus(*a, kFailed, description);
+    instant_mission_action_.clear();
+    return commands;
+  }
+  const std::string refused = order_id_;
+  if (order_before_) {
+    // Not taken: its nodes, edges and actions go, and the order before it stands.
+    const auto drop_actions = [&](const std::vector<std::string>& ids) {
+      actions_.erase(std::remove_if(actions_.begin(), actions_.end(),
+                                    [&](const Action& a) {
+                                      return std::find(ids.begin(), ids.end(), a.id) != ids.end();
+                                    }),
+                     actions_.end());
+    };
+    for (const Node& n : nodes_) drop_actions(n.actions);
+    for (const Edge& e : edges_) drop_actions(e.actions);
+    nodes_.clear();
+    edges_.clear();
+    handed_through_.reset();
+    std::tie(order_id_, order_update_id_) = *order_before_;
+    order_before_.reset();
+  } else {
+    for (const GoalFor& g : batch) {
+      if (Action* a = FindAction(g.action_id); a != nullptr && Open(a->status)) SetStatus(*a, kFailed, description);
+    }
+    handed_through_.reset();
+    if (!last_node_id_.empty()) handed_through_ = last_node_sequence_;
+  }
+  Reject(type, description, {{"orderId", refused}, {"nodeId", node_id}});
   return commands;
 }
 

@@ -78,6 +78,11 @@ class VdaAgent {
   // The mission the last VdaCommands started runs as `mission_id`, with `offset` goals put before the ones asked for
   // (backing off the dock first). An empty id: it could not start, for `error`.
   VdaCommands Started(const std::string& mission_id, std::size_t offset, const std::string& error = "");
+  // The mission the last VdaCommands started was refused before anything moved (its goal for node `node_id` off the
+  // map, in a wall or a keep-out zone, out of reach): the error `type` (validationError, noRouteError) names the order
+  // and the node. A new order is not taken (the state shows the one before it); an update's new nodes wait for the
+  // master control, as after any order it cannot drive.
+  VdaCommands Refused(const std::string& type, const std::string& description, const std::string& node_id);
   // The running mission took the goals the last VdaCommands extended it with. (When it had just finished instead,
   // the caller reports its last Progress, then starts a mission with them and reports Started.)
   void Extended();
@@ -176,6 +181,8 @@ class VdaAgent {
   std::vector<GoalFor> batch_;          // per goal of the last start or extension, until it is confirmed
   std::size_t reached_ = 0;             // goals reached so far
   std::string instant_mission_action_;  // an instant startCharging/stopCharging under way
+  // The order before the last new one was taken, until the mission that drives it starts: a refusal puts it back.
+  std::optional<std::pair<std::string, std::uint32_t>> order_before_;
   bool paused_ = false;
   bool changed_ = true;
 };

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "server/fleet/vda5050.h"
 
 namespace corridor::server {
@@ -133,6 +135,41 @@ TEST_F(VdaAgentTest, AnOrdersBaseBecomesAMissionAndItsProgressTheNodeStates) {
   EXPECT_EQ(view.edges[0].start, "c");
   EXPECT_EQ(ActionStatus("s2"), "FINISHED");
   EXPECT_EQ(State()["edgeStates"].size(), 1u);
+}
+
+TEST_F(VdaAgentTest, AnOrderTheCoreRefusesIsNotTakenAndTheErrorNamesTheOrderAndTheNode) {
+  agent_.Order(Order("o1", 0, {Node("a", 0, true, 0, 0), Node("b", 2, true, 1, 0)}, {Edge("a", "b", 1, true)}),
+               robot_);
+  agent_.Started("m1", 0);
+  agent_.Progress({"m1", nav::MissionStatus::kSucceeded, 1, 1, ""});
+  ASSERT_FALSE(agent_.Busy());
+  // o2's node w is in a wall: the core refuses the mission.
+  robot_.pose = nav::Pose2{1.0, 0.0, 0.0};
+  VdaCommands c = agent_.Order(
+      Order("o2", 0, {Node("b", 0, true, 1, 0), Node("w", 2, true, 4, 0, {Say("s9", "there")})}, {Edge("b", "w", 1, true)}),
+      robot_);
+  ASSERT_TRUE(c.start);
+  EXPECT_EQ((*c.start)[0].place, "w");
+  c = agent_.Refused("noRouteError", "node w is occupied or too close to an obstacle", "w");
+  EXPECT_TRUE(c.send_state);
+  const json state = State();
+  EXPECT_EQ(state["orderId"], "o1");
+  EXPECT_EQ(state["orderUpdateId"], 0);
+  EXPECT_TRUE(state["nodeStates"].empty());
+  EXPECT_EQ(ActionStatus("s9"), "");  // its actions went with it
+  ASSERT_EQ(state["errors"].size(), 1u);
+  const json& error = state["errors"][0];
+  EXPECT_EQ(error["errorType"], "noRouteError");
+  std::map<std::string, std::string> refs;
+  for (const json& r : error["errorReferences"]) refs[r["referenceKey"]] = r["referenceValue"];
+  EXPECT_EQ(refs["orderId"], "o2");
+  EXPECT_EQ(refs["nodeId"], "w");
+  EXPECT_FALSE(agent_.Busy());
+  // The master control may send another order at once.
+  c = agent_.Order(Order("o3", 0, {Node("b", 0, true, 1, 0), Node("e", 2, true, 1, 1)}, {Edge("b", "e", 1, true)}),
+                   robot_);
+  EXPECT_TRUE(c.start);
+  EXPECT_EQ(State()["orderId"], "o3");
 }
 
 TEST_F(VdaAgentTest, AnUpdateStitchesOntoTheDecisionPointAndExtendsTheMission) {

@@ -41,12 +41,13 @@ std::string TopicLevel(std::string name) {
 
 }  // namespace
 
-Vda5050Node::Vda5050Node(Executor& io, Bus& bus, const Config& config, MissionNode& missions, const MapLibrary& maps,
-                         MissionNode::DockFinder find_dock, std::string robot_name)
+Vda5050Node::Vda5050Node(Executor& io, Bus& bus, const Config& config, const RobotCore& core, MissionNode& missions,
+                         const MapLibrary& maps, MissionNode::DockFinder find_dock, std::string robot_name)
     : PeriodicNode("vda5050", io, bus, config.fleet.vda5050.visualization_hz),
       options_(config.fleet.vda5050),
       config_(config),
       identity_(IdentityOf(options_, TopicLevel(std::move(robot_name)))),
+      core_(core),
       missions_(missions),
       maps_(maps),
       agent_({0.5, config.mission.docking.dock}, std::move(find_dock)) {
@@ -207,12 +208,39 @@ void Vda5050Node::Received(const std::string& topic, const std::string& payload)
 
 void Vda5050Node::OnMission(const MissionState& mission) { Carry(agent_.Progress(ProgressOf(mission))); }
 
+void Vda5050Node::StartMission(std::vector<nav::MissionGoal> goals) {
+  std::vector<std::string> nodes;  // each goal's node
+  for (const nav::MissionGoal& g : goals) nodes.push_back(g.place);
+  const std::size_t asked = goals.size();
+  Executor& io = executor();  // outlives the node; work posted after the graph stops is not run
+  core_.StartMission({std::move(goals), std::numeric_limits<double>::infinity(), "vda5050"},
+                     [this, &io, nodes = std::move(nodes), asked](MissionResult result) {
+                       io.Post([this, nodes, asked, result = std::move(result)] {
+                         Run("started", [&] { Answered(result, nodes, asked); });
+                       });
+                     });
+}
+
+void Vda5050Node::Answered(const MissionResult& result, const std::vector<std::string>& nodes, std::size_t asked) {
+  if (const auto* refusal = std::get_if<nav::MissionRefusal>(&result)) {
+    // Off the map or on an unknown floor: the order names what is not there; otherwise there is no way to it.
+    const bool invalid =
+        refusal->reason == nav::GoalRefusal::kOutsideMap || refusal->reason == nav::GoalRefusal::kUnknownFloor;
+    const std::string node = refusal->goal && *refusal->goal < nodes.size() ? nodes[*refusal->goal] : "";
+    const std::string description = nav::Describe(*refusal, "node " + node);
+    spdlog::warn("vda5050: an order refused: {}", description);
+    Carry(agent_.Refused(invalid ? "validationError" : "noRouteError", description, node));
+    return;
+  }
+  const MissionState& state = std::get<MissionState>(result);
+  Carry(agent_.Started(state.id, state.goals.size() - asked));
+  if (agent_.paused()) missions_.Pause(state.id);
+  // What the mission did while the answer was on its way (it may have ended already).
+  if (const auto now = missions_.Describe(state.id)) Carry(agent_.Progress(ProgressOf(*now)));
+}
+
 void Vda5050Node::Carry(VdaCommands c) {
-  const auto start = [&](std::vector<nav::MissionGoal> goals) {
-    const std::size_t asked = goals.size();
-    const MissionState state = missions_.Start(std::move(goals), std::numeric_limits<double>::infinity());
-    Carry(agent_.Started(state.id, state.goals.size() - asked));
-  };
+  const auto start = [&](std::vector<nav::MissionGoal> goals) { StartMission(std::move(goals)); };
   if (!c.cancel.empty()) missions_.Cancel(c.cancel);
   if (c.start) start(std::move(*c.start));
   if (!c.extend.empty()) {

@@ -14,6 +14,7 @@
 #include "server/fleet/mqtt_link.h"
 #include "server/fleet/vda5050.h"
 #include "server/fleet/vda5050_agent.h"
+#include "server/app/robot_core.h"
 #include "server/nodes/mission_node.h"
 #include "server/runtime/config.h"
 #include "server/runtime/node.h"
@@ -25,8 +26,10 @@ class Vda5050Node final : public PeriodicNode {
  public:
   // `robot_name` is the serial number when the options give none. Throws std::invalid_argument for a broker address
   // that is not an MQTT URL.
-  Vda5050Node(Executor& io, Bus& bus, const Config& config, MissionNode& missions, const MapLibrary& maps,
-              MissionNode::DockFinder find_dock, std::string robot_name);
+  // Missions start through `core` (an order to a node the core refuses is refused on arrival); pauses, cancels and
+  // extensions go to `missions`.
+  Vda5050Node(Executor& io, Bus& bus, const Config& config, const RobotCore& core, MissionNode& missions,
+              const MapLibrary& maps, MissionNode::DockFinder find_dock, std::string robot_name);
   void Activate() override;
   void Deactivate() override;
 
@@ -38,6 +41,10 @@ class Vda5050Node final : public PeriodicNode {
   void OnMission(const MissionState& mission);
   // Carries out what the agent asked.
   void Carry(VdaCommands commands);
+  // Asks the core for a mission through `goals` (the agent's, each for a node); the agent hears, on this executor,
+  // that it started or was refused.
+  void StartMission(std::vector<nav::MissionGoal> goals);
+  void Answered(const MissionResult& result, const std::vector<std::string>& nodes, std::size_t asked);
   VdaRobot Sample();
   VdaRobotNow Now();
   void SendState();  // with the robot sampled now
@@ -50,6 +57,7 @@ class Vda5050Node final : public PeriodicNode {
   const Vda5050Options options_;
   const Config& config_;
   VdaIdentity identity_;
+  const RobotCore& core_;
   MissionNode& missions_;
   const MapLibrary& maps_;
   VdaSchemas schemas_;
