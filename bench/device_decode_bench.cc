@@ -37,6 +37,22 @@ std::vector<std::uint8_t> Revolutions(int samples) {
   return bytes;
 }
 
+// Each iteration: `bytes` through a new stream (`Push(bytes, points)`) and a new sweep assembler.
+template <typename MakeStream>
+void TimeSweeps(benchmark::State& state, const std::vector<std::uint8_t>& bytes, MakeStream make_stream) {
+  std::vector<SweepPoint> points;
+  for (auto _ : state) {
+    auto stream = make_stream();
+    SweepAssembler sweeps;
+    points.clear();
+    stream.Push(bytes, points);
+    int scans = 0;
+    for (const SweepPoint& p : points) scans += sweeps.Add(p, 0).has_value() ? 1 : 0;
+    benchmark::DoNotOptimize(scans);
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * bytes.size()));
+}
+
 void BM_RplidarRevolution(benchmark::State& state) {
   const int samples = static_cast<int>(state.range(0));
   const std::vector<std::uint8_t> bytes = Revolutions(samples);
@@ -70,17 +86,7 @@ void BM_RplidarExpressRevolution(benchmark::State& state) {
     const auto encoded = rplidar::EncodeCapsule(capsule);
     bytes.insert(bytes.end(), encoded.begin(), encoded.end());
   }
-  std::vector<SweepPoint> points;
-  for (auto _ : state) {
-    rplidar::CapsuleStream stream;
-    SweepAssembler sweeps;
-    points.clear();
-    stream.Push(bytes, points);
-    int scans = 0;
-    for (const SweepPoint& p : points) scans += sweeps.Add(p, 0).has_value() ? 1 : 0;
-    benchmark::DoNotOptimize(scans);
-  }
-  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * bytes.size()));
+  TimeSweeps(state, bytes, [] { return rplidar::CapsuleStream(); });
 }
 BENCHMARK(BM_RplidarExpressRevolution)->Unit(benchmark::kMicrosecond);
 
@@ -106,17 +112,7 @@ void BM_Lds02Revolution(benchmark::State& state) {
       bytes.push_back(lds::Crc8(std::span<const std::uint8_t>(bytes).subspan(begin)));
     }
   }
-  std::vector<SweepPoint> points;
-  for (auto _ : state) {
-    lds::PacketStream stream(lds::Model::kLds02);
-    SweepAssembler sweeps;
-    points.clear();
-    stream.Push(bytes, points);
-    int scans = 0;
-    for (const SweepPoint& p : points) scans += sweeps.Add(p, 0).has_value() ? 1 : 0;
-    benchmark::DoNotOptimize(scans);
-  }
-  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * bytes.size()));
+  TimeSweeps(state, bytes, [] { return lds::PacketStream(lds::Model::kLds02); });
 }
 BENCHMARK(BM_Lds02Revolution)->Unit(benchmark::kMicrosecond);
 
@@ -159,7 +155,8 @@ void BM_TurtleBot3State(benchmark::State& state) {
   // The board's answer to the driver's Read: a status packet of kStateLength bytes, framed as the board frames it.
   std::vector<std::uint8_t> packet{0xFF, 0xFF, 0xFD, 0x00, turtlebot3::kOpenCrId};
   const std::size_t length = turtlebot3::kStateLength + 4;
-  packet.insert(packet.end(), {static_cast<std::uint8_t>(length & 0xFF), static_cast<std::uint8_t>(length >> 8), 0x55, 0});
+  packet.insert(packet.end(),
+                {static_cast<std::uint8_t>(length & 0xFF), static_cast<std::uint8_t>(length >> 8), 0x55, 0});
   for (int i = 0; i < turtlebot3::kStateLength; ++i) packet.push_back(static_cast<std::uint8_t>(i * 7));
   const std::uint16_t crc = dynamixel::Crc16(packet);
   packet.push_back(crc & 0xFF);

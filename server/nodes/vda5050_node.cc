@@ -240,9 +240,8 @@ void Vda5050Node::Answered(const MissionResult& result, const std::vector<std::s
 }
 
 void Vda5050Node::Carry(VdaCommands c) {
-  const auto start = [&](std::vector<nav::MissionGoal> goals) { StartMission(std::move(goals)); };
   if (!c.cancel.empty()) missions_.Cancel(c.cancel);
-  if (c.start) start(std::move(*c.start));
+  if (c.start) StartMission(std::move(*c.start));
   if (!c.extend.empty()) {
     const std::string id = agent_.mission_id();
     if (missions_.Extend(id, c.extend) == nav::TransitionOutcome::kOk) {
@@ -250,7 +249,7 @@ void Vda5050Node::Carry(VdaCommands c) {
     } else {
       // The mission ended meanwhile: its last progress first, then a new one for these goals.
       if (const auto last = missions_.Describe(id)) Carry(agent_.Progress(ProgressOf(*last)));
-      start(std::move(c.extend));
+      StartMission(std::move(c.extend));
     }
   }
   if (c.pause && !agent_.mission_id().empty()) missions_.Pause(agent_.mission_id());

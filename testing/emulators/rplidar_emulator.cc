@@ -134,20 +134,24 @@ void RplidarEmulator::SendCapsule(int first_index) {
   SendWithFaults(std::move(capsule), 0, 0x01);  // the checksum's lowest bit flipped
 }
 
+void RplidarEmulator::StartScan(bool express) {
+  if (health_status_ == 2) return;  // in protection stop: no scan until reset
+  Send(express ? Descriptor(84, true, 0x82) : Descriptor(5, true, 0x81));
+  scanning_ = true;
+  express_ = express;
+  first_capsule_ = express;
+  next_sample_ = 0;
+  sent_until_s_ = NowS();
+  ++(express ? express_scans_started_ : scans_started_);
+}
+
 void RplidarEmulator::Handle(std::uint8_t command) {
   switch (command) {
     case 0x25:  // STOP
       scanning_ = false;
       break;
     case 0x82:  // EXPRESS_SCAN (its payload, the working mode, is taken as 0: the legacy capsules)
-      if (health_status_ == 2) break;
-      Send(Descriptor(84, true, 0x82));
-      scanning_ = true;
-      express_ = true;
-      first_capsule_ = true;
-      next_sample_ = 0;
-      sent_until_s_ = NowS();
-      ++express_scans_started_;
+      StartScan(true);
       break;
     case 0x40:  // RESET: reboots, printing its banner as text, and is healthy again
       scanning_ = false;
@@ -158,13 +162,7 @@ void RplidarEmulator::Handle(std::uint8_t command) {
       break;
     case 0x20:                         // SCAN
     case 0x21:                         // FORCE_SCAN
-      if (health_status_ == 2) break;  // in protection stop: no scan until reset
-      Send(Descriptor(5, true, 0x81));
-      scanning_ = true;
-      express_ = false;
-      next_sample_ = 0;
-      sent_until_s_ = NowS();
-      ++scans_started_;
+      StartScan(false);
       break;
     case 0x50: {  // GET_INFO: model, firmware minor and major, hardware, 16-byte serial
       std::vector<std::uint8_t> info = Descriptor(20, false, 0x04);

@@ -55,6 +55,8 @@ class RplidarEmulator {
   void Serve(std::stop_token stop);
   void Step();  // one turn of the device: requests answered, the samples due sent
   void Handle(std::uint8_t command);
+  // SCAN (nodes) or EXPRESS_SCAN (capsules) answered and begun, unless the device is in error.
+  void StartScan(bool express);
   void Send(const std::vector<std::uint8_t>& bytes) { terminal_.Send(bytes); }
   void SendNode(int index);
   void SendCapsule(int first_index);  // samples first_index.. first_index + 31

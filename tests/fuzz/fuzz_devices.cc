@@ -1,9 +1,9 @@
 // libFuzzer target: the native devices' byte streams, which come from whatever is plugged into the robot (noise, a
 // device at another baud rate, a different firmware), through each protocol's parser as the drivers feed it, in
-// pieces of any size: the RPLIDAR's nodes, capsules and sweeps, the Create 2's stream, the Kobuki's packets, DYNAMIXEL status
-// packets (TurtleBot 3), SCIP answers and scans (Hokuyo), the LDS-01/02 packets (TurtleBot 3's lasers), and the serial text
-// protocol's lines. Nothing may crash,
-// read out of bounds, or grow without bound; what a parser hands on must be whole.
+// pieces of any size: the RPLIDAR's nodes, capsules and sweeps, the Create 2's stream, the Kobuki's packets, DYNAMIXEL
+// status packets (TurtleBot 3), SCIP answers and scans (Hokuyo), the LDS-01/02 packets (TurtleBot 3's lasers), and the
+// serial text protocol's lines. Nothing may crash, read out of bounds, or grow without bound; what a parser hands on
+// must be whole.
 #include <fuzzer/FuzzedDataProvider.h>
 
 #include <cstddef>
@@ -35,6 +35,22 @@ void InPieces(FuzzedDataProvider& input, Feed feed) {
 
 void Check(bool holds) {
   if (!holds) std::abort();
+}
+
+// The rest of the input through a rotating laser's stream (`Push(bytes, points)`) and the sweep assembler: every
+// point forward of 360 degrees, every scan whole.
+template <typename Stream>
+void Sweeps(FuzzedDataProvider& input, Stream& stream) {
+  SweepAssembler sweeps;
+  std::vector<SweepPoint> points;
+  InPieces(input, [&](std::span<const std::uint8_t> bytes) {
+    points.clear();
+    stream.Push(bytes, points);
+    for (const SweepPoint& point : points) {
+      Check(point.angle_deg >= 0.0 && point.angle_deg < 360.0);
+      if (const auto scan = sweeps.Add(point, 0)) Check(scan->ranges.size() == 360);
+    }
+  });
 }
 
 }  // namespace
@@ -87,30 +103,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     case 6: {
       rplidar::CapsuleStream stream;
-      SweepAssembler sweeps;
-      std::vector<SweepPoint> points;
-      InPieces(input, [&](std::span<const std::uint8_t> bytes) {
-        points.clear();
-        stream.Push(bytes, points);
-        for (const SweepPoint& point : points) {
-          Check(point.angle_deg >= 0.0 && point.angle_deg < 360.0);
-          if (const auto scan = sweeps.Add(point, 0)) Check(scan->ranges.size() == 360);
-        }
-      });
+      Sweeps(input, stream);
       break;
     }
     case 5: {
       lds::PacketStream stream(input.ConsumeBool() ? lds::Model::kLds01 : lds::Model::kLds02);
-      SweepAssembler sweeps;
-      std::vector<SweepPoint> points;
-      InPieces(input, [&](std::span<const std::uint8_t> bytes) {
-        points.clear();
-        stream.Push(bytes, points);
-        for (const SweepPoint& point : points) {
-          Check(point.angle_deg >= 0.0 && point.angle_deg < 360.0);
-          if (const auto scan = sweeps.Add(point, 0)) Check(scan->ranges.size() == 360);
-        }
-      });
+      Sweeps(input, stream);
       break;
     }
     default: {
