@@ -124,7 +124,10 @@ fleet:
 
   test('online, a valid state at least every interval, and the factsheet on request', async () => {
     await master.waitFor('connection', (m) => m.connectionState === 'ONLINE', 15000, 'ONLINE');
-    const first = await master.waitFor('state', (s) => s.agvPosition?.positionInitialized, 10000, 'a state');
+    // Until the base first reports its battery, the state says it is unknown (a warning), not empty.
+    const known = (s) => !s.errors.some((e) => e.errorType === 'batteryUnknown');
+    const first = await master.waitFor('state', (s) => s.agvPosition?.positionInitialized && known(s), 10000,
+      'a state with the position and the battery');
     assert.equal(first.agvPosition.mapId, MAP);
     assert.equal(first.operatingMode, 'AUTOMATIC');
     assert.ok(first.batteryState.batteryCharge > 70);

@@ -153,6 +153,12 @@ nlohmann::json VdaState(const VdaIdentity& identity, const VdaHeader& header, co
   if (robot.battery_percent) battery["batteryVoltage"] = robot.battery_voltage_v;
   message["batteryState"] = std::move(battery);
   nlohmann::json errors = nlohmann::json::array();
+  // batteryCharge is required; a 0 alone would read as an empty battery, so the master is told it is not known.
+  if (!robot.battery_percent) {
+    errors.push_back({{"errorType", "batteryUnknown"},
+                      {"errorLevel", "WARNING"},
+                      {"errorDescription", "the base has not reported its battery yet"}});
+  }
   for (const VdaRobot::Error& e : robot.errors) {
     errors.push_back({{"errorType", e.type}, {"errorLevel", e.level}, {"errorDescription", e.description}});
   }

@@ -42,8 +42,11 @@ TEST(VdaTest, WhatTheRobotSendsIsValidAgainstTheStandardsSchemas) {
     const auto errors = schemas.Check(kind, message);
     EXPECT_TRUE(errors.empty()) << ToString(kind) << ": " << errors.front() << "\n" << message.dump();
   }
-  // A robot that does not know where it is yet, with no battery reported: still valid.
-  EXPECT_TRUE(schemas.Check(VdaMessage::kState, VdaState(kRobot, kHeader, VdaRobot{})).empty());
+  EXPECT_TRUE(VdaState(kRobot, kHeader, robot)["errors"].size() == 1);
+  // A robot that does not know where it is yet, with no battery reported: still valid, and says so.
+  const nlohmann::json unknown = VdaState(kRobot, kHeader, VdaRobot{});
+  EXPECT_TRUE(schemas.Check(VdaMessage::kState, unknown).empty());
+  EXPECT_EQ(unknown["errors"][0]["errorType"], "batteryUnknown");
 }
 
 TEST(VdaTest, MessagesThatBreakTheSchemaAreReportedWithWhere) {

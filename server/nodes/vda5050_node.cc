@@ -25,8 +25,15 @@ VdaMissionProgress ProgressOf(const MissionState& m) { return {m.id, m.status, m
 
 // What of the robot counts as a change the state must report at once (the standard's events).
 std::string StateKey(const VdaRobot& r) {
-  return json{r.driving,  r.paused,        r.manual, r.protective_stop,
-              r.charging, r.errors.size(), r.map_id, r.position_initialized}
+  return json{r.driving,
+              r.paused,
+              r.manual,
+              r.protective_stop,
+              r.charging,
+              r.errors.size(),
+              r.battery_percent.has_value(),
+              r.map_id,
+              r.position_initialized}
       .dump();
 }
 
