@@ -65,9 +65,6 @@ class ApiError : public std::runtime_error {
   int retry_after_s_ = 0;
 };
 
-// A mission the core refused, as a 422 problem naming the goal by its place in the request's `list` ("waypoints").
-ApiError RefusalError(const nav::MissionRefusal& refusal, const std::string& list);
-
 Response ProblemResponse(http::status status, const std::string& title, const std::string& detail,
                          unsigned version, bool keep_alive, const std::string& code = "");
 

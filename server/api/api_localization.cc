@@ -1,7 +1,6 @@
 // Routes for localization: GET /api/v1/localization, PUT /api/v1/localization/pose, POST
 // /api/v1/localization/relocalize, and, with the simulator, PUT /api/v1/sim/pose (a kidnapped robot); for mapping a
 // new building: POST /api/v1/mapping/start and /stop, GET /api/v1/mapping and /api/v1/mapping/image.
-#include <sstream>
 #include <variant>
 
 #include "server/api/api.h"
@@ -14,18 +13,19 @@ using nlohmann::json;
 
 const char* SourceName(LocalizationOptions::Source source) {
   switch (source) {
-    case LocalizationOptions::Source::kOdometry: return "odometry";
-    case LocalizationOptions::Source::kSimTruth: return "sim_truth";
-    case LocalizationOptions::Source::kMonteCarlo: return "mcl";
+    case LocalizationOptions::Source::kOdometry:
+      return "odometry";
+    case LocalizationOptions::Source::kSimTruth:
+      return "sim_truth";
+    case LocalizationOptions::Source::kMonteCarlo:
+      return "mcl";
   }
   return "unknown";
 }
 
 json MappingJson(const MappingState& m, bool exploring) {
-  json body{{"active", m.active},   {"exploring", exploring && m.active},
-            {"name", m.name},       {"scans", m.scans},
-            {"submaps", m.submaps}, {"loop_closures", m.loop_closures},
-            {"saved", m.saved},     {"error", m.error},
+  json body{{"active", m.active},   {"exploring", exploring && m.active}, {"name", m.name},   {"scans", m.scans},
+            {"submaps", m.submaps}, {"loop_closures", m.loop_closures},   {"saved", m.saved}, {"error", m.error},
             {"map", nullptr}};
   if (m.grid) {
     body["map"] = {{"revision", m.revision},
@@ -43,12 +43,8 @@ json MappingJson(const MappingState& m, bool exploring) {
 nav::Pose2 Api::ParsePoseOnMap(const json& body, const std::string& where) const {
   const nav::Pose2 pose{RequireNumber(body, "x", where), RequireNumber(body, "y", where),
                         nav::WrapAngle(RequireNumber(body, "yaw", where))};
-  const auto map = c_.maps.active();
-  if (!map->grid.WorldToCell(pose.translation())) {
-    std::ostringstream detail;
-    detail.precision(3);
-    detail << "(" << pose.x_m << ", " << pose.y_m << ") is not on map '" << map->name << "'";
-    throw ApiError(http::status::unprocessable_entity, "Pose outside the map", detail.str(), "outside_map");
+  if (auto off = c_.core.OffMap(pose)) {
+    throw ApiError(http::status::unprocessable_entity, "Pose outside the map", *off, "outside_map");
   }
   return pose;
 }
@@ -57,10 +53,11 @@ void Api::AddLocalizationRoutes() {
   Add(http::verb::get, "/api/v1/localization", Sync([this](const Request& r, const Params&) {
         if (const auto state = c_.bus.Get(topics::kLocalization).latest()) return JsonResponse(r, ToJson(*state));
         // Not the filter (or no scan yet): what the pose topic says.
-        json body{{"source", SourceName(c_.config.localization.source)},
-                  {"health", c_.config.localization.source == LocalizationOptions::Source::kSimTruth ? "ok" : "uncertain"},
-                  {"particle_count", 0},
-                  {"particles", json::array()}};
+        json body{
+            {"source", SourceName(c_.config.localization.source)},
+            {"health", c_.config.localization.source == LocalizationOptions::Source::kSimTruth ? "ok" : "uncertain"},
+            {"particle_count", 0},
+            {"particles", json::array()}};
         if (const auto pose = c_.bus.Get(topics::kPose).latest()) body["pose"] = ToJson(pose->pose);
         return JsonResponse(r, body);
       }));
@@ -72,7 +69,8 @@ void Api::AddLocalizationRoutes() {
     if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
     AllowOnlyKeys(body, {"x", "y", "yaw", "sigma_m", "sigma_yaw"}, "");
     PoseOrder order;
-    order.pose = {RequireNumber(body, "x", ""), RequireNumber(body, "y", ""), nav::WrapAngle(RequireNumber(body, "yaw", ""))};
+    order.pose = {RequireNumber(body, "x", ""), RequireNumber(body, "y", ""),
+                  nav::WrapAngle(RequireNumber(body, "yaw", ""))};
     if (body.contains("sigma_m")) order.sigma_m = RequireNumber(body, "sigma_m", "");
     if (body.contains("sigma_yaw")) order.sigma_rad = RequireNumber(body, "sigma_yaw", "");
     order.origin = "rest";
@@ -92,8 +90,11 @@ void Api::AddLocalizationRoutes() {
           }
         }
         const PoseCheck& check = std::get<PoseCheck>(result);
-        json answer{{"pose", ToJson(order.pose)}, {"sigma_m", order.sigma_m}, {"sigma_yaw", order.sigma_rad},
-                    {"agrees", check.agrees}, {"detail", check.detail}};
+        json answer{{"pose", ToJson(order.pose)},
+                    {"sigma_m", order.sigma_m},
+                    {"sigma_yaw", order.sigma_rad},
+                    {"agrees", check.agrees},
+                    {"detail", check.detail}};
         answer["agreement"] = check.checked ? json(check.agreement) : json(nullptr);
         answer["agreement_before"] = check.checked ? json(check.agreement_before) : json(nullptr);
         return JsonResponse(r, answer, http::status::accepted);
@@ -108,7 +109,8 @@ void Api::AddLocalizationRoutes() {
         return JsonResponse(r, {{"relocalizing", true}}, http::status::accepted);
       }));
   Add(http::verb::put, "/api/v1/sim/pose", Sync([this](const Request& r, const Params&) {
-        if (c_.sim == nullptr) throw ApiError(http::status::not_found, "No simulator", "only a simulated robot can be moved");
+        if (c_.sim == nullptr)
+          throw ApiError(http::status::not_found, "No simulator", "only a simulated robot can be moved");
         const json body = ParseJsonBody(r);
         if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
         AllowOnlyKeys(body, {"x", "y", "yaw"}, "");
@@ -155,8 +157,8 @@ void Api::AddSimLiftRoutes() {
     throw ApiError(http::status::not_found, "No such lift", "the simulator has no lift '" + id + "'", "no_lift");
   };
   const auto lift_json = [](const drivers::sim::SimLiftState& l) {
-    return json{{"id", l.id}, {"floor", l.floor}, {"destination", l.destination},
-                {"door", l.door_open ? "open" : "closed"}};
+    return json{
+        {"id", l.id}, {"floor", l.floor}, {"destination", l.destination}, {"door", l.door_open ? "open" : "closed"}};
   };
   Add(http::verb::get, "/api/v1/sim/lifts", Sync([this, lift_json](const Request& r, const Params&) {
         if (c_.sim == nullptr) {
@@ -185,8 +187,8 @@ void Api::AddSimLiftRoutes() {
         }
         return JsonResponse(r, lift_json(lift(id)));
       }));
-  Add(http::verb::post, "/api/v1/sim/lifts/{id}/release", Sync([this, lift, lift_json](const Request& r,
-                                                                                       const Params& p) {
+  Add(http::verb::post, "/api/v1/sim/lifts/{id}/release",
+      Sync([this, lift, lift_json](const Request& r, const Params& p) {
         const std::string& id = p.at("id");
         lift(id);
         c_.sim->CallLift(id, "");
@@ -232,7 +234,8 @@ void Api::AddMappingRoutes() {
     AllowOnlyKeys(body, {"name"}, "");
     return body;
   };
-  Add(http::verb::post, "/api/v1/mapping/start", Sync([this, start_mapping, object_body](const Request& r, const Params&) {
+  Add(http::verb::post, "/api/v1/mapping/start",
+      Sync([this, start_mapping, object_body](const Request& r, const Params&) {
         RequireLocalizing();
         return JsonResponse(r, {{"mapping", start_mapping(object_body(r))}}, http::status::accepted);
       }));

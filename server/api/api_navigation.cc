@@ -45,22 +45,38 @@ std::string TitleFor(nav::PlanError error) {
 
 json NumberOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
-}  // namespace
-
+// A mission the core refused, as a 422 problem naming the goal by its place in the request's `list` ("waypoints").
 ApiError RefusalError(const nav::MissionRefusal& refusal, const std::string& list) {
-  const std::string detail = nav::Describe(refusal, refusal.goal ? list + "[" + std::to_string(*refusal.goal) + "]" : "");
+  const std::string detail =
+      nav::Describe(refusal, refusal.goal ? list + "[" + std::to_string(*refusal.goal) + "]" : "");
   const char* title = "Mission refused";
   switch (refusal.reason) {
-    case nav::GoalRefusal::kOutsideMap: title = "Goal outside the map"; break;
-    case nav::GoalRefusal::kOccupied: title = "Goal occupied"; break;
-    case nav::GoalRefusal::kInKeepOut: title = "Goal in a keep-out zone"; break;
-    case nav::GoalRefusal::kUnknownFloor: title = "Unknown floor"; break;
-    case nav::GoalRefusal::kNotOnFloor: title = "Not on a floor"; break;
-    case nav::GoalRefusal::kNoLiftController: title = "No lift controller"; break;
-    case nav::GoalRefusal::kNoLiftRoute: title = "No way between floors"; break;
+    case nav::GoalRefusal::kOutsideMap:
+      title = "Goal outside the map";
+      break;
+    case nav::GoalRefusal::kOccupied:
+      title = "Goal occupied";
+      break;
+    case nav::GoalRefusal::kInKeepOut:
+      title = "Goal in a keep-out zone";
+      break;
+    case nav::GoalRefusal::kUnknownFloor:
+      title = "Unknown floor";
+      break;
+    case nav::GoalRefusal::kNotOnFloor:
+      title = "Not on a floor";
+      break;
+    case nav::GoalRefusal::kNoLiftController:
+      title = "No lift controller";
+      break;
+    case nav::GoalRefusal::kNoLiftRoute:
+      title = "No way between floors";
+      break;
   }
   return ApiError(http::status::unprocessable_entity, title, detail, nav::ToString(refusal.reason));
 }
+
+}  // namespace
 
 nav::MissionGoal Api::ParseGoal(const json& j, const std::string& where) const {
   if (!j.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "'" + where + "' must be an object");
@@ -264,16 +280,15 @@ void Api::StartGoals(const Request& request, Reply reply, std::vector<nav::Missi
 }
 
 Response Api::MissionAction(const Request& request, const std::string& id, const std::string& action) const {
-  nav::TransitionOutcome outcome;
-  if (action == "pause") {
-    outcome = c_.missions.Pause(id);
-  } else if (action == "resume") {
-    outcome = c_.missions.Resume(id);
+  MissionStep command = MissionStep::kPause;
+  if (action == "resume") {
+    command = MissionStep::kResume;
   } else if (action == "cancel") {
-    outcome = c_.missions.Cancel(id);
-  } else {
+    command = MissionStep::kCancel;
+  } else if (action != "pause") {
     throw ApiError(http::status::not_found, "Not found", "missions have no action '" + action + "'");
   }
+  const nav::TransitionOutcome outcome = c_.core.Command(command, id, "rest");
   if (outcome == nav::TransitionOutcome::kNotFound) {
     throw ApiError(http::status::not_found, "Not found", "no mission " + id + " in progress");
   }

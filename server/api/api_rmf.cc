@@ -150,7 +150,9 @@ void Api::AddRmfRoutes() {
   Add(http::verb::post, "/api/v1/rmf/stop", Sync([this](const Request& r, const Params&) {
         const json body = ObjectBody(r, {"cmd_id"});
         const std::uint64_t cmd_id = RequireCommandId(body);
-        if (const auto mission = c_.bus.Get(topics::kMission).latest()) c_.missions.Cancel(mission->id);
+        if (const auto mission = c_.bus.Get(topics::kMission).latest()) {
+          c_.core.Command(MissionStep::kCancel, mission->id, "rmf");
+        }
         rmf_commands_->Done(cmd_id);
         return JsonResponse(r, {{"cmd_id", cmd_id}, {"completed", true}});
       }));
@@ -163,8 +165,8 @@ void Api::AddRmfRoutes() {
         if (!floor.empty()) {
           // The fleet adapter took the robot to another floor itself (it rode the lift): that floor's map.
           const auto mission = c_.bus.Get(topics::kMission).latest();
-          if (mission && (mission->status == nav::MissionStatus::kActive ||
-                          mission->status == nav::MissionStatus::kPaused)) {
+          if (mission &&
+              (mission->status == nav::MissionStatus::kActive || mission->status == nav::MissionStatus::kPaused)) {
             throw ApiError(http::status::conflict, "Mission in progress", "cancel the mission before changing floors",
                            "mission_in_progress");
           }

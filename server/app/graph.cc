@@ -11,6 +11,7 @@
 #include "nav/policy/evasion.h"
 #include "server/app/simulator.h"
 #include "server/dds/bridge.h"
+#include "server/fleet/rmf_mqtt.h"
 #include "server/nodes/control_node.h"
 #include "server/nodes/devices_node.h"
 #include "server/nodes/door_node.h"
@@ -19,7 +20,6 @@
 #include "server/nodes/explore_node.h"
 #include "server/nodes/face_node.h"
 #include "server/nodes/ground_node.h"
-#include "server/fleet/rmf_mqtt.h"
 #include "server/nodes/lift_node.h"
 #include "server/nodes/localization_node.h"
 #include "server/nodes/octree_node.h"
@@ -119,9 +119,9 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   // Without a camera there is a laser (CheckDevices), and localization reads the laser alone.
   const nav::PinholeCamera camera = devices_.camera != nullptr ? devices_.camera->info().camera : nav::PinholeCamera{};
   const nav::Pose2 start = saved && saved->place == map.name ? saved->pose : config_.sim.robot.start;
-  auto localization_node = std::make_unique<LocalizationNode>(
-      executors_.mapping, bus_, config_.localization, start, base_T_laser, camera, pose_file,
-      std::move(saved), map_built);
+  auto localization_node =
+      std::make_unique<LocalizationNode>(executors_.mapping, bus_, config_.localization, start, base_T_laser, camera,
+                                         pose_file, std::move(saved), map_built);
   LocalizationNode* const localization = localization_node.get();
   localization_ = localization;
   // The 3D map, from the depth camera at the estimated poses; its layer goes to the planner.
@@ -247,7 +247,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
                                                 devices_.laser->height_m(), config_.ground));
   }
   if (tracking_node) lifecycle_.Add(std::move(tracking_node));
-  auto explore_node = std::make_unique<ExploreNode>(executors_.mapping, bus_, planner_, *missions_, [this] {
+  auto explore_node = std::make_unique<ExploreNode>(executors_.mapping, bus_, planner_, *core_, [this] {
     const auto active = maps_->active();
     planner_.SetMap(std::shared_ptr<const nav::OccupancyGrid>(active, &active->grid));
   });
@@ -280,20 +280,39 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   }
   // A VDA 5050 master control's orders, when a broker is configured.
   if (!config_.fleet.vda5050.broker.empty()) {
-    lifecycle_.Add(std::make_unique<Vda5050Node>(executors_.io, bus_, config_, *core_, *missions_, *maps_,
-                                                 nearest_dock, hooks.robot));
+    lifecycle_.Add(std::make_unique<Vda5050Node>(executors_.io, bus_, config_, *core_, *missions_, *maps_, nearest_dock,
+                                                 hooks.robot));
   }
   lifecycle_.ConfigureAll();
 
-  api_ = std::make_unique<Api>(ApiContext{bus_, lifecycle_, *maps_, store_, planner_, *missions_, *core_, *explore_, octree_,
-                                          perception_, *localization_, *spoken_, *webhooks_, access_, config_, clock_, executors_.io,
-                                          executors_.control, devices_.sim, std::move(tls_fingerprint), hooks.robot,
+  api_ = std::make_unique<Api>(ApiContext{bus_,
+                                          lifecycle_,
+                                          *maps_,
+                                          store_,
+                                          planner_,
+                                          *missions_,
+                                          *core_,
+                                          *explore_,
+                                          octree_,
+                                          perception_,
+                                          *localization_,
+                                          *spoken_,
+                                          *webhooks_,
+                                          access_,
+                                          config_,
+                                          clock_,
+                                          executors_.io,
+                                          executors_.control,
+                                          devices_.sim,
+                                          std::move(tls_fingerprint),
+                                          hooks.robot,
                                           [this] {
                                             const std::string active = maps_->active()->name;
                                             planner_.SetDoors(DoorsOn(active));
                                             missions_->SetDoors(DoorsOn(active));
                                           },
-                                          devices_.laser, devices_.camera});
+                                          devices_.laser,
+                                          devices_.camera});
 
   // ROS 2 over DDS: last up, first down.
   if (config_.dds.enabled) {

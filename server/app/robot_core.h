@@ -7,7 +7,9 @@
 
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -52,6 +54,9 @@ struct PoseOrder {
 };
 using PoseResult = std::variant<PoseCheck, PoseRefused>;
 
+enum class MissionStep { kPause, kResume, kCancel };
+const char* ToString(MissionStep step);
+
 class RobotCore {
  public:
   RobotCore(const Config& config, PlannerService& planner, MissionNode& missions, LocalizationNode& localization,
@@ -64,6 +69,11 @@ class RobotCore {
   // Gives localization the pose, or refuses it. `done` is called once (on the calling thread for a refusal, else on
   // localization's executor) and must not throw.
   void SetPose(const PoseOrder& order, std::function<void(PoseResult)> done) const;
+  // Pauses, resumes or cancels mission `id`: kNotFound when no such mission is in progress, kConflict when its status
+  // does not allow it (resuming an active one). Thread-safe.
+  nav::TransitionOutcome Command(MissionStep step, const std::string& id, std::string_view origin) const;
+  // Why `pose` is not on the map in use ("(x, y) is not on map 'name'"), or nothing when it is.
+  std::optional<std::string> OffMap(const nav::Pose2& pose) const;
 
  private:
   const Config& config_;

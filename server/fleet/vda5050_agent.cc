@@ -1,10 +1,10 @@
 #include "server/fleet/vda5050_agent.h"
 
 #include <algorithm>
-#include <tuple>
-#include <utility>
 #include <cmath>
 #include <limits>
+#include <tuple>
+#include <utility>
 
 namespace corridor::server {
 namespace {
@@ -478,11 +478,10 @@ VdaCommands VdaAgent::Refused(const std::string& type, const std::string& descri
   if (order_before_) {
     // Not taken: its nodes, edges and actions go, and the order before it stands.
     const auto drop_actions = [&](const std::vector<std::string>& ids) {
-      actions_.erase(std::remove_if(actions_.begin(), actions_.end(),
-                                    [&](const Action& a) {
-                                      return std::find(ids.begin(), ids.end(), a.id) != ids.end();
-                                    }),
-                     actions_.end());
+      actions_.erase(
+          std::remove_if(actions_.begin(), actions_.end(),
+                         [&](const Action& a) { return std::find(ids.begin(), ids.end(), a.id) != ids.end(); }),
+          actions_.end());
     };
     for (const Node& n : nodes_) drop_actions(n.actions);
     for (const Edge& e : edges_) drop_actions(e.actions);
@@ -616,12 +615,13 @@ void VdaAgent::RunInstant(const json& message, const VdaRobotNow& robot, VdaComm
     if (Param(action, "mapId") != robot.map_id) return fail("actionError", "the robot is on map " + robot.map_id);
     if (!robot.can_set_pose) return fail("actionError", "localization here takes no pose (localization.source)");
     commands.set_pose = nav::Pose2{value[0], value[1], value[2]};
+    commands.set_pose_action = id;
     if (const std::string last = Param(action, "lastNodeId"); !last.empty()) {
       last_node_id_ = last;
       last_node_position_ = nullptr;
     }
-    SetStatus(action, kFinished);
-  } else {  // startCharging, stopCharging
+    SetStatus(action, kRunning);  // until the robot core answers
+  } else {                        // startCharging, stopCharging
     if (!nodes_.empty() || !mission_id_.empty()) return fail("actionError", "an order is under way");
     if (type == "startCharging") {
       if (robot.docked) return SetStatus(action, kFinished);
@@ -635,6 +635,21 @@ void VdaAgent::RunInstant(const json& message, const VdaRobotNow& robot, VdaComm
     instant_mission_action_ = id;
     SetStatus(action, kRunning);
   }
+}
+
+VdaCommands VdaAgent::PoseAnswered(const std::string& action_id, const std::string& refusal) {
+  VdaCommands commands;
+  Action* action = FindAction(action_id);
+  if (action == nullptr || !Open(action->status)) return commands;
+  commands.send_state = true;
+  changed_ = true;
+  if (refusal.empty()) {
+    SetStatus(*action, kFinished);
+  } else {
+    SetStatus(*action, kFailed, refusal);
+    Reject("actionError", "initPosition: " + refusal, {{"actionId", action_id}, {"actionType", "initPosition"}});
+  }
+  return commands;
 }
 
 VdaCommands VdaAgent::InstantActions(const json& message, const VdaRobotNow& robot) {

@@ -40,7 +40,8 @@ struct VdaCommands {
   std::vector<nav::MissionGoal> extend;                // append these to the running mission (or start, if it ended)
   bool pause = false;
   bool resume = false;
-  std::optional<nav::Pose2> set_pose;  // initPosition
+  std::optional<nav::Pose2> set_pose;  // initPosition; its answer goes to PoseAnswered(set_pose_action, ...)
+  std::string set_pose_action;
   std::vector<std::string> say;
   bool send_state = false;
   bool send_factsheet = false;
@@ -86,6 +87,8 @@ class VdaAgent {
   // The running mission took the goals the last VdaCommands extended it with. (When it had just finished instead,
   // the caller reports its last Progress, then starts a mission with them and reports Started.)
   void Extended();
+  // The robot core's answer to initPosition `action_id`: taken (`refusal` empty) or refused, saying why.
+  VdaCommands PoseAnswered(const std::string& action_id, const std::string& refusal);
   VdaCommands Progress(const VdaMissionProgress& progress);
   // Paused by startPause (a mission it starts is paused at once).
   bool paused() const { return paused_; }
@@ -169,7 +172,7 @@ class VdaAgent {
   std::string last_node_id_;
   std::uint32_t last_node_sequence_ = 0;
   nlohmann::json last_node_position_;  // null: not known (none yet, or set by initPosition)
-  std::vector<Node> nodes_;  // still to traverse, base then horizon
+  std::vector<Node> nodes_;            // still to traverse, base then horizon
   std::vector<Edge> edges_;
   std::vector<Action> actions_;  // of the order and the instant actions since it was taken
   std::vector<Error> errors_;

@@ -140,16 +140,16 @@ TEST_F(VdaAgentTest, AnOrdersBaseBecomesAMissionAndItsProgressTheNodeStates) {
 }
 
 TEST_F(VdaAgentTest, AnOrderTheCoreRefusesIsNotTakenAndTheErrorNamesTheOrderAndTheNode) {
-  agent_.Order(Order("o1", 0, {Node("a", 0, true, 0, 0), Node("b", 2, true, 1, 0)}, {Edge("a", "b", 1, true)}),
-               robot_);
+  agent_.Order(Order("o1", 0, {Node("a", 0, true, 0, 0), Node("b", 2, true, 1, 0)}, {Edge("a", "b", 1, true)}), robot_);
   agent_.Started("m1", 0);
   agent_.Progress({"m1", nav::MissionStatus::kSucceeded, 1, 1, ""});
   ASSERT_FALSE(agent_.Busy());
   // o2's node w is in a wall: the core refuses the mission.
   robot_.pose = nav::Pose2{1.0, 0.0, 0.0};
-  VdaCommands c = agent_.Order(
-      Order("o2", 0, {Node("b", 0, true, 1, 0), Node("w", 2, true, 4, 0, {Say("s9", "there")})}, {Edge("b", "w", 1, true)}),
-      robot_);
+  VdaCommands c =
+      agent_.Order(Order("o2", 0, {Node("b", 0, true, 1, 0), Node("w", 2, true, 4, 0, {Say("s9", "there")})},
+                         {Edge("b", "w", 1, true)}),
+                   robot_);
   ASSERT_TRUE(c.start);
   EXPECT_EQ((*c.start)[0].place, "w");
   c = agent_.Refused("noRouteError", "node w is occupied or too close to an obstacle", "w");
@@ -265,6 +265,20 @@ TEST_F(VdaAgentTest, PauseCancelAndTheInstantActions) {
                             robot_);
   ASSERT_TRUE(c.set_pose);
   EXPECT_DOUBLE_EQ(c.set_pose->y_m, 2.5);
+  EXPECT_EQ(ActionStatus("i6"), "RUNNING");  // until the robot core answers
+  agent_.PoseAnswered(c.set_pose_action, "");
+  EXPECT_EQ(ActionStatus("i6"), "FINISHED");
+  c = agent_.InstantActions(Instant("initPosition", "i9",
+                                    {{{"key", "x"}, {"value", 900.0}},
+                                     {{"key", "y"}, {"value", 2.5}},
+                                     {{"key", "theta"}, {"value", 0.3}},
+                                     {{"key", "mapId"}, {"value", "willow"}}}),
+                            robot_);
+  agent_.PoseAnswered(c.set_pose_action, "(900, 2.5) is not on map 'willow'");
+  EXPECT_EQ(ActionStatus("i9"), "FAILED");
+  const json refused = State()["errors"].back();
+  EXPECT_EQ(refused["errorType"], "actionError");
+  EXPECT_NE(refused["errorDescription"].get<std::string>().find("not on map"), std::string::npos);
   c = agent_.InstantActions(Instant("initPosition", "i7", {{{"key", "x"}, {"value", "left"}}}), robot_);
   EXPECT_FALSE(c.set_pose);
   EXPECT_EQ(ActionStatus("i7"), "FAILED");

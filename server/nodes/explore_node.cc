@@ -8,11 +8,11 @@
 
 namespace corridor::server {
 
-ExploreNode::ExploreNode(Executor& mapping, Bus& bus, PlannerService& planner, MissionNode& missions,
+ExploreNode::ExploreNode(Executor& mapping, Bus& bus, PlannerService& planner, const RobotCore& core,
                          std::function<void()> restore_map, const nav::FrontierOptions& options)
     : Node("explore", mapping, bus),
       planner_(planner),
-      missions_(missions),
+      core_(core),
       restore_map_(std::move(restore_map)),
       options_(options) {}
 
@@ -48,11 +48,11 @@ void ExploreNode::OnMapping(const MappingState& mapping) {
 
 void ExploreNode::Plan(const MappingState& mapping) {
   planner_.SetMap(mapping.grid);
-  if (mission_id_.empty()) Next();
+  if (mission_id_.empty() && !starting_) Next();
 }
 
 void ExploreNode::OnMission(const MissionState& mission) {
-  if (!exploring_) return;
+  if (!exploring_ || starting_) return;  // while starting, Started looks at the latest mission
   if (mission.id != mission_id_) {
     // Someone else sent the robot somewhere: they drive now.
     if (mission.status == nav::MissionStatus::kActive) Finish("another mission started", false, false);
@@ -60,8 +60,11 @@ void ExploreNode::OnMission(const MissionState& mission) {
   }
   switch (mission.status) {
     case nav::MissionStatus::kActive:
-    case nav::MissionStatus::kPaused: return;
-    case nav::MissionStatus::kCanceled: Finish("its goal was cancelled", false, false); return;
+    case nav::MissionStatus::kPaused:
+      return;
+    case nav::MissionStatus::kCanceled:
+      Finish("its goal was cancelled", false, false);
+      return;
     case nav::MissionStatus::kSucceeded:
     case nav::MissionStatus::kFailed:
       given_up_.push_back(goal_);
@@ -83,14 +86,38 @@ void ExploreNode::Next() {
   goal_ = goal->position;
   nav::MissionGoal target;
   target.pose = {goal_.x(), goal_.y(), 0.0};
-  mission_id_ = missions_.Start({target}, std::numeric_limits<double>::infinity()).id;
   spdlog::info("explore: to ({:.2f}, {:.2f}), {:.1f} m away; {} frontier(s) reachable", goal_.x(), goal_.y(),
                goal->path_m, goal->frontiers);
+  starting_ = true;
+  Executor& mapping = executor();  // outlives the node; work posted after the graph stops is not run
+  core_.StartMission({{target}, std::numeric_limits<double>::infinity(), "explore"},
+                     [this, &mapping](MissionResult result) {
+                       mapping.Post([this, result = std::move(result)] { Run("started", [&] { Started(result); }); });
+                     });
+}
+
+void ExploreNode::Started(const MissionResult& result) {
+  starting_ = false;
+  const auto* state = std::get_if<MissionState>(&result);
+  if (!exploring_) {  // ended meanwhile: nobody wants the robot at that frontier now
+    if (state != nullptr) core_.Command(MissionStep::kCancel, state->id, "explore");
+    return;
+  }
+  if (state == nullptr) {
+    const auto& refusal = std::get<nav::MissionRefusal>(result);
+    spdlog::info("explore: ({:.2f}, {:.2f}) refused: {}", goal_.x(), goal_.y(), nav::Describe(refusal, "the frontier"));
+    given_up_.push_back(goal_);
+    Next();
+    return;
+  }
+  mission_id_ = state->id;
+  // The mission topic while the answer was on its way: ours (perhaps over already), or one someone started since.
+  if (const auto latest = bus().Get(topics::kMission).latest()) OnMission(*latest);
 }
 
 void ExploreNode::Finish(const std::string& why, bool save, bool cancel_goal) {
   exploring_ = false;
-  if (cancel_goal && !mission_id_.empty()) missions_.Cancel(mission_id_);
+  if (cancel_goal && !mission_id_.empty()) core_.Command(MissionStep::kCancel, mission_id_, "explore");
   mission_id_.clear();
   SetHealth(Health::kOk, "not exploring");
   spdlog::info("explore: done, {}{}", why, save ? ": saving the map" : "");

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "nav/planner/frontiers.h"
-#include "server/nodes/mission_node.h"
+#include "server/app/robot_core.h"
 #include "server/nodes/planner_service.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
@@ -23,7 +23,7 @@ namespace corridor::server {
 class ExploreNode final : public Node {
  public:
   // `restore_map`: gives the planner the active map again.
-  ExploreNode(Executor& mapping, Bus& bus, PlannerService& planner, MissionNode& missions,
+  ExploreNode(Executor& mapping, Bus& bus, PlannerService& planner, const RobotCore& core,
               std::function<void()> restore_map, const nav::FrontierOptions& options = {});
   void Activate() override;
   // Explores the map being built (mapping must be under way, or be started by the caller). Thread-safe.
@@ -36,20 +36,23 @@ class ExploreNode final : public Node {
   void OnMission(const MissionState& mission);
   // The planner on `mapping`'s map, and the next goal unless one is under way.
   void Plan(const MappingState& mapping);
-  // The next frontier goal on the latest map, or the end of exploring.
+  // The next frontier goal on the latest map (a mission asked of the core), or the end of exploring.
   void Next();
+  // The core's answer to the last goal: its mission, or a refusal (that frontier is given up).
+  void Started(const MissionResult& result);
   // Stops exploring; `save`: stop mapping (which saves the map); `cancel_goal`: the robot stops where it is.
   void Finish(const std::string& why, bool save, bool cancel_goal);
 
   PlannerService& planner_;
-  MissionNode& missions_;
+  const RobotCore& core_;
   std::function<void()> restore_map_;
   nav::FrontierOptions options_;
   std::atomic<bool> exploring_{false};
   std::shared_ptr<const MappingState> mapping_;  // the latest with a map, while mapping
   std::string mission_id_;                       // the current goal's mission; empty: none
+  bool starting_ = false;                        // a goal asked of the core, not answered yet
   Eigen::Vector2d goal_ = Eigen::Vector2d::Zero();
-  std::vector<Eigen::Vector2d> given_up_;        // goals reached or failed
+  std::vector<Eigen::Vector2d> given_up_;  // goals reached or failed
 };
 
 }  // namespace corridor::server

@@ -228,6 +228,19 @@ void Vda5050Node::StartMission(std::vector<nav::MissionGoal> goals) {
                      });
 }
 
+void Vda5050Node::SetPose(const nav::Pose2& pose, const std::string& action_id) {
+  PoseOrder order;
+  order.pose = pose;
+  order.origin = "vda5050";
+  Executor& io = executor();
+  core_.SetPose(order, [this, &io, action_id](PoseResult result) {
+    const auto* refused = std::get_if<PoseRefused>(&result);
+    io.Post([this, action_id, refusal = refused ? refused->detail : std::string()] {
+      Run("pose answered", [&] { Carry(agent_.PoseAnswered(action_id, refusal)); });
+    });
+  });
+}
+
 void Vda5050Node::Answered(const MissionResult& result, const std::vector<std::string>& nodes, std::size_t asked) {
   if (const auto* refusal = std::get_if<nav::MissionRefusal>(&result)) {
     // Off the map or on an unknown floor: the order names what is not there; otherwise there is no way to it.
@@ -241,13 +254,13 @@ void Vda5050Node::Answered(const MissionResult& result, const std::vector<std::s
   }
   const MissionState& state = std::get<MissionState>(result);
   Carry(agent_.Started(state.id, state.goals.size() - asked));
-  if (agent_.paused()) missions_.Pause(state.id);
+  if (agent_.paused()) core_.Command(MissionStep::kPause, state.id, "vda5050");
   // What the mission did while the answer was on its way (it may have ended already).
   if (const auto now = missions_.Describe(state.id)) Carry(agent_.Progress(ProgressOf(*now)));
 }
 
 void Vda5050Node::Carry(VdaCommands c) {
-  if (!c.cancel.empty()) missions_.Cancel(c.cancel);
+  if (!c.cancel.empty()) core_.Command(MissionStep::kCancel, c.cancel, "vda5050");
   if (c.start) StartMission(std::move(*c.start));
   if (!c.extend.empty()) {
     const std::string id = agent_.mission_id();
@@ -259,14 +272,11 @@ void Vda5050Node::Carry(VdaCommands c) {
       StartMission(std::move(c.extend));
     }
   }
-  if (c.pause && !agent_.mission_id().empty()) missions_.Pause(agent_.mission_id());
-  if (c.resume && !agent_.mission_id().empty()) missions_.Resume(agent_.mission_id());
-  if (c.set_pose) {
-    LocalizationCommand command;
-    command.kind = LocalizationCommand::Kind::kSetPose;
-    command.pose = *c.set_pose;
-    bus().Get(topics::kLocalizationCommand).Publish(command);
+  if (c.pause && !agent_.mission_id().empty()) core_.Command(MissionStep::kPause, agent_.mission_id(), "vda5050");
+  if (c.resume && !agent_.mission_id().empty()) {
+    core_.Command(MissionStep::kResume, agent_.mission_id(), "vda5050");
   }
+  if (c.set_pose) SetPose(*c.set_pose, c.set_pose_action);
   for (std::string& text : c.say) {
     FaceCommand command;
     command.say = std::move(text);

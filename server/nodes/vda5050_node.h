@@ -44,6 +44,8 @@ class Vda5050Node final : public PeriodicNode {
   // Asks the core for a mission through `goals` (the agent's, each for a node); the agent hears, on this executor,
   // that it started or was refused.
   void StartMission(std::vector<nav::MissionGoal> goals);
+  // initPosition through the core; its answer finishes or fails action `action_id`.
+  void SetPose(const nav::Pose2& pose, const std::string& action_id);
   void Answered(const MissionResult& result, const std::vector<std::string>& nodes, std::size_t asked);
   VdaRobot Sample();
   VdaRobotNow Now();
