@@ -5,8 +5,8 @@
 // percentiles over the run's scans, the particle count and the error to the true path. Results: docs/benchmarks.md.
 #include <algorithm>
 #include <chrono>
-#include <memory>
 #include <cmath>
+#include <memory>
 #include <random>
 
 #include <benchmark/benchmark.h>
@@ -20,9 +20,9 @@ namespace corridor {
 namespace {
 
 const drivers::sim::World& Willow() {
-  static const drivers::sim::World world = drivers::sim::LoadWorld(
-      std::string(CORRIDOR_SOURCE_DIR) + "/config/worlds/willow_garage/willow-full-0.05.yaml",
-      drivers::sim::WorldOptions{});
+  static const drivers::sim::World world =
+      drivers::sim::LoadWorld(std::string(CORRIDOR_SOURCE_DIR) + "/config/worlds/willow_garage/willow-full-0.05.yaml",
+                              drivers::sim::WorldOptions{});
   return world;
 }
 
@@ -74,8 +74,9 @@ const std::vector<Step>& LaserSteps() {
       drivers::sim::CastScan(caster, world_T_laser, options, rng, scan);
       nav::RangeLimits limits;
       limits.max_range_m = scan.range_max_m;
-      out.push_back({path[i], odom[i], nav::ScanFromRanges(base_T_laser, scan.angle_min_rad, scan.angle_increment_rad,
-                                                  scan.ranges, limits)});
+      out.push_back(
+          {path[i], odom[i],
+           nav::ScanFromRanges(base_T_laser, scan.angle_min_rad, scan.angle_increment_rad, scan.ranges, limits)});
     }
     return out;
   }();

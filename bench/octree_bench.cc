@@ -65,7 +65,8 @@ BENCHMARK(BM_OctreeInsert)->Arg(1)->Arg(2)->Arg(4)->Unit(benchmark::kMillisecond
 void BM_OctreeProject(benchmark::State& state) {
   const Frames& frames = Walk();
   nav::OccupancyOctree octree;
-  for (std::size_t i = 0; i < frames.depth.size(); ++i) octree.InsertDepth(frames.depth[i], frames.camera, frames.poses[i]);
+  for (std::size_t i = 0; i < frames.depth.size(); ++i)
+    octree.InsertDepth(frames.depth[i], frames.camera, frames.poses[i]);
   const nav::OccupancyGrid& map = *Willow().source_map;
   for (auto _ : state) benchmark::DoNotOptimize(octree.ProjectOccupied(map, 0.1, 1.2).data());
 }

@@ -19,15 +19,18 @@ namespace {
 CostmapOptions g_modified;
 
 const OccupancyGrid& Willow() {
-  static const OccupancyGrid g = LoadMap(std::string(CORRIDOR_SOURCE_DIR) + "/config/worlds/willow_garage/willow-full-0.05.yaml");
+  static const OccupancyGrid g =
+      LoadMap(std::string(CORRIDOR_SOURCE_DIR) + "/config/worlds/willow_garage/willow-full-0.05.yaml");
   return g;
 }
 
 // Start and goal pairs across the building (map frame, metres), snapped to traversable cells by the caller.
 const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>& Queries() {
-  static const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> q = {
-      {{24.4, 24.1}, {50.0, 12.0}}, {{8.0, 10.0}, {45.0, 38.0}}, {{33.0, 40.0}, {15.0, 5.0}},
-      {{12.0, 35.0}, {52.0, 30.0}}, {{40.0, 8.0}, {10.0, 42.0}}};
+  static const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> q = {{{24.4, 24.1}, {50.0, 12.0}},
+                                                                             {{8.0, 10.0}, {45.0, 38.0}},
+                                                                             {{33.0, 40.0}, {15.0, 5.0}},
+                                                                             {{12.0, 35.0}, {52.0, 30.0}},
+                                                                             {{40.0, 8.0}, {10.0, 42.0}}};
   return q;
 }
 
@@ -47,8 +50,8 @@ void PrintComparison() {
   std::printf("Willow Garage 1165 x 945 at 5 cm; robot radius %.2f m; d(n) weight %.1f, saturation %.2f m\n",
               g_modified.robot_radius_m, g_modified.distance_weight, g_modified.saturation_m);
   std::printf("costmap (obstacles, fast marching, costs): %.1f ms, %.1f ms\n\n", Ms(t1 - t0), Ms(t2 - t1));
-  std::printf("%-5s %-9s %9s %9s %9s %10s %10s\n", "query", "planner", "plan ms", "expanded", "length m",
-              "min clr m", "mean clr m");
+  std::printf("%-5s %-9s %9s %9s %9s %10s %10s\n", "query", "planner", "plan ms", "expanded", "length m", "min clr m",
+              "mean clr m");
   double ratio_sum = 0.0;
   for (std::size_t i = 0; i < Queries().size(); ++i) {
     const Eigen::Vector2d s = Snap(modified, Queries()[i].first);
@@ -62,8 +65,10 @@ void PrintComparison() {
         std::printf("%-5zu %-9s failed: %s\n", i, name, r.detail.c_str());
         continue;
       }
-      if (costmap == &plain) plain_length = r.plan.length_m;
-      else ratio_sum += r.plan.length_m / plain_length;
+      if (costmap == &plain)
+        plain_length = r.plan.length_m;
+      else
+        ratio_sum += r.plan.length_m / plain_length;
       std::printf("%-5zu %-9s %9.1f %9d %9.2f %10.3f %10.3f\n", i, name, ms, r.plan.expanded, r.plan.length_m,
                   r.plan.min_clearance_m, r.plan.mean_clearance_m);
     }

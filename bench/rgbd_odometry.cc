@@ -1,6 +1,7 @@
-// Should corridor fuse RGB-D odometry with its wheel odometry (issue 20: "measure and decide")? OpenCV's rgbd odometries
-// (RgbdOdometry: photometric; ICPOdometry: depth; RgbdICPOdometry: both; FastICPOdometry: KinectFusion's ICP) between
-// consecutive frames, against the wheel odometry they would join, and what each costs per frame on one core.
+// Should corridor fuse RGB-D odometry with its wheel odometry (issue 20: "measure and decide")? OpenCV's rgbd
+// odometries (RgbdOdometry: photometric; ICPOdometry: depth; RgbdICPOdometry: both; FastICPOdometry: KinectFusion's
+// ICP) between consecutive frames, against the wheel odometry they would join, and what each costs per frame on one
+// core.
 //   1. The simulator: the robot drives Willow Garage's start corridor at 0.5 m/s with 15 Hz frames of 320 x 240, then
 //      turns a quarter on the spot at 0.5 rad/s and drives on; each method's frame-to-frame motion is taken into the
 //      base frame and chained in the plane. Drift: the chained pose's end error per metre driven and heading error per
@@ -89,9 +90,9 @@ nav::Pose2 Planar(const Eigen::Isometry3d& t) {
 
 // 1. The simulator.
 void Simulated() {
-  const drivers::sim::World world = drivers::sim::LoadWorld(
-      std::string(CORRIDOR_SOURCE_DIR) + "/config/worlds/willow_garage/willow-full-0.05.yaml",
-      drivers::sim::WorldOptions{});
+  const drivers::sim::World world =
+      drivers::sim::LoadWorld(std::string(CORRIDOR_SOURCE_DIR) + "/config/worlds/willow_garage/willow-full-0.05.yaml",
+                              drivers::sim::WorldOptions{});
   const drivers::sim::RayCaster caster(world.mesh);
   const drivers::sim::SimCameraOptions options;
   const drivers::sim::RgbdRenderer renderer(caster, options);
@@ -103,7 +104,8 @@ void Simulated() {
   const double step_rad = 0.5 / options.rate_hz;
   const int turn_steps = static_cast<int>(std::lround(std::numbers::pi / 2 / step_rad));
   for (int i = 0; i < 180; ++i, p = p * nav::Pose2{step_m, 0.0, 0.0}) path.push_back(p);
-  for (int i = 0; i < turn_steps; ++i, p = p * nav::Pose2{0.0, 0.0, std::numbers::pi / 2 / turn_steps}) path.push_back(p);
+  for (int i = 0; i < turn_steps; ++i, p = p * nav::Pose2{0.0, 0.0, std::numbers::pi / 2 / turn_steps})
+    path.push_back(p);
   for (int i = 0; i < 90; ++i, p = p * nav::Pose2{step_m, 0.0, 0.0}) path.push_back(p);
   path.push_back(p);
 
@@ -126,8 +128,9 @@ void Simulated() {
   }
   std::printf("Simulator, Willow Garage: %zu frames 320 x 240, %.1f m driven, %.2f rad turned\n", frames.size(),
               driven_m, turned_rad);
-  std::printf("| method | failed frames | end error per metre | heading error per radian turned | ms per frame "
-              "(mean, p99) | a core at 15 Hz |\n|---|---|---|---|---|---|\n");
+  std::printf(
+      "| method | failed frames | end error per metre | heading error per radian turned | ms per frame "
+      "(mean, p99) | a core at 15 Hz |\n|---|---|---|---|---|---|\n");
 
   // Wheel odometry on the same path, seeded: the simulator's model (1 % of each step's length, 2 % of its turn), and a
   // worse base with slam_eval's biases besides (lengths read 2 % long, a degree of heading lost per metre).
@@ -213,13 +216,14 @@ void Recorded(const fs::path& data) {
   for (int i = 0; i < 5; ++i) {
     char name[16];
     std::snprintf(name, sizeof name, "%05d", i);
-    frames.push_back(ReadFrame(room / "color" / (std::string(name) + ".jpg"), room / "depth" / (std::string(name) + ".png"),
-                               0.001));
+    frames.push_back(
+        ReadFrame(room / "color" / (std::string(name) + ".jpg"), room / "depth" / (std::string(name) + ".png"), 0.001));
   }
   if (truth.size() < frames.size()) throw std::runtime_error("trajectory.log holds fewer poses than frames");
   std::printf("\nOpen3D living room (rendered, Kinect noise), 640 x 480, pairs 0-1 .. 3-4:\n");
-  std::printf("| method | failed pairs | translation error (mean, max) | rotation error (mean, max) | ms per pair |\n"
-              "|---|---|---|---|---|\n");
+  std::printf(
+      "| method | failed pairs | translation error (mean, max) | rotation error (mean, max) | ms per pair |\n"
+      "|---|---|---|---|---|\n");
   const cv::Mat k = CameraMatrix(525.0, 525.0, 319.5, 239.5);
   for (const Method& method : Methods()) {
     const cv::Ptr<cv::rgbd::Odometry> odometry = method.make(k);
@@ -246,9 +250,8 @@ void Recorded(const fs::path& data) {
       for (double x : v) s += x;
       return v.empty() ? 0.0 : s / static_cast<double>(v.size());
     };
-    std::printf("| %s | %d of 4 | %.1f, %.1f mm | %.2f, %.2f deg | %.1f |\n", method.name, failed,
-                1000.0 * mean(t_err), 1000.0 * Percentile(t_err, 1.0), mean(r_err), Percentile(r_err, 1.0),
-                ms_total / 4.0);
+    std::printf("| %s | %d of 4 | %.1f, %.1f mm | %.2f, %.2f deg | %.1f |\n", method.name, failed, 1000.0 * mean(t_err),
+                1000.0 * Percentile(t_err, 1.0), mean(r_err), Percentile(r_err, 1.0), ms_total / 4.0);
   }
 
   const fs::path tum = data / "slambook2_ch7_tum_pair";

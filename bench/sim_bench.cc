@@ -9,8 +9,8 @@ namespace corridor::drivers::sim {
 namespace {
 
 const World& Willow() {
-  static const World world =
-      LoadWorld(std::string(CORRIDOR_SOURCE_DIR) + "/config/worlds/willow_garage/willow-full-0.05.yaml", WorldOptions{});
+  static const World world = LoadWorld(
+      std::string(CORRIDOR_SOURCE_DIR) + "/config/worlds/willow_garage/willow-full-0.05.yaml", WorldOptions{});
   return world;
 }
 

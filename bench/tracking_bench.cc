@@ -26,8 +26,8 @@ const Recording& Record() {
     Recording r;
     const nav::OccupancyGrid room = drivers::sim::RoomMap(12.0, 12.0, 0.05);
     r.map = std::make_shared<const nav::OccupancyGrid>(room);
-    auto world = std::make_shared<const drivers::sim::World>(
-        drivers::sim::WorldFromMap(room, drivers::sim::WorldOptions{}));
+    auto world =
+        std::make_shared<const drivers::sim::World>(drivers::sim::WorldFromMap(room, drivers::sim::WorldOptions{}));
     drivers::sim::SimOptions options;
     options.start = {6.0, 6.0, 0.0};
     std::mt19937 rng(4);

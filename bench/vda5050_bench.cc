@@ -47,9 +47,15 @@ nlohmann::json Order(int n) {
                        {"actions", nlohmann::json::array()}});
     }
   }
-  return {{"headerId", 1},          {"timestamp", "2026-11-26T08:00:00.000Z"}, {"version", "2.1.0"},
-          {"manufacturer", "corridor"}, {"serialNumber", "robot-1"},            {"orderId", "o1"},
-          {"orderUpdateId", 0},         {"nodes", nodes},                       {"edges", edges}};
+  return {{"headerId", 1},
+          {"timestamp", "2026-11-26T08:00:00.000Z"},
+          {"version", "2.1.0"},
+          {"manufacturer", "corridor"},
+          {"serialNumber", "robot-1"},
+          {"orderId", "o1"},
+          {"orderUpdateId", 0},
+          {"nodes", nodes},
+          {"edges", edges}};
 }
 
 void BM_StateBuildCheckDump(benchmark::State& state) {

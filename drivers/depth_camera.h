@@ -23,8 +23,8 @@ struct CameraInfo {
 // One synchronised depth + colour capture. Depth is CV_16UC1 in millimetres along the optical axis, 0 where the
 // camera has no measurement; colour is CV_8UC3 BGR of the same size. Frames are immutable once published.
 struct RgbdFrame {
-  TimeNs stamp_ns = 0;          // capture time on the camera's clock (simulated or device)
-  TimeNs arrival_ns = -1;       // when it reached the host, on the host's clock: latencies are measured from here
+  TimeNs stamp_ns = 0;     // capture time on the camera's clock (simulated or device)
+  TimeNs arrival_ns = -1;  // when it reached the host, on the host's clock: latencies are measured from here
   std::uint64_t sequence = 0;
   cv::Mat depth_mm;
   cv::Mat color_bgr;

@@ -11,10 +11,10 @@
 namespace corridor::drivers {
 
 struct SerialPortInfo {
-  std::string path;                  // /dev/ttyUSB0
-  std::vector<std::string> names;    // the links to it: /dev/corridor/rplidar, /dev/serial/by-id/usb-...
-  std::string usb_id;                // vendor:product, "" when not on USB
-  std::string driver;                // the driver its USB id suggests ("" when none does)
+  std::string path;                // /dev/ttyUSB0
+  std::vector<std::string> names;  // the links to it: /dev/corridor/rplidar, /dev/serial/by-id/usb-...
+  std::string usb_id;              // vendor:product, "" when not on USB
+  std::string driver;              // the driver its USB id suggests ("" when none does)
 };
 
 // Every /dev/ttyUSB* and /dev/ttyACM*, in order of their names.

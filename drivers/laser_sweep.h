@@ -19,11 +19,11 @@ struct SweepPoint {
 };
 
 struct SweepOptions {
-  int bins = 360;                // the scan's beams over the full turn, counter-clockwise from forward
-  double range_min_m = 0.15;     // nearer measurements are dropped (inside the housing)
-  double range_max_m = 12.0;     // farther ones too
-  int min_quality = 1;           // measurements of lower quality are dropped (0: the device saw nothing)
-  int min_points = 50;           // a sweep with fewer measurements is not a scan (the motor still spinning up)
+  int bins = 360;             // the scan's beams over the full turn, counter-clockwise from forward
+  double range_min_m = 0.15;  // nearer measurements are dropped (inside the housing)
+  double range_max_m = 12.0;  // farther ones too
+  int min_quality = 1;        // measurements of lower quality are dropped (0: the device saw nothing)
+  int min_points = 50;        // a sweep with fewer measurements is not a scan (the motor still spinning up)
 };
 
 // Revolutions from measurements: each with the start flag ends the sweep before it. A sweep becomes a LaserScan
@@ -43,7 +43,7 @@ class SweepAssembler {
   SweepOptions options_;
   std::vector<float> ranges_;
   int points_ = 0;
-  bool started_ = false;  // a start flag was seen: the sweep under way is whole
+  bool started_ = false;     // a start flag was seen: the sweep under way is whole
   TimeNs last_end_ns_ = -1;  // when the sweep under way began (the last start flag)
 };
 

@@ -27,8 +27,8 @@ TEST(LaserSweepTest, ASweepTakesTheTimeBetweenStartFlagsTurningClockwiseFromForw
   // Forward was measured first (a whole sweep before the stamp); the robot's right (-90 degrees in the scan, 90
   // clockwise) a quarter of the turn later; its left (90, the device's 270) three quarters.
   const auto beam = [&](double deg) {
-    return static_cast<std::size_t>(std::lround((deg * std::numbers::pi / 180.0 - first->angle_min_rad) /
-                                                first->angle_increment_rad));
+    return static_cast<std::size_t>(
+        std::lround((deg * std::numbers::pi / 180.0 - first->angle_min_rad) / first->angle_increment_rad));
   };
   // (To half a beam's time: a beam holds what was measured within half a degree of it.)
   constexpr double kBeamS = 0.1 / 360.0;

@@ -60,8 +60,8 @@ std::vector<RobotEvent> EventWatch::Update(const Situation& s, const std::vector
   const bool was_running = same_mission && (mission_ == MissionPhase::kActive || mission_ == MissionPhase::kPaused);
   const bool new_and_ended = !same_mission && started_;  // it started and ended between two samples
   if (Ended(s.mission) && s.mission != MissionPhase::kCanceled && (was_running || new_and_ended)) {
-    RobotEvent& e = emit(s.mission == MissionPhase::kSucceeded ? EventType::kMissionSucceeded
-                                                               : EventType::kMissionFailed);
+    RobotEvent& e =
+        emit(s.mission == MissionPhase::kSucceeded ? EventType::kMissionSucceeded : EventType::kMissionFailed);
     e.mission_id = s.mission_id;
     e.place = s.place;
     if (s.mission == MissionPhase::kFailed) e.detail = s.mission_error;

@@ -28,7 +28,14 @@
 namespace corridor::face {
 
 enum class EventType {
-  kPersonDetected, kPersonLeft, kMissionSucceeded, kMissionFailed, kBlocked, kLost, kFault, kBump
+  kPersonDetected,
+  kPersonLeft,
+  kMissionSucceeded,
+  kMissionFailed,
+  kBlocked,
+  kLost,
+  kFault,
+  kBump
 };
 inline constexpr int kEventTypeCount = 8;
 std::string_view ToString(EventType type);
@@ -38,10 +45,10 @@ std::optional<EventType> EventTypeFromString(std::string_view name);
 struct RobotEvent {
   EventType type = EventType::kBump;
   drivers::TimeNs stamp_ns = 0;
-  std::string mission_id{};               // mission_*, blocked
-  std::string place{};                    // mission_*: the named place of the last goal, if any
-  std::string detail{};                   // mission_failed: why; fault: what failed; blocked: "person" or "waiting"
-  std::optional<Detection> person{};      // person_detected: the detection; person_left: the last one seen
+  std::string mission_id{};           // mission_*, blocked
+  std::string place{};                // mission_*: the named place of the last goal, if any
+  std::string detail{};               // mission_failed: why; fault: what failed; blocked: "person" or "waiting"
+  std::optional<Detection> person{};  // person_detected: the detection; person_left: the last one seen
 };
 
 struct EventOptions {

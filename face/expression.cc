@@ -7,8 +7,8 @@
 namespace corridor::face {
 namespace {
 
-constexpr std::array<std::string_view, kExpressionCount> kNames = {
-    "neutral", "happy", "focused", "surprised", "worried", "sleepy", "confused", "sad"};
+constexpr std::array<std::string_view, kExpressionCount> kNames = {"neutral", "happy",  "focused",  "surprised",
+                                                                   "worried", "sleepy", "confused", "sad"};
 
 // The rules' urgencies (expression.h), from the bottom of the list.
 enum Urgency : int {
@@ -46,9 +46,9 @@ std::optional<Expression> ExpressionFromString(std::string_view name) {
 }
 
 ExpressionMachine::ExpressionMachine(const ExpressionOptions& options) : options_(options) {
-  for (const double t : {options.min_hold_s, options.surprise_hold_s, options.arrived_hold_s, options.confused_hold_s,
-                         options.greeting_hold_s, options.greeting_every_s, options.excuse_me_after_s,
-                         options.sleepy_after_s}) {
+  for (const double t :
+       {options.min_hold_s, options.surprise_hold_s, options.arrived_hold_s, options.confused_hold_s,
+        options.greeting_hold_s, options.greeting_every_s, options.excuse_me_after_s, options.sleepy_after_s}) {
     if (!(t >= 0.0) || !std::isfinite(t)) throw std::invalid_argument("face: hold times must be finite and >= 0");
   }
 }

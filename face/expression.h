@@ -38,12 +38,12 @@ enum class MissionPhase { kNone, kActive, kPaused, kSucceeded, kFailed, kCancele
 // What the robot is going through, sampled by the caller.
 struct Situation {
   drivers::TimeNs now_ns = 0;
-  bool moving = false;           // the base is moving
-  bool driven = false;           // a person is driving it (teleop)
-  bool bumped = false;           // the bumper is pressed
-  bool fault = false;            // the robot stopped because something is wrong (a device not answering, a node
-                                 // failing, a protective stop)
-  bool lost = false;             // localization does not know where the robot is
+  bool moving = false;  // the base is moving
+  bool driven = false;  // a person is driving it (teleop)
+  bool bumped = false;  // the bumper is pressed
+  bool fault = false;   // the robot stopped because something is wrong (a device not answering, a node
+                        // failing, a protective stop)
+  bool lost = false;    // localization does not know where the robot is
   MissionPhase mission = MissionPhase::kNone;
   std::string mission_id{};      // of the mission in `mission` (a new id is a new mission)
   std::string place{};           // the named place the mission's last goal is, if any
@@ -68,14 +68,14 @@ struct FaceOutput {
 };
 
 struct ExpressionOptions {
-  double min_hold_s = 1.0;           // an expression stays up at least this long unless a more urgent one comes
-  double surprise_hold_s = 2.0;      // a bump keeps the surprised face this long
-  double arrived_hold_s = 3.0;       // happy on arrival
-  double confused_hold_s = 5.0;      // after a mission failed
-  double greeting_hold_s = 3.0;      // happy after a greeting
-  double greeting_every_s = 30.0;    // at most one greeting this often
-  double excuse_me_after_s = 3.0;    // a person blocking the way this long: "excuse me"
-  double sleepy_after_s = 60.0;      // idle this long: sleepy
+  double min_hold_s = 1.0;         // an expression stays up at least this long unless a more urgent one comes
+  double surprise_hold_s = 2.0;    // a bump keeps the surprised face this long
+  double arrived_hold_s = 3.0;     // happy on arrival
+  double confused_hold_s = 5.0;    // after a mission failed
+  double greeting_hold_s = 3.0;    // happy after a greeting
+  double greeting_every_s = 30.0;  // at most one greeting this often
+  double excuse_me_after_s = 3.0;  // a person blocking the way this long: "excuse me"
+  double sleepy_after_s = 60.0;    // idle this long: sleepy
   std::string greeting_text = "Hello!";
   std::string excuse_me_text = "Excuse me, may I pass?";
   std::string arrived_text = "I have arrived.";

@@ -33,7 +33,8 @@ SocialCues SocialSense::Update(const std::vector<Detection>& detections, double 
     Standing& s = it->second;
     if (!fresh && (p - s.where).norm() > options_.standing_radius_m) s = {p, now_ns, now_ns};
     s.seen_ns = now_ns;
-    cues.looking |= ahead && range <= options_.near_m && now_ns - s.since_ns >= drivers::FromSeconds(options_.standing_s);
+    cues.looking |=
+        ahead && range <= options_.near_m && now_ns - s.since_ns >= drivers::FromSeconds(options_.standing_s);
   }
   // Forget people not seen for a while.
   std::erase_if(standing_, [&](const auto& e) { return now_ns - e.second.seen_ns > drivers::FromSeconds(2.0); });

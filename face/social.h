@@ -27,7 +27,7 @@ struct SocialOptions {
   double standing_s = 2.0;
   double standing_radius_m = 0.25;  // a person who stayed within this of where they were is standing
   double gaze_m = 4.0;
-  double max_gaze_rad = 0.7;        // the eyes turn at most this far either way
+  double max_gaze_rad = 0.7;  // the eyes turn at most this far either way
 };
 
 struct SocialCues {

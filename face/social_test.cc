@@ -41,12 +41,14 @@ TEST(SocialSenseTest, WithNobodyTheEyesLookIntoTheTurn) {
 TEST(SocialSenseTest, SomeoneStandingInFrontForTwoSecondsOrAFaceIsLookingAtTheRobot) {
   SocialSense sense;
   bool looking = false;
-  for (int i = 0; i <= 9; ++i) looking = sense.Update({Person(1.0, 0.05 * (i % 2), 7)}, 0, 0, FromSeconds(0.2 * i)).looking;
+  for (int i = 0; i <= 9; ++i)
+    looking = sense.Update({Person(1.0, 0.05 * (i % 2), 7)}, 0, 0, FromSeconds(0.2 * i)).looking;
   EXPECT_FALSE(looking);  // 1.8 s
   EXPECT_TRUE(sense.Update({Person(1.0, 0.0, 7)}, 0, 0, FromSeconds(2.0)).looking);
   // Walking past is not looking.
   SocialSense other;
-  for (int i = 0; i <= 15; ++i) looking = other.Update({Person(1.0, -1.0 + 0.15 * i, 3)}, 0, 0, FromSeconds(0.2 * i)).looking;
+  for (int i = 0; i <= 15; ++i)
+    looking = other.Update({Person(1.0, -1.0 + 0.15 * i, 3)}, 0, 0, FromSeconds(0.2 * i)).looking;
   EXPECT_FALSE(looking);
   // A face turned to the robot within 2.5 m is looking at once.
   const Detection face{"face", 0.8, std::nullopt, Eigen::Vector3d(2.0, 0.2, 1.5), 0, "face_cascade"};

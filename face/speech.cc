@@ -64,8 +64,8 @@ std::string Speech::SynthesizeWav(const std::string& text) const {
         espeak_SetParameter(espeakVOLUME, options_.volume, 0) != EE_OK) {
       throw std::runtime_error("speech: espeak-ng refused the voice's settings");
     }
-    const espeak_ERROR e = espeak_Synth(text.c_str(), text.size() + 1, 0, POS_CHARACTER, 0, espeakCHARS_UTF8, nullptr,
-                                        &samples);
+    const espeak_ERROR e =
+        espeak_Synth(text.c_str(), text.size() + 1, 0, POS_CHARACTER, 0, espeakCHARS_UTF8, nullptr, &samples);
     if (e != EE_OK || espeak_Synchronize() != EE_OK) throw std::runtime_error("speech: espeak-ng failed to synthesize");
   }
   // A canonical 44-byte WAV header, then the samples (little-endian, as WAV is and this machine is).
@@ -73,13 +73,13 @@ std::string Speech::SynthesizeWav(const std::string& text) const {
   std::string wav = "RIFF";
   PutLe(wav, 36 + data_bytes, 4);
   wav += "WAVEfmt ";
-  PutLe(wav, 16, 4);                        // fmt chunk size
-  PutLe(wav, 1, 2);                         // PCM
-  PutLe(wav, 1, 2);                         // mono
+  PutLe(wav, 16, 4);  // fmt chunk size
+  PutLe(wav, 1, 2);   // PCM
+  PutLe(wav, 1, 2);   // mono
   PutLe(wav, static_cast<std::uint32_t>(sample_rate_hz_), 4);
   PutLe(wav, static_cast<std::uint32_t>(sample_rate_hz_) * 2, 4);  // bytes a second
-  PutLe(wav, 2, 2);                         // bytes a frame
-  PutLe(wav, 16, 2);                        // bits a sample
+  PutLe(wav, 2, 2);                                                // bytes a frame
+  PutLe(wav, 16, 2);                                               // bits a sample
   wav += "data";
   PutLe(wav, data_bytes, 4);
   const std::size_t header = wav.size();

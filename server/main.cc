@@ -103,7 +103,7 @@ std::optional<CommandLine> ParseCommandLine(int argc, char** argv) {
   }
   if (cl.config.empty()) {
     cl.config = fs::exists("/etc/corridor/corridor.yaml") ? fs::path("/etc/corridor/corridor.yaml")
-                                                           : fs::path(CORRIDOR_SOURCE_DIR) / "config/corridor.yaml";
+                                                          : fs::path(CORRIDOR_SOURCE_DIR) / "config/corridor.yaml";
   }
   return cl;
 }
@@ -135,8 +135,8 @@ void PrepareStateDir(const fs::path& dir) {
 int CreateToken(const CommandLine& cl) {
   const auto role = auth::RoleFromString(cl.token_role);
   if (!role) throw std::invalid_argument("--role must be viewer, operator or admin");
-  const fs::path state_dir = cl.overrides.state_dir ? *cl.overrides.state_dir
-                                                     : LoadConfig(cl.config, cl.overrides).store.state_dir;
+  const fs::path state_dir =
+      cl.overrides.state_dir ? *cl.overrides.state_dir : LoadConfig(cl.config, cl.overrides).store.state_dir;
   PrepareStateDir(state_dir);
   const fs::path file = state_dir / "accounts.db";
   auto [token, secret] = auth::Accounts(file).CreateToken(cl.token_name, *role, "command line");
@@ -193,8 +193,10 @@ int Run(const CommandLine& cl) {
     spdlog::info("plain HTTP on port {} redirects to HTTPS", config.server.tls.redirect_port);
   }
   if (const auto code = graph.access().setup.code()) {
-    spdlog::warn("no users yet: create the first admin in the console with the setup code {} (also shown on the "
-                 "robot's screen)", *code);
+    spdlog::warn(
+        "no users yet: create the first admin in the console with the setup code {} (also shown on the "
+        "robot's screen)",
+        *code);
   }
   service.Ready("listening on port " + std::to_string(server.port()));
   std::cerr << std::flush;

@@ -12,8 +12,8 @@ namespace http = server::http;
 
 fs::path NewStateDir() {
   static std::atomic<int> count{0};
-  const fs::path dir = fs::temp_directory_path() /
-                       ("corridor_lockstep_" + std::to_string(::getpid()) + "_" + std::to_string(count++));
+  const fs::path dir =
+      fs::temp_directory_path() / ("corridor_lockstep_" + std::to_string(::getpid()) + "_" + std::to_string(count++));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

@@ -194,8 +194,7 @@ TEST(DdsInterop, RosToolSeesTheRobotDrivesItAndSendsAGoal) {
         state, std::ref(now), [&] { return peer.Matched(initial_pose) > 0; }, 5s));
     ASSERT_EQ(dds_write(initial_pose, &estimate), DDS_RETCODE_OK);
     peer.TakeUntil<std_msgs_msg_String>(
-        state, std::ref(now), [&] { return daemon.log().find("dds: /initialpose taken") != std::string::npos; },
-        5s);
+        state, std::ref(now), [&] { return daemon.log().find("dds: /initialpose taken") != std::string::npos; }, 5s);
     EXPECT_NE(daemon.log().find("dds: /initialpose taken"), std::string::npos) << daemon.log();
   }
 
@@ -237,7 +236,9 @@ TEST(DdsInterop, RosToolSeesTheRobotDrivesItAndSendsAGoal) {
     auto off_map = goal;
     off_map.pose.position.x = 1000.0;
     ASSERT_EQ(dds_write(goal_pose, &off_map), DDS_RETCODE_OK);
-    const auto refused = [&] { return daemon.log().find("dds: /goal_pose refused (goal_outside_map)") != std::string::npos; };
+    const auto refused = [&] {
+      return daemon.log().find("dds: /goal_pose refused (goal_outside_map)") != std::string::npos;
+    };
     peer.TakeUntil<std_msgs_msg_String>(state, std::ref(watch), refused, 10s);
     EXPECT_TRUE(refused()) << daemon.log();
     EXPECT_FALSE(watch.latest["mission"].is_object() && watch.latest["mission"].value("status", "") == "active")

@@ -79,7 +79,8 @@ TEST(DevicesLockstep, ARobotWithoutALaserHasNoScanToGive) {
 }
 
 TEST(DevicesLockstep, ARobotWithoutACameraStopsShortOfAWallOnItsLasersLanes) {
-  LockstepRobot robot(DefaultConfig(), [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
+  LockstepRobot robot(DefaultConfig(),
+                      [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
   robot.StepFor(1.0);
   const json devices = robot.Call("GET", "/api/v1/devices").body;
   ASSERT_EQ(devices["devices"].size(), 2u) << devices.dump();
@@ -136,7 +137,8 @@ TEST(DevicesLockstep, TheCamerasHeightAndTiltAreMeasuredFromTheFloor) {
   EXPECT_NEAR(fit.body["configured"]["tilt_deg"].get<double>(), 10.0, 1e-6);
   EXPECT_NEAR(fit.body["patch"]["sim"]["camera"]["mount_height_m"].get<double>(), 0.3, 0.02);
   // A robot without a camera has nothing to measure.
-  LockstepRobot blind(DefaultConfig(), [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
+  LockstepRobot blind(DefaultConfig(),
+                      [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
   EXPECT_EQ(blind.Call("POST", "/api/v1/devices/camera/calibration", json::object()).status, 404);
 }
 
@@ -161,7 +163,8 @@ TEST(DevicesLockstep, TheLasersYawIsMeasuredAgainstTheCamera) {
       },
       2.0));
   EXPECT_EQ(robot.Call("POST", "/api/v1/devices/laser/calibration", json::object()).status, 409);
-  LockstepRobot blind(DefaultConfig(), [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
+  LockstepRobot blind(DefaultConfig(),
+                      [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
   blind.StepFor(0.5);
   EXPECT_EQ(blind.Call("POST", "/api/v1/devices/laser/calibration", json::object()).status, 404);
 }
@@ -174,7 +177,8 @@ TEST(DevicesLockstep, TheWheelsDiameterAndTrackAreMeasuredFromAStraightRunAndATu
     c.sim.robot.base.track_error = 0.97;
   });
   robot.StepFor(0.5);
-  EXPECT_EQ(robot.Call("POST", "/api/v1/devices/wheels/calibration/finish", json::object()).status, 409);  // not started
+  EXPECT_EQ(robot.Call("POST", "/api/v1/devices/wheels/calibration/finish", json::object()).status,
+            409);  // not started
   // Drives by hand (the console's keys) until `done`, then stands a second for a scan taken still.
   const auto run = [&](const json& twist, const std::function<bool()>& done) {
     ASSERT_EQ(robot.Call("POST", "/api/v1/devices/wheels/calibration/start", json::object()).status, 200);
@@ -212,11 +216,11 @@ TEST(DevicesLockstep, TheWheelsDiameterAndTrackAreMeasuredFromAStraightRunAndATu
   EXPECT_NEAR(turn.body["track_factor"].get<double>(), 1.0 / 0.97, 0.01) << turn.body.dump();
   EXPECT_NEAR(turn.body["patch"]["sim"]["base"]["track_error"].get<double>(), 1.0, 0.01);
   EXPECT_NEAR(turn.body["patch"]["sim"]["base"]["wheel_diameter_error"].get<double>(), 1.0, 0.01);
-  std::printf("the wheels: diameter factor %.4f (truly %.4f), track factor %.4f (truly %.4f); %.3f m and %.1f degrees "
-              "measured, %.3f m and %.1f truly\n",
-              straight.body["diameter_factor"].get<double>(), 1.0 / 1.04, turn.body["track_factor"].get<double>(),
-              1.0 / 0.97, straight.body["measured"].get<double>(), turn.body["measured"].get<double>(), travelled,
-              turned_deg);
+  std::printf(
+      "the wheels: diameter factor %.4f (truly %.4f), track factor %.4f (truly %.4f); %.3f m and %.1f degrees "
+      "measured, %.3f m and %.1f truly\n",
+      straight.body["diameter_factor"].get<double>(), 1.0 / 1.04, turn.body["track_factor"].get<double>(), 1.0 / 0.97,
+      straight.body["measured"].get<double>(), turn.body["measured"].get<double>(), travelled, turned_deg);
 }
 
 }  // namespace

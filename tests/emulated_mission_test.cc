@@ -35,12 +35,15 @@ TEST(EmulatedMission, CorridordRunsAMissionThroughACreate2AndAnRplidarWithoutACa
   DaemonProcess daemon(CORRIDORD, CORRIDOR_SOURCE_DIR, -1, false, "", devices, /*laser_localization=*/true);
 
   const auto localization = [&] { return daemon.Call("GET", "/api/v1/localization").second; };
-  ASSERT_TRUE(Eventually([&] {
-    const json devices_now = daemon.Call("GET", "/api/v1/devices").second["devices"];
-    bool ok = devices_now.size() == 2;
-    for (const json& d : devices_now) ok = ok && d["state"] == "ok";
-    return ok && localization().value("health", "") == "ok";
-  }, 30s)) << daemon.Call("GET", "/api/v1/devices").second.dump() << localization().dump() << daemon.log();
+  ASSERT_TRUE(Eventually(
+      [&] {
+        const json devices_now = daemon.Call("GET", "/api/v1/devices").second["devices"];
+        bool ok = devices_now.size() == 2;
+        for (const json& d : devices_now) ok = ok && d["state"] == "ok";
+        return ok && localization().value("health", "") == "ok";
+      },
+      30s))
+      << daemon.Call("GET", "/api/v1/devices").second.dump() << localization().dump() << daemon.log();
 
   // Down the corridor west of the start and back (docs/hardware.md: goals in the open for a laser robot).
   const json waypoints = json::array({{{"x", 22.5}, {"y", 24.3}}, {{"x", 24.0}, {"y", 24.3}}});
@@ -48,10 +51,13 @@ TEST(EmulatedMission, CorridordRunsAMissionThroughACreate2AndAnRplidarWithoutACa
   ASSERT_EQ(status, 201) << started.dump();
   const std::string id = started["id"].get<std::string>();
   json mission;
-  ASSERT_TRUE(Eventually([&] {
-    mission = daemon.Call("GET", "/api/v1/missions/" + id).second;
-    return mission.value("status", "") != "active";
-  }, 90s)) << mission.dump();
+  ASSERT_TRUE(Eventually(
+      [&] {
+        mission = daemon.Call("GET", "/api/v1/missions/" + id).second;
+        return mission.value("status", "") != "active";
+      },
+      90s))
+      << mission.dump();
   EXPECT_EQ(mission["status"], "succeeded") << mission.dump() << daemon.log();
   // Where the simulator's truth has the robot: at the last waypoint, having hit nothing on the way.
   const nav::Pose2 truth = robot.true_pose();

@@ -10,11 +10,11 @@
 
 #include "drivers/sim/sensors.h"
 #include "drivers/sim/sim_robot.h"
-#include "nav/policy/morp_rb.h"
 #include "nav/ground/depth_scan.h"
 #include "nav/ground/floor_fit.h"
 #include "nav/ground/morp.h"
 #include "nav/ground/voxel_obstacles.h"
+#include "nav/policy/morp_rb.h"
 
 namespace corridor {
 namespace {
@@ -64,8 +64,8 @@ nav::Morp MakeMorp(const drivers::sim::SimCameraOptions& o, nav::MorpOptions opt
 TEST(VoxelObstaclesTest, TheComparisonFrontEndFindsTheWallAndTheBoxButNotTheFloor) {
   const auto o = Camera();
   TriangleMesh mesh = Floor();
-  mesh.AddBox({2.5f, -3.0f, 0.0f}, {2.7f, 3.0f, 1.5f}, kGrey);   // a wall 2.5 m ahead
-  mesh.AddBox({1.5f, 0.0f, 0.0f}, {1.8f, 0.5f, 0.4f}, kGrey);    // a box on the left
+  mesh.AddBox({2.5f, -3.0f, 0.0f}, {2.7f, 3.0f, 1.5f}, kGrey);  // a wall 2.5 m ahead
+  mesh.AddBox({1.5f, 0.0f, 0.0f}, {1.8f, 0.5f, 0.4f}, kGrey);   // a box on the left
   nav::VoxelObstacles voxels(drivers::sim::MakeCameraInfo(o).camera, nav::VoxelObstacleOptions{});
   const auto& obstacles = voxels.Process(Render(mesh, o));
   ASSERT_FALSE(obstacles.empty());
@@ -238,7 +238,8 @@ TEST(MorpTest, TooCloseToSeeMeansBlindAndStop) {
 
 TEST(MorpTest, RealKinectFramesGiveSaneOutput) {
   // TUM RGB-D desk frames (freiburg2 Kinect): depth / 5000 = metres, a third of pixels are holes.
-  nav::PinholeCamera camera{640, 480, 520.9, 521.0, 325.1, 249.7, drivers::sim::MakeCameraInfo(Camera()).camera.base_T_camera};
+  nav::PinholeCamera camera{
+      640, 480, 520.9, 521.0, 325.1, 249.7, drivers::sim::MakeCameraInfo(Camera()).camera.base_T_camera};
   nav::Morp morp(camera, nav::MorpOptions{});
   for (const char* name : {"tests/data/depth/1_depth.png", "tests/data/depth/2_depth.png"}) {
     cv::Mat raw = cv::imread((SourceDir() / name).string(), cv::IMREAD_UNCHANGED);
@@ -274,7 +275,8 @@ TEST(FloorFitTest, RecoversCameraHeightAndTiltFromOneFrame) {
     EXPECT_NEAR(fit->roll_rad, 0.0, 0.01);
     // The mounting it implies maps the floor to z = 0.
     const Eigen::Isometry3d mount = nav::MountingFromFloor(*fit, info.camera.base_T_camera);
-    EXPECT_TRUE(mount.isApprox(info.camera.base_T_camera, 0.02)) << mount.matrix() << "\n" << info.camera.base_T_camera.matrix();
+    EXPECT_TRUE(mount.isApprox(info.camera.base_T_camera, 0.02)) << mount.matrix() << "\n"
+                                                                 << info.camera.base_T_camera.matrix();
   }
 }
 
@@ -283,8 +285,7 @@ TEST(FloorFitTest, NoFloorInViewGivesNoFit) {
   TriangleMesh mesh;
   mesh.AddBox({0.5f, -3.0f, -3.0f}, {0.7f, 3.0f, 3.0f}, kGrey);  // a wall filling the view
   std::mt19937 rng(1);
-  EXPECT_FALSE(nav::FitFloor(Render(mesh, o), drivers::sim::MakeCameraInfo(o).camera,
-                             nav::FloorFitOptions{}, rng));
+  EXPECT_FALSE(nav::FitFloor(Render(mesh, o), drivers::sim::MakeCameraInfo(o).camera, nav::FloorFitOptions{}, rng));
 }
 
 }  // namespace
@@ -331,8 +332,8 @@ TEST(MorpClosedLoopTest, DrivesAroundAPillarToItsGoalWithoutTouchingIt) {
     robot.Step();
     seconds += robot.step_s();
   }
-  EXPECT_LT((robot.true_pose().translation() - goal).norm(), 0.15) << "stuck at " << robot.true_pose().x_m << ", "
-                                                                    << robot.true_pose().y_m;
+  EXPECT_LT((robot.true_pose().translation() - goal).norm(), 0.15)
+      << "stuck at " << robot.true_pose().x_m << ", " << robot.true_pose().y_m;
   EXPECT_FALSE(bumped);
   EXPECT_TRUE(avoided) << "the pillar was never seen";
 }

@@ -38,8 +38,7 @@ TEST(NativeDevices, ACreate2AndAnRplidarDriveTheRobotAndADeviceGoneStopsIt) {
   // frame every 15 ms.
   EXPECT_TRUE(robot.Until(false, 5s, [&] { return std::abs(robot.Rate("laser") - 10.0) < 2.0; }))
       << robot.Rate("laser");
-  EXPECT_TRUE(robot.Until(false, 5s, [&] { return std::abs(robot.Rate("base") - 66.7) < 15.0; }))
-      << robot.Rate("base");
+  EXPECT_TRUE(robot.Until(false, 5s, [&] { return std::abs(robot.Rate("base") - 66.7) < 15.0; })) << robot.Rate("base");
   const json health = daemon.Call("GET", "/api/v1/devices").second;
   for (const json& d : health["devices"]) {
     if (d["device"] == "laser") {
@@ -131,20 +130,26 @@ TEST_P(NativeBases, ABaseWithAnRplidarAndNoCameraDrives) {
     daemon.Call("POST", "/api/v1/teleop", {{"linear_mps", 0.15}, {"angular_rps", 0.0}});
     return base.wheels_mps().first > 0.1 && base.wheels_mps().second > 0.1;
   };
-  ASSERT_TRUE(Eventually([&] {
-    const json d = daemon.Call("GET", "/api/v1/devices").second;
-    return d["devices"].size() == 2 && d["devices"][0]["state"] == "ok" && d["devices"][1]["state"] == "ok";
-  }, 20s)) << daemon.Call("GET", "/api/v1/devices").second.dump() << daemon.log();
+  ASSERT_TRUE(Eventually(
+      [&] {
+        const json d = daemon.Call("GET", "/api/v1/devices").second;
+        return d["devices"].size() == 2 && d["devices"][0]["state"] == "ok" && d["devices"][1]["state"] == "ok";
+      },
+      20s))
+      << daemon.Call("GET", "/api/v1/devices").second.dump() << daemon.log();
   EXPECT_EQ(daemon.Call("GET", "/api/v1/devices").second["devices"][0]["driver"], driver);
   // The emulated laser sees 2 m all round: room enough to drive forward slowly.
   ASSERT_TRUE(Eventually(forward, 10s)) << daemon.Call("GET", "/api/v1/state").second.value("stop_reason", "")
-                                       << daemon.log();
+                                        << daemon.log();
   // Unplugged: the daemon stops commanding, and says the base is gone.
   base.unplug();
-  EXPECT_TRUE(Eventually([&] {
-    const json state = daemon.Call("GET", "/api/v1/state").second;
-    return state["command"]["linear_mps"] == 0.0 && state["devices"][0]["state"] != "ok";
-  }, 5s)) << daemon.Call("GET", "/api/v1/state").second.dump();
+  EXPECT_TRUE(Eventually(
+      [&] {
+        const json state = daemon.Call("GET", "/api/v1/state").second;
+        return state["command"]["linear_mps"] == 0.0 && state["devices"][0]["state"] != "ok";
+      },
+      5s))
+      << daemon.Call("GET", "/api/v1/state").second.dump();
   base.replug();  // its wheels stopped, as a base powered up anew
   ASSERT_TRUE(Eventually(forward, 15s)) << daemon.log();
   EXPECT_TRUE(daemon.Stop()) << daemon.log();

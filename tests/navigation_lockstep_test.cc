@@ -76,14 +76,16 @@ MissionRun RunMission(LockstepRobot& robot, const json& waypoints, double max_s)
   EXPECT_EQ(started.status, 201) << started.body.dump();
   Truth truth(robot);
   MissionRun run;
-  robot.StepUntil([&] {
-    truth.Record();
-    if (const auto error = truth.Error()) {
-      run.worst_m = std::max(run.worst_m, error->first);
-      run.worst_deg = std::max(run.worst_deg, error->second);
-    }
-    return StatusOf(robot) != "active";
-  }, max_s);
+  robot.StepUntil(
+      [&] {
+        truth.Record();
+        if (const auto error = truth.Error()) {
+          run.worst_m = std::max(run.worst_m, error->first);
+          run.worst_deg = std::max(run.worst_deg, error->second);
+        }
+        return StatusOf(robot) != "active";
+      },
+      max_s);
   run.status = StatusOf(robot);
   std::printf("worst error during the mission: %.1f cm, %.2f deg\n", 100.0 * run.worst_m, run.worst_deg);
   return run;
@@ -117,7 +119,8 @@ TEST(NavigationLockstep, LocalizationFromTheDepthCameraFollowsAMission) {
 // sees walls right beside the robot that a camera, blind nearer than half a metre, does not, so a goal the map puts
 // within the gate's margin of a wall is reached by the camera robot and missed by 0.15 m by the laser robot.)
 TEST(NavigationLockstep, ARobotWithoutACameraRunsAMissionOnItsLasersLanes) {
-  LockstepRobot robot(DefaultConfig(), [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
+  LockstepRobot robot(DefaultConfig(),
+                      [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
   ASSERT_TRUE(robot.StepUntil([&] { return Health(robot) == "ok"; }, 10.0)) << "localization never ok";
   const MissionRun run = RunMission(
       robot, json::array({{{"x", 22.5}, {"y", 24.3}}, {{"x", 20.7}, {"y", 25.5}}, {{"x", 24.0}, {"y", 24.3}}}), 120.0);
@@ -170,14 +173,16 @@ TEST(NavigationLockstep, AMissionFromAnIslandAmongTheMapsSpecksFindsItsWayOutAnd
 // A mission that cannot go on ends, saying why; while it tries, the state says what it waits for. A box the map does
 // not show fills a room from wall to wall between the robot and its goal.
 TEST(NavigationLockstep, AMissionThatCannotGoOnEndsWithTheReasonAndSaysWhatItWaitsFor) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("corridor_blocked_" + std::to_string(::getpid()));
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("corridor_blocked_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   nav::SaveMap(drivers::sim::RoomMap(6.0, 3.0, 0.05), dir / "room.yaml");
-  std::ofstream(dir / "corridor.yaml") << "sim:\n  world: room.yaml\n  start: {x_m: 1.0, y_m: 1.5, yaw_deg: 0}\n"
-                                           "  obstacles:\n    - {shape: box, x_m: 3.5, y_m: 1.5, size_m: 1.6, height_m: 1.0}\n"
-                                           "localization: {source: sim_truth}\n"
-                                           // the planner knows nothing of the box: only the camera sees it
-                                           "octomap: {costmap_layer: false}\n";
+  std::ofstream(dir / "corridor.yaml")
+      << "sim:\n  world: room.yaml\n  start: {x_m: 1.0, y_m: 1.5, yaw_deg: 0}\n"
+         "  obstacles:\n    - {shape: box, x_m: 3.5, y_m: 1.5, size_m: 1.6, height_m: 1.0}\n"
+         "localization: {source: sim_truth}\n"
+         // the planner knows nothing of the box: only the camera sees it
+         "octomap: {costmap_layer: false}\n";
   {
     LockstepRobot robot(dir / "corridor.yaml");
     robot.StepFor(1.0);
@@ -185,11 +190,13 @@ TEST(NavigationLockstep, AMissionThatCannotGoOnEndsWithTheReasonAndSaysWhatItWai
         robot.Call("POST", "/api/v1/missions", {{"waypoints", json::array({{{"x", 5.5}, {"y", 1.5}}})}});
     ASSERT_EQ(started.status, 201) << started.body.dump();
     std::string waited;
-    robot.StepUntil([&] {
-      const auto mission = robot.graph().bus().Get(server::topics::kMission).latest();
-      if (mission && !mission->waiting.empty()) waited = mission->waiting;
-      return StatusOf(robot) != "active";
-    }, 150.0);
+    robot.StepUntil(
+        [&] {
+          const auto mission = robot.graph().bus().Get(server::topics::kMission).latest();
+          if (mission && !mission->waiting.empty()) waited = mission->waiting;
+          return StatusOf(robot) != "active";
+        },
+        150.0);
     const json mission = robot.State()["mission"];
     EXPECT_EQ(mission["status"], "failed") << mission.dump().substr(0, 600);
     EXPECT_EQ(mission["error"].get<std::string>().rfind("no way forward", 0), 0u) << mission["error"];
@@ -199,8 +206,8 @@ TEST(NavigationLockstep, AMissionThatCannotGoOnEndsWithTheReasonAndSaysWhatItWai
   std::filesystem::remove_all(dir);
 }
 
-// Issue 36: "Set pose" said "pose set" and the estimate jumped back within 1.5 s. A pose near the truth, given while the
-// robot stands still, settles there without it moving; a pose the scans contradict is taken, and the reply says so.
+// Issue 36: "Set pose" said "pose set" and the estimate jumped back within 1.5 s. A pose near the truth, given while
+// the robot stands still, settles there without it moving; a pose the scans contradict is taken, and the reply says so.
 TEST(NavigationLockstep, APoseGivenStandingStillSettlesAndOneTheScansContradictIsSaidSo) {
   LockstepRobot robot(DefaultConfig());
   ASSERT_TRUE(robot.StepUntil([&] { return Health(robot) == "ok"; }, 10.0)) << "localization never ok";
@@ -211,11 +218,13 @@ TEST(NavigationLockstep, APoseGivenStandingStillSettlesAndOneTheScansContradictI
   EXPECT_TRUE(taken.body["agrees"].get<bool>()) << taken.body.dump();
   // Standing still (no command at all), it settles on the truth.
   Truth at(robot);
-  const bool settled = robot.StepUntil([&] {
-    at.Record();
-    const auto error = at.Error();
-    return Health(robot) == "ok" && error && error->first < 0.05 && error->second < 2.0;
-  }, 5.0);
+  const bool settled = robot.StepUntil(
+      [&] {
+        at.Record();
+        const auto error = at.Error();
+        return Health(robot) == "ok" && error && error->first < 0.05 && error->second < 2.0;
+      },
+      5.0);
   EXPECT_TRUE(settled) << "health " << Health(robot);
   const auto moved = robot.graph().bus().Get(server::topics::kSimTruePose).latest()->pose;
   EXPECT_LT((moved.translation() - truth.translation()).norm(), 0.01) << "the robot moved";

@@ -37,11 +37,13 @@ TEST_P(ShippedConfigTest, DocksFromItsStartPose) {
   const LockstepRobot::Reply started = robot.Call("POST", "/api/v1/dock", nlohmann::json::object());
   ASSERT_EQ(started.status, 201) << started.body.dump();
   std::string status;
-  const bool ended = robot.StepUntil([&] {
-    const nlohmann::json mission = robot.State()["mission"];
-    status = mission.is_null() ? "" : mission["status"].get<std::string>();
-    return status != "active";
-  }, 120.0);
+  const bool ended = robot.StepUntil(
+      [&] {
+        const nlohmann::json mission = robot.State()["mission"];
+        status = mission.is_null() ? "" : mission["status"].get<std::string>();
+        return status != "active";
+      },
+      120.0);
   const nlohmann::json state = robot.State();
   ASSERT_TRUE(ended) << "still docking after 120 s: " << state["mission"].dump();
   EXPECT_EQ(status, "succeeded") << state["mission"].dump();

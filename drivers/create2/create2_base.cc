@@ -76,8 +76,8 @@ void Create2Base::Take(SerialPort& port, const SensorFrame& frame) {
     last_safe_ns_ = now;
   }
   if (odometry) {
-    odometry(WheelOdometry{now, odometry_.pose(), odometry_.velocity(), frame.bump_left || frame.bump_right,
-                           floor_missing});
+    odometry(
+        WheelOdometry{now, odometry_.pose(), odometry_.velocity(), frame.bump_left || frame.bump_right, floor_missing});
   }
   if (battery) {
     BatteryState state;

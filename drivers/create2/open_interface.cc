@@ -91,9 +91,9 @@ std::optional<std::size_t> PacketSize(std::uint8_t id) {
 
 const std::vector<Packet>& StreamedPackets() {
   static const std::vector<Packet> kPackets = {
-      Packet::kBumpsAndWheelDrops, Packet::kCliffLeft,       Packet::kCliffFrontLeft,    Packet::kCliffFrontRight,
-      Packet::kCliffRight,         Packet::kChargingState,   Packet::kVoltage,           Packet::kCurrent,
-      Packet::kBatteryCharge,      Packet::kBatteryCapacity, Packet::kChargingSources,   Packet::kOiMode,
+      Packet::kBumpsAndWheelDrops, Packet::kCliffLeft,         Packet::kCliffFrontLeft,  Packet::kCliffFrontRight,
+      Packet::kCliffRight,         Packet::kChargingState,     Packet::kVoltage,         Packet::kCurrent,
+      Packet::kBatteryCharge,      Packet::kBatteryCapacity,   Packet::kChargingSources, Packet::kOiMode,
       Packet::kLeftEncoderCounts,  Packet::kRightEncoderCounts};
   return kPackets;
 }
@@ -110,7 +110,8 @@ std::vector<std::uint8_t> EncodeDriveDirect(int left_mmps, int right_mmps) {
 }
 
 std::vector<std::uint8_t> EncodeStream(std::span<const Packet> packets) {
-  std::vector<std::uint8_t> out = {static_cast<std::uint8_t>(Opcode::kStream), static_cast<std::uint8_t>(packets.size())};
+  std::vector<std::uint8_t> out = {static_cast<std::uint8_t>(Opcode::kStream),
+                                   static_cast<std::uint8_t>(packets.size())};
   for (const Packet p : packets) out.push_back(static_cast<std::uint8_t>(p));
   return out;
 }
@@ -135,7 +136,8 @@ void StreamParser::Push(std::span<const std::uint8_t> bytes, std::vector<SensorF
     const auto first = pending_.begin() + static_cast<std::ptrdiff_t>(at);
     const auto sum = std::accumulate(first, first + static_cast<std::ptrdiff_t>(whole), 0u);
     const std::optional<SensorFrame> frame =
-        (sum & 0xFF) == 0 ? DecodePackets(std::span<const std::uint8_t>(pending_).subspan(at + 2, count)) : std::nullopt;
+        (sum & 0xFF) == 0 ? DecodePackets(std::span<const std::uint8_t>(pending_).subspan(at + 2, count))
+                          : std::nullopt;
     if (!frame) {
       ++dropped_;
       ++at;  // a header byte that began no frame: look for the next

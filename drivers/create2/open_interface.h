@@ -29,21 +29,21 @@ enum class Opcode : std::uint8_t {
 
 // Sensor packet ids the driver streams, and their sizes in bytes.
 enum class Packet : std::uint8_t {
-  kBumpsAndWheelDrops = 7,   // 1: bit 0 bump right, 1 bump left, 2 wheel drop right, 3 wheel drop left
-  kCliffLeft = 9,            // 1 each: 0 or 1
+  kBumpsAndWheelDrops = 7,  // 1: bit 0 bump right, 1 bump left, 2 wheel drop right, 3 wheel drop left
+  kCliffLeft = 9,           // 1 each: 0 or 1
   kCliffFrontLeft = 10,
   kCliffFrontRight = 11,
   kCliffRight = 12,
-  kVirtualWall = 13,         // 1: sized only (the driver does not stream it)
-  kChargingState = 21,       // 1: 0 not charging .. 5 charging fault
-  kVoltage = 22,             // 2: mV, unsigned
-  kCurrent = 23,             // 2: mA, signed (negative: discharging)
-  kBatteryCharge = 25,       // 2: mAh, unsigned
-  kBatteryCapacity = 26,     // 2: mAh, unsigned
+  kVirtualWall = 13,           // 1: sized only (the driver does not stream it)
+  kChargingState = 21,         // 1: 0 not charging .. 5 charging fault
+  kVoltage = 22,               // 2: mV, unsigned
+  kCurrent = 23,               // 2: mA, signed (negative: discharging)
+  kBatteryCharge = 25,         // 2: mAh, unsigned
+  kBatteryCapacity = 26,       // 2: mAh, unsigned
   kCliffFrontLeftSignal = 29,  // 2: sized only
-  kChargingSources = 34,     // 1: bit 0 internal charger, bit 1 home base
-  kOiMode = 35,              // 1: 0 off, 1 passive, 2 safe, 3 full
-  kLeftEncoderCounts = 43,   // 2: unsigned, wrapping at 65535
+  kChargingSources = 34,       // 1: bit 0 internal charger, bit 1 home base
+  kOiMode = 35,                // 1: 0 off, 1 passive, 2 safe, 3 full
+  kLeftEncoderCounts = 43,     // 2: unsigned, wrapping at 65535
   kRightEncoderCounts = 44,
 };
 // The size of a packet's data, or nothing for an id this decoder does not know.

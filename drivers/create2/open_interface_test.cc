@@ -35,8 +35,8 @@ TEST(OpenInterfaceTest, TheSpecificationsStreamExampleParses) {
 
 // A frame of the driver's packets with the given sensor values and its checksum.
 Bytes Frame(std::uint8_t bumps, std::uint16_t left, std::uint16_t right, bool bad_checksum = false) {
-  Bytes body = {7, bumps, 9, 0, 10, 0, 11, 0, 12, 1, 21, 2, 22, 0x39, 0xD0, 23, 0xFB, 0x50, 25, 0x07, 0xD0,
-                26, 0x0A, 0x88, 34, 0x02, 35, 2};
+  Bytes body = {7,    bumps, 9,    0,    10, 0,    11,   0,  12,   1,    21, 2,    22, 0x39,
+                0xD0, 23,    0xFB, 0x50, 25, 0x07, 0xD0, 26, 0x0A, 0x88, 34, 0x02, 35, 2};
   for (const auto& [id, counts] : {std::pair<std::uint8_t, std::uint16_t>{43, left}, {44, right}}) {
     body.push_back(id);
     body.push_back(static_cast<std::uint8_t>(counts >> 8));

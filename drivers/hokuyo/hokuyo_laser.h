@@ -22,8 +22,8 @@
 namespace corridor::drivers::hokuyo {
 
 struct HokuyoStatus : LinkStatus {
-  std::uint64_t scans = 0;              // scans handed on
-  std::uint64_t dropped_answers = 0;    // answers whose check characters failed, or cut short
+  std::uint64_t scans = 0;               // scans handed on
+  std::uint64_t dropped_answers = 0;     // answers whose check characters failed, or cut short
   std::optional<Parameters> parameters;  // the device's, once read
 };
 

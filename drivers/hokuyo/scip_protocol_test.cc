@@ -17,8 +17,8 @@ std::vector<Response> Read(ResponseReader& reader, std::string_view text) {
 std::string Checked(const std::string& body) { return body + CheckCharacter(body); }
 
 TEST(ScipProtocolTest, CheckCharactersAndNumbersAreTheDocumentsOwn) {
-  EXPECT_EQ(CheckCharacter("00"), 'P');  // "00P": done
-  EXPECT_EQ(CheckCharacter("99"), 'b');  // "99b": a streamed scan
+  EXPECT_EQ(CheckCharacter("00"), 'P');   // "00P": done
+  EXPECT_EQ(CheckCharacter("99"), 'b');   // "99b": a streamed scan
   EXPECT_EQ(DecodeNumber("CB"), 1234u);   // the document's 2-character example
   EXPECT_EQ(DecodeNumber("1Dh"), 5432u);  // and its 3-character one
   EXPECT_EQ(DecodeNumber("m2@0"), 16000000u);

@@ -64,9 +64,9 @@ void KobukiBase::Take(SerialPort& port, const SensorData& sensors) {
   if (battery) {
     BatteryState state;
     state.stamp_ns = now;
-    state.charge = std::clamp((sensors.battery_v - options_.battery_empty_v) /
-                                  (options_.battery_full_v - options_.battery_empty_v),
-                              0.0, 1.0);
+    state.charge = std::clamp(
+        (sensors.battery_v - options_.battery_empty_v) / (options_.battery_full_v - options_.battery_empty_v), 0.0,
+        1.0);
     state.voltage_v = sensors.battery_v;
     state.charging = Charging(sensors.charger);
     state.on_charger = OnDock(sensors.charger);

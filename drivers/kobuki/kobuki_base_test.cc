@@ -106,8 +106,8 @@ TEST(KobukiBaseTest, TheBumperAndTheBatteryAreReported) {
   LatestReports latest;
   latest.Connect(base);
   // The emulator streams from its start: packets it sent before SetBattery may still wait in the terminal's buffer.
-  ASSERT_TRUE(Eventually([&] { return latest.Battery() && std::abs(latest.Battery()->voltage_v - 14.9) < 1e-9; },
-                         3000ms));
+  ASSERT_TRUE(
+      Eventually([&] { return latest.Battery() && std::abs(latest.Battery()->voltage_v - 14.9) < 1e-9; }, 3000ms));
   const BatteryState battery = *latest.Battery();
   EXPECT_NEAR(battery.charge, 0.5, 0.02);
   EXPECT_NEAR(battery.voltage_v, 14.9, 1e-9);

@@ -88,9 +88,7 @@ std::vector<std::uint8_t> EncodeBaseControl(const BaseControl& command) {
 }
 
 BaseControl ToBaseControl(const nav::Twist2& twist, double track_m) {
-  const auto mm = [](double m) {
-    return static_cast<int>(std::clamp(std::lround(m * 1000.0), -32768L, 32767L));
-  };
+  const auto mm = [](double m) { return static_cast<int>(std::clamp(std::lround(m * 1000.0), -32768L, 32767L)); };
   constexpr double kStillRps = 1e-4;
   if (std::abs(twist.angular_rps) < kStillRps) return {mm(twist.linear_mps), 0};
   const double radius_m = twist.linear_mps / twist.angular_rps;

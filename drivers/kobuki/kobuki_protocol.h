@@ -21,16 +21,16 @@ inline constexpr std::uint8_t kHeader1 = 0x55;
 // Sub-payload ids (the specification's "Command Packets" and "Feedback Packets").
 enum class Command : std::uint8_t { kBaseControl = 1, kSound = 3, kRequestExtra = 9 };
 enum class Feedback : std::uint8_t {
-  kBasicSensorData = 1,  // 15 bytes
-  kDockingIr = 3,        // 3
-  kInertialSensor = 4,   // 7
-  kCliff = 5,            // 6
-  kCurrent = 6,          // 2
-  kHardwareVersion = 10, // 4
-  kFirmwareVersion = 11, // 4
-  kRawGyro = 13,         // 2 + 6n
+  kBasicSensorData = 1,       // 15 bytes
+  kDockingIr = 3,             // 3
+  kInertialSensor = 4,        // 7
+  kCliff = 5,                 // 6
+  kCurrent = 6,               // 2
+  kHardwareVersion = 10,      // 4
+  kFirmwareVersion = 11,      // 4
+  kRawGyro = 13,              // 2 + 6n
   kGeneralPurposeInput = 16,  // 16
-  kUniqueDeviceId = 19,  // 12
+  kUniqueDeviceId = 19,       // 12
 };
 
 // One packet: the payload's bytes wrapped in headers, length and checksum. Throws std::invalid_argument for a payload
@@ -56,10 +56,10 @@ struct SensorData {
   bool bump_right = false;
   bool wheel_drop_left = false;
   bool wheel_drop_right = false;
-  bool cliff = false;          // any of the three cliff sensors
+  bool cliff = false;  // any of the three cliff sensors
   std::uint16_t left_counts = 0;
   std::uint16_t right_counts = 0;
-  int charger = 0;             // 0 discharging; 2/6 on the dock charged/charging; 18/22 on the adapter charged/charging
+  int charger = 0;  // 0 discharging; 2/6 on the dock charged/charging; 18/22 on the adapter charged/charging
   double battery_v = 0.0;
   bool over_current = false;
 };

@@ -15,7 +15,8 @@ TEST(KobukiProtocolTest, BaseControlIsFramedByteForByte) {
             (std::vector<std::uint8_t>{0xAA, 0x55, 0x06, 0x01, 0x04, 0x64, 0x00, 0x00, 0x00, 0x67}));
   // -300 mm/s on a -500 mm arc: 0xFED4, 0xFE0C.
   EXPECT_EQ(EncodeBaseControl({-300, -500}),
-            (std::vector<std::uint8_t>{0xAA, 0x55, 0x06, 0x01, 0x04, 0xD4, 0xFE, 0x0C, 0xFE, 0x06 ^ 0x01 ^ 0x04 ^ 0xD4 ^ 0xFE ^ 0x0C ^ 0xFE}));
+            (std::vector<std::uint8_t>{0xAA, 0x55, 0x06, 0x01, 0x04, 0xD4, 0xFE, 0x0C, 0xFE,
+                                       0x06 ^ 0x01 ^ 0x04 ^ 0xD4 ^ 0xFE ^ 0x0C ^ 0xFE}));
   EXPECT_THROW(EncodePacket(std::vector<std::uint8_t>(256, 0)), std::invalid_argument);
 }
 
@@ -48,16 +49,23 @@ TEST(KobukiProtocolTest, ATwistBecomesTheSpeedAndRadiusThatDriveIt) {
 
 // A feedback packet as the Kobuki sends it: Basic Sensor Data, Inertial Sensor, and Current (which the driver skips).
 std::vector<std::uint8_t> Feedback(std::uint16_t left, std::uint16_t right) {
-  std::vector<std::uint8_t> payload{1, 15, 0x10, 0x27,  // time stamp 10000 ms
-                                    0x04,               // bumper: left
-                                    0x00,               // wheel drop: none
-                                    0x02,               // cliff: centre
-                                    static_cast<std::uint8_t>(left & 0xFF), static_cast<std::uint8_t>(left >> 8),
-                                    static_cast<std::uint8_t>(right & 0xFF), static_cast<std::uint8_t>(right >> 8),
-                                    0, 0, 0,            // PWM left, right; buttons
-                                    6,                  // charger: on the dock, charging
-                                    158,                // battery: 15.8 V
-                                    0};                 // over-current: none
+  std::vector<std::uint8_t> payload{1,
+                                    15,
+                                    0x10,
+                                    0x27,  // time stamp 10000 ms
+                                    0x04,  // bumper: left
+                                    0x00,  // wheel drop: none
+                                    0x02,  // cliff: centre
+                                    static_cast<std::uint8_t>(left & 0xFF),
+                                    static_cast<std::uint8_t>(left >> 8),
+                                    static_cast<std::uint8_t>(right & 0xFF),
+                                    static_cast<std::uint8_t>(right >> 8),
+                                    0,
+                                    0,
+                                    0,                               // PWM left, right; buttons
+                                    6,                               // charger: on the dock, charging
+                                    158,                             // battery: 15.8 V
+                                    0};                              // over-current: none
   payload.insert(payload.end(), {4, 7, 0x28, 0x23, 0, 0, 0, 0, 0});  // heading 90.00 degrees
   payload.insert(payload.end(), {6, 2, 12, 12});
   return EncodePacket(payload);

@@ -72,7 +72,8 @@ TEST_P(LdsLaserTest, ScansArriveCounterClockwiseFromForward) {
   }
   // The wall on the right is at -90 degrees in the scan; every degree measured.
   std::lock_guard lock(last_mutex);
-  const auto beam = static_cast<std::size_t>(std::lround((-std::numbers::pi / 2 - last->angle_min_rad) / last->angle_increment_rad));
+  const auto beam =
+      static_cast<std::size_t>(std::lround((-std::numbers::pi / 2 - last->angle_min_rad) / last->angle_increment_rad));
   EXPECT_NEAR(last->ranges[beam], 1.0, 1e-3);
   EXPECT_EQ(std::count_if(last->ranges.begin(), last->ranges.end(), [](float r) { return std::isfinite(r); }), 360);
   // Closed: an LDS-01 is told to stop.

@@ -57,7 +57,7 @@ inline constexpr int kLfcdReadings = 6;
 inline constexpr std::uint8_t kLfcdStartCommand = 'b';
 inline constexpr std::uint8_t kLfcdStopCommand = 'e';
 struct LfcdPacket {
-  int index = 0;  // 0..59: readings at degrees 6 * index + 0..5
+  int index = 0;            // 0..59: readings at degrees 6 * index + 0..5
   std::uint16_t speed = 0;  // as sent (its unit is not stated; the driver measures the rate itself)
   std::array<std::uint16_t, kLfcdReadings> intensity{};
   std::array<std::uint16_t, kLfcdReadings> distance_mm{};

@@ -57,7 +57,8 @@ TEST(LdsProtocolTest, TheCrcIsLdrobotsTable) {
 TEST(LdsProtocolTest, AnLds02PacketDecodesAndItsPointsSpanStartToEnd) {
   const Bytes bytes = Ld08(35500, 1100);  // 355.00 to 11.00 degrees: across forward
   ASSERT_EQ(bytes.size(), kLd08PacketBytes);
-  const std::optional<Ld08Packet> packet = DecodeLd08(std::span<const std::uint8_t, kLd08PacketBytes>(bytes.data(), kLd08PacketBytes));
+  const std::optional<Ld08Packet> packet =
+      DecodeLd08(std::span<const std::uint8_t, kLd08PacketBytes>(bytes.data(), kLd08PacketBytes));
   ASSERT_TRUE(packet);
   EXPECT_DOUBLE_EQ(packet->speed_deg_s, 2160.0);
   EXPECT_DOUBLE_EQ(packet->start_deg, 355.0);
@@ -83,7 +84,8 @@ TEST(LdsProtocolTest, AnLds02PacketWithABadCrcHeaderOrAngleIsRefused) {
 TEST(LdsProtocolTest, AnLds01PacketDecodesAndAWrongIndexIsRefused) {
   const Bytes bytes = Lfcd(59);
   ASSERT_EQ(bytes.size(), kLfcdPacketBytes);
-  const std::optional<LfcdPacket> packet = DecodeLfcd(std::span<const std::uint8_t, kLfcdPacketBytes>(bytes.data(), kLfcdPacketBytes));
+  const std::optional<LfcdPacket> packet =
+      DecodeLfcd(std::span<const std::uint8_t, kLfcdPacketBytes>(bytes.data(), kLfcdPacketBytes));
   ASSERT_TRUE(packet);
   EXPECT_EQ(packet->index, 59);
   EXPECT_EQ(packet->speed, 3000);

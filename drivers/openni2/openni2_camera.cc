@@ -29,8 +29,8 @@ class OpenNiUser {
 std::string Error(const char* what) { return std::string(what) + ": " + openni::OpenNI::getExtendedError(); }
 
 // A stream of `sensor` at the configured size and rate in `format`.
-void Start(openni::VideoStream& stream, openni::Device& device, openni::SensorType sensor,
-           openni::PixelFormat format, const CameraMountOptions& c, const char* what) {
+void Start(openni::VideoStream& stream, openni::Device& device, openni::SensorType sensor, openni::PixelFormat format,
+           const CameraMountOptions& c, const char* what) {
   if (stream.create(device, sensor) != openni::STATUS_OK) throw std::runtime_error(Error(what));
   openni::VideoMode mode = stream.getVideoMode();
   mode.setResolution(c.width, c.height);
@@ -49,14 +49,16 @@ std::vector<OpenNi2Device> ListOpenNi2Devices() {
   openni::Array<openni::DeviceInfo> devices;
   openni::OpenNI::enumerateDevices(&devices);
   std::vector<OpenNi2Device> out;
-  for (int i = 0; i < devices.getSize(); ++i) out.push_back({devices[i].getUri(), devices[i].getName(), devices[i].getVendor()});
+  for (int i = 0; i < devices.getSize(); ++i)
+    out.push_back({devices[i].getUri(), devices[i].getName(), devices[i].getVendor()});
   return out;
 }
 
 OpenNi2Camera::OpenNi2Camera(const OpenNi2Options& options, const Clock& clock)
     : LinkedDevice("openni2", options.uri.empty() ? "any device" : options.uri), options_(options), clock_(clock) {
   const CameraMountOptions& c = options.camera;
-  if (!Usable(c) || !(options.stale_s > 0.0) || !(options.silence_s > options.stale_s) || !(options.reconnect_s > 0.0)) {
+  if (!Usable(c) || !(options.stale_s > 0.0) || !(options.silence_s > options.stale_s) ||
+      !(options.reconnect_s > 0.0)) {
     throw std::invalid_argument(
         "openni2: size, rate and timeouts must be positive, intrinsics given or fields of view within 0-180 degrees, "
         "and silence_s longer than stale_s");
@@ -91,8 +93,8 @@ void OpenNi2Camera::Session(std::stop_token stop) {
   const CameraMountOptions& c = options_.camera;
   openni::VideoStream depth;
   Start(depth, device, openni::SENSOR_DEPTH, openni::PIXEL_FORMAT_DEPTH_1_MM, c, "the depth stream");
-  spdlog::info("openni2: {} ({}): depth {}x{} at {} Hz, its fields of view {:.1f} x {:.1f} degrees", device.getDeviceInfo().getName(),
-               device.getDeviceInfo().getUri(), c.width, c.height, c.fps,
+  spdlog::info("openni2: {} ({}): depth {}x{} at {} Hz, its fields of view {:.1f} x {:.1f} degrees",
+               device.getDeviceInfo().getName(), device.getDeviceInfo().getUri(), c.width, c.height, c.fps,
                depth.getHorizontalFieldOfView() * 180.0 / std::numbers::pi,
                depth.getVerticalFieldOfView() * 180.0 / std::numbers::pi);
   openni::VideoStream color;
@@ -121,7 +123,8 @@ void OpenNi2Camera::Session(std::stop_token stop) {
     const TimeNs now = clock_.Now();
     if (waited == openni::STATUS_OK && ready == 1) {
       openni::VideoFrameRef frame;
-      if (color.readFrame(&frame) == openni::STATUS_OK && frame.getWidth() == c.width && frame.getHeight() == c.height) {
+      if (color.readFrame(&frame) == openni::STATUS_OK && frame.getWidth() == c.width &&
+          frame.getHeight() == c.height) {
         const cv::Mat rgb(c.height, c.width, CV_8UC3, const_cast<void*>(frame.getData()),
                           static_cast<std::size_t>(frame.getStrideInBytes()));
         cv::cvtColor(rgb, latest_color, cv::COLOR_RGB2BGR);
@@ -131,7 +134,8 @@ void OpenNi2Camera::Session(std::stop_token stop) {
     if (waited != openni::STATUS_OK || ready != 0) {
       const double quiet_s = ToSeconds(now - last_frame_ns);
       if (quiet_s >= options_.silence_s) {
-        SetState(LinkState::kSilent, fmt::format("no depth frame for {:.1f} s: opening the device anew", options_.silence_s));
+        SetState(LinkState::kSilent,
+                 fmt::format("no depth frame for {:.1f} s: opening the device anew", options_.silence_s));
         return;
       }
       if (quiet_s >= options_.stale_s) {

@@ -8,7 +8,7 @@
 namespace corridor::drivers::openni2 {
 
 struct OpenNi2Options {
-  std::string uri;  // the device's URI (OpenNI2's own, as the console's Devices page lists them); empty: the first
+  std::string uri;    // the device's URI (OpenNI2's own, as the console's Devices page lists them); empty: the first
   bool color = true;  // stream colour too, registered to the depth where the device can
   // The depth's size, rate, intrinsics and mounting. An Astra's or an Xtion's depth sees about 58 x 45 degrees.
   CameraMountOptions camera;

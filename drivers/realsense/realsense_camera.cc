@@ -46,8 +46,8 @@ void RealSenseCamera::Session(std::stop_token stop) {
   if (nodes.depth.empty()) {
     const std::optional<NodePair> found = PickNodes(ListVideoNodes(), options_.name);
     if (!found) {
-      throw std::runtime_error(fmt::format("no video node of a device named '{}' offers Z16 depth (plugged in?)",
-                                           options_.name));
+      throw std::runtime_error(
+          fmt::format("no video node of a device named '{}' offers Z16 depth (plugged in?)", options_.name));
     }
     nodes.depth = found->depth;
     if (nodes.color.empty()) nodes.color = found->color;
@@ -59,7 +59,8 @@ void RealSenseCamera::Session(std::stop_token stop) {
   }
   std::unique_ptr<V4l2Capture> color;
   if (!nodes.color.empty() && nodes.color != "none") {
-    color = std::make_unique<V4l2Capture>(nodes.color, kYuyv, options_.camera.width, options_.camera.height, options_.camera.fps);
+    color = std::make_unique<V4l2Capture>(nodes.color, kYuyv, options_.camera.width, options_.camera.height,
+                                          options_.camera.fps);
   }
   {
     std::lock_guard lock(mutex_);
@@ -73,8 +74,8 @@ void RealSenseCamera::Session(std::stop_token stop) {
     if (color) {
       // The newest colour frame, if one is waiting.
       while (const std::optional<V4l2Capture::Buffer> c = color->Next(0.0)) {
-        latest_color = YuyvToBgr(c->bytes, color->width(), color->height(), color->stride(), depth.width(),
-                                 depth.height());
+        latest_color =
+            YuyvToBgr(c->bytes, color->width(), color->height(), color->stride(), depth.width(), depth.height());
       }
     }
     const std::optional<V4l2Capture::Buffer> d = depth.Next(options_.stale_s / 2.0);
@@ -82,7 +83,8 @@ void RealSenseCamera::Session(std::stop_token stop) {
     if (!d) {
       const double quiet_s = ToSeconds(now - last_frame_ns);
       if (quiet_s >= options_.silence_s) {
-        SetState(LinkState::kSilent, fmt::format("no depth frame for {:.1f} s: opening the camera anew", options_.silence_s));
+        SetState(LinkState::kSilent,
+                 fmt::format("no depth frame for {:.1f} s: opening the camera anew", options_.silence_s));
         return;
       }
       if (quiet_s >= options_.stale_s) {
@@ -94,7 +96,8 @@ void RealSenseCamera::Session(std::stop_token stop) {
     auto frame = std::make_shared<RgbdFrame>();
     frame->stamp_ns = now;
     frame->sequence = sequence++;
-    frame->depth_mm = DepthToMillimetres(d->bytes, depth.width(), depth.height(), depth.stride(), options_.depth_scale_m);
+    frame->depth_mm =
+        DepthToMillimetres(d->bytes, depth.width(), depth.height(), depth.stride(), options_.depth_scale_m);
     frame->color_bgr = latest_color.size() == frame->depth_mm.size()
                            ? latest_color.clone()
                            : cv::Mat(frame->depth_mm.size(), CV_8UC3, cv::Scalar::all(0));

@@ -18,8 +18,8 @@ struct RealSenseOptions {
   // degrees.
   CameraMountOptions camera{640, 480, 30, 0.0, 0.0, 0.0, 0.0, 87.0, 58.0};
   double depth_scale_m = 0.001;  // metres a Z16 unit (a D4xx's default depth unit, 1 mm)
-  double stale_s = 0.08;     // no depth frame for this long: the link is stale
-  double silence_s = 1.0;    // no frame for this long: the nodes are opened anew
+  double stale_s = 0.08;         // no depth frame for this long: the link is stale
+  double silence_s = 1.0;        // no frame for this long: the nodes are opened anew
   double reconnect_s = 1.0;
 };
 

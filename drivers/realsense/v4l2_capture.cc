@@ -116,14 +116,16 @@ void V4l2Capture::Requeue() {
   b.memory = V4L2_MEMORY_MMAP;
   b.index = static_cast<std::uint32_t>(lent_);
   lent_ = -1;
-  if (Ioctl(fd_, VIDIOC_QBUF, &b) != 0) throw std::runtime_error(std::string("queueing a buffer: ") + std::strerror(errno));
+  if (Ioctl(fd_, VIDIOC_QBUF, &b) != 0)
+    throw std::runtime_error(std::string("queueing a buffer: ") + std::strerror(errno));
 }
 
 std::optional<V4l2Capture::Buffer> V4l2Capture::Next(double timeout_s) {
   Requeue();
   pollfd p{fd_, POLLIN, 0};
   const int ready = ::poll(&p, 1, static_cast<int>(timeout_s * 1000.0));
-  if (ready < 0 && errno != EINTR) throw std::runtime_error(std::string("waiting for a frame: ") + std::strerror(errno));
+  if (ready < 0 && errno != EINTR)
+    throw std::runtime_error(std::string("waiting for a frame: ") + std::strerror(errno));
   if (ready <= 0) return std::nullopt;
   if (p.revents & (POLLERR | POLLHUP | POLLNVAL)) throw std::runtime_error("the video node failed (unplugged?)");
   v4l2_buffer b{};
@@ -136,7 +138,8 @@ std::optional<V4l2Capture::Buffer> V4l2Capture::Next(double timeout_s) {
   lent_ = static_cast<int>(b.index);
   Buffer out;
   out.bytes = std::span<const std::uint8_t>(buffers_[b.index].data(), b.bytesused);
-  out.stamp_ns = static_cast<TimeNs>(b.timestamp.tv_sec) * kNsPerSecond + static_cast<TimeNs>(b.timestamp.tv_usec) * 1000;
+  out.stamp_ns =
+      static_cast<TimeNs>(b.timestamp.tv_sec) * kNsPerSecond + static_cast<TimeNs>(b.timestamp.tv_usec) * 1000;
   out.sequence = b.sequence;
   return out;
 }

@@ -29,7 +29,7 @@ class V4l2Capture {
   V4l2Capture& operator=(const V4l2Capture&) = delete;
 
   int fd() const { return fd_; }
-  int width() const { return width_; }   // as the driver set them (it may round the size asked for)
+  int width() const { return width_; }  // as the driver set them (it may round the size asked for)
   int height() const { return height_; }
   int stride() const { return stride_; }
 

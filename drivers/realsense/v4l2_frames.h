@@ -1,6 +1,7 @@
 // What the RealSense driver does with V4L2's buffers and nodes that needs no device: Z16 depth to the camera
 // interface's millimetres by the device's depth unit, YUYV colour to BGR, the depth and colour nodes picked out of the
-// video nodes by name and formats. Tested on recorded buffers (a real depth frame written as Z16, a colour frame as YUYV).
+// video nodes by name and formats. Tested on recorded buffers (a real depth frame written as Z16, a colour frame as
+// YUYV).
 #pragma once
 
 #include <cstdint>
@@ -10,7 +11,6 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
-
 
 namespace corridor::drivers::realsense {
 

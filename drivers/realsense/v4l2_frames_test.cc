@@ -18,7 +18,8 @@ namespace {
 
 // The TUM frame in metres (its PNG holds depth times 5000).
 cv::Mat TumMetres() {
-  const cv::Mat raw = cv::imread((testing::SourceDir() / "tests/data/depth/1_depth.png").string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat raw =
+      cv::imread((testing::SourceDir() / "tests/data/depth/1_depth.png").string(), cv::IMREAD_UNCHANGED);
   cv::Mat metres;
   raw.convertTo(metres, CV_64F, 1.0 / 5000.0);
   return metres;

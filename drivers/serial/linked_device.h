@@ -39,7 +39,8 @@ class LinkedDevice : public DeviceLink {
   // every session after the first counts as a reconnect.
   void RunSessions(std::stop_token stop, double reconnect_s, const std::function<void()>& session) {
     RunReconnecting(
-        stop, device_, reconnect_s, session, [&](const std::string& error) { SetState(LinkState::kDisconnected, error); },
+        stop, device_, reconnect_s, session,
+        [&](const std::string& error) { SetState(LinkState::kDisconnected, error); },
         [&] {
           std::lock_guard lock(mutex_);
           ++status_.reconnects;

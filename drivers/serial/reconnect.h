@@ -12,7 +12,8 @@ namespace corridor::drivers {
 // `session` runs until it returns or throws; what it throws goes to `failed` (its message). `retrying` is called
 // before every session after the first. The calling thread is named after `device` (what `top -H` and the CPU
 // benchmarks show).
-void RunReconnecting(std::stop_token stop, const std::string& device, double reconnect_s, const std::function<void()>& session,
-                     const std::function<void(const std::string&)>& failed, const std::function<void()>& retrying);
+void RunReconnecting(std::stop_token stop, const std::string& device, double reconnect_s,
+                     const std::function<void()>& session, const std::function<void(const std::string&)>& failed,
+                     const std::function<void()>& retrying);
 
 }  // namespace corridor::drivers

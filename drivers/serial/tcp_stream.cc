@@ -7,7 +7,6 @@
 #include <boost/asio/write.hpp>
 #include <boost/system/system_error.hpp>
 
-
 namespace corridor::drivers {
 namespace {
 
@@ -21,14 +20,14 @@ TcpStream::TcpStream(const std::string& host, int port, double connect_s) : sock
   boost::asio::ip::tcp::resolver resolver(io_);
   const auto endpoints = resolver.resolve(host, std::to_string(port));
   boost::system::error_code error = boost::asio::error::would_block;
-  boost::asio::async_connect(socket_, endpoints,
-                             [&](const boost::system::error_code& e, const auto&) { error = e; });
+  boost::asio::async_connect(socket_, endpoints, [&](const boost::system::error_code& e, const auto&) { error = e; });
   io_.run_for(Micros(connect_s));
   if (error == boost::asio::error::would_block) {
     socket_.close();
     io_.restart();
     io_.run();
-    throw boost::system::system_error(boost::asio::error::timed_out, "connecting to " + host + ":" + std::to_string(port));
+    throw boost::system::system_error(boost::asio::error::timed_out,
+                                      "connecting to " + host + ":" + std::to_string(port));
   }
   if (error) throw boost::system::system_error(error, "connecting to " + host + ":" + std::to_string(port));
   socket_.set_option(boost::asio::ip::tcp::no_delay(true));

@@ -63,8 +63,9 @@ void SerialTextBase::AwaitBoard(SerialPort& port, LineSplitter& lines, std::stop
   while (!stop.stop_requested()) {
     const TimeNs now = clock_.Now();
     if (now >= give_up) {
-      throw std::runtime_error(fmt::format("no answer to 'e' within {:.1f} s (a ROSArduinoBridge-class board at {} baud?)",
-                                           options_.boot_s, options_.baud_rate));
+      throw std::runtime_error(
+          fmt::format("no answer to 'e' within {:.1f} s (a ROSArduinoBridge-class board at {} baud?)", options_.boot_s,
+                      options_.baud_rate));
     }
     port.Write(Bytes(kReadEncoders));
     const std::size_t n = port.Read(buffer, std::min(kBootPollS, ToSeconds(give_up - now)));
@@ -103,11 +104,10 @@ void SerialTextBase::Take(SerialPort& port, const EncoderCounts& counts) {
   const TimeNs now = clock_.Now();
   // Believable only if neither wheel turned further than it can since the counts before.
   const double top_mps = options_.max_linear_mps + options_.max_angular_rps * 0.5 * options_.wheels.track_m;
-  const double limit = kPlausibleSpeedFactor * top_mps * ToSeconds(now - last_counts_ns_) * CountsPerMetre() +
-                       kPlausibleSlackCounts;
-  const bool believable = !last_counts_ ||
-                          (std::abs(CountsChange(last_counts_->left, counts.left)) <= limit &&
-                           std::abs(CountsChange(last_counts_->right, counts.right)) <= limit);
+  const double limit =
+      kPlausibleSpeedFactor * top_mps * ToSeconds(now - last_counts_ns_) * CountsPerMetre() + kPlausibleSlackCounts;
+  const bool believable = !last_counts_ || (std::abs(CountsChange(last_counts_->left, counts.left)) <= limit &&
+                                            std::abs(CountsChange(last_counts_->right, counts.right)) <= limit);
   if (!believable && ++implausible_run_ < kRestartAfter) {
     std::lock_guard lock(mutex_);
     ++status_.implausible;
@@ -137,7 +137,7 @@ void SerialTextBase::Take(SerialPort& port, const EncoderCounts& counts) {
   const nav::Twist2& driven = Drive(target, false, dt);
   const double half_track = 0.5 * options_.wheels.track_m;
   const std::string command = EncodeMotorSpeeds(CountsPerFrame(driven.linear_mps - half_track * driven.angular_rps),
-                                                 CountsPerFrame(driven.linear_mps + half_track * driven.angular_rps));
+                                                CountsPerFrame(driven.linear_mps + half_track * driven.angular_rps));
   port.Write(Bytes(command));
   if (odometry) odometry(WheelOdometry{now, odometry_.pose(), odometry_.velocity(), false, false});
 }

@@ -24,8 +24,8 @@ struct SerialTextOptions {
   double max_angular_accel_rps2 = 2.0;
   double footprint_radius_m = 0.15;
   double command_timeout_s = 0.5;
-  double stale_s = 0.08;    // no encoder reply for this long: the link is stale, the robot stops
-  double silence_s = 0.5;   // no reply for this long: the port is opened anew (the board restarts)
+  double stale_s = 0.08;   // no encoder reply for this long: the link is stale, the robot stops
+  double silence_s = 0.5;  // no reply for this long: the port is opened anew (the board restarts)
   double reconnect_s = 1.0;
   double battery_period_s = 1.0;  // unused: the protocol has no battery
 };

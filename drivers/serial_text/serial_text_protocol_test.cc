@@ -9,8 +9,7 @@ namespace {
 
 std::vector<std::string> Split(LineSplitter& splitter, std::string_view text, int* overlong = nullptr) {
   std::vector<std::string> lines;
-  const int dropped =
-      splitter.Push(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), lines);
+  const int dropped = splitter.Push(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), lines);
   if (overlong) *overlong = dropped;
   return lines;
 }
@@ -37,8 +36,8 @@ TEST(SerialTextProtocolTest, OnlyTwoWholeCountsAreAnEncoderReading) {
   EXPECT_EQ(ParseEncoders("1234 -56")->left, 1234);
   EXPECT_EQ(ParseEncoders("1234 -56")->right, -56);
   EXPECT_EQ(ParseEncoders("-2147483648 2147483647")->left, -2147483648);
-  for (const char* line : {"OK", "Invalid Command", "57600", "", " ", "12 ", " 12", "1 2 3", "12a 4", "12  4",
-                           "+12 4", "4294967296 0", "1.5 2", "\x55\xAA 3"}) {
+  for (const char* line : {"OK", "Invalid Command", "57600", "", " ", "12 ", " 12", "1 2 3", "12a 4", "12  4", "+12 4",
+                           "4294967296 0", "1.5 2", "\x55\xAA 3"}) {
     EXPECT_FALSE(ParseEncoders(line)) << '"' << line << '"';
   }
 }

@@ -208,10 +208,10 @@ void Crowd::Step(double dt_s) {
     if (p.arrived) continue;  // stands: next[i] stays zero
     const Eigen::Vector2d to_goal = (p.returning ? p.route.start : p.route.goal) - p.position;
     const double distance = to_goal.norm();
-    const Eigen::Vector2d preferred =
-        distance > kEpsilon ? Eigen::Vector2d(Eigen::Rotation2Dd(-o.keep_right_rad) * to_goal / distance *
-                                              std::min(o.preferred_speed_mps, distance / dt_s))
-                            : Eigen::Vector2d::Zero();
+    const Eigen::Vector2d preferred = distance > kEpsilon
+                                          ? Eigen::Vector2d(Eigen::Rotation2Dd(-o.keep_right_rad) * to_goal / distance *
+                                                            std::min(o.preferred_speed_mps, distance / dt_s))
+                                          : Eigen::Vector2d::Zero();
     neighbours.clear();
     for (std::size_t j = 0; j < pedestrians_.size(); ++j) {
       const Pedestrian& other = pedestrians_[j];
@@ -248,8 +248,8 @@ void Crowd::Step(double dt_s) {
 TriangleMesh Crowd::Mesh() const {
   TriangleMesh mesh;
   for (const Pedestrian& p : pedestrians_) {
-    mesh.AddCylinder(p.position.cast<float>(), static_cast<float>(options_.radius_m), static_cast<float>(options_.height_m),
-                     kPrismSides, kPersonColor);
+    mesh.AddCylinder(p.position.cast<float>(), static_cast<float>(options_.radius_m),
+                     static_cast<float>(options_.height_m), kPrismSides, kPersonColor);
   }
   return mesh;
 }
@@ -283,7 +283,9 @@ std::vector<PedestrianRoute> RandomRoutes(const nav::OccupancyGrid& collision, i
     const double d = (p - area.center).norm();
     return d >= area.clearance_m && d <= area.within_m;
   };
-  const auto apart = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return (a - b).norm() > 2.0 * margin + 0.2; };
+  const auto apart = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a - b).norm() > 2.0 * margin + 0.2;
+  };
   // Sampled over the part of the grid within reach of the centre.
   const double x0 = collision.origin().x_m;
   const double y0 = collision.origin().y_m;

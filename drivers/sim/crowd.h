@@ -31,13 +31,13 @@ struct PedestrianRoute {
 };
 
 struct CrowdOptions {
-  double radius_m = 0.25;          // a person's footprint
+  double radius_m = 0.25;  // a person's footprint
   double height_m = 1.7;
   double preferred_speed_mps = 0.8;
   double max_speed_mps = 1.2;
-  double time_horizon_s = 2.0;     // ORCA: velocities are kept collision-free this far ahead
+  double time_horizon_s = 2.0;  // ORCA: velocities are kept collision-free this far ahead
   double neighbour_distance_m = 5.0;
-  double goal_tolerance_m = 0.3;   // this near a route's end a person has reached it
+  double goal_tolerance_m = 0.3;  // this near a route's end a person has reached it
   // At a route's end a person turns back, walking it to and fro for ever; false: stands there for good, as the
   // agents of the DPoom evaluation stop at their targets.
   bool turn_back = true;
@@ -50,8 +50,8 @@ struct Pedestrian {
   Eigen::Vector2d position = Eigen::Vector2d::Zero();
   Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
   PedestrianRoute route;
-  bool returning = false;          // walking from goal back to start
-  bool arrived = false;            // standing at the goal for good (CrowdOptions::turn_back false)
+  bool returning = false;  // walking from goal back to start
+  bool arrived = false;    // standing at the goal for good (CrowdOptions::turn_back false)
 };
 
 class Crowd {

@@ -102,8 +102,8 @@ TEST(CrowdTest, PeopleWhoDoNotTurnBackStandAtTheirGoalAndAreWalkedRound) {
 }
 
 TEST(CrowdTest, OrcaKeepsThePreferredVelocityWhenNothingIsNear) {
-  const Eigen::Vector2d v = OrcaVelocity({0, 0}, {0.5, 0}, 0.25, {0.8, 0}, 1.2, 2.0, 0.01,
-                                         {{{0, 5}, {0, 0}, 0.25, true}});
+  const Eigen::Vector2d v =
+      OrcaVelocity({0, 0}, {0.5, 0}, 0.25, {0.8, 0}, 1.2, 2.0, 0.01, {{{0, 5}, {0, 0}, 0.25, true}});
   EXPECT_NEAR(v.x(), 0.8, 1e-9);
   EXPECT_NEAR(v.y(), 0.0, 1e-9);
 }

@@ -17,9 +17,9 @@ struct SimBaseOptions {
                     .max_linear_accel_mps2 = 1.0,
                     .max_angular_accel_rps2 = 3.0,
                     .footprint_radius_m = 0.2};
-  double command_timeout_s = 0.5;       // the base's own watchdog: no command for this long means stop
-  double odom_linear_noise = 0.01;      // standard deviation of the distance error, as a fraction of distance
-  double odom_angular_noise = 0.02;     // the same for rotation
+  double command_timeout_s = 0.5;    // the base's own watchdog: no command for this long means stop
+  double odom_linear_noise = 0.01;   // standard deviation of the distance error, as a fraction of distance
+  double odom_angular_noise = 0.02;  // the same for rotation
   // Systematic errors, as a base whose configured wheels are off: the odometry counts with a wheel diameter this many
   // times the true one (its distances and turns that much too long) and a track this many times the true one (its
   // turns that much too short). 1: right. What the wheels' calibration finds.

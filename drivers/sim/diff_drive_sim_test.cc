@@ -25,7 +25,7 @@ SimBaseOptions NoiselessBase() {
 }
 
 void Drive(DiffDriveSim& base, const nav::Twist2& command, double seconds, double& now_s, std::mt19937& rng,
-         bool keep_commanding = true) {
+           bool keep_commanding = true) {
   constexpr double kDt = 0.01;
   for (int i = 0; i < static_cast<int>(seconds / kDt); ++i) {
     now_s += kDt;

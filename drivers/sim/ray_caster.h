@@ -1,6 +1,6 @@
-// Ray casting with Embree (the Intel ray-tracing kernels) against a static triangle mesh and a few moving ones (people):
-// the simulator's depth camera and laser. The static scene is built once; the movers are a second, small scene
-// rebuilt whenever they move, cast after the static one with the ray cut at the static hit. Any number of threads
+// Ray casting with Embree (the Intel ray-tracing kernels) against a static triangle mesh and a few moving ones
+// (people): the simulator's depth camera and laser. The static scene is built once; the movers are a second, small
+// scene rebuilt whenever they move, cast after the static one with the ray cut at the static hit. Any number of threads
 // may cast at the same time, but not while SetMovers runs.
 #pragma once
 
@@ -15,11 +15,11 @@
 namespace corridor::drivers::sim {
 
 struct RayHit {
-  float distance = 0.0f;       // along the ray, in metres; +infinity for a miss
-  int triangle = -1;           // index into the static mesh's triangles, -1 for a miss or a mover
-  bool mover = false;          // the hit is on a mover
-  Eigen::Vector3f normal;      // unit geometric normal of the hit triangle (world frame)
-  Eigen::Vector3f color;       // the hit triangle's colour
+  float distance = 0.0f;   // along the ray, in metres; +infinity for a miss
+  int triangle = -1;       // index into the static mesh's triangles, -1 for a miss or a mover
+  bool mover = false;      // the hit is on a mover
+  Eigen::Vector3f normal;  // unit geometric normal of the hit triangle (world frame)
+  Eigen::Vector3f color;   // the hit triangle's colour
 
   bool hit() const { return distance < std::numeric_limits<float>::infinity(); }
 };

@@ -34,7 +34,8 @@ RgbdRenderer::RgbdRenderer(const RayCaster& caster, const SimCameraOptions& opti
   rays_.reserve(static_cast<std::size_t>(k.width) * k.height);
   for (int v = 0; v < k.height; ++v) {
     for (int u = 0; u < k.width; ++u) {
-      rays_.emplace_back(static_cast<float>((u + 0.5 - k.cx) / k.fx), static_cast<float>((v + 0.5 - k.cy) / k.fy), 1.0f);
+      rays_.emplace_back(static_cast<float>((u + 0.5 - k.cx) / k.fx), static_cast<float>((v + 0.5 - k.cy) / k.fy),
+                         1.0f);
     }
   }
 }

@@ -12,20 +12,20 @@ namespace corridor::drivers::sim {
 struct SimCameraOptions {
   int width = 320;
   int height = 240;
-  double horizontal_fov_deg = 85.2;   // Intel RealSense D435 depth, as on DPoom
+  double horizontal_fov_deg = 85.2;  // Intel RealSense D435 depth, as on DPoom
   double vertical_fov_deg = 58.0;
-  double mount_x_m = 0.1;             // forward of the base centre
-  double mount_height_m = 0.3;        // optical centre above the floor
-  double tilt_deg = 10.0;             // pitched down
+  double mount_x_m = 0.1;       // forward of the base centre
+  double mount_height_m = 0.3;  // optical centre above the floor
+  double tilt_deg = 10.0;       // pitched down
   double min_range_m = 0.2;
   double max_range_m = 6.0;
   double rate_hz = 15.0;
   // Axial noise sigma(z) = a + b * z^2, the usual structured-light model (Nguyen et al., 3DIMPVT 2012).
   double noise_a_m = 0.0012;
   double noise_b_per_m = 0.0019;
-  double dropout_fraction = 0.02;     // pixels lost at random
-  double grazing_cutoff_deg = 87.0;   // surfaces seen more obliquely than this return nothing (floor beyond
-                                      // about 5.7 m for a camera 0.3 m up)
+  double dropout_fraction = 0.02;    // pixels lost at random
+  double grazing_cutoff_deg = 87.0;  // surfaces seen more obliquely than this return nothing (floor beyond
+                                     // about 5.7 m for a camera 0.3 m up)
 };
 
 struct SimLaserOptions {

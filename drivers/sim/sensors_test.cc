@@ -29,7 +29,8 @@ TriangleMesh WallAt(float wall_x) {
   return mesh;
 }
 
-RgbdFrame RenderFrom(const TriangleMesh& mesh, const SimCameraOptions& o, const nav::Pose2& base, std::uint32_t seed = 1) {
+RgbdFrame RenderFrom(const TriangleMesh& mesh, const SimCameraOptions& o, const nav::Pose2& base,
+                     std::uint32_t seed = 1) {
   const RayCaster caster(mesh);
   const RgbdRenderer renderer(caster, o);
   std::mt19937 rng(seed);

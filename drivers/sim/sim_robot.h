@@ -16,10 +16,10 @@
 #include "drivers/laser2d.h"
 #include "drivers/sim/battery_sim.h"
 #include "drivers/sim/crowd.h"
+#include "drivers/sim/diff_drive_sim.h"
 #include "drivers/sim/dock.h"
 #include "drivers/sim/door.h"
 #include "drivers/sim/lift.h"
-#include "drivers/sim/diff_drive_sim.h"
 #include "drivers/sim/ray_caster.h"
 #include "drivers/sim/sensors.h"
 #include "drivers/sim/world.h"
@@ -27,19 +27,19 @@
 namespace corridor::drivers::sim {
 
 struct SimOptions {
-  nav::Pose2 start;                 // initial pose in the world frame
-  double physics_rate_hz = 100.0;   // kinematics and collision steps per simulated second
+  nav::Pose2 start;                // initial pose in the world frame
+  double physics_rate_hz = 100.0;  // kinematics and collision steps per simulated second
   double odometry_rate_hz = 50.0;
-  std::uint32_t seed = 1;           // all noise is drawn from one generator seeded with this
+  std::uint32_t seed = 1;  // all noise is drawn from one generator seeded with this
   SimBaseOptions base;
   SimCameraOptions camera;
   SimLaserOptions laser;
   std::vector<PedestrianRoute> pedestrians;  // people walking back and forth, not seeing the robot
   CrowdOptions crowd;
   SimBatteryOptions battery;
-  std::optional<SimDockOptions> dock;        // a charging dock; its box must be in the world (AddDock)
-  std::vector<SimDoorOptions> doors;         // doors across passages, opened and closed through SetDoorOpen
-  std::vector<SimLiftOptions> lifts;         // lifts between floors standing side by side, called through CallLift
+  std::optional<SimDockOptions> dock;  // a charging dock; its box must be in the world (AddDock)
+  std::vector<SimDoorOptions> doors;   // doors across passages, opened and closed through SetDoorOpen
+  std::vector<SimLiftOptions> lifts;   // lifts between floors standing side by side, called through CallLift
 };
 
 class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D, public Battery {
@@ -86,7 +86,9 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   void SetVelocity(const nav::Twist2& command) override;
   void SetOdometryHandler(OdometryHandler handler) override { odometry_handler_ = std::move(handler); }
   // Laser2D
-  nav::Pose2 base_T_laser() const override { return {0.0, 0.0, options_.laser.mount_yaw_deg * std::numbers::pi / 180.0}; }
+  nav::Pose2 base_T_laser() const override {
+    return {0.0, 0.0, options_.laser.mount_yaw_deg * std::numbers::pi / 180.0};
+  }
   double height_m() const override { return options_.laser.mount_height_m; }
   void SetScanHandler(ScanHandler handler) override { scan_handler_ = std::move(handler); }
   // Battery
@@ -105,9 +107,9 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   mutable std::mutex mutex_;  // guards base_, crowd_, battery_, doors_ and the pending command against other threads
   std::vector<SimDoor> doors_;
   std::vector<SimLift> lifts_;
-  bool doors_changed_ = true;   // the collision blocks must be redone (guarded by mutex_)
-  bool movers_changed_ = true;  // the casters' moving geometry must be redone (guarded by mutex_)
-  void ApplyDoors();            // lock held
+  bool doors_changed_ = true;       // the collision blocks must be redone (guarded by mutex_)
+  bool movers_changed_ = true;      // the casters' moving geometry must be redone (guarded by mutex_)
+  void ApplyDoors();                // lock held
   TriangleMesh MoversMesh() const;  // people, closed doors and the lifts' cars; lock held
   // The rotating laser's beams due by `now` cast from the robot at `pose`; a sweep completed goes to the handler.
   void SweepLaser(TimeNs now, const nav::Pose2& pose);

@@ -68,9 +68,9 @@ TEST(SimRobotTest, SameSeedSameRun) {
   const auto [truth_c, odom_c] = run(8);
   EXPECT_EQ(truth_a.x_m, truth_b.x_m);
   EXPECT_EQ(odom_a.x_m, odom_b.x_m);
-  EXPECT_EQ(truth_a.x_m, truth_c.x_m);       // motion itself is deterministic
-  EXPECT_NE(odom_a.x_m, odom_c.x_m);         // the odometry noise follows the seed
-  EXPECT_GT(truth_a.x_m, 1.3);               // and the commands were obeyed
+  EXPECT_EQ(truth_a.x_m, truth_c.x_m);  // motion itself is deterministic
+  EXPECT_NE(odom_a.x_m, odom_c.x_m);    // the odometry noise follows the seed
+  EXPECT_GT(truth_a.x_m, 1.3);          // and the commands were obeyed
 }
 
 }  // namespace

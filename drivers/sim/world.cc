@@ -10,8 +10,8 @@
 #include <cctype>
 #include <map>
 #include <numbers>
-#include <optional>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <sstream>
 
 #include "nav/map/map_io.h"
@@ -121,8 +121,7 @@ class SdfLoader {
     if (auto dir = FindModel(name)) return *dir;
     std::string searched;
     for (const fs::path& dir : search_paths_) searched += (searched.empty() ? "" : ", ") + dir.string();
-    Fail(referrer, "model://" + name + " not found in any model path (" + searched +
-                       "; more with sim.model_paths)");
+    Fail(referrer, "model://" + name + " not found in any model path (" + searched + "; more with sim.model_paths)");
   }
 
   // A URI as Gazebo resolves it: model://NAME/rest -> <NAME's folder in the model paths>/rest; file://PATH and plain
@@ -289,7 +288,8 @@ class SdfLoader {
       for (unsigned f = 0; f < am->mNumFaces; ++f) {
         const aiFace& face = am->mFaces[f];
         if (face.mNumIndices != 3) continue;  // points and lines left over after triangulation
-        mesh.triangles.emplace_back(base + static_cast<int>(face.mIndices[0]), base + static_cast<int>(face.mIndices[1]),
+        mesh.triangles.emplace_back(base + static_cast<int>(face.mIndices[0]),
+                                    base + static_cast<int>(face.mIndices[1]),
                                     base + static_cast<int>(face.mIndices[2]));
         mesh.colors.push_back(color);
       }
@@ -341,7 +341,8 @@ const char* ShapeName(StaticObstacle::Shape shape) {
 }
 
 std::optional<StaticObstacle::Shape> ShapeFromName(const std::string& name) {
-  for (const auto shape : {StaticObstacle::Shape::kCylinder, StaticObstacle::Shape::kBox, StaticObstacle::Shape::kTable}) {
+  for (const auto shape :
+       {StaticObstacle::Shape::kCylinder, StaticObstacle::Shape::kBox, StaticObstacle::Shape::kTable}) {
     if (name == ShapeName(shape)) return shape;
   }
   return std::nullopt;
@@ -365,8 +366,8 @@ void AddObstacles(World& world, const std::vector<StaticObstacle>& obstacles) {
         for (const float sx : {-1.0f, 1.0f}) {
           for (const float sy : {-1.0f, 1.0f}) {
             const Eigen::Vector3f corner(sx * (h - kLeg / 2), sy * (h - kLeg / 2), 0.0f);
-            box.AddBox(corner - Eigen::Vector3f(kLeg / 2, kLeg / 2, 0.0f), corner + Eigen::Vector3f(kLeg / 2, kLeg / 2, top),
-                       kObstacleColor);
+            box.AddBox(corner - Eigen::Vector3f(kLeg / 2, kLeg / 2, 0.0f),
+                       corner + Eigen::Vector3f(kLeg / 2, kLeg / 2, top), kObstacleColor);
           }
         }
       } else {
@@ -412,7 +413,8 @@ void TriangleMesh::AddCylinder(const Eigen::Vector2f& center, float radius, floa
   const int b = static_cast<int>(vertices.size());
   for (int i = 0; i < sides; ++i) {
     const double a = 2.0 * std::numbers::pi * i / sides;
-    const Eigen::Vector2f p = center + radius * Eigen::Vector2f(static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)));
+    const Eigen::Vector2f p =
+        center + radius * Eigen::Vector2f(static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)));
     vertices.emplace_back(p.x(), p.y(), 0.0f);
     vertices.emplace_back(p.x(), p.y(), height);
   }
@@ -423,7 +425,7 @@ void TriangleMesh::AddCylinder(const Eigen::Vector2f& center, float radius, floa
     const int j = (i + 1) % sides;
     const int lo_i = b + 2 * i, hi_i = lo_i + 1, lo_j = b + 2 * j, hi_j = lo_j + 1;
     for (const Eigen::Vector3i& t : {Eigen::Vector3i(lo_i, lo_j, hi_j), Eigen::Vector3i(lo_i, hi_j, hi_i),
-                                    Eigen::Vector3i(bottom, lo_j, lo_i), Eigen::Vector3i(bottom + 1, hi_i, hi_j)}) {
+                                     Eigen::Vector3i(bottom, lo_j, lo_i), Eigen::Vector3i(bottom + 1, hi_i, hi_j)}) {
       triangles.push_back(t);
       colors.push_back(color);
     }

@@ -31,11 +31,11 @@ struct TriangleMesh {
 };
 
 struct WorldOptions {
-  double wall_height_m = 2.5;              // height of walls extruded from a 2D map
-  double collision_resolution_m = 0.05;    // cell size of the footprint collision grid
-  double collision_min_height_m = 0.03;    // geometry below this (floors, carpets, thresholds) is driven over
-  double collision_max_height_m = 1.2;     // geometry above this (tables' undersides aside) is passed under
-  bool add_floor = true;                   // add a floor plane at z = 0 under the whole world
+  double wall_height_m = 2.5;                      // height of walls extruded from a 2D map
+  double collision_resolution_m = 0.05;            // cell size of the footprint collision grid
+  double collision_min_height_m = 0.03;            // geometry below this (floors, carpets, thresholds) is driven over
+  double collision_max_height_m = 1.2;             // geometry above this (tables' undersides aside) is passed under
+  bool add_floor = true;                           // add a floor plane at z = 0 under the whole world
   std::vector<std::filesystem::path> model_paths;  // extra folders searched for model://NAME
 };
 
@@ -45,9 +45,9 @@ struct StaticObstacle {
   enum class Shape { kCylinder, kBox, kTable };
   Shape shape = Shape::kCylinder;
   Eigen::Vector2d center = Eigen::Vector2d::Zero();
-  double size_m = 0.5;     // cylinder: radius; box and table: half the side of the square
-  double height_m = 1.0;   // table: of its top
-  double yaw_rad = 0.0;    // boxes and tables
+  double size_m = 0.5;    // cylinder: radius; box and table: half the side of the square
+  double height_m = 1.0;  // table: of its top
+  double yaw_rad = 0.0;   // boxes and tables
 
   // The radius of a circle around it, for avoidance and placement.
   double bounding_radius_m() const;

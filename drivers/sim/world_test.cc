@@ -99,7 +99,8 @@ TEST(LoadWorldTest, AWorldFromAPublicRepositoryOpens) {
   // A 1 x 0.2 x 1 m wall (OBJ, as assimp reads it), at the world's folder's meshes/; the crate model's own box.
   const auto box_obj = [](const fs::path& file, float sx, float sy, float sz) {
     std::ofstream obj(file);
-    for (int i = 0; i < 8; ++i) obj << "v " << (i & 1 ? sx : 0) << ' ' << (i & 2 ? sy : 0) << ' ' << (i & 4 ? sz : 0) << '\n';
+    for (int i = 0; i < 8; ++i)
+      obj << "v " << (i & 1 ? sx : 0) << ' ' << (i & 2 ? sy : 0) << ' ' << (i & 4 ? sz : 0) << '\n';
     obj << "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
   };
   box_obj(dir / "worlds/meshes/wall.obj", 1.0f, 0.2f, 1.0f);

@@ -10,19 +10,19 @@ namespace corridor::drivers::turtlebot3 {
 inline constexpr std::uint8_t kOpenCrId = 200;
 
 namespace address {
-inline constexpr std::uint16_t kModelNumber = 0;          // 2 bytes
-inline constexpr std::uint16_t kHeartbeat = 19;           // 1 byte, written by the host to say it is there
-inline constexpr std::uint16_t kButton1 = 26;             // 1 byte each: 1 pressed
+inline constexpr std::uint16_t kModelNumber = 0;  // 2 bytes
+inline constexpr std::uint16_t kHeartbeat = 19;   // 1 byte, written by the host to say it is there
+inline constexpr std::uint16_t kButton1 = 26;     // 1 byte each: 1 pressed
 inline constexpr std::uint16_t kButton2 = 27;
 inline constexpr std::uint16_t kBumper1 = 28;
 inline constexpr std::uint16_t kBumper2 = 29;
-inline constexpr std::uint16_t kBatteryVoltage = 42;      // int32, 0.01 V
-inline constexpr std::uint16_t kBatteryPercentage = 46;   // int32, 0.01 %
-inline constexpr std::uint16_t kPresentVelocityLeft = 128;   // int32, the servo's unit (0.229 rpm)
+inline constexpr std::uint16_t kBatteryVoltage = 42;        // int32, 0.01 V
+inline constexpr std::uint16_t kBatteryPercentage = 46;     // int32, 0.01 %
+inline constexpr std::uint16_t kPresentVelocityLeft = 128;  // int32, the servo's unit (0.229 rpm)
 inline constexpr std::uint16_t kPresentVelocityRight = 132;
-inline constexpr std::uint16_t kPresentPositionLeft = 136;   // int32, 4096 a turn of the wheel
+inline constexpr std::uint16_t kPresentPositionLeft = 136;  // int32, 4096 a turn of the wheel
 inline constexpr std::uint16_t kPresentPositionRight = 140;
-inline constexpr std::uint16_t kMotorTorqueEnable = 149;     // 1 byte: 1 the wheels are driven
+inline constexpr std::uint16_t kMotorTorqueEnable = 149;  // 1 byte: 1 the wheels are driven
 // Six int32: linear x, y, z in 0.01 m/s, angular x, y, z in 0.01 rad/s (the board drives linear x and angular z).
 inline constexpr std::uint16_t kCmdVelocityLinearX = 150;
 inline constexpr std::uint16_t kCmdVelocityAngularZ = 170;

@@ -84,8 +84,8 @@ void TurtleBot3Base::Session(SerialPort& port, std::stop_token stop) {
 }
 
 std::optional<StatusPacket> TurtleBot3Base::Transact(SerialPort& port, StatusParser& parser,
-                                                     const std::vector<std::uint8_t>& request,
-                                                     std::size_t parameters, double timeout_s) {
+                                                     const std::vector<std::uint8_t>& request, std::size_t parameters,
+                                                     double timeout_s) {
   port.Write(request);
   std::vector<StatusPacket> got;
   std::array<std::uint8_t, 256> buffer{};

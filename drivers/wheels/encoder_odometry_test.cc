@@ -35,7 +35,8 @@ TEST(EncoderOdometryTest, StraightAcrossTheWrapAndATurnOnTheSpot) {
   EXPECT_NEAR(odometry.velocity().linear_mps, 1.0, 0.02);
   // A quarter turn counter-clockwise on the spot: each wheel rolls a quarter of the track's circle.
   const int quarter = static_cast<int>(std::lround(per_metre * std::numbers::pi * 0.235 / 4.0));
-  odometry.Update(FromSeconds(1.5), static_cast<std::uint16_t>(left - quarter), static_cast<std::uint16_t>(right + quarter));
+  odometry.Update(FromSeconds(1.5), static_cast<std::uint16_t>(left - quarter),
+                  static_cast<std::uint16_t>(right + quarter));
   EXPECT_NEAR(odometry.pose().yaw_rad, std::numbers::pi / 2.0, 0.01);
   EXPECT_NEAR(odometry.pose().x_m, 1.0, 0.002);
 }

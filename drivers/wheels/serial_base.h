@@ -2,7 +2,8 @@
 // checked once, the velocity asked for (clamped to the limits, with when it came), the odometry, battery and link
 // handlers and the driver's status under one mutex, the driver's thread running sessions on the serial port and
 // reopening it when it fails (drivers/serial/linked_device.h), the watch for a stream gone quiet, the wheels' command
-// ramped, and the odometry from the encoders. A driver supplies Session: one session on an open port, its protocol's commands and reports.
+// ramped, and the odometry from the encoders. A driver supplies Session: one session on an open port, its protocol's
+// commands and reports.
 //
 // `Options` has the bases' common keys (port, baud_rate, wheels, max_linear_mps, max_angular_rps,
 // max_linear_accel_mps2, max_angular_accel_rps2, footprint_radius_m, command_timeout_s, stale_s, silence_s,
@@ -66,7 +67,9 @@ class SerialBase : public DiffDriveBase, public Battery, public LinkedDevice<Sta
         odometry_(options_.wheels) {}
 
   // Starts the driver's thread: the subclass's constructor calls it last. Its destructor calls StopThread first.
-  void Start() { thread_ = std::jthread([this](std::stop_token stop) { Run(stop); }); }
+  void Start() {
+    thread_ = std::jthread([this](std::stop_token stop) { Run(stop); });
+  }
   void StopThread() {
     thread_.request_stop();
     if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id()) thread_.join();
@@ -75,8 +78,8 @@ class SerialBase : public DiffDriveBase, public Battery, public LinkedDevice<Sta
   // One session on an open port: until the port fails, the stream falls silent, or `stop`.
   virtual void Session(SerialPort& port, std::stop_token stop) = 0;
 
-  // After each read: no report for stale_s and the link is stale (the wheels get `stop_wheels`: the robot keeps its last
-  // command otherwise, for as long as it may still listen); for silence_s, false: the session ends.
+  // After each read: no report for stale_s and the link is stale (the wheels get `stop_wheels`: the robot keeps its
+  // last command otherwise, for as long as it may still listen); for silence_s, false: the session ends.
   bool Watch(SerialPort& port, std::span<const std::uint8_t> stop_wheels, const char* report) {
     const double quiet_s = ToSeconds(clock_.Now() - last_report_ns_);
     if (quiet_s > options_.silence_s) {
@@ -109,9 +112,9 @@ class SerialBase : public DiffDriveBase, public Battery, public LinkedDevice<Sta
   // The wheels' command for this report: `target` ramped to the acceleration limits, or zero at once while the floor
   // is missing.
   const nav::Twist2& Drive(const nav::Twist2& target, bool floor_missing, double dt) {
-    driven_ = floor_missing ? nav::Twist2{}
-                            : RampToward(driven_, target, options_.max_linear_accel_mps2,
-                                         options_.max_angular_accel_rps2, dt);
+    driven_ = floor_missing
+                  ? nav::Twist2{}
+                  : RampToward(driven_, target, options_.max_linear_accel_mps2, options_.max_angular_accel_rps2, dt);
     return driven_;
   }
   // A session begins: the device may have been power-cycled (its counts start anew) and its wheels are still.

@@ -25,7 +25,7 @@ std::vector<Detection> DepthPeople(const cv::Mat& depth_mm, const nav::PinholeCa
     double low = std::numeric_limits<double>::infinity();
     double high = -std::numeric_limits<double>::infinity();
     double near = std::numeric_limits<double>::infinity();
-    double left = std::numeric_limits<double>::infinity();    // lateral extent, across the line of sight
+    double left = std::numeric_limits<double>::infinity();  // lateral extent, across the line of sight
     double right = -std::numeric_limits<double>::infinity();
     int u0 = std::numeric_limits<int>::max(), v0 = std::numeric_limits<int>::max(), u1 = -1, v1 = -1;
     int pixels = 0;

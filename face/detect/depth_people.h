@@ -19,12 +19,12 @@
 namespace corridor::face {
 
 struct DepthPeopleOptions {
-  double min_height_m = 1.2;    // the highest point seen of it, above the floor (a sitting adult, a child)
-  double max_height_m = 2.1;    // a pillar or a shelf reaching higher is not a person (unless cut by the view's top)
+  double min_height_m = 1.2;      // the highest point seen of it, above the floor (a sitting adult, a child)
+  double max_height_m = 2.1;      // a pillar or a shelf reaching higher is not a person (unless cut by the view's top)
   double max_floor_gap_m = 0.35;  // its lowest point seen: standing on the floor (a table's top is not)
   double min_width_m = 0.15;
   double max_width_m = 1.0;
-  double around_m = 0.15;       // pixels this far beyond the object's radius from its centre are part of it
+  double around_m = 0.15;  // pixels this far beyond the object's radius from its centre are part of it
   int min_pixels = 30;
   double score = 0.5;
 };

@@ -148,8 +148,8 @@ TEST(SimulatedPeopleTest, PeopleBehindAWallOrBehindTheRobotAreNotSeen) {
   const SimScene scene;
   SimulatedPeople people({.miss_rate = 0.0});
   // Behind the wall at 8 m, behind the robot, beyond the range.
-  EXPECT_TRUE(people.Detect({{8.6, 0.0}, {-2.0, 0.0}, {3.0, 30.0}}, nav::Pose2{}, scene.frame.depth_mm, scene.camera)
-                  .empty());
+  EXPECT_TRUE(
+      people.Detect({{8.6, 0.0}, {-2.0, 0.0}, {3.0, 30.0}}, nav::Pose2{}, scene.frame.depth_mm, scene.camera).empty());
   SimulatedPeople blind({.miss_rate = 1.0});
   EXPECT_TRUE(blind.Detect({scene.person}, nav::Pose2{}, scene.frame.depth_mm, scene.camera).empty());
   EXPECT_THROW(SimulatedPeople({.miss_rate = 1.5}), std::invalid_argument);
@@ -164,7 +164,8 @@ TEST(TrackerTest, APersonKeepsTheirIdAsTheyAndTheRobotMoveAndANewOneGetsANewId) 
     robot = robot * nav::Pose2{0.05, 0.0, 0.02};
     person += Eigen::Vector2d(-0.1, 0.02);
     const Eigen::Vector2d in_base = robot.Inverse().Transform(person);
-    std::vector<Detection> frame{{"person", 0.9, std::nullopt, Eigen::Vector3d(in_base.x(), in_base.y(), 0.8), 0, "sim"}};
+    std::vector<Detection> frame{
+        {"person", 0.9, std::nullopt, Eigen::Vector3d(in_base.x(), in_base.y(), 0.8), 0, "sim"}};
     if (i == 5) frame.push_back({"person", 0.8, std::nullopt, Eigen::Vector3d(2.0, -1.5, 0.8), 0, "sim"});
     tracker.Assign(frame, robot, drivers::FromSeconds(0.2 * i));
     if (i == 0) id = frame[0].track_id;

@@ -66,8 +66,8 @@ DnnDetector::DnnDetector(const DnnOptions& options) : options_(options), classes
 
 std::vector<Detection> DnnDetector::Detect(const cv::Mat& bgr, const cv::Mat& /*depth_mm*/) {
   if (bgr.type() != CV_8UC3) throw std::invalid_argument("dnn: the colour image must be CV_8UC3");
-  const cv::Mat blob = cv::dnn::blobFromImage(bgr, 1.0 / 255.0, cv::Size(options_.input_size_px, options_.input_size_px),
-                                              cv::Scalar(), true, false);
+  const cv::Mat blob = cv::dnn::blobFromImage(
+      bgr, 1.0 / 255.0, cv::Size(options_.input_size_px, options_.input_size_px), cv::Scalar(), true, false);
   net_.setInput(blob);
   std::vector<cv::Mat> outputs;
   net_.forward(outputs, net_.getUnconnectedOutLayersNames());
@@ -89,7 +89,8 @@ std::vector<Detection> DnnDetector::Detect(const cv::Mat& bgr, const cv::Mat& /*
       of_label.push_back(&d);
     }
     std::vector<int> kept;
-    cv::dnn::NMSBoxes(boxes, scores, static_cast<float>(options_.min_score), static_cast<float>(options_.nms_iou), kept);
+    cv::dnn::NMSBoxes(boxes, scores, static_cast<float>(options_.min_score), static_cast<float>(options_.nms_iou),
+                      kept);
     for (int i : kept) out.push_back(*of_label[static_cast<std::size_t>(i)]);
   }
   return out;

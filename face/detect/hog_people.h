@@ -12,13 +12,13 @@
 namespace corridor::face {
 
 struct HogOptions {
-  double upscale = 1.0;          // the image is enlarged by this before the search (>= 1)
-  double scale_step = 1.2;       // between the pyramid's levels
-  int window_stride_px = 8;      // of the search, in the (enlarged) image
-  int padding_px = 32;           // windows may reach this far past the image's edges (people cut by the frame)
-  double hit_threshold = 0.0;    // the SVM's margin a window needs
-  int group_threshold = 2;       // overlapping windows needed to make a detection
-  double min_score = 0.3;        // detections scoring less are dropped
+  double upscale = 1.0;        // the image is enlarged by this before the search (>= 1)
+  double scale_step = 1.2;     // between the pyramid's levels
+  int window_stride_px = 8;    // of the search, in the (enlarged) image
+  int padding_px = 32;         // windows may reach this far past the image's edges (people cut by the frame)
+  double hit_threshold = 0.0;  // the SVM's margin a window needs
+  int group_threshold = 2;     // overlapping windows needed to make a detection
+  double min_score = 0.3;      // detections scoring less are dropped
 };
 
 class HogPeopleDetector final : public Detector {

@@ -67,8 +67,8 @@ void LocateDetections(std::vector<Detection>& detections, const cv::Mat& depth_m
     if (d.position) {
       d.bearing_rad = std::atan2(d.position->y(), d.position->x());
     } else if (d.box) {
-      const Eigen::Vector3d ray = camera.base_T_camera.linear() * camera.Ray(d.box->x + d.box->width / 2.0,
-                                                                             d.box->y + d.box->height / 2.0);
+      const Eigen::Vector3d ray =
+          camera.base_T_camera.linear() * camera.Ray(d.box->x + d.box->width / 2.0, d.box->y + d.box->height / 2.0);
       d.bearing_rad = std::atan2(ray.y(), ray.x());
     }
     return implausible;

@@ -36,7 +36,7 @@ SizeLimits FaceSize();    // 0.08-0.45 m either way
 struct Located {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // base frame: the ray through the box's middle at depth_m
   double depth_m = 0.0;
-  double width_m = 0.0;   // the box's size at depth_m
+  double width_m = 0.0;  // the box's size at depth_m
   double height_m = 0.0;
 };
 

@@ -34,9 +34,11 @@ constexpr int kCascadeWidthPx = 320;
 
 PeopleDetector::PeopleDetector(const PeopleOptions& options) : options_(options), hog_(options.hog) {
   if (!(options.cascade_scale_step > 1.0) || options.upper_body_neighbours < 0 || options.face_neighbours < 0 ||
-      options.upper_body_min_px < 16 || options.face_min_px < 8 || !(options.merge_iou > 0.0 && options.merge_iou < 1.0)) {
-    throw std::invalid_argument("people: cascade_scale_step > 1, neighbours >= 0, sizes of 16 and 8 px at least, "
-                                "merge_iou in (0, 1)");
+      options.upper_body_min_px < 16 || options.face_min_px < 8 ||
+      !(options.merge_iou > 0.0 && options.merge_iou < 1.0)) {
+    throw std::invalid_argument(
+        "people: cascade_scale_step > 1, neighbours >= 0, sizes of 16 and 8 px at least, "
+        "merge_iou in (0, 1)");
   }
   if (options.upper_body) Load(upper_body_, options.upper_body_cascade);
   if (options.faces) {
@@ -72,8 +74,8 @@ std::vector<Detection> PeopleDetector::Detect(const cv::Mat& bgr, const cv::Mat&
   if (options_.upper_body) {
     // Head and shoulders: down to the waist, about as far again.
     for (const cv::Rect& r : Find(upper_body_, gray, options_.upper_body_neighbours, options_.upper_body_min_px)) {
-      found.push_back({"person", options_.upper_body_score, Grown(r, 0.0, 0.0, 0.0, 1.0, size), std::nullopt, 0,
-                       "upper_body"});
+      found.push_back(
+          {"person", options_.upper_body_score, Grown(r, 0.0, 0.0, 0.0, 1.0, size), std::nullopt, 0, "upper_body"});
     }
   }
   if (options_.faces) {

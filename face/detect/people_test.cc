@@ -21,11 +21,11 @@ Detection Person(double x, double y, double w, double h, double score, const cha
 }
 
 TEST(MergePeopleTest, OnePersonsFindsBecomeOneAndOthersStay) {
-  const std::vector<Detection> merged = MergePeople(
-      {Person(100, 50, 80, 200, 0.9, "hog"),              // a whole body
-       Person(110, 40, 70, 120, 0.5, "upper_body"),       // its head and shoulders, mostly inside it
-       Person(400, 60, 60, 80, 0.6, "face_frontal")},     // someone else
-      0.3);
+  const std::vector<Detection> merged =
+      MergePeople({Person(100, 50, 80, 200, 0.9, "hog"),           // a whole body
+                   Person(110, 40, 70, 120, 0.5, "upper_body"),    // its head and shoulders, mostly inside it
+                   Person(400, 60, 60, 80, 0.6, "face_frontal")},  // someone else
+                  0.3);
   ASSERT_EQ(merged.size(), 2u);
   EXPECT_EQ(merged[0].source, "hog");
   EXPECT_DOUBLE_EQ(merged[0].box->area(), 80.0 * 200.0);

@@ -1,9 +1,9 @@
 // In the simulator, the simulated people in the camera's view stand in for a detector's output, as the simulated camera
-// stands in for a real one: each person (an upright body of the crowd's radius and height, world frame) of whom at least
-// a fifth projects into the image, within max_range_m, and who is not hidden (the depth frame at the middle of what is
-// in view is not much nearer than they are) becomes a "person" with a box round what is in view and the position of
-// their near surface, unless missed (miss_rate, seeded). What the daemon then does with it is exactly what it does
-// with a real detector's.
+// stands in for a real one: each person (an upright body of the crowd's radius and height, world frame) of whom at
+// least a fifth projects into the image, within max_range_m, and who is not hidden (the depth frame at the middle of
+// what is in view is not much nearer than they are) becomes a "person" with a box round what is in view and the
+// position of their near surface, unless missed (miss_rate, seeded). What the daemon then does with it is exactly what
+// it does with a real detector's.
 #pragma once
 
 #include <cstdint>
@@ -19,11 +19,11 @@
 namespace corridor::face {
 
 struct SimulatedPeopleOptions {
-  double miss_rate = 0.1;       // the share of people in view not reported, at random
+  double miss_rate = 0.1;  // the share of people in view not reported, at random
   double max_range_m = 6.0;
-  double radius_m = 0.25;       // the crowd's (drivers/sim/crowd.h)
+  double radius_m = 0.25;  // the crowd's (drivers/sim/crowd.h)
   double height_m = 1.7;
-  double hidden_margin_m = 0.3; // the depth at a person's middle this much nearer than them: hidden
+  double hidden_margin_m = 0.3;  // the depth at a person's middle this much nearer than them: hidden
   std::uint32_t seed = 1;
 };
 

@@ -7,8 +7,8 @@
 
 #include <vector>
 
-#include "face/detect/detection.h"
 #include "drivers/clock.h"
+#include "face/detect/detection.h"
 #include "nav/geometry/pose2.h"
 
 namespace corridor::face {

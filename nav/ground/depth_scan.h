@@ -19,11 +19,11 @@
 namespace corridor::nav {
 
 struct DepthScanOptions {
-  double min_height_m = 0.1;   // lower: the floor and what the robot drives over
-  double max_height_m = 1.8;   // higher: passed under
+  double min_height_m = 0.1;  // lower: the floor and what the robot drives over
+  double max_height_m = 1.8;  // higher: passed under
   double min_range_m = 0.2;
-  double max_range_m = 4.0;    // farther, depth noise (and the nearest of a column's noisy pixels) puts walls off the map
-  int row_step = 2;            // every row_step-th row is read (a person is many rows tall)
+  double max_range_m = 4.0;  // farther, depth noise (and the nearest of a column's noisy pixels) puts walls off the map
+  int row_step = 2;          // every row_step-th row is read (a person is many rows tall)
   // An object cut by the side of the image shows a part that slides as the robot turns, which a tracker takes for
   // motion: the run of neighbouring columns (points within segment_gap_m of each other) that touches either side
   // is dropped (0: kept). MORP still sees it; the tracker picks it up once it is wholly in view.
@@ -71,8 +71,8 @@ class DepthScan {
   std::vector<Eigen::Vector2d> points_;
   std::vector<Eigen::Vector2d> misses_;
   std::vector<Eigen::Vector2d> column_end_;  // per column: its ray on the floor at max_range_m, base frame
-  Pose2 base_T_view_;            // the camera on the floor, x along its optical axis
-  double half_angle_rad_ = 0.0;  // to the nearer side of the image, on the floor
+  Pose2 base_T_view_;                        // the camera on the floor, x along its optical axis
+  double half_angle_rad_ = 0.0;              // to the nearer side of the image, on the floor
 };
 
 }  // namespace corridor::nav

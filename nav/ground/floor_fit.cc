@@ -55,7 +55,8 @@ std::optional<FloorFit> FitFloor(const cv::Mat& depth, const PinholeCamera& came
   for (const Eigen::Vector3d& p : inliers) centroid += p;
   centroid /= static_cast<double>(inliers.size());
   Eigen::MatrixXd centred(inliers.size(), 3);
-  for (std::size_t i = 0; i < inliers.size(); ++i) centred.row(static_cast<Eigen::Index>(i)) = (inliers[i] - centroid).transpose();
+  for (std::size_t i = 0; i < inliers.size(); ++i)
+    centred.row(static_cast<Eigen::Index>(i)) = (inliers[i] - centroid).transpose();
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred, Eigen::ComputeThinV);
   Eigen::Vector3d n = svd.matrixV().col(2).normalized();
   if (n.dot(up) < 0.0) n = -n;

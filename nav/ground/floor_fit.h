@@ -24,11 +24,11 @@ struct FloorFitOptions {
 };
 
 struct FloorFit {
-  Eigen::Vector3d normal;    // unit, optical frame, pointing up (away from the floor)
-  double offset = 0.0;       // plane: normal . p + offset = 0
+  Eigen::Vector3d normal;  // unit, optical frame, pointing up (away from the floor)
+  double offset = 0.0;     // plane: normal . p + offset = 0
   double camera_height_m = 0.0;
-  double tilt_rad = 0.0;     // optical axis below the horizontal (pitch down)
-  double roll_rad = 0.0;     // image x axis rotated about the optical axis
+  double tilt_rad = 0.0;  // optical axis below the horizontal (pitch down)
+  double roll_rad = 0.0;  // image x axis rotated about the optical axis
   int inliers = 0;
   double inlier_fraction = 0.0;
 };

@@ -71,8 +71,8 @@ Morp::Morp(const PinholeCamera& camera, const MorpOptions& options) : camera_(ca
 const std::vector<LaneResult>& Morp::Process(const cv::Mat& depth) {
   const bool millimetres = depth.type() == CV_16UC1;
   if ((!millimetres && depth.type() != CV_32FC1) || depth.cols != camera_.width || depth.rows != camera_.height) {
-    throw std::invalid_argument("Morp: expected a " + std::to_string(camera_.width) + "x" + std::to_string(camera_.height) +
-                                " depth image, CV_16UC1 (mm) or CV_32FC1 (m)");
+    throw std::invalid_argument("Morp: expected a " + std::to_string(camera_.width) + "x" +
+                                std::to_string(camera_.height) + " depth image, CV_16UC1 (mm) or CV_32FC1 (m)");
   }
   const int k = options_.half_window_px;
   const float max_step = static_cast<float>(options_.max_step_m);

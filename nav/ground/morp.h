@@ -32,28 +32,28 @@
 namespace corridor::nav {
 
 struct MorpOptions {
-  int lanes = 0;                     // 0: one lane per lane_width_m across span_m
+  int lanes = 0;  // 0: one lane per lane_width_m across span_m
   // The lanes' total width, centred on the robot: wider than the robot, so that what passes beside it was seen
   // (the local navigator steers on the lanes in front of its footprint and remembers the others).
   double span_m = 1.0;
   double lane_width_m = 0.1;
-  double w1 = 0.5;                   // weight of the local gradient
-  double w2 = 0.5;                   // weight of the gradient from the start pixel
-  double score_threshold = 0.6;      // C: a weighted slope (rise over run); 0.6 is about 31 degrees
-  double max_step_m = 0.03;          // height above (or below) the floor the robot drives over; run-time setting
-  double max_drop_m = 0.05;          // anything this far below the floor is a drop, whatever its slope
-  double min_range_m = 0.2;          // the camera's minimum range
-  double max_range_m = 4.0;          // lanes are scanned out to this forward distance
-  double blind_range_m = 0.6;        // no valid depth before this forward distance: the lane is blind
-  int half_window_px = 2;            // each lane sample takes the nearest valid depth across 2k+1 columns
+  double w1 = 0.5;               // weight of the local gradient
+  double w2 = 0.5;               // weight of the gradient from the start pixel
+  double score_threshold = 0.6;  // C: a weighted slope (rise over run); 0.6 is about 31 degrees
+  double max_step_m = 0.03;      // height above (or below) the floor the robot drives over; run-time setting
+  double max_drop_m = 0.05;      // anything this far below the floor is a drop, whatever its slope
+  double min_range_m = 0.2;      // the camera's minimum range
+  double max_range_m = 4.0;      // lanes are scanned out to this forward distance
+  double blind_range_m = 0.6;    // no valid depth before this forward distance: the lane is blind
+  int half_window_px = 2;        // each lane sample takes the nearest valid depth across 2k+1 columns
 };
 
 struct LaneResult {
-  double offset_m = 0.0;             // the lane's centre, left of the robot's centre line
-  double free_distance_m = 0.0;      // forward distance to the dead-end, or max_range_m when none
+  double offset_m = 0.0;         // the lane's centre, left of the robot's centre line
+  double free_distance_m = 0.0;  // forward distance to the dead-end, or max_range_m when none
   bool dead_end = false;
-  bool blind = false;                // no valid depth near the robot
-  Eigen::Vector2i pixel{-1, -1};     // the dead-end pixel (u, v), when dead_end
+  bool blind = false;                               // no valid depth near the robot
+  Eigen::Vector2i pixel{-1, -1};                    // the dead-end pixel (u, v), when dead_end
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  // the dead-end in the base frame, when dead_end
 };
 
@@ -83,10 +83,10 @@ class Morp {
 
  private:
   struct Sample {
-    int u;                     // centre column
-    int v;                     // row
-    Eigen::Vector3f origin;    // camera centre, base frame
-    Eigen::Vector3f ray;       // base-frame ray with unit optical depth
+    int u;                   // centre column
+    int v;                   // row
+    Eigen::Vector3f origin;  // camera centre, base frame
+    Eigen::Vector3f ray;     // base-frame ray with unit optical depth
   };
   struct Lane {
     double offset_m;

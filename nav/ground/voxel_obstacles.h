@@ -18,12 +18,12 @@
 namespace corridor::nav {
 
 struct VoxelObstacleOptions {
-  double voxel_m = 0.05;          // the voxel grid's leaf size
-  double min_height_m = 0.05;     // lower: floor (and noise on it)
-  double max_height_m = 1.2;      // higher: passed under
+  double voxel_m = 0.05;       // the voxel grid's leaf size
+  double min_height_m = 0.05;  // lower: floor (and noise on it)
+  double max_height_m = 1.2;   // higher: passed under
   double min_range_m = 0.2;
-  double max_range_m = 4.0;       // farther points are dropped before the grid
-  int min_points = 2;             // voxels with fewer points are noise
+  double max_range_m = 4.0;  // farther points are dropped before the grid
+  int min_points = 2;        // voxels with fewer points are noise
 };
 
 class VoxelObstacles {

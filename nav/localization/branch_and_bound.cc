@@ -62,8 +62,8 @@ std::optional<ScanMatch> BranchAndBoundMatcher::MatchEverywhere(std::span<const 
                                                                 double min_score) const {
   const double r = resolution_m_;
   const Eigen::Vector2d centre = min_corner_ + Eigen::Vector2d(width_, height_) * (r / 2.0);
-  return Search(points, Pose2{centre.x(), centre.y(), 0.0}, (width_ + 1) / 2, (height_ + 1) / 2,
-                std::numbers::pi, min_score);
+  return Search(points, Pose2{centre.x(), centre.y(), 0.0}, (width_ + 1) / 2, (height_ + 1) / 2, std::numbers::pi,
+                min_score);
 }
 
 std::optional<ScanMatch> BranchAndBoundMatcher::Search(std::span<const Eigen::Vector2f> points, const Pose2& centre,
@@ -109,7 +109,8 @@ std::optional<ScanMatch> BranchAndBoundMatcher::Search(std::span<const Eigen::Ve
       }
     }
   }
-  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
   float best_score = static_cast<float>(min_score);
   std::optional<Candidate> best;
   // Depth first, best child first: a good candidate found early prunes most of the rest.
@@ -132,7 +133,8 @@ std::optional<ScanMatch> BranchAndBoundMatcher::Search(std::span<const Eigen::Ve
           children.push_back(child);
         }
       }
-      std::sort(children.begin(), children.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+      std::sort(children.begin(), children.end(),
+                [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
       self(self, children, level - 1);
     }
   };

@@ -12,9 +12,9 @@
 namespace corridor::nav {
 
 struct CarmenScan {
-  double timestamp_s = 0.0;   // the message's ipc timestamp
-  Pose2 pose;                 // the laser's pose as logged (in "corrected" logs, the corrected pose)
-  double angle_min_rad = 0.0; // the sweep: ranges[i] along angle_min_rad + i * angle_increment_rad
+  double timestamp_s = 0.0;    // the message's ipc timestamp
+  Pose2 pose;                  // the laser's pose as logged (in "corrected" logs, the corrected pose)
+  double angle_min_rad = 0.0;  // the sweep: ranges[i] along angle_min_rad + i * angle_increment_rad
   double angle_increment_rad = 0.0;
   std::vector<float> ranges_m;
 };

@@ -16,8 +16,10 @@ Pose2 GraphSlam::AddScan(const RangeScan& scan, const Pose2& odom_pose) {
   // Local SLAM: odometry's prediction, matched into the fuller of the active submaps.
   const Pose2 previous_local = last_local_;
   const Pose2 odom_step = last_odom_ ? last_odom_->Inverse() * odom_pose : Pose2{};
-  const double sigma_m = options_.odometry_sigma_floor_m + options_.odometry_sigma_per_m * odom_step.translation().norm();
-  const double sigma_rad = options_.odometry_sigma_floor_rad + options_.odometry_sigma_per_rad * std::abs(odom_step.yaw_rad);
+  const double sigma_m =
+      options_.odometry_sigma_floor_m + options_.odometry_sigma_per_m * odom_step.translation().norm();
+  const double sigma_rad =
+      options_.odometry_sigma_floor_rad + options_.odometry_sigma_per_rad * std::abs(odom_step.yaw_rad);
   Pose2 local = last_local_ * odom_step;
   if (!active_.empty()) {
     const Submap& target = *submaps_[active_.front()];
@@ -31,13 +33,13 @@ Pose2 GraphSlam::AddScan(const RangeScan& scan, const Pose2& odom_pose) {
   last_local_ = local;
   travel_since_search_m_ += (local.translation() - previous_local.translation()).norm();
 
-  const bool moved =
-      !last_inserted_ ||
-      (local.translation() - last_inserted_->translation()).norm() >= options_.insert_distance_m ||
-      std::abs(WrapAngle(local.yaw_rad - last_inserted_->yaw_rad)) >= options_.insert_angle_rad;
+  const bool moved = !last_inserted_ ||
+                     (local.translation() - last_inserted_->translation()).norm() >= options_.insert_distance_m ||
+                     std::abs(WrapAngle(local.yaw_rad - last_inserted_->yaw_rad)) >= options_.insert_angle_rad;
   const Pose2 global = LocalToGlobal(local);
   if (moved) {
-    if (active_.empty() || (active_.size() == 1 && submaps_[active_.back()]->inserted >= options_.scans_per_submap / 2)) {
+    if (active_.empty() ||
+        (active_.size() == 1 && submaps_[active_.back()]->inserted >= options_.scans_per_submap / 2)) {
       auto submap = std::make_unique<Submap>(Submap{HitField(options_.grid), local, 0, 0, nullptr});
       submap->node = graph_.AddNode(global);
       active_.push_back(static_cast<int>(submaps_.size()));
@@ -68,8 +70,7 @@ Pose2 GraphSlam::AddScan(const RangeScan& scan, const Pose2& odom_pose) {
     active_.erase(active_.begin());
   }
   ++stats_.scans;
-  if (++since_loop_search_ >= options_.loop_closure_every &&
-      travel_since_search_m_ >= options_.loop_search_travel_m) {
+  if (++since_loop_search_ >= options_.loop_closure_every && travel_since_search_m_ >= options_.loop_search_travel_m) {
     since_loop_search_ = 0;
     travel_since_search_m_ = 0.0;
     SearchLoopClosures(added, global);
@@ -168,7 +169,8 @@ OccupancyGrid RenderScans(std::span<const RangeScan* const> scans, std::span<con
     const Pose2& pose = poses[i];
     const Eigen::Vector2d origin = pose.Transform(scans[i]->origin.cast<double>());
     for (const Eigen::Vector2f& p : scans[i]->hits) grid.IntegrateRay(origin, pose.Transform(p.cast<double>()), true);
-    for (const Eigen::Vector2f& p : scans[i]->misses) grid.IntegrateRay(origin, pose.Transform(p.cast<double>()), false);
+    for (const Eigen::Vector2f& p : scans[i]->misses)
+      grid.IntegrateRay(origin, pose.Transform(p.cast<double>()), false);
   }
   return grid.ToOccupancyGrid();
 }

@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "nav/localization/branch_and_bound.h"
-#include "nav/localization/pose_graph.h"
 #include "nav/localization/hit_field.h"
+#include "nav/localization/pose_graph.h"
 #include "nav/localization/range_scan.h"
 #include "nav/localization/scan_matcher.h"
 #include "nav/map/log_odds_grid.h"
@@ -26,10 +26,10 @@ namespace corridor::nav {
 
 struct GraphSlamOptions {
   HitFieldOptions grid;
-  double match_voxel_m = 0.05;        // scan points are thinned to one per square this size before matching
-  int scans_per_submap = 40;          // inserted scans that finish a submap
-  double insert_distance_m = 0.1;     // a scan is inserted once the robot moved this far or turned
-  double insert_angle_rad = 0.0175;   // this much since the last inserted scan
+  double match_voxel_m = 0.05;       // scan points are thinned to one per square this size before matching
+  int scans_per_submap = 40;         // inserted scans that finish a submap
+  double insert_distance_m = 0.1;    // a scan is inserted once the robot moved this far or turned
+  double insert_angle_rad = 0.0175;  // this much since the last inserted scan
   SearchWindow local_window{0.15, 0.12};
   // The refinement pulls towards the odometry's prediction as hard as the odometry is precise over the step: weight =
   // prior_scale / sigma, sigma = floor + per-unit noise x the step's length (or turn). A short step keeps the
@@ -49,11 +49,11 @@ struct GraphSlamOptions {
   double loop_search_travel_m = 0.3;
   int loop_max_submaps = 6;
   double loop_search_radius_m = 10.0;
-  double loop_voxel_m = 0.1;          // the scan's points are thinned further for the search
+  double loop_voxel_m = 0.1;  // the scan's points are thinned further for the search
   SearchWindow loop_window{3.0, 0.3};
   double loop_min_score = 0.6;
   RefineOptions loop_refine{1.0, 1.0, 1.0, 20};
-  int optimize_every = 30;            // scans between optimizations (only when loop closures came in)
+  int optimize_every = 30;  // scans between optimizations (only when loop closures came in)
   // Pose graph weights (Cartographer's): where a scan lies in its submaps (weak: submaps may bend), the local SLAM's
   // motion between consecutive scans (strong: local SLAM is accurate over short distances), loop closures (robust).
   double submap_translation_weight = 5e2;
@@ -126,11 +126,11 @@ class GraphSlam {
   std::vector<int> active_;  // indices into submaps_, oldest first
   std::vector<Scan> scans_;
   std::optional<Pose2> last_odom_;  // at the last scan
-  Pose2 last_local_;  // of the last scan added
+  Pose2 last_local_;                // of the last scan added
   std::optional<Pose2> last_inserted_;
   Pose2 global_T_local_;
   bool new_loop_closures_ = false;
-  int since_loop_search_ = 0;      // scans
+  int since_loop_search_ = 0;  // scans
   double travel_since_search_m_ = 0.0;
   int since_optimized_ = 0;
   GraphSlamStats stats_;

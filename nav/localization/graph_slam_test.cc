@@ -24,7 +24,8 @@ using testworld::ScanAt;
 TEST(PoseGraphTest, ALoopClosureSpreadsTheDriftOverTheLoop) {
   PoseGraph graph;
   std::vector<Pose2> truth{Pose2{}};
-  for (int i = 1; i <= 40; ++i) truth.push_back(truth.back() * Pose2{0.4, 0.0, i % 10 == 0 ? std::numbers::pi / 2 : 0.0});
+  for (int i = 1; i <= 40; ++i)
+    truth.push_back(truth.back() * Pose2{0.4, 0.0, i % 10 == 0 ? std::numbers::pi / 2 : 0.0});
   Pose2 dead_reckoning;
   graph.AddNode(dead_reckoning);
   for (int i = 1; i <= 40; ++i) {

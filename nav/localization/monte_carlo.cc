@@ -90,8 +90,8 @@ MonteCarloLocalization::MonteCarloLocalization(const OccupancyGrid& map, const M
   std::vector<std::uint8_t> walls(map.cells().size());
   for (std::size_t i = 0; i < walls.size(); ++i) walls[i] = map.cells()[i] >= 65 ? 1 : 0;
   const double limit = std::max({4.0 * options.sigma_hit_m, options.agree_distance_m, 0.5}) + 0.1;
-  distance_m_ = FastMarchingDistance(walls, map.width(), map.height(), map.resolution_m(), {.max_distance_m = limit})
-                    .distance_m;
+  distance_m_ =
+      FastMarchingDistance(walls, map.width(), map.height(), map.resolution_m(), {.max_distance_m = limit}).distance_m;
   const double floor = options.z_rand / options.max_range_m;
   unknown_likelihood_ = static_cast<float>(std::log(floor));
   likelihood_.resize(distance_m_.size());
@@ -154,7 +154,8 @@ bool MonteCarloLocalization::Relocalize(const RangeScan& scan) {
   // Coarse to fine: the whole map at relocalize_resolution_m (the search's cost falls with the cube of the cell size:
   // positions and headings), then the map's own cells around what it found.
   if (!global_matcher_) {
-    const int factor = std::max(1, static_cast<int>(std::lround(options_.relocalize_resolution_m / map_.resolution_m())));
+    const int factor =
+        std::max(1, static_cast<int>(std::lround(options_.relocalize_resolution_m / map_.resolution_m())));
     HitFieldOptions coarse;
     coarse.sigma_m = map_.resolution_m() * factor;
     global_matcher_ = std::make_unique<BranchAndBoundMatcher>(
@@ -166,7 +167,8 @@ bool MonteCarloLocalization::Relocalize(const RangeScan& scan) {
     return false;
   }
   const double coarse_m = global_matcher_->resolution_m();
-  const ScanMatch fine = CorrelativeMatch(match_grid_, thinned, found->pose, SearchWindow{coarse_m, 2.0 * coarse_m / 4.0});
+  const ScanMatch fine =
+      CorrelativeMatch(match_grid_, thinned, found->pose, SearchWindow{coarse_m, 2.0 * coarse_m / 4.0});
   const Pose2 refined = RefineMatch(match_grid_, thinned, fine.pose, fine.pose);
   SetPose(refined, options_.relocalize_sigma_m, options_.relocalize_sigma_rad);
   return true;
@@ -183,7 +185,8 @@ void MonteCarloLocalization::Move(const Pose2& from, const Pose2& to) {
   const double r2 = turned(rot2);
   const MonteCarloOptions& o = options_;
   const double sd_rot1 = std::sqrt(o.alpha_rot_from_rot * r1 * r1 + o.alpha_rot_from_trans * trans * trans);
-  const double sd_trans = std::sqrt(o.alpha_trans_from_trans * trans * trans + o.alpha_trans_from_rot * (r1 * r1 + r2 * r2));
+  const double sd_trans =
+      std::sqrt(o.alpha_trans_from_trans * trans * trans + o.alpha_trans_from_rot * (r1 * r1 + r2 * r2));
   const double sd_rot2 = std::sqrt(o.alpha_rot_from_rot * r2 * r2 + o.alpha_rot_from_trans * trans * trans);
   std::normal_distribution<double> normal(0.0, 1.0);
   for (Particle& p : particles_) {
@@ -297,9 +300,9 @@ void MonteCarloLocalization::UpdateHealth(std::span<const Eigen::Vector2f> hits)
     estimate_.health = LocalizationHealth::kLost;
   } else if (estimate_.agreement >= options_.ok_agreement && spread <= options_.ok_spread_m) {
     estimate_.health = LocalizationHealth::kOk;
-    usual_agreement_ = usual_agreement_ < 0.0
-                           ? estimate_.agreement
-                           : usual_agreement_ + options_.usual_agreement_rate * (estimate_.agreement - usual_agreement_);
+    usual_agreement_ = usual_agreement_ < 0.0 ? estimate_.agreement
+                                              : usual_agreement_ + options_.usual_agreement_rate *
+                                                                       (estimate_.agreement - usual_agreement_);
   } else {
     estimate_.health = LocalizationHealth::kUncertain;
   }
@@ -309,8 +312,8 @@ const LocalizationEstimate& MonteCarloLocalization::Update(const Pose2& odom_pos
   if (!last_update_odom_) last_update_odom_ = odom_pose;
   last_odom_ = odom_pose;
   const Pose2 since = last_update_odom_->Inverse() * odom_pose;
-  const bool moved = since.translation().norm() >= options_.update_distance_m ||
-                     std::abs(since.yaw_rad) >= options_.update_angle_rad;
+  const bool moved =
+      since.translation().norm() >= options_.update_distance_m || std::abs(since.yaw_rad) >= options_.update_angle_rad;
   // The first scan after SetPose is weighed whatever the motion; the rest of the settling ones only while the robot
   // stands still, each after spreading the particles a little, so that weighing the same view again does not collapse
   // them onto a few. Once the robot moves, the usual updates take over.

@@ -58,17 +58,17 @@ struct MonteCarloOptions {
   double sigma_hit_m = 0.05;
   double z_hit = 0.9;
   double z_rand = 0.1;
-  double max_range_m = 25.0;  // for the random-measurement density
+  double max_range_m = 25.0;    // for the random-measurement density
   int max_beams = 90;           // beams used per update, spread evenly
   double beam_exponent = 0.25;  // each beam's log-likelihood counts this much (beams are not independent)
   // Scan matching refinement of the reported pose.
   bool refine = true;
   double refine_voxel_m = 0.05;
   // Health.
-  double agree_distance_m = 0.15;    // a hit within this of a wall at the estimate agrees with the map
-  double ok_agreement = 0.5;         // at least this fraction agrees, and the spread is below ok_spread
+  double agree_distance_m = 0.15;  // a hit within this of a wall at the estimate agrees with the map
+  double ok_agreement = 0.5;       // at least this fraction agrees, and the spread is below ok_spread
   double ok_spread_m = 0.2;
-  double lost_agreement = 0.2;       // below this for lost_after scans in a row: lost (until ok_agreement for as many)
+  double lost_agreement = 0.2;  // below this for lost_after scans in a row: lost (until ok_agreement for as many)
   int lost_after = 5;
   // Lost holds until a pose is given or a search finds the robot (Relocalize), however well the scans agree again: a
   // narrow view agrees by chance with walls at a wrong heading (a depth camera's, kidnapped in Willow Garage, agreed
@@ -85,11 +85,11 @@ struct MonteCarloOptions {
   // likelihood is also what Augmented MCL reacts to (Thrun et al., table 8.3).
   double lost_drop_ratio = 0.5;
   double usual_agreement_rate = 0.02;
-  int min_judged_hits = 10;          // a scan with fewer hits (a camera facing open floor) neither refines the pose
-                                     // nor counts towards lost or found: it says too little (ok becomes uncertain)
+  int min_judged_hits = 10;  // a scan with fewer hits (a camera facing open floor) neither refines the pose
+                             // nor counts towards lost or found: it says too little (ok becomes uncertain)
   // Global relocalization: the minimum mean probability of a match, and the particles seeded around it.
   double relocalize_min_score = 0.5;
-  int relocalize_points = 80;  // the scan's hits searched with, at most
+  int relocalize_points = 80;            // the scan's hits searched with, at most
   double relocalize_resolution_m = 0.1;  // the whole map is searched at this cell size, then refined in the map's
   double relocalize_sigma_m = 0.1;
   double relocalize_sigma_rad = 0.05;
@@ -148,21 +148,21 @@ class MonteCarloLocalization {
   Pose2 origin_inverse_;  // the map's origin, inverted
   MonteCarloOptions options_;
   std::mt19937_64 random_;
-  std::vector<float> distance_m_;   // per map cell: to the nearest wall (+inf beyond the march limit)
-  std::vector<float> likelihood_;   // per map cell: the beam end density's log, floor included
-  float unknown_likelihood_ = 0.0f; // outside the map or in unknown cells
+  std::vector<float> distance_m_;    // per map cell: to the nearest wall (+inf beyond the march limit)
+  std::vector<float> likelihood_;    // per map cell: the beam end density's log, floor included
+  float unknown_likelihood_ = 0.0f;  // outside the map or in unknown cells
   HitField match_grid_;
   std::unique_ptr<BranchAndBoundMatcher> global_matcher_;  // built on the first relocalization
   std::vector<Particle> particles_;
-  std::optional<Pose2> last_odom_;      // at the last call
+  std::optional<Pose2> last_odom_;         // at the last call
   std::optional<Pose2> last_update_odom_;  // at the last filter update
   Pose2 update_pose_;                      // the estimate at the last filter update
   LocalizationEstimate estimate_;
-  int forced_updates_ = 1;                 // settling scans left (after SetPose: settle_updates)
-  int bad_updates_ = 0;   // scans in a row that the map explains too little
-  int good_updates_ = 0;  // and well
-  int doubtful_updates_ = 0;  // scans in a row that agree less than ok_agreement
-  int dropped_updates_ = 0;   // scans in a row that agree less than lost_drop_ratio x the usual
+  int forced_updates_ = 1;         // settling scans left (after SetPose: settle_updates)
+  int bad_updates_ = 0;            // scans in a row that the map explains too little
+  int good_updates_ = 0;           // and well
+  int doubtful_updates_ = 0;       // scans in a row that agree less than ok_agreement
+  int dropped_updates_ = 0;        // scans in a row that agree less than lost_drop_ratio x the usual
   double usual_agreement_ = -1.0;  // while ok, since the last new pose; negative: none yet
 };
 

@@ -45,10 +45,10 @@ std::vector<Pose2> Drive() {
   const auto go = [&](int steps, double forward, double turn) {
     for (int i = 0; i < steps; ++i) path.push_back(path.back() * Pose2{forward, 0.0, turn});
   };
-  go(60, 0.05, 0.0);                     // east along the south wall, north of the inner wall's end
-  go(20, 0.0, std::numbers::pi / 40);    // turn left
-  go(60, 0.05, 0.0);                     // north
-  go(20, 0.0, std::numbers::pi / 40);    // west
+  go(60, 0.05, 0.0);                   // east along the south wall, north of the inner wall's end
+  go(20, 0.0, std::numbers::pi / 40);  // turn left
+  go(60, 0.05, 0.0);                   // north
+  go(20, 0.0, std::numbers::pi / 40);  // west
   go(100, 0.05, 0.0);
   return path;
 }
@@ -110,9 +110,9 @@ TEST(MonteCarloLocalizationTest, RelocalizesAKidnappedRobotFromOneScan) {
   int tried = 0;
   while (tried < 10) {
     const Pose2 truth{x(random), y(random), yaw(random)};
-    if (truth.x_m > 1.2 && truth.x_m < 1.8 && truth.y_m < -0.8) continue;  // inside the inner wall
+    if (truth.x_m > 1.2 && truth.x_m < 1.8 && truth.y_m < -0.8) continue;                    // inside the inner wall
     if (truth.x_m > 3.8 && truth.x_m < 4.7 && truth.y_m > 1.8 && truth.y_m < 2.7) continue;  // the pillar
-    if (truth.x_m < -2.8 && truth.y_m > 0.8 && truth.y_m < 2.7) continue;  // the alcove's wall
+    if (truth.x_m < -2.8 && truth.y_m > 0.8 && truth.y_m < 2.7) continue;                    // the alcove's wall
     ++tried;
     const RangeScan scan = ScanAt(Room(), truth);
     if (!mcl.Relocalize(scan)) continue;
@@ -262,9 +262,9 @@ TEST(MonteCarloLocalizationTest, RelocalizesFromTheCameraScansOfOneTurnJoinedByO
   int tried = 0;
   while (tried < 10) {
     const Pose2 start{x(random), y(random), yaw(random)};
-    if (start.x_m > 1.0 && start.x_m < 2.0 && start.y_m < -0.6) continue;  // at the inner wall
+    if (start.x_m > 1.0 && start.x_m < 2.0 && start.y_m < -0.6) continue;                    // at the inner wall
     if (start.x_m > 3.6 && start.x_m < 4.9 && start.y_m > 1.6 && start.y_m < 2.9) continue;  // the pillar
-    if (start.x_m < -2.6 && start.y_m > 0.6 && start.y_m < 2.9) continue;  // the alcove's wall
+    if (start.x_m < -2.6 && start.y_m > 0.6 && start.y_m < 2.9) continue;                    // the alcove's wall
     ++tried;
     ScanHistory history;
     Pose2 truth = start;

@@ -15,7 +15,7 @@ namespace corridor::nav {
 struct PoseConstraint {
   int from = 0;
   int to = 0;
-  Pose2 from_T_to;  // the measured relative pose
+  Pose2 from_T_to;                  // the measured relative pose
   double translation_weight = 1.0;  // residual = weight * error (m, rad)
   double rotation_weight = 1.0;
   bool robust = false;  // a Huber loss of scale huber_scale on this constraint

@@ -38,8 +38,8 @@ std::vector<Eigen::Vector2f> VoxelFilter(std::span<const Eigen::Vector2f> points
   for (const Eigen::Vector2f& p : points) {
     const auto ix = static_cast<std::int32_t>(std::floor(p.x() / voxel_m));
     const auto iy = static_cast<std::int32_t>(std::floor(p.y() / voxel_m));
-    const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(ix)) << 32) |
-                              static_cast<std::uint32_t>(iy);
+    const std::uint64_t key =
+        (static_cast<std::uint64_t>(static_cast<std::uint32_t>(ix)) << 32) | static_cast<std::uint32_t>(iy);
     if (taken.insert(key).second) kept.push_back(p);
   }
   return kept;
@@ -51,7 +51,8 @@ std::vector<Eigen::Vector2f> TransformPoints(const Pose2& pose, std::span<const 
   const Eigen::Vector2f t(static_cast<float>(pose.x_m), static_cast<float>(pose.y_m));
   std::vector<Eigen::Vector2f> out;
   out.reserve(points.size());
-  for (const Eigen::Vector2f& p : points) out.emplace_back(c * p.x() - s * p.y() + t.x(), s * p.x() + c * p.y() + t.y());
+  for (const Eigen::Vector2f& p : points)
+    out.emplace_back(c * p.x() - s * p.y() + t.x(), s * p.x() + c * p.y() + t.y());
   return out;
 }
 

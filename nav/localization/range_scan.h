@@ -14,8 +14,8 @@ namespace corridor::nav {
 
 struct RangeScan {
   Eigen::Vector2f origin = Eigen::Vector2f::Zero();  // the sensor, base frame
-  std::vector<Eigen::Vector2f> hits;                  // beam ends on something, base frame
-  std::vector<Eigen::Vector2f> misses;                // ends of beams that found nothing (free up to there), base frame
+  std::vector<Eigen::Vector2f> hits;                 // beam ends on something, base frame
+  std::vector<Eigen::Vector2f> misses;               // ends of beams that found nothing (free up to there), base frame
 };
 
 struct RangeLimits {

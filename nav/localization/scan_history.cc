@@ -48,7 +48,8 @@ RangeScan ScanHistory::Merged(const Pose2& odom) const {
     for (const Eigen::Vector2f& p : TransformPoints(now_T_then, it->scan.hits)) hits.push_back(p);
   }
   merged.hits = hits.empty() ? hits : VoxelFilter(hits, options_.voxel_m);
-  if (!scans_.empty()) merged.origin = (now_T_odom * scans_.back().odom).Transform(scans_.back().scan.origin.cast<double>()).cast<float>();
+  if (!scans_.empty())
+    merged.origin = (now_T_odom * scans_.back().odom).Transform(scans_.back().scan.origin.cast<double>()).cast<float>();
   return merged;
 }
 
@@ -57,7 +58,8 @@ double ScanHistory::CoveredAngle(const Pose2& odom) const {
   std::array<bool, kBins> seen{};
   for (const Eigen::Vector2f& p : Merged(odom).hits) {
     const double bearing = std::atan2(p.y(), p.x()) + std::numbers::pi;  // 0 to 2 pi
-    seen[static_cast<std::size_t>(std::min(kBins - 1, static_cast<int>(bearing / (2.0 * std::numbers::pi) * kBins)))] = true;
+    seen[static_cast<std::size_t>(std::min(kBins - 1, static_cast<int>(bearing / (2.0 * std::numbers::pi) * kBins)))] =
+        true;
   }
   int covered = 0;
   for (const bool s : seen) covered += s;

@@ -14,11 +14,11 @@
 namespace corridor::nav {
 
 struct ScanHistoryOptions {
-  double keep_every_m = 0.1;      // a scan is kept once the robot moved this far since the last one kept
-  double keep_every_rad = 0.15;   // or turned this much
-  double max_travel_m = 3.0;      // the kept scans span at most this much travel (odometry drifts beyond)
-  double max_turn_rad = 7.0;      // and a little more than one turn
-  double voxel_m = 0.05;          // the merged hits, at most one per square of this side
+  double keep_every_m = 0.1;     // a scan is kept once the robot moved this far since the last one kept
+  double keep_every_rad = 0.15;  // or turned this much
+  double max_travel_m = 3.0;     // the kept scans span at most this much travel (odometry drifts beyond)
+  double max_turn_rad = 7.0;     // and a little more than one turn
+  double voxel_m = 0.05;         // the merged hits, at most one per square of this side
 };
 
 class ScanHistory {
@@ -57,8 +57,8 @@ struct NarrowViewSearchOptions {
   double turn_rps = 0.8;         // else the robot turns on the spot this fast to see more, at most one turn
 };
 struct NarrowViewSearch {
-  bool search = false;      // the history sees enough (or one turn saw all there is): search the map with it
-  double turn_rps = 0.0;    // else turn on the spot this fast (0: stand still)
+  bool search = false;    // the history sees enough (or one turn saw all there is): search the map with it
+  double turn_rps = 0.0;  // else turn on the spot this fast (0: stand still)
 };
 NarrowViewSearch PlanNarrowViewSearch(const ScanHistory& history, const Pose2& odom,
                                       const NarrowViewSearchOptions& options = {});

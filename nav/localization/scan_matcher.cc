@@ -126,8 +126,8 @@ ScanMatch CorrelativeMatch(const HitField& grid, std::span<const Eigen::Vector2f
   return best;
 }
 
-Pose2 RefineMatch(const HitField& grid, std::span<const Eigen::Vector2f> points, const Pose2& start,
-                  const Pose2& prior, const RefineOptions& options) {
+Pose2 RefineMatch(const HitField& grid, std::span<const Eigen::Vector2f> points, const Pose2& start, const Pose2& prior,
+                  const RefineOptions& options) {
   if (points.empty() || grid.empty()) return start;
   double pose[3] = {start.x_m, start.y_m, start.yaw_rad};
   ceres::Problem problem;
@@ -135,10 +135,10 @@ Pose2 RefineMatch(const HitField& grid, std::span<const Eigen::Vector2f> points,
   auto* occupied = new ceres::AutoDiffCostFunction<OccupiedSpaceCost, ceres::DYNAMIC, 3>(
       new OccupiedSpaceCost(grid, points, weight), static_cast<int>(points.size()));
   problem.AddResidualBlock(occupied, nullptr, pose);
-  problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PriorCost, 3, 3>(new PriorCost{
-                               prior.x_m, prior.y_m, prior.yaw_rad, options.translation_weight,
-                               options.rotation_weight}),
-                           nullptr, pose);
+  problem.AddResidualBlock(
+      new ceres::AutoDiffCostFunction<PriorCost, 3, 3>(
+          new PriorCost{prior.x_m, prior.y_m, prior.yaw_rad, options.translation_weight, options.rotation_weight}),
+      nullptr, pose);
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::DENSE_QR;
   solver.max_num_iterations = options.max_iterations;

@@ -18,10 +18,10 @@
 namespace corridor::nav {
 
 struct SearchWindow {
-  double linear_m = 0.15;           // +- in x and y around the guess
-  double angular_rad = 0.14;        // +- around the guess's heading
-  double linear_step_m = 0.0;       // rounded to whole cells of the grid, at least one (0: one cell)
-  double angular_step_rad = 0.0;    // 0: the angle that moves the scan's farthest point by one cell
+  double linear_m = 0.15;         // +- in x and y around the guess
+  double angular_rad = 0.14;      // +- around the guess's heading
+  double linear_step_m = 0.0;     // rounded to whole cells of the grid, at least one (0: one cell)
+  double angular_step_rad = 0.0;  // 0: the angle that moves the scan's farthest point by one cell
   // A candidate's score is multiplied by exp(-(translation_cost * d^2 + rotation_cost * a^2)) for its distance d (m)
   // and angle a (rad) from the guess, so that among equals the guess's neighbourhood wins (Cartographer's defaults).
   double translation_cost = 0.1;
@@ -52,7 +52,7 @@ struct RefineOptions {
 
 // Refines `start` by least squares on the grid's bicubic interpolation, with the prior's position and heading as
 // soft constraints. Returns `start` when the grid is empty or there are no points.
-Pose2 RefineMatch(const HitField& grid, std::span<const Eigen::Vector2f> points, const Pose2& start,
-                  const Pose2& prior, const RefineOptions& options = {});
+Pose2 RefineMatch(const HitField& grid, std::span<const Eigen::Vector2f> points, const Pose2& start, const Pose2& prior,
+                  const RefineOptions& options = {});
 
 }  // namespace corridor::nav

@@ -68,8 +68,11 @@ LaserYawFit FitLaserYaw(std::span<const Eigen::Vector2d> camera_points, const Se
   }
   const HitField field = FieldOf(reference);
   // Turned about the laser only: its position is as mounted.
-  const SearchWindow window{.linear_m = 0.0, .angular_rad = options.window_rad, .angular_step_rad = options.step_rad,
-                            .translation_cost = 0.0, .rotation_cost = 0.0};
+  const SearchWindow window{.linear_m = 0.0,
+                            .angular_rad = options.window_rad,
+                            .angular_step_rad = options.step_rad,
+                            .translation_cost = 0.0,
+                            .rotation_cost = 0.0};
   const ScanMatch best = CorrelativeMatch(field, points, base_T_laser, window);
   fit.yaw_rad = best.pose.yaw_rad;
   fit.score = best.score;
@@ -141,12 +144,14 @@ WheelRunFit FitWheelRun(std::span<const Eigen::Vector2f> start_points, std::span
   if (fit.kind == WheelRunKind::kStraight) {
     // The scans must pin the distance: moved 10 cm further along the run or back, the match must be clearly worse.
     const Eigen::Vector2d along = refined.translation().normalized() * 0.1;
-    const double worse = std::max(ScoreAt(field, end_points, Pose2{refined.x_m + along.x(), refined.y_m + along.y(), refined.yaw_rad}),
-                                  ScoreAt(field, end_points, Pose2{refined.x_m - along.x(), refined.y_m - along.y(), refined.yaw_rad}));
+    const double worse =
+        std::max(ScoreAt(field, end_points, Pose2{refined.x_m + along.x(), refined.y_m + along.y(), refined.yaw_rad}),
+                 ScoreAt(field, end_points, Pose2{refined.x_m - along.x(), refined.y_m - along.y(), refined.yaw_rad}));
     if (worse > 0.9 * fit.score) {
       fit.error = CalibrationError::kDegenerate;
-      fit.detail = "the scans line up as well 10 cm further along the run: drive towards or away from a wall across "
-                   "the way (a corridor whose end the laser cannot see does not pin the distance)";
+      fit.detail =
+          "the scans line up as well 10 cm further along the run: drive towards or away from a wall across "
+          "the way (a corridor whose end the laser cannot see does not pin the distance)";
       return fit;
     }
     fit.measured = refined.translation().norm();

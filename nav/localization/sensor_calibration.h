@@ -23,27 +23,27 @@ namespace corridor::nav {
 
 enum class CalibrationError {
   kNone,
-  kTooFewPoints,   // the sensors see too little (nothing within range, or the camera's view empty)
-  kNoMatch,        // the scans do not line up anywhere in the window
-  kNotARun,        // the odometry shows neither a straight run nor a turn on the spot of the sizes asked for
-  kDegenerate,     // the scans line up as well at other distances along the run (a corridor with no end in sight)
+  kTooFewPoints,  // the sensors see too little (nothing within range, or the camera's view empty)
+  kNoMatch,       // the scans do not line up anywhere in the window
+  kNotARun,       // the odometry shows neither a straight run nor a turn on the spot of the sizes asked for
+  kDegenerate,    // the scans line up as well at other distances along the run (a corridor with no end in sight)
 };
 const char* ToString(CalibrationError error);
 
 struct LaserYawOptions {
-  double window_rad = 0.35;   // +- around the configured yaw
-  double step_rad = 0.002;    // the search's resolution
-  double max_range_m = 4.0;   // laser points farther than this are not matched (the camera's scan ends there)
-  int min_points = 20;        // laser points inside the camera's view needed
-  double min_score = 0.4;     // mean match value at the best yaw needed
+  double window_rad = 0.35;  // +- around the configured yaw
+  double step_rad = 0.002;   // the search's resolution
+  double max_range_m = 4.0;  // laser points farther than this are not matched (the camera's scan ends there)
+  int min_points = 20;       // laser points inside the camera's view needed
+  double min_score = 0.4;    // mean match value at the best yaw needed
 };
 
 struct LaserYawFit {
   CalibrationError error = CalibrationError::kNone;
-  std::string detail;          // for people: what was wrong
-  double yaw_rad = 0.0;        // the laser's yaw in the base frame at which its points best fall on the camera's
-  double score = 0.0;          // mean match value there, [0, 1]
-  int points = 0;              // laser points matched
+  std::string detail;    // for people: what was wrong
+  double yaw_rad = 0.0;  // the laser's yaw in the base frame at which its points best fall on the camera's
+  double score = 0.0;    // mean match value there, [0, 1]
+  int points = 0;        // laser points matched
 };
 
 // `camera_points`: the depth camera's scan at the laser's height, base frame; `camera_view`: the floor it covers
@@ -53,13 +53,13 @@ LaserYawFit FitLaserYaw(std::span<const Eigen::Vector2d> camera_points, const Se
                         const LaserYawOptions& options = {});
 
 struct WheelRunOptions {
-  double min_distance_m = 0.5;     // a straight run at least this long
+  double min_distance_m = 0.5;          // a straight run at least this long
   double max_straight_turn_rad = 0.15;  // and turning no more than this on the way
-  double min_turn_rad = 1.5;       // a turn on the spot of at least this (a quarter turn)
-  double max_turn_rad = 3.1;       // and at most this: the odometry's pose wraps at half a turn
-  double max_turn_drift_m = 0.15;  // moving no farther than this on the way
-  double min_score = 0.5;          // mean match value of the second scan on the first needed
-  int min_points = 30;             // of the second scan
+  double min_turn_rad = 1.5;            // a turn on the spot of at least this (a quarter turn)
+  double max_turn_rad = 3.1;            // and at most this: the odometry's pose wraps at half a turn
+  double max_turn_drift_m = 0.15;       // moving no farther than this on the way
+  double min_score = 0.5;               // mean match value of the second scan on the first needed
+  int min_points = 30;                  // of the second scan
 };
 
 enum class WheelRunKind { kStraight, kTurn };

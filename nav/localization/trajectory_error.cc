@@ -74,8 +74,8 @@ RelativeError LocalRelativeError(const std::vector<Pose2>& truth, const std::vec
   return errors.Result();
 }
 
-RelativeError RevisitRelativeError(const std::vector<Pose2>& truth, const std::vector<Pose2>& estimate,
-                                   double radius_m, double min_travel_m) {
+RelativeError RevisitRelativeError(const std::vector<Pose2>& truth, const std::vector<Pose2>& estimate, double radius_m,
+                                   double min_travel_m) {
   RequireSameLength(truth, estimate);
   const std::vector<double> travel = Travel(truth);
   PairErrors errors;

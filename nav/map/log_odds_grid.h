@@ -12,9 +12,9 @@
 namespace corridor::nav {
 
 struct LogOddsOptions {
-  double p_hit = 0.7;            // P(occupied | the beam ended in the cell)
-  double p_miss = 0.4;           // P(occupied | the beam passed through the cell)
-  double clamp_min = -2.0;       // log-odds bounds (about 0.12 and 0.97)
+  double p_hit = 0.7;       // P(occupied | the beam ended in the cell)
+  double p_miss = 0.4;      // P(occupied | the beam passed through the cell)
+  double clamp_min = -2.0;  // log-odds bounds (about 0.12 and 0.97)
   double clamp_max = 3.5;
   double occupied_above = 0.65;  // probability thresholds for ToOccupancyGrid
   double free_below = 0.196;

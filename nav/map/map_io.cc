@@ -77,8 +77,7 @@ MapMetadata LoadMapMetadata(const std::filesystem::path& yaml_path) {
   MapMetadata m;
   const auto image = Required<std::string>(root, "image", yaml_path);
   if (image.empty()) Fail(yaml_path, "key 'image' is empty");
-  m.image = std::filesystem::path(image).is_absolute() ? std::filesystem::path(image)
-                                                         : yaml_path.parent_path() / image;
+  m.image = std::filesystem::path(image).is_absolute() ? std::filesystem::path(image) : yaml_path.parent_path() / image;
   m.resolution_m = Required<double>(root, "resolution", yaml_path);
   if (!(m.resolution_m > 0.0) || !std::isfinite(m.resolution_m)) Fail(yaml_path, "'resolution' must be > 0");
   const auto origin = Required<std::vector<double>>(root, "origin", yaml_path);
@@ -124,8 +123,8 @@ OccupancyGrid GridFromImage(const cv::Mat& image, const MapMetadata& m) {
         } else if (occ < m.free_thresh) {
           value = kFreeCell;
         } else if (m.mode == MapMode::kScale) {
-          value = static_cast<std::int8_t>(
-              std::rint(99.0 * (occ - m.free_thresh) / (m.occupied_thresh - m.free_thresh)));
+          value =
+              static_cast<std::int8_t>(std::rint(99.0 * (occ - m.free_thresh) / (m.occupied_thresh - m.free_thresh)));
         }
       }
       // Image row 0 is the top of the map; grid row 0 is the bottom.
@@ -169,12 +168,11 @@ void SaveMap(const OccupancyGrid& grid, const std::filesystem::path& yaml_path) 
   WriteAtomically(image_path, std::string(pgm.begin(), pgm.end()));
 
   YAML::Emitter out;
-  out << YAML::BeginMap << YAML::Key << "image" << YAML::Value << image_path.filename().string()
-      << YAML::Key << "mode" << YAML::Value << "trinary" << YAML::Key << "resolution" << YAML::Value
-      << grid.resolution_m() << YAML::Key << "origin" << YAML::Value << YAML::Flow << YAML::BeginSeq
-      << grid.origin().x_m << grid.origin().y_m << grid.origin().yaw_rad << YAML::EndSeq << YAML::Key << "negate"
-      << YAML::Value << 0 << YAML::Key << "occupied_thresh" << YAML::Value << 0.65 << YAML::Key << "free_thresh"
-      << YAML::Value << 0.196 << YAML::EndMap;
+  out << YAML::BeginMap << YAML::Key << "image" << YAML::Value << image_path.filename().string() << YAML::Key << "mode"
+      << YAML::Value << "trinary" << YAML::Key << "resolution" << YAML::Value << grid.resolution_m() << YAML::Key
+      << "origin" << YAML::Value << YAML::Flow << YAML::BeginSeq << grid.origin().x_m << grid.origin().y_m
+      << grid.origin().yaw_rad << YAML::EndSeq << YAML::Key << "negate" << YAML::Value << 0 << YAML::Key
+      << "occupied_thresh" << YAML::Value << 0.65 << YAML::Key << "free_thresh" << YAML::Value << 0.196 << YAML::EndMap;
   WriteAtomically(yaml_path, std::string(out.c_str()) + "\n");
 }
 

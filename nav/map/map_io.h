@@ -19,7 +19,7 @@ enum class MapMode { kTrinary, kScale, kRaw };
 struct MapMetadata {
   std::filesystem::path image;  // resolved against the YAML file's folder
   double resolution_m = 0.05;
-  Pose2 origin;                 // pose of the lower-left pixel's corner in the map frame
+  Pose2 origin;  // pose of the lower-left pixel's corner in the map frame
   double occupied_thresh = 0.65;
   double free_thresh = 0.196;
   bool negate = false;

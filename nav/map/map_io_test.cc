@@ -89,9 +89,9 @@ TEST_F(MapIoTest, RgbaPngInScaleModeTreatsTransparentPixelsAsUnknown) {
   image.at<cv::Vec4b>(0, 2) = {255, 255, 255, 0};    // transparent: unknown
   image.at<cv::Vec4b>(0, 3) = {150, 150, 150, 255};  // grey: scaled in between
   cv::imwrite((dir_ / "m.png").string(), image);
-  const OccupancyGrid g = LoadMap(WriteYaml(
-      "image: m.png\nmode: scale\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
-      "occupied_thresh: 0.65\nfree_thresh: 0.196\n"));
+  const OccupancyGrid g =
+      LoadMap(WriteYaml("image: m.png\nmode: scale\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
+                        "occupied_thresh: 0.65\nfree_thresh: 0.196\n"));
   EXPECT_EQ(g.at({0, 0}), kOccupiedCell);
   EXPECT_EQ(g.at({1, 0}), kFreeCell);
   EXPECT_EQ(g.at({2, 0}), kUnknownCell);

@@ -190,9 +190,9 @@ std::vector<OccupiedVoxel> OccupancyOctree::OccupiedVoxels() const {
   if (tree_->size() == 0) return voxels;
   for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it) {
     if (!tree_->isNodeOccupied(*it)) continue;
-    voxels.push_back({Eigen::Vector3f(static_cast<float>(it.getX()), static_cast<float>(it.getY()),
-                                      static_cast<float>(it.getZ())),
-                      static_cast<float>(it.getSize())});
+    voxels.push_back(
+        {Eigen::Vector3f(static_cast<float>(it.getX()), static_cast<float>(it.getY()), static_cast<float>(it.getZ())),
+         static_cast<float>(it.getSize())});
   }
   return voxels;
 }

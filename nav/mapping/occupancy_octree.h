@@ -30,10 +30,10 @@ namespace corridor::nav {
 
 struct OccupancyOctreeOptions {
   double resolution_m = 0.05;
-  double max_range_m = 3.0;   // depth farther than this only clears space up to here (its noise grows as range²)
+  double max_range_m = 3.0;  // depth farther than this only clears space up to here (its noise grows as range²)
   double min_range_m = 0.2;
-  int pixel_step = 2;         // every pixel_step-th pixel of every pixel_step-th row
-  double prob_hit = 0.7;      // OctoMap's sensor model
+  int pixel_step = 2;     // every pixel_step-th pixel of every pixel_step-th row
+  double prob_hit = 0.7;  // OctoMap's sensor model
   double prob_miss = 0.4;
   // ProjectOccupied counts a voxel only at least this likely occupied (OctoMap's own threshold is 0.5). At 0.9 a
   // voxel must have been seen occupied three times more than free: a person walking past is not, a table is.

@@ -160,9 +160,9 @@ TEST(OccupancyOctree, RejectsBrokenFiles) {
   ASSERT_NE(data, std::string::npos + 6);
   EXPECT_THROW(OccupancyOctree::FromBinary("P5\n10 10\n255\n"), OctreeFormatError);
   EXPECT_THROW(OccupancyOctree::FromBinary(""), OctreeFormatError);
-  EXPECT_THROW(OccupancyOctree::FromBinary(bytes.substr(0, data - 3)), OctreeFormatError);   // no "data" line
+  EXPECT_THROW(OccupancyOctree::FromBinary(bytes.substr(0, data - 3)), OctreeFormatError);          // no "data" line
   EXPECT_THROW(OccupancyOctree::FromBinary(bytes.substr(0, bytes.size() - 1)), OctreeFormatError);  // truncated
-  EXPECT_THROW(OccupancyOctree::FromBinary(bytes + "xx"), OctreeFormatError);                 // trailing bytes
+  EXPECT_THROW(OccupancyOctree::FromBinary(bytes + "xx"), OctreeFormatError);                       // trailing bytes
   // Every node claiming eight inner children: OctoMap itself would recurse until the stack ran out.
   EXPECT_THROW(OccupancyOctree::FromBinary(bytes.substr(0, data) + std::string(4096, '\xff')), OctreeFormatError);
   std::string other_id = bytes;
@@ -173,8 +173,7 @@ TEST(OccupancyOctree, RejectsBrokenFiles) {
 TEST(OccupancyOctree, RejectsAnImageOfAnotherSize) {
   const PinholeCamera camera = ForwardCamera();
   OccupancyOctree octree;
-  EXPECT_THROW(octree.InsertDepth(cv::Mat(10, 10, CV_16UC1, cv::Scalar(1000)), camera, Pose2{}),
-               std::invalid_argument);
+  EXPECT_THROW(octree.InsertDepth(cv::Mat(10, 10, CV_16UC1, cv::Scalar(1000)), camera, Pose2{}), std::invalid_argument);
   EXPECT_THROW(octree.InsertDepth(cv::Mat(240, 320, CV_32FC1, cv::Scalar(1.0)), camera, Pose2{}),
                std::invalid_argument);
   EXPECT_THROW(OccupancyOctree(OccupancyOctreeOptions{.resolution_m = 0.0}), std::invalid_argument);

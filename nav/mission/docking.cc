@@ -201,20 +201,13 @@ std::optional<Pose2> FindDockFace(const std::vector<Eigen::Vector2d>& scan, cons
 
 const char* ToString(DockingPhase phase) {
   switch (phase) {
-    case DockingPhase::kSeeking:
-      return "seeking";
-    case DockingPhase::kApproaching:
-      return "approaching";
-    case DockingPhase::kFinal:
-      return "final";
-    case DockingPhase::kDocked:
-      return "docked";
-    case DockingPhase::kUndocking:
-      return "undocking";
-    case DockingPhase::kUndocked:
-      return "undocked";
-    case DockingPhase::kFailed:
-      return "failed";
+    case DockingPhase::kSeeking: return "seeking";
+    case DockingPhase::kApproaching: return "approaching";
+    case DockingPhase::kFinal: return "final";
+    case DockingPhase::kDocked: return "docked";
+    case DockingPhase::kUndocking: return "undocking";
+    case DockingPhase::kUndocked: return "undocked";
+    case DockingPhase::kFailed: return "failed";
   }
   return "unknown";
 }

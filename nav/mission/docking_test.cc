@@ -147,8 +147,8 @@ TEST(DockingTest, AnIdleRobotLowOnChargeGoesToChargeAndRetriesLater) {
   EXPECT_TRUE(policy.ShouldGo(64.0, 0.14, false, false));  // that did not work out: again
 }
 
-// A dock against a room's wall docks from a staging pose in the open; one whose staging pose is near another wall, or in a
-// keep-out zone, or off the map, is named with the reason.
+// A dock against a room's wall docks from a staging pose in the open; one whose staging pose is near another wall, or
+// in a keep-out zone, or off the map, is named with the reason.
 TEST(DockingTest, ADockWhoseStagingPoseCannotBeReachedIsNamed) {
   OccupancyGrid room(82, 62, 0.05, Pose2{-0.05, -0.05, 0.0}, kFreeCell);  // 4 x 3 m inside, walled by one cell
   for (int x = 0; x < room.width(); ++x) room.at({x, 0}) = room.at({x, room.height() - 1}) = kOccupiedCell;

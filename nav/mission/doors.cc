@@ -32,16 +32,11 @@ void Validate(const DoorOptions& o) {
 
 const char* ToString(DoorStatus status) {
   switch (status) {
-    case DoorStatus::kClosed:
-      return "closed";
-    case DoorStatus::kOpening:
-      return "opening";
-    case DoorStatus::kOpen:
-      return "open";
-    case DoorStatus::kRefused:
-      return "refused";
-    case DoorStatus::kFailed:
-      return "failed";
+    case DoorStatus::kClosed: return "closed";
+    case DoorStatus::kOpening: return "opening";
+    case DoorStatus::kOpen: return "open";
+    case DoorStatus::kRefused: return "refused";
+    case DoorStatus::kFailed: return "failed";
   }
   return "unknown";
 }

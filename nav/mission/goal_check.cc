@@ -59,9 +59,9 @@ std::variant<std::vector<MissionGoal>, MissionRefusal> CheckMissionGoals(std::ve
     return refuse(GoalRefusal::kNotOnFloor, std::nullopt,
                   "the map in use, '" + in.map + "', is no floor of the building");
   }
-  if (!in.lift_controller &&
-      std::any_of(goals.begin(), goals.end(),
-                  [&](const MissionGoal& g) { return !g.floor.empty() && g.floor != here->name; })) {
+  if (!in.lift_controller && std::any_of(goals.begin(), goals.end(), [&](const MissionGoal& g) {
+        return !g.floor.empty() && g.floor != here->name;
+      })) {
     return refuse(GoalRefusal::kNoLiftController, std::nullopt,
                   "goals on other floors need the building's lift controller (building.controller)");
   }

@@ -21,13 +21,13 @@
 namespace corridor::nav {
 
 enum class GoalRefusal {
-  kOutsideMap,       // the goal lies off its floor's map
-  kOccupied,         // in a wall, or too close to one for the robot
-  kInKeepOut,        // in a keep-out zone
-  kUnknownFloor,     // on a floor the building does not have
-  kNotOnFloor,       // goals on floors, but the map in use is no floor of the building
-  kNoLiftController, // goals on other floors, and no lift controller to call the lifts with
-  kNoLiftRoute,      // no lift serves both floors
+  kOutsideMap,        // the goal lies off its floor's map
+  kOccupied,          // in a wall, or too close to one for the robot
+  kInKeepOut,         // in a keep-out zone
+  kUnknownFloor,      // on a floor the building does not have
+  kNotOnFloor,        // goals on floors, but the map in use is no floor of the building
+  kNoLiftController,  // goals on other floors, and no lift controller to call the lifts with
+  kNoLiftRoute,       // no lift serves both floors
 };
 // "goal_outside_map", "goal_occupied", "goal_in_keep_out", "unknown_floor", "no_floor", "no_lift", "no_lift_route".
 const char* ToString(GoalRefusal refusal);
@@ -47,10 +47,10 @@ struct MissionRefusal {
 struct GoalCheckInputs {
   const Costmap* costmap = nullptr;  // the map in use's, with its zones
   const Building* building = nullptr;
-  std::string map;                   // the map in use's name
+  std::string map;  // the map in use's name
   // Another floor's map by its name (the map library's); null if it cannot be had.
   std::function<std::shared_ptr<const OccupancyGrid>(const std::string& map)> grid_of;
-  bool lift_controller = false;      // the building's lift controller is configured
+  bool lift_controller = false;  // the building's lift controller is configured
 };
 
 // The goals to drive (through lifts where they are on other floors), or why not. Undocking goals are not checked

@@ -138,20 +138,13 @@ void Validate(const LiftOptions& o) {
 
 const char* ToString(LiftPhase phase) {
   switch (phase) {
-    case LiftPhase::kCalling:
-      return "calling";
-    case LiftPhase::kWaitingForEmpty:
-      return "waiting_for_empty_car";
-    case LiftPhase::kBoarding:
-      return "boarding";
-    case LiftPhase::kRiding:
-      return "riding";
-    case LiftPhase::kLeaving:
-      return "leaving";
-    case LiftPhase::kDone:
-      return "done";
-    case LiftPhase::kFailed:
-      return "failed";
+    case LiftPhase::kCalling: return "calling";
+    case LiftPhase::kWaitingForEmpty: return "waiting_for_empty_car";
+    case LiftPhase::kBoarding: return "boarding";
+    case LiftPhase::kRiding: return "riding";
+    case LiftPhase::kLeaving: return "leaving";
+    case LiftPhase::kDone: return "done";
+    case LiftPhase::kFailed: return "failed";
   }
   return "unknown";
 }
@@ -312,8 +305,7 @@ LiftStep LiftRide::Update(double now_s, const Pose2& pose, const Pose2& odom, co
       }
       break;
     case LiftPhase::kDone:
-    case LiftPhase::kFailed:
-      break;
+    case LiftPhase::kFailed: break;
   }
   step.phase = phase_;
   return step;

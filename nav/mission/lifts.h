@@ -152,7 +152,8 @@ class LiftRide {
   // The mission is cancelled: true when the robot is in the car and the ride must go on until it is out, so that it
   // is never left in a car that others call, nor on one floor with another floor's map. Boarding: it backs out to the
   // lobby it came from. Riding: it goes on to the floor asked for (the caller switches maps on arrival) and out to the
-  // lobby there. Leaving: it goes on out. False before boarding: there is nothing to finish (Abandon releases the lift).
+  // lobby there. Leaving: it goes on out. False before boarding: there is nothing to finish (Abandon releases the
+  // lift).
   bool WindUp();
   bool winding_up() const { return winding_up_; }
   LiftPhase phase() const { return phase_; }

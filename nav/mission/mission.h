@@ -21,15 +21,15 @@ enum class GoalAction { kGo, kDock, kUndock, kRideLift };
 const char* ToString(GoalAction action);
 
 struct MissionGoal {
-  Pose2 pose;                  // yaw used only when has_yaw
+  Pose2 pose;  // yaw used only when has_yaw
   bool has_yaw = false;
-  std::string place;           // the named place it came from, if any
+  std::string place;  // the named place it came from, if any
   GoalAction action = GoalAction::kGo;
-  Pose2 dock;                  // kDock: the docked pose (map frame)
+  Pose2 dock;                                                      // kDock: the docked pose (map frame)
   double max_speed_mps = std::numeric_limits<double>::infinity();  // on the leg to this goal, below the mission's
-  std::string floor;           // the floor the goal is on; "": the floor of the goal before it (or the robot's)
-  std::string lift;            // kRideLift: the lift
-  std::string ride_to;         // kRideLift: the floor it rides to
+  std::string floor;    // the floor the goal is on; "": the floor of the goal before it (or the robot's)
+  std::string lift;     // kRideLift: the lift
+  std::string ride_to;  // kRideLift: the floor it rides to
 };
 
 class Mission {
@@ -39,8 +39,10 @@ class Mission {
 
   const std::string& id() const { return id_; }
   MissionStatus status() const { return status_; }
-  bool finished() const { return status_ == MissionStatus::kSucceeded || status_ == MissionStatus::kFailed ||
-                                 status_ == MissionStatus::kCanceled; }
+  bool finished() const {
+    return status_ == MissionStatus::kSucceeded || status_ == MissionStatus::kFailed ||
+           status_ == MissionStatus::kCanceled;
+  }
   const std::vector<MissionGoal>& goals() const { return goals_; }
   std::size_t current() const { return current_; }
   const MissionGoal& current_goal() const { return goals_[current_]; }

@@ -20,16 +20,11 @@ std::unique_ptr<LocalPolicy> MakePolicy(const MissionRunnerOptions& o) {
 
 PolicyMode ModeOf(MorpRbMode mode) {
   switch (mode) {
-    case MorpRbMode::kFollow:
-      return PolicyMode::kFollow;
-    case MorpRbMode::kChangeLaneLeft:
-      return PolicyMode::kChangeLaneLeft;
-    case MorpRbMode::kChangeLaneRight:
-      return PolicyMode::kChangeLaneRight;
-    case MorpRbMode::kStopAndTurn:
-      return PolicyMode::kStopAndTurn;
-    case MorpRbMode::kOvertake:
-      return PolicyMode::kOvertake;
+    case MorpRbMode::kFollow: return PolicyMode::kFollow;
+    case MorpRbMode::kChangeLaneLeft: return PolicyMode::kChangeLaneLeft;
+    case MorpRbMode::kChangeLaneRight: return PolicyMode::kChangeLaneRight;
+    case MorpRbMode::kStopAndTurn: return PolicyMode::kStopAndTurn;
+    case MorpRbMode::kOvertake: return PolicyMode::kOvertake;
   }
   return PolicyMode::kNone;
 }
@@ -45,26 +40,16 @@ std::vector<Eigen::Vector2d> Positions(const std::vector<Waypoint>& path) {
 
 const char* ToString(PolicyMode mode) {
   switch (mode) {
-    case PolicyMode::kNone:
-      return "";
-    case PolicyMode::kFollow:
-      return "follow";
-    case PolicyMode::kChangeLaneLeft:
-      return "change_lane_left";
-    case PolicyMode::kChangeLaneRight:
-      return "change_lane_right";
-    case PolicyMode::kStopAndTurn:
-      return "stop_and_turn";
-    case PolicyMode::kOvertake:
-      return "overtake";
-    case PolicyMode::kEvade:
-      return "evade";
-    case PolicyMode::kReactive:
-      return "reactive";
-    case PolicyMode::kWaitingForDepth:
-      return "waiting_for_depth";
-    case PolicyMode::kWaitingForDoor:
-      return "waiting_for_door";
+    case PolicyMode::kNone: return "";
+    case PolicyMode::kFollow: return "follow";
+    case PolicyMode::kChangeLaneLeft: return "change_lane_left";
+    case PolicyMode::kChangeLaneRight: return "change_lane_right";
+    case PolicyMode::kStopAndTurn: return "stop_and_turn";
+    case PolicyMode::kOvertake: return "overtake";
+    case PolicyMode::kEvade: return "evade";
+    case PolicyMode::kReactive: return "reactive";
+    case PolicyMode::kWaitingForDepth: return "waiting_for_depth";
+    case PolicyMode::kWaitingForDoor: return "waiting_for_door";
   }
   return "unknown";
 }
@@ -525,8 +510,7 @@ MissionUpdate MissionRunner::OnPlan(const LegPlanQuery& query, const PlanResult&
 }
 
 MissionUpdate MissionRunner::PlanAnswered(const LegPlanQuery& query, const PlanResult& result,
-                                          std::shared_ptr<const Costmap> costmap, std::uint64_t version,
-                                          double now_s) {
+                                          std::shared_ptr<const Costmap> costmap, std::uint64_t version, double now_s) {
   MissionUpdate update;
   if (query.reroute) {
     rerouting_ = false;

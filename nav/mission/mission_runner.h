@@ -43,7 +43,8 @@ struct MissionRunnerOptions {
   // A mission that cannot go on ends, saying why: no headway toward its waypoint (neither the path left nor the
   // straight-line distance fell headway_m below its lowest since the waypoint became current, whatever was replanned)
   // for give_up_s while driving fails it (0: never). A detour longer than give_up_s allows at the robot's speed before
-  // it gets nearer in either measure is given up too. Waiting for a door, a lift, localization or a person's resume does not count.
+  // it gets nearer in either measure is given up too. Waiting for a door, a lift, localization or a person's resume
+  // does not count.
   double give_up_s = 60.0;
   double headway_m = 0.3;
   // Also: blocked (the local policy's no headway, and a plan round what blocked it) this many times in a row within
@@ -119,8 +120,8 @@ struct MissionUpdate {
   bool over = false;              // the mission has just finished: the robot is no longer driven by it
   std::optional<LegPlanQuery> plan;
   std::optional<PathCheckQuery> check;
-  std::optional<LocalStep> step;  // this frame's local step (traces)
-  bool docking = false;           // the command drives onto (or off) a dock: the gate lets it near the dock's face
+  std::optional<LocalStep> step;   // this frame's local step (traces)
+  bool docking = false;            // the command drives onto (or off) a dock: the gate lets it near the dock's face
   std::vector<DoorRequest> doors;  // for the door controller: open these, release those
   std::vector<LiftRequest> lifts;  // for the lift controller
   // A lift arrived on another floor: switch to that floor's map, with the robot at this pose in it.
@@ -140,8 +141,8 @@ struct FrameInput {
   double tracked_received_s = 0.0;        // when the tracker made it
   std::optional<double> bump_s;           // the latest bump the control node reported, and which way
   bool bump_backing = false;
-  const DoorReports* doors = nullptr;     // what the door controller says of each door (null: nothing yet)
-  const LiftReports* lifts = nullptr;     // what the lift controller says of each lift (null: nothing yet)
+  const DoorReports* doors = nullptr;  // what the door controller says of each door (null: nothing yet)
+  const LiftReports* lifts = nullptr;  // what the lift controller says of each lift (null: nothing yet)
 };
 
 enum class TransitionOutcome { kOk, kNotFound, kConflict };
@@ -190,9 +191,7 @@ class MissionRunner {
   bool leaving_lift() const { return ride_ && ride_->winding_up(); }
   // No mission under way, or the current one paused because localization is lost: the robot may turn on the spot to
   // find itself (a mission a person paused keeps the robot still).
-  bool MayLookAround() const {
-    return !leaving_lift() && (!mission_ || mission_->finished() || paused_unlocalized_);
-  }
+  bool MayLookAround() const { return !leaving_lift() && (!mission_ || mission_->finished() || paused_unlocalized_); }
   const std::string& id() const;     // "" without a mission
   MissionSnapshot Snapshot() const;  // requires has_mission()
   const LocalPolicy& policy() const { return *policy_; }

@@ -70,12 +70,13 @@ SearchResult Search(const Costmap& costmap, const Eigen::Vector2d& start, const 
   const std::size_t g = costmap.Index(*goal_cell);
   if (costmap.IsObstacle(s) && (costmap.InKeepOut(s) || !robot_at_start)) {
     return {PlanError::kStartOccupied,
-            "start " + Where(start) + (costmap.InKeepOut(s) ? " is in a keep-out zone" : " is on an obstacle"), {}};
+            "start " + Where(start) + (costmap.InKeepOut(s) ? " is in a keep-out zone" : " is on an obstacle"),
+            {}};
   }
   if (!costmap.Traversable(g)) {
-    const std::string why = costmap.InKeepOut(g)     ? " is in a keep-out zone"
+    const std::string why = costmap.InKeepOut(g)    ? " is in a keep-out zone"
                             : costmap.IsObstacle(g) ? " is on an obstacle or unknown space"
-                                                     : " is too close to an obstacle for the robot";
+                                                    : " is too close to an obstacle for the robot";
     return {PlanError::kGoalOccupied, "goal " + Where(goal) + why, {}};
   }
 
@@ -96,8 +97,8 @@ SearchResult Search(const Costmap& costmap, const Eigen::Vector2d& start, const 
 
   static constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
   static constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
-  const float step_length[8] = {static_cast<float>(res),         static_cast<float>(res),
-                                static_cast<float>(res),         static_cast<float>(res),
+  const float step_length[8] = {static_cast<float>(res),          static_cast<float>(res),
+                                static_cast<float>(res),          static_cast<float>(res),
                                 static_cast<float>(kSqrt2 * res), static_cast<float>(kSqrt2 * res),
                                 static_cast<float>(kSqrt2 * res), static_cast<float>(kSqrt2 * res)};
   // A start inside the inflated band may cross the band's cells near it; with the robot at the start, whatever lies
@@ -115,8 +116,7 @@ SearchResult Search(const Costmap& costmap, const Eigen::Vector2d& start, const 
   // cell more), except under the footprint at the start.
   const double wall_clearance_m = footprint_m + res;
   const auto clear_of_walls = [&](int nx, int ny) {
-    return within(nx, ny, footprint_m) ||
-           !costmap.WallWithin(grid.CellCenter({nx, ny}), wall_clearance_m);
+    return within(nx, ny, footprint_m) || !costmap.WallWithin(grid.CellCenter({nx, ny}), wall_clearance_m);
   };
   const auto escape_through = [&](std::size_t i, int nx, int ny) {
     return escape && !costmap.InKeepOut(i) && within(nx, ny, kEscapeReachM) && clear_of_walls(nx, ny);
@@ -150,8 +150,8 @@ SearchResult Search(const Costmap& costmap, const Eigen::Vector2d& start, const 
       const bool through_band = !traversable && escape_through(next, nx, ny);  // the walls looked up once a cell
       if (!through_band && obstacle(next, nx, ny)) continue;
       // Out of the band along rising clearance, or near a start inside it.
-      const bool leaving = (escaping && costmap.clearance_m(next) > costmap.clearance_m(cur)) ||
-                           (start_inside && near_start(nx, ny));
+      const bool leaving =
+          (escaping && costmap.clearance_m(next) > costmap.clearance_m(cur)) || (start_inside && near_start(nx, ny));
       const bool ok = traversable || through_band || (leaving && clear_of_walls(nx, ny));
       if (!ok) continue;
       if (k >= 4) {

@@ -18,13 +18,13 @@ namespace corridor::nav {
 enum class UnknownPolicy { kObstacle, kFree };
 
 struct CostmapOptions {
-  double robot_radius_m = 0.2;        // cells closer to an obstacle than this (plus the cell's own extent) are
-                                      // not traversable
+  double robot_radius_m = 0.2;  // cells closer to an obstacle than this (plus the cell's own extent) are
+                                // not traversable
   // d(n) at the inflation boundary, per metre travelled; 0 gives plain A*. With 1.5 and 0.5 m, Willow Garage paths
   // keep 0.36-0.40 m from walls instead of 0.25 m for 6.5 % more length (docs/benchmarks.md).
   double distance_weight = 1.5;
-  double saturation_m = 0.5;          // clearance beyond the inflation boundary at which d(n) reaches 0
-  int occupied_threshold = 65;        // cells at or above this occupancy are obstacles
+  double saturation_m = 0.5;    // clearance beyond the inflation boundary at which d(n) reaches 0
+  int occupied_threshold = 65;  // cells at or above this occupancy are obstacles
   UnknownPolicy unknown = UnknownPolicy::kObstacle;
 };
 

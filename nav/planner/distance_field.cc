@@ -99,8 +99,8 @@ DistanceField FastMarchingDistance(const std::vector<std::uint8_t>& obstacle, in
   const std::size_t n = obstacle.size();
   std::vector<float> t(n, kInf);
   std::vector<State> state(n, State::kFar);
-  const float limit_cells = static_cast<float>(std::min(options.max_distance_m / resolution_m,
-                                                         static_cast<double>(width + height)));
+  const float limit_cells =
+      static_cast<float>(std::min(options.max_distance_m / resolution_m, static_cast<double>(width + height)));
   BucketQueue trial(kBucketCells, limit_cells + 2.0f);
 
   // Obstacle cell centres are the zero level set, so distances are centre to centre (as OpenCV's exact
@@ -122,7 +122,8 @@ DistanceField FastMarchingDistance(const std::vector<std::uint8_t>& obstacle, in
   float stamp[(2 * kExactBand + 1) * (2 * kExactBand + 1)];
   for (int dy = -kExactBand; dy <= kExactBand; ++dy) {
     for (int dx = -kExactBand; dx <= kExactBand; ++dx) {
-      stamp[(dy + kExactBand) * (2 * kExactBand + 1) + dx + kExactBand] = std::sqrt(static_cast<float>(dx * dx + dy * dy));
+      stamp[(dy + kExactBand) * (2 * kExactBand + 1) + dx + kExactBand] =
+          std::sqrt(static_cast<float>(dx * dx + dy * dy));
     }
   }
   for (int y = 0; y < height; ++y) {

@@ -22,7 +22,7 @@ struct Step {
   int dy;
   float length;
 };
-constexpr Step kSteps[] = {{1, 0, 1.0f},     {-1, 0, 1.0f},     {0, 1, 1.0f},      {0, -1, 1.0f},
+constexpr Step kSteps[] = {{1, 0, 1.0f},    {-1, 0, 1.0f},    {0, 1, 1.0f},     {0, -1, 1.0f},
                            {1, 1, 1.4142f}, {1, -1, 1.4142f}, {-1, 1, 1.4142f}, {-1, -1, 1.4142f}};
 
 }  // namespace
@@ -138,7 +138,8 @@ std::optional<FrontierGoal> NextFrontierGoal(const OccupancyGrid& map, const Eig
             if (!inside(tx, ty) || path[index(tx, ty)] == kUnreached || d2 > reach * reach || d2 >= found_d2) continue;
             const Eigen::Vector2d at = map.CellCenter({tx, ty});
             bool abandoned = false;
-            for (const Eigen::Vector2d& g : given_up) abandoned = abandoned || (g - at).norm() <= options.given_up_radius_m;
+            for (const Eigen::Vector2d& g : given_up)
+              abandoned = abandoned || (g - at).norm() <= options.given_up_radius_m;
             if (abandoned) continue;
             found_d2 = d2;
             found = FrontierGoal{at, path[index(tx, ty)] * res, 0};
@@ -149,9 +150,9 @@ std::optional<FrontierGoal> NextFrontierGoal(const OccupancyGrid& map, const Eig
       // Near the centroid, else (a frontier seen through a narrow gap) near any of its cells, the nearest by driving.
       std::optional<FrontierGoal> target = nearest_reachable(centroid);
       for (std::size_t k = 0; !target && k < members.size(); k += 4) {
-        const std::optional<FrontierGoal> near_member = nearest_reachable(
-            Eigen::Vector2d(static_cast<double>(members[k] % static_cast<std::size_t>(w)),
-                            static_cast<double>(members[k] / static_cast<std::size_t>(w))));
+        const std::optional<FrontierGoal> near_member =
+            nearest_reachable(Eigen::Vector2d(static_cast<double>(members[k] % static_cast<std::size_t>(w)),
+                                              static_cast<double>(members[k] / static_cast<std::size_t>(w))));
         if (near_member && (!target || near_member->path_m < target->path_m)) target = near_member;
       }
       if (!target) continue;

@@ -49,7 +49,8 @@ void Simplify(const Costmap& costmap, const std::vector<Eigen::Vector2d>& points
 }  // namespace
 
 bool SegmentTraversable(const Costmap& costmap, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return EverySample(costmap, a, b, [&](const Eigen::Vector2d&, std::size_t cell) { return costmap.Traversable(cell); });
+  return EverySample(costmap, a, b,
+                     [&](const Eigen::Vector2d&, std::size_t cell) { return costmap.Traversable(cell); });
 }
 
 bool RestOfPathTraversable(const Costmap& costmap, const std::vector<Waypoint>& path, const Eigen::Vector2d& from,
@@ -88,7 +89,8 @@ bool PathsDiverge(const std::vector<Eigen::Vector2d>& candidate, const std::vect
     double best = (p - current.front()).norm();
     for (std::size_t i = 1; i < current.size(); ++i) {
       const Eigen::Vector2d ab = current[i] - current[i - 1];
-      const double t = ab.squaredNorm() > 0.0 ? std::clamp((p - current[i - 1]).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+      const double t =
+          ab.squaredNorm() > 0.0 ? std::clamp((p - current[i - 1]).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
       best = std::min(best, (p - (current[i - 1] + t * ab)).norm());
     }
     return best;
@@ -137,7 +139,8 @@ PlanResult PlanPath(const Costmap& costmap, const Eigen::Vector2d& start, const 
   // The dense path runs from the exact start through the cell centres to the exact goal.
   const OccupancyGrid& grid = costmap.grid();
   plan.dense.push_back(start);
-  for (std::size_t i = 1; i + 1 < search.path.cells.size(); ++i) plan.dense.push_back(grid.CellCenter(search.path.cells[i]));
+  for (std::size_t i = 1; i + 1 < search.path.cells.size(); ++i)
+    plan.dense.push_back(grid.CellCenter(search.path.cells[i]));
   plan.dense.push_back(goal);
   double clearance_sum = 0.0;
   plan.min_clearance_m = std::numeric_limits<double>::infinity();

@@ -14,16 +14,16 @@ namespace corridor::nav {
 inline constexpr double kBandSpeedMps = 0.15;
 
 struct Waypoint {
-  Pose2 pose;                                        // yaw: toward the next waypoint; the goal's yaw at the end
-  double speed_limit_mps = Costmap::kNoSpeedLimit;   // the lowest speed zone on the way to this waypoint
+  Pose2 pose;                                       // yaw: toward the next waypoint; the goal's yaw at the end
+  double speed_limit_mps = Costmap::kNoSpeedLimit;  // the lowest speed zone on the way to this waypoint
 };
 
 struct Plan {
-  std::vector<Waypoint> waypoints;            // start to goal, simplified
-  std::vector<Eigen::Vector2d> dense;         // every cell centre of the search's path
+  std::vector<Waypoint> waypoints;     // start to goal, simplified
+  std::vector<Eigen::Vector2d> dense;  // every cell centre of the search's path
   double length_m = 0.0;
-  double min_clearance_m = 0.0;               // along the dense path: distance to the nearest obstacle cell
-  double mean_clearance_m = 0.0;              // (centre to centre), capped at the costmap's march limit
+  double min_clearance_m = 0.0;   // along the dense path: distance to the nearest obstacle cell
+  double mean_clearance_m = 0.0;  // (centre to centre), capped at the costmap's march limit
   int expanded = 0;
 };
 
@@ -35,9 +35,9 @@ struct PlanResult {
 };
 
 struct PathOptions {
-  double simplify_tolerance_m = 0.1;   // how far a simplified path may stray from the searched one
-  std::span<const float> extra_cost;   // per cell, added to the step factor: see AStar
-  bool robot_at_start = false;         // the robot stands at the start: see AStar
+  double simplify_tolerance_m = 0.1;  // how far a simplified path may stray from the searched one
+  std::span<const float> extra_cost;  // per cell, added to the step factor: see AStar
+  bool robot_at_start = false;        // the robot stands at the start: see AStar
 };
 
 // Adds `cost` (a step-factor addition, see PathOptions::extra_cost) to every cell of `costmap` whose centre lies

@@ -119,9 +119,11 @@ TEST(PlannerTest, DistanceCostKeepsClearanceForLittleExtraLengthOnWillowGarage) 
   const Costmap plain(g, {}, plain_options);
   const Costmap modified(g, {}, CostmapOptions{});
   // Across the building (the queries of bench/planner_bench).
-  const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> queries = {
-      {{24.4, 24.1}, {50.0, 12.0}}, {{8.0, 10.0}, {45.0, 38.0}}, {{33.0, 40.0}, {15.0, 5.0}},
-      {{12.0, 35.0}, {52.0, 30.0}}, {{40.0, 8.0}, {10.0, 42.0}}};
+  const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> queries = {{{24.4, 24.1}, {50.0, 12.0}},
+                                                                            {{8.0, 10.0}, {45.0, 38.0}},
+                                                                            {{33.0, 40.0}, {15.0, 5.0}},
+                                                                            {{12.0, 35.0}, {52.0, 30.0}},
+                                                                            {{40.0, 8.0}, {10.0, 42.0}}};
   for (const auto& [a, b] : queries) {
     const Eigen::Vector2d s = Open(modified, a);
     const Eigen::Vector2d t = Open(modified, b);
@@ -298,7 +300,8 @@ TEST(PlannerTest, WhatIsUnderTheRobotIsPassableWhenItPlansFromWhereItStands) {
   EXPECT_EQ(PlanPath(solid, {0.5, 1.0}, {2.0, 1.0}, std::nullopt, nullptr, stood).error, PlanError::kNoPath);
   // A keep-out zone is never left that way.
   OccupancyGrid open(60, 60, 0.05, {}, kFreeCell);
-  const std::vector<Zone> zones = {Zone{"z", "fence", ZoneKind::kKeepOut, {{1.0, 1.0}, {2.0, 1.0}, {2.0, 2.0}, {1.0, 2.0}}}};
+  const std::vector<Zone> zones = {
+      Zone{"z", "fence", ZoneKind::kKeepOut, {{1.0, 1.0}, {2.0, 1.0}, {2.0, 2.0}, {1.0, 2.0}}}};
   const Costmap fenced(open, zones, CostmapOptions{});
   EXPECT_EQ(PlanPath(fenced, {1.5, 1.5}, {0.5, 0.5}, std::nullopt, nullptr, stood).error, PlanError::kStartOccupied);
 }
@@ -383,8 +386,7 @@ TEST(PlannerTest, CancelStopsALongSearch) {
   const OccupancyGrid& g = Map(kWillow);
   const Costmap c(g, {}, CostmapOptions{});
   const std::atomic<bool> cancel{true};
-  const PlanResult r = PlanPath(c, Open(c, {8.0, 10.0}), Open(c, {45.0, 38.0}),
-                                std::nullopt, &cancel);
+  const PlanResult r = PlanPath(c, Open(c, {8.0, 10.0}), Open(c, {45.0, 38.0}), std::nullopt, &cancel);
   EXPECT_EQ(r.error, PlanError::kCancelled);
 }
 

@@ -88,8 +88,9 @@ EvasionResult Evasion::Check(const Pose2& robot, const Twist2& command, const Ei
     if (!object.moving) continue;
     const double radius = std::max(object.radius_m, o.min_object_radius_m);
     const Eigen::Vector2d away = object.position - robot.translation();
-    const Eigen::Vector2d centre = object.position + (away.norm() > 1e-6 ? away.normalized() : Eigen::Vector2d::Zero()) *
-                                                         o.far_side_fraction * radius;
+    const Eigen::Vector2d centre =
+        object.position +
+        (away.norm() > 1e-6 ? away.normalized() : Eigen::Vector2d::Zero()) * o.far_side_fraction * radius;
     const double clearance = o.robot_radius_m + radius + o.margin_m;
     const Eigen::Vector2d heading = object.velocity.normalized();  // zero stays zero: no turn predicted
     if (object.turn_at) {
@@ -138,19 +139,20 @@ EvasionResult Evasion::Check(const Pose2& robot, const Twist2& command, const Ei
     Trace(robot, first, 0, at);
     const Pose2 mid = DriveArc(robot, first, first_steps_ * o.step_s);
     const bool moves = first.linear_mps != 0.0;
-    if (moves && ((memory != nullptr && memory->Blocks(robot, first)) || StaticBlocked(robot, at, static_steps, near))) {
+    if (moves &&
+        ((memory != nullptr && memory->Blocks(robot, first)) || StaticBlocked(robot, at, static_steps, near))) {
       continue;
     }
     for (const Twist2& then : twists) {
       Trace(mid, then, first_steps_, at);
       const Score score = Predict(robot, at, movers);
       const double progress = distance_now - (target - at.back()).norm();
-      const double value = progress - o.social_weight * std::max(0.0, o.social_m - score.closest_m) -
-                           o.smooth_weight * (std::abs(first.linear_mps - command.linear_mps) +
-                                              std::abs(first.angular_rps - command.angular_rps) / 3.0) +
-                           (last && last->linear_mps == first.linear_mps && last->angular_rps == first.angular_rps
-                                ? o.commit_bonus
-                                : 0.0);
+      const double value =
+          progress - o.social_weight * std::max(0.0, o.social_m - score.closest_m) -
+          o.smooth_weight * (std::abs(first.linear_mps - command.linear_mps) +
+                             std::abs(first.angular_rps - command.angular_rps) / 3.0) +
+          (last && last->linear_mps == first.linear_mps && last->angular_rps == first.angular_rps ? o.commit_bonus
+                                                                                                  : 0.0);
       const Candidate candidate{first, then, value, score};
       if (score.conflict_s == kInfinity) {
         clear.push_back(candidate);

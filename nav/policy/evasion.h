@@ -29,12 +29,12 @@ namespace corridor::nav {
 
 struct EvasionOptions {
   double robot_radius_m = 0.2;
-  double margin_m = 0.3;             // kept between the robot and a moving object, both as discs
+  double margin_m = 0.3;  // kept between the robot and a moving object, both as discs
   // A laser sees the near side of a person only: an object counts at least this large, its centre this much of
   // the radius beyond the seen centroid (the centroid of a half circle's rim is 2/pi of the radius from its centre).
   double min_object_radius_m = 0.25;
   double far_side_fraction = 0.64;
-  double horizon_s = 3.0;            // moving objects are predicted this far
+  double horizon_s = 3.0;  // moving objects are predicted this far
   // People change course (around each other, at the ends of their walks): the margin grows by this much per
   // second of prediction, so that the robot steps farther out of the way of what is farther ahead.
   double uncertainty_mps = 0.1;
@@ -48,25 +48,25 @@ struct EvasionOptions {
   // this far beyond it (people do not turn at the very same spot), and walk back; for them the guess above is not
   // made.
   double walk_end_slack_m = 0.2;
-  double static_horizon_s = 1.0;     // static points are swept this far
+  double static_horizon_s = 1.0;  // static points are swept this far
   double static_margin_m = 0.05;
   double step_s = 0.1;
   double max_linear_mps = 0.26;
-  double max_reverse_mps = 0.2;     // the laser sees behind: backing away is often the shortest way out
+  double max_reverse_mps = 0.2;  // the laser sees behind: backing away is often the shortest way out
   double max_turn_rps = 1.0;
-  double static_reach_m = 2.0;       // static points farther than this cannot matter within the horizon
-  double first_s = 1.0;              // the first part of a manoeuvre; the second lasts to the horizon
-  double social_m = 0.3;             // passing a person with less than this beyond the margin costs...
-  double social_weight = 1.0;        // ...this much per metre short of it, against metres of progress
-  double smooth_weight = 0.2;        // and leaving the command costs this per m/s (and per 3 rad/s);
-  double commit_bonus = 0.15;        // keeping the previous frame's evasive twist is worth this: a way out chosen
-                                     // is followed, not swapped for its mirror image on the next frame
+  double static_reach_m = 2.0;  // static points farther than this cannot matter within the horizon
+  double first_s = 1.0;         // the first part of a manoeuvre; the second lasts to the horizon
+  double social_m = 0.3;        // passing a person with less than this beyond the margin costs...
+  double social_weight = 1.0;   // ...this much per metre short of it, against metres of progress
+  double smooth_weight = 0.2;   // and leaving the command costs this per m/s (and per 3 rad/s);
+  double commit_bonus = 0.15;   // keeping the previous frame's evasive twist is worth this: a way out chosen
+                                // is followed, not swapped for its mirror image on the next frame
 };
 
 struct EvasionResult {
   Twist2 twist;
-  bool evading = false;              // the command was in conflict and was replaced
-  double conflict_s = 0.0;           // when the chosen twist's conflict begins (infinity: none within the horizon)
+  bool evading = false;     // the command was in conflict and was replaced
+  double conflict_s = 0.0;  // when the chosen twist's conflict begins (infinity: none within the horizon)
 };
 
 // The options for a robot that sees only ahead (a depth camera and no laser): what is behind it is unknown, so
@@ -97,8 +97,8 @@ class Evasion {
     Eigen::Vector2d At(double t) const { return position + velocity * (t <= turn_s ? t : 2.0 * turn_s - t); }
   };
   struct Score {
-    double conflict_s;   // first conflict time; infinity when none
-    double closest_m;    // the smallest gap over the horizon (negative: overlapping)
+    double conflict_s;  // first conflict time; infinity when none
+    double closest_m;   // the smallest gap over the horizon (negative: overlapping)
   };
   // Where the robot is at steps from_step + 1 .. steps_ (at[k - 1] for step k) driving `twist` from `start`, which
   // it is at step from_step; earlier steps of `at` are left as they are.
@@ -107,9 +107,9 @@ class Evasion {
   bool StaticBlocked(const Pose2& robot, const std::vector<Eigen::Vector2d>& at, int steps,
                      const std::vector<Eigen::Vector2d>& near) const;
 
-  int steps_;        // prediction steps over the horizon
-  int first_steps_;  // of them, the first part's
-  int turn_steps_;   // of them, those a person walking away is also predicted walking back
+  int steps_;                   // prediction steps over the horizon
+  int first_steps_;             // of them, the first part's
+  int turn_steps_;              // of them, those a person walking away is also predicted walking back
   std::optional<Twist2> last_;  // the previous call's evasive twist; none when it did not evade
   EvasionOptions options_;
 };

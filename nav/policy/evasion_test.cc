@@ -56,7 +56,8 @@ TEST(EvasionTest, NothingMovingOrNothingComingLeavesTheCommandAlone) {
   EXPECT_FALSE(evasion.Check(robot, command, kTarget, {Person({3.5, 0.0}, {0.8, 0.0})}, {}, nullptr).evading);
   EXPECT_FALSE(evasion.Check(robot, command, kTarget, {Person({1.0, 1.0}, {0.0, 0.8})}, {}, nullptr).evading);
   EXPECT_FALSE(evasion.Check(robot, command, kTarget, {Person({4.0, -3.0}, {0.0, 0.8})}, {}, nullptr).evading);
-  const EvasionResult unchanged = evasion.Check(robot, command, kTarget, {Person({4.0, -3.0}, {0.0, 0.8})}, {}, nullptr);
+  const EvasionResult unchanged =
+      evasion.Check(robot, command, kTarget, {Person({4.0, -3.0}, {0.0, 0.8})}, {}, nullptr);
   EXPECT_EQ(unchanged.twist.linear_mps, command.linear_mps);
   EXPECT_EQ(unchanged.twist.angular_rps, command.angular_rps);
 }
@@ -175,7 +176,8 @@ TEST(EvasionTest, TheWayOutDoesNotBackIntoAWall) {
   const EvasionResult r = evasion.Check(robot, {0.0, 0.0}, kTarget, {Person({2.4, 0.0}, {-0.8, 0.0})}, wall, nullptr);
   EXPECT_TRUE(r.evading);
   EXPECT_GE(r.twist.linear_mps, 0.0);
-  EXPECT_GT((ClosestApproach(evasion, robot, {0.0, 0.0}, {2.6, 0.05}, {-0.8, 0.0}, wall, 6.0)), o.robot_radius_m + 0.25);
+  EXPECT_GT((ClosestApproach(evasion, robot, {0.0, 0.0}, {2.6, 0.05}, {-0.8, 0.0}, wall, 6.0)),
+            o.robot_radius_m + 0.25);
 }
 
 TEST(EvasionTest, ARobotThatSeesOnlyAheadNeverBacks) {
@@ -189,8 +191,8 @@ TEST(EvasionTest, ARobotThatSeesOnlyAheadNeverBacks) {
   Evasion evasion{forward};
   const Pose2 robot{0.0, 0.0, 0.0};
   for (int k = 0; k < 18; ++k) {
-    const EvasionResult r = evasion.Check(robot, {0.0, 0.0}, kTarget, {Person({2.4 - 0.05 * k, 0.0}, {-0.8, 0.0})},
-                                          {}, nullptr);
+    const EvasionResult r =
+        evasion.Check(robot, {0.0, 0.0}, kTarget, {Person({2.4 - 0.05 * k, 0.0}, {-0.8, 0.0})}, {}, nullptr);
     EXPECT_GE(r.twist.linear_mps, 0.0);
   }
   EXPECT_GT((ClosestApproach(Evasion{forward}, robot, {0.0, 0.0}, {2.6, 0.05}, {-0.8, 0.0}, {}, 6.0)),

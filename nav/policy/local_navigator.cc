@@ -10,7 +10,10 @@
 namespace corridor::nav {
 
 LocalNavigator::LocalNavigator(const LocalNavigatorOptions& options)
-    : options_(options), follower_(options.follower), avoid_(options.avoid), memory_(options.memory),
+    : options_(options),
+      follower_(options.follower),
+      avoid_(options.avoid),
+      memory_(options.memory),
       evade_(options.evade) {
   if (!(options.stuck_s >= 0.0) || !(options.stuck_distance_m > 0.0) || !(options.blocked_radius_m >= 0.0) ||
       !(options.blocked_cost >= 0.0) || !(options.blocked_hold_s >= 0.0) || !(options.reorient_done_rad > 0.0) ||
@@ -25,8 +28,8 @@ void LocalNavigator::SetPath(std::vector<Waypoint> path, std::shared_ptr<const C
   // A path the planner gave as a way out of the map's inflated band (it crosses the band, at the band's crawl) is
   // followed there by the band's rules.
   std::optional<Eigen::Vector2d> band_from;
-  const bool crawls = std::any_of(path.begin(), path.end(),
-                                  [](const Waypoint& w) { return w.speed_limit_mps <= kBandSpeedMps; });
+  const bool crawls =
+      std::any_of(path.begin(), path.end(), [](const Waypoint& w) { return w.speed_limit_mps <= kBandSpeedMps; });
   if (map && crawls && !RestOfPathTraversable(*map, path, path.front().pose.translation(), 0.0)) {
     band_from = path.front().pose.translation();
   }
@@ -34,7 +37,7 @@ void LocalNavigator::SetPath(std::vector<Waypoint> path, std::shared_ptr<const C
   follower_.SetPath(std::move(path));
   SetMap(std::move(map));
   avoid_ = MorpRb(options_.avoid);  // a new path: no side committed, no overtaking in progress
-  headway_from_.reset();             // and stuck_s to make headway on it
+  headway_from_.reset();            // and stuck_s to make headway on it
   // The first path after a blocked way may lead off another way: turn to it on the spot first.
   reorient_s_ = reorient_next_path_ ? 0.0 : -1.0;
   reorient_next_path_ = false;
@@ -116,7 +119,8 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
   const MorpRbDecision decision = avoid_.Decide(ahead_, heading_error, dt_s);
   out.mode = decision.mode;
   const double v_free =
-      ahead_.empty() ? 0.0 : SpeedForFreeDistance(out.nearest_m - options_.avoid.front_offset_m, options_.avoid.stopping);
+      ahead_.empty() ? 0.0
+                     : SpeedForFreeDistance(out.nearest_m - options_.avoid.front_offset_m, options_.avoid.stopping);
 
   if (!follow.final_approach && decision.mode == MorpRbMode::kFollow && detour_left_m_ > 0.0) {
     // Away from what the memory refused, straight on.

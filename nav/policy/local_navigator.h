@@ -78,7 +78,6 @@ struct LocalNavigatorOptions {
   double reorient_max_s = 10.0;
 };
 
-
 class LocalNavigator final : public LocalPolicy {
  public:
   explicit LocalNavigator(const LocalNavigatorOptions& options);  // throws std::invalid_argument for bad gains

@@ -40,16 +40,16 @@ struct FrameView {
 struct LocalStep {
   Twist2 twist;
   bool done = false;
-  bool replan = false;            // strayed from the path: the caller should plan again (the twist is zero
-                                  // unless it evades someone)
-  bool blocked = false;           // no headway for stuck_s: the caller should plan again round Blocking()
-                                  // (the twist is this step's as usual)
+  bool replan = false;   // strayed from the path: the caller should plan again (the twist is zero
+                         // unless it evades someone)
+  bool blocked = false;  // no headway for stuck_s: the caller should plan again round Blocking()
+                         // (the twist is this step's as usual)
   double remaining_m = 0.0;
   MorpRbMode mode = MorpRbMode::kFollow;
-  bool avoiding = false;          // MORP-RB, not the path follower, chose the twist
-  bool guarded = false;           // the obstacle memory replaced the chosen twist
-  bool evading = false;           // a moving object's predicted path did
-  double nearest_m = 0.0;         // the nearest dead-end ahead
+  bool avoiding = false;   // MORP-RB, not the path follower, chose the twist
+  bool guarded = false;    // the obstacle memory replaced the chosen twist
+  bool evading = false;    // a moving object's predicted path did
+  double nearest_m = 0.0;  // the nearest dead-end ahead
 };
 
 class LocalPolicy {

@@ -29,7 +29,7 @@ MorpRbDecision MorpRb::Decide(const std::vector<LaneResult>& lanes, double headi
   }
   constexpr double kInf = std::numeric_limits<double>::infinity();
   double nearest = kInf;
-  double left = kInf;   // the nearest dead-end among the left lanes
+  double left = kInf;  // the nearest dead-end among the left lanes
   double right = kInf;
   for (const LaneResult& lane : lanes) {
     const double d = lane.dead_end ? lane.free_distance_m : kInf;

@@ -18,7 +18,7 @@
 namespace corridor::nav {
 
 struct MorpRbOptions {
-  double max_linear_mps = 0.26;      // DPoom's top speed
+  double max_linear_mps = 0.26;  // DPoom's top speed
   double max_angular_rps = 1.0;
   double clear_distance_m = 1.0;     // lanes free at least this far: follow the path
   double pass_distance_m = 0.45;     // nearer than this the robot cannot steer around: stop and turn
@@ -51,7 +51,7 @@ class MorpRb {
 
  private:
   MorpRbOptions options_;
-  int side_ = 0;                 // +1 left, -1 right, 0 none: the side chosen around the current obstacle
+  int side_ = 0;  // +1 left, -1 right, 0 none: the side chosen around the current obstacle
   double overtake_left_m_ = 0.0;
   double last_speed_mps_ = 0.0;
 };

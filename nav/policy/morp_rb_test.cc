@@ -102,7 +102,6 @@ TEST(MorpRbTest, ItKeepsItsSideThenOvertakesBeforeTurningBack) {
   EXPECT_EQ(policy.Decide(Lanes({-1, -1, -1, -1}), 0.8, 0.1).mode, MorpRbMode::kFollow);
 }
 
-
 // A straight 6 m path along x from the origin.
 std::vector<Waypoint> StraightPath() {
   std::vector<Waypoint> path;
@@ -260,8 +259,10 @@ TEST(LocalNavigatorTest, BesideACornerOfTheMapATurnRefusedByTheMapIsMadeOnTheSpo
   // arc closes in on an unknown cell to the north; the memory refused it and turned the robot left on the spot, away
   // from the map's nearer side, and the follower turned it right again, for ever.
   const auto costmap = WillowGarage();
-  const std::vector<Waypoint> path = {{Pose2{24.394, 26.507, 1.616}}, {Pose2{24.375, 26.925, 0.785}},
-                                      {Pose2{24.675, 27.225, -0.077}}, {Pose2{25.0, 27.2, -0.077}}};
+  const std::vector<Waypoint> path = {{Pose2{24.394, 26.507, 1.616}},
+                                      {Pose2{24.375, 26.925, 0.785}},
+                                      {Pose2{24.675, 27.225, -0.077}},
+                                      {Pose2{25.0, 27.2, -0.077}}};
   LocalNavigatorOptions o;
   o.follower.max_linear_mps = 0.5;
   LocalNavigator nav(o);
@@ -427,8 +428,6 @@ TEST(LocalNavigatorTest, AtTheGoalItIsDone) {
   EXPECT_TRUE(nav.Update(Pose2{6.0, 0.0, 0.0}, Lanes({-1, -1, -1, -1}), 1e9, 0.05).done);
 }
 
-
-
 TEST(ObstacleMemoryTest, AnObstacleThatLeftTheViewStillStopsATurnIntoIt) {
   ObstacleMemory memory(ObstacleMemoryOptions{});
   // Seen 0.8 m ahead and 0.35 m to the right...
@@ -485,7 +484,7 @@ TEST(ObstacleMemoryTest, WhatTheCameraSawBesideTheLanesIsKeptClearOfOnceBesideTh
   const Twist2 guarded = memory.Guard(beside, left);
   EXPECT_NEAR(guarded.linear_mps, 0.26, 1e-9);
   EXPECT_LT(guarded.angular_rps, 0.8);
-  EXPECT_EQ(lanes_only.Guard(beside, left).angular_rps, 0.8);  // the lanes never saw it
+  EXPECT_EQ(lanes_only.Guard(beside, left).angular_rps, 0.8);     // the lanes never saw it
   EXPECT_EQ(memory.Guard(beside, {0.26, 0.0}).angular_rps, 0.0);  // driving on beside it is not driving into it
 }
 
@@ -500,7 +499,7 @@ TEST(ObstacleMemoryTest, AScanPointSeenPastIsForgottenOneHiddenOrALowOneTheLanes
   EXPECT_EQ(memory.size(), 3u);
   // Then the scan sees 1.45 m on that bearing: both scan points went (someone walked off); the step stays.
   memory.See(robot, {{1.45, 0.0}}, kScanView);
-  EXPECT_EQ(memory.size(), 2u);  // the step and the new point
+  EXPECT_EQ(memory.size(), 2u);      // the step and the new point
   memory.See(robot, {}, kScanView);  // nothing on that bearing within the scan's range
   EXPECT_EQ(memory.size(), 1u);
   // Nothing is cleared outside the view or nearer than the lanes see the floor.
@@ -578,7 +577,7 @@ TEST(ObstacleMemoryTest, WhatTheBumperTouchedIsNotDrivenIntoAgain) {
   EXPECT_FALSE(memory.Blocks(robot, {0.2, 0.0}));
   memory.Touched(robot);
   EXPECT_TRUE(memory.Blocks(robot, {0.2, 0.0}));
-  EXPECT_FALSE(memory.Blocks(robot, {-0.2, 0.0}));  // backing away
+  EXPECT_FALSE(memory.Blocks(robot, {-0.2, 0.0}));             // backing away
   EXPECT_EQ(memory.Guard(robot, {0.2, 0.0}).linear_mps, 0.0);  // forward is refused: it turns away instead
   ObstacleMemory behind(ObstacleMemoryOptions{});
   behind.Touched(robot, /*backing=*/true);

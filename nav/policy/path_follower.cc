@@ -78,7 +78,8 @@ FollowStep PathFollower::Update(const Pose2& robot, double speed_limit_mps) {
     }
     // At least this turn rate: below it the base would creep and never close the last fraction of a degree.
     constexpr double kMinTurnRps = 0.05;
-    const double w = std::clamp(options_.gains.k_alpha * yaw_error, -options_.max_angular_rps, options_.max_angular_rps);
+    const double w =
+        std::clamp(options_.gains.k_alpha * yaw_error, -options_.max_angular_rps, options_.max_angular_rps);
     step.twist.angular_rps = std::abs(w) < kMinTurnRps ? std::copysign(kMinTurnRps, yaw_error) : w;
     return step;
   }

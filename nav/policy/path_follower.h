@@ -13,22 +13,22 @@ namespace corridor::nav {
 
 struct FollowerOptions {
   PolarGains gains;
-  double lookahead_m = 0.6;             // how far ahead on the path the robot steers to
-  double approach_m = 0.6;              // within this of the goal: final approach to the goal pose
+  double lookahead_m = 0.6;  // how far ahead on the path the robot steers to
+  double approach_m = 0.6;   // within this of the goal: final approach to the goal pose
   double max_linear_mps = 0.5;
   double max_angular_rps = 1.5;
-  double max_linear_accel_mps2 = 0.8;   // for slowing down in time at the goal
-  double position_tolerance_m = 0.01;   // done within this distance...
-  double yaw_tolerance_rad = 0.0175;    // ...and this heading error (1 degree)
-  double turn_in_place_rad = 1.2;       // heading error beyond which the robot turns before driving
+  double max_linear_accel_mps2 = 0.8;  // for slowing down in time at the goal
+  double position_tolerance_m = 0.01;  // done within this distance...
+  double yaw_tolerance_rad = 0.0175;   // ...and this heading error (1 degree)
+  double turn_in_place_rad = 1.2;      // heading error beyond which the robot turns before driving
 };
 
 struct FollowStep {
   Twist2 twist;
   bool done = false;
-  double remaining_m = 0.0;      // along the path to the goal
-  double off_path_m = 0.0;       // from the robot to the nearest point of the path
-  bool final_approach = false;   // steering to the goal pose itself (or turning to its heading)
+  double remaining_m = 0.0;                          // along the path to the goal
+  double off_path_m = 0.0;                           // from the robot to the nearest point of the path
+  bool final_approach = false;                       // steering to the goal pose itself (or turning to its heading)
   Eigen::Vector2d target = Eigen::Vector2d::Zero();  // where the robot steers: the look-ahead point or the goal
   double speed_limit_mps = 0.0;  // the lowest of the robot's, the mission's, the zone's and the goal's limits
 };

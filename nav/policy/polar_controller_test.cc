@@ -12,9 +12,9 @@ namespace {
 
 TEST(PolarControllerTest, GainsAreValidatedAgainstTheStabilityConditions) {
   EXPECT_NO_THROW(ValidateGains({0.6, 2.0, -0.8}));
-  EXPECT_THROW(ValidateGains({0.0, 2.0, -0.8}), std::invalid_argument);   // k_rho > 0
-  EXPECT_THROW(ValidateGains({0.6, 2.0, 0.1}), std::invalid_argument);    // k_beta < 0
-  EXPECT_THROW(ValidateGains({0.6, 0.5, -0.8}), std::invalid_argument);   // k_alpha - k_rho > 0
+  EXPECT_THROW(ValidateGains({0.0, 2.0, -0.8}), std::invalid_argument);  // k_rho > 0
+  EXPECT_THROW(ValidateGains({0.6, 2.0, 0.1}), std::invalid_argument);   // k_beta < 0
+  EXPECT_THROW(ValidateGains({0.6, 0.5, -0.8}), std::invalid_argument);  // k_alpha - k_rho > 0
 }
 
 TEST(PolarControllerTest, GoalBehindIsReachedInReverse) {
@@ -70,7 +70,8 @@ TEST(PathFollowerTest, FollowsAnLShapedPathAndStopsAtTheGoalPose) {
     const FollowStep step = follower.Update(robot, 10.0);
     done = step.done;
     EXPECT_LE(std::abs(step.twist.linear_mps), 0.5 + 1e-9);
-    if (robot.x_m > 3.9 && robot.y_m > 0.5) fastest_on_second_leg = std::max(fastest_on_second_leg, step.twist.linear_mps);
+    if (robot.x_m > 3.9 && robot.y_m > 0.5)
+      fastest_on_second_leg = std::max(fastest_on_second_leg, step.twist.linear_mps);
     robot = robot * Pose2{step.twist.linear_mps * kDt, 0.0, step.twist.angular_rps * kDt};
     const double offset = robot.x_m < 3.5 ? std::abs(robot.y_m) : std::abs(robot.x_m - 4.0);
     if (robot.x_m < 3.5 || robot.y_m > 0.5) worst_offset = std::max(worst_offset, offset);

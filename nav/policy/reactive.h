@@ -16,7 +16,7 @@ namespace corridor::nav {
 struct ReactiveOptions {
   double max_linear_mps = 0.26;
   double max_angular_rps = 1.0;
-  double half_width_m = 0.25;      // the corridor checked ahead: the robot's radius and a margin
+  double half_width_m = 0.25;  // the corridor checked ahead: the robot's radius and a margin
   double clear_distance_m = 1.0;
   double stop_distance_m = 0.45;
   double heading_gain = 1.5;

@@ -135,10 +135,10 @@ GateDecision CommandGate::Decide(double now_s, const TimedTwist* teleop, const T
   if (out.twist.linear_mps > 0.0) {
     // Forward: only as fast as stops before the nearest obstacle the camera sees, and not at all without sight.
     const bool fresh = now_s - last_sight_s_ <= sight_timeout_s();
-    const double cap = !fresh                            ? 0.0
-                       : out.mode == ControlMode::kDocking ? options_.docking_max_mps
-                                                           : SpeedForFreeDistance(nearest_ahead_m_ - options_.front_offset_m,
-                                                                                  options_.stopping);
+    const double cap = !fresh ? 0.0
+                       : out.mode == ControlMode::kDocking
+                           ? options_.docking_max_mps
+                           : SpeedForFreeDistance(nearest_ahead_m_ - options_.front_offset_m, options_.stopping);
     if (out.twist.linear_mps > cap) {
       out.twist.linear_mps = cap;
       out.reason = fresh                    ? GateReason::kSlowedForObstacle

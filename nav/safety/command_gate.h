@@ -35,23 +35,23 @@ const char* ToString(ControlMode mode);
 // Why the command is not what was asked for (kNone: it is).
 enum class GateReason {
   kNone,
-  kNoOdometry,          // the base is not answering
-  kProtectiveStop,      // a part of the daemon failed
+  kNoOdometry,      // the base is not answering
+  kProtectiveStop,  // a part of the daemon failed
   kShuttingDown,
-  kBumpedForward,       // bumper pressed: not driving forward
-  kBumpedBacking,       // bumper pressed: not backing
-  kSlowedForObstacle,   // forward speed capped by what the camera sees ahead
-  kNoDepth,             // no fresh depth frame: not driving forward
-  kSlowedForPerson,     // forward speed capped near a person ahead
-  kNoLaser,             // no fresh laser scan: not driving forward
-  kCliff,               // the base sees no floor under it, or a wheel dropped
-  kDeviceDown,          // a device's driver says it stopped answering or is gone
+  kBumpedForward,      // bumper pressed: not driving forward
+  kBumpedBacking,      // bumper pressed: not backing
+  kSlowedForObstacle,  // forward speed capped by what the camera sees ahead
+  kNoDepth,            // no fresh depth frame: not driving forward
+  kSlowedForPerson,    // forward speed capped near a person ahead
+  kNoLaser,            // no fresh laser scan: not driving forward
+  kCliff,              // the base sees no floor under it, or a wheel dropped
+  kDeviceDown,         // a device's driver says it stopped answering or is gone
 };
 const char* ToString(GateReason reason);
 
 struct CommandGateOptions {
-  double teleop_deadman_s = 0.5;       // a teleop command stops mattering this long after it arrived
-  double max_linear_mps = 0.5;         // limits on every command sent to the base
+  double teleop_deadman_s = 0.5;  // a teleop command stops mattering this long after it arrived
+  double max_linear_mps = 0.5;    // limits on every command sent to the base
   double max_angular_rps = 1.5;
   double odometry_timeout_s = 0.08;    // no odometry for this long: the base is not answering; stop
   double control_rate_hz = 50.0;       // the watchdogs' tick (the node's; missions also command on every frame)
@@ -62,10 +62,10 @@ struct CommandGateOptions {
   double front_offset_m = 0.2;         // from the base's centre to its front
   double corridor_half_width_m = 0.3;  // what lies this close to the centre line is in the robot's way
   StoppingModel stopping{.max_decel_mps2 = 0.8, .reaction_time_s = 0.1, .margin_m = 0.05};
-  double mission_fresh_s = 0.3;        // a mission command older than this is not acted on
-  double bump_hold_s = 1.0;            // after the bumper is released, driving on that way waits this long
-  double fault_hold_s = 2.0;           // the protective stop after a fault
-  double docking_max_mps = 0.12;       // forward while docking
+  double mission_fresh_s = 0.3;   // a mission command older than this is not acted on
+  double bump_hold_s = 1.0;       // after the bumper is released, driving on that way waits this long
+  double fault_hold_s = 2.0;      // the protective stop after a fault
+  double docking_max_mps = 0.12;  // forward while docking
   // Near people: a person detected ahead (within person_half_angle_rad of straight ahead) within person_near_m caps
   // forward speed at person_speed_factor x max_linear_mps, while the report is at most people_fresh_s old.
   double person_near_m = 1.5;
@@ -129,7 +129,9 @@ class CommandGate {
  private:
   static constexpr double kNever = -std::numeric_limits<double>::infinity();
 
-  double sight_timeout_s() const { return options_.require_depth ? options_.depth_timeout_s : options_.laser_timeout_s; }
+  double sight_timeout_s() const {
+    return options_.require_depth ? options_.depth_timeout_s : options_.laser_timeout_s;
+  }
 
   CommandGateOptions options_;
   double last_odometry_s_ = kNever;

@@ -14,7 +14,7 @@ TEST(DeviceWatchTest, OkWhileDataFlowThenStaleThenDisconnectedWhenTheDriverLoses
   EXPECT_NEAR(watch.RateHz(3.0), 10.0, 1e-9);
   EXPECT_NEAR(watch.AgeS(3.05), 0.05, 1e-9);
   EXPECT_EQ(watch.State(3.11, LinkView::kNotWatched), DeviceState::kStale);
-  EXPECT_EQ(watch.State(3.05, LinkView::kStale), DeviceState::kStale);   // the driver knows first
+  EXPECT_EQ(watch.State(3.05, LinkView::kStale), DeviceState::kStale);  // the driver knows first
   EXPECT_EQ(watch.State(3.05, LinkView::kGone), DeviceState::kDisconnected);
   EXPECT_EQ(watch.State(3.05, LinkView::kUp), DeviceState::kOk);
   // The rate falls as the silence grows, to nothing after a whole window.

@@ -122,8 +122,8 @@ ObstacleMemory::Blocker ObstacleMemory::BlockedBy(const Pose2& robot, const Twis
   const double map_now = MapClearance(robot.translation());
   // Crossing the band (at a crawl: the planner caps the speed there), what the camera saw is kept at the final
   // approach's margin: the way out of a ring of specks passes closer than margin_m to some of them.
-  const bool in_band = map_now < map_clearance ||
-                       (band_from_ && (robot.translation() - *band_from_).norm() <= kEscapeReachM);
+  const bool in_band =
+      map_now < map_clearance || (band_from_ && (robot.translation() - *band_from_).norm() <= kEscapeReachM);
   const double clearance = o.robot_radius_m + (approach || in_band ? o.approach_margin_m : o.margin_m);
   // The footprint touches a wall cell (a square) up to half its diagonal nearer than the cell's centre.
   const double wall_contact_m = map_ ? o.robot_radius_m + 0.75 * map_->grid().resolution_m() : 0.0;

@@ -40,9 +40,9 @@ struct ObstacleMemoryOptions {
   // farther from it than keep_radius_m, and at the latest keep_s after it was seen.
   double keep_s = 30.0;
   double keep_radius_m = 1.5;
-  double clear_from_m = 0.6;    // lanes see the floor from this forward distance: only beyond it can they clear
+  double clear_from_m = 0.6;  // lanes see the floor from this forward distance: only beyond it can they clear
   double lane_half_width_m = 0.05;
-  double cell_m = 0.05;         // dead-ends closer than this to a remembered one replace it
+  double cell_m = 0.05;  // dead-ends closer than this to a remembered one replace it
   double robot_radius_m = 0.2;
   // Kept between the footprint and a remembered point: more than a lane's width, since the surface between two
   // lanes' dead-ends (never sampled) may reach that much nearer.
@@ -57,9 +57,9 @@ struct ObstacleMemoryOptions {
   // Kept from remembered points on a goal's final approach, at a crawl: the goal itself may lie within margin_m of
   // what the camera saw around it (the planner let it be that close to the map's obstacles).
   double approach_margin_m = 0.05;
-  double horizon_s = 1.2;       // how far ahead a command is swept
+  double horizon_s = 1.2;  // how far ahead a command is swept
   double sweep_step_s = 0.1;
-  double max_turn_rps = 1.0;    // the sharpest arc the guard may substitute
+  double max_turn_rps = 1.0;  // the sharpest arc the guard may substitute
   // A remembered scan point is forgotten when the scan's nearest point at its bearing (within scan_bearing_rad) lies
   // farther than it by more than scan_clear_m: seen past.
   double scan_bearing_rad = 0.0175;

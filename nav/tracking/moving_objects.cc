@@ -259,7 +259,8 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
     const Cluster& c = clusters[j];
     const bool single = c.radius_m <= o.merged_radius_m;
     Track t{next_id_++, c.position, single && c.velocity ? *c.velocity : Eigen::Vector2d::Zero(),
-            c.radius_m, c.points, stamp_s, stamp_s, {}, -std::numeric_limits<double>::infinity()};
+            c.radius_m, c.points,   stamp_s,
+            stamp_s,    {},         -std::numeric_limits<double>::infinity()};
     if (single) t.seen.push_back({stamp_s, c.position, c.radius_m, true});
     tracks_.push_back(std::move(t));
     cluster_of.push_back(static_cast<int>(j));
@@ -277,8 +278,8 @@ void MovingObjectTracker::UpdateTracks(double stamp_s, const std::vector<Cluster
     const double unseen_s = stamp_s - t.last_seen_s;
     const bool held = cluster_of[i] >= 0 && unseen_s <= o.merged_hold_s;
     // Out of view, kept on its prediction; in view, not seen there for coast_s is gone.
-    const bool gone = t.out_of_view ? unseen_s > o.unseen_coast_s
-                                    : stamp_s - std::max(t.last_seen_s, t.out_of_view_s) > o.coast_s;
+    const bool gone =
+        t.out_of_view ? unseen_s > o.unseen_coast_s : stamp_s - std::max(t.last_seen_s, t.out_of_view_s) > o.coast_s;
     if (!held && gone) continue;
     tracks_[kept] = tracks_[i];
     cluster_of[kept] = cluster_of[i];
@@ -365,8 +366,8 @@ void MovingObjectTracker::See(Track& t, double stamp_s, const Cluster& c) const 
                                  [&](const Sighting& s) { return stamp_s - s.stamp_s >= o.recent_s - 1e-6; });
   if (then != t.seen.rend()) {
     const auto sightings = then - t.seen.rbegin() + 1;
-    const auto scans = std::count_if(scans_.begin(), scans_.end(),
-                                     [&](const Scan& scan) { return scan.stamp_s >= then->stamp_s; });
+    const auto scans =
+        std::count_if(scans_.begin(), scans_.end(), [&](const Scan& scan) { return scan.stamp_s >= then->stamp_s; });
     const bool whole = std::all_of(t.seen.rbegin(), then + 1, [](const Sighting& s) { return s.whole; });
     const Eigen::Vector2d recent = (c.position - then->position) / (stamp_s - then->stamp_s);
     if (sightings == scans && whole && (recent - t.velocity).norm() > o.maneuver_mps) {

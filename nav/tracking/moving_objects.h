@@ -44,19 +44,19 @@ struct MovingObjectOptions {
   // second unseen, up to max_gate_m (someone who walked out of a camera's view and back into it is still them).
   double gate_growth_mps = 0.1;
   double max_gate_m = 0.8;
-  double merged_radius_m = 0.45;     // a cluster this wide is taken for several objects: no velocity from it
-  double coast_s = 0.8;              // a track not seen alone for this long is dropped...
+  double merged_radius_m = 0.45;  // a cluster this wide is taken for several objects: no velocity from it
+  double coast_s = 0.8;           // a track not seen alone for this long is dropped...
   // ...unless it is in a cluster shared with other tracks (people walking together or crossing; it takes its own
   // part of the cluster's points) or too wide for one object: it is kept up to this long without being seen alone.
   double merged_hold_s = 3.0;
-  double velocity_gain = 0.6;        // weight of a new velocity measurement against the track's
+  double velocity_gain = 0.6;  // weight of a new velocity measurement against the track's
   // A person who turns round or sets off shows it in their own last few positions long before the window's halves
   // agree: when the track's velocity over the last recent_s differs from its estimate by more than maneuver_mps,
   // the track takes that recent velocity, and until the window holds only scans after the change, its velocity is
   // fitted to its own positions since then rather than taken from the cluster (whose halves straddle the turn).
   double recent_s = 0.3;
   double maneuver_mps = 0.5;
-  double partial_fraction = 0.6;     // a sighting narrower than this part of the track's recent ones is partly hidden
+  double partial_fraction = 0.6;  // a sighting narrower than this part of the track's recent ones is partly hidden
   // People pace back and forth: where a track turned round (its heading changed by more than acos(turn_cos)) is
   // remembered for walk_end_memory_s as the end of a walk, and a person walking toward a remembered end the way it
   // was walked into (within walk_end_lateral_m of their line, at most walk_end_reach_m ahead) is reported with it,
@@ -75,15 +75,15 @@ struct MovingObjectOptions {
 };
 
 struct TrackedObject {
-  int id = 0;                        // the track's, the same from scan to scan
+  int id = 0;                                          // the track's, the same from scan to scan
   Eigen::Vector2d position = Eigen::Vector2d::Zero();  // world frame: centroid of the newest scan's points (or the
-                                                        // prediction, while the object is not seen alone)
+                                                       // prediction, while the object is not seen alone)
   Eigen::Vector2d velocity = Eigen::Vector2d::Zero();  // world frame, m/s; zero when not moving
-  double radius_m = 0.0;             // the newest scan's points' largest distance from `position`
+  double radius_m = 0.0;                               // the newest scan's points' largest distance from `position`
   bool moving = false;
-  int points = 0;                    // over the whole window
-  bool seen = true;                  // false: coasting on its prediction (merged with another, hidden, or out of
-                                     // the sensor's view)
+  int points = 0;    // over the whole window
+  bool seen = true;  // false: coasting on its prediction (merged with another, hidden, or out of
+                     // the sensor's view)
   // Moving objects only: the remembered end of a walk ahead, where this object (or a track since lost) turned
   // round before when walking this way.
   std::optional<Eigen::Vector2d> turn_at;
@@ -140,7 +140,7 @@ class MovingObjectTracker {
     double radius_m = 0.0;
     int points = 0;
     std::optional<Eigen::Vector2d> velocity;  // lower/upper-half estimate, when the cluster spans enough time
-    void Measure();  // position and radius_m from `newest` (not empty)
+    void Measure();                           // position and radius_m from `newest` (not empty)
   };
   struct Sighting {
     double stamp_s;
@@ -154,11 +154,11 @@ class MovingObjectTracker {
     Eigen::Vector2d velocity;
     double radius_m;
     int points;
-    double stamp_s;       // of position
-    double last_seen_s;   // alone in a cluster
-    std::deque<Sighting> seen;  // when seen alone, oldest first
+    double stamp_s;                                                // of position
+    double last_seen_s;                                            // alone in a cluster
+    std::deque<Sighting> seen;                                     // when seen alone, oldest first
     double maneuver_s = -std::numeric_limits<double>::infinity();  // when its velocity last changed abruptly
-    Eigen::Vector2d walked = Eigen::Vector2d::Zero();  // its last velocity at walking speed
+    Eigen::Vector2d walked = Eigen::Vector2d::Zero();              // its last velocity at walking speed
     bool out_of_view = false;  // moving, and predicted outside the sensor's view at the last scan
     double out_of_view_s = -std::numeric_limits<double>::infinity();  // the last scan at which it was
   };
@@ -166,7 +166,7 @@ class MovingObjectTracker {
     Eigen::Vector2d position;  // the farthest the track got before turning
     Eigen::Vector2d heading;   // unit: the way it walked into the end
     double stamp_s;
-    int track;                 // whose turn it was
+    int track;  // whose turn it was
   };
   // Records the track's sighting at stamp_s and updates its velocity from its own positions and the cluster's.
   void See(Track& track, double stamp_s, const Cluster& cluster) const;

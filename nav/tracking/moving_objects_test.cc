@@ -248,9 +248,7 @@ TurnSeen SeeATurn(const MovingObjectOptions& options) {
   const Eigen::Vector2d sensor(2.0, 2.0);
   const double turn_s = 3.0;
   TurnSeen seen;
-  const auto at = [&](double t) {
-    return Eigen::Vector2d(3.0 + 0.8 * (t < turn_s ? t : 2.0 * turn_s - t), 5.0);
-  };
+  const auto at = [&](double t) { return Eigen::Vector2d(3.0 + 0.8 * (t < turn_s ? t : 2.0 * turn_s - t), 5.0); };
   for (int k = 0; k <= 60; ++k) {
     const double t = 0.1 * k;
     const auto ranges = Scan(sensor, {{at(t), 0.25}}, 10.0, rng);
@@ -295,9 +293,9 @@ TEST(MovingObjectTrackerTest, WhereSomeonePacingTurnedRoundIsTheEndOfTheirWalk) 
     const double phase = std::fmod(t, 2.0 * leg_s);
     return Eigen::Vector2d(2.0 + 0.8 * (phase < leg_s ? phase : 2.0 * leg_s - phase), 5.0);
   };
-  int early_ends = 0;       // reported in the first walk out and back (away from the far turn)
-  int walks_seen = 0;       // scans of the third and fourth legs, mid-walk, with the person tracked as moving
-  int right_ends = 0;       // of them, with the end ahead within 0.3 m of where they turn
+  int early_ends = 0;  // reported in the first walk out and back (away from the far turn)
+  int walks_seen = 0;  // scans of the third and fourth legs, mid-walk, with the person tracked as moving
+  int right_ends = 0;  // of them, with the end ahead within 0.3 m of where they turn
   for (int k = 0; k <= 250; ++k) {
     const double t = 0.1 * k;
     const auto ranges = Scan(sensor, {{at(t), 0.25}}, 10.0, rng);
@@ -418,8 +416,8 @@ TEST(MovingObjectTrackerTest, SomeonePacingOutOfViewTurnsAtTheEndOfTheirWalkAndI
   std::mt19937 rng(8);
   MovingObjectTracker tracker{MovingObjectOptions{}};
   tracker.SetMap(std::make_shared<const OccupancyGrid>(Room(10.0)));
-  int unseen = 0;       // scans with the person out of view and reported on their prediction
-  int turned = 0;       // of them, walking back (-y) after the end
+  int unseen = 0;  // scans with the person out of view and reported on their prediction
+  int turned = 0;  // of them, walking back (-y) after the end
   std::optional<int> id;
   for (int k = 0; k <= 400; ++k) {
     const double t = 0.1 * k;
@@ -449,9 +447,7 @@ TEST(MovingObjectTrackerTest, SomeoneBackInViewBehindTheirPredictionIsStillTheSa
   // that does not widen, the prediction matches nobody and is dropped, and they become a new track.
   const Eigen::Vector2d sensor(1.0, 5.0);
   const double half = 40.0 * std::numbers::pi / 180.0;
-  const auto at = [](double t) {
-    return Eigen::Vector2d(4.0, t < 2.0 ? 3.5 + 0.8 * t : 5.1 + 0.55 * (t - 2.0));
-  };
+  const auto at = [](double t) { return Eigen::Vector2d(4.0, t < 2.0 ? 3.5 + 0.8 * t : 5.1 + 0.55 * (t - 2.0)); };
   const auto looking = [](double t) { return t < 2.0 ? 0.0 : t < 6.0 ? -std::numbers::pi / 2.0 : 0.7; };
   for (const double growth : {MovingObjectOptions{}.gate_growth_mps, 0.0}) {
     SCOPED_TRACE(growth > 0.0 ? "gate widening" : "fixed gate");

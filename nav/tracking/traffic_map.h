@@ -41,8 +41,8 @@ class TrafficMap {
   OccupancyGrid geometry_;  // cells unused: width, height, resolution and origin
   TrafficOptions options_;
   static constexpr double kFadedAfter = 10.0;  // memory_s: costs older than this are 0 (below 5e-5 of the weight)
-  std::vector<double> last_walked_s_;  // -infinity: never
-  double last_any_s_;                  // the newest of them
+  std::vector<double> last_walked_s_;          // -infinity: never
+  double last_any_s_;                          // the newest of them
   int reach_cells_;
 };
 

@@ -5,10 +5,10 @@
 #include <spdlog/spdlog.h>
 
 #include <charconv>
-#include <limits>
-#include <numbers>
 #include <cmath>
 #include <fstream>
+#include <limits>
+#include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -44,7 +44,8 @@ json Hardware() {
       depth = depth || f == drivers::realsense::kZ16;
     }
     const bool realsense = depth && v.card.find("RealSense") != std::string::npos;
-    video.push_back({{"path", v.path}, {"name", v.card}, {"formats", formats}, {"driver", realsense ? "realsense" : ""}});
+    video.push_back(
+        {{"path", v.path}, {"name", v.card}, {"formats", formats}, {"driver", realsense ? "realsense" : ""}});
   }
   json openni2 = json::array();
   try {
@@ -58,11 +59,14 @@ json Hardware() {
 }
 
 std::string ContentTypeFor(const fs::path& file) {
-  static const std::map<std::string, std::string> kTypes = {
-      {".html", "text/html; charset=utf-8"}, {".js", "text/javascript; charset=utf-8"},
-      {".css", "text/css; charset=utf-8"},   {".json", "application/json"},
-      {".png", "image/png"},                 {".svg", "image/svg+xml"},
-      {".map", "application/json"},          {".ico", "image/x-icon"}};
+  static const std::map<std::string, std::string> kTypes = {{".html", "text/html; charset=utf-8"},
+                                                            {".js", "text/javascript; charset=utf-8"},
+                                                            {".css", "text/css; charset=utf-8"},
+                                                            {".json", "application/json"},
+                                                            {".png", "image/png"},
+                                                            {".svg", "image/svg+xml"},
+                                                            {".map", "application/json"},
+                                                            {".ico", "image/x-icon"}};
   const auto it = kTypes.find(file.extension().string());
   return it == kTypes.end() ? "application/octet-stream" : it->second;
 }
@@ -212,7 +216,8 @@ void Api::Answer(const Request& request, Reply reply, const std::function<Respon
     if (e.retry_after_s() > 0) response.set(http::field::retry_after, std::to_string(e.retry_after_s()));
   } catch (const std::exception& e) {
     spdlog::error("{} {}: {}", std::string(request.method_string()), std::string(request.target()), e.what());
-    response = ProblemResponse(http::status::internal_server_error, "Internal error", e.what(), request.version(), false);
+    response =
+        ProblemResponse(http::status::internal_server_error, "Internal error", e.what(), request.version(), false);
   }
   boost::asio::post(c_.io.context(), [reply = std::move(reply), response = std::move(response)]() mutable {
     reply(std::move(response));
@@ -289,13 +294,14 @@ void Api::Handle(const Request& request, const Caller& caller, Reply reply) cons
 
 void Api::AddCoreRoutes() {
   Add(http::verb::get, "/api/v1/health", Sync([this](const Request& r, const Params&) {
-        return JsonResponse(r, {{"status", "ok"}, {"version", CORRIDOR_VERSION},
+        return JsonResponse(r, {{"status", "ok"},
+                                {"version", CORRIDOR_VERSION},
                                 {"uptime_s", drivers::ToSeconds(c_.clock.Now() - start_ns_)}});
       }));
-  Add(http::verb::get, "/api/v1/state", Sync([this](const Request& r, const Params&) { return JsonResponse(r, State()); }));
-  Add(http::verb::post, "/api/v1/teleop", Sync([this](const Request& r, const Params&) {
-        return JsonResponse(r, Teleop(ParseJsonBody(r), "rest"));
-      }));
+  Add(http::verb::get, "/api/v1/state",
+      Sync([this](const Request& r, const Params&) { return JsonResponse(r, State()); }));
+  Add(http::verb::post, "/api/v1/teleop",
+      Sync([this](const Request& r, const Params&) { return JsonResponse(r, Teleop(ParseJsonBody(r), "rest")); }));
   // Fault injection for the simulator: what the robot does when a device stops answering, or its own control loop
   // stalls (the systemd watchdog's test).
   Add(http::verb::put, "/api/v1/sim/faults", Sync([this](const Request& r, const Params&) {
@@ -322,8 +328,8 @@ void Api::AddCoreRoutes() {
           }
           if (!stall) *control_stalled_ = false;
         }
-        return JsonResponse(r, {{"camera_stopped", c_.sim->camera_stopped()},
-                                {"control_stalled", control_stalled_->load()}});
+        return JsonResponse(
+            r, {{"camera_stopped", c_.sim->camera_stopped()}, {"control_stalled", control_stalled_->load()}});
       }));
   Add(http::verb::get, "/api/v1/camera/depth",
       Sync([this](const Request& r, const Params&) { return CameraImage(r, true); }));
@@ -381,7 +387,9 @@ void Api::AddCoreRoutes() {
           throw ApiError(http::status::conflict, "Configuration not written", e.what(), "not_writable");
         }
         spdlog::info("configuration changed through the API: {}", fmt::join(change.changed, ", "));
-        return JsonResponse(r, {{"file", file.string()}, {"config", change.document}, {"changed", change.changed},
+        return JsonResponse(r, {{"file", file.string()},
+                                {"config", change.document},
+                                {"changed", change.changed},
                                 {"restart_required", !change.changed.empty()},
                                 {"detail", change.changed.empty() ? "nothing changed"
                                                                   : "corridord reads its configuration at start: "
@@ -413,7 +421,10 @@ json Api::State() const {
   json obstacles = json::array();
   for (const drivers::sim::StaticObstacle& o : c_.config.sim.obstacles) {
     obstacles.push_back({{"shape", drivers::sim::ShapeName(o.shape)},
-                         {"x", o.center.x()}, {"y", o.center.y()}, {"size_m", o.size_m}, {"yaw", o.yaw_rad}});
+                         {"x", o.center.x()},
+                         {"y", o.center.y()},
+                         {"size_m", o.size_m},
+                         {"yaw", o.yaw_rad}});
   }
   state["sim_obstacles"] = std::move(obstacles);
   const auto latency = c_.bus.Get(topics::kControlLatency).latest();
@@ -486,8 +497,7 @@ json Api::StreamMessage(const std::string& text, std::vector<std::string>& subsc
   }
   const auto type_field = message.find("type");
   if (type_field == message.end() || !type_field->is_string()) {
-    throw ApiError(http::status::bad_request, "Malformed message",
-                   "'type' must be one of \"subscribe\", \"teleop\"");
+    throw ApiError(http::status::bad_request, "Malformed message", "'type' must be one of \"subscribe\", \"teleop\"");
   }
   const std::string type = type_field->get<std::string>();
   if (type == "teleop") {
@@ -525,7 +535,8 @@ Response Api::CameraImage(const Request& request, bool depth) const {
     throw ApiError(http::status::not_found, "No camera", "this robot has no camera (devices.camera.driver: none)");
   }
   const auto frame = c_.bus.Get(topics::kRgbd).latest();
-  if (!frame) throw ApiError(http::status::service_unavailable, "No camera frame", "the camera has not sent a frame yet");
+  if (!frame)
+    throw ApiError(http::status::service_unavailable, "No camera frame", "the camera has not sent a frame yet");
   std::vector<std::uint8_t> bytes;
   std::string type = "image/png";
   if (!depth) {

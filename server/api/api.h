@@ -65,8 +65,8 @@ class ApiError : public std::runtime_error {
   int retry_after_s_ = 0;
 };
 
-Response ProblemResponse(http::status status, const std::string& title, const std::string& detail,
-                         unsigned version, bool keep_alive, const std::string& code = "");
+Response ProblemResponse(http::status status, const std::string& title, const std::string& detail, unsigned version,
+                         bool keep_alive, const std::string& code = "");
 
 // Where a request comes from. The API works out who sends it from its credentials (Api::Identify).
 struct Caller {
@@ -85,7 +85,7 @@ struct ApiContext {
   MissionNode& missions;  // read only: missions start, pause and end through the core
   const RobotCore& core;  // every command that moves the robot or sets its pose
   ExploreNode& explore;
-  OctreeNode* octree;  // null when the 3D map is off (octomap.enabled: false)
+  OctreeNode* octree;          // null when the 3D map is off (octomap.enabled: false)
   PerceptionNode* perception;  // null when perception.enabled is false
   LocalizationNode& localization;
   const SpokenPhrases& spoken;  // the audio of what the face said lately
@@ -93,12 +93,12 @@ struct ApiContext {
   auth::AccessControl& access;  // users, sessions, tokens, the audit log, who may call what
   const Config& config;
   const drivers::Clock& clock;
-  Executor& io;  // replies that are computed elsewhere come back here
-  Executor& control;  // for the simulator's stalled-control-loop fault
-  drivers::sim::SimRobot* sim = nullptr;  // the simulated robot, for fault injection; null with real drivers
-  std::string tls_fingerprint{};          // the server certificate's SHA-256, shown at setup; "" without TLS
-  std::string robot_name{};               // in robot_state (Open-RMF) and webhook payloads
-  std::function<void()> doors_changed{};  // the doors of the map in use changed: planner and missions take them again
+  Executor& io;                             // replies that are computed elsewhere come back here
+  Executor& control;                        // for the simulator's stalled-control-loop fault
+  drivers::sim::SimRobot* sim = nullptr;    // the simulated robot, for fault injection; null with real drivers
+  std::string tls_fingerprint{};            // the server certificate's SHA-256, shown at setup; "" without TLS
+  std::string robot_name{};                 // in robot_state (Open-RMF) and webhook payloads
+  std::function<void()> doors_changed{};    // the doors of the map in use changed: planner and missions take them again
   const drivers::Laser2D* laser = nullptr;  // where the laser is mounted (GET /api/v1/laser/scan); null: no laser
   const drivers::DepthCamera* camera = nullptr;  // its intrinsics and mounting (the camera's calibration); null: none
 };
@@ -212,7 +212,8 @@ class Api {
   std::shared_ptr<std::atomic<bool>> control_stalled_ = std::make_shared<std::atomic<bool>>(false);
   std::vector<Route> routes_;
   std::shared_ptr<RmfCommands> rmf_commands_ = std::make_shared<RmfCommands>();
-  std::shared_ptr<struct WheelCalibration> wheel_calibration_;  // a wheel calibration run under way (api_calibration.cc)
+  std::shared_ptr<struct WheelCalibration>
+      wheel_calibration_;  // a wheel calibration run under way (api_calibration.cc)
 };
 
 // The OpenAPI 3.1 document (server/api/openapi.json, built into the binary).

@@ -40,13 +40,15 @@ Standing StandingScan(const ApiContext& c, bool in_laser_frame) {
   const auto odometry = c.bus.Get(topics::kOdometry).latest();
   const auto scan = c.bus.Get(topics::kScan).latest();
   if (!odometry || !scan) {
-    throw ApiError(http::status::service_unavailable, "Not yet", "the base's odometry or the laser's scan has not come yet");
+    throw ApiError(http::status::service_unavailable, "Not yet",
+                   "the base's odometry or the laser's scan has not come yet");
   }
   if (std::abs(odometry->velocity.linear_mps) > 0.01 || std::abs(odometry->velocity.angular_rps) > 0.02) {
     throw ApiError(http::status::conflict, "Moving", "the robot is moving: stop it, then measure", "moving");
   }
   const nav::Pose2 mount = in_laser_frame ? nav::Pose2{} : c.laser->base_T_laser();
-  const nav::RangeLimits limits{.min_range_m = scan->range_min_m, .max_range_m = scan->range_max_m, .miss_length_m = 0.0};
+  const nav::RangeLimits limits{
+      .min_range_m = scan->range_min_m, .max_range_m = scan->range_max_m, .miss_length_m = 0.0};
   return {nav::ScanFromRanges(mount, scan->angle_min_rad, scan->angle_increment_rad, scan->ranges, limits).hits,
           odometry->odom_T_base};
 }
@@ -83,10 +85,12 @@ void Api::AddCalibrationRoutes() {
   // that would hold them.
   Add(http::verb::post, "/api/v1/devices/camera/calibration", Sync([this](const Request& r, const Params&) {
         if (c_.camera == nullptr) {
-          throw ApiError(http::status::not_found, "No camera", "this robot has no camera (devices.camera.driver: none)");
+          throw ApiError(http::status::not_found, "No camera",
+                         "this robot has no camera (devices.camera.driver: none)");
         }
         const auto frame = c_.bus.Get(topics::kRgbd).latest();
-        if (!frame) throw ApiError(http::status::service_unavailable, "No camera frame", "the camera has not sent a frame yet");
+        if (!frame)
+          throw ApiError(http::status::service_unavailable, "No camera frame", "the camera has not sent a frame yet");
         const nav::PinholeCamera camera = c_.camera->info().camera;
         std::mt19937 rng(1);
         const std::optional<nav::FloorFit> fit = nav::FitFloor(frame->depth_mm, camera, nav::FloorFitOptions{}, rng);
@@ -104,13 +108,14 @@ void Api::AddCalibrationRoutes() {
         const double configured_tilt_deg = std::asin(std::clamp(-axis.z(), -1.0, 1.0)) * kDegPerRad;
         const json mount{{"mount_height_m", Round(height_m, 0.001)}, {"tilt_deg", Round(tilt_deg, 0.1)}};
         const bool sim = c_.config.devices.camera.driver == DeviceDriver::kSim;
-        return JsonResponse(r, {{"height_m", height_m},
-                                {"tilt_deg", tilt_deg},
-                                {"roll_deg", fit->roll_rad * kDegPerRad},
-                                {"inlier_fraction", fit->inlier_fraction},
-                                {"configured", {{"height_m", camera.base_T_camera.translation().z()},
-                                                {"tilt_deg", configured_tilt_deg}}},
-                                {"patch", sim ? json{{"sim", {{"camera", mount}}}} : json{{"devices", {{"camera", mount}}}}}});
+        return JsonResponse(
+            r,
+            {{"height_m", height_m},
+             {"tilt_deg", tilt_deg},
+             {"roll_deg", fit->roll_rad * kDegPerRad},
+             {"inlier_fraction", fit->inlier_fraction},
+             {"configured", {{"height_m", camera.base_T_camera.translation().z()}, {"tilt_deg", configured_tilt_deg}}},
+             {"patch", sim ? json{{"sim", {{"camera", mount}}}} : json{{"devices", {{"camera", mount}}}}}});
       }));
   // The laser's yaw from its latest scan laid on the camera's latest frame, cut at the laser's height.
   Add(http::verb::post, "/api/v1/devices/laser/calibration", Sync([this](const Request& r, const Params&) {
@@ -120,7 +125,8 @@ void Api::AddCalibrationRoutes() {
                          "the laser's yaw is measured against the camera, and this robot has none");
         }
         const auto frame = c_.bus.Get(topics::kRgbd).latest();
-        if (!frame) throw ApiError(http::status::service_unavailable, "No camera frame", "the camera has not sent a frame yet");
+        if (!frame)
+          throw ApiError(http::status::service_unavailable, "No camera frame", "the camera has not sent a frame yet");
         const double height = c_.laser->height_m();
         nav::DepthScanOptions cut;
         cut.min_height_m = std::max(0.02, height - 0.05);
@@ -135,11 +141,12 @@ void Api::AddCalibrationRoutes() {
         const double yaw_deg = Round(nav::WrapAngle(fit.yaw_rad) * kDegPerRad, 0.1);
         const json keys{{"mount_yaw_deg", yaw_deg}};
         const bool sim = c_.config.devices.laser.driver == DeviceDriver::kSim;
-        return JsonResponse(r, {{"yaw_deg", fit.yaw_rad * kDegPerRad},
-                                {"configured", {{"yaw_deg", mount.yaw_rad * kDegPerRad}}},
-                                {"score", fit.score},
-                                {"points", fit.points},
-                                {"patch", sim ? json{{"sim", {{"laser", keys}}}} : json{{"devices", {{"laser", keys}}}}}});
+        return JsonResponse(r,
+                            {{"yaw_deg", fit.yaw_rad * kDegPerRad},
+                             {"configured", {{"yaw_deg", mount.yaw_rad * kDegPerRad}}},
+                             {"score", fit.score},
+                             {"points", fit.points},
+                             {"patch", sim ? json{{"sim", {{"laser", keys}}}} : json{{"devices", {{"laser", keys}}}}}});
       }));
   Add(http::verb::post, "/api/v1/devices/wheels/calibration/start", Sync([this](const Request& r, const Params&) {
         Standing start = StandingScan(c_, false);
@@ -147,8 +154,9 @@ void Api::AddCalibrationRoutes() {
         wheel_calibration_->start = std::move(start);
         return JsonResponse(r, {{"started", true},
                                 {"diameter_factor", wheel_calibration_->diameter_factor},
-                                {"next", "drive straight at least 0.5 m towards or away from a wall, or turn on the spot "
-                                         "between 90 and 175 degrees; stop; then finish"}});
+                                {"next",
+                                 "drive straight at least 0.5 m towards or away from a wall, or turn on the spot "
+                                 "between 90 and 175 degrees; stop; then finish"}});
       }));
   Add(http::verb::post, "/api/v1/devices/wheels/calibration/finish", Sync([this](const Request& r, const Params&) {
         const Standing end = StandingScan(c_, false);

@@ -137,8 +137,7 @@ void Api::AddDetectionRoutes() {
           throw ApiError(http::status::bad_request, "Invalid request",
                          "ttl_s: seconds above 0, at most " + std::to_string(max_ttl));
         }
-        if (!body.contains("detections") || !body["detections"].is_array() ||
-            body["detections"].size() > kMaxPushed) {
+        if (!body.contains("detections") || !body["detections"].is_array() || body["detections"].size() > kMaxPushed) {
           throw ApiError(http::status::bad_request, "Invalid request", "detections: a list of at most 100");
         }
         for (std::size_t i = 0; i < body["detections"].size(); ++i) {
@@ -170,10 +169,10 @@ void Api::AddFaceRoutes() {
   Add(http::verb::post, "/api/v1/face", Sync([this](const Request& r, const Params&) {
         const FaceCommand command = ParseFaceCommand(ParseJsonBody(r));
         c_.bus.Get(topics::kFaceCommand).Publish(command);
-        json accepted{{"expression", command.expression ? json(std::string(face::ToString(*command.expression)))
-                                                          : json(nullptr)},
-                      {"hold_s", command.hold_s},
-                      {"say", command.say}};
+        json accepted{
+            {"expression", command.expression ? json(std::string(face::ToString(*command.expression))) : json(nullptr)},
+            {"hold_s", command.hold_s},
+            {"say", command.say}};
         return JsonResponse(r, accepted, http::status::accepted);
       }));
 }

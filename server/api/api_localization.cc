@@ -13,12 +13,9 @@ using nlohmann::json;
 
 const char* SourceName(LocalizationOptions::Source source) {
   switch (source) {
-    case LocalizationOptions::Source::kOdometry:
-      return "odometry";
-    case LocalizationOptions::Source::kSimTruth:
-      return "sim_truth";
-    case LocalizationOptions::Source::kMonteCarlo:
-      return "mcl";
+    case LocalizationOptions::Source::kOdometry: return "odometry";
+    case LocalizationOptions::Source::kSimTruth: return "sim_truth";
+    case LocalizationOptions::Source::kMonteCarlo: return "mcl";
   }
   return "unknown";
 }
@@ -83,10 +80,8 @@ void Api::AddLocalizationRoutes() {
             case PoseRefusal::kOutsideMap:
               throw ApiError(http::status::unprocessable_entity, "Pose outside the map", refused->detail,
                              "outside_map");
-            case PoseRefusal::kBadSpread:
-              throw ApiError(http::status::bad_request, "Invalid request", refused->detail);
-            case PoseRefusal::kBusy:
-              throw ApiError(http::status::conflict, "Not now", refused->detail, "mapping");
+            case PoseRefusal::kBadSpread: throw ApiError(http::status::bad_request, "Invalid request", refused->detail);
+            case PoseRefusal::kBusy: throw ApiError(http::status::conflict, "Not now", refused->detail, "mapping");
           }
         }
         const PoseCheck& check = std::get<PoseCheck>(result);

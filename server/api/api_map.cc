@@ -48,8 +48,8 @@ std::string TrafficImage(const std::vector<float>& cost, int width, int height) 
 }
 
 json PlaceJson(const nav::Place& p, const nav::DockGeometry& dock) {
-  json j = {{"id", p.id}, {"name", p.name}, {"x", p.pose.x_m}, {"y", p.pose.y_m}, {"yaw", p.pose.yaw_rad},
-            {"kind", nav::ToString(p.kind)}};
+  json j = {{"id", p.id},      {"name", p.name},        {"x", p.pose.x_m},
+            {"y", p.pose.y_m}, {"yaw", p.pose.yaw_rad}, {"kind", nav::ToString(p.kind)}};
   if (p.kind == nav::PlaceKind::kDock) j["staging"] = ToJson(nav::StagingPose(p.pose, dock));
   return j;
 }
@@ -66,7 +66,8 @@ nav::Zone ParseZone(const json& body, std::string id) {
     throw ApiError(http::status::bad_request, "Invalid zone", "'kind' must be \"keep_out\" or \"speed_limit\"");
   }
   const auto kind = nav::ZoneKindFromString(body["kind"].get<std::string>());
-  if (!kind) throw ApiError(http::status::bad_request, "Invalid zone", "'kind' must be \"keep_out\" or \"speed_limit\"");
+  if (!kind)
+    throw ApiError(http::status::bad_request, "Invalid zone", "'kind' must be \"keep_out\" or \"speed_limit\"");
   z.kind = *kind;
   const auto polygon = body.find("polygon");
   if (polygon == body.end() || !polygon->is_array() || polygon->size() > 1000) {
@@ -93,19 +94,22 @@ nav::Place ParsePlace(const json& body, std::string id) {
     throw ApiError(http::status::bad_request, "Invalid place", "'name' must be a non-empty string");
   }
   if (body.contains("id") && !body["id"].is_string()) {
-    throw ApiError(http::status::bad_request, "Invalid place", "'id' (ignored: the path's or a new one) must be a string");
+    throw ApiError(http::status::bad_request, "Invalid place",
+                   "'id' (ignored: the path's or a new one) must be a string");
   }
   if (body.contains("staging") && !body["staging"].is_object()) {
-    throw ApiError(http::status::bad_request, "Invalid place", "'staging' (ignored: it follows from the pose) must be an object");
+    throw ApiError(http::status::bad_request, "Invalid place",
+                   "'staging' (ignored: it follows from the pose) must be an object");
   }
   nav::PlaceKind kind = nav::PlaceKind::kPlace;
   if (body.contains("kind")) {
-    const auto parsed = body["kind"].is_string() ? nav::PlaceKindFromString(body["kind"].get<std::string>())
-                                                 : std::nullopt;
+    const auto parsed =
+        body["kind"].is_string() ? nav::PlaceKindFromString(body["kind"].get<std::string>()) : std::nullopt;
     if (!parsed) throw ApiError(http::status::bad_request, "Invalid place", "'kind' must be \"place\" or \"dock\"");
     kind = *parsed;
   }
-  return {std::move(id), body["name"].get<std::string>(),
+  return {std::move(id),
+          body["name"].get<std::string>(),
           {RequireNumber(body, "x", ""), RequireNumber(body, "y", ""),
            body.contains("yaw") ? nav::WrapAngle(RequireNumber(body, "yaw", "")) : 0.0},
           kind};
@@ -168,13 +172,15 @@ void Api::AddMapRoutes() {
         for (const nav::Lift& l : building.lifts) {
           json stops = json::array();
           for (const nav::LiftStop& s : l.stops) {
-            stops.push_back({{"floor", s.floor},
-                             {"door", {{"x1", s.door.a.x()}, {"y1", s.door.a.y()}, {"x2", s.door.b.x()},
-                                       {"y2", s.door.b.y()}}},
-                             {"lobby", ToJson(s.lobby)},
-                             {"car", ToJson(nav::CarPose(l, s))}});
+            stops.push_back(
+                {{"floor", s.floor},
+                 {"door", {{"x1", s.door.a.x()}, {"y1", s.door.a.y()}, {"x2", s.door.b.x()}, {"y2", s.door.b.y()}}},
+                 {"lobby", ToJson(s.lobby)},
+                 {"car", ToJson(nav::CarPose(l, s))}});
           }
-          lifts.push_back({{"id", l.id}, {"car_width_m", l.car_width_m}, {"car_depth_m", l.car_depth_m},
+          lifts.push_back({{"id", l.id},
+                           {"car_width_m", l.car_width_m},
+                           {"car_depth_m", l.car_depth_m},
                            {"stops", std::move(stops)}});
         }
         return JsonResponse(r, {{"name", building.name},
@@ -192,7 +198,7 @@ void Api::AddMapRoutes() {
     const auto states = c_.bus.Get(topics::kDoorStates).latest();
     std::string state = "idle";
     if (states && states->doors.contains(d.door.id)) state = nav::ToString(states->doors.at(d.door.id).status);
-    return json{{"id", d.door.id}, {"x1", d.door.a.x()}, {"y1", d.door.a.y()}, {"x2", d.door.b.x()},
+    return json{{"id", d.door.id},    {"x1", d.door.a.x()}, {"y1", d.door.a.y()}, {"x2", d.door.b.x()},
                 {"y2", d.door.b.y()}, {"source", d.source}, {"state", state}};
   };
   Add(http::verb::get, "/api/v1/doors", Sync([this, doors_here, door_json](const Request& r, const Params&) {
@@ -209,9 +215,11 @@ void Api::AddMapRoutes() {
         AllowOnlyKeys(body, {"id", "x1", "y1", "x2", "y2"}, "");
         if (!body.contains("id") || !body["id"].is_string() || body["id"].get<std::string>().empty() ||
             body["id"].get<std::string>().size() > 64) {
-          throw ApiError(http::status::bad_request, "Invalid request", "'id' must be the door's id (1 to 64 characters)");
+          throw ApiError(http::status::bad_request, "Invalid request",
+                         "'id' must be the door's id (1 to 64 characters)");
         }
-        nav::Door door{body["id"].get<std::string>(), {RequireNumber(body, "x1", ""), RequireNumber(body, "y1", "")},
+        nav::Door door{body["id"].get<std::string>(),
+                       {RequireNumber(body, "x1", ""), RequireNumber(body, "y1", "")},
                        {RequireNumber(body, "x2", ""), RequireNumber(body, "y2", "")}};
         const double length = (door.b - door.a).norm();
         if (length < 0.3 || length > 20.0) {
@@ -249,8 +257,9 @@ void Api::AddMapRoutes() {
   // A lift's stop on a floor, drawn in the console: its door there and the lobby facing it.
   Add(http::verb::put, "/api/v1/building/lifts/{id}/stops/{floor}", Sync([this](const Request& r, const Params& p) {
         const std::string& id = p.at("id");
-        if (id.empty() || id.size() > 64 || id.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
-                                                                 "0123456789_.-") != std::string::npos) {
+        if (id.empty() || id.size() > 64 ||
+            id.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                 "0123456789_.-") != std::string::npos) {
           throw ApiError(http::status::bad_request, "Invalid request",
                          "a lift's id is 1 to 64 letters, digits, '_', '.' or '-'");
         }
@@ -262,7 +271,8 @@ void Api::AddMapRoutes() {
         if (!lobby.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "'lobby' must be a pose");
         AllowOnlyKeys(lobby, {"x", "y", "yaw"}, "lobby");
         nav::LiftStop stop{p.at("floor"),
-                           {"", {RequireNumber(body, "x1", ""), RequireNumber(body, "y1", "")},
+                           {"",
+                            {RequireNumber(body, "x1", ""), RequireNumber(body, "y1", "")},
                             {RequireNumber(body, "x2", ""), RequireNumber(body, "y2", "")}},
                            {RequireNumber(lobby, "x", "lobby"), RequireNumber(lobby, "y", "lobby"),
                             nav::WrapAngle(RequireNumber(lobby, "yaw", "lobby"))}};
@@ -277,8 +287,7 @@ void Api::AddMapRoutes() {
         const nav::Lift* lift = building.LiftNamed(id);
         return JsonResponse(r, {{"id", id}, {"stops", lift->stops.size()}});
       }));
-  Add(http::verb::delete_, "/api/v1/building/lifts/{id}/stops/{floor}", Sync([this](const Request& r,
-                                                                                 const Params& p) {
+  Add(http::verb::delete_, "/api/v1/building/lifts/{id}/stops/{floor}", Sync([this](const Request& r, const Params& p) {
         if (!c_.store.DeleteLiftStop(p.at("id"), p.at("floor"))) {
           throw ApiError(http::status::not_found, "Not found",
                          "no stop of lift " + p.at("id") + " on floor " + p.at("floor") +
@@ -391,7 +400,8 @@ void Api::AddMapRoutes() {
           throw ApiError(http::status::bad_request, "Invalid request", "'name' must be a map name");
         }
         const auto mission = c_.bus.Get(topics::kMission).latest();
-        if (mission && (mission->status == nav::MissionStatus::kActive || mission->status == nav::MissionStatus::kPaused)) {
+        if (mission &&
+            (mission->status == nav::MissionStatus::kActive || mission->status == nav::MissionStatus::kPaused)) {
           throw ApiError(http::status::conflict, "Mission in progress", "cancel the mission before changing maps",
                          "mission_in_progress");
         }
@@ -440,7 +450,8 @@ void Api::AddMapRoutes() {
 
   Add(http::verb::get, "/api/v1/places", Sync([this](const Request& r, const Params&) {
         json places = json::array();
-        for (const nav::Place& p : c_.store.Places(c_.maps.active()->name)) places.push_back(PlaceJson(p, c_.config.mission.docking.dock));
+        for (const nav::Place& p : c_.store.Places(c_.maps.active()->name))
+          places.push_back(PlaceJson(p, c_.config.mission.docking.dock));
         return JsonResponse(r, {{"places", places}});
       }));
   const auto check_name_free = [this](const nav::Place& place) {
@@ -465,7 +476,8 @@ void Api::AddMapRoutes() {
       const auto problem = PlaceProblem(*costmap, place, c_.config.mission.docking.dock);
       boost::asio::post(c_.io.context(), [this, r, reply, place, made, problem, check_name_free] {
         Answer(r, reply, [&]() -> Response {
-          if (problem) throw ApiError(http::status::unprocessable_entity, "Place unreachable", *problem, "goal_occupied");
+          if (problem)
+            throw ApiError(http::status::unprocessable_entity, "Place unreachable", *problem, "goal_occupied");
           check_name_free(place);  // again: another request may have taken the name meanwhile
           c_.store.PutPlace(c_.maps.active()->name, place);
           Response res = JsonResponse(r, PlaceJson(place, c_.config.mission.docking.dock),

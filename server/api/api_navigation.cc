@@ -16,29 +16,20 @@ using nlohmann::json;
 
 http::status StatusFor(nav::PlanError error) {
   switch (error) {
-    case nav::PlanError::kCancelled:
-      return http::status::service_unavailable;
-    default:
-      return http::status::unprocessable_entity;
+    case nav::PlanError::kCancelled: return http::status::service_unavailable;
+    default: return http::status::unprocessable_entity;
   }
 }
 
 std::string TitleFor(nav::PlanError error) {
   switch (error) {
-    case nav::PlanError::kStartOutsideMap:
-      return "Start outside the map";
-    case nav::PlanError::kStartOccupied:
-      return "Start occupied";
-    case nav::PlanError::kGoalOutsideMap:
-      return "Goal outside the map";
-    case nav::PlanError::kGoalOccupied:
-      return "Goal occupied";
-    case nav::PlanError::kNoPath:
-      return "No path";
-    case nav::PlanError::kCancelled:
-      return "Plan cancelled";
-    case nav::PlanError::kNone:
-      break;
+    case nav::PlanError::kStartOutsideMap: return "Start outside the map";
+    case nav::PlanError::kStartOccupied: return "Start occupied";
+    case nav::PlanError::kGoalOutsideMap: return "Goal outside the map";
+    case nav::PlanError::kGoalOccupied: return "Goal occupied";
+    case nav::PlanError::kNoPath: return "No path";
+    case nav::PlanError::kCancelled: return "Plan cancelled";
+    case nav::PlanError::kNone: break;
   }
   return "Plan failed";
 }
@@ -51,27 +42,13 @@ ApiError RefusalError(const nav::MissionRefusal& refusal, const std::string& lis
       nav::Describe(refusal, refusal.goal ? list + "[" + std::to_string(*refusal.goal) + "]" : "");
   const char* title = "Mission refused";
   switch (refusal.reason) {
-    case nav::GoalRefusal::kOutsideMap:
-      title = "Goal outside the map";
-      break;
-    case nav::GoalRefusal::kOccupied:
-      title = "Goal occupied";
-      break;
-    case nav::GoalRefusal::kInKeepOut:
-      title = "Goal in a keep-out zone";
-      break;
-    case nav::GoalRefusal::kUnknownFloor:
-      title = "Unknown floor";
-      break;
-    case nav::GoalRefusal::kNotOnFloor:
-      title = "Not on a floor";
-      break;
-    case nav::GoalRefusal::kNoLiftController:
-      title = "No lift controller";
-      break;
-    case nav::GoalRefusal::kNoLiftRoute:
-      title = "No way between floors";
-      break;
+    case nav::GoalRefusal::kOutsideMap: title = "Goal outside the map"; break;
+    case nav::GoalRefusal::kOccupied: title = "Goal occupied"; break;
+    case nav::GoalRefusal::kInKeepOut: title = "Goal in a keep-out zone"; break;
+    case nav::GoalRefusal::kUnknownFloor: title = "Unknown floor"; break;
+    case nav::GoalRefusal::kNotOnFloor: title = "Not on a floor"; break;
+    case nav::GoalRefusal::kNoLiftController: title = "No lift controller"; break;
+    case nav::GoalRefusal::kNoLiftRoute: title = "No way between floors"; break;
   }
   return ApiError(http::status::unprocessable_entity, title, detail, nav::ToString(refusal.reason));
 }

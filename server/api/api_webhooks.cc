@@ -108,9 +108,8 @@ void Api::AddWebhookRoutes() {
     if (!w) throw ApiError(http::status::not_found, "Not found", "no webhook " + id);
     return *w;
   };
-  Add(http::verb::get, "/api/v1/webhooks/{id}", Sync([find](const Request& r, const Params& p) {
-        return JsonResponse(r, WebhookJson(find(p.at("id"))));
-      }));
+  Add(http::verb::get, "/api/v1/webhooks/{id}",
+      Sync([find](const Request& r, const Params& p) { return JsonResponse(r, WebhookJson(find(p.at("id")))); }));
   Add(http::verb::delete_, "/api/v1/webhooks/{id}", Sync([this](const Request& r, const Params& p) {
         if (!c_.store.DeleteWebhook(p.at("id"))) {
           throw ApiError(http::status::not_found, "Not found", "no webhook " + p.at("id"));

@@ -1,10 +1,10 @@
 #include "server/api/http_client.h"
 
-#include <openssl/ssl.h>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/ssl/host_name_verification.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/ssl.hpp>
+#include <openssl/ssl.h>
 
 #include <memory>
 #include <regex>

@@ -44,9 +44,12 @@ template <typename Stream>
 class StreamSession : public std::enable_shared_from_this<StreamSession<Stream>> {
  public:
   StreamSession(Stream stream, const Api& api, double rate_hz, Api::StreamAdmission admission)
-      : ws_(std::move(stream)), api_(api), timer_(ws_.get_executor()),
+      : ws_(std::move(stream)),
+        api_(api),
+        timer_(ws_.get_executor()),
         period_(std::chrono::nanoseconds(static_cast<std::int64_t>(1e9 / rate_hz))),
-        who_(std::move(admission.who)), subscriptions_(std::move(admission.subscriptions)) {}
+        who_(std::move(admission.who)),
+        subscriptions_(std::move(admission.subscriptions)) {}
 
   void Start(Request request) {
     beast::get_lowest_layer(ws_).expires_never();
@@ -131,7 +134,10 @@ template <typename Stream>
 class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
  public:
   HttpSession(Stream stream, const Api& api, const ServerOptions& options, int redirect_port = 0)
-      : stream_(std::move(stream)), api_(api), options_(options), redirect_port_(redirect_port),
+      : stream_(std::move(stream)),
+        api_(api),
+        options_(options),
+        redirect_port_(redirect_port),
         caller_(CallerOf(beast::get_lowest_layer(stream_).socket())) {}
 
   void Start() {
@@ -151,9 +157,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
     parser_->body_limit(static_cast<std::uint64_t>(options_.max_body_bytes));
     parser_->header_limit(16 * 1024);
     beast::get_lowest_layer(stream_).expires_after(kReadTimeout);
-    http::async_read(stream_, buffer_, *parser_, [self = this->shared_from_this()](beast::error_code ec, std::size_t) {
-      self->OnRead(ec);
-    });
+    http::async_read(stream_, buffer_, *parser_,
+                     [self = this->shared_from_this()](beast::error_code ec, std::size_t) { self->OnRead(ec); });
   }
 
   void OnRead(beast::error_code ec) {
@@ -161,9 +166,9 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
       return Close();
     }
     if (ec == http::error::body_limit) {
-      return Reply(ProblemResponse(http::status::payload_too_large, "Payload too large",
-                                   "request bodies are limited to " + std::to_string(options_.max_body_bytes) + " bytes",
-                                   11, false));
+      return Reply(ProblemResponse(
+          http::status::payload_too_large, "Payload too large",
+          "request bodies are limited to " + std::to_string(options_.max_body_bytes) + " bytes", 11, false));
     }
     if (ec == http::error::header_limit) {
       return Reply(ProblemResponse(http::status::request_header_fields_too_large, "Headers too large",
@@ -190,8 +195,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
     if (colon != std::string::npos && (bracket == std::string::npos || colon > bracket)) host.resize(colon);
     Response res{http::status::permanent_redirect, request.version()};
     res.set(http::field::server, "corridord");
-    res.set(http::field::location, "https://" + host + ":" + std::to_string(redirect_port_) +
-                                       std::string(request.target()));
+    res.set(http::field::location,
+            "https://" + host + ":" + std::to_string(redirect_port_) + std::string(request.target()));
     res.keep_alive(false);
     res.prepare_payload();
     Reply(std::move(res));

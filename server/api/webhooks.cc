@@ -19,7 +19,6 @@ namespace asio = boost::asio;
 namespace beast = boost::beast;
 namespace http = beast::http;
 
-
 // Worth another attempt: the receiver may take it later.
 bool Retryable(int status) { return status == 0 || status == 408 || status == 429 || status >= 500; }
 

@@ -27,7 +27,6 @@
 
 namespace corridor::server {
 
-
 // "sha256=" and the lower-case hex of HMAC-SHA256(secret, body).
 std::string WebhookSignature(const std::string& secret, const std::string& body);
 // 32 random bytes from OpenSSL's CSPRNG as 64 hex digits: a secret for a webhook that brought none.
@@ -68,7 +67,7 @@ class Webhooks {
   const drivers::Clock& clock_;
   WebhookOptions options_;
   boost::asio::ssl::context tls_;
-  std::map<std::string, Pending> pending_;  // by delivery id
+  std::map<std::string, Pending> pending_;                      // by delivery id
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);  // attempts in flight check it before calling back
 };
 

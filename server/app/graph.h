@@ -62,7 +62,8 @@ class Graph {
  public:
   // Builds everything, nothing running yet. `config.store.state_dir` must exist and be writable. With kLockstep,
   // `devices.sim` is required: its clock is the graph's. Throws std::runtime_error (or ConfigError, StoreError) for a
-  // configuration that cannot be built. `tls_fingerprint`: the server certificate's, shown to whoever sets the robot up.
+  // configuration that cannot be built. `tls_fingerprint`: the server certificate's, shown to whoever sets the robot
+  // up.
   Graph(const Config& config, Devices devices, NamedMap map, Schedule schedule, std::string tls_fingerprint = "");
   Graph(const Graph&) = delete;
   Graph& operator=(const Graph&) = delete;
@@ -109,14 +110,14 @@ class Graph {
   Lifecycle lifecycle_;
   SimNode* sim_node_ = nullptr;  // owned by lifecycle_
   MissionNode* missions_ = nullptr;
-  ExploreNode* explore_ = nullptr;   // owned by lifecycle_
-  OctreeNode* octree_ = nullptr;     // owned by lifecycle_; null when octomap.enabled is false
-  PerceptionNode* perception_ = nullptr;  // owned by lifecycle_; null when perception.enabled is false
+  ExploreNode* explore_ = nullptr;            // owned by lifecycle_
+  OctreeNode* octree_ = nullptr;              // owned by lifecycle_; null when octomap.enabled is false
+  PerceptionNode* perception_ = nullptr;      // owned by lifecycle_; null when perception.enabled is false
   LocalizationNode* localization_ = nullptr;  // owned by lifecycle_
   std::shared_ptr<SpokenPhrases> spoken_ = std::make_shared<SpokenPhrases>();  // the face's, for the API
-  std::shared_ptr<EventLog> events_ = std::make_shared<EventLog>();           // the face node's, for webhooks and API
-  std::unique_ptr<Webhooks> webhooks_;                                          // on the io executor
-  std::unique_ptr<RobotCore> core_;  // over the nodes lifecycle_ owns
+  std::shared_ptr<EventLog> events_ = std::make_shared<EventLog>();            // the face node's, for webhooks and API
+  std::unique_ptr<Webhooks> webhooks_;                                         // on the io executor
+  std::unique_ptr<RobotCore> core_;                                            // over the nodes lifecycle_ owns
   std::unique_ptr<Api> api_;
   bool started_ = false;
   bool stopped_ = false;

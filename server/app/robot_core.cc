@@ -82,19 +82,12 @@ void RobotCore::SetPose(const PoseOrder& order, std::function<void(PoseResult)> 
                         });
 }
 
-nav::TransitionOutcome RobotCore::Command(MissionStep step, const std::string& id,
-                                          std::string_view origin) const {
+nav::TransitionOutcome RobotCore::Command(MissionStep step, const std::string& id, std::string_view origin) const {
   nav::TransitionOutcome outcome = nav::TransitionOutcome::kNotFound;
   switch (step) {
-    case MissionStep::kPause:
-      outcome = missions_.Pause(id);
-      break;
-    case MissionStep::kResume:
-      outcome = missions_.Resume(id);
-      break;
-    case MissionStep::kCancel:
-      outcome = missions_.Cancel(id);
-      break;
+    case MissionStep::kPause: outcome = missions_.Pause(id); break;
+    case MissionStep::kResume: outcome = missions_.Resume(id); break;
+    case MissionStep::kCancel: outcome = missions_.Cancel(id); break;
   }
   if (outcome == nav::TransitionOutcome::kOk) spdlog::info("mission {}: {} from {}", id, ToString(step), origin);
   return outcome;
@@ -110,12 +103,9 @@ std::optional<std::string> RobotCore::OffMap(const nav::Pose2& pose) const {
 
 const char* ToString(MissionStep step) {
   switch (step) {
-    case MissionStep::kPause:
-      return "pause";
-    case MissionStep::kResume:
-      return "resume";
-    case MissionStep::kCancel:
-      return "cancel";
+    case MissionStep::kPause: return "pause";
+    case MissionStep::kResume: return "resume";
+    case MissionStep::kCancel: return "cancel";
   }
   return "?";
 }

@@ -93,7 +93,8 @@ RobotDevices::RobotDevices(const Config& config, const drivers::Clock& clock) {
       const drivers::realsense::RealSenseOptions& o = d.camera.realsense;
       realsense_ = std::make_unique<drivers::realsense::RealSenseCamera>(o, clock);
       camera_ = realsense_.get();
-      slots_.push_back({nav::Device::kCamera, "realsense", o.depth_node.empty() ? o.name : o.depth_node, realsense_.get()});
+      slots_.push_back(
+          {nav::Device::kCamera, "realsense", o.depth_node.empty() ? o.name : o.depth_node, realsense_.get()});
       break;
     }
     case DeviceDriver::kOpenni2: {
@@ -112,8 +113,9 @@ RobotDevices::RobotDevices(const Config& config, const drivers::Clock& clock) {
 RobotDevices::~RobotDevices() { Stop(); }
 
 Devices RobotDevices::devices() const {
-  Devices out{camera_, *base_, laser_, sim_ ? sim_->robot.get() : nullptr, battery_,
-              sim_ ? sim_->floors : nullptr, participant_.get()};
+  Devices out{
+      camera_,           *base_, laser_, sim_ ? sim_->robot.get() : nullptr, battery_, sim_ ? sim_->floors : nullptr,
+      participant_.get()};
   out.slots = slots_;
   return out;
 }

@@ -39,8 +39,8 @@ std::shared_ptr<const drivers::sim::Floors> BuildingFloors(const Config& config,
       throw std::runtime_error("building.floors: floor " + f.name + ": " + e.what());
     }
   }
-  auto floors = std::make_shared<drivers::sim::Floors>(
-      drivers::sim::FloorsSideBySide(maps, config.building.sim_floor_gap_m));
+  auto floors =
+      std::make_shared<drivers::sim::Floors>(drivers::sim::FloorsSideBySide(maps, config.building.sim_floor_gap_m));
   const auto offset_of = [&](const std::string& floor) {
     for (std::size_t i = 0; i < config.building.floors.size(); ++i) {
       if (config.building.floors[i].name == floor) return floors->offsets[i];

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
-#include <unistd.h>
 #include <filesystem>
+#include <unistd.h>
 
 #include "server/auth/accounts.h"
 #include "server/auth/gate.h"

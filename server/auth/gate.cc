@@ -39,8 +39,8 @@ Access RequiredAccess(std::string_view method, std::string_view path) {
     return Access::kAdmin;
   }
   if (read) return Access::kViewer;
-  if (UnderAny(path, {"/api/v1/teleop", "/api/v1/missions", "/api/v1/dock", "/api/v1/undock", "/api/v1/rmf", "/api/v1/plan",
-                      "/api/v1/face", "/api/v1/detections", "/api/v1/localization", "/api/v1/sim"})) {
+  if (UnderAny(path, {"/api/v1/teleop", "/api/v1/missions", "/api/v1/dock", "/api/v1/undock", "/api/v1/rmf",
+                      "/api/v1/plan", "/api/v1/face", "/api/v1/detections", "/api/v1/localization", "/api/v1/sim"})) {
     return Access::kOperator;
   }
   return Access::kAdmin;  // maps, mapping, zones, places, and any write not named above
@@ -48,16 +48,11 @@ Access RequiredAccess(std::string_view method, std::string_view path) {
 
 std::string_view ToString(Access access) {
   switch (access) {
-    case Access::kPublic:
-      return "anyone";
-    case Access::kFace:
-      return "the robot's screen";
-    case Access::kViewer:
-      return "viewer";
-    case Access::kOperator:
-      return "operator";
-    case Access::kAdmin:
-      return "admin";
+    case Access::kPublic: return "anyone";
+    case Access::kFace: return "the robot's screen";
+    case Access::kViewer: return "viewer";
+    case Access::kOperator: return "operator";
+    case Access::kAdmin: return "admin";
   }
   return "admin";
 }

@@ -1,7 +1,7 @@
 #include "server/fleet/doors.h"
 
-#include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
 
 namespace corridor::server {
 
@@ -31,16 +31,17 @@ void HttpDoorController::Open(const std::string& door, Done done) {
 }
 
 void HttpDoorController::State(const std::string& door, Done done) {
-  http_.Send(options_.state, {{"door", door}}, [this, done = std::move(done)](int status, std::string body,
-                                                                              std::string error) {
-    if (!HttpSuccess(status)) return done({nav::DoorStatus::kFailed, error});
-    try {
-      const bool open = ValueText(nlohmann::json::parse(body), options_.open_pointer) == options_.open_value;
-      done({open ? nav::DoorStatus::kOpen : nav::DoorStatus::kOpening, ""});
-    } catch (const nlohmann::json::exception& e) {
-      done({nav::DoorStatus::kFailed, std::string("the door's state is not the JSON expected: ") + e.what()});
-    }
-  });
+  http_.Send(
+      options_.state, {{"door", door}},
+      [this, done = std::move(done)](int status, std::string body, std::string error) {
+        if (!HttpSuccess(status)) return done({nav::DoorStatus::kFailed, error});
+        try {
+          const bool open = ValueText(nlohmann::json::parse(body), options_.open_pointer) == options_.open_value;
+          done({open ? nav::DoorStatus::kOpen : nav::DoorStatus::kOpening, ""});
+        } catch (const nlohmann::json::exception& e) {
+          done({nav::DoorStatus::kFailed, std::string("the door's state is not the JSON expected: ") + e.what()});
+        }
+      });
 }
 
 void HttpDoorController::Release(const std::string& door) {

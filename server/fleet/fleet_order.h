@@ -1,6 +1,6 @@
 // A fleet manager's order as the robot holds it, for the console's map and /api/v1/state: the last node traversed,
-// the nodes still to traverse and the edges between them (released ones are the base, the rest the horizon), and whether the fleet
-// manager's connection is up.
+// the nodes still to traverse and the edges between them (released ones are the base, the rest the horizon), and
+// whether the fleet manager's connection is up.
 #pragma once
 
 #include <cstdint>

@@ -1,7 +1,7 @@
 #include "server/fleet/lifts.h"
 
-#include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
 
 namespace corridor::server {
 namespace {

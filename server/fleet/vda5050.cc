@@ -48,18 +48,12 @@ std::string VdaTopic(const VdaIdentity& identity, std::string_view topic) {
 
 const char* ToString(VdaMessage message) {
   switch (message) {
-    case VdaMessage::kOrder:
-      return "order";
-    case VdaMessage::kInstantActions:
-      return "instantActions";
-    case VdaMessage::kState:
-      return "state";
-    case VdaMessage::kConnection:
-      return "connection";
-    case VdaMessage::kFactsheet:
-      return "factsheet";
-    case VdaMessage::kVisualization:
-      return "visualization";
+    case VdaMessage::kOrder: return "order";
+    case VdaMessage::kInstantActions: return "instantActions";
+    case VdaMessage::kState: return "state";
+    case VdaMessage::kConnection: return "connection";
+    case VdaMessage::kFactsheet: return "factsheet";
+    case VdaMessage::kVisualization: return "visualization";
   }
   return "unknown";
 }

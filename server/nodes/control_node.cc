@@ -70,7 +70,9 @@ void ControlNode::Activate() {
 
 void ControlNode::Stop(nav::GateReason reason, std::string detail) {
   base_.SetVelocity({});
-  bus().Get(topics::kCmdVel).Publish(BaseCommand{clock().Now(), {}, nav::ControlMode::kStopped, reason, std::move(detail)});
+  bus()
+      .Get(topics::kCmdVel)
+      .Publish(BaseCommand{clock().Now(), {}, nav::ControlMode::kStopped, reason, std::move(detail)});
 }
 
 void ControlNode::OnFault() { Stop(nav::GateReason::kProtectiveStop, name() + " failed"); }
@@ -117,8 +119,7 @@ void ControlNode::Act() {
   base_.SetVelocity(decision.twist);
   const drivers::TimeNs sent_ns = clock().Now();
   if ((decision.mode == nav::ControlMode::kMission || decision.mode == nav::ControlMode::kDocking) &&
-      mission->frame_arrival_ns >= 0 &&
-      mission->frame_arrival_ns != answered_frame_ns_) {
+      mission->frame_arrival_ns >= 0 && mission->frame_arrival_ns != answered_frame_ns_) {
     answered_frame_ns_ = mission->frame_arrival_ns;
     latency_.Record(sent_ns, static_cast<double>(sent_ns - mission->frame_arrival_ns) * 1e-6);
   }

@@ -2,10 +2,10 @@
 // decision to the base. It decides on a timer (safety.control_rate_hz), at once whenever the mission sends a command,
 // which it does once per depth frame (the robot answers a frame without waiting for the next tick), and the moment
 // a watchdog's timeout runs out (odometry, sight, scans: a silent device stops the robot at its timeout, not up to
-// a tick later). The latency from a frame's arrival to the base command that answers it is published on control/latency; each
-// bump on safety/bumped with the way the base was driving; a fault of any node (safety/faults) puts the robot in a
-// protective stop; a device whose native driver says it went down (devices/links) stops the robot at once. On
-// deactivation (shutdown) it commands zero velocity last.
+// a tick later). The latency from a frame's arrival to the base command that answers it is published on
+// control/latency; each bump on safety/bumped with the way the base was driving; a fault of any node (safety/faults)
+// puts the robot in a protective stop; a device whose native driver says it went down (devices/links) stops the robot
+// at once. On deactivation (shutdown) it commands zero velocity last.
 #pragma once
 
 #include <array>
@@ -29,7 +29,7 @@ class ControlNode final : public PeriodicNode {
 
  private:
   void Tick() override;
-  void Act();  // one decision, sent to the base
+  void Act();    // one decision, sent to the base
   void Watch();  // the deadline timer set at the gate's next expiry
   // Zero velocity to the base at once, and on cmd_vel with `reason`.
   void Stop(nav::GateReason reason, std::string detail);
@@ -38,8 +38,8 @@ class ControlNode final : public PeriodicNode {
   drivers::DiffDriveBase& base_;
   // On the control executor only:
   nav::CommandGate gate_;
-  std::unique_ptr<DeadlineTimer> deadline_;  // while active
-  std::string fault_detail_;  // the latest fault, for the protective stop's reason
+  std::unique_ptr<DeadlineTimer> deadline_;                   // while active
+  std::string fault_detail_;                                  // the latest fault, for the protective stop's reason
   std::array<std::string, nav::kDeviceCount> device_detail_;  // each device's latest link change, for the stop's reason
   LatencyStats latency_;
   drivers::TimeNs answered_frame_ns_ = -1;  // arrival of the last frame a command answered

@@ -1,6 +1,7 @@
 // Carries missions' door requests (doors/requests) to the building's door controller (server/fleet/doors.h) and
 // publishes what it says of each door asked for (doors/state): asked to open, then polled every poll_s until open (a
-// poll that goes unanswered is tried again; the mission's timeout bounds the wait); released, forgotten. Runs on the io executor, where the controller's HTTP exchanges complete.
+// poll that goes unanswered is tried again; the mission's timeout bounds the wait); released, forgotten. Runs on the io
+// executor, where the controller's HTTP exchanges complete.
 #pragma once
 
 #include <map>

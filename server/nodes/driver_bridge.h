@@ -23,9 +23,10 @@ struct DeviceSlot {
   drivers::DeviceLink* link = nullptr;
 };
 
-// `camera`, `laser` and `battery` may be null (no camera or laser fitted, nothing reports the battery). The drivers must outlive the bus
-// subscriptions' use of them. Frames are stamped with their arrival on `clock` (the host's), from which the control
-// loop's latency is measured. Each slot's link, when it has one, reports its changes on devices/links.
+// `camera`, `laser` and `battery` may be null (no camera or laser fitted, nothing reports the battery). The drivers
+// must outlive the bus subscriptions' use of them. Frames are stamped with their arrival on `clock` (the host's), from
+// which the control loop's latency is measured. Each slot's link, when it has one, reports its changes on
+// devices/links.
 void ConnectDrivers(Bus& bus, const drivers::Clock& clock, drivers::DepthCamera* camera, drivers::DiffDriveBase& base,
                     drivers::Laser2D* laser, drivers::Battery* battery, const std::vector<DeviceSlot>& slots);
 

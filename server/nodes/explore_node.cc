@@ -60,11 +60,8 @@ void ExploreNode::OnMission(const MissionState& mission) {
   }
   switch (mission.status) {
     case nav::MissionStatus::kActive:
-    case nav::MissionStatus::kPaused:
-      return;
-    case nav::MissionStatus::kCanceled:
-      Finish("its goal was cancelled", false, false);
-      return;
+    case nav::MissionStatus::kPaused: return;
+    case nav::MissionStatus::kCanceled: Finish("its goal was cancelled", false, false); return;
     case nav::MissionStatus::kSucceeded:
     case nav::MissionStatus::kFailed:
       given_up_.push_back(goal_);

@@ -96,8 +96,8 @@ face::Situation FaceNode::Sample() {
   nav::Twist2 velocity;
   if (const auto odometry = bus().Get(topics::kOdometry).latest()) {
     velocity = odometry->velocity;
-    s.moving = std::abs(odometry->velocity.linear_mps) > kMovingMps ||
-               std::abs(odometry->velocity.angular_rps) > kMovingRps;
+    s.moving =
+        std::abs(odometry->velocity.linear_mps) > kMovingMps || std::abs(odometry->velocity.angular_rps) > kMovingRps;
     const bool pressed_between_ticks = std::exchange(bumped_since_tick_, false);
     s.bumped = odometry->bumper_pressed || pressed_between_ticks;
   }
@@ -120,8 +120,7 @@ face::Situation FaceNode::Sample() {
     s.mission_id = mission->id;
     if (!mission->goals.empty()) s.place = mission->goals.back().place;
     s.mission_error = mission->error;
-    const bool held_still =
-        still_since_ns_ >= 0 && s.now_ns - still_since_ns_ >= drivers::FromSeconds(kWaitingAfterS);
+    const bool held_still = still_since_ns_ >= 0 && s.now_ns - still_since_ns_ >= drivers::FromSeconds(kWaitingAfterS);
     s.waiting = s.mission == face::MissionPhase::kPaused ||
                 (s.mission == face::MissionPhase::kActive &&
                  (held_still || mission->policy == nav::PolicyMode::kWaitingForDepth));

@@ -14,13 +14,13 @@
 #include <mutex>
 #include <string>
 
-#include "face/expression.h"
-#include "face/speech.h"
 #include "face/events.h"
+#include "face/expression.h"
 #include "face/social.h"
+#include "face/speech.h"
+#include "server/runtime/bus.h"
 #include "server/runtime/config.h"
 #include "server/runtime/event_log.h"
-#include "server/runtime/bus.h"
 #include "server/runtime/node.h"
 
 namespace corridor::server {

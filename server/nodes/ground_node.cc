@@ -44,8 +44,8 @@ GroundLanes GroundNode::Process(const drivers::LaserScan& scan) {
   nav::RangeLimits limits;
   limits.min_range_m = std::max(scan.range_min_m, 0.01);
   limits.max_range_m = scan.range_max_m > 0.0 ? scan.range_max_m : limits.max_range_m;
-  const nav::RangeScan hits = nav::ScanFromRanges(base_T_laser_, scan.angle_min_rad, scan.angle_increment_rad,
-                                                  scan.ranges, limits);
+  const nav::RangeScan hits =
+      nav::ScanFromRanges(base_T_laser_, scan.angle_min_rad, scan.angle_increment_rad, scan.ranges, limits);
   out.lanes = laser_lanes_->Process(hits.hits);
   for (const Eigen::Vector2f& p : hits.hits) {
     if ((p - hits.origin).norm() <= max_range_m_) out.scan.push_back(p.cast<double>());

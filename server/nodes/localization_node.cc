@@ -142,8 +142,9 @@ std::optional<nav::Pose2> LocalizationNode::OdometryAt(drivers::TimeNs stamp_ns)
   if (odometry_.empty()) return std::nullopt;
   if (stamp_ns >= odometry_.back().stamp_ns) return odometry_.back().odom_T_base;
   if (stamp_ns <= odometry_.front().stamp_ns) return odometry_.front().odom_T_base;
-  const auto after = std::lower_bound(odometry_.begin(), odometry_.end(), stamp_ns,
-                                      [](const drivers::WheelOdometry& o, drivers::TimeNs t) { return o.stamp_ns < t; });
+  const auto after =
+      std::lower_bound(odometry_.begin(), odometry_.end(), stamp_ns,
+                       [](const drivers::WheelOdometry& o, drivers::TimeNs t) { return o.stamp_ns < t; });
   const auto before = std::prev(after);
   const double f = static_cast<double>(stamp_ns - before->stamp_ns) /
                    static_cast<double>(std::max<drivers::TimeNs>(1, after->stamp_ns - before->stamp_ns));
@@ -167,8 +168,8 @@ void LocalizationNode::OnScan(const drivers::LaserScan& scan) {
       return stamp_T_odom * *OdometryAt(scan.stamp_ns - age_ns);
     };
   }
-  Localize(scan.stamp_ns, nav::ScanFromRanges(*base_T_laser_, scan.angle_min_rad, scan.angle_increment_rad,
-                                              scan.ranges, limits, motion));
+  Localize(scan.stamp_ns, nav::ScanFromRanges(*base_T_laser_, scan.angle_min_rad, scan.angle_increment_rad, scan.ranges,
+                                              limits, motion));
 }
 
 void LocalizationNode::OnFrame(const drivers::RgbdFrame& frame) {
@@ -200,8 +201,8 @@ void LocalizationNode::Localize(drivers::TimeNs stamp_ns, const nav::RangeScan& 
     return;
   }
   const bool lost = filter_->estimate().health == nav::LocalizationHealth::kLost;
-  const bool search_due = lost && stamp_ns - last_search_ns_ >=
-                                      static_cast<drivers::TimeNs>(options_.relocalize_every_s * 1e9);
+  const bool search_due =
+      lost && stamp_ns - last_search_ns_ >= static_cast<drivers::TimeNs>(options_.relocalize_every_s * 1e9);
   // The camera's narrow view searches once it has seen enough around the robot; until then the robot turns.
   bool view_ready = true;
   look_around_rps_ = 0.0;

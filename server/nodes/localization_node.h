@@ -32,12 +32,12 @@ namespace corridor::server {
 
 // What localization made of a pose it was given (LocalizationNode::SetPose).
 struct PoseCheck {
-  bool taken = false;        // false: not now (mapping under way); `detail` says why
-  bool checked = false;      // the last scan was held against the map at the pose (mcl with a scan so far)
+  bool taken = false;             // false: not now (mapping under way); `detail` says why
+  bool checked = false;           // the last scan was held against the map at the pose (mcl with a scan so far)
   double agreement = 0.0;         // the fraction of that scan on the map's walls at the given pose
   double agreement_before = 0.0;  // and at the pose localization had
-  bool agrees = true;        // the scan fits the map at the given pose (or it could not be checked)
-  std::string detail;        // for people
+  bool agrees = true;             // the scan fits the map at the given pose (or it could not be checked)
+  std::string detail;             // for people
 };
 
 class LocalizationNode final : public Node {
@@ -51,8 +51,8 @@ class LocalizationNode final : public Node {
   // the scans disagree with that map there, the filter is soon lost and searches the map).
   LocalizationNode(Executor& executor, Bus& bus, const LocalizationOptions& options, nav::Pose2 initial_pose,
                    std::optional<nav::Pose2> base_T_laser, const nav::PinholeCamera& camera,
-                   std::filesystem::path pose_file = {},
-                   std::optional<SavedPose> restored = std::nullopt, MapBuilt on_map_built = {});
+                   std::filesystem::path pose_file = {}, std::optional<SavedPose> restored = std::nullopt,
+                   MapBuilt on_map_built = {});
   void Activate() override;
   // Saves the last estimate, however little the robot moved since the last save (the node's executor has stopped).
   void Cleanup() override;
@@ -101,8 +101,8 @@ class LocalizationNode final : public Node {
   std::optional<SavedPose> saved_;     // what the file holds
   std::optional<SavedPose> restored_;  // until the first map is set
   std::unique_ptr<nav::MonteCarloLocalization> filter_;
-  std::deque<drivers::WheelOdometry> odometry_;  // the last second
-  bool relocalize_ = false;                      // search the whole map on the next scan
+  std::deque<drivers::WheelOdometry> odometry_;                     // the last second
+  bool relocalize_ = false;                                         // search the whole map on the next scan
   std::optional<std::pair<nav::Pose2, nav::RangeScan>> last_scan_;  // the last one localized with, and its odometry
   drivers::TimeNs last_search_ns_ = 0;
   MapBuilt on_map_built_;

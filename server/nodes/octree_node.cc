@@ -84,8 +84,8 @@ void OctreeNode::Snapshot(std::function<void(std::shared_ptr<const OctreeSnapsho
   executor().Post([this, done = std::move(done)] {
     Run("snapshot", [&] {
       const drivers::TimeNs now = clock().Now();
-      if (revision_ > 0 && (!snapshot_ || (snapshot_->revision != revision_ &&
-                                           now - snapshot_ns_ >= Ns(options_.update_every_s)))) {
+      if (revision_ > 0 &&
+          (!snapshot_ || (snapshot_->revision != revision_ && now - snapshot_ns_ >= Ns(options_.update_every_s)))) {
         auto snapshot = std::make_shared<OctreeSnapshot>();
         snapshot->map = name_;
         snapshot->revision = revision_;

@@ -27,18 +27,19 @@ namespace corridor::server {
 
 // What the API serves of the 3D map.
 struct OctreeSnapshot {
-  std::string map;               // whose octree
-  std::uint64_t revision = 0;    // of the octree: bumped by every change
+  std::string map;             // whose octree
+  std::uint64_t revision = 0;  // of the octree: bumped by every change
   double resolution_m = 0.0;
   std::size_t leaves = 0;
-  std::string bt;                // OctoMap binary
-  std::vector<float> voxels;     // occupied leaves, x y z size each (map frame)
+  std::string bt;             // OctoMap binary
+  std::vector<float> voxels;  // occupied leaves, x y z size each (map frame)
 };
 
 class OctreeNode final : public Node {
  public:
   // The layer for the planner: per cell of `map`, kOccupiedCell where something stands in the band.
-  using Layer = std::function<void(std::shared_ptr<const std::vector<std::int8_t>> cells, const nav::OccupancyGrid* map)>;
+  using Layer =
+      std::function<void(std::shared_ptr<const std::vector<std::int8_t>> cells, const nav::OccupancyGrid* map)>;
 
   OctreeNode(Executor& mapping, Bus& bus, const OctreeOptions& options, const nav::PinholeCamera& camera,
              bool trust_pose, std::filesystem::path maps_dir, Layer on_layer);
@@ -72,13 +73,13 @@ class OctreeNode final : public Node {
   std::filesystem::path maps_dir_;
   Layer on_layer_;
   nav::OccupancyOctree octree_;
-  std::string name_;                                  // whose octree octree_ is
-  std::shared_ptr<const nav::OccupancyGrid> map_;     // the active map's grid (the layer's geometry)
-  bool mapping_ = false;                              // a new map is being built under name_
-  std::uint64_t revision_ = 0;                         // bumped by every change of the octree
-  bool unsaved_ = false;                              // changed since the last save
-  std::optional<Eigen::AlignedBox2d> touched_;        // where it changed since the layer was last projected
-  std::deque<StampedPose> poses_;                     // the last second
+  std::string name_;                               // whose octree octree_ is
+  std::shared_ptr<const nav::OccupancyGrid> map_;  // the active map's grid (the layer's geometry)
+  bool mapping_ = false;                           // a new map is being built under name_
+  std::uint64_t revision_ = 0;                     // bumped by every change of the octree
+  bool unsaved_ = false;                           // changed since the last save
+  std::optional<Eigen::AlignedBox2d> touched_;     // where it changed since the layer was last projected
+  std::deque<StampedPose> poses_;                  // the last second
   drivers::TimeNs last_insert_ns_ = 0;
   drivers::TimeNs last_update_ns_ = 0;
   drivers::TimeNs last_save_ns_ = 0;

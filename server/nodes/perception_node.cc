@@ -19,8 +19,8 @@ PerceptionNode::PerceptionNode(Executor& executor, Bus& bus, const PerceptionOpt
       camera_(camera),
       tracker_(options.tracker) {
   using Detector = PerceptionOptions::Detector;
-  const Detector kind = options.detector == Detector::kAuto ? (simulated ? Detector::kSimulated : Detector::kHog)
-                                                            : options.detector;
+  const Detector kind =
+      options.detector == Detector::kAuto ? (simulated ? Detector::kSimulated : Detector::kHog) : options.detector;
   switch (kind) {
     case Detector::kSimulated: simulated_ = std::make_unique<face::SimulatedPeople>(options.sim); break;
     case Detector::kDnn: detector_ = std::make_unique<face::DnnDetector>(options.dnn); break;

@@ -39,13 +39,13 @@ class PerceptionNode final : public PeriodicNode {
 
   PerceptionOptions options_;
   nav::PinholeCamera camera_;
-  std::unique_ptr<face::Detector> detector_;       // null: the simulated people
-  std::unique_ptr<face::Detector> faces_;          // null: no face cascade
+  std::unique_ptr<face::Detector> detector_;  // null: the simulated people
+  std::unique_ptr<face::Detector> faces_;     // null: no face cascade
   std::unique_ptr<face::SimulatedPeople> simulated_;
   face::Tracker tracker_;
   std::uint64_t last_sequence_ = 0;
   bool seen_frame_ = false;
-  std::vector<face::Detection> built_in_;          // from the last frame
+  std::vector<face::Detection> built_in_;               // from the last frame
   std::map<std::string, ExternalDetections> external_;  // by source
 };
 

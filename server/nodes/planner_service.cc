@@ -104,8 +104,8 @@ void PlannerService::Plan(PlanRequest request, std::function<void(PlanReply)> do
     path_options.extra_cost = extra;
     path_options.robot_at_start = request.robot_at_start;
     const auto start = std::chrono::steady_clock::now();
-    reply.result = nav::PlanPath(*costmap, request.start, request.goal, request.goal_yaw, request.cancel.get(),
-                                 path_options);
+    reply.result =
+        nav::PlanPath(*costmap, request.start, request.goal, request.goal_yaw, request.cancel.get(), path_options);
     reply.planning_ms = MsSince(start);
     reply.costmap = costmap;
     done(std::move(reply));

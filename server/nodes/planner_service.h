@@ -20,7 +20,7 @@ struct PlanRequest {
   Eigen::Vector2d goal = Eigen::Vector2d::Zero();
   std::optional<double> goal_yaw;
   std::shared_ptr<std::atomic<bool>> cancel;  // may be null
-  bool robot_at_start = false;  // the start is the robot's pose: what is under its footprint is passable
+  bool robot_at_start = false;                // the start is the robot's pose: what is under its footprint is passable
   // Obstacles the map does not show, to go round where there is room (nav::LocalNavigator::Blocking): each adds
   // blocking_cost to the cells within blocking_radius_m of it (nav::AddPointCost).
   std::vector<Eigen::Vector2d> blocking;
@@ -30,9 +30,9 @@ struct PlanRequest {
 
 struct PlanReply {
   nav::PlanResult result;
-  std::uint64_t version = 0;   // of the map and zones it was planned on
-  double planning_ms = 0.0;    // search and path processing
-  double costmap_ms = 0.0;     // 0 when the cached costmap was used
+  std::uint64_t version = 0;                    // of the map and zones it was planned on
+  double planning_ms = 0.0;                     // search and path processing
+  double costmap_ms = 0.0;                      // 0 when the cached costmap was used
   std::shared_ptr<const nav::Costmap> costmap;  // what it was planned on
 };
 
@@ -79,7 +79,7 @@ class PlannerService {
   std::shared_ptr<const std::vector<std::int8_t>> layer_;
   std::atomic<std::uint64_t> version_{1};
   std::shared_ptr<const nav::Costmap> costmap_;  // planning executor only
-  std::uint64_t costmap_version_ = 0;             // planning executor only
+  std::uint64_t costmap_version_ = 0;            // planning executor only
 };
 
 }  // namespace corridor::server

@@ -28,8 +28,9 @@ void SimNode::Activate() {
   has_pedestrians_ = !robot_.pedestrians().empty();
   PublishTruth();  // the people once even when there are none: the topic then says so
   if (executor().schedule() == Schedule::kThreads) {
-    timer_ = std::make_unique<PeriodicTimer>(executor(), std::chrono::nanoseconds(drivers::FromSeconds(robot_.step_s())),
-                                             [this] { Run(loop_, [this] { KeepUp(); }); });
+    timer_ =
+        std::make_unique<PeriodicTimer>(executor(), std::chrono::nanoseconds(drivers::FromSeconds(robot_.step_s())),
+                                        [this] { Run(loop_, [this] { KeepUp(); }); });
   }
   SetHealth(Health::kOk, "");
 }

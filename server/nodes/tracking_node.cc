@@ -17,9 +17,11 @@ constexpr double kTrafficEveryS = 1.0;  // how often the planner gets new traffi
 TrackingNode::TrackingNode(Executor& mapping, Bus& bus, const TrackingSource& source,
                            const nav::MovingObjectOptions& options, const nav::TrafficOptions& traffic,
                            TrafficCallback on_traffic)
-    : Node("tracking", mapping, bus), source_(source),
+    : Node("tracking", mapping, bus),
+      source_(source),
       tracker_(source.base_T_laser ? options : nav::ForDepthCamera(options)),
-      traffic_options_(traffic), on_traffic_(std::move(on_traffic)) {
+      traffic_options_(traffic),
+      on_traffic_(std::move(on_traffic)) {
   if (!source.base_T_laser) depth_scan_.emplace(source.camera, source.depth);
 }
 
@@ -84,9 +86,9 @@ void TrackingNode::Track(drivers::TimeNs stamp_ns, const Eigen::Vector2d& sensor
     if (stamp_s - traffic_sent_s_ >= kTrafficEveryS || stamp_s < traffic_sent_s_) {
       traffic_sent_s_ = stamp_s;
       // Nobody walking (or long gone): no costs, and missions keep their paths.
-      on_traffic_(traffic_->Empty(stamp_s) ? nullptr
-                                           : std::make_shared<const std::vector<float>>(traffic_->StepCost(stamp_s)),
-                  map_.get());
+      on_traffic_(
+          traffic_->Empty(stamp_s) ? nullptr : std::make_shared<const std::vector<float>>(traffic_->StepCost(stamp_s)),
+          map_.get());
     }
   }
   std::size_t moving = 0;

@@ -41,9 +41,8 @@ class TrackingNode final : public Node {
  public:
   // Throws std::invalid_argument for bad options (or, without a laser, a camera without size or focal length).
   // `on_traffic` (may be empty) is called on the node's executor; with traffic.weight 0 it is never called.
-  TrackingNode(Executor& mapping, Bus& bus, const TrackingSource& source,
-               const nav::MovingObjectOptions& options, const nav::TrafficOptions& traffic,
-               TrafficCallback on_traffic);
+  TrackingNode(Executor& mapping, Bus& bus, const TrackingSource& source, const nav::MovingObjectOptions& options,
+               const nav::TrafficOptions& traffic, TrafficCallback on_traffic);
   void Activate() override;
   // Thread-safe: takes effect on the node's executor.
   void SetMap(std::shared_ptr<const nav::OccupancyGrid> map);
@@ -63,8 +62,8 @@ class TrackingNode final : public Node {
   nav::MovingObjectTracker tracker_;
   nav::TrafficOptions traffic_options_;
   TrafficCallback on_traffic_;
-  std::optional<nav::TrafficMap> traffic_;  // over the current map
-  std::shared_ptr<const nav::OccupancyGrid> map_;  // the current map
+  std::optional<nav::TrafficMap> traffic_;                            // over the current map
+  std::shared_ptr<const nav::OccupancyGrid> map_;                     // the current map
   double traffic_sent_s_ = -std::numeric_limits<double>::infinity();  // scan time of the last costs handed on
 };
 

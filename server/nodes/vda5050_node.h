@@ -11,10 +11,10 @@
 #include <memory>
 #include <string>
 
+#include "server/app/robot_core.h"
 #include "server/fleet/mqtt_link.h"
 #include "server/fleet/vda5050.h"
 #include "server/fleet/vda5050_agent.h"
-#include "server/app/robot_core.h"
 #include "server/nodes/mission_node.h"
 #include "server/runtime/config.h"
 #include "server/runtime/node.h"

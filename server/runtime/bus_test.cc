@@ -16,7 +16,9 @@ TEST(BusTest, SubscriberGetsMessagesOnItsExecutorAndLatestIsKept) {
   Executor executor("test", clock, Schedule::kThreads);
   executor.Start();
   std::promise<std::pair<double, std::thread::id>> got;
-  bus.Get(kTwist).Subscribe(executor, [&](const auto& m) { got.set_value({m->linear_mps, std::this_thread::get_id()}); });
+  bus.Get(kTwist).Subscribe(executor, [&](const auto& m) {
+    got.set_value({m->linear_mps, std::this_thread::get_id()});
+  });
   bus.Get(kTwist).Publish(nav::Twist2{0.25, 0.0});
   const auto [value, thread] = got.get_future().get();
   EXPECT_EQ(value, 0.25);

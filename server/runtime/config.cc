@@ -179,8 +179,9 @@ void ReadEvade(ConfigReader& r, nav::EvasionOptions& o) {
 
 void ReadLocalization(ConfigReader& r, LocalizationOptions& l) {
   using Source = LocalizationOptions::Source;
-  r.ReadChoice<Source>("source", l.source,
-                       {{"odometry", Source::kOdometry}, {"sim_truth", Source::kSimTruth}, {"mcl", Source::kMonteCarlo}});
+  r.ReadChoice<Source>(
+      "source", l.source,
+      {{"odometry", Source::kOdometry}, {"sim_truth", Source::kSimTruth}, {"mcl", Source::kMonteCarlo}});
   r.Read("initial_sigma_m", l.initial_sigma_m, 0.0, 10.0);
   r.Read("initial_sigma_deg", l.initial_sigma_deg, 0.0, 180.0);
   r.Read("relocalize_every_s", l.relocalize_every_s, 0.1, 3600.0);
@@ -222,9 +223,12 @@ void ReadOctomap(ConfigReader& r, OctreeOptions& o) {
 void ReadPerception(ConfigReader& r, PerceptionOptions& p) {
   r.Read("enabled", p.enabled);
   using Detector = PerceptionOptions::Detector;
-  r.ReadChoice<Detector>("detector", p.detector, {{"auto", Detector::kAuto}, {"sim", Detector::kSimulated},
-                                                  {"hog", Detector::kHog}, {"people", Detector::kPeople},
-                                                  {"dnn", Detector::kDnn}});
+  r.ReadChoice<Detector>("detector", p.detector,
+                         {{"auto", Detector::kAuto},
+                          {"sim", Detector::kSimulated},
+                          {"hog", Detector::kHog},
+                          {"people", Detector::kPeople},
+                          {"dnn", Detector::kDnn}});
   r.Read("faces", p.faces);
   r.Read("rate_hz", p.rate_hz, 0.2, 30.0);
   r.Read("max_ttl_s", p.max_ttl_s, 0.1, 600.0);
@@ -335,9 +339,9 @@ void ReadFleet(ConfigReader& r, FleetOptions& f) {
     v.Read("manufacturer", o.manufacturer);
     v.Read("serial_number", o.serial_number);
     // Topic levels: no MQTT wildcards or separators (the standard allows A-Z a-z 0-9 _ . : -).
-    for (const auto& [key, value] : {std::pair{"interface_name", &o.interface_name},
-                                     std::pair{"manufacturer", &o.manufacturer},
-                                     std::pair{"serial_number", &o.serial_number}}) {
+    for (const auto& [key, value] :
+         {std::pair{"interface_name", &o.interface_name}, std::pair{"manufacturer", &o.manufacturer},
+          std::pair{"serial_number", &o.serial_number}}) {
       if (value->find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.:-") !=
               std::string::npos ||
           (value->empty() && std::string(key) != "serial_number")) {
@@ -473,13 +477,14 @@ void ReadSerial(ConfigReader& r, fs::path& port, int& baud_rate, const fs::path&
   static const std::set<int> kRates = {9600, 19200, 38400, 57600, 115200, 230400, 256000, 460800, 921600, 1000000};
   r.Read("baud_rate", baud_rate);
   if (!kRates.contains(baud_rate)) {
-    throw ConfigError(r.PathOf("baud_rate") + ": " + std::to_string(baud_rate) + " is not a serial rate the drivers use");
+    throw ConfigError(r.PathOf("baud_rate") + ": " + std::to_string(baud_rate) +
+                      " is not a serial rate the drivers use");
   }
 }
 
-// A base on a serial port with wheel encoders (Create 2, Kobuki, TurtleBot 3, serial text): its port, wheels, limits (forward up to
-// `top_speed_mps`, the device's own) and link timeouts, the keys the same for each.
-// A base whose driver knows no wheels of its own (serial-text) requires them.
+// A base on a serial port with wheel encoders (Create 2, Kobuki, TurtleBot 3, serial text): its port, wheels, limits
+// (forward up to `top_speed_mps`, the device's own) and link timeouts, the keys the same for each. A base whose driver
+// knows no wheels of its own (serial-text) requires them.
 template <typename Options>
 void ReadSerialBase(ConfigReader& s, Options& c, double top_speed_mps, const fs::path& base) {
   ReadSerial(s, c.port, c.baud_rate, base);
@@ -487,8 +492,9 @@ void ReadSerialBase(ConfigReader& s, Options& c, double top_speed_mps, const fs:
     const bool has_default = value > 0.0;
     s.Read(key, value);
     if (!has_default && value == 0.0) {
-      throw ConfigError(s.PathOf(key) + ": required with this driver (the base's own wheels: wheel_diameter_m, "
-                                        "track_m, counts_per_revolution)");
+      throw ConfigError(s.PathOf(key) +
+                        ": required with this driver (the base's own wheels: wheel_diameter_m, "
+                        "track_m, counts_per_revolution)");
     }
     s.Check(key, value, min, max);
   };
@@ -541,8 +547,12 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
   r.Section("base", [&](ConfigReader& s) {
     BaseSlotOptions& o = d.base;
     driver(s, o.driver,
-           {{"sim", D::kSim}, {"dds", D::kDds}, {"create2", D::kCreate2}, {"kobuki", D::kKobuki},
-            {"turtlebot3", D::kTurtlebot3}, {"serial-text", D::kSerialText}});
+           {{"sim", D::kSim},
+            {"dds", D::kDds},
+            {"create2", D::kCreate2},
+            {"kobuki", D::kKobuki},
+            {"turtlebot3", D::kTurtlebot3},
+            {"serial-text", D::kSerialText}});
     if (o.driver == D::kDds) {
       s.Read("odom_topic", o.dds.odom_topic);
       s.Read("cmd_vel_topic", o.dds.cmd_vel_topic);
@@ -571,7 +581,11 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
   r.Section("laser", [&](ConfigReader& s) {
     LaserSlotOptions& o = d.laser;
     driver(s, o.driver,
-           {{"sim", D::kSim}, {"dds", D::kDds}, {"rplidar", D::kRplidar}, {"hokuyo", D::kHokuyo}, {"lds", D::kLds},
+           {{"sim", D::kSim},
+            {"dds", D::kDds},
+            {"rplidar", D::kRplidar},
+            {"hokuyo", D::kHokuyo},
+            {"lds", D::kLds},
             {"none", D::kNone}});
     if (o.driver == D::kDds) {
       s.Read("topic", o.dds.topic);
@@ -594,8 +608,8 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
       s.Read("silence_s", l.silence_s, l.stale_s, 10.0);
     } else if (o.driver == D::kLds) {
       drivers::lds::LdsOptions& l = o.lds;
-      s.ReadChoice<drivers::lds::Model>("model", l.model,
-                                        {{"lds-02", drivers::lds::Model::kLds02}, {"lds-01", drivers::lds::Model::kLds01}});
+      s.ReadChoice<drivers::lds::Model>(
+          "model", l.model, {{"lds-02", drivers::lds::Model::kLds02}, {"lds-01", drivers::lds::Model::kLds01}});
       // The LDS-01 measures to 3.5 m; the LDS-02 to 8 m.
       if (l.model == drivers::lds::Model::kLds01) l.sweep.range_max_m = 3.5;
       ReadSerial(s, l.port, l.baud_rate, base);
@@ -631,8 +645,12 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
   });
   r.Section("camera", [&](ConfigReader& s) {
     CameraSlotOptions& o = d.camera;
-    driver(s, o.driver, {{"sim", D::kSim}, {"dds", D::kDds}, {"realsense", D::kRealsense}, {"openni2", D::kOpenni2},
-                         {"none", D::kNone}});
+    driver(s, o.driver,
+           {{"sim", D::kSim},
+            {"dds", D::kDds},
+            {"realsense", D::kRealsense},
+            {"openni2", D::kOpenni2},
+            {"none", D::kNone}});
     if (o.driver == D::kRealsense) {
       drivers::realsense::RealSenseOptions& c = o.realsense;
       s.Read("name", c.name);
@@ -782,7 +800,8 @@ void ReadMission(ConfigReader& r, nav::MissionRunnerOptions& mission) {
   try {
     nav::ValidateGains(o.gains);
   } catch (const std::invalid_argument& e) {
-    throw ConfigError(r.PathOf("k_rho") + ", k_alpha, k_beta: " + e.what() + " (the polar controller would not converge)");
+    throw ConfigError(r.PathOf("k_rho") + ", k_alpha, k_beta: " + e.what() +
+                      " (the polar controller would not converge)");
   }
   r.Read("lookahead_m", o.lookahead_m, 0.05, 5.0);
   r.Read("approach_m", o.approach_m, 0.05, 5.0);
@@ -929,12 +948,12 @@ void CheckDevices(const Config& config) {
       throw ConfigError("sim.world: required with the simulator's devices (unless building.floors are its world)");
     }
     // A frame period longer than the gate's patience would never let the robot drive forward.
-    if (d.camera.driver == DeviceDriver::kSim && 1.0 / config.sim.robot.camera.rate_hz >= config.safety.depth_timeout_s) {
+    if (d.camera.driver == DeviceDriver::kSim &&
+        1.0 / config.sim.robot.camera.rate_hz >= config.safety.depth_timeout_s) {
       throw ConfigError("sim.camera.rate_hz: frames every " + std::to_string(1.0 / config.sim.robot.camera.rate_hz) +
                         " s are always older than safety.depth_timeout_s: raise the rate or the timeout");
     }
-    if (d.laser.driver == DeviceDriver::kSim &&
-        1.0 / config.sim.robot.laser.rate_hz >= config.safety.laser_timeout_s) {
+    if (d.laser.driver == DeviceDriver::kSim && 1.0 / config.sim.robot.laser.rate_hz >= config.safety.laser_timeout_s) {
       throw ConfigError("sim.laser.rate_hz: scans every " + std::to_string(1.0 / config.sim.robot.laser.rate_hz) +
                         " s are always older than safety.laser_timeout_s: raise the rate or the timeout");
     }

@@ -7,20 +7,19 @@
 #include <string>
 
 #include "drivers/create2/create2_options.h"
+#include "drivers/dds/device_options.h"
 #include "drivers/hokuyo/hokuyo_options.h"
 #include "drivers/kobuki/kobuki_options.h"
 #include "drivers/lds/lds_options.h"
 #include "drivers/openni2/openni2_options.h"
 #include "drivers/realsense/realsense_options.h"
-#include "drivers/serial_text/serial_text_options.h"
-#include "drivers/turtlebot3/turtlebot3_options.h"
-#include "drivers/dds/device_options.h"
 #include "drivers/rplidar/rplidar_options.h"
+#include "drivers/serial_text/serial_text_options.h"
 #include "drivers/sim/sim_robot.h"
 #include "drivers/sim/world.h"
-#include "nav/ground/depth_scan.h"
-#include "face/detect/dnn_detector.h"
+#include "drivers/turtlebot3/turtlebot3_options.h"
 #include "face/detect/depth_people.h"
+#include "face/detect/dnn_detector.h"
 #include "face/detect/face_cascade.h"
 #include "face/detect/hog_people.h"
 #include "face/detect/people_detector.h"
@@ -29,13 +28,14 @@
 #include "face/events.h"
 #include "face/expression.h"
 #include "face/speech.h"
+#include "nav/ground/depth_scan.h"
+#include "nav/ground/morp.h"
 #include "nav/localization/monte_carlo.h"
 #include "nav/mapping/occupancy_octree.h"
-#include "nav/ground/morp.h"
-#include "nav/planner/costmap.h"
-#include "nav/safety/command_gate.h"
 #include "nav/mission/mission_runner.h"
+#include "nav/planner/costmap.h"
 #include "nav/policy/local_navigator.h"
+#include "nav/safety/command_gate.h"
 #include "nav/tracking/moving_objects.h"
 #include "nav/tracking/traffic_map.h"
 #include "server/auth/options.h"
@@ -52,11 +52,11 @@ struct TlsOptions {
 };
 
 struct ServerOptions {
-  int port = 8080;                      // 0 picks a free port (logged at start-up)
+  int port = 8080;  // 0 picks a free port (logged at start-up)
   std::string bind_address = "0.0.0.0";
-  std::filesystem::path web_root;       // the built console; empty: next to the binary or in the source tree
-  int max_body_bytes = 4 * 1024 * 1024; // larger request bodies get 413 (a whole map image fits)
-  double stream_rate_hz = 20.0;         // WebSocket state pushes per second
+  std::filesystem::path web_root;        // the built console; empty: next to the binary or in the source tree
+  int max_body_bytes = 4 * 1024 * 1024;  // larger request bodies get 413 (a whole map image fits)
+  double stream_rate_hz = 20.0;          // WebSocket state pushes per second
   TlsOptions tls;
 };
 
@@ -74,7 +74,7 @@ using SafetyOptions = nav::CommandGateOptions;
 
 // The simulator (the robot's devices when devices.base.driver is sim).
 struct SimulatorOptions {
-  std::filesystem::path world;          // .yaml map, .world/.sdf, or a mesh file
+  std::filesystem::path world;  // .yaml map, .world/.sdf, or a mesh file
   drivers::sim::WorldOptions world_options;
   drivers::sim::SimOptions robot;
   // Things the map does not show: obstacles standing on the floor, and people walking back and forth (ORCA among
@@ -105,8 +105,8 @@ struct LocalizationOptions {
   enum class Source { kOdometry, kSimTruth, kMonteCarlo };
   Source source = Source::kOdometry;
   nav::MonteCarloOptions mcl;
-  std::uint64_t seed = 1;           // of the particle filter
-  double initial_sigma_m = 0.1;     // the start pose's spread
+  std::uint64_t seed = 1;        // of the particle filter
+  double initial_sigma_m = 0.1;  // the start pose's spread
   double initial_sigma_deg = 5.0;
   double relocalize_every_s = 2.0;  // while lost, a global search this often
   // Without a laser, the depth camera's scan: its columns' nearest obstacles out to this range (farther, depth noise
@@ -142,8 +142,8 @@ struct OctreeOptions {
 // The robot's face (server/nodes/face_node.h): when it changes expression, what it says, and its voice.
 struct FaceOptions {
   face::ExpressionOptions expression;
-  face::EventOptions events;    // what building systems are told (face/events.h)
-  bool mute = false;            // say nothing aloud (the page's mouth still moves with what is said)
+  face::EventOptions events;  // what building systems are told (face/events.h)
+  bool mute = false;          // say nothing aloud (the page's mouth still moves with what is said)
   face::SpeechOptions voice;
 };
 
@@ -154,10 +154,10 @@ struct PerceptionOptions {
   // shoulders and faces: face/detect/people_detector.h; finds more, five times the cost); dnn (the user's model).
   enum class Detector { kAuto, kSimulated, kHog, kPeople, kDnn };
   Detector detector = Detector::kAuto;
-  bool faces = true;          // also the frontal face cascade (a face turned to the robot: a person looking at it)
-  double rate_hz = 5.0;       // detections a second, on the perception executor
-  face::HogOptions hog;           // for hog, and people's own HOG
-  face::PeopleOptions people;     // its hog is `hog`
+  bool faces = true;           // also the frontal face cascade (a face turned to the robot: a person looking at it)
+  double rate_hz = 5.0;        // detections a second, on the perception executor
+  face::HogOptions hog;        // for hog, and people's own HOG
+  face::PeopleOptions people;  // its hog is `hog`
   // With an image detector (hog, people, dnn) and a depth image: an object the tracker follows that the depth image
   // shows person-shaped (face/detect/depth_people.h) is a person too, where the image's detector saw none.
   bool depth_people = true;
@@ -166,29 +166,29 @@ struct PerceptionOptions {
   face::DnnOptions dnn;
   face::SimulatedPeopleOptions sim;
   face::TrackerOptions tracker;
-  double max_ttl_s = 10.0;    // the longest an external detection may be kept
+  double max_ttl_s = 10.0;  // the longest an external detection may be kept
 };
 
 // Webhooks (server/api/webhooks.h): how the robot's events are delivered to the building systems that subscribed.
 struct WebhookOptions {
-  double timeout_s = 5.0;        // one attempt: connect, send, answer
-  int max_attempts = 8;          // then the delivery has failed
-  double first_retry_s = 2.0;    // the wait before the second attempt, doubled for each next one
-  double max_retry_s = 300.0;    // the longest wait between two attempts
-  int keep_deliveries = 100;     // finished deliveries kept per webhook
-  int max_pending = 200;         // undelivered ones per webhook; beyond, the oldest fails (the receiver is gone)
-  std::string ca_file;           // HTTPS: trust these certificates (PEM) besides the system's
-  std::string robot;             // the robot's name in every payload; empty: the host name
+  double timeout_s = 5.0;      // one attempt: connect, send, answer
+  int max_attempts = 8;        // then the delivery has failed
+  double first_retry_s = 2.0;  // the wait before the second attempt, doubled for each next one
+  double max_retry_s = 300.0;  // the longest wait between two attempts
+  int keep_deliveries = 100;   // finished deliveries kept per webhook
+  int max_pending = 200;       // undelivered ones per webhook; beyond, the oldest fails (the receiver is gone)
+  std::string ca_file;         // HTTPS: trust these certificates (PEM) besides the system's
+  std::string robot;           // the robot's name in every payload; empty: the host name
 };
 
 // VDA 5050 over MQTT (server/nodes/vda5050_node.h): a master control's orders and instant actions.
 struct Vda5050Options {
-  std::string broker;                  // mqtt://host:port; empty: off
-  std::string interface_name = "uagv"; // topics: interface_name/v2/manufacturer/serial_number/<topic>
+  std::string broker;                   // mqtt://host:port; empty: off
+  std::string interface_name = "uagv";  // topics: interface_name/v2/manufacturer/serial_number/<topic>
   std::string manufacturer = "corridor";
-  std::string serial_number;           // empty: the robot's name (webhooks.robot, else the host name)
-  int qos = 0;                         // order, instantActions, state, visualization, factsheet (connection: 1)
-  double state_interval_s = 30.0;      // the state at least this often, and on every change
+  std::string serial_number;       // empty: the robot's name (webhooks.robot, else the host name)
+  int qos = 0;                     // order, instantActions, state, visualization, factsheet (connection: 1)
+  double state_interval_s = 30.0;  // the state at least this often, and on every change
   double visualization_hz = 1.0;
 };
 
@@ -205,8 +205,8 @@ struct HttpRequestTemplate {
 
 // A building system that speaks Open-RMF's door or lift messages over MQTT (server/fleet/rmf_mqtt.h).
 struct RmfMqttOptions {
-  std::string broker;                  // mqtt://host:port; empty: not used
-  std::string prefix = "rmf";          // topics: prefix/door_requests, prefix/door_states, ...
+  std::string broker;                     // mqtt://host:port; empty: not used
+  std::string prefix = "rmf";             // topics: prefix/door_requests, prefix/door_states, ...
   std::string requester_id = "corridor";  // DoorRequest.requester_id, LiftRequest.session_id
 };
 
@@ -291,10 +291,18 @@ std::string SimMapName(const Config& config);
 // none: a simulated base carries the simulated camera and the simulated laser (either may be none); the other drivers
 // mix freely.
 enum class DeviceDriver {
-  kSim, kDds, kNone,
-  kCreate2, kKobuki, kTurtlebot3, kSerialText,  // bases
-  kRplidar, kHokuyo, kLds,                       // lasers
-  kRealsense, kOpenni2,                          // cameras
+  kSim,
+  kDds,
+  kNone,
+  kCreate2,
+  kKobuki,
+  kTurtlebot3,
+  kSerialText,  // bases
+  kRplidar,
+  kHokuyo,
+  kLds,  // lasers
+  kRealsense,
+  kOpenni2,  // cameras
 };
 const char* ToString(DeviceDriver driver);
 
@@ -338,7 +346,7 @@ struct DdsOptions {
   bool allow_writes = false;            // take /cmd_vel, /goal_pose and /initialpose (from any peer let in)
   // A DDS Security enclave (drivers/dds/participant.h); empty: no security, any peer on the network is let in.
   std::filesystem::path security_enclave;
-  double camera_hz = 0.0;               // depth image and camera info rate; 0: not published
+  double camera_hz = 0.0;                  // depth image and camera info rate; 0: not published
   std::string cmd_vel_topic = "/cmd_vel";  // what ROS 2 tools drive the robot with (allow_writes)
 };
 
@@ -347,7 +355,7 @@ struct DdsOptions {
 int DdsDomain(const DdsOptions& dds);
 
 struct LogOptions {
-  std::string level = "info";           // trace, debug, info, warn, error
+  std::string level = "info";  // trace, debug, info, warn, error
 };
 
 struct Config {

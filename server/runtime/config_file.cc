@@ -46,10 +46,8 @@ json ToJson(const YAML::Node& node) {
       for (const auto& item : node) out.push_back(ToJson(item));
       return out;
     }
-    case YAML::NodeType::Scalar:
-      return ScalarJson(node);
-    default:
-      return nullptr;
+    case YAML::NodeType::Scalar: return ScalarJson(node);
+    default: return nullptr;
   }
 }
 

@@ -110,11 +110,10 @@ TEST_F(ConfigTest, TheVdaBrokerIsOffByDefaultAndTheFlagSetsIt) {
             std::string::npos);
   flag.mqtt = "127.0.0.1";
   EXPECT_NE(ErrorOf("sim: {world: w.yaml}\n", flag).find("fleet.vda5050.broker"), std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\nfleet: {vda5050: {serial_number: 'a/#'}}\n")
-                .find("fleet.vda5050.serial_number"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\nfleet: {vda5050: {qos: 3}}\n").find("fleet.vda5050.qos"),
-            std::string::npos);
+  EXPECT_NE(
+      ErrorOf("sim: {world: w.yaml}\nfleet: {vda5050: {serial_number: 'a/#'}}\n").find("fleet.vda5050.serial_number"),
+      std::string::npos);
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\nfleet: {vda5050: {qos: 3}}\n").find("fleet.vda5050.qos"), std::string::npos);
 }
 
 TEST_F(ConfigTest, DdsIsOffByDefaultAndItsDomainComesFromTheEnvironmentUnlessSet) {
@@ -152,7 +151,8 @@ TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
       << dds
       << "devices:\n"
          "  base: {driver: create2, port: /dev/ttyUSB0, wheel_diameter_m: 0.07, stale_s: 0.04}\n"
-         "  laser: {driver: rplidar, port: /dev/corridor/rplidar, baud_rate: 256000, mount_yaw_deg: 180, scan: express}\n"
+         "  laser: {driver: rplidar, port: /dev/corridor/rplidar, baud_rate: 256000, mount_yaw_deg: 180, scan: "
+         "express}\n"
          "  camera: {driver: dds, depth_topic: /cam/depth, info_wait_s: 3}\n";
   const Config c = LoadConfig(dir_ / "c.yaml");
   EXPECT_FALSE(Simulated(c));
@@ -179,17 +179,19 @@ TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
   EXPECT_FALSE(blind.safety.require_laser);
 
   const auto error = [&](const std::string& devices) { return ErrorOf(dds + "devices: " + devices + "\n"); };
-  EXPECT_NE(error("{base: {driver: kobold}}")
-                .find("devices.base.driver: must be sim, dds, create2, kobuki, turtlebot3 or serial-text, got 'kobold'"),
-            std::string::npos);
+  EXPECT_NE(
+      error("{base: {driver: kobold}}")
+          .find("devices.base.driver: must be sim, dds, create2, kobuki, turtlebot3 or serial-text, got 'kobold'"),
+      std::string::npos);
   EXPECT_NE(error("{base: {driver: create2}, camera: {driver: dds}}").find("devices.base.port: required"),
             std::string::npos);
   EXPECT_NE(error("{base: {driver: create2, port: /dev/x, baud_rate: 12345}, camera: {driver: dds}}")
                 .find("devices.base.baud_rate"),
             std::string::npos);
   // A Kobuki with the create2's keys, its battery's voltages its own; a Create 2 knows no battery voltages.
-  std::ofstream(dir_ / "c.yaml") << dds << "devices:\n  base: {driver: kobuki, port: /dev/kobuki, max_linear_mps: 0.7, "
-                                           "battery_empty_v: 13.0}\n  laser: {driver: none}\n  camera: {driver: dds}\n";
+  std::ofstream(dir_ / "c.yaml") << dds
+                                 << "devices:\n  base: {driver: kobuki, port: /dev/kobuki, max_linear_mps: 0.7, "
+                                    "battery_empty_v: 13.0}\n  laser: {driver: none}\n  camera: {driver: dds}\n";
   const Config kobuki = LoadConfig(dir_ / "c.yaml");
   EXPECT_EQ(kobuki.devices.base.driver, DeviceDriver::kKobuki);
   EXPECT_EQ(kobuki.devices.base.kobuki.port, "/dev/kobuki");
@@ -203,8 +205,10 @@ TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
                 .find("devices.base.battery_full_v: unknown"),
             std::string::npos);
   // A TurtleBot 3: a Burger unless told otherwise (a Waffle Pi's track).
-  std::ofstream(dir_ / "c.yaml") << dds << "devices:\n  base: {driver: turtlebot3, port: /dev/corridor/opencr, track_m: 0.287}\n"
-                                           "  laser: {driver: none}\n  camera: {driver: dds}\n";
+  std::ofstream(dir_ / "c.yaml")
+      << dds
+      << "devices:\n  base: {driver: turtlebot3, port: /dev/corridor/opencr, track_m: 0.287}\n"
+         "  laser: {driver: none}\n  camera: {driver: dds}\n";
   const Config turtlebot3 = LoadConfig(dir_ / "c.yaml");
   EXPECT_EQ(turtlebot3.devices.base.driver, DeviceDriver::kTurtlebot3);
   EXPECT_EQ(turtlebot3.devices.base.turtlebot3.baud_rate, 1000000);
@@ -214,9 +218,10 @@ TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
                 .find("devices.base.max_linear_mps"),
             std::string::npos);
   // A home-made base on the serial text protocol: its wheels are its own, and required.
-  std::ofstream(dir_ / "c.yaml") << dds << "devices:\n  base: {driver: serial-text, port: /dev/corridor/arduino, "
-                                           "wheel_diameter_m: 0.065, track_m: 0.2, counts_per_revolution: 1920, "
-                                           "pid_rate_hz: 1}\n  laser: {driver: none}\n  camera: {driver: dds}\n";
+  std::ofstream(dir_ / "c.yaml") << dds
+                                 << "devices:\n  base: {driver: serial-text, port: /dev/corridor/arduino, "
+                                    "wheel_diameter_m: 0.065, track_m: 0.2, counts_per_revolution: 1920, "
+                                    "pid_rate_hz: 1}\n  laser: {driver: none}\n  camera: {driver: dds}\n";
   const Config home_made = LoadConfig(dir_ / "c.yaml");
   EXPECT_EQ(home_made.devices.base.driver, DeviceDriver::kSerialText);
   EXPECT_EQ(home_made.devices.base.serial_text.baud_rate, 57600);
@@ -229,9 +234,10 @@ TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
                 .find("devices.base.pid_rate_hz: unknown"),
             std::string::npos);
   // A Hokuyo on Ethernet or USB; a RealSense and an OpenNI2 camera with their intrinsics and mounting.
-  std::ofstream(dir_ / "c.yaml") << dds << "devices:\n  base: {driver: kobuki, port: /dev/kobuki}\n"
-                                           "  laser: {driver: hokuyo, port: 192.168.0.10:10940, mount_yaw_deg: 90}\n"
-                                           "  camera: {driver: realsense, fx: 386.2, fy: 386.1, fps: 15, tilt_deg: 5}\n";
+  std::ofstream(dir_ / "c.yaml") << dds
+                                 << "devices:\n  base: {driver: kobuki, port: /dev/kobuki}\n"
+                                    "  laser: {driver: hokuyo, port: 192.168.0.10:10940, mount_yaw_deg: 90}\n"
+                                    "  camera: {driver: realsense, fx: 386.2, fy: 386.1, fps: 15, tilt_deg: 5}\n";
   const Config ust = LoadConfig(dir_ / "c.yaml");
   EXPECT_EQ(ust.devices.laser.driver, DeviceDriver::kHokuyo);
   EXPECT_EQ(ust.devices.laser.hokuyo.port, "192.168.0.10:10940");
@@ -240,24 +246,27 @@ TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
   EXPECT_DOUBLE_EQ(ust.devices.camera.realsense.camera.fx, 386.2);
   EXPECT_EQ(ust.devices.camera.realsense.camera.fps, 15);
   EXPECT_DOUBLE_EQ(ust.devices.camera.realsense.depth_scale_m, 0.001);
-  std::ofstream(dir_ / "c.yaml") << dds << "devices:\n  base: {driver: kobuki, port: /dev/kobuki}\n"
-                                           "  laser: {driver: hokuyo, port: ttyACM0}\n"
-                                           "  camera: {driver: openni2, uri: '1d27/0601@1/5', color: false}\n";
+  std::ofstream(dir_ / "c.yaml") << dds
+                                 << "devices:\n  base: {driver: kobuki, port: /dev/kobuki}\n"
+                                    "  laser: {driver: hokuyo, port: ttyACM0}\n"
+                                    "  camera: {driver: openni2, uri: '1d27/0601@1/5', color: false}\n";
   const Config urg = LoadConfig(dir_ / "c.yaml");
   EXPECT_EQ(urg.devices.laser.hokuyo.port, (dir_ / "ttyACM0").string());  // relative to the configuration
   EXPECT_EQ(urg.devices.camera.openni2.uri, "1d27/0601@1/5");
   EXPECT_FALSE(urg.devices.camera.openni2.color);
   // A TurtleBot 3's laser: an LDS-02 unless said, an LDS-01 measuring to 3.5 m.
-  std::ofstream(dir_ / "c.yaml") << dds << "devices:\n  base: {driver: turtlebot3, port: /dev/corridor/opencr}\n"
-                                           "  laser: {driver: lds, port: /dev/corridor/lds}\n  camera: {driver: none}\n";
+  std::ofstream(dir_ / "c.yaml") << dds
+                                 << "devices:\n  base: {driver: turtlebot3, port: /dev/corridor/opencr}\n"
+                                    "  laser: {driver: lds, port: /dev/corridor/lds}\n  camera: {driver: none}\n";
   const Config burger = LoadConfig(dir_ / "c.yaml");
   EXPECT_EQ(burger.devices.laser.driver, DeviceDriver::kLds);
   EXPECT_EQ(burger.devices.laser.lds.model, drivers::lds::Model::kLds02);
   EXPECT_EQ(burger.devices.laser.lds.baud_rate, 230400);
   EXPECT_DOUBLE_EQ(burger.devices.laser.lds.sweep.range_max_m, 8.0);
-  std::ofstream(dir_ / "c.yaml") << dds << "devices:\n  base: {driver: turtlebot3, port: /dev/corridor/opencr}\n"
-                                           "  laser: {driver: lds, model: lds-01, port: /dev/corridor/lds}\n"
-                                           "  camera: {driver: none}\n";
+  std::ofstream(dir_ / "c.yaml") << dds
+                                 << "devices:\n  base: {driver: turtlebot3, port: /dev/corridor/opencr}\n"
+                                    "  laser: {driver: lds, model: lds-01, port: /dev/corridor/lds}\n"
+                                    "  camera: {driver: none}\n";
   EXPECT_EQ(LoadConfig(dir_ / "c.yaml").devices.laser.lds.model, drivers::lds::Model::kLds01);
   EXPECT_DOUBLE_EQ(LoadConfig(dir_ / "c.yaml").devices.laser.lds.sweep.range_max_m, 3.5);
   EXPECT_NE(error("{base: {driver: kobuki, port: /dev/x}, laser: {driver: lds, model: lds-03, port: /dev/x}, camera: "
@@ -296,9 +305,10 @@ TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
                     "devices: {base: {driver: dds}, laser: {driver: none}, camera: {driver: dds}}\n")
                 .find("dds.cmd_vel_topic"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("dds: {enabled: true}\ndevices: {base: {driver: dds}, laser: {driver: none}, camera: {driver: dds}}\n")
-                .find("map.file: required"),
-            std::string::npos);
+  EXPECT_NE(
+      ErrorOf("dds: {enabled: true}\ndevices: {base: {driver: dds}, laser: {driver: none}, camera: {driver: dds}}\n")
+          .find("map.file: required"),
+      std::string::npos);
   // The old places of the keys say where they went.
   EXPECT_NE(ErrorOf("sim: {world: w.yaml, laser: {enabled: false}}\n").find("sim.laser.enabled: moved to devices"),
             std::string::npos);
@@ -399,9 +409,9 @@ TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
   EXPECT_DOUBLE_EQ(c.tracking.objects.merged_hold_s, 2.0);
   EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ntracking: {coast_s: 2, merged_hold_s: 1}\n").find("tracking.merged_hold_s"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\ntracking: {coast_s: 2, unseen_coast_s: 1}\n")
-                .find("tracking.unseen_coast_s"),
-            std::string::npos);
+  EXPECT_NE(
+      ErrorOf("sim: {world: w.yaml}\ntracking: {coast_s: 2, unseen_coast_s: 1}\n").find("tracking.unseen_coast_s"),
+      std::string::npos);
   EXPECT_DOUBLE_EQ(c.tracking.objects.walk_end_memory_s, 20.0);
   EXPECT_DOUBLE_EQ(c.tracking.traffic.weight, 5.0);
   EXPECT_DOUBLE_EQ(c.mission.navigator.reroute_s, 5.0);
@@ -444,7 +454,8 @@ TEST_F(ConfigTest, LocalizationKeysAreReadAndChecked) {
 
 TEST_F(ConfigTest, SimulatedObstaclesAreAListCheckedItemByItem) {
   EXPECT_EQ(ErrorOf("sim:\n  world: w.yaml\n  obstacles:\n    - {shape: box, x_m: 1, y_m: 2, size_m: 0.3}\n"
-                    "    - {x_m: 3, y_m: 2}\n"), "");
+                    "    - {x_m: 3, y_m: 2}\n"),
+            "");
   const std::string shape = ErrorOf("sim:\n  world: w.yaml\n  obstacles:\n    - {x_m: 1}\n    - {shape: cone}\n");
   EXPECT_NE(shape.find("sim.obstacles[1].shape: must be cylinder, box or table"), std::string::npos) << shape;
   const std::string unknown = ErrorOf("sim:\n  world: w.yaml\n  obstacles:\n    - {radius: 1}\n");

@@ -5,11 +5,10 @@
 #include <cstdio>
 #include <cstdlib>
 
-#define DEMAND(condition)                                                                              \
-  do {                                                                                                 \
-    if (!(condition)) {                                                                                \
-      std::fprintf(stderr, "corridor: internal error: DEMAND(%s) failed at %s:%d\n", #condition, __FILE__, \
-                   __LINE__);                                                                          \
-      std::abort();                                                                                    \
-    }                                                                                                  \
+#define DEMAND(condition)                                                                                             \
+  do {                                                                                                                \
+    if (!(condition)) {                                                                                               \
+      std::fprintf(stderr, "corridor: internal error: DEMAND(%s) failed at %s:%d\n", #condition, __FILE__, __LINE__); \
+      std::abort();                                                                                                   \
+    }                                                                                                                 \
   } while (false)

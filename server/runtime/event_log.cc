@@ -25,9 +25,7 @@ nlohmann::json ToJson(const LoggedEvent& logged) {
   if (!e.place.empty()) data["place"] = e.place;
   if (!e.detail.empty()) data["detail"] = e.detail;
   if (e.person) data["person"] = ToJson(*e.person);
-  return {{"time", logged.time},
-          {"type", std::string(face::ToString(e.type))},
-          {"data", std::move(data)}};
+  return {{"time", logged.time}, {"type", std::string(face::ToString(e.type))}, {"data", std::move(data)}};
 }
 
 void EventLog::Append(const face::RobotEvent& event) {

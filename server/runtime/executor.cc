@@ -19,7 +19,7 @@ struct Executor::TimerState {
   drivers::TimeNs period_ns;  // 0: once (a DeadlineTimer), then unarmed until set again
   std::function<void()> tick;
   std::atomic<bool> stopped{false};
-  drivers::TimeNs next_ns = 0;                      // on the executor's clock
+  drivers::TimeNs next_ns = 0;                     // on the executor's clock
   std::optional<boost::asio::steady_timer> timer;  // kThreads
 
   TimerState(Executor& e, drivers::TimeNs period, std::function<void()> t)
@@ -151,7 +151,9 @@ Executors::Executors(const drivers::Clock& clock, Schedule schedule)
       sim("sim", clock, schedule),
       dds("dds", clock, schedule) {}
 
-std::vector<Executor*> Executors::all() { return {&sim, &control, &mapping, &mapping3d, &planning, &perception, &io, &dds}; }
+std::vector<Executor*> Executors::all() {
+  return {&sim, &control, &mapping, &mapping3d, &planning, &perception, &io, &dds};
+}
 
 void Executors::StartAll() {
   for (Executor* e : all()) e->Start();

@@ -16,7 +16,8 @@ TEST(LockstepTest, TimersFireOnTheSimulatedClockAndSkipWhatTheyMissed) {
   drivers::ManualClock clock;
   Executor executor("test", clock, Schedule::kLockstep);
   std::vector<double> ticks;
-  PeriodicTimer timer(executor, std::chrono::milliseconds(100), [&] { ticks.push_back(drivers::ToSeconds(clock.Now())); });
+  PeriodicTimer timer(executor, std::chrono::milliseconds(100),
+                      [&] { ticks.push_back(drivers::ToSeconds(clock.Now())); });
   for (int step = 1; step <= 30; ++step) {  // 0.3 s in 10 ms steps
     clock.Set(FromSeconds(0.01 * step));
     executor.Poll();
@@ -117,7 +118,7 @@ TEST(LockstepTest, ADeadlineFiresOnceAtTheLatestTimeSet) {
   ASSERT_EQ(fired.size(), 1u);
   EXPECT_NEAR(fired[0], 1.13, 1e-9);
   step_to(2.0);
-  EXPECT_EQ(fired.size(), 1u);  // once
+  EXPECT_EQ(fired.size(), 1u);    // once
   deadline.At(FromSeconds(1.5));  // already past: at the next poll
   step_to(2.0);
   EXPECT_EQ(fired.size(), 2u);

@@ -13,7 +13,7 @@ namespace corridor::server {
 class LatencyStats {
  public:
   struct Summary {
-    double rate_hz = 0.0;    // samples per second over the last rate window
+    double rate_hz = 0.0;  // samples per second over the last rate window
     double p50_ms = 0.0;
     double p99_ms = 0.0;
     double max_ms = 0.0;
@@ -46,7 +46,9 @@ class LatencyStats {
     if (recent_.empty()) return s;
     std::vector<double> sorted = recent_;
     std::sort(sorted.begin(), sorted.end());
-    const auto at = [&](double q) { return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))]; };
+    const auto at = [&](double q) {
+      return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
+    };
     s.p50_ms = at(0.5);
     s.p99_ms = at(0.99);
     s.max_ms = sorted.back();

@@ -4,9 +4,7 @@
 
 namespace corridor::server {
 
-nlohmann::json ToJson(const nav::Pose2& pose) {
-  return {{"x", pose.x_m}, {"y", pose.y_m}, {"yaw", pose.yaw_rad}};
-}
+nlohmann::json ToJson(const nav::Pose2& pose) { return {{"x", pose.x_m}, {"y", pose.y_m}, {"yaw", pose.yaw_rad}}; }
 
 nlohmann::json ToJson(const LocalizationState& localization) {
   const nav::LocalizationEstimate& e = localization.estimate;
@@ -29,14 +27,18 @@ nlohmann::json ToJson(const LocalizationState& localization) {
 }
 
 nlohmann::json ToJson(const ControlLatency& l) {
-  return {{"rate_hz", l.rate_hz}, {"p50_ms", l.p50_ms}, {"p99_ms", l.p99_ms}, {"max_ms", l.max_ms}, {"samples", l.samples}};
+  return {
+      {"rate_hz", l.rate_hz}, {"p50_ms", l.p50_ms}, {"p99_ms", l.p99_ms}, {"max_ms", l.max_ms}, {"samples", l.samples}};
 }
 
 nlohmann::json ToJson(const SimPedestrians& p) {
   nlohmann::json people = nlohmann::json::array();
   for (const auto& person : p.people) {
-    people.push_back({{"x", person.position.x()}, {"y", person.position.y()}, {"vx", person.velocity.x()},
-                      {"vy", person.velocity.y()}, {"radius_m", p.radius_m}});
+    people.push_back({{"x", person.position.x()},
+                      {"y", person.position.y()},
+                      {"vx", person.velocity.x()},
+                      {"vy", person.velocity.y()},
+                      {"radius_m", p.radius_m}});
   }
   return people;
 }
@@ -44,9 +46,9 @@ nlohmann::json ToJson(const SimPedestrians& p) {
 nlohmann::json ToJson(const TrackedObjects& t) {
   nlohmann::json objects = nlohmann::json::array();
   for (const nav::TrackedObject& o : t.surroundings.objects) {
-    nlohmann::json object = {{"x", o.position.x()}, {"y", o.position.y()}, {"vx", o.velocity.x()},
-                              {"vy", o.velocity.y()}, {"radius_m", o.radius_m}, {"moving", o.moving},
-                              {"seen", o.seen}};
+    nlohmann::json object = {{"x", o.position.x()},  {"y", o.position.y()},    {"vx", o.velocity.x()},
+                             {"vy", o.velocity.y()}, {"radius_m", o.radius_m}, {"moving", o.moving},
+                             {"seen", o.seen}};
     if (o.turn_at) object["walk_end"] = {{"x", o.turn_at->x()}, {"y", o.turn_at->y()}};
     objects.push_back(std::move(object));
   }
@@ -57,9 +59,10 @@ nlohmann::json ToJson(const face::Detection& d) {
   using nlohmann::json;
   return {{"class", d.label},
           {"score", d.score},
-          {"box", d.box ? json{{"x", d.box->x}, {"y", d.box->y}, {"w", d.box->width}, {"h", d.box->height}} : json(nullptr)},
-          {"position", d.position ? json{{"x", d.position->x()}, {"y", d.position->y()}, {"z", d.position->z()}}
-                                  : json(nullptr)},
+          {"box",
+           d.box ? json{{"x", d.box->x}, {"y", d.box->y}, {"w", d.box->width}, {"h", d.box->height}} : json(nullptr)},
+          {"position",
+           d.position ? json{{"x", d.position->x()}, {"y", d.position->y()}, {"z", d.position->z()}} : json(nullptr)},
           {"bearing", d.bearing_rad ? json(*d.bearing_rad) : json(nullptr)},
           {"track_id", d.track_id},
           {"source", d.source}};
@@ -83,10 +86,8 @@ nlohmann::json ToJson(const FaceState& face) {
 nlohmann::json ToJson(const GroundLanes& g) {
   nlohmann::json lanes = nlohmann::json::array();
   for (const nav::LaneResult& l : g.lanes) {
-    nlohmann::json lane = {{"offset_m", l.offset_m},
-                           {"free_distance_m", l.free_distance_m},
-                           {"dead_end", l.dead_end},
-                           {"blind", l.blind}};
+    nlohmann::json lane = {
+        {"offset_m", l.offset_m}, {"free_distance_m", l.free_distance_m}, {"dead_end", l.dead_end}, {"blind", l.blind}};
     if (l.dead_end && !l.blind) {
       lane["pixel"] = {l.pixel.x(), l.pixel.y()};
       lane["point"] = {l.point.x(), l.point.y(), l.point.z()};
@@ -130,8 +131,11 @@ nlohmann::json ToJson(const MissionState& m) {
 }
 
 nlohmann::json ToJson(const drivers::BatteryState& b) {
-  return {{"percent", b.charge * 100.0}, {"voltage_v", b.voltage_v}, {"current_a", b.current_a},
-          {"charging", b.charging}, {"on_charger", b.on_charger}};
+  return {{"percent", b.charge * 100.0},
+          {"voltage_v", b.voltage_v},
+          {"current_a", b.current_a},
+          {"charging", b.charging},
+          {"on_charger", b.on_charger}};
 }
 
 nlohmann::json ToJson(const FleetOrder& o) {
@@ -143,8 +147,9 @@ nlohmann::json ToJson(const FleetOrder& o) {
   for (const FleetOrder::Edge& e : o.edges) {
     edges.push_back({{"id", e.id}, {"start", e.start}, {"end", e.end}, {"released", e.released}});
   }
-  return {{"protocol", o.protocol},     {"connected", o.connected}, {"order_id", o.order_id},
-          {"order_update_id", o.order_update_id}, {"last_node_id", o.last_node_id}, {"nodes", std::move(nodes)},
+  return {{"protocol", o.protocol},         {"connected", o.connected},
+          {"order_id", o.order_id},         {"order_update_id", o.order_update_id},
+          {"last_node_id", o.last_node_id}, {"nodes", std::move(nodes)},
           {"edges", std::move(edges)}};
 }
 
@@ -219,8 +224,11 @@ std::string StopReason(const BaseCommand& command) {
 nlohmann::json ToJson(const DevicesHealth& health) {
   nlohmann::json devices = nlohmann::json::array();
   for (const DeviceReport& d : health.devices) {
-    devices.push_back({{"device", d.device}, {"driver", d.driver}, {"port", d.port},
-                       {"state", nav::ToString(d.state)}, {"rate_hz", d.rate_hz},
+    devices.push_back({{"device", d.device},
+                       {"driver", d.driver},
+                       {"port", d.port},
+                       {"state", nav::ToString(d.state)},
+                       {"rate_hz", d.rate_hz},
                        {"age_s", d.age_s >= 0.0 ? nlohmann::json(d.age_s) : nlohmann::json(nullptr)},
                        {"link", d.link.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.link)},
                        {"reconnects", d.reconnects},
@@ -230,7 +238,9 @@ nlohmann::json ToJson(const DevicesHealth& health) {
 }
 
 nlohmann::json ToJson(const Fault& fault) {
-  return {{"stamp_s", drivers::ToSeconds(fault.stamp_ns)}, {"node", fault.node}, {"loop", fault.loop},
+  return {{"stamp_s", drivers::ToSeconds(fault.stamp_ns)},
+          {"node", fault.node},
+          {"loop", fault.loop},
           {"what", fault.what}};
 }
 

@@ -45,7 +45,7 @@ struct BaseCommand {
   nav::Twist2 twist;
   nav::ControlMode mode = nav::ControlMode::kIdle;
   nav::GateReason reason = nav::GateReason::kNone;  // why it is not what was asked for
-  std::string detail;  // for a protective stop: what failed
+  std::string detail;                               // for a protective stop: what failed
 };
 
 // A node's callback threw (node.h): what failed, for the control node's protective stop and the console.
@@ -67,13 +67,13 @@ struct DeviceLinkChange {
 
 // Each device's health (nav/safety/device_health.h), published a few times a second by the devices node.
 struct DeviceReport {
-  std::string device;      // base, laser, camera
-  std::string driver;      // sim, dds, create2, rplidar
-  std::string port;        // the serial device or the ROS 2 topic; empty for the simulator
+  std::string device;  // base, laser, camera
+  std::string driver;  // sim, dds, create2, rplidar
+  std::string port;    // the serial device or the ROS 2 topic; empty for the simulator
   nav::DeviceState state = nav::DeviceState::kStale;
-  double rate_hz = 0.0;    // data (odometry, scans, frames) a second
-  double age_s = -1.0;     // since the last data; negative: none yet
-  std::string link;        // a native driver's link state (running, stale, silent, ...); empty for the others
+  double rate_hz = 0.0;  // data (odometry, scans, frames) a second
+  double age_s = -1.0;   // since the last data; negative: none yet
+  std::string link;      // a native driver's link state (running, stale, silent, ...); empty for the others
   std::uint64_t reconnects = 0;
   std::string last_error;  // the driver's last error; empty: none
 };
@@ -93,9 +93,9 @@ struct Bumped {
 struct MissionCommand {
   drivers::TimeNs stamp_ns = 0;
   nav::Twist2 twist;
-  bool active = true;  // false: the mission is over (the control node stops and goes idle at once)
+  bool active = true;                     // false: the mission is over (the control node stops and goes idle at once)
   drivers::TimeNs frame_arrival_ns = -1;  // the depth frame this command answers (host clock); -1: none
-  bool docking = false;  // onto or off a dock (nav/safety/command_gate.h)
+  bool docking = false;                   // onto or off a dock (nav/safety/command_gate.h)
 };
 
 // How fast the robot answers what its camera sees: depth frame arrival to base command, over the last few hundred
@@ -137,10 +137,10 @@ struct LocalStepState {
 
 // MORP's lanes for one depth frame (nav/ground/morp.h), and how long after the frame they were ready.
 struct GroundLanes {
-  drivers::TimeNs stamp_ns = 0;      // the frame's
-  drivers::TimeNs arrival_ns = -1;   // the frame's arrival at the host
+  drivers::TimeNs stamp_ns = 0;     // the frame's
+  drivers::TimeNs arrival_ns = -1;  // the frame's arrival at the host
   std::uint64_t frame_sequence = 0;
-  double latency_ms = 0.0;           // from the control executor taking the frame up to the lanes being ready
+  double latency_ms = 0.0;  // from the control executor taking the frame up to the lanes being ready
   std::vector<nav::LaneResult> lanes;
   // The same frame's depth scan (the nearest point of each column, base frame) and the floor it covers (base frame,
   // SensorView of the identity): the local navigator's obstacle memory keeps what the camera saw beside the lanes.
@@ -152,8 +152,8 @@ struct GroundLanes {
 
 // What the laser's moving-object tracker (nav/tracking) shows after one scan, in the map frame.
 struct TrackedObjects {
-  drivers::TimeNs stamp_ns = 0;      // the scan's
-  drivers::TimeNs received_ns = 0;   // when the tracker took the scan, on the daemon's clock: its age for the mission
+  drivers::TimeNs stamp_ns = 0;     // the scan's
+  drivers::TimeNs received_ns = 0;  // when the tracker took the scan, on the daemon's clock: its age for the mission
   nav::Surroundings surroundings;
 };
 
@@ -194,7 +194,7 @@ struct LocalizationCommand {
 struct MappingState {
   drivers::TimeNs stamp_ns = 0;
   bool active = false;
-  std::string name;                                // of the map being built, or the last one built
+  std::string name;  // of the map being built, or the last one built
   int scans = 0;
   int submaps = 0;
   int loop_closures = 0;

@@ -32,8 +32,8 @@ LoopStats::Snapshot LoopStats::snapshot() const {
   Roll(now);
   Snapshot s;
   const std::uint64_t count = previous_.count + current_.count;
-  const double span_s = previous_.count > 0 ? drivers::ToSeconds(now - previous_.begin_ns)
-                                            : drivers::ToSeconds(now - current_.begin_ns);
+  const double span_s =
+      previous_.count > 0 ? drivers::ToSeconds(now - previous_.begin_ns) : drivers::ToSeconds(now - current_.begin_ns);
   s.rate_hz = span_s > 0.1 ? static_cast<double>(count) / span_s : 0.0;
   s.mean_ms = count > 0 ? (previous_.total_ms + current_.total_ms) / static_cast<double>(count) : 0.0;
   s.worst_ms = std::max(previous_.worst_ms, current_.worst_ms);
@@ -52,13 +52,13 @@ const char* ToString(Health health) {
   return "unknown";
 }
 
-Node::Node(std::string name, Executor& executor, Bus& bus)
-    : name_(std::move(name)), executor_(executor), bus_(bus) {}
+Node::Node(std::string name, Executor& executor, Bus& bus) : name_(std::move(name)), executor_(executor), bus_(bus) {}
 
 LoopStats& Node::Loop(std::string_view loop) {
   std::lock_guard lock(mutex_);
   auto it = loops_.find(loop);
-  if (it == loops_.end()) it = loops_.emplace(std::string(loop), std::make_unique<LoopStats>(std::string(loop), clock())).first;
+  if (it == loops_.end())
+    it = loops_.emplace(std::string(loop), std::make_unique<LoopStats>(std::string(loop), clock())).first;
   return *it->second;
 }
 
@@ -113,8 +113,12 @@ nlohmann::json Node::Status() const {
     std::lock_guard lock(mutex_);
     for (const auto& [name, stats] : loops_) {
       const LoopStats::Snapshot s = stats->snapshot();
-      loops.push_back({{"name", name}, {"rate_hz", s.rate_hz}, {"mean_ms", s.mean_ms}, {"worst_ms", s.worst_ms},
-                       {"last_ms", s.last_ms}, {"count", s.loops}});
+      loops.push_back({{"name", name},
+                       {"rate_hz", s.rate_hz},
+                       {"mean_ms", s.mean_ms},
+                       {"worst_ms", s.worst_ms},
+                       {"last_ms", s.last_ms},
+                       {"count", s.loops}});
       rate_hz += s.rate_hz;
       total_ms += s.mean_ms * s.rate_hz;
       worst_ms = std::max(worst_ms, s.worst_ms);

@@ -97,10 +97,10 @@ class Node {
   template <typename T, typename F>
   void Subscribe(TopicName<T> topic, std::string_view loop, F handler) {
     LoopStats& stats = Loop(loop);
-    bus_.Get(topic).Subscribe(executor_, [this, &stats, handler = std::move(handler)](
-                                             const std::shared_ptr<const T>& message) {
-      Run(stats, [&] { handler(message); });
-    });
+    bus_.Get(topic).Subscribe(executor_,
+                              [this, &stats, handler = std::move(handler)](const std::shared_ptr<const T>& message) {
+                                Run(stats, [&] { handler(message); });
+                              });
   }
   // Called on the node's executor after one of its callbacks threw, once the fault is published.
   virtual void OnFault() {}

@@ -10,16 +10,16 @@ inline constexpr TopicName<drivers::WheelOdometry> kOdometry{"odom"};
 inline constexpr TopicName<drivers::RgbdFrame> kRgbd{"camera/rgbd"};
 inline constexpr TopicName<drivers::LaserScan> kScan{"scan"};
 inline constexpr TopicName<drivers::BatteryState> kBattery{"battery"};
-inline constexpr TopicName<StampedPose> kPose{"pose"};                 // the robot in the map frame
+inline constexpr TopicName<StampedPose> kPose{"pose"};  // the robot in the map frame
 inline constexpr TopicName<LocalizationState> kLocalization{"localization"};
 inline constexpr TopicName<LocalizationCommand> kLocalizationCommand{"localization/command"};
 inline constexpr TopicName<MappingState> kMapping{"mapping"};
-inline constexpr TopicName<StampedPose> kSimTruePose{"sim/true_pose"};  // ground truth, simulator only
+inline constexpr TopicName<StampedPose> kSimTruePose{"sim/true_pose"};          // ground truth, simulator only
 inline constexpr TopicName<SimPedestrians> kSimPedestrians{"sim/pedestrians"};  // simulator only
 inline constexpr TopicName<TeleopCommand> kTeleop{"teleop"};
 inline constexpr TopicName<BaseCommand> kCmdVel{"cmd_vel"};
 inline constexpr TopicName<Bumped> kBumped{"safety/bumped"};
-inline constexpr TopicName<Fault> kFaults{"safety/faults"};  // a node's callback threw
+inline constexpr TopicName<Fault> kFaults{"safety/faults"};                  // a node's callback threw
 inline constexpr TopicName<DeviceLinkChange> kDeviceLinks{"devices/links"};  // native drivers' links
 inline constexpr TopicName<DevicesHealth> kDevices{"devices"};
 inline constexpr TopicName<FaceState> kFaceExpression{"face/expression"};

@@ -168,7 +168,8 @@ void MapLibrary::AddConfigured(const std::string& name, const fs::path& file) {
 }
 
 bool MapLibrary::Contains(const std::string& name) const {
-  if (name == active()->name || name == initial_name_ || (ValidMapName(name) && fs::exists(dir_ / name / "map.yaml"))) return true;
+  if (name == active()->name || name == initial_name_ || (ValidMapName(name) && fs::exists(dir_ / name / "map.yaml")))
+    return true;
   std::lock_guard lock(mutex_);
   return configured_.contains(name);
 }

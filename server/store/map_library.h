@@ -19,8 +19,8 @@ namespace corridor::server {
 struct ActiveMap {
   std::string name;
   nav::OccupancyGrid grid;
-  std::string png;            // 8-bit grey, map_server trinary shades, row 0 at the top
-  std::uint64_t revision = 0; // bumped by every edit and selection
+  std::string png;             // 8-bit grey, map_server trinary shades, row 0 at the top
+  std::uint64_t revision = 0;  // bumped by every edit and selection
 };
 
 // A map edit or selection the library refuses; what() says why.

@@ -36,7 +36,7 @@ std::optional<SavedPose> LoadSavedPose(const std::filesystem::path& file) {
 }
 
 void SavePose(const std::filesystem::path& file, const SavedPose& pose) {
-  const nlohmann::json j{{"place", pose.place},     {"x", pose.pose.x_m},         {"y", pose.pose.y_m},
+  const nlohmann::json j{{"place", pose.place},      {"x", pose.pose.x_m},      {"y", pose.pose.y_m},
                          {"yaw", pose.pose.yaw_rad}, {"sigma_m", pose.sigma_m}, {"sigma_yaw", pose.sigma_rad}};
   const std::filesystem::path temporary = file.string() + ".tmp";
   {

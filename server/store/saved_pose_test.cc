@@ -36,8 +36,9 @@ TEST_F(SavedPoseTest, APoseSavedIsThePoseLoaded) {
 }
 
 TEST_F(SavedPoseTest, ABrokenFileIsIgnoredNotFatal) {
-  for (const char* text : {"", "{\"place\": \"m\", \"x\": 1", "{\"place\": \"m\", \"x\": 1, \"y\": \"two\", \"yaw\": 0}",
-                           "{\"place\": \"m\", \"x\": 1e999, \"y\": 0, \"yaw\": 0}", "[1, 2, 3]"}) {
+  for (const char* text :
+       {"", "{\"place\": \"m\", \"x\": 1", "{\"place\": \"m\", \"x\": 1, \"y\": \"two\", \"yaw\": 0}",
+        "{\"place\": \"m\", \"x\": 1e999, \"y\": 0, \"yaw\": 0}", "[1, 2, 3]"}) {
     std::ofstream(dir_ / "pose.json") << text;
     EXPECT_FALSE(LoadSavedPose(dir_ / "pose.json")) << text;
   }

@@ -34,7 +34,7 @@ std::string NewId() {
 namespace {
 
 const char* const kSchema =
-        "CREATE TABLE IF NOT EXISTS zones (map TEXT NOT NULL, id TEXT NOT NULL, name TEXT NOT NULL, kind TEXT NOT NULL,"
+    "CREATE TABLE IF NOT EXISTS zones (map TEXT NOT NULL, id TEXT NOT NULL, name TEXT NOT NULL, kind TEXT NOT NULL,"
     " polygon TEXT NOT NULL, max_speed_mps REAL NOT NULL, PRIMARY KEY (map, id));"
     "CREATE TABLE IF NOT EXISTS places (map TEXT NOT NULL, id TEXT NOT NULL, name TEXT NOT NULL, x REAL NOT NULL,"
     " y REAL NOT NULL, yaw REAL NOT NULL, kind TEXT NOT NULL DEFAULT 'place', PRIMARY KEY (map, id));"
@@ -59,7 +59,8 @@ const char* const kSchema =
 Store::Store(const std::filesystem::path& file) : db_(file, kSchema) {
   // Databases from before places had kinds.
   Statement has_kind(db_, "SELECT COUNT(*) FROM pragma_table_info('places') WHERE name = 'kind'");
-  if (has_kind.Step() && has_kind.Int(0) == 0) db_.Exec("ALTER TABLE places ADD COLUMN kind TEXT NOT NULL DEFAULT 'place'");
+  if (has_kind.Step() && has_kind.Int(0) == 0)
+    db_.Exec("ALTER TABLE places ADD COLUMN kind TEXT NOT NULL DEFAULT 'place'");
 }
 
 Store::~Store() = default;
@@ -103,7 +104,9 @@ std::vector<nav::Place> Store::Places(const std::string& map) const {
   s.Bind(1, map);
   std::vector<nav::Place> out;
   while (s.Step()) {
-    out.push_back({s.Text(0), s.Text(1), {s.Double(2), s.Double(3), s.Double(4)},
+    out.push_back({s.Text(0),
+                   s.Text(1),
+                   {s.Double(2), s.Double(3), s.Double(4)},
                    nav::PlaceKindFromString(s.Text(5)).value_or(nav::PlaceKind::kPlace)});
   }
   return out;
@@ -151,10 +154,12 @@ bool Store::DeleteDoor(const std::string& map, const std::string& id) {
 
 std::vector<std::pair<std::string, nav::LiftStop>> Store::LiftStops() const {
   std::lock_guard lock(mutex_);
-  Statement s(db_, "SELECT lift, floor, x1, y1, x2, y2, lobby_x, lobby_y, lobby_yaw FROM lift_stops ORDER BY lift, floor");
+  Statement s(db_,
+              "SELECT lift, floor, x1, y1, x2, y2, lobby_x, lobby_y, lobby_yaw FROM lift_stops ORDER BY lift, floor");
   std::vector<std::pair<std::string, nav::LiftStop>> out;
   while (s.Step()) {
-    nav::LiftStop stop{s.Text(1), {"", {s.Double(2), s.Double(3)}, {s.Double(4), s.Double(5)}},
+    nav::LiftStop stop{s.Text(1),
+                       {"", {s.Double(2), s.Double(3)}, {s.Double(4), s.Double(5)}},
                        {s.Double(6), s.Double(7), s.Double(8)}};
     out.emplace_back(s.Text(0), std::move(stop));
   }
@@ -274,8 +279,9 @@ void Store::UpdateDelivery(const DeliveryRecord& d) {
 
 std::vector<DeliveryRecord> Store::Deliveries(const std::string& webhook, int limit) const {
   std::lock_guard lock(mutex_);
-  Statement s(db_, (std::string("SELECT ") + kDeliveryColumns +
-                    " FROM deliveries WHERE webhook = ? ORDER BY seq DESC LIMIT ?").c_str());
+  Statement s(
+      db_, (std::string("SELECT ") + kDeliveryColumns + " FROM deliveries WHERE webhook = ? ORDER BY seq DESC LIMIT ?")
+               .c_str());
   s.Bind(1, webhook).Bind(2, limit);
   std::vector<DeliveryRecord> out;
   while (s.Step()) out.push_back(ReadDelivery(s));
@@ -284,8 +290,9 @@ std::vector<DeliveryRecord> Store::Deliveries(const std::string& webhook, int li
 
 std::vector<DeliveryRecord> Store::PendingDeliveries() const {
   std::lock_guard lock(mutex_);
-  Statement s(db_, (std::string("SELECT ") + kDeliveryColumns +
-                    " FROM deliveries WHERE status = 'pending' ORDER BY seq").c_str());
+  Statement s(
+      db_,
+      (std::string("SELECT ") + kDeliveryColumns + " FROM deliveries WHERE status = 'pending' ORDER BY seq").c_str());
   std::vector<DeliveryRecord> out;
   while (s.Step()) out.push_back(ReadDelivery(s));
   return out;

@@ -28,20 +28,20 @@ struct WebhookRecord {
   std::vector<std::string> events;  // face/events.h names
   std::string secret;
   std::string description;
-  std::string created;              // ISO 8601, UTC
+  std::string created;  // ISO 8601, UTC
 };
 
 // One event's delivery to one webhook, and how it went.
 struct DeliveryRecord {
   std::string id{};
   std::string webhook{};
-  std::string event{};         // its type
-  std::string payload{};       // the JSON body sent
+  std::string event{};             // its type
+  std::string payload{};           // the JSON body sent
   std::string status = "pending";  // pending, delivered, failed
   int attempts = 0;
   std::string created{};       // ISO 8601, UTC
   std::string last_attempt{};  // ISO 8601, UTC; empty before the first
-  int response_status = 0;   // the receiver's HTTP status at the last attempt; 0: none (it could not be reached)
+  int response_status = 0;     // the receiver's HTTP status at the last attempt; 0: none (it could not be reached)
   std::string error{};         // why the last attempt failed
 };
 

@@ -18,11 +18,21 @@ double NowS() { return std::chrono::duration<double>(std::chrono::steady_clock::
 // Bytes of arguments after an opcode (OI specification, "Open Interface Commands"); Stream's depend on its first.
 std::optional<std::size_t> Arguments(const std::vector<std::uint8_t>& bytes) {
   switch (bytes[0]) {
-    case 7: case 128: case 131: case 132: case 133: case 143: case 173: return 0;
-    case 150: case 142: return 1;
+    case 7:
+    case 128:
+    case 131:
+    case 132:
+    case 133:
+    case 143:
+    case 173: return 0;
+    case 150:
+    case 142: return 1;
     case 139: return 3;
-    case 137: case 145: case 146: return 4;
-    case 148: case 149:
+    case 137:
+    case 145:
+    case 146: return 4;
+    case 148:
+    case 149:
       if (bytes.size() < 2) return std::nullopt;  // not yet known
       return 1 + bytes[1];
     default: return 0;  // an opcode not emulated: taken alone, as the robot ignores what it does not know
@@ -100,11 +110,15 @@ void Create2Emulator::Replug() {
 
 void Create2Emulator::Handle(const std::vector<std::uint8_t>& command) {
   switch (command[0]) {
-    case 128: mode_ = 1; break;                           // Start: Passive
-    case 131: if (mode_ >= 1) mode_ = 2; break;           // Safe
-    case 132: if (mode_ >= 1) mode_ = 3; break;           // Full
-    case 7:                                               // Reset
-    case 173:                                             // Stop: the OI off, the stream too
+    case 128: mode_ = 1; break;  // Start: Passive
+    case 131:
+      if (mode_ >= 1) mode_ = 2;
+      break;  // Safe
+    case 132:
+      if (mode_ >= 1) mode_ = 3;
+      break;   // Full
+    case 7:    // Reset
+    case 173:  // Stop: the OI off, the stream too
       mode_ = 0;
       streaming_ = false;
       left_mmps_ = right_mmps_ = 0;
@@ -132,7 +146,10 @@ std::vector<std::uint8_t> Create2Emulator::Frame() const {
     body.push_back(id);
     switch (id) {
       case 7: body.push_back(static_cast<std::uint8_t>(bump_ ? 0x03 : 0x00)); break;
-      case 9: case 10: case 11: case 12: body.push_back(cliff_ ? 1 : 0); break;
+      case 9:
+      case 10:
+      case 11:
+      case 12: body.push_back(cliff_ ? 1 : 0); break;
       case 21: body.push_back(home_base_ ? 2 : 0); break;
       case 22: Big16(body, 14800); break;
       case 23: Big16(body, home_base_ ? 1500 : -900); break;
@@ -159,7 +176,8 @@ void Create2Emulator::Step(double now_s) {
   while (!received_.empty()) {
     const std::optional<std::size_t> arguments = Arguments(received_);
     if (!arguments || received_.size() < 1 + *arguments) break;
-    const std::vector<std::uint8_t> command(received_.begin(), received_.begin() + static_cast<std::ptrdiff_t>(1 + *arguments));
+    const std::vector<std::uint8_t> command(received_.begin(),
+                                            received_.begin() + static_cast<std::ptrdiff_t>(1 + *arguments));
     received_.erase(received_.begin(), received_.begin() + static_cast<std::ptrdiff_t>(1 + *arguments));
     Handle(command);
   }

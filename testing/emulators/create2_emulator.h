@@ -24,8 +24,8 @@ class Create2Emulator {
   Create2Emulator& operator=(const Create2Emulator&) = delete;
 
   // The robot's state.
-  int mode() const;                          // 0 off, 1 passive, 2 safe, 3 full
-  std::pair<int, int> wheels_mmps() const;   // left, right, as driven
+  int mode() const;                         // 0 off, 1 passive, 2 safe, 3 full
+  std::pair<int, int> wheels_mmps() const;  // left, right, as driven
   void SetCliff(bool cliff);
   void SetBump(bool bump);
   void SetBattery(int charge_mah, int capacity_mah, bool on_home_base);

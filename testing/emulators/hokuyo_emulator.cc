@@ -22,7 +22,8 @@ char Check(const std::string& text) {
 // A number in `width` characters of 6 bits, the most significant first, each plus 0x30.
 std::string Characters(std::uint32_t value, int width) {
   std::string out(static_cast<std::size_t>(width), '0');
-  for (int i = width - 1; i >= 0; --i, value >>= 6) out[static_cast<std::size_t>(i)] = static_cast<char>((value & 0x3F) + 0x30);
+  for (int i = width - 1; i >= 0; --i, value >>= 6)
+    out[static_cast<std::size_t>(i)] = static_cast<char>((value & 0x3F) + 0x30);
   return out;
 }
 
@@ -109,16 +110,19 @@ void HokuyoEmulator::Handle(const std::string& command) {
   if (command == "SCIP2.0") {
     Answer(command, "00");
   } else if (command == "VV") {
-    Answer(command, "00", {parameter("VEND", "Hokuyo Automatic Co.,Ltd."), parameter("PROD", m.name),
-                           parameter("FIRM", "1.0.0"), parameter("PROT", "SCIP 2.0"), parameter("SERI", "H0000001")});
+    Answer(command, "00",
+           {parameter("VEND", "Hokuyo Automatic Co.,Ltd."), parameter("PROD", m.name), parameter("FIRM", "1.0.0"),
+            parameter("PROT", "SCIP 2.0"), parameter("SERI", "H0000001")});
   } else if (command == "PP") {
-    Answer(command, "00", {parameter("MODL", m.name), parameter("DMIN", std::to_string(m.dmin_mm)),
-                           parameter("DMAX", std::to_string(m.dmax_mm)), parameter("ARES", std::to_string(m.ares)),
-                           parameter("AMIN", std::to_string(m.amin)), parameter("AMAX", std::to_string(m.amax)),
-                           parameter("AFRT", std::to_string(m.afrt)), parameter("SCAN", std::to_string(m.scan_rpm))});
+    Answer(command, "00",
+           {parameter("MODL", m.name), parameter("DMIN", std::to_string(m.dmin_mm)),
+            parameter("DMAX", std::to_string(m.dmax_mm)), parameter("ARES", std::to_string(m.ares)),
+            parameter("AMIN", std::to_string(m.amin)), parameter("AMAX", std::to_string(m.amax)),
+            parameter("AFRT", std::to_string(m.afrt)), parameter("SCAN", std::to_string(m.scan_rpm))});
   } else if (command == "II") {
-    Answer(command, "00", {parameter("MODL", m.name), parameter("LASR", laser_on_ ? "ON" : "OFF"),
-                           parameter("SCSP", std::to_string(m.scan_rpm)), parameter("MESM", "Measuring")});
+    Answer(command, "00",
+           {parameter("MODL", m.name), parameter("LASR", laser_on_ ? "ON" : "OFF"),
+            parameter("SCSP", std::to_string(m.scan_rpm)), parameter("MESM", "Measuring")});
   } else if (command == "BM") {
     Answer(command, laser_on_ ? "02" : "00");  // 02: the laser was on already
     laser_on_ = true;

@@ -7,9 +7,7 @@
 namespace corridor::testing {
 namespace {
 
-double NowS() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+double NowS() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 void PutLittle16(std::vector<std::uint8_t>& out, long value) {
   const auto v = static_cast<std::uint16_t>(std::clamp<long>(value, 0, 0xFFFF));
@@ -89,7 +87,9 @@ int LdsEmulator::starts() const {
 
 std::vector<std::uint8_t> LdsEmulator::Packet(int index) const {
   std::vector<std::uint8_t> out;
-  const auto mm = [&](double angle) { return std::lround(std::max(0.0, options_.range(std::fmod(angle, 360.0))) * 1000.0); };
+  const auto mm = [&](double angle) {
+    return std::lround(std::max(0.0, options_.range(std::fmod(angle, 360.0))) * 1000.0);
+  };
   if (options_.lds01) {
     // Start byte, index, speed, six readings of intensity, distance and two reserved bytes, two check bytes.
     out = {0xFA, static_cast<std::uint8_t>(0xA0 + index)};

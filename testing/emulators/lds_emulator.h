@@ -16,8 +16,8 @@
 namespace corridor::testing {
 
 struct LdsEmulatorOptions {
-  bool lds01 = false;              // an LDS-01; else an LDS-02
-  double revolutions_hz = 6.0;     // an LDS-02 turns at about 6 Hz, an LDS-01 at 5
+  bool lds01 = false;           // an LDS-01; else an LDS-02
+  double revolutions_hz = 6.0;  // an LDS-02 turns at about 6 Hz, an LDS-01 at 5
   // The distance in metres at an angle clockwise from the device's forward (degrees); 0: nothing measured.
   std::function<double(double)> range = [](double) { return 2.0; };
 };

@@ -135,8 +135,8 @@ void OpenCrEmulator::Answer(std::uint8_t error, const std::vector<std::uint8_t>&
     if (n >= 3 && HeaderAt(body, n - 3)) body.push_back(0xFD);  // stuffed
   }
   const std::size_t length = body.size() + 2;
-  std::vector<std::uint8_t> packet{0xFF, 0xFF, 0xFD, 0x00, kId, static_cast<std::uint8_t>(length & 0xFF),
-                                   static_cast<std::uint8_t>(length >> 8)};
+  std::vector<std::uint8_t> packet{
+      0xFF, 0xFF, 0xFD, 0x00, kId, static_cast<std::uint8_t>(length & 0xFF), static_cast<std::uint8_t>(length >> 8)};
   packet.insert(packet.end(), body.begin(), body.end());
   std::uint16_t crc = Crc(packet, packet.size());
   if (bad_crc_) {
@@ -160,8 +160,9 @@ void OpenCrEmulator::Handle(std::uint8_t instruction, const std::vector<std::uin
         Answer(0x05, {}, now_s);  // data length error
         return;
       }
-      Answer(0, std::vector<std::uint8_t>(table_.begin() + static_cast<std::ptrdiff_t>(address),
-                                          table_.begin() + static_cast<std::ptrdiff_t>(address + length)),
+      Answer(0,
+             std::vector<std::uint8_t>(table_.begin() + static_cast<std::ptrdiff_t>(address),
+                                       table_.begin() + static_cast<std::ptrdiff_t>(address + length)),
              now_s);
       return;
     }

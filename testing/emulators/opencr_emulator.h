@@ -30,8 +30,8 @@ class OpenCrEmulator {
 
   std::pair<double, double> wheels_mps() const;  // left, right, as driven
   bool torque() const;
-  int heartbeats() const;          // writes to the heartbeat
-  int crc_errors() const;          // instruction packets refused for their CRC
+  int heartbeats() const;  // writes to the heartbeat
+  int crc_errors() const;  // instruction packets refused for their CRC
   void SetBumper(bool pressed);
   void SetBattery(double volts, double percent);
 

@@ -160,8 +160,8 @@ void RplidarEmulator::Handle(std::uint8_t command) {
       Send(std::vector<std::uint8_t>{'R', 'P', ' ', 'L', 'I', 'D', 'A', 'R', ' ', 'S', 'y', 's', 't', 'e', 'm', '.',
                                      '\r', '\n'});
       break;
-    case 0x20:                         // SCAN
-    case 0x21:                         // FORCE_SCAN
+    case 0x20:  // SCAN
+    case 0x21:  // FORCE_SCAN
       StartScan(false);
       break;
     case 0x50: {  // GET_INFO: model, firmware minor and major, hardware, 16-byte serial
@@ -180,8 +180,7 @@ void RplidarEmulator::Handle(std::uint8_t command) {
       Send(health);
       break;
     }
-    default:
-      break;  // not emulated: a real device ignores what it does not know
+    default: break;  // not emulated: a real device ignores what it does not know
   }
 }
 

@@ -15,8 +15,8 @@ double NowS() { return std::chrono::duration<double>(std::chrono::steady_clock::
 
 // A 32-bit signed count from the running total (an AVR `long`, wrapping).
 long Count(double counts) {
-  return static_cast<long>(static_cast<std::int32_t>(static_cast<std::uint32_t>(
-      static_cast<std::int64_t>(std::floor(counts)) & 0xFFFFFFFF)));
+  return static_cast<long>(static_cast<std::int32_t>(
+      static_cast<std::uint32_t>(static_cast<std::int64_t>(std::floor(counts)) & 0xFFFFFFFF)));
 }
 
 }  // namespace

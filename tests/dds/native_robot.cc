@@ -15,8 +15,11 @@ NativeRobot::NativeRobot(const std::filesystem::path& corridord, const std::file
   peer_ = std::make_unique<CyclonePeer>(domain);
   camera_ = std::make_unique<RosDrivers>(*peer_);  // before corridord: it waits for the camera's info
   const std::string devices =
-      "  base: {driver: create2, port: " + (dir_ / "create2").string() + "}\n"
-      "  laser: {driver: rplidar, port: " + (dir_ / "rplidar").string() + ", mount_yaw_deg: 180}\n"
+      "  base: {driver: create2, port: " + (dir_ / "create2").string() +
+      "}\n"
+      "  laser: {driver: rplidar, port: " +
+      (dir_ / "rplidar").string() +
+      ", mount_yaw_deg: 180}\n"
       "  camera: {driver: dds, depth_topic: /camera/depth/image_rect_raw, info_topic: /camera/depth/camera_info}\n";
   daemon_ = std::make_unique<DaemonProcess>(corridord, source, domain, /*allow_writes=*/false, "", devices);
 }

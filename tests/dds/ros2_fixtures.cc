@@ -45,7 +45,8 @@ std::string DdsConfig(const fs::path& source, int domain, bool allow_writes, con
   dds += extra;
   config.replace(begin, end - begin, dds);
   if (!devices.empty()) {
-    const std::string slots = "\ndevices:\n  base:\n    driver: sim\n  laser:\n    driver: sim\n  camera:\n    driver: sim\n";
+    const std::string slots =
+        "\ndevices:\n  base:\n    driver: sim\n  laser:\n    driver: sim\n  camera:\n    driver: sim\n";
     for (const auto& [from, to] :
          {std::pair<std::string, std::string>{slots, "\ndevices:\n" + devices},
           {"\n  source: mcl ", laser_localization ? "\n  source: mcl " : "\n  source: odometry "},

@@ -1,6 +1,6 @@
 // libFuzzer target: JSON bodies of the routes that take them (zones, places, missions, plans, map cells, teleop, sim
-// faults, the active map, the face, an initial pose, a webhook, pushed detections), through the real router and handlers. The first byte picks the
-// route; the rest is the body.
+// faults, the active map, the face, an initial pose, a webhook, pushed detections), through the real router and
+// handlers. The first byte picks the route; the rest is the body.
 #include <cstddef>
 #include <cstdint>
 #include <string>

@@ -60,9 +60,9 @@ class FuzzGraph {
     if (const auto fault = graph_->bus().Get(server::topics::kFaults).latest()) {
       Fail(fault->node + ": " + fault->loop + " failed: " + fault->what, input);
     }
-    for (server::Executor* e : {&graph_->executors().control, &graph_->executors().mapping,
-                                &graph_->executors().planning, &graph_->executors().perception,
-                                &graph_->executors().io, &graph_->executors().sim}) {
+    for (server::Executor* e :
+         {&graph_->executors().control, &graph_->executors().mapping, &graph_->executors().planning,
+          &graph_->executors().perception, &graph_->executors().io, &graph_->executors().sim}) {
       if (e->escaped() > 0) Fail("an exception reached the " + e->name() + " executor", input);
     }
   }

@@ -324,7 +324,8 @@ int Run(const Options& o) {
       times.push_back(ms);
       json detections = json::array();
       for (const face::Detection& d : found) {
-        detections.push_back({{"class", d.label}, {"score", d.score}, {"box", d.box ? BoxJson(*d.box) : json(nullptr)}});
+        detections.push_back(
+            {{"class", d.label}, {"score", d.score}, {"box", d.box ? BoxJson(*d.box) : json(nullptr)}});
       }
       frames.push_back({{"image", name}, {"frame", frame}, {"ms", ms}, {"detections", detections}});
       if (!truth.empty()) ScoreFrame(found, truth.at(key), o.min_height_px, o.parts, score);
@@ -370,10 +371,11 @@ int Run(const Options& o) {
                  {"threads", o.threads}};
     result = {{"frames", frames}, {"score", s}};
     if (!o.json) {
-      std::printf("%ld frames, people >= %.0f px: precision %s, recall %s (%ld found, %ld wrong, %ld missed); "
-                  "%.1f ms a frame (p99 %.1f) on %d thread(s)\n",
-                  score.frames, o.min_height_px, s["precision"].dump().c_str(), s["recall"].dump().c_str(),
-                  score.true_positives, score.false_positives, score.false_negatives, mean, p99, o.threads);
+      std::printf(
+          "%ld frames, people >= %.0f px: precision %s, recall %s (%ld found, %ld wrong, %ld missed); "
+          "%.1f ms a frame (p99 %.1f) on %d thread(s)\n",
+          score.frames, o.min_height_px, s["precision"].dump().c_str(), s["recall"].dump().c_str(),
+          score.true_positives, score.false_positives, score.false_negatives, mean, p99, o.threads);
     }
   }
   if (o.json) std::cout << result.dump(2) << "\n";

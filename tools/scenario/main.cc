@@ -48,8 +48,8 @@ int ParseInt(const std::string& flag, const std::string& text, int lo, int hi) {
   int value = 0;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (error != std::errc() || end != text.data() + text.size() || value < lo || value > hi) {
-    throw std::invalid_argument(flag + ": expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi) +
-                                ", got '" + text + "'");
+    throw std::invalid_argument(flag + ": expected an integer from " + std::to_string(lo) + " to " +
+                                std::to_string(hi) + ", got '" + text + "'");
   }
   return value;
 }
@@ -147,7 +147,9 @@ int main(int argc, char** argv) {
       if (quiet) return;
       std::fprintf(stderr, "world %d run %d %-15s %-9s %6.1f s%s%s%s\n", r.world_index, r.run_index, ToString(r.policy),
                    ToString(r.outcome), r.time_s, r.collided_with.empty() ? "" : " with ", r.collided_with.c_str(),
-                   r.outcome == corridor::scenario::Outcome::kCollision && !r.robot_drove_into_it ? " (walked into the robot)" : "");
+                   r.outcome == corridor::scenario::Outcome::kCollision && !r.robot_drove_into_it
+                       ? " (walked into the robot)"
+                       : "");
     });
   } catch (const std::exception& e) {
     std::cerr << "corridor-scenario: " << e.what() << "\n";
@@ -189,9 +191,10 @@ int main(int argc, char** argv) {
               options.laser             ? "camera and laser"
               : options.camera_tracking ? "camera only, tracking people in its view"
                                         : "camera only, no tracking");
-  std::printf("Table 4: outcomes (robot-caused: collisions the robot drove into, not people walking into it)\n"
-              "%-16s %5s %8s %10s %14s %8s %18s\n",
-              "policy", "runs", "success", "collision", "robot-caused", "timeout", "time to goal (s)");
+  std::printf(
+      "Table 4: outcomes (robot-caused: collisions the robot drove into, not people walking into it)\n"
+      "%-16s %5s %8s %10s %14s %8s %18s\n",
+      "policy", "runs", "success", "collision", "robot-caused", "timeout", "time to goal (s)");
   for (const auto& s : summaries) {
     std::printf("%-16s %5d %8.2f %10.2f %14.2f %8.2f %18.1f\n", ToString(s.policy), s.runs, s.success, s.collision,
                 s.robot_collision, s.timeout, s.mean_time_to_goal_s);

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -24,9 +24,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using drivers::sim::PedestrianRoute;
-using server::Bus;
 using drivers::sim::StaticObstacle;
 using drivers::sim::World;
+using server::Bus;
 
 constexpr double kRobotRadiusM = 0.2;
 constexpr double kPersonRadiusM = 0.25;
@@ -116,9 +116,8 @@ void TraceCollision(const Layout& layout, const nav::Pose2& pose, const std::vec
                  p.position.y(), local.x(), local.y(), p.velocity.x(), p.velocity.y());
   }
   for (const auto& o : layout.world.obstacles) {
-    std::fprintf(stderr, "  obstacle %s at %.2f %.2f size %.2f, distance %.2f\n",
-                 ShapeName(o.shape), o.center.x(), o.center.y(), o.size_m,
-                 (o.center - pose.translation()).norm());
+    std::fprintf(stderr, "  obstacle %s at %.2f %.2f size %.2f, distance %.2f\n", ShapeName(o.shape), o.center.x(),
+                 o.center.y(), o.size_m, (o.center - pose.translation()).norm());
   }
   std::fprintf(stderr, "  remembered within 1 m (robot frame):");
   for (const Eigen::Vector2d& p : remembered) {
@@ -193,7 +192,8 @@ class FrameTimes {
     for (const auto& node : graph.lifecycle().nodes()) {
       if (node->name() == "ground") front_end_ = &node->Loop("frame");
       if (node->name() == "mission") policy_ = &node->Loop("frame");
-      if (node->name() == "tracking") tracking_ = &node->Loop(graph.config().sim.robot.laser.enabled ? "scan" : "frame");
+      if (node->name() == "tracking")
+        tracking_ = &node->Loop(graph.config().sim.robot.laser.enabled ? "scan" : "frame");
     }
   }
   // Adds this step's new frame's times, if a frame went through; true when one did.

@@ -60,19 +60,19 @@ const char* ToString(CrowdKind kind);
 std::optional<CrowdKind> ParseCrowdKind(const std::string& name);
 
 struct ScenarioOptions {
-  std::filesystem::path world;      // a .yaml map or a mesh world; empty: generated rooms of 12 to 15 m
+  std::filesystem::path world;  // a .yaml map or a mesh world; empty: generated rooms of 12 to 15 m
   int worlds = 10;
-  int runs = 3;                     // per world
+  int runs = 3;  // per world
   std::uint32_t seed = 1;
-  int pedestrians = 0;              // 0 to 5 in the paper's protocol
+  int pedestrians = 0;  // 0 to 5 in the paper's protocol
   CrowdKind crowd = CrowdKind::kPaper;
-  int static_obstacles = 0;         // 0 to 9: unit cubes and cylinders of 0.5 m radius
+  int static_obstacles = 0;  // 0 to 9: unit cubes and cylinders of 0.5 m radius
   double min_goal_m = 7.0;
   double max_goal_m = 11.0;
   double goal_tolerance_m = 0.25;
-  double max_speed_mps = 0.26;      // DPoom's
-  double camera_rate_hz = 18.0;     // DPoom's control rate
-  double timeout_s = 0.0;           // 0: three times the straight-line time, plus 20 s
+  double max_speed_mps = 0.26;   // DPoom's
+  double camera_rate_hz = 18.0;  // DPoom's control rate
+  double timeout_s = 0.0;        // 0: three times the straight-line time, plus 20 s
   std::vector<Policy> policies = {Policy::kMorpRb, Policy::kVoxelReactive};
   // corridor's optional 2D laser (360 beams, 10 Hz) on the robot: morp-rb then tracks moving objects around it
   // and steps out of their way. Off: DPoom's camera only.
@@ -80,7 +80,7 @@ struct ScenarioOptions {
   // Without the laser, morp-rb tracks people in the depth camera's view instead (nav/ground/depth_scan.h) and
   // evades them, never backing, as the daemon does by default (tracking.camera). Off: DPoom's robot as published.
   bool camera_tracking = true;
-  bool trace = false;               // every morp-rb decision and every collision's surroundings on stderr
+  bool trace = false;  // every morp-rb decision and every collision's surroundings on stderr
   // Only this world and run (indices from 0), to look into one with `trace`; the same layout as in the full set.
   std::optional<std::pair<int, int>> only;
 };
@@ -90,12 +90,12 @@ struct Layout {
   int world_index = 0;
   int run_index = 0;
   std::uint32_t seed = 0;
-  drivers::sim::World world;                       // with the static obstacles
-  nav::OccupancyGrid map;                          // what the robot knows: no obstacles, no people
+  drivers::sim::World world;  // with the static obstacles
+  nav::OccupancyGrid map;     // what the robot knows: no obstacles, no people
   nav::Pose2 start;
   Eigen::Vector2d goal = Eigen::Vector2d::Zero();
   std::vector<drivers::sim::PedestrianRoute> routes;
-  drivers::sim::CrowdOptions crowd;                // how they walk
+  drivers::sim::CrowdOptions crowd;  // how they walk
 };
 
 // Throws std::runtime_error when the world has no room for the protocol (no start and goal 7-11 m apart).
@@ -118,7 +118,7 @@ struct RunResult {
   // cloud + voxel grid + extraction) and the mission node's frame (the local policy, and publishing its step).
   std::vector<double> depth_ms;
   std::vector<double> policy_ms;
-  std::vector<double> tracking_ms;   // per laser scan, or depth frame with camera_tracking: the tracking node's
+  std::vector<double> tracking_ms;  // per laser scan, or depth frame with camera_tracking: the tracking node's
 };
 
 // One run of `policy` in `layout`. Deterministic for a layout and policy (timings aside).
@@ -127,9 +127,9 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
 struct PolicySummary {
   Policy policy = Policy::kMorpRb;
   int runs = 0;
-  double success = 0.0;              // fractions of runs
+  double success = 0.0;  // fractions of runs
   double collision = 0.0;
-  double robot_collision = 0.0;      // collisions the robot drove into
+  double robot_collision = 0.0;  // collisions the robot drove into
   double timeout = 0.0;
   double mean_time_to_goal_s = 0.0;  // over successful runs
   double depth_ms = 0.0;             // means over every frame of every run
@@ -137,7 +137,7 @@ struct PolicySummary {
   double total_ms = 0.0;
   double total_p99_ms = 0.0;
   std::uint64_t frames = 0;
-  double tracking_ms = 0.0;          // mean per laser scan (or depth frame); 0 without tracking
+  double tracking_ms = 0.0;  // mean per laser scan (or depth frame); 0 without tracking
   std::uint64_t scans = 0;
 };
 

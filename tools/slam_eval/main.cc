@@ -93,7 +93,8 @@ Options ParseOptions(int argc, char** argv) {
       std::exit(0);
     } else if (arg == "--mode") {
       const std::string mode = value();
-      if (mode != "slam" && mode != "localize") throw std::invalid_argument("--mode: slam or localize, got '" + mode + "'");
+      if (mode != "slam" && mode != "localize")
+        throw std::invalid_argument("--mode: slam or localize, got '" + mode + "'");
       o.localize = mode == "localize";
     } else if (arg == "--global") {
       o.global = true;
@@ -136,9 +137,10 @@ nlohmann::json ToJson(const nav::RelativeError& e) {
 
 std::string Row(const std::string& name, const nav::RelativeError& e) {
   char line[200];
-  std::snprintf(line, sizeof line, "  %-18s translation %.4f +- %.4f m (max %.3f)   rotation %.3f +- %.3f deg (max %.2f)",
-                name.c_str(), e.translation_m.mean, e.translation_m.std, e.translation_m.max, e.rotation_deg.mean,
-                e.rotation_deg.std, e.rotation_deg.max);
+  std::snprintf(line, sizeof line,
+                "  %-18s translation %.4f +- %.4f m (max %.3f)   rotation %.3f +- %.3f deg (max %.2f)", name.c_str(),
+                e.translation_m.mean, e.translation_m.std, e.translation_m.max, e.rotation_deg.mean, e.rotation_deg.std,
+                e.rotation_deg.max);
   return line;
 }
 
@@ -184,7 +186,8 @@ tools::HatSigmas ConsecutiveHeadingNoise(const nav::CarmenLog& log, const std::v
     const std::vector<Eigen::Vector2f> points = nav::VoxelFilter(ToScan(log.scans[i], max_range_m).hits, 0.05);
     const Pose2 guess = odometry[i - 1].Inverse() * odometry[i];
     const nav::ScanMatch coarse = nav::CorrelativeMatch(before, points, guess, nav::SearchWindow{0.2, 0.1});
-    const Pose2 match = nav::RefineMatch(before, points, coarse.pose, coarse.pose, nav::RefineOptions{1.0, 0.0, 0.0, 30});
+    const Pose2 match =
+        nav::RefineMatch(before, points, coarse.pose, coarse.pose, nav::RefineOptions{1.0, 0.0, 0.0, 30});
     reference.push_back((truth[i - 1].Inverse() * truth[i]).yaw_rad);
     mapped.push_back((slam[i - 1].Inverse() * slam[i]).yaw_rad);
     matched.push_back(match.yaw_rad);
@@ -207,8 +210,12 @@ int Run(const Options& o) {
   const std::vector<Pose2> odometry = tools::MakeOdometry(truth, tools::OdometryNoise{}.Scaled(o.odom_noise), o.seed);
   const double duration_s = log.scans.back().timestamp_s - log.scans.front().timestamp_s;
 
-  nlohmann::json result{{"mode", o.localize ? "localize" : "slam"}, {"log", o.log}, {"scans", log.scans.size()},
-                        {"duration_s", duration_s}, {"seed", o.seed}, {"odom_noise", o.odom_noise}};
+  nlohmann::json result{{"mode", o.localize ? "localize" : "slam"},
+                        {"log", o.log},
+                        {"scans", log.scans.size()},
+                        {"duration_s", duration_s},
+                        {"seed", o.seed},
+                        {"odom_noise", o.odom_noise}};
   std::vector<Pose2> estimate;
   std::vector<std::string> lines;
   double wall_s = 0.0;
@@ -227,8 +234,11 @@ int Run(const Options& o) {
     result["local"] = ToJson(local);
     result["revisit"] = ToJson(revisit);
     result["odometry"] = {{"local", ToJson(odom_local)}, {"revisit", ToJson(odom_revisit)}};
-    result["graph"] = {{"inserted", st.inserted}, {"submaps", st.submaps}, {"loop_searches", st.loop_searches},
-                       {"loop_closures", st.loop_closures}, {"optimizations", st.optimizations}};
+    result["graph"] = {{"inserted", st.inserted},
+                       {"submaps", st.submaps},
+                       {"loop_searches", st.loop_searches},
+                       {"loop_closures", st.loop_closures},
+                       {"optimizations", st.optimizations}};
     lines = {Row("local", local), Row("revisit", revisit), Row("odometry local", odom_local),
              Row("odometry revisit", odom_revisit),
              "  graph: " + std::to_string(st.submaps) + " submaps, " + std::to_string(st.loop_closures) +
@@ -236,8 +246,8 @@ int Run(const Options& o) {
                  std::to_string(st.optimizations) + " optimizations"};
     if (o.reference_noise) {
       const tools::HatSigmas s = ConsecutiveHeadingNoise(log, truth, estimate, odometry, o.max_range_m);
-      result["reference_noise"] = {{"consecutive_pairs", s.count}, {"corrected_poses_deg", s.a}, {"slam_deg", s.b},
-                                   {"scan_to_scan_deg", s.c}};
+      result["reference_noise"] = {
+          {"consecutive_pairs", s.count}, {"corrected_poses_deg", s.a}, {"slam_deg", s.b}, {"scan_to_scan_deg", s.c}};
       char line[200];
       std::snprintf(line, sizeof line,
                     "  heading change between consecutive scans, own noise: corrected poses <= %.3f deg, SLAM %.3f, "
@@ -280,12 +290,12 @@ int Run(const Options& o) {
     long outside = 0;
     for (std::size_t i = converged; i < estimate.size(); ++i) outside += !within(i);
     const std::vector<Pose2> t(truth.begin() + static_cast<long>(std::min(converged, truth.size())), truth.end());
-    const std::vector<Pose2> e(estimate.begin() + static_cast<long>(std::min(converged, estimate.size())), estimate.end());
+    const std::vector<Pose2> e(estimate.begin() + static_cast<long>(std::min(converged, estimate.size())),
+                               estimate.end());
     const nav::RelativeError error = nav::AbsoluteError(t, e);
     const nav::RelativeError odom_error = nav::AbsoluteError(truth, odometry);
     const bool did_converge = converged < estimate.size();
-    const double converged_s =
-        did_converge ? log.scans[converged].timestamp_s - log.scans.front().timestamp_s : 0.0;
+    const double converged_s = did_converge ? log.scans[converged].timestamp_s - log.scans.front().timestamp_s : 0.0;
     result["error"] = {{"rmse_translation_m", error.translation_m.rmse},
                        {"rmse_rotation_deg", error.rotation_deg.rmse},
                        {"max_translation_m", error.translation_m.max},
@@ -306,7 +316,8 @@ int Run(const Options& o) {
     lines.push_back(line);
   }
   result["wall_s"] = wall_s;
-  result["speed_x_realtime"] = duration_s > 0.0 && wall_s > 0.0 ? nlohmann::json(duration_s / wall_s) : nlohmann::json(nullptr);
+  result["speed_x_realtime"] =
+      duration_s > 0.0 && wall_s > 0.0 ? nlohmann::json(duration_s / wall_s) : nlohmann::json(nullptr);
   if (!o.trajectory.empty()) WriteTrajectory(o.trajectory, log, estimate);
   if (o.json) {
     std::cout << result.dump(2) << "\n";

@@ -13,13 +13,14 @@
 namespace corridor::tools {
 
 struct OdometryNoise {
-  double translation_sigma = 0.05;       // of each move's length (5 %)
-  double rotation_sigma = 0.0349;        // rad per rad turned (2 degrees per radian)
-  double scale_error = 0.02;             // every length read 2 % long
+  double translation_sigma = 0.05;           // of each move's length (5 %)
+  double rotation_sigma = 0.0349;            // rad per rad turned (2 degrees per radian)
+  double scale_error = 0.02;                 // every length read 2 % long
   double heading_drift_rad_per_m = 0.01745;  // 1 degree of heading lost per metre driven
   // All four multiplied by `factor` (0: perfect odometry).
   OdometryNoise Scaled(double factor) const {
-    return {translation_sigma * factor, rotation_sigma * factor, scale_error * factor, heading_drift_rad_per_m * factor};
+    return {translation_sigma * factor, rotation_sigma * factor, scale_error * factor,
+            heading_drift_rad_per_m * factor};
   }
 };
 
