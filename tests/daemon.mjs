@@ -77,6 +77,7 @@ export async function startDaemon({ config = null, args = [], stateDir: keptStat
   credentials.set(`${scheme}://127.0.0.1:${port}`, token);
   return {
     port,
+    pid: proc.pid,
     url: `${scheme}://127.0.0.1:${port}`,
     stateDir,
     log: () => log,

@@ -22,8 +22,7 @@ std::string Describe(const MissionRefusal& refusal, const std::string& goal_name
   return refusal.goal ? goal_name + " " + refusal.detail : refusal.detail;
 }
 
-std::variant<std::vector<MissionGoal>, MissionRefusal> CheckMissionGoals(std::vector<MissionGoal> goals,
-                                                                         const GoalCheckInputs& in) {
+GoalCheckResult CheckMissionGoals(std::vector<MissionGoal> goals, const GoalCheckInputs& in) {
   const Floor* here = in.building != nullptr ? in.building->FloorOfMap(in.map) : nullptr;
   const auto refuse = [](GoalRefusal reason, std::optional<std::size_t> goal, std::string detail) {
     return MissionRefusal{reason, goal, std::move(detail)};

@@ -53,9 +53,10 @@ struct GoalCheckInputs {
   bool lift_controller = false;  // the building's lift controller is configured
 };
 
-// The goals to drive (through lifts where they are on other floors), or why not. Undocking goals are not checked
-// (they start on the dock, which the costmap may show as an obstacle).
-std::variant<std::vector<MissionGoal>, MissionRefusal> CheckMissionGoals(std::vector<MissionGoal> goals,
-                                                                         const GoalCheckInputs& inputs);
+// The goals to drive (through lifts where they are on other floors), or why not.
+using GoalCheckResult = std::variant<std::vector<MissionGoal>, MissionRefusal>;
+
+// Undocking goals are not checked (they start on the dock, which the costmap may show as an obstacle).
+GoalCheckResult CheckMissionGoals(std::vector<MissionGoal> goals, const GoalCheckInputs& inputs);
 
 }  // namespace corridor::nav

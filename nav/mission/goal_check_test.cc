@@ -42,7 +42,7 @@ struct Check {
   Costmap costmap = RoomCostmap();
   Building building = TwoFloors();
   bool lifts = true;
-  std::variant<std::vector<MissionGoal>, MissionRefusal> operator()(std::vector<MissionGoal> goals) const {
+  GoalCheckResult operator()(std::vector<MissionGoal> goals) const {
     GoalCheckInputs in;
     in.costmap = &costmap;
     in.building = &building;
@@ -55,7 +55,7 @@ struct Check {
   }
 };
 
-MissionRefusal Refusal(const std::variant<std::vector<MissionGoal>, MissionRefusal>& result) {
+MissionRefusal Refusal(const GoalCheckResult& result) {
   EXPECT_TRUE(std::holds_alternative<MissionRefusal>(result));
   return std::holds_alternative<MissionRefusal>(result) ? std::get<MissionRefusal>(result) : MissionRefusal{};
 }

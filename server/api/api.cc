@@ -298,8 +298,9 @@ void Api::AddCoreRoutes() {
                                 {"version", CORRIDOR_VERSION},
                                 {"uptime_s", drivers::ToSeconds(c_.clock.Now() - start_ns_)}});
       }));
-  Add(http::verb::get, "/api/v1/state",
-      Sync([this](const Request& r, const Params&) { return JsonResponse(r, State()); }));
+  Add(http::verb::get, "/api/v1/state", Sync([this](const Request& r, const Params&) {
+        return MakeResponse(r, http::status::ok, "application/json", c_.core.State()->text);
+      }));
   Add(http::verb::post, "/api/v1/teleop",
       Sync([this](const Request& r, const Params&) { return JsonResponse(r, Teleop(ParseJsonBody(r), "rest")); }));
   // Fault injection for the simulator: what the robot does when a device stops answering, or its own control loop
@@ -400,60 +401,6 @@ void Api::AddCoreRoutes() {
       }));
 }
 
-json Api::State() const {
-  json state;
-  state["stamp_s"] = drivers::ToSeconds(c_.clock.Now() - start_ns_);
-  const auto pose = c_.bus.Get(topics::kPose).latest();
-  state["pose"] = pose ? ToJson(pose->pose) : json(nullptr);
-  const auto odometry = c_.bus.Get(topics::kOdometry).latest();
-  state["velocity"] = odometry ? ToJson(odometry->velocity) : ToJson(nav::Twist2{});
-  state["bumper_pressed"] = odometry && odometry->bumper_pressed;
-  const auto command = c_.bus.Get(topics::kCmdVel).latest();
-  state["mode"] = command ? nav::ToString(command->mode) : "starting";
-  state["stop_reason"] = command ? StopReason(*command) : "";
-  state["command"] = command ? ToJson(command->twist) : ToJson(nav::Twist2{});
-  const auto truth = c_.bus.Get(topics::kSimTruePose).latest();
-  state["sim_true_pose"] = truth ? ToJson(truth->pose) : json(nullptr);
-  const auto people = c_.bus.Get(topics::kSimPedestrians).latest();
-  state["sim_pedestrians"] = people ? ToJson(*people) : json::array();
-  const auto tracked = c_.bus.Get(topics::kTrackedObjects).latest();
-  state["tracked_objects"] = tracked ? ToJson(*tracked) : json::array();
-  json obstacles = json::array();
-  for (const drivers::sim::StaticObstacle& o : c_.config.sim.obstacles) {
-    obstacles.push_back({{"shape", drivers::sim::ShapeName(o.shape)},
-                         {"x", o.center.x()},
-                         {"y", o.center.y()},
-                         {"size_m", o.size_m},
-                         {"yaw", o.yaw_rad}});
-  }
-  state["sim_obstacles"] = std::move(obstacles);
-  const auto latency = c_.bus.Get(topics::kControlLatency).latest();
-  state["control_latency"] = latency ? ToJson(*latency) : json(nullptr);
-  const auto face = c_.bus.Get(topics::kFaceExpression).latest();
-  state["face"] = std::string(face::ToString(face ? face->expression : face::Expression::kNeutral));
-  const auto mission = c_.bus.Get(topics::kMission).latest();
-  state["mission"] = mission ? ToJson(*mission) : json(nullptr);
-  const auto battery = c_.bus.Get(topics::kBattery).latest();
-  state["battery"] = battery ? ToJson(*battery) : json(nullptr);
-  const auto devices = c_.bus.Get(topics::kDevices).latest();
-  state["devices"] = devices ? ToJson(*devices)["devices"] : json::array();
-  state["docked"] = c_.missions.docked();
-  const auto fleet = c_.bus.Get(topics::kFleetOrder).latest();
-  state["fleet"] = fleet ? ToJson(*fleet) : json(nullptr);
-  const auto map = c_.maps.active();
-  const auto traffic = c_.planner.traffic();
-  const bool has_traffic = traffic && traffic->size() == map->grid.cells().size();
-  state["map"] = {{"name", map->name}, {"revision", map->revision}, {"traffic", has_traffic}};
-  // Floors are the configuration's alone: no store read on every state pushed to the stream.
-  const nav::Building building = BuildingOf(c_.config.building);
-  const nav::Floor* floor = building.FloorOfMap(map->name);
-  state["floor"] = floor != nullptr ? json(floor->name) : json(nullptr);
-  json nodes = json::array();
-  for (const auto& node : c_.lifecycle.nodes()) nodes.push_back(node->Status());
-  state["nodes"] = std::move(nodes);
-  return state;
-}
-
 json Api::Teleop(const json& body, const std::string& source) const {
   if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid command", "expected a JSON object");
   AllowOnlyKeys(body, {"linear_mps", "angular_rps", "type"}, "");
@@ -466,13 +413,13 @@ json Api::Teleop(const json& body, const std::string& source) const {
   return {{"applied", ToJson(applied)}, {"expires_in_s", s.teleop_deadman_s}};
 }
 
-std::optional<json> Api::TopicMessage(const std::string& topic) const {
-  if (topic == "state") return json{{"topic", "state"}, {"data", State()}};
+std::optional<std::string> Api::TopicMessage(const std::string& topic) const {
+  if (topic == "state") return R"({"topic":"state","data":)" + c_.core.State()->text + "}";
   const TopicBase* t = c_.bus.Find(topic);
   if (t == nullptr) return std::nullopt;
   auto data = t->LatestJson();
   if (!data) return std::nullopt;
-  return json{{"topic", topic}, {"data", std::move(*data)}};
+  return Dump(json{{"topic", topic}, {"data", std::move(*data)}});
 }
 
 json Api::StreamReply(const std::string& text, std::vector<std::string>& subscriptions, const Identity& who) const {

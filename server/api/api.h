@@ -133,7 +133,6 @@ class Api {
   void CheckAccess(const Request& request, const Caller& caller, const Identity& identity,
                    const std::string& path) const;
 
-  nlohmann::json State() const;
   nlohmann::json Teleop(const nlohmann::json& body, const std::string& source) const;
   // The reply to one message from a WebSocket client of /api/v1/stream: an acknowledgement, or {"type": "error",
   // "status", "title", "detail"} for any message it cannot take. Never throws; `subscriptions` changes only on a
@@ -142,7 +141,7 @@ class Api {
   // the face's topics.
   nlohmann::json StreamReply(const std::string& text, std::vector<std::string>& subscriptions,
                              const Identity& who) const;
-  std::optional<nlohmann::json> TopicMessage(const std::string& topic) const;
+  std::optional<std::string> TopicMessage(const std::string& topic) const;
 
  private:
   using Handler = std::function<void(const Request&, const Params&, Reply)>;

@@ -55,30 +55,30 @@ std::string RequireText(const json& body, const char* key) {
 }  // namespace
 
 RmfSample Api::SampleForRmf() const {
+  const std::shared_ptr<const RobotState> state = c_.core.State();
   RmfSample s;
   s.name = c_.robot_name;
-  s.map = c_.maps.active()->name;
-  if (const auto pose = c_.bus.Get(topics::kPose).latest()) {
+  s.map = state->map;
+  if (const auto& pose = state->pose) {
     s.has_pose = true;
     s.x = pose->pose.x_m;
     s.y = pose->pose.y_m;
     s.yaw = pose->pose.yaw_rad;
   }
-  if (const auto battery = c_.bus.Get(topics::kBattery).latest()) {
+  if (const auto& battery = state->battery) {
     s.battery = battery->charge;
     s.charging = battery->charging;
   }
-  if (const auto mission = c_.bus.Get(topics::kMission).latest()) {
+  if (const auto& mission = state->mission) {
     s.mission_id = mission->id;
     s.mission_status = nav::ToString(mission->status);
     s.mission_error = mission->error;
   }
-  if (const auto command = c_.bus.Get(topics::kCmdVel).latest();
-      command && command->mode == nav::ControlMode::kStopped) {
+  if (const auto& command = state->command; command && command->mode == nav::ControlMode::kStopped) {
     s.stopped = true;
     s.stop_reason = nav::ToString(command->reason);
   }
-  if (const auto localization = c_.bus.Get(topics::kLocalization).latest()) {
+  if (const auto& localization = state->localization) {
     s.lost = localization->estimate.health == nav::LocalizationHealth::kLost;
   }
   s.unix_millis =

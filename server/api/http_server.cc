@@ -80,7 +80,7 @@ class StreamSession : public std::enable_shared_from_this<StreamSession<Stream>>
   void Push() {
     if (closed_) return;
     for (const std::string& topic : subscriptions_) {
-      if (auto message = api_.TopicMessage(topic)) Send(Dump(*message));
+      if (auto message = api_.TopicMessage(topic)) Send(std::move(*message));
     }
     timer_.expires_after(period_);
     timer_.async_wait([self = this->shared_from_this()](beast::error_code ec) {

@@ -209,7 +209,8 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   missions_ = mission_node.get();
   missions_->SetDoors(DoorsOn(maps_->active()->name));
   missions_->SetBuilding(CurrentBuilding(config_, store_));
-  core_ = std::make_unique<RobotCore>(config_, planner_, *missions_, *localization_, *maps_, store_);
+  core_ = std::make_unique<RobotCore>(config_, bus_, clock_, lifecycle_, planner_, *missions_, *localization_, *maps_,
+                                      store_);
   // Brought up in this order and down in reverse: control goes first at shutdown, so the robot stops first.
   if (devices_.sim != nullptr) {
     auto sim_node = std::make_unique<SimNode>(executors_.sim, bus_, *devices_.sim, SimPoseFile(config_),
@@ -280,8 +281,8 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   }
   // A VDA 5050 master control's orders, when a broker is configured.
   if (!config_.fleet.vda5050.broker.empty()) {
-    lifecycle_.Add(std::make_unique<Vda5050Node>(executors_.io, bus_, config_, *core_, *missions_, *maps_, nearest_dock,
-                                                 hooks.robot));
+    lifecycle_.Add(
+        std::make_unique<Vda5050Node>(executors_.io, bus_, config_, *core_, *missions_, nearest_dock, hooks.robot));
   }
   lifecycle_.ConfigureAll();
 
@@ -335,7 +336,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
       if (slot.device == nav::Device::kCamera) frames.camera_over_dds = true;
     }
     lifecycle_.Add(std::make_unique<DdsBridge>(executors_.dds, bus_, *participant, config_.dds, std::move(frames),
-                                               *api_, *core_, *maps_, lifecycle_));
+                                               *core_, *maps_, lifecycle_));
   }
 }
 

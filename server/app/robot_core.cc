@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "server/runtime/demand.h"
+#include "server/runtime/topics.h"
 
 namespace corridor::server {
 
@@ -16,34 +17,92 @@ nav::Building CurrentBuilding(const Config& config, const Store& store) {
   return building;
 }
 
-RobotCore::RobotCore(const Config& config, PlannerService& planner, MissionNode& missions,
-                     LocalizationNode& localization, const MapLibrary& maps, const Store& store)
+RobotCore::RobotCore(const Config& config, Bus& bus, const drivers::Clock& clock, const Lifecycle& lifecycle,
+                     PlannerService& planner, MissionNode& missions, LocalizationNode& localization,
+                     const MapLibrary& maps, const Store& store)
     : config_(config),
+      bus_(bus),
+      clock_(clock),
+      lifecycle_(lifecycle),
       planner_(planner),
       missions_(missions),
       localization_(localization),
       maps_(maps),
-      store_(store) {}
+      store_(store),
+      start_ns_(clock.Now()),
+      tick_ns_(static_cast<drivers::TimeNs>(1e9 / config.server.stream_rate_hz)) {}
+
+std::shared_ptr<const RobotState> RobotCore::State() const {
+  const drivers::TimeNs now = clock_.Now();
+  const auto map = maps_.active();  // a map switched (a floor changed) is news at once, whoever switched it
+  std::lock_guard lock(state_mutex_);
+  if (!state_ || now - state_->stamp_ns >= tick_ns_ || now < state_->stamp_ns || map->name != state_->map ||
+      map->revision != state_->map_revision) {
+    state_ = std::make_shared<const RobotState>(Take());
+  }
+  return state_;
+}
+
+void RobotCore::Stale() const {
+  std::lock_guard lock(state_mutex_);
+  state_.reset();
+}
+
+RobotState RobotCore::Take() const {
+  RobotState s;
+  s.stamp_ns = clock_.Now();
+  s.uptime_s = drivers::ToSeconds(s.stamp_ns - start_ns_);
+  s.pose = bus_.Get(topics::kPose).latest();
+  s.odometry = bus_.Get(topics::kOdometry).latest();
+  s.command = bus_.Get(topics::kCmdVel).latest();
+  s.localization = bus_.Get(topics::kLocalization).latest();
+  s.mission = bus_.Get(topics::kMission).latest();
+  s.battery = bus_.Get(topics::kBattery).latest();
+  s.devices = bus_.Get(topics::kDevices).latest();
+  s.fleet = bus_.Get(topics::kFleetOrder).latest();
+  s.face = bus_.Get(topics::kFaceExpression).latest();
+  s.tracked = bus_.Get(topics::kTrackedObjects).latest();
+  s.latency = bus_.Get(topics::kControlLatency).latest();
+  s.sim_true_pose = bus_.Get(topics::kSimTruePose).latest();
+  s.sim_pedestrians = bus_.Get(topics::kSimPedestrians).latest();
+  s.docked = missions_.docked();
+  const auto map = maps_.active();
+  s.map = map->name;
+  s.map_revision = map->revision;
+  const auto traffic = planner_.traffic();
+  s.map_traffic = traffic && traffic->size() == map->grid.cells().size();
+  // Floors are the configuration's alone: no store read on every state.
+  const nav::Building building = BuildingOf(config_.building);
+  if (const nav::Floor* floor = building.FloorOfMap(map->name)) s.floor = floor->name;
+  s.nodes = nlohmann::json::array();
+  for (const auto& node : lifecycle_.nodes()) s.nodes.push_back(node->Status());
+  s.text = ToJson(s, config_).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  return s;
+}
+
+nav::GoalCheckResult RobotCore::Check(std::vector<nav::MissionGoal> goals, const nav::Costmap& costmap) const {
+  const nav::Building building = CurrentBuilding(config_, store_);
+  nav::GoalCheckInputs in;
+  in.costmap = &costmap;
+  in.building = &building;
+  in.map = maps_.active()->name;
+  in.grid_of = [this](const std::string& map) -> std::shared_ptr<const nav::OccupancyGrid> {
+    try {
+      return maps_.Grid(map);
+    } catch (const MapEditError& e) {
+      spdlog::warn("a floor's map '{}' cannot be read: {}", map, e.what());
+      return nullptr;
+    }
+  };
+  in.lift_controller = config_.building.controller.configured();
+  return nav::CheckMissionGoals(std::move(goals), in);
+}
 
 void RobotCore::StartMission(MissionOrder order, std::function<void(MissionResult)> done) const {
   DEMAND(!order.goals.empty());
   planner_.WithCostmap([this, order = std::move(order), done = std::move(done)](
                            std::shared_ptr<const nav::Costmap> costmap, std::uint64_t) mutable {
-    const nav::Building building = CurrentBuilding(config_, store_);
-    nav::GoalCheckInputs in;
-    in.costmap = costmap.get();
-    in.building = &building;
-    in.map = maps_.active()->name;
-    in.grid_of = [this](const std::string& map) -> std::shared_ptr<const nav::OccupancyGrid> {
-      try {
-        return maps_.Grid(map);
-      } catch (const MapEditError& e) {
-        spdlog::warn("a floor's map '{}' cannot be read: {}", map, e.what());
-        return nullptr;
-      }
-    };
-    in.lift_controller = config_.building.controller.configured();
-    auto checked = nav::CheckMissionGoals(std::move(order.goals), in);
+    auto checked = Check(std::move(order.goals), *costmap);
     if (auto* refusal = std::get_if<nav::MissionRefusal>(&checked)) {
       spdlog::info("a mission from {} refused: {}", order.origin,
                    nav::Describe(*refusal, "goal " + std::to_string(refusal->goal.value_or(0))));
@@ -52,8 +111,30 @@ void RobotCore::StartMission(MissionOrder order, std::function<void(MissionResul
     }
     MissionState state =
         missions_.Start(std::move(std::get<std::vector<nav::MissionGoal>>(checked)), order.speed_limit_mps);
+    Stale();
     spdlog::info("mission {} from {}: {} goals", state.id, order.origin, state.goals.size());
     done(std::move(state));
+  });
+}
+
+void RobotCore::ExtendMission(const std::string& id, std::vector<nav::MissionGoal> goals, std::string origin,
+                              std::function<void(ExtendResult)> done) const {
+  DEMAND(!goals.empty());
+  planner_.WithCostmap([this, id, goals = std::move(goals), origin = std::move(origin), done = std::move(done)](
+                           std::shared_ptr<const nav::Costmap> costmap, std::uint64_t) mutable {
+    auto checked = Check(std::move(goals), *costmap);
+    if (auto* refusal = std::get_if<nav::MissionRefusal>(&checked)) {
+      spdlog::info("mission {}: an extension from {} refused: {}", id, origin,
+                   nav::Describe(*refusal, "goal " + std::to_string(refusal->goal.value_or(0))));
+      done(std::move(*refusal));
+      return;
+    }
+    const nav::TransitionOutcome outcome = missions_.Extend(id, std::get<std::vector<nav::MissionGoal>>(checked));
+    if (outcome == nav::TransitionOutcome::kOk) {
+      Stale();
+      spdlog::info("mission {}: extended by {}", id, origin);
+    }
+    done(outcome);
   });
 }
 
@@ -89,7 +170,10 @@ nav::TransitionOutcome RobotCore::Command(MissionStep step, const std::string& i
     case MissionStep::kResume: outcome = missions_.Resume(id); break;
     case MissionStep::kCancel: outcome = missions_.Cancel(id); break;
   }
-  if (outcome == nav::TransitionOutcome::kOk) spdlog::info("mission {}: {} from {}", id, ToString(step), origin);
+  if (outcome == nav::TransitionOutcome::kOk) {
+    Stale();
+    spdlog::info("mission {}: {} from {}", id, ToString(step), origin);
+  }
   return outcome;
 }
 

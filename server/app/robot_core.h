@@ -7,6 +7,8 @@
 
 #include <functional>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -15,11 +17,14 @@
 
 #include "nav/mission/goal_check.h"
 #include "nav/mission/mission.h"
+#include "server/app/robot_state.h"
 #include "server/nodes/localization_node.h"
 #include "server/nodes/mission_node.h"
 #include "server/nodes/planner_service.h"
+#include "server/runtime/bus.h"
 #include "server/runtime/config.h"
 #include "server/runtime/messages.h"
+#include "server/runtime/node.h"
 #include "server/store/map_library.h"
 #include "server/store/store.h"
 
@@ -35,6 +40,8 @@ struct MissionOrder {
   std::string origin;  // who asks ("rest", "dds", "vda5050", ...), for the log
 };
 using MissionResult = std::variant<MissionState, nav::MissionRefusal>;
+// kOk: the running mission took the goals; kNotFound or kConflict: it is not running (any more) and nothing changed.
+using ExtendResult = std::variant<nav::TransitionOutcome, nav::MissionRefusal>;
 
 enum class PoseRefusal {
   kNotLocalizing,  // localization.source is not mcl: nothing takes a pose
@@ -59,13 +66,21 @@ const char* ToString(MissionStep step);
 
 class RobotCore {
  public:
-  RobotCore(const Config& config, PlannerService& planner, MissionNode& missions, LocalizationNode& localization,
-            const MapLibrary& maps, const Store& store);
+  RobotCore(const Config& config, Bus& bus, const drivers::Clock& clock, const Lifecycle& lifecycle,
+            PlannerService& planner, MissionNode& missions, LocalizationNode& localization, const MapLibrary& maps,
+            const Store& store);
+
+  // The robot's state now: taken at most once a tick (1 / server.stream_rate_hz of the graph's clock, and again after
+  // any command through the core or a change of the map in use), shared by every reader in that tick. Thread-safe.
+  std::shared_ptr<const RobotState> State() const;
 
   // Checks the goals against the map in use (its costmap, with keep-out zones, made on the planning executor) and
   // the building, then starts the mission (replacing the one in progress) or refuses it. `done` is called once, on
   // the planning executor, and must not throw.
   void StartMission(MissionOrder order, std::function<void(MissionResult)> done) const;
+  // Checks `goals` as StartMission does, then appends them to mission `id`. `done` as StartMission's.
+  void ExtendMission(const std::string& id, std::vector<nav::MissionGoal> goals, std::string origin,
+                     std::function<void(ExtendResult)> done) const;
   // Gives localization the pose, or refuses it. `done` is called once (on the calling thread for a refusal, else on
   // localization's executor) and must not throw.
   void SetPose(const PoseOrder& order, std::function<void(PoseResult)> done) const;
@@ -76,12 +91,25 @@ class RobotCore {
   std::optional<std::string> OffMap(const nav::Pose2& pose) const;
 
  private:
+  // The goals against the map in use (its costmap, `costmap`) and the building; on the planning executor.
+  nav::GoalCheckResult Check(std::vector<nav::MissionGoal> goals, const nav::Costmap& costmap) const;
+  RobotState Take() const;
+  // The next State() takes a new one (a command changed what it would say).
+  void Stale() const;
+
   const Config& config_;
+  Bus& bus_;
+  const drivers::Clock& clock_;
+  const Lifecycle& lifecycle_;
   PlannerService& planner_;
   MissionNode& missions_;
   LocalizationNode& localization_;
   const MapLibrary& maps_;
   const Store& store_;
+  const drivers::TimeNs start_ns_;
+  const drivers::TimeNs tick_ns_;
+  mutable std::mutex state_mutex_;
+  mutable std::shared_ptr<const RobotState> state_;  // the latest taken; null: stale
 };
 
 }  // namespace corridor::server

@@ -44,13 +44,11 @@ std::unique_ptr<dds::Participant> MakeParticipant(const DdsOptions& options) {
 }
 
 DdsBridge::DdsBridge(Executor& executor, Bus& bus, dds::Participant& participant, const DdsOptions& options,
-                     RobotFrames frames, const Api& api, const RobotCore& core, const MapLibrary& maps,
-                     const Lifecycle& lifecycle)
+                     RobotFrames frames, const RobotCore& core, const MapLibrary& maps, const Lifecycle& lifecycle)
     : PeriodicNode("dds", executor, bus, kBridgeRateHz),
       participant_(participant),
       options_(options),
       frames_(std::move(frames)),
-      api_(api),
       core_(core),
       maps_(maps),
       lifecycle_(lifecycle),
@@ -239,7 +237,7 @@ void DdsBridge::RequireMapFrame(const std_msgs::msg::Header& header) {
 void DdsBridge::Tick() {
   PublishMap();
   std_msgs::msg::String state;
-  state.data(api_.State().dump());
+  state.data(core_.State()->text);
   state_->Write(state);
   if (++ticks_ % 2 == 0) PublishDiagnostics();
 }

@@ -23,7 +23,7 @@
 #include "ros2/sensor_msgsPubSubTypes.h"
 #include "ros2/std_msgsPubSubTypes.h"
 #include "ros2/tf2_msgsPubSubTypes.h"
-#include "server/api/api.h"
+#include "server/app/robot_core.h"
 #include "server/runtime/config.h"
 #include "server/runtime/node.h"
 #include "server/store/map_library.h"
@@ -46,10 +46,9 @@ struct RobotFrames {
 
 class DdsBridge final : public PeriodicNode {
  public:
-  // Everything must outlive the bridge. `api`: the state it publishes; `core`: where goals and poses go.
+  // Everything must outlive the bridge. `core`: the state it publishes, where goals and poses go.
   DdsBridge(Executor& executor, Bus& bus, drivers::dds::Participant& participant, const DdsOptions& options,
-            RobotFrames frames, const Api& api, const RobotCore& core, const MapLibrary& maps,
-            const Lifecycle& lifecycle);
+            RobotFrames frames, const RobotCore& core, const MapLibrary& maps, const Lifecycle& lifecycle);
   void Activate() override;
   void Deactivate() override;
 
@@ -67,7 +66,6 @@ class DdsBridge final : public PeriodicNode {
   drivers::dds::Participant& participant_;
   DdsOptions options_;
   RobotFrames frames_;
-  const Api& api_;
   const RobotCore& core_;
   const MapLibrary& maps_;
   const Lifecycle& lifecycle_;

@@ -37,6 +37,13 @@ std::string StateKey(const VdaRobot& r) {
       .dump();
 }
 
+// Each goal's node (the agent names a goal's place after its node).
+std::vector<std::string> NodesOf(const std::vector<nav::MissionGoal>& goals) {
+  std::vector<std::string> nodes;
+  for (const nav::MissionGoal& g : goals) nodes.push_back(g.place);
+  return nodes;
+}
+
 // The robot's name as a topic level: what the standard allows, the rest as '_'.
 std::string TopicLevel(std::string name) {
   for (char& c : name) {
@@ -49,14 +56,13 @@ std::string TopicLevel(std::string name) {
 }  // namespace
 
 Vda5050Node::Vda5050Node(Executor& io, Bus& bus, const Config& config, const RobotCore& core, MissionNode& missions,
-                         const MapLibrary& maps, MissionNode::DockFinder find_dock, std::string robot_name)
+                         MissionNode::DockFinder find_dock, std::string robot_name)
     : PeriodicNode("vda5050", io, bus, config.fleet.vda5050.visualization_hz),
       options_(config.fleet.vda5050),
       config_(config),
       identity_(IdentityOf(options_, TopicLevel(std::move(robot_name)))),
       core_(core),
       missions_(missions),
-      maps_(maps),
       agent_({0.5, config.mission.docking.dock}, std::move(find_dock)) {
   vehicle_.max_speed_mps = config.mission.navigator.follower.max_linear_mps;
   vehicle_.max_deceleration_mps2 = config.safety.stopping.max_decel_mps2;
@@ -111,43 +117,45 @@ void Vda5050Node::Connected() {
 }
 
 VdaRobotNow Vda5050Node::Now() {
+  const std::shared_ptr<const RobotState> state = core_.State();
   VdaRobotNow now;
-  if (const auto pose = bus().Get(topics::kPose).latest()) now.pose = pose->pose;
-  now.map_id = maps_.active()->name;
-  now.docked = missions_.docked();
+  if (state->pose) now.pose = state->pose->pose;
+  now.map_id = state->map;
+  now.docked = state->docked;
   now.can_set_pose = config_.localization.source == LocalizationOptions::Source::kMonteCarlo;
   return now;
 }
 
 VdaRobot Vda5050Node::Sample() {
+  const std::shared_ptr<const RobotState> state = core_.State();
+  const RobotState& s = *state;
   VdaRobot r;
-  r.map_id = maps_.active()->name;
-  if (const auto pose = bus().Get(topics::kPose).latest()) {
+  r.map_id = s.map;
+  if (const auto& pose = s.pose) {
     r.position_initialized = true;
     r.pose = pose->pose;
     r.localization_score = 1.0;
   }
-  if (const auto localization = bus().Get(topics::kLocalization).latest();
-      localization && localization->source == "mcl") {
+  if (const auto& localization = s.localization; localization && localization->source == "mcl") {
     r.localization_score = std::clamp(localization->estimate.agreement, 0.0, 1.0);
     if (localization->estimate.health == nav::LocalizationHealth::kLost) {
       r.errors.push_back({"localizationError", "WARNING", "localization does not know where the robot is"});
     }
   }
-  if (const auto odometry = bus().Get(topics::kOdometry).latest()) {
+  if (const auto& odometry = s.odometry) {
     r.velocity = odometry->velocity;
     r.driving = std::abs(odometry->velocity.linear_mps) > 0.01 || std::abs(odometry->velocity.angular_rps) > 0.02;
   }
-  if (const auto battery = bus().Get(topics::kBattery).latest()) {
+  if (const auto& battery = s.battery) {
     r.battery_percent = 100.0 * battery->charge;
     r.battery_voltage_v = battery->voltage_v;
     r.charging = battery->charging;
   }
-  if (const auto mission = bus().Get(topics::kMission).latest()) {
+  if (const auto& mission = s.mission) {
     r.paused = mission->status == nav::MissionStatus::kPaused;
   }
   r.paused = r.paused || agent_.paused();
-  if (const auto command = bus().Get(topics::kCmdVel).latest()) {
+  if (const auto& command = s.command) {
     r.manual = command->mode == nav::ControlMode::kTeleop;
     if (command->mode == nav::ControlMode::kStopped) {
       r.protective_stop = true;
@@ -216,8 +224,7 @@ void Vda5050Node::Received(const std::string& topic, const std::string& payload)
 void Vda5050Node::OnMission(const MissionState& mission) { Carry(agent_.Progress(ProgressOf(mission))); }
 
 void Vda5050Node::StartMission(std::vector<nav::MissionGoal> goals) {
-  std::vector<std::string> nodes;  // each goal's node
-  for (const nav::MissionGoal& g : goals) nodes.push_back(g.place);
+  std::vector<std::string> nodes = NodesOf(goals);
   const std::size_t asked = goals.size();
   Executor& io = executor();  // outlives the node; work posted after the graph stops is not run
   core_.StartMission({std::move(goals), std::numeric_limits<double>::infinity(), "vda5050"},
@@ -241,17 +248,34 @@ void Vda5050Node::SetPose(const nav::Pose2& pose, const std::string& action_id) 
   });
 }
 
+void Vda5050Node::ExtendMission(std::vector<nav::MissionGoal> goals) {
+  const std::string id = agent_.mission_id();
+  Executor& io = executor();
+  core_.ExtendMission(id, goals, "vda5050", [this, &io, id, goals](ExtendResult result) {
+    io.Post([this, id, goals, result = std::move(result)] {
+      Run("extended", [&] {
+        if (const auto* refusal = std::get_if<nav::MissionRefusal>(&result)) return Refused(*refusal, NodesOf(goals));
+        if (std::get<nav::TransitionOutcome>(result) == nav::TransitionOutcome::kOk) return agent_.Extended();
+        // The mission ended meanwhile: its last progress first, then a new one for these goals.
+        if (const auto last = missions_.Describe(id)) Carry(agent_.Progress(ProgressOf(*last)));
+        StartMission(goals);
+      });
+    });
+  });
+}
+
+void Vda5050Node::Refused(const nav::MissionRefusal& refusal, const std::vector<std::string>& nodes) {
+  // Off the map or on an unknown floor: the order names what is not there; otherwise there is no way to it.
+  const bool invalid =
+      refusal.reason == nav::GoalRefusal::kOutsideMap || refusal.reason == nav::GoalRefusal::kUnknownFloor;
+  const std::string node = refusal.goal && *refusal.goal < nodes.size() ? nodes[*refusal.goal] : "";
+  const std::string description = nav::Describe(refusal, "node " + node);
+  spdlog::warn("vda5050: an order refused: {}", description);
+  Carry(agent_.Refused(invalid ? "validationError" : "noRouteError", description, node));
+}
+
 void Vda5050Node::Answered(const MissionResult& result, const std::vector<std::string>& nodes, std::size_t asked) {
-  if (const auto* refusal = std::get_if<nav::MissionRefusal>(&result)) {
-    // Off the map or on an unknown floor: the order names what is not there; otherwise there is no way to it.
-    const bool invalid =
-        refusal->reason == nav::GoalRefusal::kOutsideMap || refusal->reason == nav::GoalRefusal::kUnknownFloor;
-    const std::string node = refusal->goal && *refusal->goal < nodes.size() ? nodes[*refusal->goal] : "";
-    const std::string description = nav::Describe(*refusal, "node " + node);
-    spdlog::warn("vda5050: an order refused: {}", description);
-    Carry(agent_.Refused(invalid ? "validationError" : "noRouteError", description, node));
-    return;
-  }
+  if (const auto* refusal = std::get_if<nav::MissionRefusal>(&result)) return Refused(*refusal, nodes);
   const MissionState& state = std::get<MissionState>(result);
   Carry(agent_.Started(state.id, state.goals.size() - asked));
   if (agent_.paused()) core_.Command(MissionStep::kPause, state.id, "vda5050");
@@ -262,16 +286,7 @@ void Vda5050Node::Answered(const MissionResult& result, const std::vector<std::s
 void Vda5050Node::Carry(VdaCommands c) {
   if (!c.cancel.empty()) core_.Command(MissionStep::kCancel, c.cancel, "vda5050");
   if (c.start) StartMission(std::move(*c.start));
-  if (!c.extend.empty()) {
-    const std::string id = agent_.mission_id();
-    if (missions_.Extend(id, c.extend) == nav::TransitionOutcome::kOk) {
-      agent_.Extended();
-    } else {
-      // The mission ended meanwhile: its last progress first, then a new one for these goals.
-      if (const auto last = missions_.Describe(id)) Carry(agent_.Progress(ProgressOf(*last)));
-      StartMission(std::move(c.extend));
-    }
-  }
+  if (!c.extend.empty()) ExtendMission(std::move(c.extend));
   if (c.pause && !agent_.mission_id().empty()) core_.Command(MissionStep::kPause, agent_.mission_id(), "vda5050");
   if (c.resume && !agent_.mission_id().empty()) {
     core_.Command(MissionStep::kResume, agent_.mission_id(), "vda5050");

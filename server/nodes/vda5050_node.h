@@ -26,10 +26,10 @@ class Vda5050Node final : public PeriodicNode {
  public:
   // `robot_name` is the serial number when the options give none. Throws std::invalid_argument for a broker address
   // that is not an MQTT URL.
-  // Missions start through `core` (an order to a node the core refuses is refused on arrival); pauses, cancels and
-  // extensions go to `missions`.
+  // Missions start, extend, pause, resume and cancel through `core` (an order or an update with a node the core
+  // refuses is refused on arrival), which also gives the state; `missions` is read for a mission's progress.
   Vda5050Node(Executor& io, Bus& bus, const Config& config, const RobotCore& core, MissionNode& missions,
-              const MapLibrary& maps, MissionNode::DockFinder find_dock, std::string robot_name);
+              MissionNode::DockFinder find_dock, std::string robot_name);
   void Activate() override;
   void Deactivate() override;
 
@@ -44,6 +44,10 @@ class Vda5050Node final : public PeriodicNode {
   // Asks the core for a mission through `goals` (the agent's, each for a node); the agent hears, on this executor,
   // that it started or was refused.
   void StartMission(std::vector<nav::MissionGoal> goals);
+  // An order update's goals onto the running mission, through the core (checked as a new order's are).
+  void ExtendMission(std::vector<nav::MissionGoal> goals);
+  // The core refused goals for `nodes` (each goal's node): the order's error names the node.
+  void Refused(const nav::MissionRefusal& refusal, const std::vector<std::string>& nodes);
   // initPosition through the core; its answer finishes or fails action `action_id`.
   void SetPose(const nav::Pose2& pose, const std::string& action_id);
   void Answered(const MissionResult& result, const std::vector<std::string>& nodes, std::size_t asked);
@@ -61,7 +65,6 @@ class Vda5050Node final : public PeriodicNode {
   VdaIdentity identity_;
   const RobotCore& core_;
   MissionNode& missions_;
-  const MapLibrary& maps_;
   VdaSchemas schemas_;
   VdaAgent agent_;
   VdaVehicle vehicle_;
