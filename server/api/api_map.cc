@@ -399,14 +399,12 @@ void Api::AddMapRoutes() {
         if (!body.contains("name") || !body["name"].is_string()) {
           throw ApiError(http::status::bad_request, "Invalid request", "'name' must be a map name");
         }
-        const auto mission = c_.bus.Get(topics::kMission).latest();
-        if (mission &&
-            (mission->status == nav::MissionStatus::kActive || mission->status == nav::MissionStatus::kPaused)) {
-          throw ApiError(http::status::conflict, "Mission in progress", "cancel the mission before changing maps",
-                         "mission_in_progress");
+        if (const auto refused = c_.core.SelectMap(body["name"].get<std::string>(), "rest")) {
+          if (refused->reason == MapRefusal::kMissionInProgress) {
+            throw ApiError(http::status::conflict, "Mission in progress", refused->detail, "mission_in_progress");
+          }
+          throw ApiError(http::status::unprocessable_entity, "Invalid map edit", refused->detail, "invalid_map_edit");
         }
-        ExpectMapEdit([&] { c_.maps.Select(body["name"].get<std::string>()); });
-        ZonesChanged();
         return JsonResponse(r, {{"active", c_.maps.active()->name}});
       }));
 

@@ -156,37 +156,36 @@ void Api::AddRmfRoutes() {
         rmf_commands_->Done(cmd_id);
         return JsonResponse(r, {{"cmd_id", cmd_id}, {"completed", true}});
       }));
-  Add(http::verb::post, "/api/v1/rmf/localize", Sync([this, require_map](const Request& r, const Params&) {
-        const json body = ObjectBody(r, {"cmd_id", "pose", "map_name"});
-        const std::uint64_t cmd_id = RequireCommandId(body);
-        const nav::Pose2 pose = RequirePose(body);
-        const std::string floor = require_map(body);
-        RequireLocalizing();
-        if (!floor.empty()) {
-          // The fleet adapter took the robot to another floor itself (it rode the lift): that floor's map.
-          const auto mission = c_.bus.Get(topics::kMission).latest();
-          if (mission &&
-              (mission->status == nav::MissionStatus::kActive || mission->status == nav::MissionStatus::kPaused)) {
-            throw ApiError(http::status::conflict, "Mission in progress", "cancel the mission before changing floors",
-                           "mission_in_progress");
-          }
-          try {
-            c_.maps.Select(RequireText(body, "map_name"));
-          } catch (const MapEditError& e) {
-            throw ApiError(http::status::unprocessable_entity, "Map unusable", e.what(), "wrong_map");
-          }
+  Add(http::verb::post, "/api/v1/rmf/localize", [this, require_map](const Request& r, const Params&, Reply reply) {
+    const json body = ObjectBody(r, {"cmd_id", "pose", "map_name"});
+    const std::uint64_t cmd_id = RequireCommandId(body);
+    PoseOrder order;
+    order.pose = RequirePose(body);
+    order.origin = "rmf";
+    const std::string floor = require_map(body);
+    RequireLocalizing();
+    if (!floor.empty()) {
+      // The fleet adapter took the robot to another floor itself (it rode the lift): that floor's map.
+      if (const auto refused = c_.core.SelectMap(RequireText(body, "map_name"), "rmf")) {
+        if (refused->reason == MapRefusal::kMissionInProgress) {
+          throw ApiError(http::status::conflict, "Mission in progress", refused->detail, "mission_in_progress");
         }
-        if (!c_.maps.active()->grid.WorldToCell(pose.translation())) {
-          throw ApiError(http::status::unprocessable_entity, "Outside the map", "the pose is outside the map",
-                         "outside_map");
+        throw ApiError(http::status::unprocessable_entity, "Map unusable", refused->detail, "wrong_map");
+      }
+    }
+    c_.core.SetPose(order, [this, r, reply, cmd_id](PoseResult result) {
+      Answer(r, reply, [&]() -> Response {
+        if (const auto* refused = std::get_if<PoseRefused>(&result)) {
+          if (refused->reason == PoseRefusal::kOutsideMap) {
+            throw ApiError(http::status::unprocessable_entity, "Outside the map", refused->detail, "outside_map");
+          }
+          throw ApiError(http::status::conflict, "Not now", refused->detail, "not_now");
         }
-        LocalizationCommand command;
-        command.kind = LocalizationCommand::Kind::kSetPose;
-        command.pose = pose;
-        c_.bus.Get(topics::kLocalizationCommand).Publish(command);
         rmf_commands_->Done(cmd_id);
         return JsonResponse(r, {{"cmd_id", cmd_id}, {"completed", true}});
-      }));
+      });
+    });
+  });
   Add(http::verb::get, "/api/v1/rmf/position", Sync([this](const Request& r, const Params&) {
         const RmfSample s = SampleForRmf();
         if (!s.has_pose) {

@@ -12,6 +12,7 @@
 #include "server/app/simulator.h"
 #include "server/dds/bridge.h"
 #include "server/fleet/rmf_mqtt.h"
+#include "server/nodes/charging_node.h"
 #include "server/nodes/control_node.h"
 #include "server/nodes/devices_node.h"
 #include "server/nodes/door_node.h"
@@ -204,8 +205,8 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
       bus_.Get(topics::kLocalizationCommand).Publish(command);
     });
   };
-  auto mission_node = std::make_unique<MissionNode>(executors_.control, bus_, planner_, config_.mission, persist,
-                                                    config_.charging, nearest_dock, switch_floor);
+  auto mission_node =
+      std::make_unique<MissionNode>(executors_.control, bus_, planner_, config_.mission, persist, switch_floor);
   missions_ = mission_node.get();
   missions_->SetDoors(DoorsOn(maps_->active()->name));
   missions_->SetBuilding(CurrentBuilding(config_, store_));
@@ -255,6 +256,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   explore_ = explore_node.get();
   lifecycle_.Add(std::move(mission_node));
   lifecycle_.Add(std::move(explore_node));
+  lifecycle_.Add(std::make_unique<ChargingNode>(executors_.io, bus_, *core_, config_.charging, nearest_dock));
   lifecycle_.Add(std::make_unique<ControlNode>(executors_.control, bus_, devices_.base, config_.safety));
   lifecycle_.Add(std::make_unique<DevicesNode>(executors_.io, bus_, devices_.slots, config_.safety));
   // The building's door controller, when one is configured: missions ask it to open the doors on their way.

@@ -18,8 +18,8 @@ nav::Building CurrentBuilding(const Config& config, const Store& store) {
 }
 
 RobotCore::RobotCore(const Config& config, Bus& bus, const drivers::Clock& clock, const Lifecycle& lifecycle,
-                     PlannerService& planner, MissionNode& missions, LocalizationNode& localization,
-                     const MapLibrary& maps, const Store& store)
+                     PlannerService& planner, MissionNode& missions, LocalizationNode& localization, MapLibrary& maps,
+                     const Store& store)
     : config_(config),
       bus_(bus),
       clock_(clock),
@@ -175,6 +175,21 @@ nav::TransitionOutcome RobotCore::Command(MissionStep step, const std::string& i
     spdlog::info("mission {}: {} from {}", id, ToString(step), origin);
   }
   return outcome;
+}
+
+std::optional<MapRefused> RobotCore::SelectMap(const std::string& name, std::string_view origin) const {
+  if (const auto mission = bus_.Get(topics::kMission).latest();
+      mission && (mission->status == nav::MissionStatus::kActive || mission->status == nav::MissionStatus::kPaused)) {
+    return MapRefused{MapRefusal::kMissionInProgress, "cancel the mission before changing maps"};
+  }
+  try {
+    maps_.Select(name);
+  } catch (const MapEditError& e) {
+    return MapRefused{MapRefusal::kUnusable, e.what()};
+  }
+  Stale();
+  spdlog::info("map '{}' in use, from {}", name, origin);
+  return std::nullopt;
 }
 
 std::optional<std::string> RobotCore::OffMap(const nav::Pose2& pose) const {

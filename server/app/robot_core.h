@@ -43,6 +43,15 @@ using MissionResult = std::variant<MissionState, nav::MissionRefusal>;
 // kOk: the running mission took the goals; kNotFound or kConflict: it is not running (any more) and nothing changed.
 using ExtendResult = std::variant<nav::TransitionOutcome, nav::MissionRefusal>;
 
+enum class MapRefusal {
+  kMissionInProgress,  // a mission is active or paused: its goals are on the map in use
+  kUnusable,           // no such map, or it cannot be read
+};
+struct MapRefused {
+  MapRefusal reason = MapRefusal::kUnusable;
+  std::string detail;
+};
+
 enum class PoseRefusal {
   kNotLocalizing,  // localization.source is not mcl: nothing takes a pose
   kOutsideMap,     // the pose is off the map in use
@@ -67,7 +76,7 @@ const char* ToString(MissionStep step);
 class RobotCore {
  public:
   RobotCore(const Config& config, Bus& bus, const drivers::Clock& clock, const Lifecycle& lifecycle,
-            PlannerService& planner, MissionNode& missions, LocalizationNode& localization, const MapLibrary& maps,
+            PlannerService& planner, MissionNode& missions, LocalizationNode& localization, MapLibrary& maps,
             const Store& store);
 
   // The robot's state now: taken at most once a tick (1 / server.stream_rate_hz of the graph's clock, and again after
@@ -87,6 +96,8 @@ class RobotCore {
   // Pauses, resumes or cancels mission `id`: kNotFound when no such mission is in progress, kConflict when its status
   // does not allow it (resuming an active one). Thread-safe.
   nav::TransitionOutcome Command(MissionStep step, const std::string& id, std::string_view origin) const;
+  // Makes map `name` the one in use (the console's choice, or a floor a fleet adapter took the robot to), or refuses.
+  std::optional<MapRefused> SelectMap(const std::string& name, std::string_view origin) const;
   // Why `pose` is not on the map in use ("(x, y) is not on map 'name'"), or nothing when it is.
   std::optional<std::string> OffMap(const nav::Pose2& pose) const;
 
@@ -104,7 +115,7 @@ class RobotCore {
   PlannerService& planner_;
   MissionNode& missions_;
   LocalizationNode& localization_;
-  const MapLibrary& maps_;
+  MapLibrary& maps_;
   const Store& store_;
   const drivers::TimeNs start_ns_;
   const drivers::TimeNs tick_ns_;

@@ -20,15 +20,12 @@ std::optional<nav::Pose2> PoseOf(const std::shared_ptr<const StampedPose>& pose)
 }  // namespace
 
 MissionNode::MissionNode(Executor& control, Bus& bus, PlannerService& planner, const nav::MissionRunnerOptions& options,
-                         std::function<void(const MissionState&)> on_change, const nav::ChargingOptions& charging,
-                         DockFinder find_dock, FloorSwitch switch_floor)
+                         std::function<void(const MissionState&)> on_change, FloorSwitch switch_floor)
     : PeriodicNode("mission", control, bus, kRateHz),
       planner_(planner),
       on_change_(std::move(on_change)),
       plan_loop_(Loop("plan")),
       docking_(options.docking),
-      charging_(charging),
-      find_dock_(std::move(find_dock)),
       switch_floor_(std::move(switch_floor)),
       runner_(options) {}
 
@@ -205,17 +202,6 @@ bool MissionNode::docked() const {
 void MissionNode::Battery(const drivers::BatteryState& battery) {
   std::lock_guard lock(mutex_);
   runner_.SetOnCharger(battery.on_charger);
-  const nav::MissionStatus status = runner_.has_mission() ? runner_.Snapshot().status : nav::MissionStatus::kSucceeded;
-  const bool busy = status == nav::MissionStatus::kActive || status == nav::MissionStatus::kPaused;
-  if (!charging_.ShouldGo(now_s(), battery.charge, battery.on_charger || runner_.docked(), busy)) return;
-  const auto pose = PoseOf(bus().Get(topics::kPose).latest());
-  const std::optional<nav::MissionGoal> dock = pose && find_dock_ ? find_dock_(*pose) : std::nullopt;
-  if (!dock) {
-    spdlog::warn("battery at {:.0f} %: no dock on this map to charge at", battery.charge * 100.0);
-    return;
-  }
-  spdlog::info("battery at {:.0f} %: going to charge at '{}'", battery.charge * 100.0, dock->place);
-  StartLocked({*dock}, std::numeric_limits<double>::infinity());
 }
 
 void MissionNode::Tick() {

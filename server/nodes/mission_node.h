@@ -26,11 +26,9 @@ class MissionNode final : public PeriodicNode {
   using FloorSwitch = std::function<void(const std::string& floor, const nav::Pose2& pose)>;
 
   // `on_change` receives the mission's state whenever its status or leg changes (to persist it); called on the
-  // control executor, so it must hand the work elsewhere. An idle robot low on charge goes to the dock `find_dock`
-  // names (`charging`). Throws std::invalid_argument for bad options.
+  // control executor, so it must hand the work elsewhere. Throws std::invalid_argument for bad options.
   MissionNode(Executor& control, Bus& bus, PlannerService& planner, const nav::MissionRunnerOptions& options,
-              std::function<void(const MissionState&)> on_change, const nav::ChargingOptions& charging = {},
-              DockFinder find_dock = {}, FloorSwitch switch_floor = {});
+              std::function<void(const MissionState&)> on_change, FloorSwitch switch_floor = {});
   void Activate() override;
 
   // Thread-safe. Starting a mission cancels the one in progress; a robot on its dock backs off it first. Returns the
@@ -53,7 +51,7 @@ class MissionNode final : public PeriodicNode {
  private:
   void Tick() override;
   void Frame(const GroundLanes& ground);
-  void Battery(const drivers::BatteryState& battery);
+  void Battery(const drivers::BatteryState& battery);  // on its charger or not (docking needs to know)
   MissionState StartLocked(std::vector<nav::MissionGoal> goals, double speed_limit_mps);
   // Carries out what the runner asked (lock held); `frame_arrival_ns`: the frame a command answers, if any.
   void Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_arrival_ns = -1);
@@ -68,8 +66,6 @@ class MissionNode final : public PeriodicNode {
   mutable std::mutex mutex_;
   bool looking_around_ = false;  // turning on the spot for localization (guarded by mutex_)
   nav::DockingOptions docking_;
-  nav::ChargingPolicy charging_;  // guarded by mutex_
-  DockFinder find_dock_;
   FloorSwitch switch_floor_;
   nav::MissionRunner runner_;
   nav::DoorReports door_reports_;  // what the door controller says (guarded by mutex_)
