@@ -38,7 +38,7 @@ test('open the console, see the map and the robot, drive with the keyboard', asy
   }, null, { timeout: 15000 });
   await page.waitForSelector('path.robot', { timeout: 15000 });
   await page.getByTestId('pose').filter({ hasText: 'x ' }).waitFor();
-  await page.waitForFunction(() => document.querySelectorAll('[data-testid=nodes] tbody tr').length === 12);
+  await page.waitForFunction(() => document.querySelectorAll('[data-testid=nodes] tbody tr').length === 13);
   // The simulator's three devices, each ok with its rate.
   await page.waitForFunction(() => [...document.querySelectorAll('[data-testid=devices] tbody tr')]
     .filter((tr) => tr.children[1]?.textContent === 'ok' && tr.children[3]?.textContent === 'sim').length === 3);

@@ -51,8 +51,8 @@ describe('corridord in the Willow Garage building', () => {
 
     await sleep(500);
     const s = await state(daemon.url);
-    assert.deepEqual(s.nodes.map((n) => n.name).sort(), ['control', 'devices', 'events', 'explore', 'face', 'ground',
-      'localization', 'mission', 'octree', 'perception', 'sim', 'tracking']);
+    assert.deepEqual(s.nodes.map((n) => n.name).sort(), ['charging', 'control', 'devices', 'events', 'explore', 'face',
+      'ground', 'localization', 'mission', 'octree', 'perception', 'sim', 'tracking']);
     assert.equal(s.face, 'neutral');
     for (const node of s.nodes) {
       assert.equal(node.health, 'ok', `${node.name}: ${node.message}`);

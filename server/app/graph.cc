@@ -270,16 +270,19 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
     }
     lifecycle_.Add(std::make_unique<DoorNode>(executors_.io, bus_, std::move(controller), o.poll_s));
   }
-  // The building's lift controller, when one is configured: missions to other floors call lifts through it.
-  if (config_.building.controller.configured()) {
-    const LiftControllerOptions& o = config_.building.controller;
-    std::unique_ptr<LiftController> controller;
-    if (!o.mqtt.broker.empty()) {
-      controller = std::make_unique<RmfMqttLiftController>(o.mqtt);
-    } else {
-      controller = std::make_unique<HttpLiftController>(executors_.io.context(), o);
-    }
-    lifecycle_.Add(std::make_unique<LiftNode>(executors_.io, bus_, std::move(controller), o.poll_s));
+  // The building's lift controller: missions to other floors call lifts through it. In a simulated building that
+  // names none, the simulator's lifts answer themselves.
+  const LiftControllerOptions& lifts = config_.building.controller;
+  std::unique_ptr<LiftController> lift_controller;
+  if (!lifts.mqtt.broker.empty()) {
+    lift_controller = std::make_unique<RmfMqttLiftController>(lifts.mqtt);
+  } else if (lifts.configured()) {
+    lift_controller = std::make_unique<HttpLiftController>(executors_.io.context(), lifts);
+  } else if (devices_.sim != nullptr && LiftsAnswer(config_)) {
+    lift_controller = std::make_unique<SimLiftController>(executors_.io.context(), *devices_.sim);
+  }
+  if (lift_controller) {
+    lifecycle_.Add(std::make_unique<LiftNode>(executors_.io, bus_, std::move(lift_controller), lifts.poll_s));
   }
   // A VDA 5050 master control's orders, when a broker is configured.
   if (!config_.fleet.vda5050.broker.empty()) {

@@ -94,7 +94,7 @@ nav::GoalCheckResult RobotCore::Check(std::vector<nav::MissionGoal> goals, const
       return nullptr;
     }
   };
-  in.lift_controller = config_.building.controller.configured();
+  in.lift_controller = LiftsAnswer(config_);
   return nav::CheckMissionGoals(std::move(goals), in);
 }
 

@@ -73,6 +73,12 @@ using PoseResult = std::variant<PoseCheck, PoseRefused>;
 enum class MissionStep { kPause, kResume, kCancel };
 const char* ToString(MissionStep step);
 
+// Something answers lift calls: the building's controller, or in a simulated building that names none, the
+// simulator's lifts themselves (the graph's LiftNode then talks to one of them).
+inline bool LiftsAnswer(const Config& config) {
+  return config.building.controller.configured() || (Simulated(config) && !config.building.lifts.empty());
+}
+
 class RobotCore {
  public:
   RobotCore(const Config& config, Bus& bus, const drivers::Clock& clock, const Lifecycle& lifecycle,

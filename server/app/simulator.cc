@@ -1,5 +1,7 @@
 #include "server/app/simulator.h"
 
+#include <boost/asio/post.hpp>
+
 #include <spdlog/spdlog.h>
 
 #include <random>
@@ -134,5 +136,30 @@ NamedMap InitialMap(const Config& config, const drivers::sim::World* world) {
   if (world != nullptr) return {config.sim.world.stem().string() + "-collision", world->collision};
   throw std::runtime_error("map.file: required when the simulator is disabled");
 }
+
+void SimLiftController::Call(const std::string& lift, const std::string& floor, Done done) {
+  nav::LiftReport report;
+  if (!sim_.CallLift(lift, floor)) {
+    report.refused = true;
+    report.detail = "the simulator has no lift '" + lift + "' stopping at floor '" + floor + "'";
+  }
+  boost::asio::post(io_, [done = std::move(done), report = std::move(report)]() mutable { done(std::move(report)); });
+}
+
+void SimLiftController::State(const std::string& lift, Done done) {
+  nav::LiftReport report;
+  report.failed = true;
+  report.detail = "the simulator has no lift '" + lift + "'";
+  for (const drivers::sim::SimLiftState& l : sim_.lifts()) {
+    if (l.id != lift) continue;
+    report = nav::LiftReport{};
+    report.floor = l.floor;
+    report.door_open = l.door_open;
+    report.moving = !l.destination.empty();
+  }
+  boost::asio::post(io_, [done = std::move(done), report = std::move(report)]() mutable { done(std::move(report)); });
+}
+
+void SimLiftController::Release(const std::string& lift) { sim_.CallLift(lift, ""); }
 
 }  // namespace corridor::server

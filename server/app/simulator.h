@@ -3,10 +3,14 @@
 #pragma once
 
 #include <memory>
+#include <string>
+
+#include <boost/asio/io_context.hpp>
 
 #include "drivers/sim/sim_robot.h"
 #include "drivers/sim/world.h"
 #include "server/app/graph.h"
+#include "server/fleet/lifts.h"
 #include "server/runtime/config.h"
 
 namespace corridor::server {
@@ -34,5 +38,20 @@ std::string SimWorldName(const Config& config);
 // configured map file, else the simulator's world when it is a map, else the world's collision slice (what the robot
 // can bump into). Throws when there is neither a map nor a world.
 NamedMap InitialMap(const Config& config, const drivers::sim::World* world);
+
+// The simulator's lifts as the building's lift controller, for a simulated building whose configuration names no
+// controller of its own (building.controller): calls and releases move the simulated cars at once, as a controller that
+// always takes the robot would, and their state is the simulator's. Answers on the io executor, as a real one's do.
+class SimLiftController final : public LiftController {
+ public:
+  SimLiftController(boost::asio::io_context& io, drivers::sim::SimRobot& sim) : io_(io), sim_(sim) {}
+  void Call(const std::string& lift, const std::string& floor, Done done) override;
+  void State(const std::string& lift, Done done) override;
+  void Release(const std::string& lift) override;
+
+ private:
+  boost::asio::io_context& io_;
+  drivers::sim::SimRobot& sim_;
+};
 
 }  // namespace corridor::server

@@ -14,6 +14,7 @@ ChargingNode::ChargingNode(Executor& executor, Bus& bus, const RobotCore& core, 
 
 void ChargingNode::Activate() {
   Subscribe(topics::kBattery, "battery", [this](const auto& battery) { OnBattery(*battery); });
+  SetHealth(Health::kOk, "");
 }
 
 void ChargingNode::OnBattery(const drivers::BatteryState& battery) {
