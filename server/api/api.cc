@@ -406,11 +406,8 @@ json Api::Teleop(const json& body, const std::string& source) const {
   AllowOnlyKeys(body, {"linear_mps", "angular_rps", "type"}, "");
   const double v = RequireNumber(body, "linear_mps", "");
   const double w = RequireNumber(body, "angular_rps", "");
-  const SafetyOptions& s = c_.config.safety;
-  const nav::Twist2 applied{std::clamp(v, -s.max_linear_mps, s.max_linear_mps),
-                            std::clamp(w, -s.max_angular_rps, s.max_angular_rps)};
-  c_.bus.Get(topics::kTeleop).Publish(TeleopCommand{{v, w}, c_.clock.Now(), source});
-  return {{"applied", ToJson(applied)}, {"expires_in_s", s.teleop_deadman_s}};
+  const nav::Twist2 applied = c_.core.Teleop({v, w}, source);
+  return {{"applied", ToJson(applied)}, {"expires_in_s", c_.config.safety.teleop_deadman_s}};
 }
 
 std::optional<std::string> Api::TopicMessage(const std::string& topic) const {

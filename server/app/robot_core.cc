@@ -1,5 +1,6 @@
 #include "server/app/robot_core.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <numbers>
@@ -207,6 +208,13 @@ const char* ToString(MissionStep step) {
     case MissionStep::kCancel: return "cancel";
   }
   return "?";
+}
+
+nav::Twist2 RobotCore::Teleop(const nav::Twist2& asked, std::string_view origin) const {
+  bus_.Get(topics::kTeleop).Publish(TeleopCommand{asked, clock_.Now(), std::string(origin)});
+  const SafetyOptions& s = config_.safety;
+  return {std::clamp(asked.linear_mps, -s.max_linear_mps, s.max_linear_mps),
+          std::clamp(asked.angular_rps, -s.max_angular_rps, s.max_angular_rps)};
 }
 
 }  // namespace corridor::server

@@ -106,6 +106,11 @@ class RobotCore {
   std::optional<MapRefused> SelectMap(const std::string& name, std::string_view origin) const;
   // Why `pose` is not on the map in use ("(x, y) is not on map 'name'"), or nothing when it is.
   std::optional<std::string> OffMap(const nav::Pose2& pose) const;
+  // Drives the base by hand (the console's joystick and keys, the stream, ROS 2's cmd_vel): the control node takes
+  // it over a mission's command, limits it to safety.max_linear_mps and max_angular_rps, lets the safety gate slow or
+  // stop it, and stops the robot when commands stop coming for safety.teleop_deadman_s. Returns the command within
+  // those limits. Thread-safe.
+  nav::Twist2 Teleop(const nav::Twist2& asked, std::string_view origin) const;
 
  private:
   // The goals against the map in use (its costmap, `costmap`) and the building; on the planning executor.

@@ -166,9 +166,8 @@ void DdsBridge::Activate() {
   }
 
   // What ROS 2 tools send.
-  TakeWrites<geometry_msgs::msg::TwistPubSubType>(options_.cmd_vel_topic, [this](const geometry_msgs::msg::Twist& t) {
-    bus().Get(topics::kTeleop).Publish(TeleopCommand{dds::FromRos(t), clock().Now(), "dds"});
-  });
+  TakeWrites<geometry_msgs::msg::TwistPubSubType>(
+      options_.cmd_vel_topic, [this](const geometry_msgs::msg::Twist& t) { core_.Teleop(dds::FromRos(t), "dds"); });
   TakeWrites<geometry_msgs::msg::PoseStampedPubSubType>("/goal_pose", [this](const geometry_msgs::msg::PoseStamped& g) {
     const nav::Pose2 p = dds::FromRos(g.pose());
     RequireMapFrame(g.header());
