@@ -9,6 +9,20 @@
 namespace corridor::server {
 namespace {
 
+// The core's refusal as the problem it is over HTTP: always 409, the code naming the reason.
+[[noreturn]] void ThrowMappingRefused(const MappingRefused& refused) {
+  switch (refused.reason) {
+    case MappingRefusal::kNotLocalizing:
+      throw ApiError(http::status::conflict, "Not localizing", refused.detail, "not_localizing");
+    case MappingRefusal::kMapExists: throw ApiError(http::status::conflict, "Map exists", refused.detail, "map_exists");
+    case MappingRefusal::kAlreadyMapping:
+      throw ApiError(http::status::conflict, "Already mapping", refused.detail, "already_mapping");
+    case MappingRefusal::kNotMapping:
+      throw ApiError(http::status::conflict, "Not mapping", refused.detail, "not_mapping");
+  }
+  throw ApiError(http::status::conflict, "Refused", refused.detail);
+}
+
 using nlohmann::json;
 
 const char* SourceName(LocalizationOptions::Source source) {
@@ -97,10 +111,7 @@ void Api::AddLocalizationRoutes() {
     });
   });
   Add(http::verb::post, "/api/v1/localization/relocalize", Sync([this](const Request& r, const Params&) {
-        RequireLocalizing();
-        LocalizationCommand command;
-        command.kind = LocalizationCommand::Kind::kRelocalize;
-        c_.bus.Get(topics::kLocalizationCommand).Publish(command);
+        if (const auto refused = c_.core.Relocalize("rest")) ThrowMappingRefused(*refused);
         return JsonResponse(r, {{"relocalizing", true}}, http::status::accepted);
       }));
   Add(http::verb::put, "/api/v1/sim/pose", Sync([this](const Request& r, const Params&) {
@@ -205,23 +216,14 @@ void Api::AddMappingRoutes() {
         return MakeResponse(r, http::status::ok, "image/png", EncodePng(*state->grid));
       }));
   // Mapping starts under a new map's name (400 for a bad one, 409 if it is taken or mapping is under way).
-  const auto start_mapping = [this, mapping](const json& body) {
+  const auto start_mapping = [this](const json& body) {
     if (!body.contains("name") || !body["name"].is_string() || !ValidMapName(body["name"].get<std::string>())) {
       throw ApiError(http::status::bad_request, "Invalid request",
                      "name: a map name of letters, digits, '-', '_' and '.' (at most 64, not starting with '.')");
     }
-    LocalizationCommand command;
-    command.kind = LocalizationCommand::Kind::kStartMapping;
-    command.name = body["name"].get<std::string>();
-    if (c_.maps.Contains(command.name)) {
-      throw ApiError(http::status::conflict, "Map exists", "a map named '" + command.name + "' exists", "map_exists");
-    }
-    if (const auto state = mapping(); state && state->active) {
-      throw ApiError(http::status::conflict, "Already mapping", "mapping '" + state->name + "' is under way",
-                     "already_mapping");
-    }
-    c_.bus.Get(topics::kLocalizationCommand).Publish(command);
-    return command.name;
+    const std::string name = body["name"].get<std::string>();
+    if (const auto refused = c_.core.StartMapping(name, "rest")) ThrowMappingRefused(*refused);
+    return name;
   };
   const auto object_body = [](const Request& r) {
     const json body = ParseJsonBody(r);
@@ -229,9 +231,7 @@ void Api::AddMappingRoutes() {
     AllowOnlyKeys(body, {"name"}, "");
     return body;
   };
-  Add(http::verb::post, "/api/v1/mapping/start",
-      Sync([this, start_mapping, object_body](const Request& r, const Params&) {
-        RequireLocalizing();
+  Add(http::verb::post, "/api/v1/mapping/start", Sync([start_mapping, object_body](const Request& r, const Params&) {
         return JsonResponse(r, {{"mapping", start_mapping(object_body(r))}}, http::status::accepted);
       }));
   // Exploring maps as it goes: under a new name, or within the mapping under way (no name then).
@@ -249,15 +249,10 @@ void Api::AddMappingRoutes() {
         c_.explore.Explore();
         return JsonResponse(r, {{"exploring", name}}, http::status::accepted);
       }));
-  Add(http::verb::post, "/api/v1/mapping/stop", Sync([this, mapping](const Request& r, const Params&) {
-        const auto state = mapping();
-        if (!state || !state->active) {
-          throw ApiError(http::status::conflict, "Not mapping", "no mapping is under way", "not_mapping");
-        }
-        LocalizationCommand command;
-        command.kind = LocalizationCommand::Kind::kStopMapping;
-        c_.bus.Get(topics::kLocalizationCommand).Publish(command);
-        return JsonResponse(r, {{"saving", state->name}}, http::status::accepted);
+  Add(http::verb::post, "/api/v1/mapping/stop", Sync([this](const Request& r, const Params&) {
+        const auto stopped = c_.core.StopMapping("rest");
+        if (const auto* refused = std::get_if<MappingRefused>(&stopped)) ThrowMappingRefused(*refused);
+        return JsonResponse(r, {{"saving", std::get<std::string>(stopped)}}, http::status::accepted);
       }));
 }
 

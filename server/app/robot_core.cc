@@ -217,4 +217,47 @@ nav::Twist2 RobotCore::Teleop(const nav::Twist2& asked, std::string_view origin)
           std::clamp(asked.angular_rps, -s.max_angular_rps, s.max_angular_rps)};
 }
 
+namespace {
+
+std::optional<MappingRefused> NotLocalizing(const Config& config) {
+  if (config.localization.source == LocalizationOptions::Source::kMonteCarlo) return std::nullopt;
+  return MappingRefused{MappingRefusal::kNotLocalizing,
+                        "localization.source is not mcl: only mcl maps, takes a pose or relocalizes"};
+}
+
+}  // namespace
+
+std::optional<MappingRefused> RobotCore::StartMapping(const std::string& name, std::string_view origin) const {
+  if (auto refused = NotLocalizing(config_)) return refused;
+  if (maps_.Contains(name)) return MappingRefused{MappingRefusal::kMapExists, "a map named '" + name + "' exists"};
+  if (const auto state = bus_.Get(topics::kMapping).latest(); state && state->active) {
+    return MappingRefused{MappingRefusal::kAlreadyMapping, "mapping '" + state->name + "' is under way"};
+  }
+  LocalizationCommand command;
+  command.kind = LocalizationCommand::Kind::kStartMapping;
+  command.name = name;
+  bus_.Get(topics::kLocalizationCommand).Publish(command);
+  spdlog::info("mapping '{}' from {}", name, origin);
+  return std::nullopt;
+}
+
+std::variant<std::string, MappingRefused> RobotCore::StopMapping(std::string_view origin) const {
+  const auto state = bus_.Get(topics::kMapping).latest();
+  if (!state || !state->active) return MappingRefused{MappingRefusal::kNotMapping, "no mapping is under way"};
+  LocalizationCommand command;
+  command.kind = LocalizationCommand::Kind::kStopMapping;
+  bus_.Get(topics::kLocalizationCommand).Publish(command);
+  spdlog::info("mapping '{}' stopped from {}", state->name, origin);
+  return state->name;
+}
+
+std::optional<MappingRefused> RobotCore::Relocalize(std::string_view origin) const {
+  if (auto refused = NotLocalizing(config_)) return refused;
+  LocalizationCommand command;
+  command.kind = LocalizationCommand::Kind::kRelocalize;
+  bus_.Get(topics::kLocalizationCommand).Publish(command);
+  spdlog::info("relocalizing, from {}", origin);
+  return std::nullopt;
+}
+
 }  // namespace corridor::server

@@ -70,6 +70,17 @@ struct PoseOrder {
 };
 using PoseResult = std::variant<PoseCheck, PoseRefused>;
 
+enum class MappingRefusal {
+  kNotLocalizing,   // localization.source is not mcl: nothing maps or relocalizes
+  kMapExists,       // a map of that name exists
+  kAlreadyMapping,  // mapping is under way
+  kNotMapping,      // nothing to stop
+};
+struct MappingRefused {
+  MappingRefusal reason = MappingRefusal::kNotMapping;
+  std::string detail;  // a sentence for people
+};
+
 enum class MissionStep { kPause, kResume, kCancel };
 const char* ToString(MissionStep step);
 
@@ -111,6 +122,12 @@ class RobotCore {
   // stop it, and stops the robot when commands stop coming for safety.teleop_deadman_s. Returns the command within
   // those limits. Thread-safe.
   nav::Twist2 Teleop(const nav::Twist2& asked, std::string_view origin) const;
+  // Starts mapping a new building under map `name` (a valid map name: its form is the caller's to check), or refuses.
+  std::optional<MappingRefused> StartMapping(const std::string& name, std::string_view origin) const;
+  // Stops the mapping under way, which saves its map and makes it the map in use: the map's name, or a refusal.
+  std::variant<std::string, MappingRefused> StopMapping(std::string_view origin) const;
+  // Has localization search the whole map for the robot, or refuses (kNotLocalizing only).
+  std::optional<MappingRefused> Relocalize(std::string_view origin) const;
 
  private:
   // The goals against the map in use (its costmap, `costmap`) and the building; on the planning executor.
