@@ -6,8 +6,6 @@
 // the depth image. (The requests' transport and the console's buttons are tests/docking_test.mjs.)
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -18,6 +16,7 @@
 #include "drivers/sim/world.h"
 #include "nav/map/map_io.h"
 #include "testing/lockstep_robot.h"
+#include "testing/temp_dir.h"
 
 namespace corridor {
 namespace {
@@ -32,25 +31,18 @@ constexpr double kDockX = 3.2, kDockY = 1.5;  // the docked pose, facing the roo
 class DockRoom {
  public:
   explicit DockRoom(const std::string& extra = "") {
-    static int count = 0;
-    dir_ = fs::temp_directory_path() / ("corridor_dock_" + std::to_string(::getpid()) + "_" + std::to_string(count++));
-    fs::create_directories(dir_);
-    nav::SaveMap(drivers::sim::RoomMap(4.0, 3.0, 0.05), dir_ / "room.yaml");
-    std::ofstream(dir_ / "corridor.yaml") << "sim:\n"
-                                             "  world: room.yaml\n"
-                                             "  start: {x_m: 1.0, y_m: 1.0, yaw_deg: 90}\n"
-                                             "  camera: {width: 160, height: 120}\n"
-                                             "  dock: {enabled: true, x_m: 3.2, y_m: 1.5, yaw_deg: 0}\n"
-                                          << extra;
+    nav::SaveMap(drivers::sim::RoomMap(4.0, 3.0, 0.05), dir_.path() / "room.yaml");
+    std::ofstream(dir_.path() / "corridor.yaml") << "sim:\n"
+                                                    "  world: room.yaml\n"
+                                                    "  start: {x_m: 1.0, y_m: 1.0, yaw_deg: 90}\n"
+                                                    "  camera: {width: 160, height: 120}\n"
+                                                    "  dock: {enabled: true, x_m: 3.2, y_m: 1.5, yaw_deg: 0}\n"
+                                                 << extra;
   }
-  ~DockRoom() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  fs::path config() const { return dir_ / "corridor.yaml"; }
+  fs::path config() const { return dir_.path() / "corridor.yaml"; }
 
  private:
-  fs::path dir_;
+  testing::TempDir dir_{"corridor_dock"};
 };
 
 bool Finished(const json& state) { return state["mission"].is_object() && state["mission"]["status"] != "active"; }

@@ -6,8 +6,6 @@
 // HTTP and Open-RMF over MQTT, and a lift that refuses are tests/lifts_test.mjs.)
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +14,7 @@
 
 #include "testing/lockstep_robot.h"
 #include "testing/source_dir.h"
+#include "testing/temp_dir.h"
 
 namespace corridor {
 namespace {
@@ -30,10 +29,8 @@ namespace fs = std::filesystem;
 class TwoFloors {
  public:
   TwoFloors() {
-    dir_ = fs::temp_directory_path() / ("corridor_lifts_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
     const fs::path worlds = SourceDir() / "config/worlds";
-    std::ofstream(dir_ / "corridor.yaml")
+    std::ofstream(dir_.path() / "corridor.yaml")
         << "building:\n"
            "  name: two floors\n"
            "  floors:\n"
@@ -57,14 +54,10 @@ class TwoFloors {
            "  camera: {width: 160, height: 120}\n"
            "  dock: {enabled: false}\n";
   }
-  ~TwoFloors() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  fs::path config() const { return dir_ / "corridor.yaml"; }
+  fs::path config() const { return dir_.path() / "corridor.yaml"; }
 
  private:
-  fs::path dir_;
+  testing::TempDir dir_{"corridor_lifts"};
 };
 
 std::string Status(const json& mission) { return mission.is_object() ? mission["status"].get<std::string>() : ""; }

@@ -4,8 +4,6 @@
 // localization goes on in it. (The mapping requests over real HTTP are tests/mapping_test.mjs.)
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -18,6 +16,7 @@
 #include "nav/map/map_io.h"
 #include "testing/lockstep_robot.h"
 #include "testing/source_dir.h"
+#include "testing/temp_dir.h"
 
 namespace corridor {
 namespace {
@@ -62,86 +61,82 @@ double ShareOnWalls(const std::vector<Eigen::Vector2d>& built, const std::vector
 
 TEST(MappingLockstep, AMapBuiltWhileDrivingThroughTheHouseHasItsWallsWhereTheReferenceHasThem) {
   const fs::path house = SourceDir() / "config/worlds/small_house";
-  const fs::path dir = fs::temp_directory_path() / ("corridor_mapping_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  std::ofstream(dir / "corridor.yaml") << "map: {file: \"" << (house / "maps/map.yaml").string()
-                                       << "\"}\n"
-                                          "sim:\n"
-                                          "  world: \""
-                                       << (house / "worlds/small_house.world").string()
-                                       << "\"\n"
-                                          "  start: {x_m: -3.5, y_m: 1.0, yaw_deg: 270}\n"
-                                          "localization: {source: mcl}\n";
-  {
-    LockstepRobot robot(dir / "corridor.yaml");
-    const auto localization = [&] { return robot.Call("GET", "/api/v1/localization").body; };
-    const auto mapping = [&] { return robot.Call("GET", "/api/v1/mapping").body; };
-    ASSERT_TRUE(robot.StepUntil([&] { return localization()["health"] == "ok"; }, 15.0)) << "localization never ok";
+  const testing::TempDir dir("corridor_mapping");
+  std::ofstream(dir.path() / "corridor.yaml") << "map: {file: \"" << (house / "maps/map.yaml").string()
+                                              << "\"}\n"
+                                                 "sim:\n"
+                                                 "  world: \""
+                                              << (house / "worlds/small_house.world").string()
+                                              << "\"\n"
+                                                 "  start: {x_m: -3.5, y_m: 1.0, yaw_deg: 270}\n"
+                                                 "localization: {source: mcl}\n";
+  LockstepRobot robot(dir.path() / "corridor.yaml");
+  const auto localization = [&] { return robot.Call("GET", "/api/v1/localization").body; };
+  const auto mapping = [&] { return robot.Call("GET", "/api/v1/mapping").body; };
+  ASSERT_TRUE(robot.StepUntil([&] { return localization()["health"] == "ok"; }, 15.0)) << "localization never ok";
 
-    const LockstepRobot::Reply started = robot.Call("POST", "/api/v1/mapping/start", {{"name", "house-new"}});
-    ASSERT_EQ(started.status, 202) << started.body.dump();
-    ASSERT_TRUE(robot.StepUntil([&] { return mapping()["active"] == true; }, 5.0)) << "mapping never under way";
-    EXPECT_EQ(robot.Call("POST", "/api/v1/mapping/start", {{"name", "other"}}).body["code"], "already_mapping");
-    // Round the middle of the house and back (the planner still plans on the reference map).
-    const json waypoints = json::array({{{"x", -3.5}, {"y", -3.3}},
-                                        {{"x", 2.0}, {"y", -3.8}},
-                                        {{"x", 5.0}, {"y", -1.0}},
-                                        {{"x", 2.0}, {"y", 0.3}},
-                                        {{"x", -3.0}, {"y", 0.5}}});
-    ASSERT_EQ(robot.Call("POST", "/api/v1/missions", {{"waypoints", waypoints}}).status, 201);
-    json state;
-    robot.StepUntil(
-        [&] {
-          state = robot.State();
-          return state["mission"]["status"] != "active";
-        },
-        180.0);
-    ASSERT_EQ(state["mission"]["status"], "succeeded") << state["mission"].dump();
-    json during;
-    ASSERT_TRUE(robot.StepUntil(
-        [&] {
-          during = mapping();
-          return !during["map"].is_null();
-        },
-        5.0))
-        << "no map as built so far";
-    EXPECT_EQ(robot.Call("GET", during["map"]["image_url"].get<std::string>()).status, 200);
+  const LockstepRobot::Reply started = robot.Call("POST", "/api/v1/mapping/start", {{"name", "house-new"}});
+  ASSERT_EQ(started.status, 202) << started.body.dump();
+  ASSERT_TRUE(robot.StepUntil([&] { return mapping()["active"] == true; }, 5.0)) << "mapping never under way";
+  EXPECT_EQ(robot.Call("POST", "/api/v1/mapping/start", {{"name", "other"}}).body["code"], "already_mapping");
+  // Round the middle of the house and back (the planner still plans on the reference map).
+  const json waypoints = json::array({{{"x", -3.5}, {"y", -3.3}},
+                                      {{"x", 2.0}, {"y", -3.8}},
+                                      {{"x", 5.0}, {"y", -1.0}},
+                                      {{"x", 2.0}, {"y", 0.3}},
+                                      {{"x", -3.0}, {"y", 0.5}}});
+  ASSERT_EQ(robot.Call("POST", "/api/v1/missions", {{"waypoints", waypoints}}).status, 201);
+  json state;
+  robot.StepUntil(
+      [&] {
+        state = robot.State();
+        return state["mission"]["status"] != "active";
+      },
+      180.0);
+  ASSERT_EQ(state["mission"]["status"], "succeeded") << state["mission"].dump();
+  json during;
+  ASSERT_TRUE(robot.StepUntil(
+      [&] {
+        during = mapping();
+        return !during["map"].is_null();
+      },
+      5.0))
+      << "no map as built so far";
+  EXPECT_EQ(robot.Call("GET", during["map"]["image_url"].get<std::string>()).status, 200);
 
-    ASSERT_EQ(robot.Call("POST", "/api/v1/mapping/stop", json::object()).status, 202);
-    json saved;
-    ASSERT_TRUE(robot.StepUntil(
-        [&] {
-          saved = mapping();
-          return saved["active"] == false;
-        },
-        20.0))
-        << "the map never saved";
-    std::printf("mapped %d scans, %d submaps, %d loop closures\n", saved["scans"].get<int>(),
-                saved["submaps"].get<int>(), saved["loop_closures"].get<int>());
-    EXPECT_EQ(saved["saved"], "house-new") << saved.dump();
-    EXPECT_EQ(robot.Call("GET", "/api/v1/map").body["name"], "house-new");
-    // Its 3D map, built from the depth frames meanwhile, is saved beside it.
-    EXPECT_TRUE(robot.StepUntil([&] { return fs::exists(robot.state_dir() / "maps/house-new/map.bt"); }, 5.0));
-    EXPECT_EQ(robot.Call("GET", "/api/v1/map/octomap").body["map"], "house-new");
+  ASSERT_EQ(robot.Call("POST", "/api/v1/mapping/stop", json::object()).status, 202);
+  json saved;
+  ASSERT_TRUE(robot.StepUntil(
+      [&] {
+        saved = mapping();
+        return saved["active"] == false;
+      },
+      20.0))
+      << "the map never saved";
+  std::printf("mapped %d scans, %d submaps, %d loop closures\n", saved["scans"].get<int>(), saved["submaps"].get<int>(),
+              saved["loop_closures"].get<int>());
+  EXPECT_EQ(saved["saved"], "house-new") << saved.dump();
+  EXPECT_EQ(robot.Call("GET", "/api/v1/map").body["name"], "house-new");
+  // Its 3D map, built from the depth frames meanwhile, is saved beside it.
+  EXPECT_TRUE(robot.StepUntil([&] { return fs::exists(robot.state_dir() / "maps/house-new/map.bt"); }, 5.0));
+  EXPECT_EQ(robot.Call("GET", "/api/v1/map/octomap").body["map"], "house-new");
 
-    // Its walls lie on the reference map's walls: most occupied cells within 10 cm of one. The reference is itself a
-    // robot's SLAM map, a few centimetres off the world in places (localizing in it at the start is 5 cm and 0.7
-    // degrees off the simulator's truth).
-    const std::vector<Eigen::Vector2d> built = OccupiedCells(robot.state_dir() / "maps/house-new/map.yaml");
-    const double on_walls = ShareOnWalls(built, OccupiedCells(house / "maps/map.yaml"), 0.05);
-    std::printf("%zu occupied cells, %.1f %% within 10 cm of the reference's walls\n", built.size(), 100.0 * on_walls);
-    EXPECT_GT(built.size(), 300u);
-    EXPECT_GT(on_walls, 0.8);
-    // Localization goes on in the new map, where the robot is.
-    ASSERT_TRUE(robot.StepUntil([&] { return localization()["health"] == "ok"; }, 15.0)) << "lost in the new map";
-    EXPECT_EQ(localization()["source"], "mcl");
-    const json s = robot.State();
-    EXPECT_LT(std::hypot(s["pose"]["x"].get<double>() - s["sim_true_pose"]["x"].get<double>(),
-                         s["pose"]["y"].get<double>() - s["sim_true_pose"]["y"].get<double>()),
-              0.1)
-        << s["pose"].dump() << " against the truth " << s["sim_true_pose"].dump();
-  }
-  fs::remove_all(dir);
+  // Its walls lie on the reference map's walls: most occupied cells within 10 cm of one. The reference is itself a
+  // robot's SLAM map, a few centimetres off the world in places (localizing in it at the start is 5 cm and 0.7
+  // degrees off the simulator's truth).
+  const std::vector<Eigen::Vector2d> built = OccupiedCells(robot.state_dir() / "maps/house-new/map.yaml");
+  const double on_walls = ShareOnWalls(built, OccupiedCells(house / "maps/map.yaml"), 0.05);
+  std::printf("%zu occupied cells, %.1f %% within 10 cm of the reference's walls\n", built.size(), 100.0 * on_walls);
+  EXPECT_GT(built.size(), 300u);
+  EXPECT_GT(on_walls, 0.8);
+  // Localization goes on in the new map, where the robot is.
+  ASSERT_TRUE(robot.StepUntil([&] { return localization()["health"] == "ok"; }, 15.0)) << "lost in the new map";
+  EXPECT_EQ(localization()["source"], "mcl");
+  const json s = robot.State();
+  EXPECT_LT(std::hypot(s["pose"]["x"].get<double>() - s["sim_true_pose"]["x"].get<double>(),
+                       s["pose"]["y"].get<double>() - s["sim_true_pose"]["y"].get<double>()),
+            0.1)
+      << s["pose"].dump() << " against the truth " << s["sim_true_pose"].dump();
 }
 
 }  // namespace
