@@ -1,13 +1,11 @@
 // What access control costs per request and per login (server/auth): the Argon2id hash and check a login pays, the
-// token and session look-ups every authenticated request pays, and the route table. The baseline is a request's
-// route check alone.
+// token and session look-ups every authenticated request pays.
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 
 #include <filesystem>
 
 #include "server/auth/accounts.h"
-#include "server/auth/gate.h"
 #include "server/auth/secrets.h"
 
 namespace {
@@ -25,11 +23,6 @@ Accounts& SharedAccounts() {
   static Accounts accounts(dir / "accounts.db");
   return accounts;
 }
-
-void BM_RouteAccess(benchmark::State& state) {
-  for (auto _ : state) benchmark::DoNotOptimize(RequiredAccess("POST", "/api/v1/missions/0123456789abcdef/pause"));
-}
-BENCHMARK(BM_RouteAccess);
 
 void BM_HashPassword(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(HashPassword("a password of some length"));

@@ -61,6 +61,7 @@ test('a server that breaks its contract is caught', async () => {
     paths: {
       '/api/v1/things': {
         post: {
+          'x-corridor-access': 'admin',
           requestBody: { required: true, content: { 'application/json': { schema: { $ref: '#/components/schemas/Thing' } } } },
           responses: { 201: { description: 'made', content: { 'application/json': { schema: { $ref: '#/components/schemas/Thing' } } } },
             400: { $ref: '#/components/responses/Problem' }, 413: { $ref: '#/components/responses/Problem' },
@@ -70,9 +71,10 @@ test('a server that breaks its contract is caught', async () => {
     },
   };
   let things = 0;
-  // Takes anything and answers with what the schema forbids.
+  // Takes anything, from a viewer too, and answers with what the schema forbids.
   const server = createServer((req, res) => {
     if (req.url === '/api/v1/openapi.json') return res.end(JSON.stringify(doc));
+    if (req.url === '/api/v1/session') return res.end(JSON.stringify({ name: 'v', role: 'viewer', kind: 'token' }));
     req.resume();
     req.on('end', () => {
       if (req.url === '/api/v1/things') ++things;
@@ -89,6 +91,7 @@ test('a server that breaks its contract is caught', async () => {
     assert.match(text, /\('n' above its maximum\): expected a 4xx refusal/);
     assert.match(text, /\(the wrong content type\): expected a 4xx refusal/);
     assert.match(text, /an invalid request changed the robot's data|expected a 4xx/);
+    assert.match(text, /\(valid \{"n":1\}\): a viewer was not refused \(201\), the document says admin/);
   } finally {
     server.close();
   }

@@ -24,6 +24,7 @@ namespace corridor::server {
 namespace {
 
 namespace fs = std::filesystem;
+using auth::Access;
 using nlohmann::json;
 
 // The serial ports, video nodes and OpenNI2 devices of this machine, with the driver each suggests.
@@ -196,12 +197,51 @@ Api::Handler Api::Sync(std::function<Response(const Request&, const Params&)> f)
   return [f = std::move(f)](const Request& request, const Params& params, Reply reply) { reply(f(request, params)); };
 }
 
-void Api::Add(http::verb method, const std::string& pattern, Handler handler) {
-  routes_.push_back({method, Split(pattern), std::move(handler), nullptr});
+void Api::Add(http::verb method, const std::string& pattern, Access access, Handler handler) {
+  routes_.push_back({method, Split(pattern), access, std::move(handler), nullptr});
 }
 
-void Api::AddWithCaller(http::verb method, const std::string& pattern, CallerHandler handler) {
-  routes_.push_back({method, Split(pattern), nullptr, std::move(handler)});
+void Api::AddWithCaller(http::verb method, const std::string& pattern, Access access, CallerHandler handler) {
+  routes_.push_back({method, Split(pattern), access, nullptr, std::move(handler)});
+}
+
+std::vector<Api::RouteInfo> Api::Routes() const {
+  std::vector<RouteInfo> routes;
+  for (const Route& route : routes_) {
+    std::string pattern;
+    for (const std::string& segment : route.segments) pattern += "/" + segment;
+    routes.push_back({route.method, pattern, route.access});
+  }
+  return routes;
+}
+
+const Api::Route* Api::Find(http::verb method, const std::vector<std::string>& segments, Params& params,
+                            bool& path_matched) const {
+  path_matched = false;
+  for (const Route& route : routes_) {
+    if (route.segments.size() != segments.size()) continue;
+    Params captured;
+    bool match = true;
+    for (std::size_t i = 0; i < segments.size() && match; ++i) {
+      const std::string& want = route.segments[i];
+      if (want.size() > 2 && want.front() == '{' && want.back() == '}') {
+        captured[want.substr(1, want.size() - 2)] = segments[i];
+      } else {
+        match = want == segments[i];
+      }
+    }
+    if (!match) continue;
+    path_matched = true;
+    if (route.method != method) continue;
+    params = std::move(captured);
+    return &route;
+  }
+  return nullptr;
+}
+
+Access Api::AccessFor(const Route* route, const std::string& path) {
+  if (route != nullptr) return route->access;
+  return path.starts_with("/api/") ? Access::kViewer : Access::kPublic;
 }
 
 void Api::Answer(const Request& request, Reply reply, const std::function<Response()>& work) const {
@@ -235,10 +275,14 @@ void Api::Handle(const Request& request, const Caller& caller, Reply reply) cons
     return;
   }
   const std::string path(target.substr(0, target.find('?')));
+  const http::verb method = request.method() == http::verb::head ? http::verb::get : request.method();
+  Params params;
+  bool path_matched = false;
+  const Route* route = Find(method, Split(path), params, path_matched);
   Identity identity;
   try {
     identity = Identify(request, caller);
-    CheckAccess(request, caller, identity, path);
+    CheckAccess(request, caller, identity, AccessFor(route, path));
   } catch (...) {
     const std::exception_ptr error = std::current_exception();
     Answer(request, Audited(request, caller, identity, path, std::move(reply)),
@@ -246,31 +290,14 @@ void Api::Handle(const Request& request, const Caller& caller, Reply reply) cons
     return;
   }
   reply = Audited(request, caller, identity, path, std::move(reply));
-  const std::vector<std::string> segments = Split(path);
-  const http::verb method = request.method() == http::verb::head ? http::verb::get : request.method();
-  bool path_matched = false;
-  for (const Route& route : routes_) {
-    if (route.segments.size() != segments.size()) continue;
-    Params params;
-    bool match = true;
-    for (std::size_t i = 0; i < segments.size() && match; ++i) {
-      const std::string& want = route.segments[i];
-      if (want.size() > 2 && want.front() == '{' && want.back() == '}') {
-        params[want.substr(1, want.size() - 2)] = segments[i];
-      } else {
-        match = want == segments[i];
-      }
-    }
-    if (!match) continue;
-    path_matched = true;
-    if (route.method != method) continue;
+  if (route != nullptr) {
     // A handler that throws before handing off answers with the problem; one that hands off replies itself.
     try {
-      if (route.caller_handler) {
-        Answer(request, reply, [&] { return route.caller_handler(request, params, caller, identity); });
+      if (route->caller_handler) {
+        Answer(request, reply, [&] { return route->caller_handler(request, params, caller, identity); });
         return;
       }
-      route.handler(request, params, [this, reply](Response r) {
+      route->handler(request, params, [this, reply](Response r) {
         boost::asio::post(c_.io.context(), [reply, r = std::move(r)]() mutable { reply(std::move(r)); });
       });
     } catch (...) {
@@ -293,19 +320,19 @@ void Api::Handle(const Request& request, const Caller& caller, Reply reply) cons
 }
 
 void Api::AddCoreRoutes() {
-  Add(http::verb::get, "/api/v1/health", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/health", Access::kPublic, Sync([this](const Request& r, const Params&) {
         return JsonResponse(r, {{"status", "ok"},
                                 {"version", CORRIDOR_VERSION},
                                 {"uptime_s", drivers::ToSeconds(c_.clock.Now() - start_ns_)}});
       }));
-  Add(http::verb::get, "/api/v1/state", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/state", Access::kViewer, Sync([this](const Request& r, const Params&) {
         return MakeResponse(r, http::status::ok, "application/json", c_.core.State()->text);
       }));
-  Add(http::verb::post, "/api/v1/teleop",
+  Add(http::verb::post, "/api/v1/teleop", Access::kOperator,
       Sync([this](const Request& r, const Params&) { return JsonResponse(r, Teleop(ParseJsonBody(r), "rest")); }));
   // Fault injection for the simulator: what the robot does when a device stops answering, or its own control loop
   // stalls (the systemd watchdog's test).
-  Add(http::verb::put, "/api/v1/sim/faults", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::put, "/api/v1/sim/faults", Access::kOperator, Sync([this](const Request& r, const Params&) {
         if (c_.sim == nullptr) throw ApiError(http::status::not_found, "No simulator", "faults are simulated only");
         const json body = ParseJsonBody(r);
         AllowOnlyKeys(body, {"camera_stopped", "control_stalled"}, "");
@@ -332,11 +359,11 @@ void Api::AddCoreRoutes() {
         return JsonResponse(
             r, {{"camera_stopped", c_.sim->camera_stopped()}, {"control_stalled", control_stalled_->load()}});
       }));
-  Add(http::verb::get, "/api/v1/camera/depth",
+  Add(http::verb::get, "/api/v1/camera/depth", Access::kViewer,
       Sync([this](const Request& r, const Params&) { return CameraImage(r, true); }));
-  Add(http::verb::get, "/api/v1/camera/color",
+  Add(http::verb::get, "/api/v1/camera/color", Access::kViewer,
       Sync([this](const Request& r, const Params&) { return CameraImage(r, false); }));
-  Add(http::verb::get, "/api/v1/devices", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/devices", Access::kViewer, Sync([this](const Request& r, const Params&) {
         const auto health = c_.bus.Get(topics::kDevices).latest();
         if (!health) {
           throw ApiError(http::status::service_unavailable, "Not yet", "the devices' health is not reported yet");
@@ -345,9 +372,9 @@ void Api::AddCoreRoutes() {
       }));
   // What is plugged in, for setting a robot up: serial ports, video nodes, OpenNI2 devices (admin: it names devices'
   // paths and serial numbers).
-  Add(http::verb::get, "/api/v1/devices/hardware",
+  Add(http::verb::get, "/api/v1/devices/hardware", Access::kAdmin,
       Sync([](const Request& r, const Params&) { return JsonResponse(r, Hardware()); }));
-  Add(http::verb::get, "/api/v1/laser/scan", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/laser/scan", Access::kViewer, Sync([this](const Request& r, const Params&) {
         if (c_.laser == nullptr) throw ApiError(http::status::not_found, "No laser", "this robot has no laser");
         const auto scan = c_.bus.Get(topics::kScan).latest();
         if (!scan) throw ApiError(http::status::service_unavailable, "No scan", "the laser has not sent a scan yet");
@@ -357,10 +384,10 @@ void Api::AddCoreRoutes() {
         body["height_m"] = c_.laser->height_m();
         return JsonResponse(r, body);
       }));
-  Add(http::verb::get, "/api/v1/topics", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/topics", Access::kViewer, Sync([this](const Request& r, const Params&) {
         return JsonResponse(r, {{"topics", c_.bus.names()}});
       }));
-  Add(http::verb::get, "/api/v1/openapi.json", Sync([](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/openapi.json", Access::kPublic, Sync([](const Request& r, const Params&) {
         return MakeResponse(r, http::status::ok, "application/json", OpenApiDocument());
       }));
   // The configuration file: read, and changed with a JSON merge patch checked as strictly as at start-up.
@@ -368,7 +395,7 @@ void Api::AddCoreRoutes() {
     if (c_.config.file.empty()) throw ApiError(http::status::not_found, "No configuration file", "built in code");
     return c_.config.file;
   };
-  Add(http::verb::get, "/api/v1/config", Sync([config_file](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/config", Access::kAdmin, Sync([config_file](const Request& r, const Params&) {
         const auto file = config_file();
         try {
           return JsonResponse(r, {{"file", file.string()}, {"config", ConfigDocument(file)}});
@@ -376,7 +403,7 @@ void Api::AddCoreRoutes() {
           throw ApiError(http::status::service_unavailable, "Configuration unreadable", e.what());
         }
       }));
-  Add(http::verb::patch, "/api/v1/config", Sync([config_file](const Request& r, const Params&) {
+  Add(http::verb::patch, "/api/v1/config", Access::kAdmin, Sync([config_file](const Request& r, const Params&) {
         const auto file = config_file();
         const json patch = ParseJsonBody(r);
         ConfigChange change;
@@ -396,7 +423,7 @@ void Api::AddCoreRoutes() {
                                                                   : "corridord reads its configuration at start: "
                                                                     "restart it (systemctl restart corridor)"}});
       }));
-  Add(http::verb::get, "/api/v1/stream", Sync([](const Request&, const Params&) -> Response {
+  Add(http::verb::get, "/api/v1/stream", Access::kFace, Sync([](const Request&, const Params&) -> Response {
         throw ApiError(http::status::upgrade_required, "Upgrade required", "/api/v1/stream is a WebSocket endpoint");
       }));
 }

@@ -128,10 +128,17 @@ class Api {
     std::vector<std::string> subscriptions;
   };
   StreamAdmission AdmitStream(const Request& request, const Caller& caller) const;
-  // Throws ApiError 401/403 unless `identity` may call `path` with the request's method, or 403 for a cookie-carrying
-  // write from another origin.
-  void CheckAccess(const Request& request, const Caller& caller, const Identity& identity,
-                   const std::string& path) const;
+  // Throws ApiError 401/403 unless `identity` has `needed`, or 403 for a cookie-carrying write from another origin.
+  void CheckAccess(const Request& request, const Caller& caller, const Identity& identity, auth::Access needed) const;
+
+  // The route table as declared: each route's method, path pattern ("/api/v1/missions/{id}") and the access it needs.
+  // tests/api_routes_test.cc checks it against openapi.json both ways.
+  struct RouteInfo {
+    http::verb method;
+    std::string pattern;
+    auth::Access access;
+  };
+  std::vector<RouteInfo> Routes() const;
 
   nlohmann::json Teleop(const nlohmann::json& body, const std::string& source) const;
   // The reply to one message from a WebSocket client of /api/v1/stream: an acknowledgement, or {"type": "error",
@@ -150,13 +157,20 @@ class Api {
   struct Route {
     http::verb method;
     std::vector<std::string> segments;  // "{name}" captures a segment
+    auth::Access access;                // who may call it (server/auth/gate.h)
     Handler handler;                    // one of the two
     CallerHandler caller_handler;
   };
+  // The route `method` `segments` name (params filled), or null; `path_matched` tells whether another method would.
+  const Route* Find(http::verb method, const std::vector<std::string>& segments, Params& params,
+                    bool& path_matched) const;
+  // The access a request needs: its route's; the console's files are public, and an API path with no route needs a
+  // viewer (so that nobody learns which paths exist without logging in).
+  static auth::Access AccessFor(const Route* route, const std::string& path);
   // A handler that answers synchronously.
   static Handler Sync(std::function<Response(const Request&, const Params&)> f);
-  void Add(http::verb method, const std::string& pattern, Handler handler);
-  void AddWithCaller(http::verb method, const std::string& pattern, CallerHandler handler);
+  void Add(http::verb method, const std::string& pattern, auth::Access access, Handler handler);
+  void AddWithCaller(http::verb method, const std::string& pattern, auth::Access access, CallerHandler handler);
   // `reply`, which for a write to the API first records it in the audit log.
   Reply Audited(const Request& request, const Caller& caller, const Identity& identity, const std::string& path,
                 Reply reply) const;
@@ -202,7 +216,8 @@ class Api {
   std::vector<nav::MissionGoal> DockGoals(const std::string& wanted) const;
   std::vector<nav::MissionGoal> UndockGoals() const;
   void Undock(const Request& request, Reply reply) const;
-  Response MissionAction(const Request& request, const std::string& id, const std::string& action) const;
+  // Pauses, resumes or cancels mission `id`.
+  Response MissionAction(const Request& request, const std::string& id, MissionStep step) const;
   nav::MissionGoal ParseGoal(const nlohmann::json& j, const std::string& where) const;
   void ZonesChanged() const;
 

@@ -70,9 +70,7 @@ Api::Identity Api::Identify(const Request& request, const Caller& caller) const 
   return {};
 }
 
-void Api::CheckAccess(const Request& request, const Caller& caller, const Identity& identity,
-                      const std::string& path) const {
-  const Access needed = auth::RequiredAccess(std::string_view(request.method_string()), path);
+void Api::CheckAccess(const Request& request, const Caller& caller, const Identity& identity, Access needed) const {
   if (!auth::Allows(identity.who, needed, caller.local, c_.access.options)) {
     if (!identity.who) {
       throw ApiError(http::status::unauthorized, "Unauthorized",
@@ -98,7 +96,11 @@ void Api::CheckAccess(const Request& request, const Caller& caller, const Identi
 
 Api::StreamAdmission Api::AdmitStream(const Request& request, const Caller& caller) const {
   Identity who = Identify(request, caller);
-  CheckAccess(request, caller, who, "/api/v1/stream");
+  const std::string path = "/api/v1/stream";
+  Params params;
+  bool path_matched = false;
+  CheckAccess(request, caller, who,
+              AccessFor(Find(http::verb::get, {"api", "v1", "stream"}, params, path_matched), path));
   const std::string_view origin = request[http::field::origin];
   if (!origin.empty() && !auth::SameOrigin(origin, request[http::field::host])) {
     throw ApiError(http::status::forbidden, "Cross-site WebSocket refused",
@@ -143,7 +145,7 @@ void Api::AddAuthRoutes() {
 
   // Public: whether the robot is still to be set up, and who the caller is logged in as (null: nobody), so that a
   // page can tell without a request that fails.
-  AddWithCaller(http::verb::get, "/api/v1/setup",
+  AddWithCaller(http::verb::get, "/api/v1/setup", Access::kPublic,
                 [this](const Request& r, const Params&, const Caller& caller, const Identity& identity) {
                   const auto code = c_.access.setup.code();
                   json body = {{"needed", code.has_value()}};
@@ -154,7 +156,7 @@ void Api::AddAuthRoutes() {
                   return JsonResponse(r, body);
                 });
   AddWithCaller(
-      http::verb::post, "/api/v1/setup",
+      http::verb::post, "/api/v1/setup", Access::kPublic,
       [this, login](const Request& r, const Params&, const Caller& caller, const Identity&) {
         const json body = ParseJsonBody(r);
         AllowOnlyKeys(body, {"code", "username", "password"}, "");
@@ -179,7 +181,7 @@ void Api::AddAuthRoutes() {
       });
 
   AddWithCaller(
-      http::verb::post, "/api/v1/session",
+      http::verb::post, "/api/v1/session", Access::kPublic,
       [this, login](const Request& r, const Params&, const Caller& caller, const Identity&) {
         const json body = ParseJsonBody(r);
         AllowOnlyKeys(body, {"username", "password"}, "");
@@ -199,7 +201,7 @@ void Api::AddAuthRoutes() {
         }
         return login(r, *who, http::status::ok);
       });
-  AddWithCaller(http::verb::get, "/api/v1/session",
+  AddWithCaller(http::verb::get, "/api/v1/session", Access::kPublic,
                 [this](const Request& r, const Params&, const Caller&, const Identity& identity) {
                   if (!identity.who) {
                     throw ApiError(http::status::unauthorized, "Not logged in", "POST /api/v1/session to log in",
@@ -209,7 +211,7 @@ void Api::AddAuthRoutes() {
                   body["anonymous_viewer"] = c_.access.options.anonymous_viewer;
                   return JsonResponse(r, body);
                 });
-  Add(http::verb::delete_, "/api/v1/session", Sync([this, secure](const Request& r, const Params&) {
+  Add(http::verb::delete_, "/api/v1/session", Access::kPublic, Sync([this, secure](const Request& r, const Params&) {
         const std::string session = auth::SessionFromCookies(r[http::field::cookie]);
         if (!session.empty()) c_.access.accounts.CloseSession(session);
         Response res = MakeResponse(r, http::status::no_content, "application/json", "");
@@ -217,12 +219,12 @@ void Api::AddAuthRoutes() {
         return res;
       }));
 
-  Add(http::verb::get, "/api/v1/users", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/users", Access::kAdmin, Sync([this](const Request& r, const Params&) {
         json users = json::array();
         for (const auth::UserRecord& u : c_.access.accounts.Users()) users.push_back(ToJson(u));
         return JsonResponse(r, {{"users", users}});
       }));
-  Add(http::verb::post, "/api/v1/users", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::post, "/api/v1/users", Access::kAdmin, Sync([this](const Request& r, const Params&) {
         const json body = ParseJsonBody(r);
         AllowOnlyKeys(body, {"username", "password", "role"}, "");
         const auth::UserRecord user = AccountChange([&] {
@@ -233,18 +235,18 @@ void Api::AddAuthRoutes() {
         res.set(http::field::location, "/api/v1/users/" + user.username);
         return res;
       }));
-  Add(http::verb::delete_, "/api/v1/users/{username}", Sync([this](const Request& r, const Params& p) {
+  Add(http::verb::delete_, "/api/v1/users/{username}", Access::kAdmin, Sync([this](const Request& r, const Params& p) {
         const bool deleted = AccountChange([&] { return c_.access.accounts.DeleteUser(p.at("username")); });
         if (!deleted) throw ApiError(http::status::not_found, "Not found", "no user " + p.at("username"));
         return MakeResponse(r, http::status::no_content, "application/json", "");
       }));
 
-  Add(http::verb::get, "/api/v1/tokens", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/tokens", Access::kAdmin, Sync([this](const Request& r, const Params&) {
         json tokens = json::array();
         for (const auth::TokenRecord& t : c_.access.accounts.Tokens()) tokens.push_back(ToJson(t));
         return JsonResponse(r, {{"tokens", tokens}});
       }));
-  AddWithCaller(http::verb::post, "/api/v1/tokens",
+  AddWithCaller(http::verb::post, "/api/v1/tokens", Access::kAdmin,
                 [this](const Request& r, const Params&, const Caller&, const Identity& identity) {
                   const json body = ParseJsonBody(r);
                   AllowOnlyKeys(body, {"name", "role"}, "");
@@ -258,7 +260,7 @@ void Api::AddAuthRoutes() {
                   res.set(http::field::location, "/api/v1/tokens/" + token.id);
                   return res;
                 });
-  Add(http::verb::delete_, "/api/v1/tokens/{id}", Sync([this](const Request& r, const Params& p) {
+  Add(http::verb::delete_, "/api/v1/tokens/{id}", Access::kAdmin, Sync([this](const Request& r, const Params& p) {
         if (!c_.access.accounts.RevokeToken(p.at("id"))) {
           throw ApiError(http::status::not_found, "Not found", "no token " + p.at("id"));
         }
@@ -266,7 +268,7 @@ void Api::AddAuthRoutes() {
       }));
 
   // The newest records, or those after `after` (a poller's last sequence).
-  Add(http::verb::get, "/api/v1/audit", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/audit", Access::kAdmin, Sync([this](const Request& r, const Params&) {
         return JsonResponse(r, {{"records", c_.access.accounts.AuditLog(AfterParameter(r.target()), kAuditPerPage)}});
       }));
 }

@@ -21,6 +21,7 @@
 namespace corridor::server {
 namespace {
 
+using auth::Access;
 using nlohmann::json;
 
 constexpr double kDegPerRad = 180.0 / std::numbers::pi;
@@ -83,7 +84,8 @@ void Api::AddCalibrationRoutes() {
   wheel_calibration_ = std::make_shared<WheelCalibration>();
   // The camera's height, tilt and roll measured from the floor in its latest depth frame, and the configuration's keys
   // that would hold them.
-  Add(http::verb::post, "/api/v1/devices/camera/calibration", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::post, "/api/v1/devices/camera/calibration", Access::kAdmin,
+      Sync([this](const Request& r, const Params&) {
         if (c_.camera == nullptr) {
           throw ApiError(http::status::not_found, "No camera",
                          "this robot has no camera (devices.camera.driver: none)");
@@ -118,7 +120,8 @@ void Api::AddCalibrationRoutes() {
              {"patch", sim ? json{{"sim", {{"camera", mount}}}} : json{{"devices", {{"camera", mount}}}}}});
       }));
   // The laser's yaw from its latest scan laid on the camera's latest frame, cut at the laser's height.
-  Add(http::verb::post, "/api/v1/devices/laser/calibration", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::post, "/api/v1/devices/laser/calibration", Access::kAdmin,
+      Sync([this](const Request& r, const Params&) {
         const Standing laser = StandingScan(c_, true);
         if (c_.camera == nullptr) {
           throw ApiError(http::status::not_found, "No camera",
@@ -148,7 +151,8 @@ void Api::AddCalibrationRoutes() {
                              {"points", fit.points},
                              {"patch", sim ? json{{"sim", {{"laser", keys}}}} : json{{"devices", {{"laser", keys}}}}}});
       }));
-  Add(http::verb::post, "/api/v1/devices/wheels/calibration/start", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::post, "/api/v1/devices/wheels/calibration/start", Access::kAdmin,
+      Sync([this](const Request& r, const Params&) {
         Standing start = StandingScan(c_, false);
         std::lock_guard lock(wheel_calibration_->mutex);
         wheel_calibration_->start = std::move(start);
@@ -158,7 +162,8 @@ void Api::AddCalibrationRoutes() {
                                  "drive straight at least 0.5 m towards or away from a wall, or turn on the spot "
                                  "between 90 and 175 degrees; stop; then finish"}});
       }));
-  Add(http::verb::post, "/api/v1/devices/wheels/calibration/finish", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::post, "/api/v1/devices/wheels/calibration/finish", Access::kAdmin,
+      Sync([this](const Request& r, const Params&) {
         const Standing end = StandingScan(c_, false);
         std::lock_guard lock(wheel_calibration_->mutex);
         WheelCalibration& run = *wheel_calibration_;

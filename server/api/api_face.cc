@@ -10,6 +10,7 @@
 namespace corridor::server {
 namespace {
 
+using auth::Access;
 using nlohmann::json;
 
 constexpr double kMaxHoldS = 600.0;
@@ -113,11 +114,11 @@ face::Detection ParseDetection(const json& j, const std::string& where, const st
 }  // namespace
 
 void Api::AddDetectionRoutes() {
-  Add(http::verb::get, "/api/v1/detections", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/detections", Access::kViewer, Sync([this](const Request& r, const Params&) {
         const auto detections = c_.bus.Get(topics::kDetections).latest();
         return JsonResponse(r, ToJson(detections ? *detections : Detections{c_.clock.Now(), {}}));
       }));
-  Add(http::verb::post, "/api/v1/detections", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::post, "/api/v1/detections", Access::kOperator, Sync([this](const Request& r, const Params&) {
         if (c_.perception == nullptr) {
           throw ApiError(http::status::conflict, "Perception is off", "perception.enabled is false", "perception_off");
         }
@@ -152,11 +153,11 @@ void Api::AddDetectionRoutes() {
 }
 
 void Api::AddFaceRoutes() {
-  Add(http::verb::get, "/api/v1/face", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/face", Access::kFace, Sync([this](const Request& r, const Params&) {
         const auto face = c_.bus.Get(topics::kFaceExpression).latest();
         return JsonResponse(r, ToJson(face ? *face : FaceState{}));
       }));
-  Add(http::verb::get, "/api/v1/face/speech/{sequence}", Sync([this](const Request& r, const Params& p) {
+  Add(http::verb::get, "/api/v1/face/speech/{sequence}", Access::kFace, Sync([this](const Request& r, const Params& p) {
         const std::string& text = p.at("sequence");
         const auto wav = c_.spoken.Find(ParseCount(text, "sequence: a phrase's said_sequence"));
         if (!wav) {
@@ -166,7 +167,7 @@ void Api::AddFaceRoutes() {
         }
         return MakeResponse(r, http::status::ok, "audio/wav", *wav);
       }));
-  Add(http::verb::post, "/api/v1/face", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::post, "/api/v1/face", Access::kOperator, Sync([this](const Request& r, const Params&) {
         const FaceCommand command = ParseFaceCommand(ParseJsonBody(r));
         c_.bus.Get(topics::kFaceCommand).Publish(command);
         json accepted{

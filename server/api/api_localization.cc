@@ -23,6 +23,7 @@ namespace {
   throw ApiError(http::status::conflict, "Refused", refused.detail);
 }
 
+using auth::Access;
 using nlohmann::json;
 
 const char* SourceName(LocalizationOptions::Source source) {
@@ -61,7 +62,7 @@ nav::Pose2 Api::ParsePoseOnMap(const json& body, const std::string& where) const
 }
 
 void Api::AddLocalizationRoutes() {
-  Add(http::verb::get, "/api/v1/localization", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/localization", Access::kViewer, Sync([this](const Request& r, const Params&) {
         if (const auto state = c_.bus.Get(topics::kLocalization).latest()) return JsonResponse(r, ToJson(*state));
         // Not the filter (or no scan yet): what the pose topic says.
         json body{
@@ -74,47 +75,50 @@ void Api::AddLocalizationRoutes() {
       }));
   // The pose is taken on localization's executor, which says how well the last scan fits the map there: a pose the
   // sensors contradict is taken, and the reply says so (the filter will likely move away from it).
-  Add(http::verb::put, "/api/v1/localization/pose", [this](const Request& r, const Params&, Reply reply) {
-    RequireLocalizing();
-    const json body = ParseJsonBody(r);
-    if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
-    AllowOnlyKeys(body, {"x", "y", "yaw", "sigma_m", "sigma_yaw"}, "");
-    PoseOrder order;
-    order.pose = {RequireNumber(body, "x", ""), RequireNumber(body, "y", ""),
-                  nav::WrapAngle(RequireNumber(body, "yaw", ""))};
-    if (body.contains("sigma_m")) order.sigma_m = RequireNumber(body, "sigma_m", "");
-    if (body.contains("sigma_yaw")) order.sigma_rad = RequireNumber(body, "sigma_yaw", "");
-    order.origin = "rest";
-    c_.core.SetPose(order, [this, r, reply, order](PoseResult result) {
-      Answer(r, reply, [&]() -> Response {
-        if (const auto* refused = std::get_if<PoseRefused>(&result)) {
-          switch (refused->reason) {
-            case PoseRefusal::kNotLocalizing:
-              throw ApiError(http::status::conflict, "Not localizing", refused->detail, "not_localizing");
-            case PoseRefusal::kOutsideMap:
-              throw ApiError(http::status::unprocessable_entity, "Pose outside the map", refused->detail,
-                             "outside_map");
-            case PoseRefusal::kBadSpread: throw ApiError(http::status::bad_request, "Invalid request", refused->detail);
-            case PoseRefusal::kBusy: throw ApiError(http::status::conflict, "Not now", refused->detail, "mapping");
-          }
-        }
-        const PoseCheck& check = std::get<PoseCheck>(result);
-        json answer{{"pose", ToJson(order.pose)},
-                    {"sigma_m", order.sigma_m},
-                    {"sigma_yaw", order.sigma_rad},
-                    {"agrees", check.agrees},
-                    {"detail", check.detail}};
-        answer["agreement"] = check.checked ? json(check.agreement) : json(nullptr);
-        answer["agreement_before"] = check.checked ? json(check.agreement_before) : json(nullptr);
-        return JsonResponse(r, answer, http::status::accepted);
+  Add(http::verb::put, "/api/v1/localization/pose", Access::kOperator,
+      [this](const Request& r, const Params&, Reply reply) {
+        RequireLocalizing();
+        const json body = ParseJsonBody(r);
+        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
+        AllowOnlyKeys(body, {"x", "y", "yaw", "sigma_m", "sigma_yaw"}, "");
+        PoseOrder order;
+        order.pose = {RequireNumber(body, "x", ""), RequireNumber(body, "y", ""),
+                      nav::WrapAngle(RequireNumber(body, "yaw", ""))};
+        if (body.contains("sigma_m")) order.sigma_m = RequireNumber(body, "sigma_m", "");
+        if (body.contains("sigma_yaw")) order.sigma_rad = RequireNumber(body, "sigma_yaw", "");
+        order.origin = "rest";
+        c_.core.SetPose(order, [this, r, reply, order](PoseResult result) {
+          Answer(r, reply, [&]() -> Response {
+            if (const auto* refused = std::get_if<PoseRefused>(&result)) {
+              switch (refused->reason) {
+                case PoseRefusal::kNotLocalizing:
+                  throw ApiError(http::status::conflict, "Not localizing", refused->detail, "not_localizing");
+                case PoseRefusal::kOutsideMap:
+                  throw ApiError(http::status::unprocessable_entity, "Pose outside the map", refused->detail,
+                                 "outside_map");
+                case PoseRefusal::kBadSpread:
+                  throw ApiError(http::status::bad_request, "Invalid request", refused->detail);
+                case PoseRefusal::kBusy: throw ApiError(http::status::conflict, "Not now", refused->detail, "mapping");
+              }
+            }
+            const PoseCheck& check = std::get<PoseCheck>(result);
+            json answer{{"pose", ToJson(order.pose)},
+                        {"sigma_m", order.sigma_m},
+                        {"sigma_yaw", order.sigma_rad},
+                        {"agrees", check.agrees},
+                        {"detail", check.detail}};
+            answer["agreement"] = check.checked ? json(check.agreement) : json(nullptr);
+            answer["agreement_before"] = check.checked ? json(check.agreement_before) : json(nullptr);
+            return JsonResponse(r, answer, http::status::accepted);
+          });
+        });
       });
-    });
-  });
-  Add(http::verb::post, "/api/v1/localization/relocalize", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::post, "/api/v1/localization/relocalize", Access::kOperator,
+      Sync([this](const Request& r, const Params&) {
         if (const auto refused = c_.core.Relocalize("rest")) ThrowMappingRefused(*refused);
         return JsonResponse(r, {{"relocalizing", true}}, http::status::accepted);
       }));
-  Add(http::verb::put, "/api/v1/sim/pose", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::put, "/api/v1/sim/pose", Access::kOperator, Sync([this](const Request& r, const Params&) {
         if (c_.sim == nullptr)
           throw ApiError(http::status::not_found, "No simulator", "only a simulated robot can be moved");
         const json body = ParseJsonBody(r);
@@ -131,10 +135,11 @@ void Api::AddLocalizationRoutes() {
     for (const auto& [id, open] : c_.sim->doors()) doors.push_back({{"id", id}, {"open", open}});
     return doors;
   };
-  Add(http::verb::get, "/api/v1/sim/doors", Sync([sim_doors](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/sim/doors", Access::kViewer, Sync([sim_doors](const Request& r, const Params&) {
         return JsonResponse(r, {{"doors", sim_doors()}});
       }));
-  Add(http::verb::put, "/api/v1/sim/doors/{id}", Sync([this, sim_doors](const Request& r, const Params& p) {
+  Add(http::verb::put, "/api/v1/sim/doors/{id}", Access::kOperator,
+      Sync([this, sim_doors](const Request& r, const Params& p) {
         sim_doors();
         const json body = ParseJsonBody(r);
         if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
@@ -166,7 +171,7 @@ void Api::AddSimLiftRoutes() {
     return json{
         {"id", l.id}, {"floor", l.floor}, {"destination", l.destination}, {"door", l.door_open ? "open" : "closed"}};
   };
-  Add(http::verb::get, "/api/v1/sim/lifts", Sync([this, lift_json](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/sim/lifts", Access::kViewer, Sync([this, lift_json](const Request& r, const Params&) {
         if (c_.sim == nullptr) {
           throw ApiError(http::status::not_found, "No simulator", "only a simulated robot has these");
         }
@@ -174,10 +179,12 @@ void Api::AddSimLiftRoutes() {
         for (const drivers::sim::SimLiftState& l : c_.sim->lifts()) lifts.push_back(lift_json(l));
         return JsonResponse(r, {{"lifts", std::move(lifts)}});
       }));
-  Add(http::verb::get, "/api/v1/sim/lifts/{id}", Sync([lift, lift_json](const Request& r, const Params& p) {
+  Add(http::verb::get, "/api/v1/sim/lifts/{id}", Access::kViewer,
+      Sync([lift, lift_json](const Request& r, const Params& p) {
         return JsonResponse(r, lift_json(lift(p.at("id"))));
       }));
-  Add(http::verb::put, "/api/v1/sim/lifts/{id}", Sync([this, lift, lift_json](const Request& r, const Params& p) {
+  Add(http::verb::put, "/api/v1/sim/lifts/{id}", Access::kOperator,
+      Sync([this, lift, lift_json](const Request& r, const Params& p) {
         const std::string& id = p.at("id");
         lift(id);
         const json body = ParseJsonBody(r);
@@ -193,7 +200,7 @@ void Api::AddSimLiftRoutes() {
         }
         return JsonResponse(r, lift_json(lift(id)));
       }));
-  Add(http::verb::post, "/api/v1/sim/lifts/{id}/release",
+  Add(http::verb::post, "/api/v1/sim/lifts/{id}/release", Access::kOperator,
       Sync([this, lift, lift_json](const Request& r, const Params& p) {
         const std::string& id = p.at("id");
         lift(id);
@@ -204,11 +211,11 @@ void Api::AddSimLiftRoutes() {
 
 void Api::AddMappingRoutes() {
   const auto mapping = [this] { return c_.bus.Get(topics::kMapping).latest(); };
-  Add(http::verb::get, "/api/v1/mapping", Sync([this, mapping](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/mapping", Access::kViewer, Sync([this, mapping](const Request& r, const Params&) {
         const auto state = mapping();
         return JsonResponse(r, MappingJson(state ? *state : MappingState{}, c_.explore.exploring()));
       }));
-  Add(http::verb::get, "/api/v1/mapping/image", Sync([mapping](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/mapping/image", Access::kViewer, Sync([mapping](const Request& r, const Params&) {
         const auto state = mapping();
         if (!state || !state->grid) {
           throw ApiError(http::status::not_found, "No map being built", "start mapping, then drive a little", "no_map");
@@ -231,11 +238,12 @@ void Api::AddMappingRoutes() {
     AllowOnlyKeys(body, {"name"}, "");
     return body;
   };
-  Add(http::verb::post, "/api/v1/mapping/start", Sync([start_mapping, object_body](const Request& r, const Params&) {
+  Add(http::verb::post, "/api/v1/mapping/start", Access::kAdmin,
+      Sync([start_mapping, object_body](const Request& r, const Params&) {
         return JsonResponse(r, {{"mapping", start_mapping(object_body(r))}}, http::status::accepted);
       }));
   // Exploring maps as it goes: under a new name, or within the mapping under way (no name then).
-  Add(http::verb::post, "/api/v1/mapping/explore",
+  Add(http::verb::post, "/api/v1/mapping/explore", Access::kAdmin,
       Sync([this, mapping, start_mapping, object_body](const Request& r, const Params&) {
         RequireLocalizing();
         const json body = object_body(r);
@@ -249,7 +257,7 @@ void Api::AddMappingRoutes() {
         c_.explore.Explore();
         return JsonResponse(r, {{"exploring", name}}, http::status::accepted);
       }));
-  Add(http::verb::post, "/api/v1/mapping/stop", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::post, "/api/v1/mapping/stop", Access::kAdmin, Sync([this](const Request& r, const Params&) {
         const auto stopped = c_.core.StopMapping("rest");
         if (const auto* refused = std::get_if<MappingRefused>(&stopped)) ThrowMappingRefused(*refused);
         return JsonResponse(r, {{"saving", std::get<std::string>(stopped)}}, http::status::accepted);

@@ -17,6 +17,7 @@
 namespace corridor::server {
 namespace {
 
+using auth::Access;
 using nlohmann::json;
 
 // The most cells one edit may set: a full-map repaint goes through PUT /api/v1/map/image instead.
@@ -145,7 +146,7 @@ void ExpectMapEdit(const std::function<void()>& edit) {
 void Api::ZonesChanged() const { c_.planner.SetZones(c_.store.Zones(c_.maps.active()->name)); }
 
 void Api::AddMapRoutes() {
-  Add(http::verb::get, "/api/v1/map", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/map", Access::kViewer, Sync([this](const Request& r, const Params&) {
         const auto map = c_.maps.active();
         const nav::OccupancyGrid& g = map->grid;
         return JsonResponse(r, {{"name", map->name},
@@ -157,7 +158,7 @@ void Api::AddMapRoutes() {
                                 {"image_url", "/api/v1/map/image?revision=" + std::to_string(map->revision)}});
       }));
   // The building: its floors (each with its map), the floor the robot is on, and the lifts between them.
-  Add(http::verb::get, "/api/v1/building", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/building", Access::kViewer, Sync([this](const Request& r, const Params&) {
         const nav::Building building = CurrentBuilding(c_.config, c_.store);
         const nav::Floor* here = building.FloorOfMap(c_.maps.active()->name);
         json floors = json::array();
@@ -201,7 +202,8 @@ void Api::AddMapRoutes() {
     return json{{"id", d.door.id},    {"x1", d.door.a.x()}, {"y1", d.door.a.y()}, {"x2", d.door.b.x()},
                 {"y2", d.door.b.y()}, {"source", d.source}, {"state", state}};
   };
-  Add(http::verb::get, "/api/v1/doors", Sync([this, doors_here, door_json](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/doors", Access::kViewer,
+      Sync([this, doors_here, door_json](const Request& r, const Params&) {
         json out = json::array();
         for (const MapDoor& d : doors_here()) out.push_back(door_json(d));
         return JsonResponse(r, {{"map", c_.maps.active()->name},
@@ -209,7 +211,8 @@ void Api::AddMapRoutes() {
                                 {"doors", std::move(out)}});
       }));
   // A door drawn on the map in use: a line across a passage, with an id its controller knows.
-  Add(http::verb::post, "/api/v1/doors", Sync([this, doors_here, door_json](const Request& r, const Params&) {
+  Add(http::verb::post, "/api/v1/doors", Access::kAdmin,
+      Sync([this, doors_here, door_json](const Request& r, const Params&) {
         const json body = ParseJsonBody(r);
         if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
         AllowOnlyKeys(body, {"id", "x1", "y1", "x2", "y2"}, "");
@@ -239,7 +242,8 @@ void Api::AddMapRoutes() {
         if (c_.doors_changed) c_.doors_changed();
         return JsonResponse(r, door_json({door, "drawn"}), http::status::created);
       }));
-  Add(http::verb::delete_, "/api/v1/doors/{id}", Sync([this, doors_here](const Request& r, const Params& p) {
+  Add(http::verb::delete_, "/api/v1/doors/{id}", Access::kAdmin,
+      Sync([this, doors_here](const Request& r, const Params& p) {
         const std::string& id = p.at("id");
         if (!c_.store.DeleteDoor(c_.maps.active()->name, id)) {
           for (const MapDoor& d : doors_here()) {
@@ -255,7 +259,8 @@ void Api::AddMapRoutes() {
         return MakeResponse(r, http::status::no_content, "application/json", "");
       }));
   // A lift's stop on a floor, drawn in the console: its door there and the lobby facing it.
-  Add(http::verb::put, "/api/v1/building/lifts/{id}/stops/{floor}", Sync([this](const Request& r, const Params& p) {
+  Add(http::verb::put, "/api/v1/building/lifts/{id}/stops/{floor}", Access::kAdmin,
+      Sync([this](const Request& r, const Params& p) {
         const std::string& id = p.at("id");
         if (id.empty() || id.size() > 64 ||
             id.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
@@ -287,7 +292,8 @@ void Api::AddMapRoutes() {
         const nav::Lift* lift = building.LiftNamed(id);
         return JsonResponse(r, {{"id", id}, {"stops", lift->stops.size()}});
       }));
-  Add(http::verb::delete_, "/api/v1/building/lifts/{id}/stops/{floor}", Sync([this](const Request& r, const Params& p) {
+  Add(http::verb::delete_, "/api/v1/building/lifts/{id}/stops/{floor}", Access::kAdmin,
+      Sync([this](const Request& r, const Params& p) {
         if (!c_.store.DeleteLiftStop(p.at("id"), p.at("floor"))) {
           throw ApiError(http::status::not_found, "Not found",
                          "no stop of lift " + p.at("id") + " on floor " + p.at("floor") +
@@ -296,12 +302,12 @@ void Api::AddMapRoutes() {
         c_.missions.SetBuilding(CurrentBuilding(c_.config, c_.store));
         return MakeResponse(r, http::status::no_content, "application/json", "");
       }));
-  Add(http::verb::get, "/api/v1/map/image", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/map/image", Access::kViewer, Sync([this](const Request& r, const Params&) {
         return MakeResponse(r, http::status::ok, "image/png", c_.maps.active()->png);
       }));
   // Where people have been walking, as the planner weighs it: a red overlay for the map image (its size, row 0 at
   // the top), most opaque where the extra cost is highest.
-  Add(http::verb::get, "/api/v1/map/traffic", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/map/traffic", Access::kViewer, Sync([this](const Request& r, const Params&) {
         const auto cost = c_.planner.traffic();
         const nav::OccupancyGrid& grid = c_.maps.active()->grid;
         if (!cost || cost->size() != static_cast<std::size_t>(grid.width()) * static_cast<std::size_t>(grid.height())) {
@@ -314,7 +320,7 @@ void Api::AddMapRoutes() {
   // The snapshot is taken on the mapping executor; the answer comes back through Answer.
   using Respond = std::function<Response(const Request&, const OctreeSnapshot&)>;
   const auto octree_route = [this](const std::string& path, Respond respond) {
-    Add(http::verb::get, path, [this, respond](const Request& r, const Params&, Reply reply) {
+    Add(http::verb::get, path, Access::kViewer, [this, respond](const Request& r, const Params&, Reply reply) {
       if (c_.octree == nullptr) {
         throw ApiError(http::status::not_found, "No 3D map", "the 3D map is off (octomap.enabled in the configuration)",
                        "no_octomap");
@@ -348,11 +354,11 @@ void Api::AddMapRoutes() {
     std::memcpy(bytes.data(), o.voxels.data(), bytes.size());
     return MakeResponse(r, http::status::ok, "application/octet-stream", std::move(bytes));
   });
-  Add(http::verb::put, "/api/v1/map/image", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::put, "/api/v1/map/image", Access::kAdmin, Sync([this](const Request& r, const Params&) {
         ExpectMapEdit([&] { c_.maps.ReplaceImage(r.body()); });
         return JsonResponse(r, {{"revision", c_.maps.active()->revision}});
       }));
-  Add(http::verb::put, "/api/v1/map/cells", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::put, "/api/v1/map/cells", Access::kAdmin, Sync([this](const Request& r, const Params&) {
         const json body = ParseJsonBody(r);
         AllowOnlyKeys(body, {"cells", "rects"}, "");
         std::vector<CellEdit> edits;
@@ -390,10 +396,10 @@ void Api::AddMapRoutes() {
         ExpectMapEdit([&] { c_.maps.EditCells(edits); });
         return JsonResponse(r, {{"revision", c_.maps.active()->revision}, {"changed", edits.size()}});
       }));
-  Add(http::verb::get, "/api/v1/maps", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/maps", Access::kViewer, Sync([this](const Request& r, const Params&) {
         return JsonResponse(r, {{"maps", c_.maps.Names()}, {"active", c_.maps.active()->name}});
       }));
-  Add(http::verb::put, "/api/v1/map/active", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::put, "/api/v1/map/active", Access::kAdmin, Sync([this](const Request& r, const Params&) {
         const json body = ParseJsonBody(r);
         AllowOnlyKeys(body, {"name"}, "");
         if (!body.contains("name") || !body["name"].is_string()) {
@@ -409,12 +415,12 @@ void Api::AddMapRoutes() {
       }));
 
   // Zones and places belong to the active map.
-  Add(http::verb::get, "/api/v1/zones", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/zones", Access::kViewer, Sync([this](const Request& r, const Params&) {
         json zones = json::array();
         for (const nav::Zone& z : c_.store.Zones(c_.maps.active()->name)) zones.push_back(ZoneJson(z));
         return JsonResponse(r, {{"zones", zones}});
       }));
-  Add(http::verb::post, "/api/v1/zones", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::post, "/api/v1/zones", Access::kAdmin, Sync([this](const Request& r, const Params&) {
         const nav::Zone z = ParseZone(ParseJsonBody(r), NewId());
         c_.store.PutZone(c_.maps.active()->name, z);
         ZonesChanged();
@@ -428,17 +434,17 @@ void Api::AddMapRoutes() {
     }
     throw ApiError(http::status::not_found, "Not found", "no zone " + id);
   };
-  Add(http::verb::get, "/api/v1/zones/{id}", Sync([find_zone](const Request& r, const Params& p) {
+  Add(http::verb::get, "/api/v1/zones/{id}", Access::kViewer, Sync([find_zone](const Request& r, const Params& p) {
         return JsonResponse(r, ZoneJson(find_zone(p.at("id"))));
       }));
-  Add(http::verb::put, "/api/v1/zones/{id}", Sync([this, find_zone](const Request& r, const Params& p) {
+  Add(http::verb::put, "/api/v1/zones/{id}", Access::kAdmin, Sync([this, find_zone](const Request& r, const Params& p) {
         find_zone(p.at("id"));
         const nav::Zone z = ParseZone(ParseJsonBody(r), p.at("id"));
         c_.store.PutZone(c_.maps.active()->name, z);
         ZonesChanged();
         return JsonResponse(r, ZoneJson(z));
       }));
-  Add(http::verb::delete_, "/api/v1/zones/{id}", Sync([this](const Request& r, const Params& p) {
+  Add(http::verb::delete_, "/api/v1/zones/{id}", Access::kAdmin, Sync([this](const Request& r, const Params& p) {
         if (!c_.store.DeleteZone(c_.maps.active()->name, p.at("id"))) {
           throw ApiError(http::status::not_found, "Not found", "no zone " + p.at("id"));
         }
@@ -446,7 +452,7 @@ void Api::AddMapRoutes() {
         return MakeResponse(r, http::status::no_content, "application/json", "");
       }));
 
-  Add(http::verb::get, "/api/v1/places", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/places", Access::kViewer, Sync([this](const Request& r, const Params&) {
         json places = json::array();
         for (const nav::Place& p : c_.store.Places(c_.maps.active()->name))
           places.push_back(PlaceJson(p, c_.config.mission.docking.dock));
@@ -486,7 +492,7 @@ void Api::AddMapRoutes() {
       });
     });
   };
-  Add(http::verb::post, "/api/v1/places", [put_place](const Request& r, const Params&, Reply reply) {
+  Add(http::verb::post, "/api/v1/places", Access::kAdmin, [put_place](const Request& r, const Params&, Reply reply) {
     put_place(r, std::move(reply), ParsePlace(ParseJsonBody(r), NewId()), true);
   });
   const auto find_place = [this](const std::string& id) {
@@ -495,14 +501,16 @@ void Api::AddMapRoutes() {
     }
     throw ApiError(http::status::not_found, "Not found", "no place " + id);
   };
-  Add(http::verb::get, "/api/v1/places/{id}", Sync([this, find_place](const Request& r, const Params& p) {
+  Add(http::verb::get, "/api/v1/places/{id}", Access::kViewer,
+      Sync([this, find_place](const Request& r, const Params& p) {
         return JsonResponse(r, PlaceJson(find_place(p.at("id")), c_.config.mission.docking.dock));
       }));
-  Add(http::verb::put, "/api/v1/places/{id}", [find_place, put_place](const Request& r, const Params& p, Reply reply) {
-    find_place(p.at("id"));
-    put_place(r, std::move(reply), ParsePlace(ParseJsonBody(r), p.at("id")), false);
-  });
-  Add(http::verb::delete_, "/api/v1/places/{id}", Sync([this](const Request& r, const Params& p) {
+  Add(http::verb::put, "/api/v1/places/{id}", Access::kAdmin,
+      [find_place, put_place](const Request& r, const Params& p, Reply reply) {
+        find_place(p.at("id"));
+        put_place(r, std::move(reply), ParsePlace(ParseJsonBody(r), p.at("id")), false);
+      });
+  Add(http::verb::delete_, "/api/v1/places/{id}", Access::kAdmin, Sync([this](const Request& r, const Params& p) {
         if (!c_.store.DeletePlace(c_.maps.active()->name, p.at("id"))) {
           throw ApiError(http::status::not_found, "Not found", "no place " + p.at("id"));
         }

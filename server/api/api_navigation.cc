@@ -12,6 +12,7 @@
 namespace corridor::server {
 namespace {
 
+using auth::Access;
 using nlohmann::json;
 
 http::status StatusFor(nav::PlanError error) {
@@ -106,25 +107,27 @@ nav::MissionGoal Api::ParseGoal(const json& j, const std::string& where) const {
 }
 
 void Api::AddNavigationRoutes() {
-  Add(http::verb::post, "/api/v1/plan",
+  Add(http::verb::post, "/api/v1/plan", Access::kOperator,
       [this](const Request& r, const Params&, Reply reply) { Plan(r, std::move(reply)); });
-  Add(http::verb::post, "/api/v1/missions",
+  Add(http::verb::post, "/api/v1/missions", Access::kOperator,
       [this](const Request& r, const Params&, Reply reply) { StartMission(r, std::move(reply)); });
-  Add(http::verb::post, "/api/v1/dock",
+  Add(http::verb::post, "/api/v1/dock", Access::kOperator,
       [this](const Request& r, const Params&, Reply reply) { Dock(r, std::move(reply)); });
-  Add(http::verb::post, "/api/v1/undock",
+  Add(http::verb::post, "/api/v1/undock", Access::kOperator,
       [this](const Request& r, const Params&, Reply reply) { Undock(r, std::move(reply)); });
-  Add(http::verb::get, "/api/v1/missions", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/missions", Access::kViewer, Sync([this](const Request& r, const Params&) {
         return JsonResponse(r, {{"missions", c_.store.Missions(50)}});
       }));
-  Add(http::verb::get, "/api/v1/missions/{id}", Sync([this](const Request& r, const Params& p) {
+  Add(http::verb::get, "/api/v1/missions/{id}", Access::kViewer, Sync([this](const Request& r, const Params& p) {
         const std::string& id = p.at("id");
         if (auto state = c_.missions.Describe(id)) return JsonResponse(r, ToJson(*state));
         if (auto doc = c_.store.Mission(id)) return JsonResponse(r, *doc);
         throw ApiError(http::status::not_found, "Not found", "no mission " + id);
       }));
-  Add(http::verb::post, "/api/v1/missions/{id}/{action}",
-      Sync([this](const Request& r, const Params& p) { return MissionAction(r, p.at("id"), p.at("action")); }));
+  for (const MissionStep step : {MissionStep::kPause, MissionStep::kResume, MissionStep::kCancel}) {
+    Add(http::verb::post, std::string("/api/v1/missions/{id}/") + ToString(step), Access::kOperator,
+        Sync([this, step](const Request& r, const Params& p) { return MissionAction(r, p.at("id"), step); }));
+  }
 }
 
 void Api::Plan(const Request& request, Reply reply) const {
@@ -256,23 +259,15 @@ void Api::StartGoals(const Request& request, Reply reply, std::vector<nav::Missi
   });
 }
 
-Response Api::MissionAction(const Request& request, const std::string& id, const std::string& action) const {
-  MissionStep command = MissionStep::kPause;
-  if (action == "resume") {
-    command = MissionStep::kResume;
-  } else if (action == "cancel") {
-    command = MissionStep::kCancel;
-  } else if (action != "pause") {
-    throw ApiError(http::status::not_found, "Not found", "missions have no action '" + action + "'");
-  }
-  const nav::TransitionOutcome outcome = c_.core.Command(command, id, "rest");
+Response Api::MissionAction(const Request& request, const std::string& id, MissionStep step) const {
+  const nav::TransitionOutcome outcome = c_.core.Command(step, id, "rest");
   if (outcome == nav::TransitionOutcome::kNotFound) {
     throw ApiError(http::status::not_found, "Not found", "no mission " + id + " in progress");
   }
   const MissionState state = *c_.missions.Describe(id);
   if (outcome == nav::TransitionOutcome::kConflict) {
     throw ApiError(http::status::conflict, "Not allowed now",
-                   std::string("cannot ") + action + " a mission that is " + nav::ToString(state.status),
+                   std::string("cannot ") + ToString(step) + " a mission that is " + nav::ToString(state.status),
                    "invalid_transition");
   }
   return JsonResponse(request, ToJson(state));

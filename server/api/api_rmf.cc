@@ -10,6 +10,7 @@
 namespace corridor::server {
 namespace {
 
+using auth::Access;
 using nlohmann::json;
 
 std::uint64_t RequireCommandId(const json& body) {
@@ -106,7 +107,7 @@ void Api::AddRmfRoutes() {
       return json{{"cmd_id", cmd_id}, {"mission", state.id}};
     };
   };
-  Add(http::verb::post, "/api/v1/rmf/navigate",
+  Add(http::verb::post, "/api/v1/rmf/navigate", Access::kOperator,
       [this, require_map, carried](const Request& r, const Params&, Reply reply) {
         const json body = ObjectBody(r, {"cmd_id", "pose", "map_name", "speed_limit"});
         const std::uint64_t cmd_id = RequireCommandId(body);
@@ -122,32 +123,34 @@ void Api::AddRmfRoutes() {
         }
         StartGoals(r, std::move(reply), {goal}, speed_limit, carried(cmd_id));
       });
-  Add(http::verb::post, "/api/v1/rmf/dock", [this, carried](const Request& r, const Params&, Reply reply) {
-    const json body = ObjectBody(r, {"cmd_id", "dock_name"});
-    const std::uint64_t cmd_id = RequireCommandId(body);
-    StartGoals(r, std::move(reply), DockGoals(RequireText(body, "dock_name")), std::numeric_limits<double>::infinity(),
-               carried(cmd_id));
-  });
-  Add(http::verb::post, "/api/v1/rmf/start_activity", [this, carried](const Request& r, const Params&, Reply reply) {
-    const json body = ObjectBody(r, {"cmd_id", "activity", "label"});
-    const std::uint64_t cmd_id = RequireCommandId(body);
-    const std::string activity = RequireText(body, "activity");
-    const std::string label =
-        body.contains("label") && body["label"].is_string() ? body["label"].get<std::string>() : "";
-    std::vector<nav::MissionGoal> goals;
-    if (activity == "dock") {
-      goals = DockGoals(label);
-    } else if (activity == "undock") {
-      goals = UndockGoals();
-    } else {
-      throw ApiError(
-          http::status::unprocessable_entity, "Unknown activity",
-          "activities are \"dock\" (label: the dock, or empty for the nearest) and \"undock\", not '" + activity + "'",
-          "unknown_activity");
-    }
-    StartGoals(r, std::move(reply), std::move(goals), std::numeric_limits<double>::infinity(), carried(cmd_id));
-  });
-  Add(http::verb::post, "/api/v1/rmf/stop", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::post, "/api/v1/rmf/dock", Access::kOperator,
+      [this, carried](const Request& r, const Params&, Reply reply) {
+        const json body = ObjectBody(r, {"cmd_id", "dock_name"});
+        const std::uint64_t cmd_id = RequireCommandId(body);
+        StartGoals(r, std::move(reply), DockGoals(RequireText(body, "dock_name")),
+                   std::numeric_limits<double>::infinity(), carried(cmd_id));
+      });
+  Add(http::verb::post, "/api/v1/rmf/start_activity", Access::kOperator,
+      [this, carried](const Request& r, const Params&, Reply reply) {
+        const json body = ObjectBody(r, {"cmd_id", "activity", "label"});
+        const std::uint64_t cmd_id = RequireCommandId(body);
+        const std::string activity = RequireText(body, "activity");
+        const std::string label =
+            body.contains("label") && body["label"].is_string() ? body["label"].get<std::string>() : "";
+        std::vector<nav::MissionGoal> goals;
+        if (activity == "dock") {
+          goals = DockGoals(label);
+        } else if (activity == "undock") {
+          goals = UndockGoals();
+        } else {
+          throw ApiError(http::status::unprocessable_entity, "Unknown activity",
+                         "activities are \"dock\" (label: the dock, or empty for the nearest) and \"undock\", not '" +
+                             activity + "'",
+                         "unknown_activity");
+        }
+        StartGoals(r, std::move(reply), std::move(goals), std::numeric_limits<double>::infinity(), carried(cmd_id));
+      });
+  Add(http::verb::post, "/api/v1/rmf/stop", Access::kOperator, Sync([this](const Request& r, const Params&) {
         const json body = ObjectBody(r, {"cmd_id"});
         const std::uint64_t cmd_id = RequireCommandId(body);
         if (const auto mission = c_.bus.Get(topics::kMission).latest()) {
@@ -156,54 +159,56 @@ void Api::AddRmfRoutes() {
         rmf_commands_->Done(cmd_id);
         return JsonResponse(r, {{"cmd_id", cmd_id}, {"completed", true}});
       }));
-  Add(http::verb::post, "/api/v1/rmf/localize", [this, require_map](const Request& r, const Params&, Reply reply) {
-    const json body = ObjectBody(r, {"cmd_id", "pose", "map_name"});
-    const std::uint64_t cmd_id = RequireCommandId(body);
-    PoseOrder order;
-    order.pose = RequirePose(body);
-    order.origin = "rmf";
-    const std::string floor = require_map(body);
-    RequireLocalizing();
-    if (!floor.empty()) {
-      // The fleet adapter took the robot to another floor itself (it rode the lift): that floor's map.
-      if (const auto refused = c_.core.SelectMap(RequireText(body, "map_name"), "rmf")) {
-        if (refused->reason == MapRefusal::kMissionInProgress) {
-          throw ApiError(http::status::conflict, "Mission in progress", refused->detail, "mission_in_progress");
-        }
-        throw ApiError(http::status::unprocessable_entity, "Map unusable", refused->detail, "wrong_map");
-      }
-    }
-    c_.core.SetPose(order, [this, r, reply, cmd_id](PoseResult result) {
-      Answer(r, reply, [&]() -> Response {
-        if (const auto* refused = std::get_if<PoseRefused>(&result)) {
-          if (refused->reason == PoseRefusal::kOutsideMap) {
-            throw ApiError(http::status::unprocessable_entity, "Outside the map", refused->detail, "outside_map");
+  Add(http::verb::post, "/api/v1/rmf/localize", Access::kOperator,
+      [this, require_map](const Request& r, const Params&, Reply reply) {
+        const json body = ObjectBody(r, {"cmd_id", "pose", "map_name"});
+        const std::uint64_t cmd_id = RequireCommandId(body);
+        PoseOrder order;
+        order.pose = RequirePose(body);
+        order.origin = "rmf";
+        const std::string floor = require_map(body);
+        RequireLocalizing();
+        if (!floor.empty()) {
+          // The fleet adapter took the robot to another floor itself (it rode the lift): that floor's map.
+          if (const auto refused = c_.core.SelectMap(RequireText(body, "map_name"), "rmf")) {
+            if (refused->reason == MapRefusal::kMissionInProgress) {
+              throw ApiError(http::status::conflict, "Mission in progress", refused->detail, "mission_in_progress");
+            }
+            throw ApiError(http::status::unprocessable_entity, "Map unusable", refused->detail, "wrong_map");
           }
-          throw ApiError(http::status::conflict, "Not now", refused->detail, "not_now");
         }
-        rmf_commands_->Done(cmd_id);
-        return JsonResponse(r, {{"cmd_id", cmd_id}, {"completed", true}});
+        c_.core.SetPose(order, [this, r, reply, cmd_id](PoseResult result) {
+          Answer(r, reply, [&]() -> Response {
+            if (const auto* refused = std::get_if<PoseRefused>(&result)) {
+              if (refused->reason == PoseRefusal::kOutsideMap) {
+                throw ApiError(http::status::unprocessable_entity, "Outside the map", refused->detail, "outside_map");
+              }
+              throw ApiError(http::status::conflict, "Not now", refused->detail, "not_now");
+            }
+            rmf_commands_->Done(cmd_id);
+            return JsonResponse(r, {{"cmd_id", cmd_id}, {"completed", true}});
+          });
+        });
       });
-    });
-  });
-  Add(http::verb::get, "/api/v1/rmf/position", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/rmf/position", Access::kViewer, Sync([this](const Request& r, const Params&) {
         const RmfSample s = SampleForRmf();
         if (!s.has_pose) {
           throw ApiError(http::status::service_unavailable, "No pose yet", "the robot does not know where it is yet");
         }
         return JsonResponse(r, {{"position", {s.x, s.y, s.yaw}}, {"map_name", s.map}});
       }));
-  Add(http::verb::get, "/api/v1/rmf/battery_soc", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/rmf/battery_soc", Access::kViewer, Sync([this](const Request& r, const Params&) {
         const RmfSample s = SampleForRmf();
         if (!s.battery) {
           throw ApiError(http::status::service_unavailable, "No battery", "nothing reports this robot's battery");
         }
         return JsonResponse(r, {{"battery_soc", *s.battery}});
       }));
-  Add(http::verb::get, "/api/v1/rmf/map", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/rmf/map", Access::kViewer, Sync([this](const Request& r, const Params&) {
         return JsonResponse(r, {{"map_name", c_.maps.active()->name}});
       }));
-  Add(http::verb::get, "/api/v1/rmf/is_command_completed", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/rmf/is_command_completed", Access::kViewer,
+      Sync([this](const Request& r, const Params&) {
         const std::string text = QueryValue(r.target(), "cmd_id");
         if (text.empty()) throw ApiError(http::status::bad_request, "Invalid request", "'cmd_id' is required");
         const std::uint64_t cmd_id = ParseCount(text, "'cmd_id' a whole number >= 0");
@@ -224,7 +229,7 @@ void Api::AddRmfRoutes() {
                                 {"mission", command->mission_id},
                                 {"error", error}});
       }));
-  Add(http::verb::get, "/api/v1/rmf/robot_state",
+  Add(http::verb::get, "/api/v1/rmf/robot_state", Access::kViewer,
       Sync([this](const Request& r, const Params&) { return JsonResponse(r, RmfRobotState(SampleForRmf())); }));
 }
 

@@ -10,6 +10,7 @@
 namespace corridor::server {
 namespace {
 
+using auth::Access;
 using nlohmann::json;
 
 constexpr std::size_t kMinSecret = 16;
@@ -86,12 +87,12 @@ WebhookRecord ParseWebhook(const json& body) {
 }  // namespace
 
 void Api::AddWebhookRoutes() {
-  Add(http::verb::get, "/api/v1/webhooks", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/webhooks", Access::kAdmin, Sync([this](const Request& r, const Params&) {
         json hooks = json::array();
         for (const WebhookRecord& w : c_.store.Webhooks()) hooks.push_back(WebhookJson(w));
         return JsonResponse(r, {{"webhooks", hooks}});
       }));
-  Add(http::verb::post, "/api/v1/webhooks", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::post, "/api/v1/webhooks", Access::kAdmin, Sync([this](const Request& r, const Params&) {
         WebhookRecord w = ParseWebhook(ParseJsonBody(r));
         w.id = NewId();
         w.created = IsoUtc(std::chrono::system_clock::now());
@@ -108,16 +109,17 @@ void Api::AddWebhookRoutes() {
     if (!w) throw ApiError(http::status::not_found, "Not found", "no webhook " + id);
     return *w;
   };
-  Add(http::verb::get, "/api/v1/webhooks/{id}",
+  Add(http::verb::get, "/api/v1/webhooks/{id}", Access::kAdmin,
       Sync([find](const Request& r, const Params& p) { return JsonResponse(r, WebhookJson(find(p.at("id")))); }));
-  Add(http::verb::delete_, "/api/v1/webhooks/{id}", Sync([this](const Request& r, const Params& p) {
+  Add(http::verb::delete_, "/api/v1/webhooks/{id}", Access::kAdmin, Sync([this](const Request& r, const Params& p) {
         if (!c_.store.DeleteWebhook(p.at("id"))) {
           throw ApiError(http::status::not_found, "Not found", "no webhook " + p.at("id"));
         }
         c_.webhooks.Forget(p.at("id"));
         return MakeResponse(r, http::status::no_content, "application/json", "");
       }));
-  Add(http::verb::get, "/api/v1/webhooks/{id}/deliveries", Sync([this, find](const Request& r, const Params& p) {
+  Add(http::verb::get, "/api/v1/webhooks/{id}/deliveries", Access::kAdmin,
+      Sync([this, find](const Request& r, const Params& p) {
         const WebhookRecord w = find(p.at("id"));
         json deliveries = json::array();
         const int most = c_.config.webhooks.keep_deliveries + c_.config.webhooks.max_pending;
@@ -126,13 +128,14 @@ void Api::AddWebhookRoutes() {
         }
         return JsonResponse(r, {{"deliveries", deliveries}});
       }));
-  Add(http::verb::post, "/api/v1/webhooks/{id}/ping", Sync([this, find](const Request& r, const Params& p) {
+  Add(http::verb::post, "/api/v1/webhooks/{id}/ping", Access::kAdmin,
+      Sync([this, find](const Request& r, const Params& p) {
         const std::string delivery = c_.webhooks.Ping(find(p.at("id")));
         c_.webhooks.Dispatch();
         return JsonResponse(r, {{"delivery", delivery}}, http::status::accepted);
       }));
   // The events recorded in the database: the newest 256, or those after `after` (a poller's last sequence).
-  Add(http::verb::get, "/api/v1/events", Sync([this](const Request& r, const Params&) {
+  Add(http::verb::get, "/api/v1/events", Access::kViewer, Sync([this](const Request& r, const Params&) {
         return JsonResponse(r, {{"events", c_.store.Events(AfterParameter(r.target()), kEventsPerPage)}});
       }));
 }

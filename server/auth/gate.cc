@@ -7,17 +7,6 @@
 namespace corridor::server::auth {
 namespace {
 
-bool StartsWith(std::string_view path, std::string_view prefix) {
-  return path == prefix || (path.starts_with(prefix) && path.size() > prefix.size() && path[prefix.size()] == '/');
-}
-
-bool UnderAny(std::string_view path, std::initializer_list<std::string_view> prefixes) {
-  for (std::string_view p : prefixes) {
-    if (StartsWith(path, p)) return true;
-  }
-  return false;
-}
-
 std::string_view Trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
@@ -25,26 +14,6 @@ std::string_view Trim(std::string_view s) {
 }
 
 }  // namespace
-
-Access RequiredAccess(std::string_view method, std::string_view path) {
-  const bool read = method == "GET" || method == "HEAD";
-  if (!path.starts_with("/api/")) return Access::kPublic;  // the console's and the face page's files
-  if (read && UnderAny(path, {"/api/v1/health", "/api/v1/openapi.json", "/api/v1/setup", "/api/v1/session"})) {
-    return Access::kPublic;
-  }
-  if (!read && UnderAny(path, {"/api/v1/setup", "/api/v1/session"})) return Access::kPublic;  // log in, log out
-  if (read && UnderAny(path, {"/api/v1/face", "/api/v1/stream"})) return Access::kFace;
-  if (UnderAny(path, {"/api/v1/users", "/api/v1/tokens", "/api/v1/audit", "/api/v1/webhooks", "/api/v1/config",
-                      "/api/v1/devices/hardware"})) {
-    return Access::kAdmin;
-  }
-  if (read) return Access::kViewer;
-  if (UnderAny(path, {"/api/v1/teleop", "/api/v1/missions", "/api/v1/dock", "/api/v1/undock", "/api/v1/rmf",
-                      "/api/v1/plan", "/api/v1/face", "/api/v1/detections", "/api/v1/localization", "/api/v1/sim"})) {
-    return Access::kOperator;
-  }
-  return Access::kAdmin;  // maps, mapping, zones, places, and any write not named above
-}
 
 std::string_view ToString(Access access) {
   switch (access) {

@@ -19,9 +19,7 @@ namespace corridor::server::auth {
 
 // What a route needs, from least to most.
 enum class Access { kPublic, kFace, kViewer, kOperator, kAdmin };
-// The access `method` on `path` needs: reads need a viewer, writes an admin, but for the operator's writes (driving,
-// missions, the face, detections, localization, the simulator) and the routes anyone or the robot's screen may use.
-Access RequiredAccess(std::string_view method, std::string_view path);
+// Each route declares the access it needs (server/api: Api::Routes(), and x-corridor-access in openapi.json).
 std::string_view ToString(Access access);
 
 // Whether `who` has `access`; `local` tells a caller on the robot itself (for kFace).
