@@ -89,7 +89,7 @@ const std::vector<Step>& DepthSteps() {
     const drivers::sim::SimCameraOptions options;
     const drivers::sim::RgbdRenderer renderer(caster, options);
     const nav::PinholeCamera camera = drivers::sim::MakeCameraInfo(options).camera;
-    nav::DepthScanOptions scan_options;  // the daemon's (server/runtime/config.h)
+    nav::DepthScanOptions scan_options;  // the daemon's (server/config/config.h)
     scan_options.segment_gap_m = 0.0;
     scan_options.average_within_m = 0.15;
     scan_options.max_range_m = 4.0;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "nav/demand.h"
+
 namespace corridor::face {
 namespace {
 
@@ -35,7 +37,8 @@ std::string ArrivedText(const ExpressionOptions& o, const std::string& place) {
 
 std::string_view ToString(Expression expression) {
   const auto i = static_cast<std::size_t>(expression);
-  return i < kNames.size() ? kNames[i] : "neutral";
+  DEMAND(i < kNames.size());
+  return kNames[i];
 }
 
 std::optional<Expression> ExpressionFromString(std::string_view name) {

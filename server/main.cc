@@ -16,7 +16,7 @@
 #include "server/app/robot_devices.h"
 #include "server/app/service.h"
 #include "server/app/simulator.h"
-#include "server/runtime/config.h"
+#include "server/config/config.h"
 
 namespace corridor::server {
 namespace {

@@ -18,7 +18,7 @@
 #include "drivers/laser2d.h"
 #include "nav/geometry/pose2.h"
 #include "server/app/simulator.h"
-#include "server/runtime/config.h"
+#include "server/config/config.h"
 #include "testing/emulators/create2_emulator.h"
 #include "testing/emulators/rplidar_emulator.h"
 

@@ -14,7 +14,7 @@
 
 #include "server/app/graph.h"
 #include "server/app/simulator.h"
-#include "server/runtime/config.h"
+#include "server/config/config.h"
 
 namespace corridor::testing {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <thread>
 
-#include "server/runtime/config.h"
+#include "server/config/config.h"
 #include "testing/emulated_robot.h"
 #include "testing/eventually.h"
 #include "tests/dds/ros2_fixtures.h"

@@ -4,6 +4,8 @@
 #include <numbers>
 #include <numeric>
 
+#include "nav/demand.h"
+
 namespace corridor::drivers::create2 {
 namespace {
 
@@ -110,6 +112,7 @@ std::vector<std::uint8_t> EncodeDriveDirect(int left_mmps, int right_mmps) {
 }
 
 std::vector<std::uint8_t> EncodeStream(std::span<const Packet> packets) {
+  DEMAND(packets.size() <= 255);  // the driver asks for a handful of packets
   std::vector<std::uint8_t> out = {static_cast<std::uint8_t>(Opcode::kStream),
                                    static_cast<std::uint8_t>(packets.size())};
   for (const Packet p : packets) out.push_back(static_cast<std::uint8_t>(p));
@@ -147,6 +150,7 @@ void StreamParser::Push(std::span<const std::uint8_t> bytes, std::vector<SensorF
     at += whole;
   }
   pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(at));
+  DEMAND(pending_.size() < 2 + kMaxFrameBytes + 1);  // at most a frame in waiting: noise never piles up
 }
 
 }  // namespace corridor::drivers::create2

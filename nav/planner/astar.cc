@@ -1,5 +1,6 @@
 #include "nav/planner/astar.h"
 
+#include "nav/demand.h"
 #include "nav/planner/bucket_queue.h"
 
 #include <algorithm>
@@ -180,7 +181,10 @@ SearchResult Search(const Costmap& costmap, const Eigen::Vector2d& start, const 
     result.detail = detail.str();
     return result;
   }
-  for (int i = static_cast<int>(g); i != -1; i = parent[i]) result.path.cells.push_back({i % width, i / width});
+  for (int i = static_cast<int>(g); i != -1; i = parent[i]) {
+    result.path.cells.push_back({i % width, i / width});
+    DEMAND(result.path.cells.size() <= grid.cells().size());  // the parents form a chain back to the start, no loop
+  }
   std::reverse(result.path.cells.begin(), result.path.cells.end());
   result.path.cost = cost[g];
   return result;

@@ -17,7 +17,7 @@
 #include "drivers/discovery.h"
 #include "drivers/openni2/openni2_camera.h"
 #include "drivers/realsense/v4l2_capture.h"
-#include "server/runtime/config_file.h"
+#include "server/config/config_file.h"
 #include "server/runtime/topics.h"
 
 namespace corridor::server {

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <string>
 
-#include "server/runtime/config.h"
+#include "server/config/config.h"
 
 namespace corridor::server {
 

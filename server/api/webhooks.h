@@ -21,7 +21,7 @@
 
 #include "drivers/clock.h"
 #include "server/api/http_client.h"
-#include "server/runtime/config.h"
+#include "server/config/config.h"
 #include "server/runtime/event_log.h"
 #include "server/store/store.h"
 

@@ -7,6 +7,7 @@
 
 #include <cstring>
 
+#include "nav/demand.h"
 #include "nav/mission/docking.h"
 #include "nav/policy/evasion.h"
 #include "server/app/simulator.h"
@@ -27,7 +28,6 @@
 #include "server/nodes/perception_node.h"
 #include "server/nodes/tracking_node.h"
 #include "server/nodes/vda5050_node.h"
-#include "server/runtime/demand.h"
 #include "server/runtime/topics.h"
 
 namespace corridor::server {

@@ -7,7 +7,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "server/runtime/demand.h"
+#include "nav/demand.h"
 #include "server/runtime/topics.h"
 
 namespace corridor::server {

@@ -20,7 +20,7 @@
 #include "drivers/turtlebot3/turtlebot3_base.h"
 #include "server/app/graph.h"
 #include "server/app/simulator.h"
-#include "server/runtime/config.h"
+#include "server/config/config.h"
 
 namespace corridor::server {
 

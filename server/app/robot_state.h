@@ -11,8 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "server/config/config.h"
 #include "server/nodes/mission_node.h"
-#include "server/runtime/config.h"
 #include "server/runtime/messages.h"
 
 namespace corridor::server {

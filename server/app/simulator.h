@@ -10,8 +10,8 @@
 #include "drivers/sim/sim_robot.h"
 #include "drivers/sim/world.h"
 #include "server/app/graph.h"
+#include "server/config/config.h"
 #include "server/fleet/lifts.h"
-#include "server/runtime/config.h"
 
 namespace corridor::server {
 

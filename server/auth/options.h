@@ -1,4 +1,4 @@
-// The auth: section of the configuration (server/runtime/config.h reads it; server/auth/gate.h applies it).
+// The auth: section of the configuration (server/config/config.h reads it; server/auth/gate.h applies it).
 #pragma once
 
 namespace corridor::server::auth {

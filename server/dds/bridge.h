@@ -24,7 +24,7 @@
 #include "ros2/std_msgsPubSubTypes.h"
 #include "ros2/tf2_msgsPubSubTypes.h"
 #include "server/app/robot_core.h"
-#include "server/runtime/config.h"
+#include "server/config/config.h"
 #include "server/runtime/node.h"
 #include "server/store/map_library.h"
 

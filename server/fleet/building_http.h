@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "server/runtime/config.h"
+#include "server/config/config.h"
 
 namespace corridor::server {
 

@@ -9,8 +9,8 @@
 #include <string>
 
 #include "nav/mission/doors.h"
+#include "server/config/config.h"
 #include "server/fleet/building_http.h"
-#include "server/runtime/config.h"
 
 namespace corridor::server {
 

@@ -17,10 +17,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "server/config/config.h"
 #include "server/fleet/doors.h"
 #include "server/fleet/lifts.h"
 #include "server/fleet/mqtt_link.h"
-#include "server/runtime/config.h"
 
 namespace corridor::server {
 

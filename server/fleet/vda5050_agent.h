@@ -24,7 +24,7 @@
 #include "nav/geometry/pose2.h"
 #include "nav/mission/docking.h"
 #include "nav/mission/mission.h"
-#include "server/fleet/fleet_order.h"
+#include "server/runtime/fleet_order.h"
 
 namespace corridor::server {
 

@@ -18,8 +18,8 @@
 #include "face/expression.h"
 #include "face/social.h"
 #include "face/speech.h"
+#include "server/config/config.h"
 #include "server/runtime/bus.h"
-#include "server/runtime/config.h"
 #include "server/runtime/event_log.h"
 #include "server/runtime/node.h"
 

@@ -23,8 +23,8 @@
 #include "nav/localization/graph_slam.h"
 #include "nav/localization/monte_carlo.h"
 #include "nav/localization/scan_history.h"
+#include "server/config/config.h"
 #include "server/runtime/bus.h"
-#include "server/runtime/config.h"
 #include "server/runtime/node.h"
 #include "server/store/saved_pose.h"
 

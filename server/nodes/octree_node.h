@@ -19,8 +19,8 @@
 #include <vector>
 
 #include "nav/mapping/occupancy_octree.h"
+#include "server/config/config.h"
 #include "server/runtime/bus.h"
-#include "server/runtime/config.h"
 #include "server/runtime/node.h"
 
 namespace corridor::server {

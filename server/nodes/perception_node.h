@@ -15,8 +15,8 @@
 #include "face/detect/simulated_people.h"
 #include "face/detect/tracker.h"
 #include "nav/geometry/camera_model.h"
+#include "server/config/config.h"
 #include "server/runtime/bus.h"
-#include "server/runtime/config.h"
 #include "server/runtime/node.h"
 
 namespace corridor::server {

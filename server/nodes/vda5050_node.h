@@ -12,11 +12,11 @@
 #include <string>
 
 #include "server/app/robot_core.h"
+#include "server/config/config.h"
 #include "server/fleet/mqtt_link.h"
 #include "server/fleet/vda5050.h"
 #include "server/fleet/vda5050_agent.h"
 #include "server/nodes/mission_node.h"
-#include "server/runtime/config.h"
 #include "server/runtime/node.h"
 #include "server/store/map_library.h"
 

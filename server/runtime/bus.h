@@ -14,7 +14,7 @@
 #include <typeinfo>
 #include <vector>
 
-#include "server/runtime/demand.h"
+#include "nav/demand.h"
 #include "server/runtime/executor.h"
 #include "server/runtime/messages.h"
 

@@ -8,7 +8,7 @@
 #include <limits>
 #include <optional>
 
-#include "server/runtime/demand.h"
+#include "nav/demand.h"
 
 namespace corridor::server {
 

@@ -22,7 +22,7 @@
 #include "nav/safety/command_gate.h"
 #include "nav/safety/device_health.h"
 #include "nav/tracking/moving_objects.h"
-#include "server/fleet/fleet_order.h"
+#include "server/runtime/fleet_order.h"
 
 namespace corridor::server {
 

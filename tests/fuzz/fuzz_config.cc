@@ -7,7 +7,7 @@
 #include <fstream>
 #include <string>
 
-#include "server/runtime/config.h"
+#include "server/config/config.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const std::string file = "/tmp/corridor-fuzz-config-" + std::to_string(getpid()) + ".yaml";

@@ -10,7 +10,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "server/runtime/config.h"
+#include "server/config/config.h"
 #include "testing/emulated_robot.h"
 
 namespace {

@@ -1,4 +1,4 @@
-#include "server/runtime/config_reader.h"
+#include "server/config/config_reader.h"
 
 namespace corridor::server {
 

@@ -39,7 +39,7 @@
 #include "nav/tracking/moving_objects.h"
 #include "nav/tracking/traffic_map.h"
 #include "server/auth/options.h"
-#include "server/runtime/config_reader.h"  // ConfigError
+#include "server/config/config_reader.h"  // ConfigError
 
 namespace corridor::server {
 

@@ -1,4 +1,4 @@
-#include "server/runtime/config.h"
+#include "server/config/config.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,6 @@
 // DEMAND(condition): a check for our own bugs, always on. Bad input from outside is reported with exceptions
-// or error results instead; DEMAND is for what can only be false if corridor itself is wrong.
+// or error results instead; DEMAND is for what can only be false if corridor itself is wrong. It sits in nav, the
+// bottom of the tree, so that nav, drivers, face and server all use the same one.
 #pragma once
 
 #include <cstdio>

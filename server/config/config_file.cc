@@ -1,4 +1,4 @@
-#include "server/runtime/config_file.h"
+#include "server/config/config_file.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -10,7 +10,7 @@
 #include <cstring>
 #include <fstream>
 
-#include "server/runtime/config.h"
+#include "server/config/config.h"
 
 namespace corridor::server {
 namespace {

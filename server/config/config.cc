@@ -1,4 +1,4 @@
-#include "server/runtime/config.h"
+#include "server/config/config.h"
 
 #include <charconv>
 #include <cstdlib>
@@ -9,7 +9,7 @@
 #include <string>
 
 #include "drivers/serial/byte_stream.h"
-#include "server/runtime/config_reader.h"
+#include "server/config/config_reader.h"
 
 namespace corridor::server {
 namespace {
