@@ -80,8 +80,9 @@ std::optional<ScanMatch> BranchAndBoundMatcher::Search(std::span<const Eigen::Ve
   // Each angle's scan as cells relative to the centre's cell.
   std::vector<std::vector<CellIndex>> scans(count);
   std::vector<double> yaws(count);
+  const int middle = count / 2;  // the angle index of the centre's heading
   for (int a = 0; a < count; ++a) {
-    yaws[a] = centre.yaw_rad + (a - count / 2) * step;
+    yaws[a] = centre.yaw_rad + (a - middle) * step;
     const double c = std::cos(yaws[a]);
     const double s = std::sin(yaws[a]);
     scans[a].reserve(points.size());

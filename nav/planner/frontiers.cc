@@ -150,9 +150,10 @@ std::optional<FrontierGoal> NextFrontierGoal(const OccupancyGrid& map, const Eig
       // Near the centroid, else (a frontier seen through a narrow gap) near any of its cells, the nearest by driving.
       std::optional<FrontierGoal> target = nearest_reachable(centroid);
       for (std::size_t k = 0; !target && k < members.size(); k += 4) {
+        const std::size_t column = members[k] % static_cast<std::size_t>(w);
+        const std::size_t row = members[k] / static_cast<std::size_t>(w);
         const std::optional<FrontierGoal> near_member =
-            nearest_reachable(Eigen::Vector2d(static_cast<double>(members[k] % static_cast<std::size_t>(w)),
-                                              static_cast<double>(members[k] / static_cast<std::size_t>(w))));
+            nearest_reachable(Eigen::Vector2d(static_cast<double>(column), static_cast<double>(row)));
         if (near_member && (!target || near_member->path_m < target->path_m)) target = near_member;
       }
       if (!target) continue;
