@@ -206,9 +206,8 @@ void Api::AddMapRoutes() {
       Sync([this, doors_here, door_json](const Request& r, const Params&) {
         json out = json::array();
         for (const MapDoor& d : doors_here()) out.push_back(door_json(d));
-        return JsonResponse(r, {{"map", c_.maps.active()->name},
-                                {"controlled", c_.config.doors.controller.configured()},
-                                {"doors", std::move(out)}});
+        return JsonResponse(
+            r, {{"map", c_.maps.active()->name}, {"controlled", DoorsAnswer(c_.config)}, {"doors", std::move(out)}});
       }));
   // A door drawn on the map in use: a line across a passage, with an id its controller knows.
   Add(http::verb::post, "/api/v1/doors", Access::kAdmin,

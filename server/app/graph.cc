@@ -259,16 +259,19 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   lifecycle_.Add(std::make_unique<ChargingNode>(executors_.io, bus_, *core_, config_.charging, nearest_dock));
   lifecycle_.Add(std::make_unique<ControlNode>(executors_.control, bus_, devices_.base, config_.safety));
   lifecycle_.Add(std::make_unique<DevicesNode>(executors_.io, bus_, devices_.slots, config_.safety));
-  // The building's door controller, when one is configured: missions ask it to open the doors on their way.
-  if (config_.doors.controller.configured()) {
+  // The building's door controller, when one is configured: missions ask it to open the doors on their way. In a
+  // simulated world with doors that names none, the simulator's doors answer themselves.
+  if (DoorsAnswer(config_)) {
     const DoorControllerOptions& o = config_.doors.controller;
     std::unique_ptr<DoorController> controller;
     if (!o.mqtt.broker.empty()) {
       controller = std::make_unique<RmfMqttDoorController>(o.mqtt);
-    } else {
+    } else if (o.configured()) {
       controller = std::make_unique<HttpDoorController>(executors_.io.context(), o);
+    } else if (devices_.sim != nullptr) {
+      controller = std::make_unique<SimDoorController>(executors_.io.context(), *devices_.sim);
     }
-    lifecycle_.Add(std::make_unique<DoorNode>(executors_.io, bus_, std::move(controller), o.poll_s));
+    if (controller) lifecycle_.Add(std::make_unique<DoorNode>(executors_.io, bus_, std::move(controller), o.poll_s));
   }
   // The building's lift controller: missions to other floors call lifts through it. In a simulated building that
   // names none, the simulator's lifts answer themselves.
@@ -348,7 +351,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
 std::vector<nav::Door> Graph::DoorsOn(const std::string& map) const {
   std::vector<nav::Door> doors;
   // Without a controller nobody opens them: the robot drives as it sees them.
-  if (!config_.doors.controller.configured()) return doors;
+  if (!DoorsAnswer(config_)) return doors;
   for (const MapDoor& d : DoorsOfMap(config_, store_.Doors(map), map, devices_.sim != nullptr)) {
     doors.push_back(d.door);
   }

@@ -162,4 +162,52 @@ void SimLiftController::State(const std::string& lift, Done done) {
 
 void SimLiftController::Release(const std::string& lift) { sim_.CallLift(lift, ""); }
 
+std::optional<bool> SimDoorController::IsOpen(const std::string& door) const {
+  for (const auto& [id, open] : sim_.doors()) {
+    if (id == door) return open;
+  }
+  return std::nullopt;
+}
+
+void SimDoorController::Answer(Done done, nav::DoorReport report) {
+  boost::asio::post(io_, [done = std::move(done), report = std::move(report)]() mutable { done(std::move(report)); });
+}
+
+void SimDoorController::Open(const std::string& door, Done done) {
+  nav::DoorReport report;
+  const std::optional<bool> open = IsOpen(door);
+  if (!open) {
+    report.status = nav::DoorStatus::kRefused;
+    report.detail = "the simulator has no door '" + door + "'";
+  } else if (*open) {
+    report.status = nav::DoorStatus::kOpen;
+  } else {
+    report.status = nav::DoorStatus::kOpening;
+    asked_.try_emplace(door, sim_.now_ns());
+  }
+  Answer(std::move(done), std::move(report));
+}
+
+void SimDoorController::State(const std::string& door, Done done) {
+  nav::DoorReport report;
+  const std::optional<bool> open = IsOpen(door);
+  const auto asked = asked_.find(door);
+  if (!open) {
+    report.status = nav::DoorStatus::kFailed;
+    report.detail = "the simulator has no door '" + door + "'";
+  } else if (*open) {
+    report.status = nav::DoorStatus::kOpen;
+  } else if (asked == asked_.end()) {
+    report.status = nav::DoorStatus::kClosed;
+  } else {
+    report.status = nav::DoorStatus::kOpening;
+    if (sim_.now_ns() - asked->second >= drivers::FromSeconds(kDoorOpenS)) sim_.SetDoorOpen(door, true);
+  }
+  Answer(std::move(done), std::move(report));
+}
+
+void SimDoorController::Release(const std::string& door) {
+  if (asked_.erase(door) > 0) sim_.SetDoorOpen(door, false);
+}
+
 }  // namespace corridor::server

@@ -2,7 +2,9 @@
 // robot at its start; and the map the daemon starts in.
 #pragma once
 
+#include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <boost/asio/io_context.hpp>
@@ -11,6 +13,7 @@
 #include "drivers/sim/world.h"
 #include "server/app/graph.h"
 #include "server/config/config.h"
+#include "server/fleet/doors.h"
 #include "server/fleet/lifts.h"
 
 namespace corridor::server {
@@ -52,6 +55,27 @@ class SimLiftController final : public LiftController {
  private:
   boost::asio::io_context& io_;
   drivers::sim::SimRobot& sim_;
+};
+
+// The simulator's doors as the building's door controller, for a simulated world with doors whose configuration names
+// no controller (doors.controller): a door asked to open swings open kDoorOpenS of simulated time later, so the robot
+// waits for it as it would for a real one; released, a door it opened closes (one the world has open stays open). A
+// door the simulator does not have is refused. Answers on the io executor, as a real controller's do.
+class SimDoorController final : public DoorController {
+ public:
+  static constexpr double kDoorOpenS = 2.0;
+  SimDoorController(boost::asio::io_context& io, drivers::sim::SimRobot& sim) : io_(io), sim_(sim) {}
+  void Open(const std::string& door, Done done) override;
+  void State(const std::string& door, Done done) override;
+  void Release(const std::string& door) override;
+
+ private:
+  std::optional<bool> IsOpen(const std::string& door) const;  // nullopt: the simulator has no such door
+  void Answer(Done done, nav::DoorReport report);
+
+  boost::asio::io_context& io_;
+  drivers::sim::SimRobot& sim_;
+  std::map<std::string, drivers::TimeNs> asked_;  // the doors asked open and closed then, and when
 };
 
 }  // namespace corridor::server
