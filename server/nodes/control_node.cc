@@ -27,7 +27,7 @@ void ControlNode::Activate() {
   Subscribe(topics::kOdometry, "odometry", [this](const auto& odometry) {
     const drivers::TimeNs now = clock().Now();
     gate_.Odometry(drivers::ToSeconds(now), odometry->bumper_pressed, odometry->cliff);
-    if (odometry->bumper_pressed) bus().Get(topics::kBumped).Publish(Bumped{now, gate_.bumped_backing()});
+    if (odometry->bumper_pressed) bumped_topic_.Publish(Bumped{now, gate_.bumped_backing()});
     Watch();
   });
   Subscribe(topics::kGroundLanes, "sight", [this](const auto& ground) {
@@ -106,8 +106,8 @@ void ControlNode::Tick() { Act(); }
 
 void ControlNode::Act() {
   const drivers::TimeNs now = clock().Now();
-  const auto teleop = bus().Get(topics::kTeleop).latest();
-  const auto mission = bus().Get(topics::kMissionCommand).latest();
+  const auto teleop = teleop_topic_.latest();
+  const auto mission = mission_command_topic_.latest();
   std::optional<nav::TimedTwist> asked_teleop;
   std::optional<nav::TimedTwist> asked_mission;
   if (teleop) asked_teleop = nav::TimedTwist{teleop->twist, drivers::ToSeconds(teleop->received_ns)};
@@ -126,12 +126,12 @@ void ControlNode::Act() {
   if (sent_ns >= next_latency_publish_ns_) {
     next_latency_publish_ns_ = sent_ns + drivers::FromSeconds(kLatencyPublishS);
     const LatencyStats::Summary s = latency_.Summarise(sent_ns);
-    bus().Get(topics::kControlLatency).Publish(ControlLatency{s.rate_hz, s.p50_ms, s.p99_ms, s.max_ms, s.samples});
+    control_latency_topic_.Publish(ControlLatency{s.rate_hz, s.p50_ms, s.p99_ms, s.max_ms, s.samples});
   }
   std::string detail;
   if (decision.reason == nav::GateReason::kProtectiveStop) detail = fault_detail_;
   if (decision.reason == nav::GateReason::kDeviceDown) detail = device_detail_[static_cast<int>(*gate_.down())];
-  bus().Get(topics::kCmdVel).Publish(BaseCommand{now, decision.twist, decision.mode, decision.reason, detail});
+  cmd_vel_topic_.Publish(BaseCommand{now, decision.twist, decision.mode, decision.reason, detail});
   if (decision.mode == nav::ControlMode::kStopped) {
     SetHealth(decision.reason == nav::GateReason::kProtectiveStop ? Health::kDegraded : Health::kError,
               StopReason(BaseCommand{now, {}, decision.mode, decision.reason, detail}));

@@ -17,6 +17,7 @@
 #include "server/runtime/bus.h"
 #include "server/runtime/latency_stats.h"
 #include "server/runtime/node.h"
+#include "server/runtime/topics.h"
 
 namespace corridor::server {
 
@@ -44,6 +45,13 @@ class ControlNode final : public PeriodicNode {
   LatencyStats latency_;
   drivers::TimeNs answered_frame_ns_ = -1;  // arrival of the last frame a command answered
   drivers::TimeNs next_latency_publish_ns_ = 0;
+
+  // The topics it reads and writes, resolved once.
+  Topic<Bumped>& bumped_topic_ = bus().Get(topics::kBumped);
+  Topic<BaseCommand>& cmd_vel_topic_ = bus().Get(topics::kCmdVel);
+  Topic<ControlLatency>& control_latency_topic_ = bus().Get(topics::kControlLatency);
+  Topic<MissionCommand>& mission_command_topic_ = bus().Get(topics::kMissionCommand);
+  Topic<TeleopCommand>& teleop_topic_ = bus().Get(topics::kTeleop);
 };
 
 }  // namespace corridor::server

@@ -94,7 +94,7 @@ void FaceNode::Say(std::string text, std::string kind) {
 face::Situation FaceNode::Sample() {
   face::Situation s{.now_ns = clock().Now()};
   nav::Twist2 velocity;
-  if (const auto odometry = bus().Get(topics::kOdometry).latest()) {
+  if (const auto odometry = odometry_topic_.latest()) {
     velocity = odometry->velocity;
     s.moving =
         std::abs(odometry->velocity.linear_mps) > kMovingMps || std::abs(odometry->velocity.angular_rps) > kMovingRps;
@@ -106,16 +106,16 @@ face::Situation FaceNode::Sample() {
   } else if (still_since_ns_ < 0) {
     still_since_ns_ = s.now_ns;
   }
-  if (const auto command = bus().Get(topics::kCmdVel).latest()) {
+  if (const auto command = cmd_vel_topic_.latest()) {
     s.driven = command->mode == nav::ControlMode::kTeleop;
     s.fault = command->mode == nav::ControlMode::kStopped;
     if (s.fault) s.fault_detail = command->detail;
   }
-  if (const auto battery = bus().Get(topics::kBattery).latest()) s.charging = battery->charging;
-  if (const auto localization = bus().Get(topics::kLocalization).latest()) {
+  if (const auto battery = battery_topic_.latest()) s.charging = battery->charging;
+  if (const auto localization = localization_topic_.latest()) {
     s.lost = localization->estimate.health == nav::LocalizationHealth::kLost;
   }
-  if (const auto mission = bus().Get(topics::kMission).latest()) {
+  if (const auto mission = mission_topic_.latest()) {
     s.mission = Phase(mission->status);
     s.mission_id = mission->id;
     if (!mission->goals.empty()) s.place = mission->goals.back().place;
@@ -127,7 +127,7 @@ face::Situation FaceNode::Sample() {
   }
   // People: only a report from the last second counts.
   people_.clear();
-  if (const auto detections = bus().Get(topics::kDetections).latest();
+  if (const auto detections = detections_topic_.latest();
       detections && s.now_ns - detections->stamp_ns <= drivers::FromSeconds(kDetectionsFreshS)) {
     people_ = detections->items;
   }
@@ -148,7 +148,7 @@ void FaceNode::Tick() {
   }
   state_.expression = out.expression;
   if (out.say) Say(out.say->text, KindName(out.say->kind));
-  bus().Get(topics::kFaceExpression).Publish(state_);
+  face_expression_topic_.Publish(state_);
 }
 
 }  // namespace corridor::server

@@ -22,6 +22,7 @@
 #include "server/runtime/bus.h"
 #include "server/runtime/event_log.h"
 #include "server/runtime/node.h"
+#include "server/runtime/topics.h"
 
 namespace corridor::server {
 
@@ -64,6 +65,15 @@ class FaceNode final : public PeriodicNode {
   FaceState state_;
   bool bumped_since_tick_ = false;       // on the node's executor
   drivers::TimeNs still_since_ns_ = -1;  // the base has not moved since; -1: it is moving
+
+  // The topics it reads and writes, resolved once.
+  Topic<drivers::BatteryState>& battery_topic_ = bus().Get(topics::kBattery);
+  Topic<BaseCommand>& cmd_vel_topic_ = bus().Get(topics::kCmdVel);
+  Topic<Detections>& detections_topic_ = bus().Get(topics::kDetections);
+  Topic<FaceState>& face_expression_topic_ = bus().Get(topics::kFaceExpression);
+  Topic<LocalizationState>& localization_topic_ = bus().Get(topics::kLocalization);
+  Topic<MissionState>& mission_topic_ = bus().Get(topics::kMission);
+  Topic<drivers::WheelOdometry>& odometry_topic_ = bus().Get(topics::kOdometry);
 };
 
 }  // namespace corridor::server

@@ -60,7 +60,7 @@ GroundLanes GroundNode::Process(const drivers::LaserScan& scan) {
 }
 
 void GroundNode::Activate() {
-  auto& lanes = bus().Get(topics::kGroundLanes);
+  auto& lanes = ground_lanes_topic_;
   // The front end's own time is wall time from the moment the control executor takes the frame (or scan) up to the
   // lanes being ready (the loop "frame" times it too).
   const auto publish = [&lanes](GroundLanes out, std::chrono::steady_clock::time_point start) {

@@ -17,6 +17,7 @@
 #include "nav/policy/local_policy.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
+#include "server/runtime/topics.h"
 
 namespace corridor::server {
 
@@ -43,6 +44,9 @@ class GroundNode final : public Node {
   nav::Pose2 base_T_laser_;
   double max_range_m_ = 0.0;  // the lanes' (options.max_range_m)
   std::uint64_t laser_sequence_ = 0;
+
+  // The topics it reads and writes, resolved once.
+  Topic<GroundLanes>& ground_lanes_topic_ = bus().Get(topics::kGroundLanes);
 };
 
 }  // namespace corridor::server

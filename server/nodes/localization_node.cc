@@ -106,7 +106,7 @@ void LocalizationNode::Cleanup() {
 }
 
 void LocalizationNode::Activate() {
-  auto& pose = bus().Get(topics::kPose);
+  auto& pose = pose_topic_;
   using Source = LocalizationOptions::Source;
   if (options_.source == Source::kSimTruth) {
     Subscribe(topics::kSimTruePose, "truth", [&pose](const auto& truth) { pose.Publish(truth); });
@@ -133,7 +133,7 @@ void LocalizationNode::OnOdometry(const drivers::WheelOdometry& odometry) {
     odometry_.pop_front();
   }
   const nav::Pose2 pose = map_T_odom_ * odometry.odom_T_base;
-  bus().Get(topics::kPose).Publish(StampedPose{odometry.stamp_ns, pose});
+  pose_topic_.Publish(StampedPose{odometry.stamp_ns, pose});
   // Dead reckoning has no spread to speak of: the start's is kept.
   if (!filter_ && !map_name_.empty()) Save(pose, options_.initial_sigma_m, Radians(options_.initial_sigma_deg));
 }
@@ -348,7 +348,7 @@ void LocalizationNode::Publish(drivers::TimeNs stamp_ns) {
   for (std::size_t i = 0; i < particles.size() && state.particles.size() < kParticlesShown; i += step) {
     state.particles.push_back(particles[i].pose);
   }
-  bus().Get(topics::kLocalization).Publish(std::move(state));
+  localization_topic_.Publish(std::move(state));
 }
 
 void LocalizationNode::StartMapping(const std::string& name) {
@@ -385,7 +385,7 @@ void LocalizationNode::PublishMapping(drivers::TimeNs stamp_ns, bool render) {
       last_render_ns_ = stamp_ns;
     }
   }
-  bus().Get(topics::kMapping).Publish(mapping_);
+  mapping_topic_.Publish(mapping_);
 }
 
 void LocalizationNode::StopMapping() {
@@ -417,7 +417,7 @@ void LocalizationNode::StopMapping() {
   mapping_.active = false;
   mapping_.saved = mapping_.name;
   mapping_.error.clear();
-  bus().Get(topics::kMapping).Publish(mapping_);
+  mapping_topic_.Publish(mapping_);
 }
 
 }  // namespace corridor::server

@@ -26,6 +26,7 @@
 #include "server/config/config.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
+#include "server/runtime/topics.h"
 #include "server/store/saved_pose.h"
 
 namespace corridor::server {
@@ -110,6 +111,11 @@ class LocalizationNode final : public Node {
   nav::Pose2 slam_odom_;                  // the odometry of the last scan mapped
   MappingState mapping_;                  // as last published
   drivers::TimeNs last_render_ns_ = 0;
+
+  // The topics it reads and writes, resolved once.
+  Topic<LocalizationState>& localization_topic_ = bus().Get(topics::kLocalization);
+  Topic<MappingState>& mapping_topic_ = bus().Get(topics::kMapping);
+  Topic<StampedPose>& pose_topic_ = bus().Get(topics::kPose);
 };
 
 }  // namespace corridor::server

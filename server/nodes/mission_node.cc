@@ -51,7 +51,7 @@ void MissionNode::Activate() {
     Carry(update);
     // Lost with the camera's narrow view, localization asks the robot to turn on the spot to see more.
     const double turn = runner_.MayLookAround() ? localization->look_around_rps : 0.0;
-    auto& command = bus().Get(topics::kMissionCommand);
+    auto& command = mission_command_topic_;
     if (turn > 0.0) {
       command.Publish(MissionCommand{clock().Now(), nav::Twist2{0.0, turn}, true});
       looking_around_ = true;
@@ -65,13 +65,13 @@ void MissionNode::Activate() {
 
 void MissionNode::Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_arrival_ns) {
   const drivers::TimeNs now = clock().Now();
-  auto& command = bus().Get(topics::kMissionCommand);
-  if (!update.doors.empty()) bus().Get(topics::kDoorRequests).Publish(DoorRequests{update.doors});
-  if (!update.lifts.empty()) bus().Get(topics::kLiftRequests).Publish(LiftRequests{update.lifts});
+  auto& command = mission_command_topic_;
+  if (!update.doors.empty()) door_requests_topic_.Publish(DoorRequests{update.doors});
+  if (!update.lifts.empty()) lift_requests_topic_.Publish(LiftRequests{update.lifts});
   if (update.hold_localization) {
     LocalizationCommand hold;
     hold.kind = *update.hold_localization ? LocalizationCommand::Kind::kHold : LocalizationCommand::Kind::kResume;
-    bus().Get(topics::kLocalizationCommand).Publish(hold);
+    localization_command_topic_.Publish(hold);
   }
   if (update.switch_floor) {
     const auto& [floor, pose] = *update.switch_floor;
@@ -88,13 +88,13 @@ void MissionNode::Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_
   if (update.persist || update.publish) {
     MissionState state = runner_.Snapshot();
     if (update.persist && on_change_) on_change_(state);
-    bus().Get(topics::kMission).Publish(std::move(state));
+    mission_topic_.Publish(std::move(state));
   }
   if (update.step && update.step->replan) {
     spdlog::info("mission {}: the robot has strayed from its path; replanning", runner_.id());
   }
   if (update.step) {
-    bus().Get(topics::kLocalStep).Publish(LocalStepState{now, *update.step, runner_.policy().Remembered()});
+    local_step_topic_.Publish(LocalStepState{now, *update.step, runner_.policy().Remembered()});
   }
   if (update.plan) {
     const nav::LegPlanQuery query = *update.plan;
@@ -142,7 +142,7 @@ MissionState MissionNode::Start(std::vector<nav::MissionGoal> goals, double spee
 MissionState MissionNode::StartLocked(std::vector<nav::MissionGoal> goals, double speed_limit_mps) {
   if (runner_.docked() && !goals.empty() && goals.front().action != nav::GoalAction::kUndock) {
     // Off the dock first, straight back to its staging pose.
-    goals.insert(goals.begin(), nav::UndockGoal(PoseOf(bus().Get(topics::kPose).latest()), docking_.dock));
+    goals.insert(goals.begin(), nav::UndockGoal(PoseOf(pose_topic_.latest()), docking_.dock));
   }
   std::optional<nav::MissionSnapshot> cancelled;
   const nav::MissionUpdate update = runner_.Start(nav::Mission(NewId(), std::move(goals), speed_limit_mps), &cancelled);
@@ -206,25 +206,25 @@ void MissionNode::Battery(const drivers::BatteryState& battery) {
 
 void MissionNode::Tick() {
   std::lock_guard lock(mutex_);
-  Carry(runner_.Tick(now_s(), PoseOf(bus().Get(topics::kPose).latest()), planner_.version(), planner_.has_traffic()));
+  Carry(runner_.Tick(now_s(), PoseOf(pose_topic_.latest()), planner_.version(), planner_.has_traffic()));
 }
 
 void MissionNode::Frame(const GroundLanes& ground) {
   std::lock_guard lock(mutex_);
   nav::FrameInput in;
   in.now_s = now_s();
-  in.pose = PoseOf(bus().Get(topics::kPose).latest());
-  if (const auto odometry = bus().Get(topics::kOdometry).latest()) in.odom = odometry->odom_T_base;
+  in.pose = PoseOf(pose_topic_.latest());
+  if (const auto odometry = odometry_topic_.latest()) in.odom = odometry->odom_T_base;
   in.view.lanes = &ground.lanes;
   in.view.scan = &ground.scan;
   in.view.scan_view = ground.scan_view;
   in.view.obstacles = &ground.obstacles;
-  const auto tracked = bus().Get(topics::kTrackedObjects).latest();
+  const auto tracked = tracked_objects_topic_.latest();
   if (tracked) {
     in.tracked = &tracked->surroundings;
     in.tracked_received_s = drivers::ToSeconds(tracked->received_ns);
   }
-  if (const auto bump = bus().Get(topics::kBumped).latest()) {
+  if (const auto bump = bumped_topic_.latest()) {
     in.bump_s = drivers::ToSeconds(bump->stamp_ns);
     in.bump_backing = bump->backing;
   }

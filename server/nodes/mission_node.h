@@ -14,6 +14,7 @@
 #include "server/nodes/planner_service.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
+#include "server/runtime/topics.h"
 
 namespace corridor::server {
 
@@ -70,6 +71,18 @@ class MissionNode final : public PeriodicNode {
   nav::MissionRunner runner_;
   nav::DoorReports door_reports_;  // what the door controller says (guarded by mutex_)
   nav::LiftReports lift_reports_;  // what the lift controller says (guarded by mutex_)
+
+  // The topics it reads and writes, resolved once.
+  Topic<Bumped>& bumped_topic_ = bus().Get(topics::kBumped);
+  Topic<DoorRequests>& door_requests_topic_ = bus().Get(topics::kDoorRequests);
+  Topic<LiftRequests>& lift_requests_topic_ = bus().Get(topics::kLiftRequests);
+  Topic<LocalStepState>& local_step_topic_ = bus().Get(topics::kLocalStep);
+  Topic<LocalizationCommand>& localization_command_topic_ = bus().Get(topics::kLocalizationCommand);
+  Topic<MissionState>& mission_topic_ = bus().Get(topics::kMission);
+  Topic<MissionCommand>& mission_command_topic_ = bus().Get(topics::kMissionCommand);
+  Topic<drivers::WheelOdometry>& odometry_topic_ = bus().Get(topics::kOdometry);
+  Topic<StampedPose>& pose_topic_ = bus().Get(topics::kPose);
+  Topic<TrackedObjects>& tracked_objects_topic_ = bus().Get(topics::kTrackedObjects);
 };
 
 }  // namespace corridor::server

@@ -41,14 +41,14 @@ void PerceptionNode::Push(ExternalDetections detections) {
 }
 
 std::vector<face::Detection> PerceptionNode::DetectInFrame() {
-  const auto frame = bus().Get(topics::kRgbd).latest();
+  const auto frame = rgbd_topic_.latest();
   if (!frame || (seen_frame_ && frame->sequence == last_sequence_)) return built_in_;
   seen_frame_ = true;
   last_sequence_ = frame->sequence;
   std::vector<face::Detection> found;
   if (simulated_) {
-    const auto people = bus().Get(topics::kSimPedestrians).latest();
-    const auto truth = bus().Get(topics::kSimTruePose).latest();
+    const auto people = sim_pedestrians_topic_.latest();
+    const auto truth = sim_true_pose_topic_.latest();
     if (people && truth) {
       std::vector<Eigen::Vector2d> where;
       for (const SimPedestrians::Person& p : people->people) where.push_back(p.position);
@@ -74,8 +74,8 @@ std::vector<face::Detection> PerceptionNode::DetectInFrame() {
 }
 
 std::vector<face::Detection> PerceptionNode::DepthPeople(const drivers::RgbdFrame& frame) {
-  const auto tracked = bus().Get(topics::kTrackedObjects).latest();
-  const auto pose = bus().Get(topics::kPose).latest();
+  const auto tracked = tracked_objects_topic_.latest();
+  const auto pose = pose_topic_.latest();
   if (!tracked || !pose || frame.depth_mm.empty()) return {};
   // The tracker's objects (map frame) near enough to be seen, in the base frame.
   const nav::Pose2 base_T_map = pose->pose.Inverse();
@@ -99,9 +99,9 @@ void PerceptionNode::Tick() {
       all.push_back(std::move(d));
     }
   }
-  const auto pose = bus().Get(topics::kPose).latest();
+  const auto pose = pose_topic_.latest();
   tracker_.Assign(all, pose ? pose->pose : nav::Pose2{}, now);
-  bus().Get(topics::kDetections).Publish(Detections{now, std::move(all)});
+  detections_topic_.Publish(Detections{now, std::move(all)});
 }
 
 }  // namespace corridor::server

@@ -18,6 +18,7 @@
 #include "server/config/config.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
+#include "server/runtime/topics.h"
 
 namespace corridor::server {
 
@@ -47,6 +48,14 @@ class PerceptionNode final : public PeriodicNode {
   bool seen_frame_ = false;
   std::vector<face::Detection> built_in_;               // from the last frame
   std::map<std::string, ExternalDetections> external_;  // by source
+
+  // The topics it reads and writes, resolved once.
+  Topic<Detections>& detections_topic_ = bus().Get(topics::kDetections);
+  Topic<StampedPose>& pose_topic_ = bus().Get(topics::kPose);
+  Topic<drivers::RgbdFrame>& rgbd_topic_ = bus().Get(topics::kRgbd);
+  Topic<SimPedestrians>& sim_pedestrians_topic_ = bus().Get(topics::kSimPedestrians);
+  Topic<StampedPose>& sim_true_pose_topic_ = bus().Get(topics::kSimTruePose);
+  Topic<TrackedObjects>& tracked_objects_topic_ = bus().Get(topics::kTrackedObjects);
 };
 
 }  // namespace corridor::server

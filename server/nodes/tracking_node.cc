@@ -45,7 +45,7 @@ void TrackingNode::SetMap(std::shared_ptr<const nav::OccupancyGrid> map) {
 }
 
 std::optional<nav::Pose2> TrackingNode::RobotPose(const char* what) {
-  const auto pose = bus().Get(topics::kPose).latest();
+  const auto pose = pose_topic_.latest();
   if (!pose) {
     SetHealth(Health::kDegraded, std::string("no pose yet: ") + what + " cannot be placed in the map");
     return std::nullopt;
@@ -94,7 +94,7 @@ void TrackingNode::Track(drivers::TimeNs stamp_ns, const Eigen::Vector2d& sensor
   std::size_t moving = 0;
   for (const nav::TrackedObject& o : tracker_.objects()) moving += o.moving ? 1 : 0;
   SetHealth(Health::kOk, std::to_string(tracker_.objects().size()) + " objects, " + std::to_string(moving) + " moving");
-  bus().Get(topics::kTrackedObjects).Publish(TrackedObjects{stamp_ns, clock().Now(), tracker_.surroundings()});
+  tracked_objects_topic_.Publish(TrackedObjects{stamp_ns, clock().Now(), tracker_.surroundings()});
 }
 
 }  // namespace corridor::server

@@ -23,6 +23,7 @@
 #include "nav/tracking/traffic_map.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
+#include "server/runtime/topics.h"
 
 namespace corridor::server {
 
@@ -65,6 +66,10 @@ class TrackingNode final : public Node {
   std::optional<nav::TrafficMap> traffic_;                            // over the current map
   std::shared_ptr<const nav::OccupancyGrid> map_;                     // the current map
   double traffic_sent_s_ = -std::numeric_limits<double>::infinity();  // scan time of the last costs handed on
+
+  // The topics it reads and writes, resolved once.
+  Topic<StampedPose>& pose_topic_ = bus().Get(topics::kPose);
+  Topic<TrackedObjects>& tracked_objects_topic_ = bus().Get(topics::kTrackedObjects);
 };
 
 }  // namespace corridor::server
