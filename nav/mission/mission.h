@@ -13,6 +13,10 @@ namespace corridor::nav {
 
 enum class MissionStatus { kActive, kPaused, kSucceeded, kFailed, kCanceled };
 const char* ToString(MissionStatus status);
+// Active or paused: not over, its goals still the robot's.
+inline bool InProgress(MissionStatus status) {
+  return status == MissionStatus::kActive || status == MissionStatus::kPaused;
+}
 
 // What the robot does at a goal: stop there, dock (drive to the dock's staging pose, `pose`, then onto the dock at
 // `dock`), back off the dock it stands on (no pose: it backs straight off), or ride a lift (drive to its lobby,

@@ -179,8 +179,7 @@ nav::TransitionOutcome RobotCore::Command(MissionStep step, const std::string& i
 }
 
 std::optional<MapRefused> RobotCore::SelectMap(const std::string& name, std::string_view origin) const {
-  if (const auto mission = bus_.Get(topics::kMission).latest();
-      mission && (mission->status == nav::MissionStatus::kActive || mission->status == nav::MissionStatus::kPaused)) {
+  if (const auto mission = bus_.Get(topics::kMission).latest(); mission && nav::InProgress(mission->status)) {
     return MapRefused{MapRefusal::kMissionInProgress, "cancel the mission before changing maps"};
   }
   try {

@@ -20,8 +20,7 @@ void ChargingNode::Activate() {
 void ChargingNode::OnBattery(const drivers::BatteryState& battery) {
   const std::shared_ptr<const RobotState> state = core_.State();
   const auto& mission = state->mission;
-  const bool busy =
-      mission && (mission->status == nav::MissionStatus::kActive || mission->status == nav::MissionStatus::kPaused);
+  const bool busy = mission && nav::InProgress(mission->status);
   const double now_s = drivers::ToSeconds(clock().Now());
   if (!policy_.ShouldGo(now_s, battery.charge, battery.on_charger || state->docked, busy)) return;
   const std::optional<nav::MissionGoal> dock = state->pose && find_dock_ ? find_dock_(state->pose->pose) : std::nullopt;
