@@ -32,9 +32,10 @@ std::string DocumentedName(server::auth::Access access) {
   return "?";
 }
 
+// The route table and the document, read once for all the tests (building the graph is the expensive part).
 class ApiRoutesTest : public ::testing::Test {
  protected:
-  void SetUp() override {
+  static void SetUpTestSuite() {
     testing::LockstepRobot robot(testing::SourceDir() / "config/corridor.yaml");
     for (const server::Api::RouteInfo& route : robot.graph().api().Routes()) {
       std::string method(boost::beast::http::to_string(route.method));
@@ -50,8 +51,8 @@ class ApiRoutesTest : public ::testing::Test {
     }
   }
 
-  std::map<Operation, server::auth::Access> served_;
-  std::map<Operation, nlohmann::json> documented_;
+  static inline std::map<Operation, server::auth::Access> served_;
+  static inline std::map<Operation, nlohmann::json> documented_;
 };
 
 TEST_F(ApiRoutesTest, EveryRouteIsDocumentedWithItsAccess) {

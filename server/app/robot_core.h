@@ -84,13 +84,13 @@ struct MappingRefused {
 enum class MissionStep { kPause, kResume, kCancel };
 const char* ToString(MissionStep step);
 
-// Something answers lift calls: the building's controller, or in a simulated building that names none, the
-// simulator's lifts themselves (the graph's LiftNode then talks to one of them).
 // Whether anyone opens the doors on the robot's way: the building's controller, or in a simulated world with doors
 // and no controller, the simulator's doors themselves. Without either the robot drives as it sees them.
 inline bool DoorsAnswer(const Config& config) {
   return config.doors.controller.configured() || (Simulated(config) && !config.sim.robot.doors.empty());
 }
+// Something answers lift calls: the building's controller, or in a simulated building that names none, the
+// simulator's lifts themselves (the graph's LiftNode then talks to one of them).
 inline bool LiftsAnswer(const Config& config) {
   return config.building.controller.configured() || (Simulated(config) && !config.building.lifts.empty());
 }
