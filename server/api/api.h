@@ -23,7 +23,6 @@
 #include "server/auth/gate.h"
 #include "server/config/config.h"
 #include "server/fleet/rmf.h"
-#include "server/nodes/explore_node.h"
 #include "server/nodes/face_node.h"
 #include "server/nodes/localization_node.h"
 #include "server/nodes/mission_node.h"
@@ -82,9 +81,8 @@ struct ApiContext {
   MapLibrary& maps;
   Store& store;
   PlannerService& planner;
-  MissionNode& missions;  // read only: missions start, pause and end through the core
-  const RobotCore& core;  // every command that moves the robot or sets its pose
-  ExploreNode& explore;
+  MissionNode& missions;       // read only: missions start, pause and end through the core
+  const RobotCore& core;       // every command that moves the robot or sets its pose
   OctreeNode* octree;          // null when the 3D map is off (octomap.enabled: false)
   PerceptionNode* perception;  // null when perception.enabled is false
   LocalizationNode& localization;
@@ -93,13 +91,12 @@ struct ApiContext {
   auth::AccessControl& access;  // users, sessions, tokens, the audit log, who may call what
   const Config& config;
   const drivers::Clock& clock;
-  Executor& io;                             // replies that are computed elsewhere come back here
-  Executor& control;                        // for the simulator's stalled-control-loop fault
-  drivers::sim::SimRobot* sim = nullptr;    // the simulated robot, for fault injection; null with real drivers
-  std::string tls_fingerprint{};            // the server certificate's SHA-256, shown at setup; "" without TLS
-  std::string robot_name{};                 // in robot_state (Open-RMF) and webhook payloads
-  std::function<void()> doors_changed{};    // the doors of the map in use changed: planner and missions take them again
-  const drivers::Laser2D* laser = nullptr;  // where the laser is mounted (GET /api/v1/laser/scan); null: no laser
+  Executor& io;                                  // replies that are computed elsewhere come back here
+  Executor& control;                             // for the simulator's stalled-control-loop fault
+  drivers::sim::SimRobot* sim = nullptr;         // the simulated robot, for fault injection; null with real drivers
+  std::string tls_fingerprint{};                 // the server certificate's SHA-256, shown at setup; "" without TLS
+  std::string robot_name{};                      // in robot_state (Open-RMF) and webhook payloads
+  const drivers::Laser2D* laser = nullptr;       // where the laser is mounted (GET /api/v1/laser/scan); null: no laser
   const drivers::DepthCamera* camera = nullptr;  // its intrinsics and mounting (the camera's calibration); null: none
 };
 
@@ -197,7 +194,7 @@ class Api {
   RmfSample SampleForRmf() const;
   // {x, y, yaw} of `body`, on the active map (else 422 outside_map).
   nav::Pose2 ParsePoseOnMap(const nlohmann::json& body, const std::string& where) const;
-  // 409 unless localization.source is mcl.
+  // 409 not_localizing unless localization maps and takes poses (RobotCore::NotLocalizing).
   void RequireLocalizing() const;
 
   Response ServeFile(const Request& request, const std::string& target) const;
@@ -219,7 +216,6 @@ class Api {
   // Pauses, resumes or cancels mission `id`.
   Response MissionAction(const Request& request, const std::string& id, MissionStep step) const;
   nav::MissionGoal ParseGoal(const nlohmann::json& j, const std::string& where) const;
-  void ZonesChanged() const;
 
   ApiContext c_;
   drivers::TimeNs start_ns_;

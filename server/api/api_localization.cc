@@ -213,7 +213,8 @@ void Api::AddMappingRoutes() {
   const auto mapping = [this] { return c_.bus.Get(topics::kMapping).latest(); };
   Add(http::verb::get, "/api/v1/mapping", Access::kViewer, Sync([this, mapping](const Request& r, const Params&) {
         const auto state = mapping();
-        return JsonResponse(r, MappingJson(state ? *state : MappingState{}, c_.explore.exploring()));
+        const auto explore = c_.bus.Get(topics::kExploreState).latest();
+        return JsonResponse(r, MappingJson(state ? *state : MappingState{}, explore && explore->exploring));
       }));
   Add(http::verb::get, "/api/v1/mapping/image", Access::kViewer, Sync([mapping](const Request& r, const Params&) {
         const auto state = mapping();
@@ -254,7 +255,7 @@ void Api::AddMappingRoutes() {
         } else {
           name = start_mapping(body);
         }
-        c_.explore.Explore();
+        if (const auto refused = c_.core.Explore("rest")) ThrowMappingRefused(*refused);
         return JsonResponse(r, {{"exploring", name}}, http::status::accepted);
       }));
   Add(http::verb::post, "/api/v1/mapping/stop", Access::kAdmin, Sync([this](const Request& r, const Params&) {
@@ -265,12 +266,8 @@ void Api::AddMappingRoutes() {
 }
 
 void Api::RequireLocalizing() const {
-  if (c_.config.localization.source != LocalizationOptions::Source::kMonteCarlo) {
-    throw ApiError(http::status::conflict, "Not localizing",
-                   std::string("localization.source is ") + SourceName(c_.config.localization.source) +
-                       ": only mcl takes a pose or relocalizes",
-                   "not_localizing");
-  }
+  if (auto why = c_.core.NotLocalizing())
+    throw ApiError(http::status::conflict, "Not localizing", *why, "not_localizing");
 }
 
 }  // namespace corridor::server

@@ -143,8 +143,6 @@ void ExpectMapEdit(const std::function<void()>& edit) {
 
 }  // namespace
 
-void Api::ZonesChanged() const { c_.planner.SetZones(c_.store.Zones(c_.maps.active()->name)); }
-
 void Api::AddMapRoutes() {
   Add(http::verb::get, "/api/v1/map", Access::kViewer, Sync([this](const Request& r, const Params&) {
         const auto map = c_.maps.active();
@@ -238,7 +236,7 @@ void Api::AddMapRoutes() {
           }
         }
         c_.store.PutDoor(c_.maps.active()->name, door);
-        if (c_.doors_changed) c_.doors_changed();
+        c_.core.MapEdited("doors", "rest");
         return JsonResponse(r, door_json({door, "drawn"}), http::status::created);
       }));
   Add(http::verb::delete_, "/api/v1/doors/{id}", Access::kAdmin,
@@ -254,7 +252,7 @@ void Api::AddMapRoutes() {
           }
           throw ApiError(http::status::not_found, "Not found", "no door " + id + " on this map");
         }
-        if (c_.doors_changed) c_.doors_changed();
+        c_.core.MapEdited("doors", "rest");
         return MakeResponse(r, http::status::no_content, "application/json", "");
       }));
   // A lift's stop on a floor, drawn in the console: its door there and the lobby facing it.
@@ -286,8 +284,8 @@ void Api::AddMapRoutes() {
           throw ApiError(http::status::unprocessable_entity, "Not a lift stop", e.what(), "bad_lift_stop");
         }
         c_.store.PutLiftStop(id, stop);
+        c_.core.MapEdited("lift stops", "rest");
         const nav::Building building = CurrentBuilding(c_.config, c_.store);
-        c_.missions.SetBuilding(building);
         const nav::Lift* lift = building.LiftNamed(id);
         return JsonResponse(r, {{"id", id}, {"stops", lift->stops.size()}});
       }));
@@ -298,7 +296,7 @@ void Api::AddMapRoutes() {
                          "no stop of lift " + p.at("id") + " on floor " + p.at("floor") +
                              " was drawn (the configuration's lifts stay)");
         }
-        c_.missions.SetBuilding(CurrentBuilding(c_.config, c_.store));
+        c_.core.MapEdited("lift stops", "rest");
         return MakeResponse(r, http::status::no_content, "application/json", "");
       }));
   Add(http::verb::get, "/api/v1/map/image", Access::kViewer, Sync([this](const Request& r, const Params&) {
@@ -422,7 +420,7 @@ void Api::AddMapRoutes() {
   Add(http::verb::post, "/api/v1/zones", Access::kAdmin, Sync([this](const Request& r, const Params&) {
         const nav::Zone z = ParseZone(ParseJsonBody(r), NewId());
         c_.store.PutZone(c_.maps.active()->name, z);
-        ZonesChanged();
+        c_.core.MapEdited("zones", "rest");
         Response res = JsonResponse(r, ZoneJson(z), http::status::created);
         res.set(http::field::location, "/api/v1/zones/" + z.id);
         return res;
@@ -440,14 +438,14 @@ void Api::AddMapRoutes() {
         find_zone(p.at("id"));
         const nav::Zone z = ParseZone(ParseJsonBody(r), p.at("id"));
         c_.store.PutZone(c_.maps.active()->name, z);
-        ZonesChanged();
+        c_.core.MapEdited("zones", "rest");
         return JsonResponse(r, ZoneJson(z));
       }));
   Add(http::verb::delete_, "/api/v1/zones/{id}", Access::kAdmin, Sync([this](const Request& r, const Params& p) {
         if (!c_.store.DeleteZone(c_.maps.active()->name, p.at("id"))) {
           throw ApiError(http::status::not_found, "Not found", "no zone " + p.at("id"));
         }
-        ZonesChanged();
+        c_.core.MapEdited("zones", "rest");
         return MakeResponse(r, http::status::no_content, "application/json", "");
       }));
 

@@ -90,29 +90,23 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
       executors_(clock_, schedule),
       store_(config_.store.state_dir / "corridor.db"),
       access_(config_.store.state_dir / "accounts.db", config_.auth),
-      planner_(executors_.planning, config_.planner) {
+      planner_(executors_.planning, bus_, config_.planner) {
   // The tracker of moving objects, from the laser when there is one, else from the depth camera.
   std::unique_ptr<TrackingNode> tracking_node;
   if (config_.tracking.enabled && (devices_.laser != nullptr || config_.tracking.camera)) {
     TrackingSource source;
     if (devices_.laser != nullptr) source.base_T_laser = devices_.laser->base_T_laser();
     if (devices_.camera != nullptr) source.camera = devices_.camera->info().camera;
-    tracking_node = std::make_unique<TrackingNode>(
-        executors_.mapping, bus_, source, config_.tracking.objects, config_.tracking.traffic,
-        [this](std::shared_ptr<const std::vector<float>> cost, const nav::OccupancyGrid* grid) {
-          planner_.SetTraffic(std::move(cost), grid);
-        });
+    tracking_node = std::make_unique<TrackingNode>(executors_.mapping, bus_, source, config_.tracking.objects,
+                                                   config_.tracking.traffic);
   }
-  TrackingNode* const tracking = tracking_node.get();
-  // Each active map goes to the planner and, for its walls, to the tracker.
   std::optional<nav::Pose2> base_T_laser;
   if (devices_.laser != nullptr) base_T_laser = devices_.laser->base_T_laser();
   // The robot starts where it was last localized, when that was in the map it starts in (LocalizationNode::SetMap).
   const std::filesystem::path pose_file = config_.store.state_dir / "pose.json";
-  // A map just built is saved, becomes the active map, and its zones (none yet) go to the planner.
+  // A map just built is saved and becomes the map in use.
   const auto map_built = [this](const std::string& name, nav::OccupancyGrid grid) {
     maps_->Add(name, std::move(grid));
-    planner_.SetZones(store_.Zones(name));
   };
   // Where it was, when that was in the map it starts in: the first pose published (LocalizationNode::SetMap then
   // starts the filter there).
@@ -123,28 +117,18 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   auto localization_node =
       std::make_unique<LocalizationNode>(executors_.mapping, bus_, config_.localization, start, base_T_laser, camera,
                                          pose_file, std::move(saved), map_built);
-  LocalizationNode* const localization = localization_node.get();
-  localization_ = localization;
+  localization_ = localization_node.get();
   // The 3D map, from the depth camera at the estimated poses; its layer goes to the planner.
   std::unique_ptr<OctreeNode> octree_node;
   if (config_.octomap.enabled && devices_.camera != nullptr) {
-    octree_node = std::make_unique<OctreeNode>(
-        executors_.mapping3d, bus_, config_.octomap, camera,
-        config_.localization.source != LocalizationOptions::Source::kMonteCarlo, config_.store.state_dir / "maps",
-        [this](std::shared_ptr<const std::vector<std::int8_t>> cells, const nav::OccupancyGrid* grid) {
-          planner_.SetObstacleLayer(std::move(cells), grid);
-        });
+    octree_node = std::make_unique<OctreeNode>(executors_.mapping3d, bus_, config_.octomap, camera,
+                                               config_.localization.source != LocalizationOptions::Source::kMonteCarlo,
+                                               config_.store.state_dir / "maps");
   }
   octree_ = octree_node.get();
-  const auto use_map = [this, tracking, localization](const std::shared_ptr<const ActiveMap>& active) {
-    const std::shared_ptr<const nav::OccupancyGrid> grid(active, &active->grid);
-    planner_.SetMap(grid);
-    if (tracking != nullptr) tracking->SetMap(grid);
-    localization->SetMap(active->name, grid);
-    if (octree_ != nullptr) octree_->SetMap(active->name, grid);
-    planner_.SetDoors(DoorsOn(active->name));
-    planner_.SetZones(store_.Zones(active->name));
-    if (missions_ != nullptr) missions_->SetDoors(DoorsOn(active->name));
+  // Each map the library makes the one in use goes to every node that works on it, with its zones and doors.
+  const auto use_map = [this](const std::shared_ptr<const ActiveMap>& active) {
+    bus_.Get(topics::kMapInUse).Publish(MapInUseOf(active, config_, store_));
   };
   maps_ = std::make_unique<MapLibrary>(config_.store.state_dir, std::move(map.name), std::move(map.grid), use_map);
   // A building's floors: each floor's map, for missions that ride lifts between them.
@@ -208,8 +192,6 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   auto mission_node =
       std::make_unique<MissionNode>(executors_.control, bus_, planner_, config_.mission, persist, switch_floor);
   missions_ = mission_node.get();
-  missions_->SetDoors(DoorsOn(maps_->active()->name));
-  missions_->SetBuilding(CurrentBuilding(config_, store_));
   core_ = std::make_unique<RobotCore>(config_, bus_, clock_, lifecycle_, planner_, *missions_, *localization_, *maps_,
                                       store_);
   // Brought up in this order and down in reverse: control goes first at shutdown, so the robot stops first.
@@ -249,11 +231,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
                                                 devices_.laser->height_m(), config_.ground));
   }
   if (tracking_node) lifecycle_.Add(std::move(tracking_node));
-  auto explore_node = std::make_unique<ExploreNode>(executors_.mapping, bus_, planner_, *core_, [this] {
-    const auto active = maps_->active();
-    planner_.SetMap(std::shared_ptr<const nav::OccupancyGrid>(active, &active->grid));
-  });
-  explore_ = explore_node.get();
+  auto explore_node = std::make_unique<ExploreNode>(executors_.mapping, bus_, *core_);
   lifecycle_.Add(std::move(mission_node));
   lifecycle_.Add(std::move(explore_node));
   lifecycle_.Add(std::make_unique<ChargingNode>(executors_.io, bus_, *core_, config_.charging, nearest_dock));
@@ -301,7 +279,6 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
                                           planner_,
                                           *missions_,
                                           *core_,
-                                          *explore_,
                                           octree_,
                                           perception_,
                                           *localization_,
@@ -315,11 +292,6 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
                                           devices_.sim,
                                           std::move(tls_fingerprint),
                                           hooks.robot,
-                                          [this] {
-                                            const std::string active = maps_->active()->name;
-                                            planner_.SetDoors(DoorsOn(active));
-                                            missions_->SetDoors(DoorsOn(active));
-                                          },
                                           devices_.laser,
                                           devices_.camera});
 
@@ -346,16 +318,6 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
     lifecycle_.Add(std::make_unique<DdsBridge>(executors_.dds, bus_, *participant, config_.dds, std::move(frames),
                                                *core_, *maps_, lifecycle_));
   }
-}
-
-std::vector<nav::Door> Graph::DoorsOn(const std::string& map) const {
-  std::vector<nav::Door> doors;
-  // Without a controller nobody opens them: the robot drives as it sees them.
-  if (!DoorsAnswer(config_)) return doors;
-  for (const MapDoor& d : DoorsOfMap(config_, store_.Doors(map), map, devices_.sim != nullptr)) {
-    doors.push_back(d.door);
-  }
-  return doors;
 }
 
 Graph::~Graph() { Stop(); }

@@ -93,8 +93,6 @@ class Graph {
  private:
   // Nothing new of the drivers' reaches the bus after it (a driver's callback already under way may still finish).
   void DisconnectDrivers();
-  // The doors a mission on `map` asks the door controller to open (none without a controller).
-  std::vector<nav::Door> DoorsOn(const std::string& map) const;
 
   Config config_;
   drivers::SteadyClock wall_clock_;
@@ -110,7 +108,6 @@ class Graph {
   Lifecycle lifecycle_;
   SimNode* sim_node_ = nullptr;  // owned by lifecycle_
   MissionNode* missions_ = nullptr;
-  ExploreNode* explore_ = nullptr;            // owned by lifecycle_
   OctreeNode* octree_ = nullptr;              // owned by lifecycle_; null when octomap.enabled is false
   PerceptionNode* perception_ = nullptr;      // owned by lifecycle_; null when perception.enabled is false
   LocalizationNode* localization_ = nullptr;  // owned by lifecycle_

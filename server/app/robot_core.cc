@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "nav/demand.h"
+#include "server/fleet/doors.h"
 #include "server/runtime/topics.h"
 
 namespace corridor::server {
@@ -140,8 +141,8 @@ void RobotCore::ExtendMission(const std::string& id, std::vector<nav::MissionGoa
 }
 
 void RobotCore::SetPose(const PoseOrder& order, std::function<void(PoseResult)> done) const {
-  if (config_.localization.source != LocalizationOptions::Source::kMonteCarlo) {
-    done(PoseRefused{PoseRefusal::kNotLocalizing, "localization.source is not mcl: only mcl takes a pose"});
+  if (auto why = NotLocalizing()) {
+    done(PoseRefused{PoseRefusal::kNotLocalizing, std::move(*why)});
     return;
   }
   if (!(order.sigma_m >= 0.0 && order.sigma_m <= 10.0) ||
@@ -216,18 +217,18 @@ nav::Twist2 RobotCore::Teleop(const nav::Twist2& asked, std::string_view origin)
           std::clamp(asked.angular_rps, -s.max_angular_rps, s.max_angular_rps)};
 }
 
-namespace {
-
-std::optional<MappingRefused> NotLocalizing(const Config& config) {
-  if (config.localization.source == LocalizationOptions::Source::kMonteCarlo) return std::nullopt;
-  return MappingRefused{MappingRefusal::kNotLocalizing,
-                        "localization.source is not mcl: only mcl maps, takes a pose or relocalizes"};
+std::optional<std::string> RobotCore::NotLocalizing() const {
+  using Source = LocalizationOptions::Source;
+  switch (config_.localization.source) {
+    case Source::kMonteCarlo: return std::nullopt;
+    case Source::kOdometry: return "localization.source is odometry: only mcl takes a pose, maps or relocalizes";
+    case Source::kSimTruth: return "localization.source is sim_truth: only mcl takes a pose, maps or relocalizes";
+  }
+  return "localization.source is not mcl";
 }
 
-}  // namespace
-
 std::optional<MappingRefused> RobotCore::StartMapping(const std::string& name, std::string_view origin) const {
-  if (auto refused = NotLocalizing(config_)) return refused;
+  if (auto why = NotLocalizing()) return MappingRefused{MappingRefusal::kNotLocalizing, std::move(*why)};
   if (maps_.Contains(name)) return MappingRefused{MappingRefusal::kMapExists, "a map named '" + name + "' exists"};
   if (const auto state = bus_.Get(topics::kMapping).latest(); state && state->active) {
     return MappingRefused{MappingRefusal::kAlreadyMapping, "mapping '" + state->name + "' is under way"};
@@ -251,12 +252,38 @@ std::variant<std::string, MappingRefused> RobotCore::StopMapping(std::string_vie
 }
 
 std::optional<MappingRefused> RobotCore::Relocalize(std::string_view origin) const {
-  if (auto refused = NotLocalizing(config_)) return refused;
+  if (auto why = NotLocalizing()) return MappingRefused{MappingRefusal::kNotLocalizing, std::move(*why)};
   LocalizationCommand command;
   command.kind = LocalizationCommand::Kind::kRelocalize;
   bus_.Get(topics::kLocalizationCommand).Publish(command);
   spdlog::info("relocalizing, from {}", origin);
   return std::nullopt;
+}
+
+std::optional<MappingRefused> RobotCore::Explore(std::string_view origin) const {
+  if (auto why = NotLocalizing()) return MappingRefused{MappingRefusal::kNotLocalizing, std::move(*why)};
+  bus_.Get(topics::kExploreCommand).Publish(ExploreCommand{std::string(origin)});
+  return std::nullopt;
+}
+
+void RobotCore::MapEdited(std::string_view what, std::string_view origin) const {
+  bus_.Get(topics::kMapInUse).Publish(MapInUseOf(maps_.active(), config_, store_));
+  Stale();
+  spdlog::info("map '{}': {} edited, from {}", maps_.active()->name, what, origin);
+}
+
+MapInUse MapInUseOf(const std::shared_ptr<const ActiveMap>& map, const Config& config, const Store& store) {
+  MapInUse in_use;
+  in_use.name = map->name;
+  in_use.grid = std::shared_ptr<const nav::OccupancyGrid>(map, &map->grid);
+  in_use.zones = store.Zones(map->name);
+  if (DoorsAnswer(config)) {
+    for (const MapDoor& d : DoorsOfMap(config, store.Doors(map->name), map->name, Simulated(config))) {
+      in_use.doors.push_back(d.door);
+    }
+  }
+  in_use.building = CurrentBuilding(config, store);
+  return in_use;
 }
 
 }  // namespace corridor::server

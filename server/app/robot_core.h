@@ -95,6 +95,10 @@ inline bool LiftsAnswer(const Config& config) {
   return config.building.controller.configured() || (Simulated(config) && !config.building.lifts.empty());
 }
 
+// The map in use with its zones, the doors missions ask to have opened on it (none when nothing answers:
+// DoorsAnswer) and the building with its lift stops: what topics::kMapInUse carries.
+MapInUse MapInUseOf(const std::shared_ptr<const ActiveMap>& map, const Config& config, const Store& store);
+
 class RobotCore {
  public:
   RobotCore(const Config& config, Bus& bus, const drivers::Clock& clock, const Lifecycle& lifecycle,
@@ -133,6 +137,14 @@ class RobotCore {
   std::variant<std::string, MappingRefused> StopMapping(std::string_view origin) const;
   // Has localization search the whole map for the robot, or refuses (kNotLocalizing only).
   std::optional<MappingRefused> Relocalize(std::string_view origin) const;
+  // Explores the map being built (ExploreNode): mapping is under way, or was started just before. Refuses
+  // (kNotLocalizing only) when nothing maps.
+  std::optional<MappingRefused> Explore(std::string_view origin) const;
+  // Why nothing takes a pose, maps, explores or relocalizes (localization.source is not mcl); nothing when it does.
+  std::optional<std::string> NotLocalizing() const;
+  // Zones, doors or lift stops of the map in use were edited (`what`): every node takes the map again
+  // (topics::kMapInUse), plans and goal checks from the next one queued.
+  void MapEdited(std::string_view what, std::string_view origin) const;
 
  private:
   // The goals against the map in use (its costmap, `costmap`) and the building; on the planning executor.

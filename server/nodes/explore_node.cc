@@ -8,31 +8,28 @@
 
 namespace corridor::server {
 
-ExploreNode::ExploreNode(Executor& mapping, Bus& bus, PlannerService& planner, const RobotCore& core,
-                         std::function<void()> restore_map, const nav::FrontierOptions& options)
-    : Node("explore", mapping, bus),
-      planner_(planner),
-      core_(core),
-      restore_map_(std::move(restore_map)),
-      options_(options) {}
+ExploreNode::ExploreNode(Executor& mapping, Bus& bus, const RobotCore& core, const nav::FrontierOptions& options)
+    : Node("explore", mapping, bus), core_(core), options_(options) {}
 
 void ExploreNode::Activate() {
   Subscribe(topics::kMapping, "mapping", [this](const auto& mapping) { OnMapping(*mapping); });
   Subscribe(topics::kMission, "mission", [this](const auto& mission) { OnMission(*mission); });
-  SetHealth(Health::kOk, "not exploring");
+  Subscribe(topics::kExploreCommand, "explore", [this](const auto& command) { Explore(*command); });
+  SetExploring(false);
 }
 
-void ExploreNode::Explore() {
-  executor().Post([this] {
-    Run("explore", [&] {
-      exploring_ = true;
-      given_up_.clear();
-      mission_id_.clear();
-      SetHealth(Health::kOk, "exploring");
-      spdlog::info("explore: looking for frontiers");
-      if (mapping_) Plan(*mapping_);  // else on the first map rendered
-    });
-  });
+void ExploreNode::SetExploring(bool exploring) {
+  exploring_ = exploring;
+  SetHealth(Health::kOk, exploring ? "exploring" : "not exploring");
+  state_topic_.Publish(ExploreState{exploring});
+}
+
+void ExploreNode::Explore(const ExploreCommand& command) {
+  SetExploring(true);
+  given_up_.clear();
+  mission_id_.clear();
+  spdlog::info("explore: looking for frontiers, from {}", command.origin);
+  if (mapping_) Plan(*mapping_);  // else on the first map rendered
 }
 
 void ExploreNode::OnMapping(const MappingState& mapping) {
@@ -47,7 +44,7 @@ void ExploreNode::OnMapping(const MappingState& mapping) {
 }
 
 void ExploreNode::Plan(const MappingState& mapping) {
-  planner_.SetMap(mapping.grid);
+  exploring_map_topic_.Publish(ExploringMap{mapping.grid});
   if (mission_id_.empty() && !starting_) Next();
 }
 
@@ -113,12 +110,11 @@ void ExploreNode::Started(const MissionResult& result) {
 }
 
 void ExploreNode::Finish(const std::string& why, bool save, bool cancel_goal) {
-  exploring_ = false;
+  SetExploring(false);
   if (cancel_goal && !mission_id_.empty()) core_.Command(MissionStep::kCancel, mission_id_, "explore");
   mission_id_.clear();
-  SetHealth(Health::kOk, "not exploring");
   spdlog::info("explore: done, {}{}", why, save ? ": saving the map" : "");
-  if (!save && restore_map_) restore_map_();  // saved, the new map becomes the planner's anyway
+  exploring_map_topic_.Publish(ExploringMap{});  // saved, the new map is in use soon after
   if (save) {
     LocalizationCommand stop;
     stop.kind = LocalizationCommand::Kind::kStopMapping;

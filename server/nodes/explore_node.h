@@ -1,37 +1,32 @@
-// Exploration (POST /api/v1/mapping/explore): while exploring, the planner plans on the map being built (rendered every
-// few seconds on the mapping topic), and the robot is sent to the next frontier (nav/planner/frontiers.h) each time
-// its last goal is over, reached or not (a goal is not offered twice), until no reachable frontier is left; then
-// mapping stops, which saves the map (and makes it the planner's). A mission someone else starts, cancelling the
-// exploration's own, or stopping mapping ends exploring, and the planner gets the active map back. Mapping without
-// exploring leaves the planner on the active map: goals given meanwhile are on the map the user sees.
+// Exploration (RobotCore::Explore, on topics::kExploreCommand): while exploring, the planner plans on the map being
+// built (rendered every few seconds on the mapping topic, handed on as topics::kExploringMap), and the robot is sent
+// to the next frontier (nav/planner/frontiers.h) each time its last goal is over, reached or not (a goal is not
+// offered twice), until no reachable frontier is left; then mapping stops, which saves the map (and makes it the map
+// in use). A mission someone else starts, cancelling the exploration's own, or stopping mapping ends exploring, and
+// the planner goes back to the map in use. Mapping without exploring leaves the planner on the map in use: goals given
+// meanwhile are on the map the user sees. Whether it explores is on topics::kExploreState.
 #pragma once
 
-#include <atomic>
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "nav/planner/frontiers.h"
 #include "server/app/robot_core.h"
-#include "server/nodes/planner_service.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
+#include "server/runtime/topics.h"
 
 namespace corridor::server {
 
 class ExploreNode final : public Node {
  public:
-  // `restore_map`: gives the planner the active map again.
-  ExploreNode(Executor& mapping, Bus& bus, PlannerService& planner, const RobotCore& core,
-              std::function<void()> restore_map, const nav::FrontierOptions& options = {});
+  ExploreNode(Executor& mapping, Bus& bus, const RobotCore& core, const nav::FrontierOptions& options = {});
   void Activate() override;
-  // Explores the map being built (mapping must be under way, or be started by the caller). Thread-safe.
-  void Explore();
-  // Whether it is exploring now. Thread-safe.
-  bool exploring() const { return exploring_; }
 
  private:
+  // Explores the map being built (mapping is under way, or was started by whoever asked).
+  void Explore(const ExploreCommand& command);
   void OnMapping(const MappingState& mapping);
   void OnMission(const MissionState& mission);
   // The planner on `mapping`'s map, and the next goal unless one is under way.
@@ -43,16 +38,20 @@ class ExploreNode final : public Node {
   // Stops exploring; `save`: stop mapping (which saves the map); `cancel_goal`: the robot stops where it is.
   void Finish(const std::string& why, bool save, bool cancel_goal);
 
-  PlannerService& planner_;
+  void SetExploring(bool exploring);
+
   const RobotCore& core_;
-  std::function<void()> restore_map_;
   nav::FrontierOptions options_;
-  std::atomic<bool> exploring_{false};
+  bool exploring_ = false;
   std::shared_ptr<const MappingState> mapping_;  // the latest with a map, while mapping
   std::string mission_id_;                       // the current goal's mission; empty: none
   bool starting_ = false;                        // a goal asked of the core, not answered yet
   Eigen::Vector2d goal_ = Eigen::Vector2d::Zero();
   std::vector<Eigen::Vector2d> given_up_;  // goals reached or failed
+
+  // The topics it writes, resolved once.
+  Topic<ExploringMap>& exploring_map_topic_ = bus().Get(topics::kExploringMap);
+  Topic<ExploreState>& state_topic_ = bus().Get(topics::kExploreState);
 };
 
 }  // namespace corridor::server

@@ -57,28 +57,25 @@ void LocalizationNode::Save(const nav::Pose2& pose, double sigma_m, double sigma
   saved_ = now;
 }
 
-void LocalizationNode::SetMap(std::string name, std::shared_ptr<const nav::OccupancyGrid> map) {
-  executor().Post([this, name = std::move(name), map = std::move(map)]() mutable {
-    Run("map", [&] {
-      map_ = std::move(map);
-      map_name_ = std::move(name);
-      double sigma_m = options_.initial_sigma_m;
-      double sigma_rad = Radians(options_.initial_sigma_deg);
-      const nav::Pose2 odom = LatestOdometry();
-      if (restored_ && restored_->place == map_name_) {
-        map_T_odom_ = restored_->pose * odom.Inverse();
-        sigma_m = std::max(sigma_m, restored_->sigma_m);
-        sigma_rad = std::max(sigma_rad, restored_->sigma_rad);
-        spdlog::info("localization: starting where the robot was in map '{}': ({:.2f}, {:.2f})", map_name_,
-                     restored_->pose.x_m, restored_->pose.y_m);
-      }
-      restored_.reset();
-      if (options_.source != LocalizationOptions::Source::kMonteCarlo || !map_) return;
-      // Where the robot is now, by the last estimate: the filter restarts there in the new map.
-      filter_ = std::make_unique<nav::MonteCarloLocalization>(*map_, options_.mcl, options_.seed);
-      ResetFilter(map_T_odom_ * odom, sigma_m, sigma_rad);
-    });
-  });
+void LocalizationNode::OnMap(const MapInUse& in_use) {
+  if (!in_use.grid || in_use.grid == map_) return;  // its zones or doors changed, not its walls
+  map_ = in_use.grid;
+  map_name_ = in_use.name;
+  double sigma_m = options_.initial_sigma_m;
+  double sigma_rad = Radians(options_.initial_sigma_deg);
+  const nav::Pose2 odom = LatestOdometry();
+  if (restored_ && restored_->place == map_name_) {
+    map_T_odom_ = restored_->pose * odom.Inverse();
+    sigma_m = std::max(sigma_m, restored_->sigma_m);
+    sigma_rad = std::max(sigma_rad, restored_->sigma_rad);
+    spdlog::info("localization: starting where the robot was in map '{}': ({:.2f}, {:.2f})", map_name_,
+                 restored_->pose.x_m, restored_->pose.y_m);
+  }
+  restored_.reset();
+  if (options_.source != LocalizationOptions::Source::kMonteCarlo) return;
+  // Where the robot is now, by the last estimate: the filter restarts there in the new map.
+  filter_ = std::make_unique<nav::MonteCarloLocalization>(*map_, options_.mcl, options_.seed);
+  ResetFilter(map_T_odom_ * odom, sigma_m, sigma_rad);
 }
 
 void LocalizationNode::ResetFilter(const nav::Pose2& pose, double sigma_m, double sigma_rad) {
@@ -108,6 +105,7 @@ void LocalizationNode::Cleanup() {
 void LocalizationNode::Activate() {
   auto& pose = pose_topic_;
   using Source = LocalizationOptions::Source;
+  Subscribe(topics::kMapInUse, "map", [this](const auto& map) { OnMap(*map); });
   if (options_.source == Source::kSimTruth) {
     Subscribe(topics::kSimTruePose, "truth", [&pose](const auto& truth) { pose.Publish(truth); });
     SetHealth(Health::kOk, "the simulator's ground truth");

@@ -8,8 +8,8 @@
 //     particles) is on the localization topic; commands (set a pose, relocalize) arrive on localization/command.
 //     Mapping (a command too) replaces the filter with graph SLAM (nav/localization/graph_slam.h) started where the
 //     robot is, so the new map lines up with the old one; the map as built so far is on the mapping topic. Stopping
-//     renders the map and hands it to on_map_built (the map library saves it and makes it the active map, which
-//     comes back through SetMap): localization then goes on in it.
+//     renders the map and hands it to on_map_built (the map library saves it and makes it the map in use, which
+//     comes back on topics::kMapInUse): localization then goes on in it.
 //   - odometry: dead reckoning from the configured start (it drifts);
 //   - sim_truth: the simulator's ground truth.
 #pragma once
@@ -57,9 +57,6 @@ class LocalizationNode final : public Node {
   void Activate() override;
   // Saves the last estimate, however little the robot moved since the last save (the node's executor has stopped).
   void Cleanup() override;
-  // The map to localize in (mcl), by name. Thread-safe: applied on the node's executor. A new map keeps the pose if
-  // it lies on the map; the filter restarts around it.
-  void SetMap(std::string name, std::shared_ptr<const nav::OccupancyGrid> map);
   // Takes `pose` (map frame) with its spread, as the localization/command kSetPose does, and answers with how well the
   // last scan fits the map there against where localization had the robot: a pose the sensors contradict is taken,
   // but the caller is told that the filter will likely move away from it. Thread-safe: applied on the node's executor,
@@ -73,6 +70,9 @@ class LocalizationNode final : public Node {
   // One scan (base frame) taken at stamp_ns: the filter's update, a search when one is due, the pose published.
   void Localize(drivers::TimeNs stamp_ns, const nav::RangeScan& scan);
   void OnCommand(const LocalizationCommand& command);
+  // The map to localize in (mcl), when another (or the same with its cells edited) is in use: the filter restarts
+  // around the last estimate.
+  void OnMap(const MapInUse& map);
   PoseCheck TakePose(const nav::Pose2& pose, double sigma_m, double sigma_rad);
   // The odometry at `stamp_ns`, interpolated between the readings around it; nullopt before any.
   std::optional<nav::Pose2> OdometryAt(drivers::TimeNs stamp_ns) const;

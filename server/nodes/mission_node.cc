@@ -32,6 +32,11 @@ MissionNode::MissionNode(Executor& control, Bus& bus, PlannerService& planner, c
 void MissionNode::Activate() {
   Subscribe(topics::kGroundLanes, "frame", [this](const auto& ground) { Frame(*ground); });
   Subscribe(topics::kBattery, "battery", [this](const auto& battery) { Battery(*battery); });
+  Subscribe(topics::kMapInUse, "map", [this](const auto& map) {
+    std::lock_guard lock(mutex_);
+    runner_.SetDoors(map->doors);
+    runner_.SetBuilding(map->building);
+  });
   Subscribe(topics::kDoorStates, "doors", [this](const auto& states) {
     std::lock_guard lock(mutex_);
     door_reports_ = states->doors;
@@ -160,16 +165,6 @@ nav::TransitionOutcome MissionNode::Transition(
   const nav::TransitionOutcome outcome = (runner_.*transition)(id, &update);
   Carry(update);
   return outcome;
-}
-
-void MissionNode::SetDoors(std::vector<nav::Door> doors) {
-  std::lock_guard lock(mutex_);
-  runner_.SetDoors(std::move(doors));
-}
-
-void MissionNode::SetBuilding(nav::Building building) {
-  std::lock_guard lock(mutex_);
-  runner_.SetBuilding(std::move(building));
 }
 
 nav::TransitionOutcome MissionNode::Extend(const std::string& id, std::vector<nav::MissionGoal> goals) {

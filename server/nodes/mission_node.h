@@ -4,6 +4,7 @@
 // mission/command (once per frame: the control loop runs at the camera's rate), the mission's state on mission and,
 // when its status or leg changes, to `on_change` (to store it). A timer at 20 Hz does the rest (planning, checking the
 // path, holding still when frames stop). Each local step also goes out on mission/step, for traces and the console.
+// The doors to have opened and the building's lifts come with the map in use (topics::kMapInUse).
 #pragma once
 
 #include <functional>
@@ -35,10 +36,6 @@ class MissionNode final : public PeriodicNode {
   // Thread-safe. Starting a mission cancels the one in progress; a robot on its dock backs off it first. Returns the
   // new mission's state.
   MissionState Start(std::vector<nav::MissionGoal> goals, double speed_limit_mps);
-  // The doors of the map the robot works in (with a door controller to open them). Thread-safe.
-  void SetDoors(std::vector<nav::Door> doors);
-  // The building's floors and lifts (for missions that ride lifts). Thread-safe.
-  void SetBuilding(nav::Building building);
   // Appends goals to the mission `id` while it runs (kConflict once it has finished).
   nav::TransitionOutcome Extend(const std::string& id, std::vector<nav::MissionGoal> goals);
   nav::TransitionOutcome Pause(const std::string& id);

@@ -13,9 +13,12 @@ class MissionNodeTest : public ::testing::Test {
  protected:
   explicit MissionNodeTest(const nav::MissionRunnerOptions& options = {})
       : executors_(clock_, Schedule::kLockstep),
-        planner_(executors_.planning, nav::CostmapOptions{}),
+        planner_(executors_.planning, bus_, nav::CostmapOptions{}),
         node_(executors_.control, bus_, planner_, options, [](const MissionState&) {}) {
-    planner_.SetMap(std::make_shared<const nav::OccupancyGrid>(200, 200, 0.05, nav::Pose2{}, nav::kFreeCell));
+    MapInUse room;
+    room.name = "room";
+    room.grid = std::make_shared<const nav::OccupancyGrid>(200, 200, 0.05, nav::Pose2{}, nav::kFreeCell);
+    bus_.Get(topics::kMapInUse).Publish(std::move(room));
     node_.Activate();
     bus_.Get(topics::kPose).Publish(StampedPose{clock_.Now(), nav::Pose2{2.0, 5.0, 0.0}});
     nav::MissionGoal goal;

@@ -38,13 +38,12 @@ void WriteAtomically(const std::filesystem::path& file, const std::string& bytes
 }  // namespace
 
 OctreeNode::OctreeNode(Executor& mapping, Bus& bus, const OctreeOptions& options, const nav::PinholeCamera& camera,
-                       bool trust_pose, std::filesystem::path maps_dir, Layer on_layer)
+                       bool trust_pose, std::filesystem::path maps_dir)
     : Node("octree", mapping, bus),
       options_(options),
       camera_(camera),
       trust_pose_(trust_pose),
       maps_dir_(std::move(maps_dir)),
-      on_layer_(std::move(on_layer)),
       octree_(options.octree) {}
 
 void OctreeNode::Activate() {
@@ -53,6 +52,7 @@ void OctreeNode::Activate() {
     while (poses_.size() > 2 && poses_.back().stamp_ns - poses_.front().stamp_ns > kPosesKeptNs) poses_.pop_front();
   });
   Subscribe(topics::kMapping, "mapping", [this](const auto& mapping) { OnMapping(*mapping); });
+  Subscribe(topics::kMapInUse, "map", [this](const auto& map) { OnMap(*map); });
   Subscribe(topics::kRgbd, "frame", [this](const auto& frame) { OnFrame(*frame); });
   SetHealth(Health::kOk, "waiting for a map and depth frames");
 }
@@ -61,23 +61,21 @@ void OctreeNode::Cleanup() {
   Run("save", [this] { Save(); });
 }
 
-void OctreeNode::SetMap(std::string name, std::shared_ptr<const nav::OccupancyGrid> map) {
-  executor().Post([this, name = std::move(name), map = std::move(map)] {
-    Run("map", [&] {
-      map_ = map;
-      layer_ = nullptr;
-      if (name != name_) {
-        Switch(name);
-      } else if (mapping_) {
-        mapping_ = false;  // the map just built is saved and active: its octree is saved beside it now
-        Save();
-      }
-      // The layer for the new grid, all of it, on the next frame.
-      const Eigen::Vector2d lo = map->origin().translation();
-      touched_ = Eigen::AlignedBox2d(lo, lo + Eigen::Vector2d(map->width(), map->height()) * map->resolution_m());
-      last_update_ns_ = 0;
-    });
-  });
+void OctreeNode::OnMap(const MapInUse& in_use) {
+  if (!in_use.grid || in_use.grid == map_) return;  // its zones or doors changed, not its cells
+  map_ = in_use.grid;
+  layer_ = nullptr;
+  if (in_use.name != name_) {
+    Switch(in_use.name);
+  } else if (mapping_) {
+    mapping_ = false;  // the map just built is saved and in use: its octree is saved beside it now
+    Save();
+  }
+  // The layer for the new grid, all of it, on the next frame.
+  const nav::OccupancyGrid& map = *map_;
+  const Eigen::Vector2d lo = map.origin().translation();
+  touched_ = Eigen::AlignedBox2d(lo, lo + Eigen::Vector2d(map.width(), map.height()) * map.resolution_m());
+  last_update_ns_ = 0;
 }
 
 void OctreeNode::Snapshot(std::function<void(std::shared_ptr<const OctreeSnapshot>)> done) {
@@ -177,7 +175,7 @@ void OctreeNode::UpdateLayer() {
   touched_.reset();
   if (layer_ && *layer_ == *cells) return;
   layer_ = cells;
-  on_layer_(std::move(cells), map_.get());
+  obstacle_topic_.Publish(ObstacleLayer{map_, std::move(cells)});
 }
 
 void OctreeNode::Switch(const std::string& name) {

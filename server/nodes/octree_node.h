@@ -1,7 +1,8 @@
-// The 3D map of the active map (nav/mapping/occupancy_octree.h), on the mapping executor. A depth frame goes in
+// The 3D map of the map in use (nav/mapping/occupancy_octree.h), on the mapping executor. A depth frame goes in
 // every insert_every_s at the robot's pose at the frame's time, while the pose is trusted: localization ok (or its
 // source is not the filter), or the map being built. What stands between min_height_m and max_height_m (the step
-// height and the robot's height) goes to the planner as a costmap layer, when it changed, every update_every_s:
+// height and the robot's height) goes to the planner as a costmap layer (topics::kObstacleLayer), when it changed,
+// every update_every_s:
 // only the neighbourhood of the frames inserted since is projected again (the octree of a whole building is large).
 // The API's snapshot is taken when asked for, at most every update_every_s.
 //
@@ -22,6 +23,7 @@
 #include "server/config/config.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
+#include "server/runtime/topics.h"
 
 namespace corridor::server {
 
@@ -37,16 +39,10 @@ struct OctreeSnapshot {
 
 class OctreeNode final : public Node {
  public:
-  // The layer for the planner: per cell of `map`, kOccupiedCell where something stands in the band.
-  using Layer =
-      std::function<void(std::shared_ptr<const std::vector<std::int8_t>> cells, const nav::OccupancyGrid* map)>;
-
   OctreeNode(Executor& mapping, Bus& bus, const OctreeOptions& options, const nav::PinholeCamera& camera,
-             bool trust_pose, std::filesystem::path maps_dir, Layer on_layer);
+             bool trust_pose, std::filesystem::path maps_dir);
   void Activate() override;
   void Cleanup() override;  // saves: the executors have stopped, nothing else touches the octree
-  // The active map, by name. Thread-safe: applied on the node's executor.
-  void SetMap(std::string name, std::shared_ptr<const nav::OccupancyGrid> map);
   // Calls `done` on the node's executor with a snapshot of the octree (taken again if it changed and the last is
   // older than update_every_s), or null before the first map. Thread-safe.
   void Snapshot(std::function<void(std::shared_ptr<const OctreeSnapshot>)> done);
@@ -56,6 +52,8 @@ class OctreeNode final : public Node {
  private:
   void OnFrame(const drivers::RgbdFrame& frame);
   void OnMapping(const MappingState& mapping);
+  // Another map in use (or the same one with its cells edited): its octree, and its layer again from the start.
+  void OnMap(const MapInUse& map);
   // The robot's pose at stamp_ns, between the poses published around it; nullopt when none is near.
   std::optional<nav::Pose2> PoseAt(drivers::TimeNs stamp_ns) const;
   bool PoseTrusted();
@@ -71,7 +69,6 @@ class OctreeNode final : public Node {
   nav::PinholeCamera camera_;
   bool trust_pose_;  // the pose is not the filter's (odometry or the simulator's truth)
   std::filesystem::path maps_dir_;
-  Layer on_layer_;
   nav::OccupancyOctree octree_;
   std::string name_;                               // whose octree octree_ is
   std::shared_ptr<const nav::OccupancyGrid> map_;  // the active map's grid (the layer's geometry)
@@ -86,6 +83,7 @@ class OctreeNode final : public Node {
   std::shared_ptr<const std::vector<std::int8_t>> layer_;
   std::shared_ptr<const OctreeSnapshot> snapshot_;
   drivers::TimeNs snapshot_ns_ = 0;
+  Topic<ObstacleLayer>& obstacle_topic_ = bus().Get(topics::kObstacleLayer);
 };
 
 }  // namespace corridor::server

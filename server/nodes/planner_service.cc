@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include "server/runtime/topics.h"
+
 namespace corridor::server {
 namespace {
 
@@ -14,28 +16,49 @@ double MsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-PlannerService::PlannerService(Executor& planning, const nav::CostmapOptions& options)
-    : planning_(planning), options_(options) {}
-
-void PlannerService::SetMap(std::shared_ptr<const nav::OccupancyGrid> map) {
-  std::lock_guard lock(mutex_);
-  map_ = std::move(map);
-  traffic_ = nullptr;  // it was the old map's
-  layer_ = nullptr;
-  ++version_;
+PlannerService::PlannerService(Executor& planning, Bus& bus, const nav::CostmapOptions& options)
+    : planning_(planning), bus_(bus), options_(options) {
+  bus.Get(topics::kMapInUse).Subscribe(planning, [this](const std::shared_ptr<const MapInUse>& map) {
+    {
+      std::lock_guard lock(mutex_);
+      zones_ = map->zones;
+      doors_ = map->doors;
+      ++version_;
+    }
+    in_use_ = map->grid;
+    Use(exploring_ ? exploring_ : in_use_);
+  });
+  bus.Get(topics::kExploringMap).Subscribe(planning, [this](const std::shared_ptr<const ExploringMap>& map) {
+    exploring_ = map->grid;
+    Use(exploring_ ? exploring_ : in_use_);
+  });
+  bus.Get(topics::kTrafficLayer).Subscribe(planning, [this](const auto& layer) { OnTraffic(*layer); });
+  bus.Get(topics::kObstacleLayer).Subscribe(planning, [this](const auto& layer) { OnObstacles(*layer); });
 }
 
-void PlannerService::SetTraffic(std::shared_ptr<const std::vector<float>> cost, const nav::OccupancyGrid* map) {
-  std::lock_guard lock(mutex_);
-  if (map != map_.get()) return;  // the tracker had not yet heard of the new map
-  traffic_ = std::move(cost);
+void PlannerService::Use(std::shared_ptr<const nav::OccupancyGrid> map) {
+  {
+    std::lock_guard lock(mutex_);
+    if (map == map_) return;
+    map_ = std::move(map);
+    traffic_ = nullptr;
+    layer_ = nullptr;
+    ++version_;
+  }
+  if (const auto traffic = bus_.Get(topics::kTrafficLayer).latest()) OnTraffic(*traffic);
+  if (const auto layer = bus_.Get(topics::kObstacleLayer).latest()) OnObstacles(*layer);
 }
 
-void PlannerService::SetObstacleLayer(std::shared_ptr<const std::vector<std::int8_t>> cells,
-                                      const nav::OccupancyGrid* map) {
+void PlannerService::OnTraffic(const TrafficLayer& layer) {
   std::lock_guard lock(mutex_);
-  if (map != map_.get()) return;  // made for a map since replaced
-  layer_ = std::move(cells);
+  if (layer.map != map_) return;  // made for another map (the tracker had not yet heard of this one)
+  traffic_ = layer.cost;
+}
+
+void PlannerService::OnObstacles(const ObstacleLayer& layer) {
+  std::lock_guard lock(mutex_);
+  if (layer.map != map_) return;  // made for a map since replaced
+  layer_ = layer.cells;
   ++version_;
 }
 
@@ -44,18 +67,6 @@ bool PlannerService::has_traffic() const { return traffic() != nullptr; }
 std::shared_ptr<const std::vector<float>> PlannerService::traffic() const {
   std::lock_guard lock(mutex_);
   return traffic_;
-}
-
-void PlannerService::SetZones(std::vector<nav::Zone> zones) {
-  std::lock_guard lock(mutex_);
-  zones_ = std::move(zones);
-  ++version_;
-}
-
-void PlannerService::SetDoors(std::vector<nav::Door> doors) {
-  std::lock_guard lock(mutex_);
-  doors_ = std::move(doors);
-  ++version_;
 }
 
 std::shared_ptr<const nav::Costmap> PlannerService::Current(double* build_ms) {

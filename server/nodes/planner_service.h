@@ -1,5 +1,6 @@
-// Global planning for the daemon: keeps the costmap of the active map and zones, rebuilt only when either
-// changes, and runs plan requests on the planning executor. Used by the API (POST /api/v1/plan) and by missions.
+// Global planning for the daemon: keeps the costmap of the map in use and its zones, rebuilt only when either
+// changes, and runs plan requests on the planning executor. Used by the API (POST /api/v1/plan), by the core's goal
+// checks and by missions.
 #pragma once
 
 #include <atomic>
@@ -11,7 +12,9 @@
 
 #include "nav/mission/doors.h"
 #include "nav/planner/planner.h"
+#include "server/runtime/bus.h"
 #include "server/runtime/executor.h"
+#include "server/runtime/messages.h"
 
 namespace corridor::server {
 
@@ -38,24 +41,15 @@ struct PlanReply {
 
 class PlannerService {
  public:
-  PlannerService(Executor& planning, const nav::CostmapOptions& options);
+  // Takes the map in use (with its zones and doors), the map being explored, and the traffic and obstacle layers from
+  // their topics on `planning`, in order with the plans queued there.
+  PlannerService(Executor& planning, Bus& bus, const nav::CostmapOptions& options);
 
-  // Thread-safe. Each change bumps the version; the costmap is rebuilt on the next request.
-  void SetMap(std::shared_ptr<const nav::OccupancyGrid> map);
-  void SetZones(std::vector<nav::Zone> zones);
-  // The doors of the current map: what the obstacle layer has on their lines (a closed panel) is not planned round.
-  void SetDoors(std::vector<nav::Door> doors);
-  // Thread-safe. Where people have been walking, per cell of `map` (nav::TrafficMap::StepCost): added to every
-  // plan's step costs from now on, when `map` is the current map; a cost made for a map since replaced is dropped.
-  // Does not change the version (it is not the map). Null: none (nobody has walked): missions do not reroute.
-  void SetTraffic(std::shared_ptr<const std::vector<float>> cost, const nav::OccupancyGrid* map);
   bool has_traffic() const;
-  // Thread-safe. Obstacles the map does not show (the 3D map's layer), per cell of `map`: occupied cells of the layer
-  // are obstacles in every costmap from now on, when `map` is the current map. Bumps the version (missions check
-  // their paths). Null: none.
-  void SetObstacleLayer(std::shared_ptr<const std::vector<std::int8_t>> cells, const nav::OccupancyGrid* map);
   // Thread-safe. The traffic costs plans add now, per cell of the current map (null: none).
   std::shared_ptr<const std::vector<float>> traffic() const;
+  // Thread-safe. Bumped by every change of what plans are made on (the map, its zones and doors, the obstacle layer;
+  // not traffic): missions check their paths again.
   std::uint64_t version() const { return version_.load(); }
   const nav::CostmapOptions& options() const { return options_; }
 
@@ -68,11 +62,19 @@ class PlannerService {
  private:
   // On the planning executor: the costmap for the current map and zones, and how long building it took.
   std::shared_ptr<const nav::Costmap> Current(double* build_ms);
+  // On the planning executor: plans go on the map being explored while there is one, else on the map in use; a new
+  // map takes the layers made for it, if any, and drops the others.
+  void Use(std::shared_ptr<const nav::OccupancyGrid> map);
+  void OnTraffic(const TrafficLayer& layer);
+  void OnObstacles(const ObstacleLayer& layer);
 
   Executor& planning_;
+  Bus& bus_;
   nav::CostmapOptions options_;
+  std::shared_ptr<const nav::OccupancyGrid> in_use_;     // planning executor only
+  std::shared_ptr<const nav::OccupancyGrid> exploring_;  // planning executor only
   mutable std::mutex mutex_;
-  std::shared_ptr<const nav::OccupancyGrid> map_;
+  std::shared_ptr<const nav::OccupancyGrid> map_;  // what plans are made on
   std::vector<nav::Zone> zones_;
   std::vector<nav::Door> doors_;
   std::shared_ptr<const std::vector<float>> traffic_;

@@ -15,17 +15,16 @@ constexpr double kTrafficEveryS = 1.0;  // how often the planner gets new traffi
 }  // namespace
 
 TrackingNode::TrackingNode(Executor& mapping, Bus& bus, const TrackingSource& source,
-                           const nav::MovingObjectOptions& options, const nav::TrafficOptions& traffic,
-                           TrafficCallback on_traffic)
+                           const nav::MovingObjectOptions& options, const nav::TrafficOptions& traffic)
     : Node("tracking", mapping, bus),
       source_(source),
       tracker_(source.base_T_laser ? options : nav::ForDepthCamera(options)),
-      traffic_options_(traffic),
-      on_traffic_(std::move(on_traffic)) {
+      traffic_options_(traffic) {
   if (!source.base_T_laser) depth_scan_.emplace(source.camera, source.depth);
 }
 
 void TrackingNode::Activate() {
+  Subscribe(topics::kMapInUse, "map", [this](const auto& map) { OnMap(*map); });
   if (source_.base_T_laser) {
     Subscribe(topics::kScan, "scan", [this](const auto& scan) { OnScan(*scan); });
     SetHealth(Health::kOk, "waiting for scans");
@@ -35,13 +34,12 @@ void TrackingNode::Activate() {
   }
 }
 
-void TrackingNode::SetMap(std::shared_ptr<const nav::OccupancyGrid> map) {
-  executor().Post([this, map = std::move(map)]() mutable {
-    traffic_.reset();
-    if (map && traffic_options_.weight > 0.0 && on_traffic_) traffic_.emplace(*map, traffic_options_);
-    map_ = map;
-    tracker_.SetMap(std::move(map));
-  });
+void TrackingNode::OnMap(const MapInUse& map) {
+  if (!map.grid || map.grid == map_) return;  // its zones or doors changed, not its walls
+  traffic_.reset();
+  if (map.grid && traffic_options_.weight > 0.0) traffic_.emplace(*map.grid, traffic_options_);
+  map_ = map.grid;
+  tracker_.SetMap(map.grid);
 }
 
 std::optional<nav::Pose2> TrackingNode::RobotPose(const char* what) {
@@ -86,9 +84,9 @@ void TrackingNode::Track(drivers::TimeNs stamp_ns, const Eigen::Vector2d& sensor
     if (stamp_s - traffic_sent_s_ >= kTrafficEveryS || stamp_s < traffic_sent_s_) {
       traffic_sent_s_ = stamp_s;
       // Nobody walking (or long gone): no costs, and missions keep their paths.
-      on_traffic_(
-          traffic_->Empty(stamp_s) ? nullptr : std::make_shared<const std::vector<float>>(traffic_->StepCost(stamp_s)),
-          map_.get());
+      traffic_topic_.Publish(TrafficLayer{
+          map_, traffic_->Empty(stamp_s) ? nullptr
+                                         : std::make_shared<const std::vector<float>>(traffic_->StepCost(stamp_s))});
     }
   }
   std::size_t moving = 0;

@@ -2,9 +2,9 @@
 // camera's frames turned into scans (nav/ground/depth_scan.h: people are followed within the camera's view). Each
 // scan is put in the map frame with the newest pose estimate and added to the tracker, whose objects and static
 // points go out on tracking/objects for the mission's evasion and the console. On the mapping executor, off the
-// camera's control path. Walls of the active map are not objects: the map library hands each new map to SetMap. The
-// tracks also mark where people walk (nav/tracking/traffic_map.h); every second the costs of those ways go to
-// `on_traffic`, for the planner.
+// camera's control path. Walls of the map in use (topics::kMapInUse) are not objects. The tracks also mark where
+// people walk (nav/tracking/traffic_map.h); every second the costs of those ways go to the planner
+// (topics::kTrafficLayer), unless traffic.weight is 0.
 #pragma once
 
 #include <functional>
@@ -27,10 +27,6 @@
 
 namespace corridor::server {
 
-// Where people walk, per cell of `map` (the map the costs were made over): for PlannerService::SetTraffic.
-using TrafficCallback =
-    std::function<void(std::shared_ptr<const std::vector<float>> cost, const nav::OccupancyGrid* map)>;
-
 // What the tracker reads: the laser's scans when there is a laser, else the depth camera's frames.
 struct TrackingSource {
   std::optional<nav::Pose2> base_T_laser;  // the laser's pose on the robot; none: no laser
@@ -41,18 +37,17 @@ struct TrackingSource {
 class TrackingNode final : public Node {
  public:
   // Throws std::invalid_argument for bad options (or, without a laser, a camera without size or focal length).
-  // `on_traffic` (may be empty) is called on the node's executor; with traffic.weight 0 it is never called.
   TrackingNode(Executor& mapping, Bus& bus, const TrackingSource& source, const nav::MovingObjectOptions& options,
-               const nav::TrafficOptions& traffic, TrafficCallback on_traffic);
+               const nav::TrafficOptions& traffic);
   void Activate() override;
-  // Thread-safe: takes effect on the node's executor.
-  void SetMap(std::shared_ptr<const nav::OccupancyGrid> map);
 
  private:
   // The newest pose estimate; none before the first, and the node says that `what` cannot be placed.
   std::optional<nav::Pose2> RobotPose(const char* what);
   void OnScan(const drivers::LaserScan& scan);
   void OnFrame(const drivers::RgbdFrame& frame);
+  // A new map in use: its walls for the tracker, and where people walk starts again over it.
+  void OnMap(const MapInUse& map);
   // Adds one scan, taken at stamp_ns from `sensor` (map frame; `view`: what it covers when not all round), its points
   // already in the map frame; hands on the traffic costs when due and publishes the objects.
   void Track(drivers::TimeNs stamp_ns, const Eigen::Vector2d& sensor, const std::vector<Eigen::Vector2d>& points,
@@ -62,7 +57,6 @@ class TrackingNode final : public Node {
   std::optional<nav::DepthScan> depth_scan_;  // without a laser
   nav::MovingObjectTracker tracker_;
   nav::TrafficOptions traffic_options_;
-  TrafficCallback on_traffic_;
   std::optional<nav::TrafficMap> traffic_;                            // over the current map
   std::shared_ptr<const nav::OccupancyGrid> map_;                     // the current map
   double traffic_sent_s_ = -std::numeric_limits<double>::infinity();  // scan time of the last costs handed on
@@ -70,6 +64,7 @@ class TrackingNode final : public Node {
   // The topics it reads and writes, resolved once.
   Topic<StampedPose>& pose_topic_ = bus().Get(topics::kPose);
   Topic<TrackedObjects>& tracked_objects_topic_ = bus().Get(topics::kTrackedObjects);
+  Topic<TrafficLayer>& traffic_topic_ = bus().Get(topics::kTrafficLayer);
 };
 
 }  // namespace corridor::server

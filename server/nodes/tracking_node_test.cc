@@ -25,7 +25,7 @@ TEST(TrackingNodeTest, WithoutALaserItTracksFromDepthFramesAndSaysWhenAFrameIsWr
   Bus bus;
   TrackingSource source;
   source.camera = ForwardCamera();
-  TrackingNode node(mapping, bus, source, nav::MovingObjectOptions{}, nav::TrafficOptions{}, nullptr);
+  TrackingNode node(mapping, bus, source, nav::MovingObjectOptions{}, nav::TrafficOptions{});
   node.Activate();
   EXPECT_NE(node.Status()["message"].get<std::string>().find("depth frames"), std::string::npos) << node.Status();
   bus.Get(topics::kPose).Publish(StampedPose{0, nav::Pose2{}});

@@ -1,6 +1,8 @@
 // The in-process topic bus. A topic has one name and one message type; publishers hand it immutable messages
 // (shared_ptr<const T>), it keeps the latest, and each subscriber gets messages on its own executor. A subscriber
-// that falls behind gets the newest message, not a backlog: a control loop must act on the latest frame.
+// that falls behind gets the newest message, not a backlog: a control loop must act on the latest frame. A latched
+// topic (what holds, such as the map in use, rather than what happens) also gives a new subscriber its latest message
+// at once, as a ROS 2 topic with transient-local durability does.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -24,6 +26,7 @@ namespace corridor::server {
 template <typename T>
 struct TopicName {
   std::string_view name;
+  bool latched = false;
 };
 
 template <typename T>
@@ -33,18 +36,20 @@ concept JsonMessage = requires(const T& message) {
 
 class TopicBase {
  public:
-  explicit TopicBase(std::string name) : name_(std::move(name)) {}
+  TopicBase(std::string name, bool latched) : name_(std::move(name)), latched_(latched) {}
   TopicBase(const TopicBase&) = delete;
   TopicBase& operator=(const TopicBase&) = delete;
   virtual ~TopicBase() = default;
 
   const std::string& name() const { return name_; }
+  bool latched() const { return latched_; }
   virtual const std::type_info& type() const = 0;
   // The latest message as JSON; nullopt before the first message or for binary types (camera frames).
   virtual std::optional<nlohmann::json> LatestJson() const = 0;
 
  private:
   std::string name_;
+  bool latched_;
 };
 
 template <typename T>
@@ -75,11 +80,12 @@ class Topic final : public TopicBase {
     return latest_;
   }
 
-  // Delivers future messages to `callback` on `executor`. Thread-safe.
+  // Delivers future messages to `callback` on `executor`, and on a latched topic the latest one first. Thread-safe.
   void Subscribe(Executor& executor, Callback callback) {
     auto s = std::make_shared<Subscriber>(executor, std::move(callback));
     std::lock_guard lock(mutex_);
-    subscribers_.push_back(std::move(s));
+    subscribers_.push_back(s);
+    if (latched() && latest_) s->Offer(latest_);
   }
 
   std::optional<nlohmann::json> LatestJson() const override {
@@ -129,13 +135,14 @@ class Bus {
   Bus(const Bus&) = delete;
   Bus& operator=(const Bus&) = delete;
 
-  // The topic with this name, created on first use. Asking for an existing name with another type is a bug.
+  // The topic with this name, created on first use. Asking for an existing name with another type, or latched where
+  // it is not, is a bug.
   template <typename T>
   Topic<T>& Get(TopicName<T> name) {
     std::lock_guard lock(mutex_);
     auto& slot = topics_[std::string(name.name)];
-    if (!slot) slot = std::make_unique<Topic<T>>(std::string(name.name));
-    DEMAND(slot->type() == typeid(T));
+    if (!slot) slot = std::make_unique<Topic<T>>(std::string(name.name), name.latched);
+    DEMAND(slot->type() == typeid(T) && slot->latched() == name.latched);
     return static_cast<Topic<T>&>(*slot);
   }
 

@@ -9,6 +9,8 @@ namespace {
 
 constexpr TopicName<nav::Twist2> kTwist{"twist"};
 constexpr TopicName<StampedPose> kWrongType{"twist"};
+constexpr TopicName<nav::Twist2> kLatchedTwist{"latched", true};
+constexpr TopicName<nav::Twist2> kNotLatched{"latched"};
 
 TEST(BusTest, SubscriberGetsMessagesOnItsExecutorAndLatestIsKept) {
   Bus bus;
@@ -46,10 +48,37 @@ TEST(BusTest, SlowSubscriberSkipsToTheNewestMessage) {
   EXPECT_EQ(seen[0], 99.0);
 }
 
+TEST(BusTest, ALatchedTopicGivesALateSubscriberItsLatestMessageThenTheNextOnes) {
+  Bus bus;
+  const drivers::SteadyClock clock;
+  Executor executor("test", clock, Schedule::kLockstep);
+  std::vector<double> early;
+  std::vector<double> late;
+  std::vector<double> plain;
+  bus.Get(kLatchedTwist).Subscribe(executor, [&](const auto& m) { early.push_back(m->linear_mps); });
+  bus.Get(kLatchedTwist).Publish(nav::Twist2{1.0, 0.0});
+  bus.Get(kTwist).Publish(nav::Twist2{1.0, 0.0});
+  executor.Poll();
+  bus.Get(kLatchedTwist).Subscribe(executor, [&](const auto& m) { late.push_back(m->linear_mps); });
+  bus.Get(kTwist).Subscribe(executor, [&](const auto& m) { plain.push_back(m->linear_mps); });
+  executor.Poll();
+  bus.Get(kLatchedTwist).Publish(nav::Twist2{2.0, 0.0});
+  executor.Poll();
+  EXPECT_EQ(early, (std::vector<double>{1.0, 2.0}));
+  EXPECT_EQ(late, (std::vector<double>{1.0, 2.0}));
+  EXPECT_TRUE(plain.empty());  // not latched: only what comes after
+}
+
 TEST(BusDeathTest, SameNameWithAnotherTypeIsABug) {
   Bus bus;
   bus.Get(kTwist);
   EXPECT_DEATH(bus.Get(kWrongType), "DEMAND");
+}
+
+TEST(BusDeathTest, SameNameLatchedAndNotIsABug) {
+  Bus bus;
+  bus.Get(kLatchedTwist);
+  EXPECT_DEATH(bus.Get(kNotLatched), "DEMAND");
 }
 
 }  // namespace

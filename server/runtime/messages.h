@@ -204,6 +204,48 @@ struct MappingState {
   std::string error;                               // why the last stop could not save it (mapping goes on)
 };
 
+// The map the robot navigates on, with what belongs to it: its keep-out and slow zones, the doors a mission asks the
+// building to open on it (none without a door controller), and the building's floors and lifts. Published whenever
+// the map is switched or anything on it is edited; nodes that keep a copy of the map compare `grid` to see whether
+// the map itself changed.
+struct MapInUse {
+  std::string name;
+  std::shared_ptr<const nav::OccupancyGrid> grid;
+  std::vector<nav::Zone> zones;
+  std::vector<nav::Door> doors;
+  nav::Building building;
+};
+
+// While exploring, the map being built, which the planner plans on instead of the map in use; a null grid: plan on
+// the map in use (exploring is over).
+struct ExploringMap {
+  std::shared_ptr<const nav::OccupancyGrid> grid;
+};
+
+// Where people have been walking, per cell of `map` (nav::TrafficMap::StepCost), added to every plan's step costs
+// while `map` is the map in use. A null cost: nobody has walked (missions do not reroute).
+struct TrafficLayer {
+  std::shared_ptr<const nav::OccupancyGrid> map;
+  std::shared_ptr<const std::vector<float>> cost;
+};
+
+// Obstacles the map does not show (the 3D map's layer), per cell of `map`: obstacles in every costmap while `map` is
+// the map in use.
+struct ObstacleLayer {
+  std::shared_ptr<const nav::OccupancyGrid> map;
+  std::shared_ptr<const std::vector<std::int8_t>> cells;
+};
+
+// Explore the map being built (mapping is under way, or was just started by whoever asked).
+struct ExploreCommand {
+  std::string origin;  // who asked: "rest", ...
+};
+
+// Whether the robot is exploring (ExploreNode).
+struct ExploreState {
+  bool exploring = false;
+};
+
 // The face's current expression, and the last thing the robot said (said_sequence counts up with every phrase, so a
 // subscriber that sees a new one speaks it once).
 struct FaceState {

@@ -14,6 +14,8 @@ inline constexpr TopicName<StampedPose> kPose{"pose"};  // the robot in the map 
 inline constexpr TopicName<LocalizationState> kLocalization{"localization"};
 inline constexpr TopicName<LocalizationCommand> kLocalizationCommand{"localization/command"};
 inline constexpr TopicName<MappingState> kMapping{"mapping"};
+inline constexpr TopicName<ExploreCommand> kExploreCommand{"mapping/explore"};
+inline constexpr TopicName<ExploreState> kExploreState{"mapping/exploring", true};
 inline constexpr TopicName<StampedPose> kSimTruePose{"sim/true_pose"};          // ground truth, simulator only
 inline constexpr TopicName<SimPedestrians> kSimPedestrians{"sim/pedestrians"};  // simulator only
 inline constexpr TopicName<TeleopCommand> kTeleop{"teleop"};
@@ -36,5 +38,10 @@ inline constexpr TopicName<DoorStates> kDoorStates{"doors/state"};
 inline constexpr TopicName<LiftRequests> kLiftRequests{"lifts/requests"};
 inline constexpr TopicName<LiftStates> kLiftStates{"lifts/state"};
 inline constexpr TopicName<ControlLatency> kControlLatency{"control/latency"};
+// What holds rather than what happens: latched (a node subscribing gets the latest at once).
+inline constexpr TopicName<MapInUse> kMapInUse{"map/in_use", true};
+inline constexpr TopicName<ExploringMap> kExploringMap{"map/exploring", true};
+inline constexpr TopicName<TrafficLayer> kTrafficLayer{"planner/traffic", true};
+inline constexpr TopicName<ObstacleLayer> kObstacleLayer{"planner/obstacles", true};
 
 }  // namespace corridor::server::topics
