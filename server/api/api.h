@@ -81,11 +81,9 @@ struct ApiContext {
   MapLibrary& maps;
   Store& store;
   PlannerService& planner;
-  MissionNode& missions;       // read only: missions start, pause and end through the core
-  const RobotCore& core;       // every command that moves the robot or sets its pose
-  OctreeNode* octree;          // null when the 3D map is off (octomap.enabled: false)
-  PerceptionNode* perception;  // null when perception.enabled is false
-  LocalizationNode& localization;
+  const RobotCore& core;        // every command that moves the robot or sets its pose
+  OctreeNode* octree;           // null when the 3D map is off (octomap.enabled: false)
+  PerceptionNode* perception;   // null when perception.enabled is false
   const SpokenPhrases& spoken;  // the audio of what the face said lately
   Webhooks& webhooks;           // on the io executor, as the handlers are
   auth::AccessControl& access;  // users, sessions, tokens, the audit log, who may call what

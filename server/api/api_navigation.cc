@@ -120,7 +120,7 @@ void Api::AddNavigationRoutes() {
       }));
   Add(http::verb::get, "/api/v1/missions/{id}", Access::kViewer, Sync([this](const Request& r, const Params& p) {
         const std::string& id = p.at("id");
-        if (auto state = c_.missions.Describe(id)) return JsonResponse(r, ToJson(*state));
+        if (auto state = c_.core.Mission(id)) return JsonResponse(r, ToJson(*state));
         if (auto doc = c_.store.Mission(id)) return JsonResponse(r, *doc);
         throw ApiError(http::status::not_found, "Not found", "no mission " + id);
       }));
@@ -211,14 +211,14 @@ nav::Place Api::FindDock(const std::string& wanted) const {
 
 std::vector<nav::MissionGoal> Api::DockGoals(const std::string& wanted) const {
   const nav::Place dock = FindDock(wanted);
-  if (c_.missions.docked()) {
+  if (c_.core.Docked()) {
     throw ApiError(http::status::conflict, "Docked", "the robot stands on a dock already", "docked");
   }
   return {nav::DockGoal(dock, c_.config.mission.docking.dock)};
 }
 
 std::vector<nav::MissionGoal> Api::UndockGoals() const {
-  if (!c_.missions.docked()) {
+  if (!c_.core.Docked()) {
     throw ApiError(http::status::conflict, "Not docked", "the robot is not on a dock", "not_docked");
   }
   const auto pose = c_.bus.Get(topics::kPose).latest();
@@ -264,7 +264,7 @@ Response Api::MissionAction(const Request& request, const std::string& id, Missi
   if (outcome == nav::TransitionOutcome::kNotFound) {
     throw ApiError(http::status::not_found, "Not found", "no mission " + id + " in progress");
   }
-  const MissionState state = *c_.missions.Describe(id);
+  const MissionState state = *c_.core.Mission(id);
   if (outcome == nav::TransitionOutcome::kConflict) {
     throw ApiError(http::status::conflict, "Not allowed now",
                    std::string("cannot ") + ToString(step) + " a mission that is " + nav::ToString(state.status),

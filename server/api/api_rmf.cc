@@ -217,7 +217,7 @@ void Api::AddRmfRoutes() {
         if (command->mission_id.empty()) {
           return JsonResponse(r, {{"cmd_id", cmd_id}, {"completed", true}, {"status", "succeeded"}, {"error", ""}});
         }
-        const auto state = c_.missions.Describe(command->mission_id);
+        const auto state = c_.core.Mission(command->mission_id);
         const auto stored = state ? std::nullopt : c_.store.Mission(command->mission_id);
         const std::string status = state    ? nav::ToString(state->status)
                                    : stored ? stored->value("status", "canceled")

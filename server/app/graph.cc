@@ -162,12 +162,6 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
     }
     AddSimulatedDock(store_, maps_->active()->name, dock);
   }
-  // Low on charge, an idle robot goes to the dock nearest to it on the active map.
-  const auto nearest_dock = [this](const nav::Pose2& robot) -> std::optional<nav::MissionGoal> {
-    const auto dock = nav::NearestDock(store_.Places(maps_->active()->name), robot.translation());
-    if (!dock) return std::nullopt;
-    return nav::DockGoal(*dock, config_.mission.docking.dock);
-  };
   // A lift has brought the robot to another floor: that floor's map, the robot where the lift put it.
   const auto switch_floor = [this](const std::string& floor, const nav::Pose2& pose) {
     const nav::Building building = BuildingOf(config_.building);
@@ -234,7 +228,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   auto explore_node = std::make_unique<ExploreNode>(executors_.mapping, bus_, *core_);
   lifecycle_.Add(std::move(mission_node));
   lifecycle_.Add(std::move(explore_node));
-  lifecycle_.Add(std::make_unique<ChargingNode>(executors_.io, bus_, *core_, config_.charging, nearest_dock));
+  lifecycle_.Add(std::make_unique<ChargingNode>(executors_.io, bus_, *core_, config_.charging));
   lifecycle_.Add(std::make_unique<ControlNode>(executors_.control, bus_, devices_.base, config_.safety));
   lifecycle_.Add(std::make_unique<DevicesNode>(executors_.io, bus_, devices_.slots, config_.safety));
   // The building's door controller, when one is configured: missions ask it to open the doors on their way. In a
@@ -267,8 +261,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   }
   // A VDA 5050 master control's orders, when a broker is configured.
   if (!config_.fleet.vda5050.broker.empty()) {
-    lifecycle_.Add(
-        std::make_unique<Vda5050Node>(executors_.io, bus_, config_, *core_, *missions_, nearest_dock, hooks.robot));
+    lifecycle_.Add(std::make_unique<Vda5050Node>(executors_.io, bus_, config_, *core_, hooks.robot));
   }
   lifecycle_.ConfigureAll();
 
@@ -277,11 +270,9 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
                                           *maps_,
                                           store_,
                                           planner_,
-                                          *missions_,
                                           *core_,
                                           octree_,
                                           perception_,
-                                          *localization_,
                                           *spoken_,
                                           *webhooks_,
                                           access_,

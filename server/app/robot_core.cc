@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "nav/demand.h"
+#include "nav/mission/docking.h"
 #include "server/fleet/doors.h"
 #include "server/runtime/topics.h"
 
@@ -191,6 +192,16 @@ std::optional<MapRefused> RobotCore::SelectMap(const std::string& name, std::str
   Stale();
   spdlog::info("map '{}' in use, from {}", name, origin);
   return std::nullopt;
+}
+
+std::optional<MissionState> RobotCore::Mission(const std::string& id) const { return missions_.Describe(id); }
+
+bool RobotCore::Docked() const { return missions_.docked(); }
+
+std::optional<nav::MissionGoal> RobotCore::NearestDock(const nav::Pose2& robot) const {
+  const auto dock = nav::NearestDock(store_.Places(maps_.active()->name), robot.translation());
+  if (!dock) return std::nullopt;
+  return nav::DockGoal(*dock, config_.mission.docking.dock);
 }
 
 std::optional<std::string> RobotCore::OffMap(const nav::Pose2& pose) const {

@@ -124,6 +124,12 @@ class RobotCore {
   nav::TransitionOutcome Command(MissionStep step, const std::string& id, std::string_view origin) const;
   // Makes map `name` the one in use (the console's choice, or a floor a fleet adapter took the robot to), or refuses.
   std::optional<MapRefused> SelectMap(const std::string& name, std::string_view origin) const;
+  // Mission `id`'s state when it is the current (or last) one: its progress for VDA 5050, RMF and REST.
+  std::optional<MissionState> Mission(const std::string& id) const;
+  // The robot stands on its dock now. Thread-safe.
+  bool Docked() const;
+  // The docking goal to the dock nearest `robot` (map frame) on the map in use, if the map has a dock.
+  std::optional<nav::MissionGoal> NearestDock(const nav::Pose2& robot) const;
   // Why `pose` is not on the map in use ("(x, y) is not on map 'name'"), or nothing when it is.
   std::optional<std::string> OffMap(const nav::Pose2& pose) const;
   // Drives the base by hand (the console's joystick and keys, the stream, ROS 2's cmd_vel): the control node takes

@@ -8,9 +8,8 @@
 
 namespace corridor::server {
 
-ChargingNode::ChargingNode(Executor& executor, Bus& bus, const RobotCore& core, const nav::ChargingOptions& options,
-                           MissionNode::DockFinder find_dock)
-    : Node("charging", executor, bus), core_(core), policy_(options), find_dock_(std::move(find_dock)) {}
+ChargingNode::ChargingNode(Executor& executor, Bus& bus, const RobotCore& core, const nav::ChargingOptions& options)
+    : Node("charging", executor, bus), core_(core), policy_(options) {}
 
 void ChargingNode::Activate() {
   Subscribe(topics::kBattery, "battery", [this](const auto& battery) { OnBattery(*battery); });
@@ -23,7 +22,7 @@ void ChargingNode::OnBattery(const drivers::BatteryState& battery) {
   const bool busy = mission && nav::InProgress(mission->status);
   const double now_s = drivers::ToSeconds(clock().Now());
   if (!policy_.ShouldGo(now_s, battery.charge, battery.on_charger || state->docked, busy)) return;
-  const std::optional<nav::MissionGoal> dock = state->pose && find_dock_ ? find_dock_(state->pose->pose) : std::nullopt;
+  const std::optional<nav::MissionGoal> dock = state->pose ? core_.NearestDock(state->pose->pose) : std::nullopt;
   if (!dock) {
     spdlog::warn("battery at {:.0f} %: no dock on this map to charge at", battery.charge * 100.0);
     return;

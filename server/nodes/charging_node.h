@@ -5,16 +5,13 @@
 
 #include "nav/mission/docking.h"
 #include "server/app/robot_core.h"
-#include "server/nodes/mission_node.h"
 #include "server/runtime/node.h"
 
 namespace corridor::server {
 
 class ChargingNode final : public Node {
  public:
-  // `find_dock`: the docking goal to the dock nearest the robot, on the map in use.
-  ChargingNode(Executor& executor, Bus& bus, const RobotCore& core, const nav::ChargingOptions& options,
-               MissionNode::DockFinder find_dock);
+  ChargingNode(Executor& executor, Bus& bus, const RobotCore& core, const nav::ChargingOptions& options);
   void Activate() override;
 
  private:
@@ -22,7 +19,6 @@ class ChargingNode final : public Node {
 
   const RobotCore& core_;
   nav::ChargingPolicy policy_;
-  MissionNode::DockFinder find_dock_;
 };
 
 }  // namespace corridor::server

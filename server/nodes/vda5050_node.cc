@@ -55,15 +55,13 @@ std::string TopicLevel(std::string name) {
 
 }  // namespace
 
-Vda5050Node::Vda5050Node(Executor& io, Bus& bus, const Config& config, const RobotCore& core, MissionNode& missions,
-                         MissionNode::DockFinder find_dock, std::string robot_name)
+Vda5050Node::Vda5050Node(Executor& io, Bus& bus, const Config& config, const RobotCore& core, std::string robot_name)
     : PeriodicNode("vda5050", io, bus, config.fleet.vda5050.visualization_hz),
       options_(config.fleet.vda5050),
       config_(config),
       identity_(IdentityOf(options_, TopicLevel(std::move(robot_name)))),
       core_(core),
-      missions_(missions),
-      agent_({0.5, config.mission.docking.dock}, std::move(find_dock)) {
+      agent_({0.5, config.mission.docking.dock}, [&core](const nav::Pose2& near) { return core.NearestDock(near); }) {
   vehicle_.max_speed_mps = config.mission.navigator.follower.max_linear_mps;
   vehicle_.max_deceleration_mps2 = config.safety.stopping.max_decel_mps2;
   vehicle_.radius_m = config.planner.robot_radius_m;
@@ -257,7 +255,7 @@ void Vda5050Node::ExtendMission(std::vector<nav::MissionGoal> goals) {
         if (const auto* refusal = std::get_if<nav::MissionRefusal>(&result)) return Refused(*refusal, NodesOf(goals));
         if (std::get<nav::TransitionOutcome>(result) == nav::TransitionOutcome::kOk) return agent_.Extended();
         // The mission ended meanwhile: its last progress first, then a new one for these goals.
-        if (const auto last = missions_.Describe(id)) Carry(agent_.Progress(ProgressOf(*last)));
+        if (const auto last = core_.Mission(id)) Carry(agent_.Progress(ProgressOf(*last)));
         StartMission(goals);
       });
     });
@@ -280,7 +278,7 @@ void Vda5050Node::Answered(const MissionResult& result, const std::vector<std::s
   Carry(agent_.Started(state.id, state.goals.size() - asked));
   if (agent_.paused()) core_.Command(MissionStep::kPause, state.id, "vda5050");
   // What the mission did while the answer was on its way (it may have ended already).
-  if (const auto now = missions_.Describe(state.id)) Carry(agent_.Progress(ProgressOf(*now)));
+  if (const auto now = core_.Mission(state.id)) Carry(agent_.Progress(ProgressOf(*now)));
 }
 
 void Vda5050Node::Carry(VdaCommands c) {

@@ -27,9 +27,8 @@ class Vda5050Node final : public PeriodicNode {
   // `robot_name` is the serial number when the options give none. Throws std::invalid_argument for a broker address
   // that is not an MQTT URL.
   // Missions start, extend, pause, resume and cancel through `core` (an order or an update with a node the core
-  // refuses is refused on arrival), which also gives the state; `missions` is read for a mission's progress.
-  Vda5050Node(Executor& io, Bus& bus, const Config& config, const RobotCore& core, MissionNode& missions,
-              MissionNode::DockFinder find_dock, std::string robot_name);
+  // refuses is refused on arrival), which also gives the state, a mission's progress and the dock to go to.
+  Vda5050Node(Executor& io, Bus& bus, const Config& config, const RobotCore& core, std::string robot_name);
   void Activate() override;
   void Deactivate() override;
 
@@ -64,7 +63,6 @@ class Vda5050Node final : public PeriodicNode {
   const Config& config_;
   VdaIdentity identity_;
   const RobotCore& core_;
-  MissionNode& missions_;
   VdaSchemas schemas_;
   VdaAgent agent_;
   VdaVehicle vehicle_;
