@@ -8,42 +8,31 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <set>
 #include <string>
 
-#include "drivers/sim/world.h"
-#include "nav/map/map_io.h"
 #include "testing/lockstep_robot.h"
-#include "testing/temp_dir.h"
+#include "testing/sim_room.h"
 
 namespace corridor {
 namespace {
 
 using nlohmann::json;
 using testing::LockstepRobot;
-namespace fs = std::filesystem;
 
 constexpr double kDockX = 3.2, kDockY = 1.5;  // the docked pose, facing the room's east wall (yaw 0)
 
-// A 4 x 3 m room with the simulator's dock in a directory of its own, and its configuration; removed with it.
-class DockRoom {
- public:
-  explicit DockRoom(const std::string& extra = "") {
-    nav::SaveMap(drivers::sim::RoomMap(4.0, 3.0, 0.05), dir_.path() / "room.yaml");
-    std::ofstream(dir_.path() / "corridor.yaml") << "sim:\n"
-                                                    "  world: room.yaml\n"
-                                                    "  start: {x_m: 1.0, y_m: 1.0, yaw_deg: 90}\n"
-                                                    "  camera: {width: 160, height: 120}\n"
-                                                    "  dock: {enabled: true, x_m: 3.2, y_m: 1.5, yaw_deg: 0}\n"
-                                                 << extra;
-  }
-  fs::path config() const { return dir_.path() / "corridor.yaml"; }
-
- private:
-  testing::TempDir dir_{"corridor_dock"};
-};
+// A 4 x 3 m room with the simulator's dock, and its configuration (`extra` added at the end).
+testing::SimRoom DockRoom(const std::string& extra = "") {
+  return testing::SimRoom(4.0, 3.0,
+                          "sim:\n"
+                          "  world: room.yaml\n"
+                          "  start: {x_m: 1.0, y_m: 1.0, yaw_deg: 90}\n"
+                          "  camera: {width: 160, height: 120}\n"
+                          "  dock: {enabled: true, x_m: 3.2, y_m: 1.5, yaw_deg: 0}\n" +
+                              extra);
+}
 
 bool Finished(const json& state) { return state["mission"].is_object() && state["mission"]["status"] != "active"; }
 
@@ -76,7 +65,7 @@ std::vector<std::string> Actions(const json& mission) {
 }
 
 TEST(DockingLockstep, DocksWithinTwoCentimetresChargesSleepsAndAMissionFromTheDockBacksOffFirst) {
-  DockRoom room;
+  const testing::SimRoom room = DockRoom();
   LockstepRobot robot(room.config());
   const LockstepRobot::Reply started = robot.Call("POST", "/api/v1/dock", json::object());
   ASSERT_EQ(started.status, 201) << started.body.dump();
@@ -126,7 +115,7 @@ TEST(DockingLockstep, DocksWithinTwoCentimetresChargesSleepsAndAMissionFromTheDo
 }
 
 TEST(DockingLockstep, UndockingOnItsOwnBacksStraightOffToTheStagingPose) {
-  DockRoom room;
+  const testing::SimRoom room = DockRoom();
   LockstepRobot robot(room.config());
   ASSERT_EQ(robot.Call("POST", "/api/v1/dock", {{"dock", "dock"}}).status, 201);
   const json on = UntilFinished(robot, 90.0);
@@ -142,7 +131,7 @@ TEST(DockingLockstep, UndockingOnItsOwnBacksStraightOffToTheStagingPose) {
 }
 
 TEST(DockingLockstep, AnIdleRobotBelowChargeBelowPercentGoesToItsDockByItself) {
-  DockRoom room("  battery: {initial_percent: 15}\ndocking:\n  charge_below_percent: 20\n");
+  const testing::SimRoom room = DockRoom("  battery: {initial_percent: 15}\ndocking:\n  charge_below_percent: 20\n");
   LockstepRobot robot(room.config());
   json state;
   ASSERT_TRUE(robot.StepUntil(
