@@ -1,12 +1,14 @@
-// Planning and missions in a small real arena (lse_arena, 4 x 3 m): a lower room and two upper rooms joined by one
-// 1.2 m doorway (x 0.8 to 2.0, y about 1.5). Odometry is noiseless here so that accuracy is the controller's.
+// Planning and missions over HTTP in a small real arena (lse_arena, 4 x 3 m): a lower room and two upper rooms joined
+// by one 1.2 m doorway (x 0.8 to 2.0, y about 1.5). What the robot does with its missions (arriving within 2 cm, pausing,
+// places, keep-out zones) is tests/missions_lockstep_test.cc in simulated time; here are the requests, their answers
+// against the OpenAPI document, and what survives a restart.
 import assert from 'node:assert/strict';
 import { copyFileSync, mkdirSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
-import { getJson, openApiValidator, postJson, sendJson, sleep, sourceDir, startDaemon, waitFor } from './daemon.mjs';
+import { getJson, openApiValidator, postJson, sendJson, sourceDir, startDaemon } from './daemon.mjs';
 
 const api = openApiValidator();
 const config = `
@@ -18,27 +20,12 @@ sim:
   base: {odom_linear_noise: 0, odom_angular_noise: 0}
 `;
 const upperRoom = { x: 1.0, y: 2.4 };
-const doorway = [[0.7, 1.2], [2.1, 1.2], [2.1, 1.8], [0.7, 1.8]];
 
 const state = async (url) => (await getJson(`${url}/api/v1/state`)).body;
-const mission = async (url, id) => {
-  const res = await getJson(`${url}/api/v1/missions/${id}`);
-  api.check('Mission', res.body);
-  return res.body;
-};
-const degrees = (rad) => (rad * 180) / Math.PI;
-const angleDiff = (a, b) => Math.atan2(Math.sin(a - b), Math.cos(a - b));
-
-async function startMission(url, body) {
-  const res = await postJson(`${url}/api/v1/missions`, body);
-  assert.equal(res.status, 201, JSON.stringify(res.body));
-  api.check('Mission', res.body);
-  return res.body.id;
-}
 
 describe('missions in the arena', () => {
   let daemon;
-  before(async () => { daemon = await startDaemon({ config }); await sleep(300); });
+  before(async () => { daemon = await startDaemon({ config }); });
   after(async () => { await daemon?.stop(); });
 
   test('a plan over REST, without moving', async () => {
@@ -84,105 +71,18 @@ describe('missions in the arena', () => {
     assert.notEqual((await state(daemon.url)).mode, 'mission');
   });
 
-  test('a goal over REST: the robot arrives within 2 cm and 2 degrees', async () => {
-    const goal = { x: 3.0, y: 0.9, yaw: Math.PI / 2 };
-    const id = await startMission(daemon.url, { waypoints: [goal] });
-    const running = await waitFor(() => mission(daemon.url, id), (m) => m.path.length >= 2, 5000, 'a path');
-    assert.equal(running.status, 'active');
-    assert.ok(running.eta_s > 0);
-    const done = await waitFor(() => mission(daemon.url, id), (m) => m.status !== 'active', 30000, 'the end');
-    assert.equal(done.status, 'succeeded', done.error);
-    assert.equal(done.progress, 1);
-    await sleep(100);  // one state push: the robot is idle as soon as the mission ends
-    const s = await state(daemon.url);
-    const truth = s.sim_true_pose;
-    const error_cm = Math.hypot(truth.x - goal.x, truth.y - goal.y) * 100;
-    const error_deg = Math.abs(degrees(angleDiff(truth.yaw, goal.yaw)));
-    assert.ok(error_cm <= 2.0, `${error_cm.toFixed(2)} cm from the goal`);
-    assert.ok(error_deg <= 2.0, `${error_deg.toFixed(2)} degrees from the goal heading`);
-    assert.equal(s.mode, 'idle');
+  test('a mission over REST is started, described and cancelled', async () => {
+    const started = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [upperRoom] });
+    assert.equal(started.status, 201, JSON.stringify(started.body));
+    api.check('Mission', started.body);
+    const described = await getJson(`${daemon.url}/api/v1/missions/${started.body.id}`);
+    api.check('Mission', described.body);
+    const cancelled = await postJson(`${daemon.url}/api/v1/missions/${started.body.id}/cancel`, {});
+    assert.equal(cancelled.status, 200, JSON.stringify(cancelled.body));
+    assert.equal(cancelled.body.status, 'canceled');
     const listed = await getJson(`${daemon.url}/api/v1/missions`);
     api.check('Missions', listed.body);
-    assert.ok(listed.body.missions.some((m) => m.id === id && m.status === 'succeeded'), 'persisted');
-  });
-
-  test('a paused mission stays still, resumes and finishes', async () => {
-    const id = await startMission(daemon.url, { waypoints: [{ x: 1.0, y: 0.75 }], speed_limit_mps: 0.3 });
-    await waitFor(() => state(daemon.url), (s) => s.velocity.linear_mps > 0.1, 8000, 'the robot moving');
-    const paused = await postJson(`${daemon.url}/api/v1/missions/${id}/pause`, {});
-    assert.equal(paused.status, 200);
-    assert.equal(paused.body.status, 'paused');
-    assert.equal((await postJson(`${daemon.url}/api/v1/missions/${id}/pause`, {})).status, 409);
-    await sleep(800);  // braking
-    const held = (await state(daemon.url)).sim_true_pose;
-    await sleep(1500);
-    const still = (await state(daemon.url)).sim_true_pose;
-    assert.ok(Math.hypot(still.x - held.x, still.y - held.y) < 0.002, 'stays still while paused');
-    assert.equal((await postJson(`${daemon.url}/api/v1/missions/${id}/resume`, {})).body.status, 'active');
-    const done = await waitFor(() => mission(daemon.url, id), (m) => m.status !== 'active', 30000, 'the end');
-    assert.equal(done.status, 'succeeded', done.error);
-    assert.equal((await postJson(`${daemon.url}/api/v1/missions/${id}/cancel`, {})).status, 409);
-    assert.equal((await postJson(`${daemon.url}/api/v1/missions/nope/cancel`, {})).status, 404);
-  });
-
-  test('a named place is a goal', async () => {
-    const created = await postJson(`${daemon.url}/api/v1/places`, { name: 'dock', x: 2.5, y: 0.7, yaw: 0 });
-    assert.equal(created.status, 201);
-    api.check('Place', created.body);
-    assert.equal((await postJson(`${daemon.url}/api/v1/places`, { name: 'dock', x: 1, y: 1 })).status, 409);
-    // Issue 36: a place the robot cannot stand at (on the wall between the rooms, off the map) is refused, saying why.
-    for (const [where, why] of [[{ x: 3.0, y: 1.5 }, /wall|too close/], [{ x: 100, y: 100 }, /outside the map/]]) {
-      const refused = await postJson(`${daemon.url}/api/v1/places`, { name: 'nowhere', ...where });
-      assert.equal(refused.status, 422, JSON.stringify(refused.body));
-      assert.match(refused.body.detail, why);
-    }
-    assert.ok(!(await getJson(`${daemon.url}/api/v1/places`)).body.places.some((p) => p.name === 'nowhere'));
-    const id = await startMission(daemon.url, { waypoints: [{ place: 'dock' }] });
-    const done = await waitFor(() => mission(daemon.url, id), (m) => m.status !== 'active', 30000, 'the end');
-    assert.equal(done.status, 'succeeded', done.error);
-    assert.equal(done.waypoints[0].place, 'dock');
-  });
-
-  test('a keep-out zone across the only doorway: a clear error and no motion', async () => {
-    const zone = await postJson(`${daemon.url}/api/v1/zones`, { name: 'wet floor', kind: 'keep_out', polygon: doorway });
-    assert.equal(zone.status, 201);
-    api.check('Zone', zone.body);
-    try {
-      const plan = await postJson(`${daemon.url}/api/v1/plan`, { goal: upperRoom });
-      assert.equal(plan.status, 422);
-      assert.equal(plan.body.code, 'no_path');
-      const before = (await state(daemon.url)).sim_true_pose;
-      const id = await startMission(daemon.url, { waypoints: [upperRoom] });
-      const failed = await waitFor(() => mission(daemon.url, id), (m) => m.status !== 'active', 5000, 'failure');
-      assert.equal(failed.status, 'failed');
-      assert.match(failed.error, /no path/);
-      await sleep(500);
-      const after = (await state(daemon.url)).sim_true_pose;
-      assert.ok(Math.hypot(after.x - before.x, after.y - before.y) < 0.005, 'no motion');
-      // A goal inside the zone is refused up front.
-      const inside = await postJson(`${daemon.url}/api/v1/missions`, { waypoints: [{ x: 1.4, y: 1.5 }] });
-      assert.equal(inside.status, 422);
-      assert.match(inside.body.detail, /keep-out/);
-    } finally {
-      assert.equal((await sendJson('DELETE', `${daemon.url}/api/v1/zones/${zone.body.id}`)).status, 204);
-    }
-    assert.equal((await postJson(`${daemon.url}/api/v1/plan`, { goal: upperRoom })).status, 200);
-  });
-
-  test('a zone drawn across the path during a mission is respected at once', async () => {
-    const id = await startMission(daemon.url, { waypoints: [upperRoom], speed_limit_mps: 0.25 });
-    await waitFor(() => state(daemon.url), (s) => s.velocity.linear_mps > 0.1, 8000, 'the robot moving');
-    const zone = await postJson(`${daemon.url}/api/v1/zones`, { name: 'closed', kind: 'keep_out', polygon: doorway });
-    try {
-      const m = await waitFor(() => mission(daemon.url, id), (x) => x.status !== 'active', 8000, 'the mission to stop');
-      assert.equal(m.status, 'failed');
-      await sleep(1000);
-      const s = await state(daemon.url);
-      assert.ok(s.sim_true_pose.y < 1.2, `stopped before the zone, at y = ${s.sim_true_pose.y}`);
-      assert.equal(s.velocity.linear_mps, 0);
-    } finally {
-      await sendJson('DELETE', `${daemon.url}/api/v1/zones/${zone.body.id}`);
-    }
+    assert.ok(listed.body.missions.some((m) => m.id === started.body.id));
   });
 
   test('zones are validated', async () => {
