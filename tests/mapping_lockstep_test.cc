@@ -1,7 +1,9 @@
 // Mapping a new building through the daemon's graph in simulated time (testing/lockstep_robot.h): graph SLAM from the
 // simulated laser while a mission drives the robot round the small house, started and stopped through the API; the
 // map saved is the active map, with its 3D map beside it, its walls where the house's reference map has them, and
-// localization goes on in it. (The mapping requests over real HTTP are tests/mapping_test.mjs.)
+// localization goes on in it. Exploring two rooms: the robot drives to the frontiers on its own until none is left, and
+// the map saved has both rooms with their walls where the world has them. (The mapping requests over real HTTP are
+// tests/mapping_test.mjs.)
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,7 +15,9 @@
 #include <utility>
 #include <vector>
 
+#include "drivers/sim/world.h"
 #include "nav/map/map_io.h"
+#include "server/runtime/topics.h"
 #include "testing/lockstep_robot.h"
 #include "testing/source_dir.h"
 #include "testing/temp_dir.h"
@@ -137,6 +141,63 @@ TEST(MappingLockstep, AMapBuiltWhileDrivingThroughTheHouseHasItsWallsWhereTheRef
                        s["pose"]["y"].get<double>() - s["sim_true_pose"]["y"].get<double>()),
             0.1)
       << s["pose"].dump() << " against the truth " << s["sim_true_pose"].dump();
+}
+
+// Two 4 x 4 m rooms side by side, the wall between them open from y 1.5 to 2.5 m.
+nav::OccupancyGrid TwoRooms() {
+  nav::OccupancyGrid grid = drivers::sim::RoomMap(8.0, 4.0, 0.05);
+  for (int y = 0; y < grid.height(); ++y) {
+    for (int x = 0; x < grid.width(); ++x) {
+      const Eigen::Vector2d c = grid.CellCenter({x, y});
+      if (std::abs(c.x() - 4.0) < 0.075 && (c.y() < 1.5 || c.y() > 2.5)) grid.at({x, y}) = nav::kOccupiedCell;
+    }
+  }
+  return grid;
+}
+
+TEST(MappingLockstep, ExploringDrivesToTheFrontiersUntilNoneIsLeftAndSavesBothRooms) {
+  const testing::TempDir dir("corridor_rooms");
+  nav::SaveMap(TwoRooms(), dir.path() / "rooms.yaml");
+  std::ofstream(dir.path() / "corridor.yaml") << "map: {file: rooms.yaml}\n"
+                                                 "sim:\n"
+                                                 "  world: rooms.yaml\n"
+                                                 "  start: {x_m: 1.0, y_m: 2.0, yaw_deg: 180}\n"
+                                                 "localization: {source: mcl}\n";
+  LockstepRobot robot(dir.path() / "corridor.yaml");
+  ASSERT_TRUE(robot.StepUntil([&] { return robot.Call("GET", "/api/v1/localization").body["health"] == "ok"; }, 15.0))
+      << "localization never ok";
+  EXPECT_EQ(robot.Call("POST", "/api/v1/mapping/explore", json::object()).status, 400) << "a name is needed";
+  const LockstepRobot::Reply started = robot.Call("POST", "/api/v1/mapping/explore", {{"name", "rooms-explored"}});
+  ASSERT_EQ(started.status, 202) << started.body.dump();
+  const auto mapping = [&] { return robot.Call("GET", "/api/v1/mapping").body; };
+  ASSERT_TRUE(robot.StepUntil([&] { return mapping()["exploring"] == true; }, 5.0)) << "not exploring";
+  int goals = 0;
+  std::string last_goal;
+  json saved;
+  robot.StepUntil(
+      [&] {
+        const auto mission = robot.graph().bus().Get(server::topics::kMission).latest();
+        if (mission && mission->id != last_goal) {
+          last_goal = mission->id;
+          ++goals;
+        }
+        saved = mapping();
+        return saved["active"] == false;
+      },
+      300.0);
+  ASSERT_EQ(saved["saved"], "rooms-explored") << saved.dump();
+  EXPECT_EQ(saved["exploring"], false);
+  EXPECT_GE(goals, 2) << "explored without driving to frontiers";
+  // Both rooms are in the map, and its walls are the world's.
+  const fs::path built = robot.state_dir() / "maps/rooms-explored/map.yaml";
+  const nav::OccupancyGrid grid = nav::LoadMap(built);
+  for (const auto& [x, y] : {std::pair{1.0, 1.0}, {3.0, 3.0}, {5.0, 1.0}, {7.0, 3.0}, {6.0, 2.0}}) {
+    const auto cell = grid.WorldToCell({x, y});
+    ASSERT_TRUE(cell) << x << ", " << y << " is off the map";
+    EXPECT_EQ(grid.at(*cell), nav::kFreeCell) << x << ", " << y << " is not free in the map";
+  }
+  EXPECT_GT(ShareOnWalls(OccupiedCells(built), OccupiedCells(dir.path() / "rooms.yaml"), 0.05), 0.95);
+  EXPECT_EQ(robot.Call("GET", "/api/v1/map").body["name"], "rooms-explored");
 }
 
 }  // namespace
