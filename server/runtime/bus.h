@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -14,6 +15,7 @@
 #include <string>
 #include <string_view>
 #include <typeinfo>
+#include <utility>
 #include <vector>
 
 #include "nav/demand.h"
@@ -62,16 +64,19 @@ class Topic final : public TopicBase {
 
   const std::type_info& type() const override { return typeid(T); }
 
-  // Thread-safe. Stores the message as the latest and schedules delivery to every subscriber.
+  // Thread-safe. Stores the message as the latest and schedules delivery to every subscriber, those on an urgent
+  // executor (the control loop's) first: each delivery wakes a thread, which the scheduler may run at once in the
+  // publisher's place, and a depth frame must not wait behind the mapping's wake-up to reach the control loop.
   void Publish(Message message) {
     DEMAND(message != nullptr);
-    std::vector<std::shared_ptr<Subscriber>> subscribers;
+    std::shared_ptr<const Subscribers> subscribers;
+    Message replaced;  // freed after the deliveries are scheduled (a depth frame's buffers take a while to free)
     {
       std::lock_guard lock(mutex_);
-      latest_ = message;
+      replaced = std::exchange(latest_, message);
       subscribers = subscribers_;
     }
-    for (const auto& s : subscribers) s->Offer(message);
+    for (const auto& s : *subscribers) s->Offer(message);
   }
   void Publish(T message) { Publish(std::make_shared<const T>(std::move(message))); }
 
@@ -84,7 +89,12 @@ class Topic final : public TopicBase {
   void Subscribe(Executor& executor, Callback callback) {
     auto s = std::make_shared<Subscriber>(executor, std::move(callback));
     std::lock_guard lock(mutex_);
-    subscribers_.push_back(s);
+    auto next = std::make_shared<Subscribers>(*subscribers_);
+    const auto at = executor.urgent() ? std::find_if(next->begin(), next->end(),
+                                                     [](const auto& other) { return !other->executor.urgent(); })
+                                      : next->end();
+    next->insert(at, s);
+    subscribers_ = std::move(next);
     if (latched() && latest_) s->Offer(latest_);
   }
 
@@ -124,9 +134,13 @@ class Topic final : public TopicBase {
     bool scheduled = false;
   };
 
+  // Replaced, never changed, when someone subscribes: a publish takes it without copying (nor allocating) before the
+  // first delivery.
+  using Subscribers = std::vector<std::shared_ptr<Subscriber>>;
+
   mutable std::mutex mutex_;
   Message latest_;
-  std::vector<std::shared_ptr<Subscriber>> subscribers_;
+  std::shared_ptr<const Subscribers> subscribers_ = std::make_shared<const Subscribers>();
 };
 
 class Bus {

@@ -57,8 +57,8 @@ struct Executor::TimerState {
   }
 };
 
-Executor::Executor(std::string name, const drivers::Clock& clock, Schedule schedule)
-    : name_(std::move(name)), clock_(clock), schedule_(schedule) {}
+Executor::Executor(std::string name, const drivers::Clock& clock, Schedule schedule, bool urgent)
+    : name_(std::move(name)), clock_(clock), schedule_(schedule), urgent_(urgent) {}
 
 Executor::~Executor() { Stop(); }
 
@@ -142,7 +142,7 @@ std::size_t Executor::Poll() {
 }
 
 Executors::Executors(const drivers::Clock& clock, Schedule schedule)
-    : control("control", clock, schedule),
+    : control("control", clock, schedule, true),
       mapping("mapping", clock, schedule),
       mapping3d("mapping3d", clock, schedule),
       planning("planning", clock, schedule),

@@ -31,8 +31,9 @@ enum class Schedule { kThreads, kLockstep };
 
 class Executor {
  public:
-  // `clock` must outlive the executor; with kThreads it must advance with real time.
-  Executor(std::string name, const drivers::Clock& clock, Schedule schedule);
+  // `clock` must outlive the executor; with kThreads it must advance with real time. `urgent`: the control loop's
+  // executor, whose subscribers a topic offers each message to before any other's (Topic::Publish).
+  Executor(std::string name, const drivers::Clock& clock, Schedule schedule, bool urgent = false);
   Executor(const Executor&) = delete;
   Executor& operator=(const Executor&) = delete;
   ~Executor();
@@ -40,6 +41,7 @@ class Executor {
   const std::string& name() const { return name_; }
   const drivers::Clock& clock() const { return clock_; }
   Schedule schedule() const { return schedule_; }
+  bool urgent() const { return urgent_; }
   boost::asio::io_context& context() { return context_; }
   // Runs `work` on this executor. Thread-safe.
   void Post(std::function<void()> work);
@@ -63,6 +65,7 @@ class Executor {
   std::string name_;
   const drivers::Clock& clock_;
   Schedule schedule_;
+  bool urgent_;
   boost::asio::io_context context_;
   std::unique_ptr<boost::asio::executor_work_guard<boost::asio::io_context::executor_type>> guard_;
   std::thread thread_;
@@ -76,7 +79,7 @@ class Executors {
  public:
   Executors(const drivers::Clock& clock, Schedule schedule);
 
-  Executor control;     // depth frame -> policy -> safety -> base, and teleop
+  Executor control;     // depth frame -> policy -> safety -> base, and teleop (urgent)
   Executor mapping;     // localization, tracking and maps
   Executor mapping3d;   // the 3D map: its insertions (tens of ms) must not hold localization's scans up
   Executor planning;    // global plans, on demand
