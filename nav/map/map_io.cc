@@ -6,6 +6,7 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <system_error>
 
 namespace corridor::nav {
 namespace {
@@ -136,7 +137,11 @@ OccupancyGrid GridFromImage(const cv::Mat& image, const MapMetadata& m) {
 
 OccupancyGrid LoadMap(const std::filesystem::path& yaml_path) {
   const MapMetadata m = LoadMapMetadata(yaml_path);
-  if (!std::filesystem::exists(m.image)) Fail(yaml_path, "image " + m.image.string() + " does not exist");
+  // The error_code form: a name the system cannot even look up (too long, say) is a bad file, not an exception.
+  std::error_code error;
+  if (!std::filesystem::exists(m.image, error)) {
+    Fail(yaml_path, "image " + m.image.string() + (error ? ": " + error.message() : " does not exist"));
+  }
   cv::Mat image;
   try {
     image = cv::imread(m.image.string(), cv::IMREAD_UNCHANGED);
