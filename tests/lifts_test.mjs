@@ -47,10 +47,11 @@ sim:
 `;
 }
 
-// Starts a mission to (-1, 0.5) on L2 and waits until it is over; returns the mission and the lift phases seen.
+// Starts a mission to (0.8, 1.0) on L2, 1.3 m past the lobby, and waits until it is over; returns the mission and the
+// lift phases seen.
 async function rideToL2(daemon) {
   const started = await postJson(`${daemon.url}/api/v1/missions`,
-    { waypoints: [{ x: -1.0, y: 0.5, yaw: 3.14, floor: 'L2' }] });
+    { waypoints: [{ x: 0.8, y: 1.0, yaw: 3.14, floor: 'L2' }] });
   assert.equal(started.status, 201, JSON.stringify(started.body));
   const url = `${daemon.url}/api/v1/missions/${started.body.id}`;
   const phases = new Set();
@@ -67,7 +68,7 @@ async function assertArrivedOnL2(daemon) {
   const { body: state } = await getJson(`${daemon.url}/api/v1/state`);
   assert.equal(state.floor, 'L2');
   assert.equal(state.map.name, 'map');
-  assert.ok(Math.hypot(state.sim_true_pose.x + 1.0, state.sim_true_pose.y - 0.5) < 0.15,
+  assert.ok(Math.hypot(state.sim_true_pose.x - 0.8, state.sim_true_pose.y - 1.0) < 0.15,
     JSON.stringify(state.sim_true_pose));
   assert.ok(Math.hypot(state.pose.x - state.sim_true_pose.x, state.pose.y - state.sim_true_pose.y) < 0.15,
     `${JSON.stringify(state.pose)} vs ${JSON.stringify(state.sim_true_pose)}`);
