@@ -85,6 +85,17 @@ bool LockstepRobot::StepUntil(const std::function<bool()>& done, double max_seco
   return true;
 }
 
+nlohmann::json LockstepRobot::StateWhen(const std::function<bool(const nlohmann::json&)>& done, double max_seconds) {
+  nlohmann::json state;
+  StepUntil(
+      [&] {
+        state = State();
+        return done(state);
+      },
+      max_seconds);
+  return state;
+}
+
 double LockstepRobot::now_s() const { return drivers::ToSeconds(sim_.robot->now_ns()); }
 
 }  // namespace corridor::testing

@@ -44,6 +44,9 @@ class LockstepRobot {
   void StepFor(double seconds);
   // Steps until `done` holds (checked every step); false after max_seconds of simulated time.
   bool StepUntil(const std::function<bool()>& done, double max_seconds);
+  // Steps until `done` holds of the state (GET /api/v1/state, taken every step); the last state taken, whether it
+  // held or max_seconds of simulated time ran out.
+  nlohmann::json StateWhen(const std::function<bool(const nlohmann::json&)>& done, double max_seconds);
 
   double now_s() const;
   server::Graph& graph() { return *graph_; }

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <set>
 #include <string>
@@ -65,15 +66,13 @@ TEST(LocalNavigationLockstep, APillarOnThePlannedPathIsPassedAroundByMorpRbAtThe
   std::set<std::string> policies;
   double closest = std::numeric_limits<double>::infinity();
   bool bumped = false;
-  json state;
-  robot.StepUntil(
-      [&] {
-        state = robot.State();
-        if (state["mission"].is_object()) policies.insert(state["mission"]["policy"].get<std::string>());
-        bumped = bumped || state["bumper_pressed"].get<bool>();
-        const json& t = state["sim_true_pose"];
+  const json state = robot.StateWhen(
+      [&](const json& s) {
+        if (s["mission"].is_object()) policies.insert(s["mission"]["policy"].get<std::string>());
+        bumped = bumped || s["bumper_pressed"].get<bool>();
+        const json& t = s["sim_true_pose"];
         closest = std::min(closest, std::hypot(t["x"].get<double>() - kPillarX, t["y"].get<double>() - kPillarY));
-        return state["mission"]["status"] != "active";
+        return s["mission"]["status"] != "active";
       },
       90.0);
   ASSERT_EQ(state["mission"]["status"], "succeeded") << state["mission"].dump();
@@ -107,25 +106,42 @@ TEST(LocalNavigationLockstep, TheCameraStopsAnsweringTheRobotStopsAtOnceAndGoesO
   EXPECT_EQ(robot.Call("PUT", "/api/v1/sim/faults", {{"lidar", true}}).status, 400);
   EXPECT_EQ(robot.State()["mission"]["policy"], "waiting_for_depth");
   ASSERT_EQ(robot.Call("PUT", "/api/v1/sim/faults", {{"camera_stopped", false}}).status, 200);
-  json done;
-  robot.StepUntil(
-      [&] {
-        done = robot.State();
-        return done["mission"]["status"] != "active";
-      },
-      60.0);
+  const json done = robot.StateWhen([](const json& s) { return s["mission"]["status"] != "active"; }, 60.0);
   EXPECT_EQ(done["mission"]["status"], "succeeded") << done["mission"].dump();
 }
 
 // A person whose track matches them: moving near them, at about their velocity (a sensor sees a person's near side).
-bool Tracked(const json& state, const json& person, double within_m, double speed_within_mps) {
+// A moving track within `within_m` of `person` for which `also` holds.
+bool TrackNear(const json& state, const json& person, double within_m, const std::function<bool(const json&)>& also) {
   for (const json& o : state["tracked_objects"]) {
-    if (!o["moving"].get<bool>()) continue;
     const double off_m =
         std::hypot(o["x"].get<double>() - person["x"].get<double>(), o["y"].get<double>() - person["y"].get<double>());
-    const double off_mps = std::hypot(o["vx"].get<double>() - person["vx"].get<double>(),
-                                      o["vy"].get<double>() - person["vy"].get<double>());
-    if (off_m < within_m && off_mps < speed_within_mps) return true;
+    if (o["moving"].get<bool>() && off_m < within_m && also(o)) return true;
+  }
+  return false;
+}
+
+bool Tracked(const json& state, const json& person, double within_m, double speed_within_mps) {
+  return TrackNear(state, person, within_m, [&](const json& o) {
+    return std::hypot(o["vx"].get<double>() - person["vx"].get<double>(),
+                      o["vy"].get<double>() - person["vy"].get<double>()) < speed_within_mps;
+  });
+}
+
+// Steps until `found(state, person)` holds of someone among the simulated people (at most max_s); `state` is the last
+// state taken.
+bool UntilSomeone(LockstepRobot& robot, json& state,
+                  const std::function<bool(const json& state, const json& person)>& found, double max_s) {
+  state = robot.StateWhen(
+      [&](const json& s) {
+        for (const json& p : s["sim_pedestrians"]) {
+          if (found(s, p)) return true;
+        }
+        return false;
+      },
+      max_s);
+  for (const json& p : state["sim_pedestrians"]) {
+    if (found(state, p)) return true;
   }
   return false;
 }
@@ -169,15 +185,8 @@ TEST(LocalNavigationLockstep, PeopleWalkAreTrackedByTheLaserRememberedWhereTheyT
   EXPECT_TRUE(moved) << "nobody walked";
 
   json state;
-  EXPECT_TRUE(robot.StepUntil(
-      [&] {
-        state = robot.State();
-        for (const json& p : state["sim_pedestrians"]) {
-          if (SpeedOf(p) > 0.4 && Tracked(state, p, 0.5, 0.3)) return true;
-        }
-        return false;
-      },
-      8.0))
+  EXPECT_TRUE(UntilSomeone(
+      robot, state, [](const json& s, const json& p) { return SpeedOf(p) > 0.4 && Tracked(s, p, 0.5, 0.3); }, 8.0))
       << "no person tracked by the laser at their velocity";
   EXPECT_EQ(TrackingHealth(state), "ok");
 
@@ -247,35 +256,23 @@ TEST(LocalNavigationLockstep, WithoutALaserPeopleAreTrackedInTheCamerasViewAndKe
   // The robot looks down the room: a person walking in front of it shows as a moving object near them, going their
   // way (the camera sees a person's near side: hence the tolerances).
   json state;
-  EXPECT_TRUE(robot.StepUntil(
-      [&] {
-        state = robot.State();
-        for (const json& p : state["sim_pedestrians"]) {
-          const auto [bearing, distance] = Seen(state, p);
-          if (bearing < 0.6 && distance < 5.0 && SpeedOf(p) > 0.4 && Tracked(state, p, 0.6, 0.4)) return true;
-        }
-        return false;
+  EXPECT_TRUE(UntilSomeone(
+      robot, state,
+      [](const json& s, const json& p) {
+        const auto [bearing, distance] = Seen(s, p);
+        return bearing < 0.6 && distance < 5.0 && SpeedOf(p) > 0.4 && Tracked(s, p, 0.6, 0.4);
       },
       20.0))
       << "no person tracked by the camera";
   EXPECT_EQ(TrackingHealth(state), "ok");
   // A person beside the robot, out of the camera's 85 degrees, with a moving track near them that says it is not seen:
   // kept on its prediction (tracking.unseen_coast_s) rather than forgotten.
-  EXPECT_TRUE(robot.StepUntil(
-      [&] {
-        state = robot.State();
-        for (const json& p : state["sim_pedestrians"]) {
-          const auto [bearing, distance] = Seen(state, p);
-          if (bearing <= 0.9 || distance >= 4.0) continue;
-          for (const json& o : state["tracked_objects"]) {
-            if (o["moving"].get<bool>() && !o["seen"].get<bool>() &&
-                std::hypot(o["x"].get<double>() - p["x"].get<double>(), o["y"].get<double>() - p["y"].get<double>()) <
-                    0.8) {
-              return true;
-            }
-          }
-        }
-        return false;
+  EXPECT_TRUE(UntilSomeone(
+      robot, state,
+      [](const json& s, const json& p) {
+        const auto [bearing, distance] = Seen(s, p);
+        return bearing > 0.9 && distance < 4.0 &&
+               TrackNear(s, p, 0.8, [](const json& o) { return !o["seen"].get<bool>(); });
       },
       40.0))
       << "no person out of view still tracked";

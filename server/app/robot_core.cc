@@ -278,9 +278,10 @@ std::optional<MappingRefused> RobotCore::Explore(std::string_view origin) const 
 }
 
 void RobotCore::MapEdited(std::string_view what, std::string_view origin) const {
-  bus_.Get(topics::kMapInUse).Publish(MapInUseOf(maps_.active(), config_, store_));
+  const auto map = maps_.active();
+  bus_.Get(topics::kMapInUse).Publish(MapInUseOf(map, config_, store_));
   Stale();
-  spdlog::info("map '{}': {} edited, from {}", maps_.active()->name, what, origin);
+  spdlog::info("map '{}': {} edited, from {}", map->name, what, origin);
 }
 
 MapInUse MapInUseOf(const std::shared_ptr<const ActiveMap>& map, const Config& config, const Store& store) {
