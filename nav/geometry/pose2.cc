@@ -28,15 +28,17 @@ Eigen::Vector2d Pose2::Transform(const Eigen::Vector2d& point) const {
   return {x_m + c * point.x() - s * point.y(), y_m + s * point.x() + c * point.y()};
 }
 
-Pose2 DriveArc(const Pose2& start, const Twist2& twist, double t_s) {
+Pose2 Arc(const Twist2& twist, double t_s) {
   const double v = twist.linear_mps;
   const double w = twist.angular_rps;
   const double dyaw = w * t_s;
   // Chord of the arc in the robot frame; the straight-line limit when the turn is negligible.
   const double forward = std::abs(dyaw) < 1e-9 ? v * t_s : v / w * std::sin(dyaw);
   const double left = std::abs(dyaw) < 1e-9 ? 0.0 : v / w * (1.0 - std::cos(dyaw));
-  return start * Pose2{forward, left, dyaw};
+  return {forward, left, dyaw};
 }
+
+Pose2 DriveArc(const Pose2& start, const Twist2& twist, double t_s) { return start * Arc(twist, t_s); }
 
 Pose2 Interpolate(const Pose2& a, const Pose2& b, double f) {
   const Pose2 step = a.Inverse() * b;

@@ -30,7 +30,9 @@ struct Twist2 {
   double angular_rps = 0.0;
 };
 
-// The pose reached by driving `twist` from `start` for t_s seconds along the exact arc.
+// The motion of driving `twist` for t_s seconds along the exact arc, in the frame the robot started in.
+Pose2 Arc(const Twist2& twist, double t_s);
+// The pose reached by driving `twist` from `start` for t_s seconds: start * Arc(twist, t_s).
 Pose2 DriveArc(const Pose2& start, const Twist2& twist, double t_s);
 
 // The pose a fraction f (0..1) of the way from a to b: the step between them, in a's frame, scaled by f.

@@ -100,16 +100,28 @@ class Evasion {
     double conflict_s;  // first conflict time; infinity when none
     double closest_m;   // the smallest gap over the horizon (negative: overlapping)
   };
-  // Where the robot is at steps from_step + 1 .. steps_ (at[k - 1] for step k) driving `twist` from `start`, which
-  // it is at step from_step; earlier steps of `at` are left as they are.
-  void Trace(const Pose2& start, const Twist2& twist, int from_step, std::vector<Eigen::Vector2d>& at) const;
-  Score Predict(const Pose2& robot, const std::vector<Eigen::Vector2d>& at, const std::vector<Mover>& movers) const;
+  // The movers' predicted places, made once a decision: path[i][k - 1] is mover i's at step k (of its steps).
+  using Paths = std::vector<std::vector<Eigen::Vector2d>>;
+  // The places `twist` takes the robot in 1 .. steps_ steps, in the frame it starts in.
+  std::vector<Eigen::Vector2d> Chord(const Twist2& twist) const;
+  // Where the robot is at steps from_step + 1 .. steps_ (at[k - 1] for step k) driving the twist whose arc is
+  // `chord` (chord[j - 1]: j steps of it, in the frame it starts in) from `start`, where it is at step from_step;
+  // earlier steps of `at` are left as they are.
+  void Trace(const Pose2& start, const std::vector<Eigen::Vector2d>& chord, int from_step,
+             std::vector<Eigen::Vector2d>& at) const;
+  // `score` carried on over steps from_step + 1 .. to_step of the robot's places `at`; gaps[i] is mover i's gap at
+  // from_step on entry, at to_step on return.
+  Score Predict(const std::vector<Eigen::Vector2d>& at, const std::vector<Mover>& movers, const Paths& paths,
+                int from_step, int to_step, Score score, std::vector<double>& gaps) const;
   bool StaticBlocked(const Pose2& robot, const std::vector<Eigen::Vector2d>& at, int steps,
                      const std::vector<Eigen::Vector2d>& near) const;
 
   int steps_;                   // prediction steps over the horizon
   int first_steps_;             // of them, the first part's
   int turn_steps_;              // of them, those a person walking away is also predicted walking back
+  std::vector<Twist2> twists_;  // each part of a manoeuvre drives one of these
+  // chords_[i][j - 1]: where twists_[i] takes the robot in j steps, in the frame it started in (j = 1 .. steps_)
+  std::vector<std::vector<Eigen::Vector2d>> chords_;
   std::optional<Twist2> last_;  // the previous call's evasive twist; none when it did not evade
   EvasionOptions options_;
 };
