@@ -212,7 +212,7 @@ class Api {
   std::vector<nav::MissionGoal> UndockGoals() const;
   void Undock(const Request& request, Reply reply) const;
   // Pauses, resumes or cancels mission `id`.
-  Response MissionAction(const Request& request, const std::string& id, MissionStep step) const;
+  void MissionAction(const Request& request, Reply reply, const std::string& id, MissionStep step) const;
   nav::MissionGoal ParseGoal(const nlohmann::json& j, const std::string& where) const;
 
   ApiContext c_;

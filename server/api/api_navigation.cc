@@ -126,7 +126,7 @@ void Api::AddNavigationRoutes() {
       }));
   for (const MissionStep step : {MissionStep::kPause, MissionStep::kResume, MissionStep::kCancel}) {
     Add(http::verb::post, std::string("/api/v1/missions/{id}/") + ToString(step), Access::kOperator,
-        Sync([this, step](const Request& r, const Params& p) { return MissionAction(r, p.at("id"), step); }));
+        [this, step](const Request& r, const Params& p, Reply reply) { MissionAction(r, std::move(reply), p.at("id"), step); });
   }
 }
 
@@ -259,18 +259,21 @@ void Api::StartGoals(const Request& request, Reply reply, std::vector<nav::Missi
   });
 }
 
-Response Api::MissionAction(const Request& request, const std::string& id, MissionStep step) const {
-  const nav::TransitionOutcome outcome = c_.core.Command(step, id, "rest");
-  if (outcome == nav::TransitionOutcome::kNotFound) {
-    throw ApiError(http::status::not_found, "Not found", "no mission " + id + " in progress");
-  }
-  const MissionState state = *c_.core.Mission(id);
-  if (outcome == nav::TransitionOutcome::kConflict) {
-    throw ApiError(http::status::conflict, "Not allowed now",
-                   std::string("cannot ") + ToString(step) + " a mission that is " + nav::ToString(state.status),
-                   "invalid_transition");
-  }
-  return JsonResponse(request, ToJson(state));
+void Api::MissionAction(const Request& request, Reply reply, const std::string& id, MissionStep step) const {
+  c_.core.Command(step, id, "rest", [this, request, reply = std::move(reply), id, step](MissionNode::Outcome outcome) {
+    Answer(request, reply, [&]() -> Response {
+      if (outcome.outcome == nav::TransitionOutcome::kNotFound || !outcome.mission) {
+        throw ApiError(http::status::not_found, "Not found", "no mission " + id + " in progress");
+      }
+      if (outcome.outcome == nav::TransitionOutcome::kConflict) {
+        throw ApiError(http::status::conflict, "Not allowed now",
+                       std::string("cannot ") + ToString(step) + " a mission that is " +
+                           nav::ToString(outcome.mission->status),
+                       "invalid_transition");
+      }
+      return JsonResponse(request, ToJson(*outcome.mission));
+    });
+  });
 }
 
 }  // namespace corridor::server

@@ -150,15 +150,22 @@ void Api::AddRmfRoutes() {
         }
         StartGoals(r, std::move(reply), std::move(goals), std::numeric_limits<double>::infinity(), carried(cmd_id));
       });
-  Add(http::verb::post, "/api/v1/rmf/stop", Access::kOperator, Sync([this](const Request& r, const Params&) {
-        const json body = ObjectBody(r, {"cmd_id"});
-        const std::uint64_t cmd_id = RequireCommandId(body);
-        if (const auto mission = c_.bus.Get(topics::kMission).latest()) {
-          c_.core.Command(MissionStep::kCancel, mission->id, "rmf");
-        }
+  Add(http::verb::post, "/api/v1/rmf/stop", Access::kOperator, [this](const Request& r, const Params&, Reply reply) {
+    const json body = ObjectBody(r, {"cmd_id"});
+    const std::uint64_t cmd_id = RequireCommandId(body);
+    const auto stopped = [this, r, reply, cmd_id] {
+      Answer(r, reply, [&] {
         rmf_commands_->Done(cmd_id);
         return JsonResponse(r, {{"cmd_id", cmd_id}, {"completed", true}});
-      }));
+      });
+    };
+    // Answered once the mission is cancelled, so that the command it carried reads as such.
+    if (const auto mission = c_.bus.Get(topics::kMission).latest()) {
+      c_.core.Command(MissionStep::kCancel, mission->id, "rmf", [stopped](const MissionNode::Outcome&) { stopped(); });
+    } else {
+      stopped();
+    }
+  });
   Add(http::verb::post, "/api/v1/rmf/localize", Access::kOperator,
       [this, require_map](const Request& r, const Params&, Reply reply) {
         const json body = ObjectBody(r, {"cmd_id", "pose", "map_name"});

@@ -112,11 +112,12 @@ void RobotCore::StartMission(MissionOrder order, std::function<void(MissionResul
       done(std::move(*refusal));
       return;
     }
-    MissionState state =
-        missions_.Start(std::move(std::get<std::vector<nav::MissionGoal>>(checked)), order.speed_limit_mps);
-    Stale();
-    spdlog::info("mission {} from {}: {} goals", state.id, order.origin, state.goals.size());
-    done(std::move(state));
+    missions_.Start(std::move(std::get<std::vector<nav::MissionGoal>>(checked)), order.speed_limit_mps,
+                    [this, origin = std::move(order.origin), done = std::move(done)](MissionState state) {
+                      Stale();
+                      spdlog::info("mission {} from {}: {} goals", state.id, origin, state.goals.size());
+                      done(std::move(state));
+                    });
   });
 }
 
@@ -132,12 +133,14 @@ void RobotCore::ExtendMission(const std::string& id, std::vector<nav::MissionGoa
       done(std::move(*refusal));
       return;
     }
-    const nav::TransitionOutcome outcome = missions_.Extend(id, std::get<std::vector<nav::MissionGoal>>(checked));
-    if (outcome == nav::TransitionOutcome::kOk) {
-      Stale();
-      spdlog::info("mission {}: extended by {}", id, origin);
-    }
-    done(outcome);
+    missions_.Extend(id, std::get<std::vector<nav::MissionGoal>>(checked),
+                     [this, id, origin = std::move(origin), done = std::move(done)](MissionNode::Outcome outcome) {
+                       if (outcome.outcome == nav::TransitionOutcome::kOk) {
+                         Stale();
+                         spdlog::info("mission {}: extended by {}", id, origin);
+                       }
+                       done(outcome.outcome);
+                     });
   });
 }
 
@@ -166,18 +169,16 @@ void RobotCore::SetPose(const PoseOrder& order, std::function<void(PoseResult)> 
                         });
 }
 
-nav::TransitionOutcome RobotCore::Command(MissionStep step, const std::string& id, std::string_view origin) const {
-  nav::TransitionOutcome outcome = nav::TransitionOutcome::kNotFound;
-  switch (step) {
-    case MissionStep::kPause: outcome = missions_.Pause(id); break;
-    case MissionStep::kResume: outcome = missions_.Resume(id); break;
-    case MissionStep::kCancel: outcome = missions_.Cancel(id); break;
-  }
-  if (outcome == nav::TransitionOutcome::kOk) {
-    Stale();
-    spdlog::info("mission {}: {} from {}", id, ToString(step), origin);
-  }
-  return outcome;
+void RobotCore::Command(MissionStep step, const std::string& id, std::string_view origin,
+                        std::function<void(MissionNode::Outcome)> done) const {
+  missions_.Step(step, id,
+                 [this, step, id, origin = std::string(origin), done = std::move(done)](MissionNode::Outcome outcome) {
+                   if (outcome.outcome == nav::TransitionOutcome::kOk) {
+                     Stale();
+                     spdlog::info("mission {}: {} from {}", id, ToString(step), origin);
+                   }
+                   if (done) done(std::move(outcome));
+                 });
 }
 
 std::optional<MapRefused> RobotCore::SelectMap(const std::string& name, std::string_view origin) const {
@@ -194,7 +195,11 @@ std::optional<MapRefused> RobotCore::SelectMap(const std::string& name, std::str
   return std::nullopt;
 }
 
-std::optional<MissionState> RobotCore::Mission(const std::string& id) const { return missions_.Describe(id); }
+std::optional<MissionState> RobotCore::Mission(const std::string& id) const {
+  const auto latest = bus_.Get(topics::kMission).latest();
+  if (!latest || latest->id != id) return std::nullopt;
+  return *latest;
+}
 
 bool RobotCore::Docked() const { return missions_.docked(); }
 
@@ -210,15 +215,6 @@ std::optional<std::string> RobotCore::OffMap(const nav::Pose2& pose) const {
   char detail[160];
   std::snprintf(detail, sizeof detail, "(%.3g, %.3g) is not on map '%s'", pose.x_m, pose.y_m, map->name.c_str());
   return detail;
-}
-
-const char* ToString(MissionStep step) {
-  switch (step) {
-    case MissionStep::kPause: return "pause";
-    case MissionStep::kResume: return "resume";
-    case MissionStep::kCancel: return "cancel";
-  }
-  return "?";
 }
 
 nav::Twist2 RobotCore::Teleop(const nav::Twist2& asked, std::string_view origin) const {

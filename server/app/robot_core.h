@@ -81,8 +81,6 @@ struct MappingRefused {
   std::string detail;  // a sentence for people
 };
 
-enum class MissionStep { kPause, kResume, kCancel };
-const char* ToString(MissionStep step);
 
 // Whether anyone opens the doors on the robot's way: the building's controller, or in a simulated world with doors
 // and no controller, the simulator's doors themselves. Without either the robot drives as it sees them.
@@ -111,7 +109,7 @@ class RobotCore {
 
   // Checks the goals against the map in use (its costmap, with keep-out zones, made on the planning executor) and
   // the building, then starts the mission (replacing the one in progress) or refuses it. `done` is called once, on
-  // the planning executor, and must not throw.
+  // the planning executor (a refusal) or the control executor (the mission started), and must not throw.
   void StartMission(MissionOrder order, std::function<void(MissionResult)> done) const;
   // Checks `goals` as StartMission does, then appends them to mission `id`. `done` as StartMission's.
   void ExtendMission(const std::string& id, std::vector<nav::MissionGoal> goals, std::string origin,
@@ -120,11 +118,14 @@ class RobotCore {
   // localization's executor) and must not throw.
   void SetPose(const PoseOrder& order, std::function<void(PoseResult)> done) const;
   // Pauses, resumes or cancels mission `id`: kNotFound when no such mission is in progress, kConflict when its status
-  // does not allow it (resuming an active one). Thread-safe.
-  nav::TransitionOutcome Command(MissionStep step, const std::string& id, std::string_view origin) const;
+  // does not allow it (resuming an active one). `done` (may be empty) is told on the control executor, with the
+  // mission's state afterwards. Thread-safe.
+  void Command(MissionStep step, const std::string& id, std::string_view origin,
+               std::function<void(MissionNode::Outcome)> done = {}) const;
   // Makes map `name` the one in use (the console's choice, or a floor a fleet adapter took the robot to), or refuses.
   std::optional<MapRefused> SelectMap(const std::string& name, std::string_view origin) const;
-  // Mission `id`'s state when it is the current (or last) one: its progress for VDA 5050, RMF and REST.
+  // Mission `id`'s state when it is the current (or last) one, as last published (topics::kMission): its progress
+  // for VDA 5050, RMF and REST.
   std::optional<MissionState> Mission(const std::string& id) const;
   // The robot stands on its dock now. Thread-safe.
   bool Docked() const;

@@ -19,6 +19,15 @@ std::optional<nav::Pose2> PoseOf(const std::shared_ptr<const StampedPose>& pose)
 
 }  // namespace
 
+const char* ToString(MissionStep step) {
+  switch (step) {
+    case MissionStep::kPause: return "pause";
+    case MissionStep::kResume: return "resume";
+    case MissionStep::kCancel: return "cancel";
+  }
+  return "?";
+}
+
 MissionNode::MissionNode(Executor& control, Bus& bus, PlannerService& planner, const nav::MissionRunnerOptions& options,
                          std::function<void(const MissionState&)> on_change, FloorSwitch switch_floor)
     : PeriodicNode("mission", control, bus, kRateHz),
@@ -33,20 +42,16 @@ void MissionNode::Activate() {
   Subscribe(topics::kGroundLanes, "frame", [this](const auto& ground) { Frame(*ground); });
   Subscribe(topics::kBattery, "battery", [this](const auto& battery) { Battery(*battery); });
   Subscribe(topics::kMapInUse, "map", [this](const auto& map) {
-    std::lock_guard lock(mutex_);
     runner_.SetDoors(map->doors);
     runner_.SetBuilding(map->building);
   });
   Subscribe(topics::kDoorStates, "doors", [this](const auto& states) {
-    std::lock_guard lock(mutex_);
     door_reports_ = states->doors;
   });
   Subscribe(topics::kLiftStates, "lifts", [this](const auto& states) {
-    std::lock_guard lock(mutex_);
     lift_reports_ = states->lifts;
   });
   Subscribe(topics::kLocalization, "localization", [this](const auto& localization) {
-    std::lock_guard lock(mutex_);
     const bool localized = localization->estimate.health != nav::LocalizationHealth::kLost;
     const nav::MissionUpdate update = runner_.SetLocalized(localized);
     if (update.persist || update.publish || update.over || update.command) {
@@ -69,6 +74,7 @@ void MissionNode::Activate() {
 }
 
 void MissionNode::Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_arrival_ns) {
+  docked_ = runner_.docked();
   const drivers::TimeNs now = clock().Now();
   auto& command = mission_command_topic_;
   if (!update.doors.empty()) door_requests_topic_.Publish(DoorRequests{update.doors});
@@ -115,7 +121,6 @@ void MissionNode::Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_
     planner_.Plan(std::move(request), [this, query](PlanReply reply) {
       executor().Post([this, query, reply = std::move(reply)] {
         Run(plan_loop_, [&] {
-          std::lock_guard lock(mutex_);
           if (!reply.result.ok() && !query.reroute) {
             spdlog::warn("mission {}: {}", runner_.id(), reply.result.detail);
           }
@@ -130,7 +135,6 @@ void MissionNode::Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_
           const bool free = nav::RestOfPathTraversable(*costmap, query.path, query.from);
           executor().Post([this, query, free, version, costmap = std::move(costmap)] {
             Run(plan_loop_, [&] {
-              std::lock_guard lock(mutex_);
               if (!free) spdlog::info("mission {}: the map or zones changed across the path; replanning", runner_.id());
               Carry(runner_.OnCheck(query, free, costmap, version));
             });
@@ -139,73 +143,67 @@ void MissionNode::Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_
   }
 }
 
-MissionState MissionNode::Start(std::vector<nav::MissionGoal> goals, double speed_limit_mps) {
-  std::lock_guard lock(mutex_);
-  return StartLocked(std::move(goals), speed_limit_mps);
+void MissionNode::Start(std::vector<nav::MissionGoal> goals, double speed_limit_mps,
+                        std::function<void(MissionState)> done) {
+  executor().Post([this, goals = std::move(goals), speed_limit_mps, done = std::move(done)]() mutable {
+    Run("start", [&] {
+      if (runner_.docked() && !goals.empty() && goals.front().action != nav::GoalAction::kUndock) {
+        // Off the dock first, straight back to its staging pose.
+        goals.insert(goals.begin(), nav::UndockGoal(PoseOf(pose_topic_.latest()), docking_.dock));
+      }
+      std::optional<nav::MissionSnapshot> cancelled;
+      const nav::MissionUpdate update =
+          runner_.Start(nav::Mission(NewId(), std::move(goals), speed_limit_mps), &cancelled);
+      if (cancelled && on_change_) on_change_(*cancelled);
+      Carry(update);
+      spdlog::info("mission {}: {} waypoint(s)", runner_.id(), runner_.Snapshot().goals.size());
+      done(runner_.Snapshot());
+    });
+  });
 }
 
-MissionState MissionNode::StartLocked(std::vector<nav::MissionGoal> goals, double speed_limit_mps) {
-  if (runner_.docked() && !goals.empty() && goals.front().action != nav::GoalAction::kUndock) {
-    // Off the dock first, straight back to its staging pose.
-    goals.insert(goals.begin(), nav::UndockGoal(PoseOf(pose_topic_.latest()), docking_.dock));
-  }
-  std::optional<nav::MissionSnapshot> cancelled;
-  const nav::MissionUpdate update = runner_.Start(nav::Mission(NewId(), std::move(goals), speed_limit_mps), &cancelled);
-  if (cancelled && on_change_) on_change_(*cancelled);
-  Carry(update);
-  spdlog::info("mission {}: {} waypoint(s)", runner_.id(), runner_.Snapshot().goals.size());
-  return runner_.Snapshot();
+void MissionNode::Extend(const std::string& id, std::vector<nav::MissionGoal> goals, std::function<void(Outcome)> done) {
+  executor().Post([this, id, goals = std::move(goals), done = std::move(done)]() mutable {
+    Run("extend", [&] {
+      nav::MissionUpdate update;
+      const nav::TransitionOutcome outcome = runner_.Extend(id, std::move(goals), &update);
+      Carry(update);
+      done(OutcomeOf(id, outcome));
+    });
+  });
 }
 
-nav::TransitionOutcome MissionNode::Transition(
-    const std::string& id,
-    nav::TransitionOutcome (nav::MissionRunner::*transition)(const std::string&, nav::MissionUpdate*)) {
-  std::lock_guard lock(mutex_);
-  nav::MissionUpdate update;
-  const nav::TransitionOutcome outcome = (runner_.*transition)(id, &update);
-  Carry(update);
-  return outcome;
+void MissionNode::Step(MissionStep step, const std::string& id, std::function<void(Outcome)> done) {
+  executor().Post([this, step, id, done = std::move(done)] {
+    Run(ToString(step), [&] {
+      nav::MissionUpdate update;
+      nav::TransitionOutcome outcome = nav::TransitionOutcome::kNotFound;
+      switch (step) {
+        case MissionStep::kPause: outcome = runner_.Pause(id, &update); break;
+        case MissionStep::kResume: outcome = runner_.Resume(id, &update); break;
+        case MissionStep::kCancel: outcome = runner_.Cancel(id, &update); break;
+      }
+      Carry(update);
+      if (done) done(OutcomeOf(id, outcome));
+    });
+  });
 }
 
-nav::TransitionOutcome MissionNode::Extend(const std::string& id, std::vector<nav::MissionGoal> goals) {
-  std::lock_guard lock(mutex_);
-  nav::MissionUpdate update;
-  const nav::TransitionOutcome outcome = runner_.Extend(id, std::move(goals), &update);
-  Carry(update);
-  return outcome;
-}
-
-nav::TransitionOutcome MissionNode::Pause(const std::string& id) { return Transition(id, &nav::MissionRunner::Pause); }
-nav::TransitionOutcome MissionNode::Resume(const std::string& id) {
-  return Transition(id, &nav::MissionRunner::Resume);
-}
-nav::TransitionOutcome MissionNode::Cancel(const std::string& id) {
-  return Transition(id, &nav::MissionRunner::Cancel);
-}
-
-std::optional<MissionState> MissionNode::Describe(const std::string& id) const {
-  std::lock_guard lock(mutex_);
-  if (!runner_.has_mission() || runner_.id() != id) return std::nullopt;
-  return runner_.Snapshot();
-}
-
-bool MissionNode::docked() const {
-  std::lock_guard lock(mutex_);
-  return runner_.docked();
+MissionNode::Outcome MissionNode::OutcomeOf(const std::string& id, nav::TransitionOutcome outcome) const {
+  if (!runner_.has_mission() || runner_.id() != id) return {outcome, std::nullopt};
+  return {outcome, runner_.Snapshot()};
 }
 
 void MissionNode::Battery(const drivers::BatteryState& battery) {
-  std::lock_guard lock(mutex_);
   runner_.SetOnCharger(battery.on_charger);
+  docked_ = runner_.docked();
 }
 
 void MissionNode::Tick() {
-  std::lock_guard lock(mutex_);
   Carry(runner_.Tick(now_s(), PoseOf(pose_topic_.latest()), planner_.version(), planner_.has_traffic()));
 }
 
 void MissionNode::Frame(const GroundLanes& ground) {
-  std::lock_guard lock(mutex_);
   nav::FrameInput in;
   in.now_s = now_s();
   in.pose = PoseOf(pose_topic_.latest());

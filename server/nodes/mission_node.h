@@ -7,9 +7,11 @@
 // The doors to have opened and the building's lifts come with the map in use (topics::kMapInUse).
 #pragma once
 
+#include <atomic>
 #include <functional>
-#include <mutex>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "nav/mission/mission_runner.h"
 #include "server/nodes/planner_service.h"
@@ -19,12 +21,15 @@
 
 namespace corridor::server {
 
+enum class MissionStep { kPause, kResume, kCancel };
+const char* ToString(MissionStep step);
+
 class MissionNode final : public PeriodicNode {
  public:
   // The docking goal to the dock nearest the robot (at `robot`, map frame) on the active map, if there is one.
   using DockFinder = std::function<std::optional<nav::MissionGoal>(const nav::Pose2& robot)>;
   // A lift has brought the robot to another floor: make that floor's map the active one with the robot at `pose`.
-  // Called on the control executor with the mission's lock held: it must hand the work elsewhere.
+  // Called on the control executor: it must hand the work elsewhere.
   using FloorSwitch = std::function<void(const std::string& floor, const nav::Pose2& pose)>;
 
   // `on_change` receives the mission's state whenever its status or leg changes (to persist it); called on the
@@ -33,41 +38,41 @@ class MissionNode final : public PeriodicNode {
               std::function<void(const MissionState&)> on_change, FloorSwitch switch_floor = {});
   void Activate() override;
 
-  // Thread-safe. Starting a mission cancels the one in progress; a robot on its dock backs off it first. Returns the
-  // new mission's state.
-  MissionState Start(std::vector<nav::MissionGoal> goals, double speed_limit_mps);
+  // Commands: each is carried out on the node's executor (the control loop's, so that the loop never waits on a
+  // lock), in the order they were given, and `done` is told there; it must hand its work elsewhere and not throw.
+  // Starting a mission cancels the one in progress; a robot on its dock backs off it first. `done` gets the new
+  // mission's state.
+  void Start(std::vector<nav::MissionGoal> goals, double speed_limit_mps, std::function<void(MissionState)> done);
+  struct Outcome {
+    nav::TransitionOutcome outcome;
+    std::optional<MissionState> mission;  // its state afterwards, when it is the current (or last) one
+  };
   // Appends goals to the mission `id` while it runs (kConflict once it has finished).
-  nav::TransitionOutcome Extend(const std::string& id, std::vector<nav::MissionGoal> goals);
-  nav::TransitionOutcome Pause(const std::string& id);
-  nav::TransitionOutcome Resume(const std::string& id);
-  nav::TransitionOutcome Cancel(const std::string& id);
-  // The mission's state when it is the current (or last) one.
-  std::optional<MissionState> Describe(const std::string& id) const;
-  // The robot stands on its dock (nav::MissionRunner::docked).
-  bool docked() const;
+  void Extend(const std::string& id, std::vector<nav::MissionGoal> goals, std::function<void(Outcome)> done);
+  // Pauses, resumes or cancels mission `id`; `done` may be empty.
+  void Step(MissionStep step, const std::string& id, std::function<void(Outcome)> done);
+  // The robot stands on its dock (nav::MissionRunner::docked), as of the node's last step. Thread-safe.
+  bool docked() const { return docked_; }
 
  private:
   void Tick() override;
   void Frame(const GroundLanes& ground);
   void Battery(const drivers::BatteryState& battery);  // on its charger or not (docking needs to know)
-  MissionState StartLocked(std::vector<nav::MissionGoal> goals, double speed_limit_mps);
-  // Carries out what the runner asked (lock held); `frame_arrival_ns`: the frame a command answers, if any.
+  Outcome OutcomeOf(const std::string& id, nav::TransitionOutcome outcome) const;
+  // Carries out what the runner asked; `frame_arrival_ns`: the frame a command answers, if any.
   void Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_arrival_ns = -1);
-  nav::TransitionOutcome Transition(const std::string& id,
-                                    nav::TransitionOutcome (nav::MissionRunner::*transition)(const std::string&,
-                                                                                             nav::MissionUpdate*));
   double now_s() const { return drivers::ToSeconds(clock().Now()); }
 
   PlannerService& planner_;
   std::function<void(const MissionState&)> on_change_;
   LoopStats& plan_loop_;
-  mutable std::mutex mutex_;
-  bool looking_around_ = false;  // turning on the spot for localization (guarded by mutex_)
+  std::atomic<bool> docked_{false};
+  bool looking_around_ = false;  // turning on the spot for localization
   nav::DockingOptions docking_;
   FloorSwitch switch_floor_;
   nav::MissionRunner runner_;
-  nav::DoorReports door_reports_;  // what the door controller says (guarded by mutex_)
-  nav::LiftReports lift_reports_;  // what the lift controller says (guarded by mutex_)
+  nav::DoorReports door_reports_;  // what the door controller says
+  nav::LiftReports lift_reports_;  // what the lift controller says
 
   // The topics it reads and writes, resolved once.
   Topic<Bumped>& bumped_topic_ = bus().Get(topics::kBumped);

@@ -23,7 +23,8 @@ class MissionNodeTest : public ::testing::Test {
     bus_.Get(topics::kPose).Publish(StampedPose{clock_.Now(), nav::Pose2{2.0, 5.0, 0.0}});
     nav::MissionGoal goal;
     goal.pose = {8.0, 5.0, 0.0};
-    node_.Start({goal}, 0.5);
+    node_.Start({goal}, 0.5, [](const MissionState&) {});
+    executors_.RunUntilIdle();
   }
   // One depth frame's lanes, free or (`wall`) each ending 0.3 m ahead; returns the mission's command that answers it.
   MissionCommand Frame(bool wall = false) {
