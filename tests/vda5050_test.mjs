@@ -1,7 +1,11 @@
-// VDA 5050 2.1 over MQTT: a master control (mosquitto_sub and mosquitto_pub, on a mosquitto broker this test starts
-// with a plain listener on loopback) drives the robot in a 6 x 3 m room with orders and instant actions. Every message
-// the robot sends must validate against the standard's schemas (server/fleet/vda5050, copied from the VDA's 2.1.0
-// release). The broker stopping and coming back loses no order; the broker's last will tells of a crashed robot.
+// VDA 5050 2.1 over MQTT through corridord's own transport: a master control (mosquitto_sub and mosquitto_pub, on a
+// mosquitto broker this test starts with a plain listener on loopback) sees the robot go online, its states and the
+// factsheet; bad orders are refused with the standard's errors; an order with a horizon shows in the API and the
+// console; the broker stopping and coming back loses no order; the broker's last will tells of a crashed robot. Every
+// message the robot sends must validate against the standard's schemas (server/fleet/vda5050, copied from the VDA's
+// 2.1.0 release), checked here by an independent validator (ajv). The order logic in simulated time (driving to the
+// decision point at the edge's speed, updates, pause, cancel, refusal on arrival, charging) is
+// tests/vda5050_lockstep_test.cc.
 import assert from 'node:assert/strict';
 import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -86,8 +90,6 @@ const node = (id, sequenceId, released, x, y, actions = [], theta = undefined) =
 const edge = (from, to, sequenceId, released, extra = {}) => ({
   edgeId: `${from}-${to}`, sequenceId, released, startNodeId: from, endNodeId: to, actions: [], ...extra,
 });
-const say = (id, text) => ({ actionType: 'say', actionId: id, blockingType: 'NONE',
-  actionParameters: [{ key: 'text', value: text }] });
 const nodeIds = (state) => state.nodeStates.map((n) => n.nodeId);
 const action = (state, id) => state.actionStates.find((a) => a.actionId === id)?.actionStatus;
 const near = (state, x, y, tolerance) =>
@@ -110,7 +112,6 @@ sim:
   world: "${writeRoom(dir, 6, 3)}"
   start: {x_m: 1.0, y_m: 1.5, yaw_deg: 0}
   camera: {width: 160, height: 120}
-  dock: {enabled: true, x_m: 5.2, y_m: 1.5, yaw_deg: 0}
 fleet:
   vda5050: {serial_number: r1, state_interval_s: 2}
 `, args: ['--mqtt', `mqtt://127.0.0.1:${port}`] });
@@ -145,35 +146,18 @@ fleet:
     await master.waitFor('state', (s) => action(s, 'f1') === 'FINISHED', 5000, 'factsheetRequest finished');
   });
 
-  test('an order with a horizon: driven to the decision point, extended by an update, paused and resumed', async () => {
+  test('an order with a horizon where the robot stands: the API and the console show it waiting', async () => {
+    const here = master.last('state').agvPosition;
     master.publish('order', { orderId: 'o1', orderUpdateId: 0,
-      nodes: [node('a', 0, true, 1.0, 1.5), node('b', 2, true, 2.5, 1.5, [say('s1', 'node b')]),
-        node('c', 4, false, 4.0, 1.5)],
-      edges: [edge('a', 'b', 1, true, { maxSpeed: 0.3 }), edge('b', 'c', 3, false)] });
-    const taken = await master.waitFor('state', (s) => s.orderId === 'o1', 5000, 'the order taken');
-    assert.deepEqual(nodeIds(taken), ['b', 'c']);
-    assert.equal(taken.lastNodeId, 'a');
-    assert.equal(taken.edgeStates.length, 2);
-    await master.waitFor('state', (s) => s.driving, 10000, 'driving');
-    // The edge's maxSpeed holds the robot to 0.3 m/s.
-    await sleep(1500);
-    const fast = master.messages.filter((m) => m.topic === 'visualization' && m.body.velocity &&
-      m.body.velocity.vx > 0.36);
-    assert.equal(fast.length, 0, JSON.stringify(fast[0]?.body.velocity));
-    // At b: the node is traversed, its action done; the robot stops at the decision point with c still waiting.
-    const atB = await master.waitFor('state', (s) => s.lastNodeId === 'b', 30000, 'node b traversed');
-    assert.deepEqual(nodeIds(atB), ['c']);
-    assert.equal(action(atB, 's1'), 'FINISHED');
-    assert.ok(near(atB, 2.5, 1.5, 0.3), JSON.stringify(atB.agvPosition));
-    await master.waitFor('state', (s) => !s.driving && s.lastNodeId === 'b', 10000, 'stopped at b');
-    await sleep(1000);
-    assert.ok(near(master.last('state'), 2.5, 1.5, 0.3), 'waits at the decision point');
-    // The API's state and the console show the order: c is the horizon, drawn hollow and dashed.
+      nodes: [node('a', 0, true, here.x, here.y), node('b', 2, false, 4.0, 1.5)],
+      edges: [edge('a', 'b', 1, false)] });
+    const taken = await master.waitFor('state', (s) => s.orderId === 'o1' && s.lastNodeId === 'a', 5000,
+      'the order taken');
+    assert.deepEqual(nodeIds(taken), ['b']);
     const { body: robot } = await getJson(`${daemon.url}/api/v1/state`);
     openApiValidator().check('State', robot);
     assert.equal(robot.fleet.connected, true);
-    assert.deepEqual(robot.fleet.nodes.map((n) => [n.id, n.released, n.traversed]),
-      [['b', true, true], ['c', false, false]]);
+    assert.deepEqual(robot.fleet.nodes.map((n) => [n.id, n.released, n.traversed]).at(-1), ['b', false, false]);
     const browser = await launchBrowser();
     try {
       const { page, errors } = await openConsole(browser, daemon.url);
@@ -186,22 +170,11 @@ fleet:
     } finally {
       await browser.close();
     }
-    // The update stitches on b, releases c and adds a horizon d.
+    // An update that keeps the horizon, so that an older one can be refused below.
     master.publish('order', { orderId: 'o1', orderUpdateId: 1,
-      nodes: [node('b', 2, true, 2.5, 1.5), node('c', 4, true, 4.0, 1.5), node('d', 6, false, 4.0, 2.2)],
-      edges: [edge('b', 'c', 3, true), edge('c', 'd', 5, false)] });
-    await master.waitFor('state', (s) => s.orderUpdateId === 1 && s.driving, 10000, 'driving to c');
-    master.instant('startPause', 'p1');
-    const paused = await master.waitFor('state', (s) => s.paused && action(s, 'p1') === 'FINISHED', 5000, 'paused');
-    assert.deepEqual(nodeIds(paused), ['c', 'd']);
-    await master.waitFor('state', (s) => s.paused && !s.driving, 5000, 'standing while paused');
-    const stood = master.last('state').agvPosition;
-    await sleep(1500);
-    assert.ok(near(master.last('state'), stood.x, stood.y, 0.05), 'no driving while paused');
-    master.instant('stopPause', 'p2');
-    const atC = await master.waitFor('state', (s) => s.lastNodeId === 'c' && !s.paused, 30000, 'node c traversed');
-    assert.deepEqual(nodeIds(atC), ['d']);
-    assert.ok(near(atC, 4.0, 1.5, 0.3), JSON.stringify(atC.agvPosition));
+      nodes: [node('a', 0, true, here.x, here.y), node('b', 2, false, 4.0, 1.5)],
+      edges: [edge('a', 'b', 1, false)] });
+    await master.waitFor('state', (s) => s.orderUpdateId === 1, 5000, 'the update taken');
   });
 
   test('bad orders are refused with the standard\'s errors and change nothing', async () => {
@@ -221,46 +194,16 @@ fleet:
     assert.equal(refused.orderId, 'o1');
     // An older update: refused too.
     count = master.messages.length;
-    master.publish('order', { orderId: 'o1', orderUpdateId: 0, nodes: [node('c', 4, true, 4.0, 1.5)], edges: [] });
+    master.publish('order', { orderId: 'o1', orderUpdateId: 0, nodes: [node('a', 0, true, 1.0, 1.5)], edges: [] });
     await master.waitFor('state', (s) => s.errors.filter((e) => e.errorType === 'orderUpdateError').length >= 2,
       5000, 'a second orderUpdateError', count);
     // An action it cannot do.
     count = master.messages.length;
     master.instant('pick', 'k1');
     await master.waitFor('state', (s) => action(s, 'k1') === 'FAILED', 5000, 'pick failed', count);
-    assert.deepEqual(nodeIds(master.last('state')), ['d']);
-  });
-
-  test('cancelOrder stops and drops the order; with none, noOrderToCancel', async () => {
+    assert.deepEqual(nodeIds(master.last('state')), ['b']);
     master.instant('cancelOrder', 'c1');
-    const cancelled = await master.waitFor('state', (s) => action(s, 'c1') === 'FINISHED', 5000, 'cancelled');
-    assert.deepEqual(nodeIds(cancelled), []);
-    assert.equal(cancelled.orderId, 'o1');  // kept, as the standard says
-    master.instant('cancelOrder', 'c2');
-    const none = await master.waitFor('state', (s) => action(s, 'c2') === 'FAILED', 5000, 'nothing to cancel');
-    const error = none.errors.find((e) => e.errorType === 'noOrderToCancel');
-    assert.ok(error, JSON.stringify(none.errors));
-    assert.equal(error.errorReferences[0].referenceValue, 'c2');
-  });
-
-  test('an order to a node the console would refuse is refused on arrival, naming the node, and nothing moves', async () => {
-    const here = master.last('state').agvPosition;
-    const count = master.messages.length;
-    master.publish('order', { orderId: 'o7', orderUpdateId: 0,
-      nodes: [node('s', 0, true, here.x, here.y), node('wall', 2, true, 3.0, 0.02)],
-      edges: [edge('s', 'wall', 1, true)] });
-    const refused = await master.waitFor('state', (s) => s.errors.some((e) => e.errorType === 'noRouteError'), 5000,
-      'noRouteError', count);
-    const error = refused.errors.find((e) => e.errorType === 'noRouteError');
-    const reference = (key) => error.errorReferences.find((r) => r.referenceKey === key)?.referenceValue;
-    assert.equal(reference('nodeId'), 'wall', JSON.stringify(error));
-    assert.equal(reference('orderId'), 'o7');
-    assert.equal(refused.orderId, 'o1', 'the refused order is not taken');
-    assert.deepEqual(nodeIds(refused), []);
-    // Nothing started: the robot stands where it stood.
-    const later = await master.waitFor('state', () => true, 5000, 'a later state', master.messages.length);
-    assert.equal(later.driving, false);
-    assert.ok(near(later, here.x, here.y, 0.05), JSON.stringify(later.agvPosition));
+    await master.waitFor('state', (s) => action(s, 'c1') === 'FINISHED', 5000, 'cancelled');
   });
 
   test('the broker stopping and coming back loses no order', async () => {
@@ -284,17 +227,6 @@ fleet:
     const done = await master.waitFor('state', (s) => s.lastNodeId === 'f' && s.nodeStates.length === 0, 30000,
       'f reached', count);
     assert.ok(near(done, 1.0, 1.5, 0.3), JSON.stringify(done.agvPosition));
-  });
-
-  test('startCharging docks, stopCharging backs off', async () => {
-    master.instant('startCharging', 'ch1');
-    await master.waitFor('state', (s) => action(s, 'ch1') === 'RUNNING', 5000, 'docking');
-    const charging = await master.waitFor('state', (s) => action(s, 'ch1') === 'FINISHED' &&
-      s.batteryState.charging, 120000, 'docked and charging');
-    assert.ok(near(charging, 5.2, 1.5, 0.05), JSON.stringify(charging.agvPosition));
-    master.instant('stopCharging', 'ch2');
-    const off = await master.waitFor('state', (s) => action(s, 'ch2') === 'FINISHED', 30000, 'undocked');
-    assert.ok(!near(off, 5.2, 1.5, 0.3), JSON.stringify(off.agvPosition));
   });
 
   test('every message the robot sent was valid; a crash leaves the broker\'s last will', async () => {
