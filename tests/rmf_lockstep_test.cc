@@ -30,7 +30,8 @@ testing::SimRoom DockRoom() {
 }
 
 json Completed(LockstepRobot& robot, int cmd_id) {
-  const LockstepRobot::Reply reply = robot.Call("GET", "/api/v1/rmf/is_command_completed?cmd_id=" + std::to_string(cmd_id));
+  const LockstepRobot::Reply reply =
+      robot.Call("GET", "/api/v1/rmf/is_command_completed?cmd_id=" + std::to_string(cmd_id));
   EXPECT_EQ(reply.status, 200) << reply.body.dump();
   return reply.body;
 }
@@ -55,9 +56,9 @@ TEST(RmfLockstep, NavigateIsWorkingWhileItDrivesThenCompletedWhereItWasSent) {
   const testing::SimRoom room = DockRoom();
   LockstepRobot robot(room.config());
   const std::string map = robot.Call("GET", "/api/v1/rmf/map").body["map_name"].get<std::string>();
-  const LockstepRobot::Reply started = robot.Call(
-      "POST", "/api/v1/rmf/navigate",
-      {{"cmd_id", 7}, {"pose", {2.5, 2.2, std::numbers::pi / 2}}, {"map_name", map}, {"speed_limit", 0.0}});
+  const LockstepRobot::Reply started =
+      robot.Call("POST", "/api/v1/rmf/navigate",
+                 {{"cmd_id", 7}, {"pose", {2.5, 2.2, std::numbers::pi / 2}}, {"map_name", map}, {"speed_limit", 0.0}});
   ASSERT_EQ(started.status, 201) << started.body.dump();
   const json state = robot.Call("GET", "/api/v1/rmf/robot_state").body;
   EXPECT_EQ(state["status"], "working");

@@ -68,9 +68,10 @@ class Master {
     link_.Publish({kPrefix + topic, body.dump(), 1, false});
   }
   void Instant(const std::string& type, const std::string& id) {
-    Publish("instantActions",
-            {{"actions", {{{"actionType", type}, {"actionId", id}, {"blockingType", "HARD"}, {"actionParameters",
-                                                                                                json::array()}}}}});
+    Publish(
+        "instantActions",
+        {{"actions",
+          {{{"actionType", type}, {"actionId", id}, {"blockingType", "HARD"}, {"actionParameters", json::array()}}}}});
   }
 
   std::size_t count() {
@@ -126,8 +127,8 @@ json Node(const std::string& id, int sequence, bool released, double x, double y
           {"nodePosition", {{"x", x}, {"y", y}, {"mapId", kMap}}}};
 }
 json Edge(const std::string& from, const std::string& to, int sequence, bool released, json extra = json::object()) {
-  json e = {{"edgeId", from + "-" + to}, {"sequenceId", sequence},  {"released", released},
-            {"startNodeId", from},       {"endNodeId", to},         {"actions", json::array()}};
+  json e = {{"edgeId", from + "-" + to}, {"sequenceId", sequence}, {"released", released},
+            {"startNodeId", from},       {"endNodeId", to},        {"actions", json::array()}};
   e.update(extra);
   return e;
 }
@@ -235,17 +236,20 @@ TEST_F(Vda5050Lockstep, AnOrderWithAHorizonIsDrivenToItsDecisionPointAtTheEdgesS
                     {"actionId", "s1"},
                     {"blockingType", "NONE"},
                     {"actionParameters", {{{"key", "text"}, {"value", "node b"}}}}};
-  Send("order", Order("o1", 0,
-                      {Node("a", 0, true, 1.0, 1.5), Node("b", 2, true, 2.5, 1.5, {say}), Node("c", 4, false, 4.0, 1.5)},
-                      {Edge("a", "b", 1, true, {{"maxSpeed", 0.3}}), Edge("b", "c", 3, false)}));
+  Send(
+      "order",
+      Order("o1", 0, {Node("a", 0, true, 1.0, 1.5), Node("b", 2, true, 2.5, 1.5, {say}), Node("c", 4, false, 4.0, 1.5)},
+            {Edge("a", "b", 1, true, {{"maxSpeed", 0.3}}), Edge("b", "c", 3, false)}));
   const std::size_t start = master_.count();
-  const json taken = WaitFor("state", [](const json& s) { return s["orderId"] == "o1"; }, 5.0);
+  const json taken = WaitFor(
+      "state", [](const json& s) { return s["orderId"] == "o1"; }, 5.0);
   ASSERT_FALSE(taken.is_null());
   EXPECT_EQ(NodeIds(taken), (std::vector<std::string>{"b", "c"}));
   EXPECT_EQ(taken["lastNodeId"], "a");
   EXPECT_EQ(taken["edgeStates"].size(), 2U);
   // At b: the node is traversed and its action done; the robot stops at the decision point with c still waiting.
-  const json at_b = WaitFor("state", [](const json& s) { return s["lastNodeId"] == "b"; }, 30.0);
+  const json at_b = WaitFor(
+      "state", [](const json& s) { return s["lastNodeId"] == "b"; }, 30.0);
   ASSERT_FALSE(at_b.is_null()) << robot_->State()["mission"].dump();
   EXPECT_EQ(NodeIds(at_b), std::vector<std::string>{"c"});
   EXPECT_EQ(ActionStatus(at_b, "s1"), "FINISHED");
@@ -258,10 +262,13 @@ TEST_F(Vda5050Lockstep, AnOrderWithAHorizonIsDrivenToItsDecisionPointAtTheEdgesS
       EXPECT_LE(m.body["velocity"]["vx"].get<double>(), 0.36) << m.body.dump();
     }
   }
-  ASSERT_FALSE(WaitFor("state", [](const json& s) { return s["driving"] == false && s["lastNodeId"] == "b"; }, 10.0)
+  ASSERT_FALSE(WaitFor(
+                   "state", [](const json& s) { return s["driving"] == false && s["lastNodeId"] == "b"; }, 10.0)
                    .is_null());
   robot_->StepFor(2.0);
-  EXPECT_TRUE(Near(WaitFor("state", [](const json&) { return true; }, 5.0, master_.count()), 2.5, 1.5, 0.3))
+  EXPECT_TRUE(Near(WaitFor(
+                       "state", [](const json&) { return true; }, 5.0, master_.count()),
+                   2.5, 1.5, 0.3))
       << "waits at the decision point";
   // The API's state shows the order: c is the horizon.
   const json fleet = robot_->State()["fleet"];
@@ -273,17 +280,20 @@ TEST_F(Vda5050Lockstep, AnOrderWithAHorizonIsDrivenToItsDecisionPointAtTheEdgesS
   EXPECT_EQ(fleet["nodes"][1]["released"], false);
 
   // The update stitches on b, releases c and adds a horizon d; paused on the way, it stands until resumed.
-  Send("order", Order("o1", 1, {Node("b", 2, true, 2.5, 1.5), Node("c", 4, true, 4.0, 1.5), Node("d", 6, false, 4.0, 2.2)},
-                      {Edge("b", "c", 3, true), Edge("c", "d", 5, false)}));
-  ASSERT_FALSE(
-      WaitFor("state", [](const json& s) { return s["orderUpdateId"] == 1 && s["driving"] == true; }, 10.0).is_null());
+  Send("order",
+       Order("o1", 1, {Node("b", 2, true, 2.5, 1.5), Node("c", 4, true, 4.0, 1.5), Node("d", 6, false, 4.0, 2.2)},
+             {Edge("b", "c", 3, true), Edge("c", "d", 5, false)}));
+  ASSERT_FALSE(WaitFor(
+                   "state", [](const json& s) { return s["orderUpdateId"] == 1 && s["driving"] == true; }, 10.0)
+                   .is_null());
   Instant("startPause", "p1");
   const json paused = WaitFor(
       "state", [](const json& s) { return s["paused"] == true && ActionStatus(s, "p1") == "FINISHED"; }, 5.0);
   ASSERT_FALSE(paused.is_null());
   EXPECT_EQ(NodeIds(paused), (std::vector<std::string>{"c", "d"}));
-  ASSERT_FALSE(
-      WaitFor("state", [](const json& s) { return s["paused"] == true && s["driving"] == false; }, 5.0).is_null());
+  ASSERT_FALSE(WaitFor(
+                   "state", [](const json& s) { return s["paused"] == true && s["driving"] == false; }, 5.0)
+                   .is_null());
   const json stood = robot_->State()["sim_true_pose"];
   robot_->StepFor(1.5);
   const json later = robot_->State()["sim_true_pose"];
@@ -292,29 +302,35 @@ TEST_F(Vda5050Lockstep, AnOrderWithAHorizonIsDrivenToItsDecisionPointAtTheEdgesS
             0.02)
       << "no driving while paused";
   Instant("stopPause", "p2");
-  const json at_c =
-      WaitFor("state", [](const json& s) { return s["lastNodeId"] == "c" && s["paused"] == false; }, 30.0);
+  const json at_c = WaitFor(
+      "state", [](const json& s) { return s["lastNodeId"] == "c" && s["paused"] == false; }, 30.0);
   ASSERT_FALSE(at_c.is_null());
   EXPECT_EQ(NodeIds(at_c), std::vector<std::string>{"d"});
   EXPECT_TRUE(Near(at_c, 4.0, 1.5, 0.3)) << at_c["agvPosition"].dump();
 }
 
 TEST_F(Vda5050Lockstep, CancelOrderStopsAndDropsTheOrderAndWithNoneIsNoOrderToCancel) {
-  Send("order", Order("o1", 0, {Node("a", 0, true, 1.0, 1.5), Node("b", 2, true, 4.5, 1.5)}, {Edge("a", "b", 1, true)}));
-  ASSERT_FALSE(WaitFor("state", [](const json& s) { return s["orderId"] == "o1" && s["driving"] == true; }, 10.0)
+  Send("order",
+       Order("o1", 0, {Node("a", 0, true, 1.0, 1.5), Node("b", 2, true, 4.5, 1.5)}, {Edge("a", "b", 1, true)}));
+  ASSERT_FALSE(WaitFor(
+                   "state", [](const json& s) { return s["orderId"] == "o1" && s["driving"] == true; }, 10.0)
                    .is_null());
   Instant("cancelOrder", "c1");
-  const json cancelled = WaitFor("state", [](const json& s) { return ActionStatus(s, "c1") == "FINISHED"; }, 5.0);
+  const json cancelled = WaitFor(
+      "state", [](const json& s) { return ActionStatus(s, "c1") == "FINISHED"; }, 5.0);
   ASSERT_FALSE(cancelled.is_null());
   EXPECT_TRUE(NodeIds(cancelled).empty());
   EXPECT_EQ(cancelled["orderId"], "o1");  // kept, as the standard says
-  ASSERT_FALSE(WaitFor("state", [](const json& s) { return s["driving"] == false; }, 5.0).is_null());
+  ASSERT_FALSE(WaitFor(
+                   "state", [](const json& s) { return s["driving"] == false; }, 5.0)
+                   .is_null());
   const json stood = robot_->State()["sim_true_pose"];
   robot_->StepFor(1.0);
   EXPECT_NEAR(robot_->State()["sim_true_pose"]["x"].get<double>(), stood["x"].get<double>(), 0.02);
 
   Instant("cancelOrder", "c2");
-  const json none = WaitFor("state", [](const json& s) { return ActionStatus(s, "c2") == "FAILED"; }, 5.0);
+  const json none = WaitFor(
+      "state", [](const json& s) { return ActionStatus(s, "c2") == "FAILED"; }, 5.0);
   ASSERT_FALSE(none.is_null());
   const json* error = Error(none, "noOrderToCancel");
   ASSERT_NE(error, nullptr) << none["errors"].dump();
@@ -324,11 +340,12 @@ TEST_F(Vda5050Lockstep, CancelOrderStopsAndDropsTheOrderAndWithNoneIsNoOrderToCa
 TEST_F(Vda5050Lockstep, AnOrderToANodeTheConsoleWouldRefuseIsRefusedOnArrivalNamingTheNodeAndNothingMoves) {
   const json here = robot_->State()["sim_true_pose"];
   const std::size_t since = master_.count();
-  Send("order", Order("o7", 0,
-                      {Node("s", 0, true, here["x"].get<double>(), here["y"].get<double>()),
-                       Node("wall", 2, true, 3.0, 0.02)},
-                      {Edge("s", "wall", 1, true)}));
-  const json refused = WaitFor("state", [](const json& s) { return Error(s, "noRouteError") != nullptr; }, 5.0, since);
+  Send("order",
+       Order("o7", 0,
+             {Node("s", 0, true, here["x"].get<double>(), here["y"].get<double>()), Node("wall", 2, true, 3.0, 0.02)},
+             {Edge("s", "wall", 1, true)}));
+  const json refused = WaitFor(
+      "state", [](const json& s) { return Error(s, "noRouteError") != nullptr; }, 5.0, since);
   ASSERT_FALSE(refused.is_null());
   const json& error = *Error(refused, "noRouteError");
   std::map<std::string, std::string> references;
@@ -346,7 +363,9 @@ TEST_F(Vda5050Lockstep, AnOrderToANodeTheConsoleWouldRefuseIsRefusedOnArrivalNam
 
 TEST_F(Vda5050Lockstep, StartChargingDocksAndStopChargingBacksOff) {
   Instant("startCharging", "ch1");
-  ASSERT_FALSE(WaitFor("state", [](const json& s) { return ActionStatus(s, "ch1") == "RUNNING"; }, 5.0).is_null());
+  ASSERT_FALSE(WaitFor(
+                   "state", [](const json& s) { return ActionStatus(s, "ch1") == "RUNNING"; }, 5.0)
+                   .is_null());
   const json charging = WaitFor(
       "state",
       [](const json& s) { return ActionStatus(s, "ch1") == "FINISHED" && s["batteryState"]["charging"] == true; },
@@ -354,7 +373,8 @@ TEST_F(Vda5050Lockstep, StartChargingDocksAndStopChargingBacksOff) {
   ASSERT_FALSE(charging.is_null()) << robot_->State()["mission"].dump();
   EXPECT_TRUE(Near(charging, 5.2, 1.5, 0.05)) << charging["agvPosition"].dump();
   Instant("stopCharging", "ch2");
-  const json off = WaitFor("state", [](const json& s) { return ActionStatus(s, "ch2") == "FINISHED"; }, 30.0);
+  const json off = WaitFor(
+      "state", [](const json& s) { return ActionStatus(s, "ch2") == "FINISHED"; }, 30.0);
   ASSERT_FALSE(off.is_null()) << robot_->State()["mission"].dump();
   EXPECT_FALSE(Near(off, 5.2, 1.5, 0.3)) << off["agvPosition"].dump();
   EXPECT_EQ(off["batteryState"]["charging"], false);

@@ -126,7 +126,9 @@ void Api::AddNavigationRoutes() {
       }));
   for (const MissionStep step : {MissionStep::kPause, MissionStep::kResume, MissionStep::kCancel}) {
     Add(http::verb::post, std::string("/api/v1/missions/{id}/") + ToString(step), Access::kOperator,
-        [this, step](const Request& r, const Params& p, Reply reply) { MissionAction(r, std::move(reply), p.at("id"), step); });
+        [this, step](const Request& r, const Params& p, Reply reply) {
+          MissionAction(r, std::move(reply), p.at("id"), step);
+        });
   }
 }
 
@@ -266,10 +268,10 @@ void Api::MissionAction(const Request& request, Reply reply, const std::string& 
         throw ApiError(http::status::not_found, "Not found", "no mission " + id + " in progress");
       }
       if (outcome.outcome == nav::TransitionOutcome::kConflict) {
-        throw ApiError(http::status::conflict, "Not allowed now",
-                       std::string("cannot ") + ToString(step) + " a mission that is " +
-                           nav::ToString(outcome.mission->status),
-                       "invalid_transition");
+        throw ApiError(
+            http::status::conflict, "Not allowed now",
+            std::string("cannot ") + ToString(step) + " a mission that is " + nav::ToString(outcome.mission->status),
+            "invalid_transition");
       }
       return JsonResponse(request, ToJson(*outcome.mission));
     });

@@ -81,7 +81,6 @@ struct MappingRefused {
   std::string detail;  // a sentence for people
 };
 
-
 // Whether anyone opens the doors on the robot's way: the building's controller, or in a simulated world with doors
 // and no controller, the simulator's doors themselves. Without either the robot drives as it sees them.
 inline bool DoorsAnswer(const Config& config) {

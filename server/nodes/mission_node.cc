@@ -45,12 +45,8 @@ void MissionNode::Activate() {
     runner_.SetDoors(map->doors);
     runner_.SetBuilding(map->building);
   });
-  Subscribe(topics::kDoorStates, "doors", [this](const auto& states) {
-    door_reports_ = states->doors;
-  });
-  Subscribe(topics::kLiftStates, "lifts", [this](const auto& states) {
-    lift_reports_ = states->lifts;
-  });
+  Subscribe(topics::kDoorStates, "doors", [this](const auto& states) { door_reports_ = states->doors; });
+  Subscribe(topics::kLiftStates, "lifts", [this](const auto& states) { lift_reports_ = states->lifts; });
   Subscribe(topics::kLocalization, "localization", [this](const auto& localization) {
     const bool localized = localization->estimate.health != nav::LocalizationHealth::kLost;
     const nav::MissionUpdate update = runner_.SetLocalized(localized);
@@ -162,7 +158,8 @@ void MissionNode::Start(std::vector<nav::MissionGoal> goals, double speed_limit_
   });
 }
 
-void MissionNode::Extend(const std::string& id, std::vector<nav::MissionGoal> goals, std::function<void(Outcome)> done) {
+void MissionNode::Extend(const std::string& id, std::vector<nav::MissionGoal> goals,
+                         std::function<void(Outcome)> done) {
   executor().Post([this, id, goals = std::move(goals), done = std::move(done)]() mutable {
     Run("extend", [&] {
       nav::MissionUpdate update;
