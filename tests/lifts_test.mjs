@@ -5,7 +5,8 @@
 // door, boards, rides, switches to L2's map with the pose the car carried over, leaves and arrives; a lift that
 // refuses ends the mission with the controller's reason and the robot never boards. The same ride again with a lift
 // that speaks Open-RMF's LiftRequest and LiftState over MQTT (a broker this test starts, and an RMF lift adapter
-// built on mosquitto_sub and mosquitto_pub). The robot starts 1.5 m from the lift's lobby: how rides behave (phases,
+// built on mosquitto_sub and mosquitto_pub). The robot starts 1.3 m (by its path) north of the lift's lobby (from the east, the
+// office's furniture makes it 7.5 m round): how rides behave (phases,
 // localization across the floors, a ride cancelled in the car) is tested in simulated time,
 // tests/lifts_lockstep_test.cc; here it is the controllers' transports.
 import assert from 'node:assert/strict';
@@ -41,7 +42,7 @@ ${controller}
   sim: {travel_s: 3}
 localization: {source: mcl}
 sim:
-  start: {x_m: 20.4, y_m: 22.0, yaw_deg: 180}
+  start: {x_m: 19.5, y_m: 23.0, yaw_deg: -90}
   camera: {width: 160, height: 120}
   dock: {enabled: false}
 `;

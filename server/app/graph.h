@@ -82,7 +82,6 @@ class Graph {
   Bus& bus() { return bus_; }
   Executors& executors() { return executors_; }
   const Lifecycle& lifecycle() const { return lifecycle_; }
-  MissionNode& missions() { return *missions_; }
   PlannerService& planner() { return planner_; }
   MapLibrary& maps() { return *maps_; }
   Store& store() { return store_; }

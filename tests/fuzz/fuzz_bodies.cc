@@ -33,7 +33,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fuzz.Answer(request);
   // A mission the body started is cancelled, so that the next inputs do not pile them up.
   const auto mission = fuzz.graph().bus().Get(corridor::server::topics::kMission).latest();
-  if (mission && !mission->id.empty()) fuzz.graph().missions().Cancel(mission->id);
+  if (mission && !mission->id.empty()) {
+    fuzz.graph().core().Command(corridor::server::MissionStep::kCancel, mission->id, "fuzz");
+    fuzz.graph().executors().RunUntilIdle();
+  }
   // A webhook the body subscribed is deleted before anything is sent to it: a fuzzed URL may name any host.
   for (const auto& webhook : fuzz.graph().store().Webhooks()) fuzz.graph().store().DeleteWebhook(webhook.id);
   return 0;
