@@ -38,17 +38,14 @@ bool Finished(const json& state) { return state["mission"].is_object() && state[
 
 // Steps until the state's mission is over (at most max_s of simulated time); the last state, whatever it says.
 json UntilFinished(LockstepRobot& robot, double max_s, std::set<std::string>* phases = nullptr) {
-  json state;
-  robot.StepUntil(
-      [&] {
-        state = robot.State();
+  return robot.StateWhen(
+      [&](const json& state) {
         if (phases && state["mission"].is_object() && state["mission"].contains("docking")) {
           phases->insert(state["mission"]["docking"].get<std::string>());
         }
         return Finished(state);
       },
       max_s);
-  return state;
 }
 
 // The simulator's truth against a pose: metres and degrees.
