@@ -13,7 +13,7 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 
 import {
-  apiFetch, authHeaders, getJson, postJson, require, sleep, startDaemon, writeRoom,
+  apiFetch, authHeaders, getJson, pillarRoom, postJson, require, sleep, startDaemon,
 } from '../tests/daemon.mjs';
 
 const withConsole = process.argv.includes('--console');
@@ -23,14 +23,7 @@ const hog = process.argv.includes('--hog');
 const dir = mkdtempSync(join(tmpdir(), 'corridor-bench-'));
 const daemon = await startDaemon({ config: `
 devices: {laser: {driver: ${withLaser ? 'sim' : 'none'}}}
-sim:
-  world: "${writeRoom(dir, 12, 8)}"
-  start: {x_m: 1.0, y_m: 4.0, yaw_deg: 0}
-  obstacles:
-    - {shape: cylinder, x_m: 4.0, y_m: 4.1, size_m: 0.3, height_m: 1.0}
-    - {shape: box, x_m: 8.0, y_m: 3.8, size_m: 0.3, height_m: 1.0}
-  pedestrians: 3
-${vga ? '  camera: {width: 640, height: 480}\n' : ''}${hog ? 'perception: {detector: hog}\n' : ''}` });
+${pillarRoom(dir)}${vga ? '  camera: {width: 640, height: 480}\n' : ''}${hog ? 'perception: {detector: hog}\n' : ''}` });
 let ws = null;
 let camera = null;
 if (withConsole) {

@@ -8,8 +8,9 @@ import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 
-import { apiFetch, authHeaders, getJson, postJson, require, sleep, startDaemon, waitFor, writeRoom } from
-  '../tests/daemon.mjs';
+import {
+  apiFetch, authHeaders, getJson, pillarRoom, postJson, require, sleep, startDaemon, waitFor,
+} from '../tests/daemon.mjs';
 
 function option(name, fallback) {
   const i = process.argv.indexOf(name);
@@ -20,15 +21,7 @@ const clients = option('--clients', 20);
 if (!(minutes > 0) || !Number.isInteger(clients) || clients < 0) throw new Error('--minutes > 0, --clients >= 0');
 
 const dir = mkdtempSync(join(tmpdir(), 'corridor-bench-'));
-const daemon = await startDaemon({ config: `
-sim:
-  world: "${writeRoom(dir, 12, 8)}"
-  start: {x_m: 1.0, y_m: 4.0, yaw_deg: 0}
-  obstacles:
-    - {shape: cylinder, x_m: 4.0, y_m: 4.1, size_m: 0.3, height_m: 1.0}
-    - {shape: box, x_m: 8.0, y_m: 3.8, size_m: 0.3, height_m: 1.0}
-  pedestrians: 3
-` });
+const daemon = await startDaemon({ config: pillarRoom(dir) });
 const memoryMb = (key) => Number(new RegExp(`${key}:\\s+(\\d+) kB`).exec(
   readFileSync(`/proc/${daemon.pid}/status`, 'utf8'))[1]) / 1024;
 

@@ -65,8 +65,12 @@ Mosquitto::Mosquitto() : port_(FreePort()) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
   while (!Accepts(port_)) {
     int status = 0;
-    if (pid_ < 0 || ::waitpid(pid_, &status, WNOHANG) == pid_ || std::chrono::steady_clock::now() > end) {
-      if (pid_ > 0) ::kill(pid_, SIGKILL);
+    const bool exited = pid_ < 0 || ::waitpid(pid_, &status, WNOHANG) == pid_;
+    if (exited || std::chrono::steady_clock::now() > end) {
+      if (!exited) {
+        ::kill(pid_, SIGKILL);
+        ::waitpid(pid_, &status, 0);
+      }
       std::ifstream in(log);
       const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
       throw std::runtime_error("mosquitto did not start on port " + std::to_string(port_) + ": " + text);

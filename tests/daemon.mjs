@@ -203,6 +203,19 @@ export function writeRoom(dir, width, height) {
   return join(dir, 'room.yaml');
 }
 
+// The benchmarks' mission room: the `sim:` section of a 12 x 8 m room (written to `dir`) with two pillars the map does
+// not show and three people walking, the robot at its west end facing east; more `sim:` keys may follow it.
+export function pillarRoom(dir) {
+  return `sim:
+  world: "${writeRoom(dir, 12, 8)}"
+  start: {x_m: 1.0, y_m: 4.0, yaw_deg: 0}
+  obstacles:
+    - {shape: cylinder, x_m: 4.0, y_m: 4.1, size_m: 0.3, height_m: 1.0}
+    - {shape: box, x_m: 8.0, y_m: 3.8, size_m: 0.3, height_m: 1.0}
+  pedestrians: 3
+`;
+}
+
 // A map_server map (its YAML and 8-bit P5 PGM): resolution, origin, size, and the grey of each pixel, row 0 at the
 // top. cell(x, y) is the grey at a point of the map frame (undefined off the map).
 export function readMap(yamlFile) {

@@ -152,8 +152,9 @@ void MissionNode::Start(std::vector<nav::MissionGoal> goals, double speed_limit_
           runner_.Start(nav::Mission(NewId(), std::move(goals), speed_limit_mps), &cancelled);
       if (cancelled && on_change_) on_change_(*cancelled);
       Carry(update);
-      spdlog::info("mission {}: {} waypoint(s)", runner_.id(), runner_.Snapshot().goals.size());
-      done(runner_.Snapshot());
+      MissionState started = runner_.Snapshot();
+      spdlog::info("mission {}: {} waypoint(s)", started.id, started.goals.size());
+      done(std::move(started));
     });
   });
 }
