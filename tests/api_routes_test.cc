@@ -37,7 +37,7 @@ class ApiRoutesTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     testing::LockstepRobot robot(testing::SourceDir() / "config/corridor.yaml");
-    for (const server::Api::RouteInfo& route : robot.graph().api().Routes()) {
+    for (const server::Router::RouteInfo& route : robot.graph().api().Routes()) {
       std::string method(boost::beast::http::to_string(route.method));
       std::transform(method.begin(), method.end(), method.begin(), [](unsigned char c) { return std::tolower(c); });
       const bool fresh = served_.emplace(Operation{method, route.pattern}, route.access).second;

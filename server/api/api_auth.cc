@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "server/api/api.h"
+#include "server/api/api_auth.h"
 
 namespace corridor::server {
 namespace {
@@ -50,9 +51,16 @@ auto AccountChange(Work&& work) {
   }
 }
 
+ApiError TooManyAttempts(int retry_after_s) {
+  return ApiError(http::status::too_many_requests, "Too many attempts",
+                  "too many wrong passwords or codes; try again in " + std::to_string(retry_after_s) + " s",
+                  "rate_limited")
+      .RetryAfter(retry_after_s);
+}
+
 }  // namespace
 
-Api::Identity Api::Identify(const Request& request, const Caller& caller) const {
+Identity Api::Identify(const Request& request, const Caller& caller) const {
   if (caller.trusted) return {Principal{"corridord", Role::kAdmin, "system", ""}, false};
   const std::string token = auth::BearerToken(request[http::field::authorization]);
   if (!token.empty()) {
@@ -99,8 +107,7 @@ Api::StreamAdmission Api::AdmitStream(const Request& request, const Caller& call
   const std::string path = "/api/v1/stream";
   Params params;
   bool path_matched = false;
-  CheckAccess(request, caller, who,
-              AccessFor(Find(http::verb::get, {"api", "v1", "stream"}, params, path_matched), path));
+  CheckAccess(request, caller, who, AccessFor(routes_.Find(http::verb::get, path, params, path_matched), path));
   const std::string_view origin = request[http::field::origin];
   if (!origin.empty() && !auth::SameOrigin(origin, request[http::field::host])) {
     throw ApiError(http::status::forbidden, "Cross-site WebSocket refused",
@@ -132,41 +139,45 @@ Reply Api::Audited(const Request& request, const Caller& caller, const Identity&
   };
 }
 
-void Api::AddAuthRoutes() {
-  const bool secure = c_.config.server.tls.enabled;
-  const auto lifetime = std::chrono::seconds(static_cast<std::int64_t>(c_.access.options.session_hours * 3600));
+AccountsApi::AccountsApi(auth::AccessControl& access, bool secure, std::string tls_fingerprint)
+    : access_(access), secure_(secure), tls_fingerprint_(std::move(tls_fingerprint)) {}
+
+void AccountsApi::AddRoutes(Router& routes) const {
+  const bool secure = secure_;
+  const auto lifetime = std::chrono::seconds(static_cast<std::int64_t>(access_.options.session_hours * 3600));
   // Logs `who` in: a session and its cookie.
   const auto login = [this, secure, lifetime](const Request& r, const Principal& who, http::status status) {
     Response res = JsonResponse(r, PrincipalJson(who), status);
     res.set(http::field::set_cookie,
-            auth::SessionCookie(c_.access.accounts.OpenSession(who.name, lifetime), lifetime, secure));
+            auth::SessionCookie(access_.accounts.OpenSession(who.name, lifetime), lifetime, secure));
     return res;
   };
 
   // Public: whether the robot is still to be set up, and who the caller is logged in as (null: nobody), so that a
   // page can tell without a request that fails.
-  AddWithCaller(http::verb::get, "/api/v1/setup", Access::kPublic,
-                [this](const Request& r, const Params&, const Caller& caller, const Identity& identity) {
-                  const auto code = c_.access.setup.code();
-                  json body = {{"needed", code.has_value()}};
-                  body["session"] = identity.who ? PrincipalJson(*identity.who) : json(nullptr);
-                  // The code is shown on the robot's own screen (and in its journal), never sent over the network.
-                  if (code && caller.local && c_.access.options.local_face) body["code"] = *code;
-                  if (!c_.tls_fingerprint.empty()) body["tls_fingerprint"] = c_.tls_fingerprint;
-                  return JsonResponse(r, body);
-                });
-  AddWithCaller(
+  routes.AddWithCaller(http::verb::get, "/api/v1/setup", Access::kPublic,
+                       [this](const Request& r, const Params&, const Caller& caller, const Identity& identity) {
+                         const auto code = access_.setup.code();
+                         json body = {{"needed", code.has_value()}};
+                         body["session"] = identity.who ? PrincipalJson(*identity.who) : json(nullptr);
+                         // The code is shown on the robot's own screen (and in its journal), never sent over the
+                         // network.
+                         if (code && caller.local && access_.options.local_face) body["code"] = *code;
+                         if (!tls_fingerprint_.empty()) body["tls_fingerprint"] = tls_fingerprint_;
+                         return JsonResponse(r, body);
+                       });
+  routes.AddWithCaller(
       http::verb::post, "/api/v1/setup", Access::kPublic,
       [this, login](const Request& r, const Params&, const Caller& caller, const Identity&) {
         const json body = ParseJsonBody(r);
         AllowOnlyKeys(body, {"code", "username", "password"}, "");
         const std::string key = "setup@" + caller.address;
         const auto now = std::chrono::steady_clock::now();
-        if (const int wait = c_.access.limiter.RetryAfter(key, now); wait > 0) throw TooManyAttempts(wait);
+        if (const int wait = access_.limiter.RetryAfter(key, now); wait > 0) throw TooManyAttempts(wait);
         try {
           const auth::UserRecord admin = AccountChange([&] {
-            return c_.access.setup.Complete(RequireString(body, "code"), RequireString(body, "username"),
-                                            RequireString(body, "password"));
+            return access_.setup.Complete(RequireString(body, "code"), RequireString(body, "username"),
+                                          RequireString(body, "password"));
           });
           spdlog::info("setup: {} is the first admin", admin.username);
           return login(r, Principal{admin.username, Role::kAdmin, "user", ""}, http::status::created);
@@ -174,13 +185,13 @@ void Api::AddAuthRoutes() {
           if (e.done) {
             throw ApiError(http::status::conflict, "Already set up", "the first admin exists; log in", "setup_done");
           }
-          c_.access.limiter.Failed(key, now);
+          access_.limiter.Failed(key, now);
           throw ApiError(http::status::forbidden, "Wrong setup code",
                          "the setup code is shown on the robot's screen and in its journal", "wrong_setup_code");
         }
       });
 
-  AddWithCaller(
+  routes.AddWithCaller(
       http::verb::post, "/api/v1/session", Access::kPublic,
       [this, login](const Request& r, const Params&, const Caller& caller, const Identity&) {
         const json body = ParseJsonBody(r);
@@ -190,94 +201,90 @@ void Api::AddAuthRoutes() {
         const std::string by_client = "client@" + caller.address;
         const std::string by_user = "user@" + username;
         const auto now = std::chrono::steady_clock::now();
-        const int wait =
-            std::max(c_.access.limiter.RetryAfter(by_client, now), c_.access.limiter.RetryAfter(by_user, now));
+        const int wait = std::max(access_.limiter.RetryAfter(by_client, now), access_.limiter.RetryAfter(by_user, now));
         if (wait > 0) throw TooManyAttempts(wait);
-        const auto who = c_.access.accounts.CheckPassword(username, password);
+        const auto who = access_.accounts.CheckPassword(username, password);
         if (!who) {
-          c_.access.limiter.Failed(by_client, now);
-          c_.access.limiter.Failed(by_user, now);
+          access_.limiter.Failed(by_client, now);
+          access_.limiter.Failed(by_user, now);
           throw ApiError(http::status::unauthorized, "Login failed", "wrong username or password", "wrong_password");
         }
         return login(r, *who, http::status::ok);
       });
-  AddWithCaller(http::verb::get, "/api/v1/session", Access::kPublic,
-                [this](const Request& r, const Params&, const Caller&, const Identity& identity) {
-                  if (!identity.who) {
-                    throw ApiError(http::status::unauthorized, "Not logged in", "POST /api/v1/session to log in",
-                                   "unauthenticated");
-                  }
-                  json body = PrincipalJson(*identity.who);
-                  body["anonymous_viewer"] = c_.access.options.anonymous_viewer;
-                  return JsonResponse(r, body);
-                });
-  Add(http::verb::delete_, "/api/v1/session", Access::kPublic, Sync([this, secure](const Request& r, const Params&) {
-        const std::string session = auth::SessionFromCookies(r[http::field::cookie]);
-        if (!session.empty()) c_.access.accounts.CloseSession(session);
-        Response res = MakeResponse(r, http::status::no_content, "application/json", "");
-        res.set(http::field::set_cookie, auth::ClearedSessionCookie(secure));
-        return res;
-      }));
+  routes.AddWithCaller(http::verb::get, "/api/v1/session", Access::kPublic,
+                       [this](const Request& r, const Params&, const Caller&, const Identity& identity) {
+                         if (!identity.who) {
+                           throw ApiError(http::status::unauthorized, "Not logged in", "POST /api/v1/session to log in",
+                                          "unauthenticated");
+                         }
+                         json body = PrincipalJson(*identity.who);
+                         body["anonymous_viewer"] = access_.options.anonymous_viewer;
+                         return JsonResponse(r, body);
+                       });
+  routes.Add(http::verb::delete_, "/api/v1/session", Access::kPublic,
+             Sync([this, secure](const Request& r, const Params&) {
+               const std::string session = auth::SessionFromCookies(r[http::field::cookie]);
+               if (!session.empty()) access_.accounts.CloseSession(session);
+               Response res = MakeResponse(r, http::status::no_content, "application/json", "");
+               res.set(http::field::set_cookie, auth::ClearedSessionCookie(secure));
+               return res;
+             }));
 
-  Add(http::verb::get, "/api/v1/users", Access::kAdmin, Sync([this](const Request& r, const Params&) {
-        json users = json::array();
-        for (const auth::UserRecord& u : c_.access.accounts.Users()) users.push_back(ToJson(u));
-        return JsonResponse(r, {{"users", users}});
-      }));
-  Add(http::verb::post, "/api/v1/users", Access::kAdmin, Sync([this](const Request& r, const Params&) {
-        const json body = ParseJsonBody(r);
-        AllowOnlyKeys(body, {"username", "password", "role"}, "");
-        const auth::UserRecord user = AccountChange([&] {
-          return c_.access.accounts.AddUser(RequireString(body, "username"), RequireString(body, "password"),
-                                            RequireRole(body));
-        });
-        Response res = JsonResponse(r, ToJson(user), http::status::created);
-        res.set(http::field::location, "/api/v1/users/" + user.username);
-        return res;
-      }));
-  Add(http::verb::delete_, "/api/v1/users/{username}", Access::kAdmin, Sync([this](const Request& r, const Params& p) {
-        const bool deleted = AccountChange([&] { return c_.access.accounts.DeleteUser(p.at("username")); });
-        if (!deleted) throw ApiError(http::status::not_found, "Not found", "no user " + p.at("username"));
-        return MakeResponse(r, http::status::no_content, "application/json", "");
-      }));
+  routes.Add(http::verb::get, "/api/v1/users", Access::kAdmin, Sync([this](const Request& r, const Params&) {
+               json users = json::array();
+               for (const auth::UserRecord& u : access_.accounts.Users()) users.push_back(ToJson(u));
+               return JsonResponse(r, {{"users", users}});
+             }));
+  routes.Add(http::verb::post, "/api/v1/users", Access::kAdmin, Sync([this](const Request& r, const Params&) {
+               const json body = ParseJsonBody(r);
+               AllowOnlyKeys(body, {"username", "password", "role"}, "");
+               const auth::UserRecord user = AccountChange([&] {
+                 return access_.accounts.AddUser(RequireString(body, "username"), RequireString(body, "password"),
+                                                 RequireRole(body));
+               });
+               Response res = JsonResponse(r, ToJson(user), http::status::created);
+               res.set(http::field::location, "/api/v1/users/" + user.username);
+               return res;
+             }));
+  routes.Add(http::verb::delete_, "/api/v1/users/{username}", Access::kAdmin,
+             Sync([this](const Request& r, const Params& p) {
+               const bool deleted = AccountChange([&] { return access_.accounts.DeleteUser(p.at("username")); });
+               if (!deleted) throw ApiError(http::status::not_found, "Not found", "no user " + p.at("username"));
+               return MakeResponse(r, http::status::no_content, "application/json", "");
+             }));
 
-  Add(http::verb::get, "/api/v1/tokens", Access::kAdmin, Sync([this](const Request& r, const Params&) {
-        json tokens = json::array();
-        for (const auth::TokenRecord& t : c_.access.accounts.Tokens()) tokens.push_back(ToJson(t));
-        return JsonResponse(r, {{"tokens", tokens}});
-      }));
-  AddWithCaller(http::verb::post, "/api/v1/tokens", Access::kAdmin,
-                [this](const Request& r, const Params&, const Caller&, const Identity& identity) {
-                  const json body = ParseJsonBody(r);
-                  AllowOnlyKeys(body, {"name", "role"}, "");
-                  const std::string by = Who(identity.who);
-                  const auto [token, secret] = AccountChange([&] {
-                    return c_.access.accounts.CreateToken(RequireString(body, "name"), RequireRole(body), by);
-                  });
-                  json out = ToJson(token);
-                  out["token"] = secret;  // shown this once; kept only as a digest
-                  Response res = JsonResponse(r, out, http::status::created);
-                  res.set(http::field::location, "/api/v1/tokens/" + token.id);
-                  return res;
-                });
-  Add(http::verb::delete_, "/api/v1/tokens/{id}", Access::kAdmin, Sync([this](const Request& r, const Params& p) {
-        if (!c_.access.accounts.RevokeToken(p.at("id"))) {
-          throw ApiError(http::status::not_found, "Not found", "no token " + p.at("id"));
-        }
-        return MakeResponse(r, http::status::no_content, "application/json", "");
-      }));
+  routes.Add(http::verb::get, "/api/v1/tokens", Access::kAdmin, Sync([this](const Request& r, const Params&) {
+               json tokens = json::array();
+               for (const auth::TokenRecord& t : access_.accounts.Tokens()) tokens.push_back(ToJson(t));
+               return JsonResponse(r, {{"tokens", tokens}});
+             }));
+  routes.AddWithCaller(http::verb::post, "/api/v1/tokens", Access::kAdmin,
+                       [this](const Request& r, const Params&, const Caller&, const Identity& identity) {
+                         const json body = ParseJsonBody(r);
+                         AllowOnlyKeys(body, {"name", "role"}, "");
+                         const std::string by = Who(identity.who);
+                         const auto [token, secret] = AccountChange([&] {
+                           return access_.accounts.CreateToken(RequireString(body, "name"), RequireRole(body), by);
+                         });
+                         json out = ToJson(token);
+                         out["token"] = secret;  // shown this once; kept only as a digest
+                         Response res = JsonResponse(r, out, http::status::created);
+                         res.set(http::field::location, "/api/v1/tokens/" + token.id);
+                         return res;
+                       });
+  routes.Add(http::verb::delete_, "/api/v1/tokens/{id}", Access::kAdmin,
+             Sync([this](const Request& r, const Params& p) {
+               if (!access_.accounts.RevokeToken(p.at("id"))) {
+                 throw ApiError(http::status::not_found, "Not found", "no token " + p.at("id"));
+               }
+               return MakeResponse(r, http::status::no_content, "application/json", "");
+             }));
 
   // The newest records, or those after `after` (a poller's last sequence).
-  Add(http::verb::get, "/api/v1/audit", Access::kAdmin, Sync([this](const Request& r, const Params&) {
-        return JsonResponse(r, {{"records", c_.access.accounts.AuditLog(AfterParameter(r.target()), kAuditPerPage)}});
+  routes.Add(
+      http::verb::get, "/api/v1/audit", Access::kAdmin, Sync([this](const Request& r, const Params&) {
+        return JsonResponse(r, {{"records", access_.accounts.AuditLog(AfterParameter(r.target()), kAuditPerPage)}});
       }));
-}
-
-ApiError Api::TooManyAttempts(int retry_after_s) {
-  return ApiError(http::status::too_many_requests, "Too many attempts",
-                  "too many wrong passwords or codes; try again in " + std::to_string(retry_after_s) + " s",
-                  "rate_limited")
-      .RetryAfter(retry_after_s);
 }
 
 }  // namespace corridor::server

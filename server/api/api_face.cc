@@ -1,10 +1,8 @@
-// Routes for the robot's face: GET /api/v1/face (the expression, and what it said last) and POST /api/v1/face (an
-// app's or building system's request: an expression for a while, a phrase to say, or both); and for the detection
-// hook: GET /api/v1/detections (what the robot sees now) and POST /api/v1/detections (an external detector's).
+#include "server/api/api_face.h"
+
 #include <cctype>
 #include <cmath>
 
-#include "server/api/api.h"
 #include "server/runtime/topics.h"
 
 namespace corridor::server {
@@ -113,13 +111,14 @@ face::Detection ParseDetection(const json& j, const std::string& where, const st
 
 }  // namespace
 
-void Api::AddDetectionRoutes() {
-  Add(http::verb::get, "/api/v1/detections", Access::kViewer, Sync([this](const Request& r, const Params&) {
-        const auto detections = c_.bus.Get(topics::kDetections).latest();
-        return JsonResponse(r, ToJson(detections ? *detections : Detections{c_.clock.Now(), {}}));
-      }));
-  Add(http::verb::post, "/api/v1/detections", Access::kOperator, Sync([this](const Request& r, const Params&) {
-        if (c_.perception == nullptr) {
+void FaceApi::AddDetectionRoutes(Router& routes) const {
+  routes.Add(http::verb::get, "/api/v1/detections", Access::kViewer, Sync([this](const Request& r, const Params&) {
+               const auto detections = bus_.Get(topics::kDetections).latest();
+               return JsonResponse(r, ToJson(detections ? *detections : Detections{clock_.Now(), {}}));
+             }));
+  routes.Add(
+      http::verb::post, "/api/v1/detections", Access::kOperator, Sync([this](const Request& r, const Params&) {
+        if (perception_ == nullptr) {
           throw ApiError(http::status::conflict, "Perception is off", "perception.enabled is false", "perception_off");
         }
         const json body = ParseJsonBody(r);
@@ -133,7 +132,7 @@ void Api::AddDetectionRoutes() {
         }
         pushed.source = body["source"].get<std::string>();
         if (body.contains("ttl_s")) pushed.ttl_s = RequireNumber(body, "ttl_s", "");
-        const double max_ttl = c_.config.perception.max_ttl_s;
+        const double max_ttl = options_.max_ttl_s;
         if (!(pushed.ttl_s > 0.0 && pushed.ttl_s <= max_ttl)) {
           throw ApiError(http::status::bad_request, "Invalid request",
                          "ttl_s: seconds above 0, at most " + std::to_string(max_ttl));
@@ -145,37 +144,43 @@ void Api::AddDetectionRoutes() {
           pushed.items.push_back(
               ParseDetection(body["detections"][i], "detections[" + std::to_string(i) + "]", pushed.source));
         }
-        pushed.received_ns = c_.clock.Now();
+        pushed.received_ns = clock_.Now();
         const json accepted{{"source", pushed.source}, {"accepted", pushed.items.size()}, {"ttl_s", pushed.ttl_s}};
-        c_.perception->Push(std::move(pushed));
+        perception_->Push(std::move(pushed));
         return JsonResponse(r, accepted, http::status::accepted);
       }));
 }
 
-void Api::AddFaceRoutes() {
-  Add(http::verb::get, "/api/v1/face", Access::kFace, Sync([this](const Request& r, const Params&) {
-        const auto face = c_.bus.Get(topics::kFaceExpression).latest();
-        return JsonResponse(r, ToJson(face ? *face : FaceState{}));
-      }));
-  Add(http::verb::get, "/api/v1/face/speech/{sequence}", Access::kFace, Sync([this](const Request& r, const Params& p) {
-        const std::string& text = p.at("sequence");
-        const auto wav = c_.spoken.Find(ParseCount(text, "sequence: a phrase's said_sequence"));
-        if (!wav) {
-          throw ApiError(http::status::not_found, "No such speech",
-                         "phrase " + text + " was not said aloud (the voice is muted) or is no longer kept",
-                         "no_speech");
-        }
-        return MakeResponse(r, http::status::ok, "audio/wav", *wav);
-      }));
-  Add(http::verb::post, "/api/v1/face", Access::kOperator, Sync([this](const Request& r, const Params&) {
-        const FaceCommand command = ParseFaceCommand(ParseJsonBody(r));
-        c_.bus.Get(topics::kFaceCommand).Publish(command);
-        json accepted{
-            {"expression", command.expression ? json(std::string(face::ToString(*command.expression))) : json(nullptr)},
-            {"hold_s", command.hold_s},
-            {"say", command.say}};
-        return JsonResponse(r, accepted, http::status::accepted);
-      }));
+FaceApi::FaceApi(Bus& bus, const drivers::Clock& clock, const PerceptionOptions& options, PerceptionNode* perception,
+                 const SpokenPhrases& spoken)
+    : bus_(bus), clock_(clock), options_(options), perception_(perception), spoken_(spoken) {}
+
+void FaceApi::AddRoutes(Router& routes) const {
+  routes.Add(http::verb::get, "/api/v1/face", Access::kFace, Sync([this](const Request& r, const Params&) {
+               const auto face = bus_.Get(topics::kFaceExpression).latest();
+               return JsonResponse(r, ToJson(face ? *face : FaceState{}));
+             }));
+  routes.Add(http::verb::get, "/api/v1/face/speech/{sequence}", Access::kFace,
+             Sync([this](const Request& r, const Params& p) {
+               const std::string& text = p.at("sequence");
+               const auto wav = spoken_.Find(ParseCount(text, "sequence: a phrase's said_sequence"));
+               if (!wav) {
+                 throw ApiError(http::status::not_found, "No such speech",
+                                "phrase " + text + " was not said aloud (the voice is muted) or is no longer kept",
+                                "no_speech");
+               }
+               return MakeResponse(r, http::status::ok, "audio/wav", *wav);
+             }));
+  routes.Add(http::verb::post, "/api/v1/face", Access::kOperator, Sync([this](const Request& r, const Params&) {
+               const FaceCommand command = ParseFaceCommand(ParseJsonBody(r));
+               bus_.Get(topics::kFaceCommand).Publish(command);
+               json accepted{{"expression", command.expression ? json(std::string(face::ToString(*command.expression)))
+                                                               : json(nullptr)},
+                             {"hold_s", command.hold_s},
+                             {"say", command.say}};
+               return JsonResponse(r, accepted, http::status::accepted);
+             }));
+  AddDetectionRoutes(routes);
 }
 
 }  // namespace corridor::server

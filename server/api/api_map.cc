@@ -1,4 +1,5 @@
-// Routes for the map and what is drawn on it: the active map, its editing and selection, zones and places.
+#include "server/api/api_map.h"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -10,7 +11,6 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "nav/mission/docking.h"
-#include "server/api/api.h"
 #include "server/fleet/doors.h"
 #include "server/runtime/topics.h"
 
@@ -143,27 +143,40 @@ void ExpectMapEdit(const std::function<void()>& edit) {
 
 }  // namespace
 
-void Api::AddMapRoutes() {
-  Add(http::verb::get, "/api/v1/map", Access::kViewer, Sync([this](const Request& r, const Params&) {
-        const auto map = c_.maps.active();
-        const nav::OccupancyGrid& g = map->grid;
-        return JsonResponse(r, {{"name", map->name},
-                                {"revision", map->revision},
-                                {"resolution_m", g.resolution_m()},
-                                {"width", g.width()},
-                                {"height", g.height()},
-                                {"origin", ToJson(g.origin())},
-                                {"image_url", "/api/v1/map/image?revision=" + std::to_string(map->revision)}});
-      }));
+MapApi::MapApi(Bus& bus, const RobotCore& core, const Config& config, MapLibrary& maps, Store& store,
+               PlannerService& planner, OctreeNode* octree, bool simulated, Executor& io)
+    : bus_(bus),
+      core_(core),
+      config_(config),
+      maps_(maps),
+      store_(store),
+      planner_(planner),
+      octree_(octree),
+      simulated_(simulated),
+      io_(io) {}
+
+void MapApi::AddRoutes(Router& routes) const {
+  routes.Add(http::verb::get, "/api/v1/map", Access::kViewer, Sync([this](const Request& r, const Params&) {
+               const auto map = maps_.active();
+               const nav::OccupancyGrid& g = map->grid;
+               return JsonResponse(r, {{"name", map->name},
+                                       {"revision", map->revision},
+                                       {"resolution_m", g.resolution_m()},
+                                       {"width", g.width()},
+                                       {"height", g.height()},
+                                       {"origin", ToJson(g.origin())},
+                                       {"image_url", "/api/v1/map/image?revision=" + std::to_string(map->revision)}});
+             }));
   // The building: its floors (each with its map), the floor the robot is on, and the lifts between them.
-  Add(http::verb::get, "/api/v1/building", Access::kViewer, Sync([this](const Request& r, const Params&) {
-        const nav::Building building = CurrentBuilding(c_.config, c_.store);
-        const nav::Floor* here = building.FloorOfMap(c_.maps.active()->name);
+  routes.Add(
+      http::verb::get, "/api/v1/building", Access::kViewer, Sync([this](const Request& r, const Params&) {
+        const nav::Building building = CurrentBuilding(config_, store_);
+        const nav::Floor* here = building.FloorOfMap(maps_.active()->name);
         json floors = json::array();
         for (const nav::Floor& f : building.floors) {
           json places = json::array();
-          for (const nav::Place& p : c_.store.Places(f.map)) {
-            places.push_back(PlaceJson(p, c_.config.mission.docking.dock));
+          for (const nav::Place& p : store_.Places(f.map)) {
+            places.push_back(PlaceJson(p, config_.mission.docking.dock));
           }
           floors.push_back({{"name", f.name}, {"map", f.map}, {"places", std::move(places)}});
         }
@@ -190,25 +203,26 @@ void Api::AddMapRoutes() {
   // The doors on the map in use (the configuration's, and the simulator's on its world's map) and what their
   // controller says of those a mission asked for.
   const auto doors_here = [this] {
-    const std::string map = c_.maps.active()->name;
-    return DoorsOfMap(c_.config, c_.store.Doors(map), map, c_.sim != nullptr);
+    const std::string map = maps_.active()->name;
+    return DoorsOfMap(config_, store_.Doors(map), map, simulated_);
   };
   const auto door_json = [this](const MapDoor& d) {
-    const auto states = c_.bus.Get(topics::kDoorStates).latest();
+    const auto states = bus_.Get(topics::kDoorStates).latest();
     std::string state = "idle";
     if (states && states->doors.contains(d.door.id)) state = nav::ToString(states->doors.at(d.door.id).status);
     return json{{"id", d.door.id},    {"x1", d.door.a.x()}, {"y1", d.door.a.y()}, {"x2", d.door.b.x()},
                 {"y2", d.door.b.y()}, {"source", d.source}, {"state", state}};
   };
-  Add(http::verb::get, "/api/v1/doors", Access::kViewer,
-      Sync([this, doors_here, door_json](const Request& r, const Params&) {
-        json out = json::array();
-        for (const MapDoor& d : doors_here()) out.push_back(door_json(d));
-        return JsonResponse(
-            r, {{"map", c_.maps.active()->name}, {"controlled", DoorsAnswer(c_.config)}, {"doors", std::move(out)}});
-      }));
+  routes.Add(http::verb::get, "/api/v1/doors", Access::kViewer,
+             Sync([this, doors_here, door_json](const Request& r, const Params&) {
+               json out = json::array();
+               for (const MapDoor& d : doors_here()) out.push_back(door_json(d));
+               return JsonResponse(
+                   r, {{"map", maps_.active()->name}, {"controlled", DoorsAnswer(config_)}, {"doors", std::move(out)}});
+             }));
   // A door drawn on the map in use: a line across a passage, with an id its controller knows.
-  Add(http::verb::post, "/api/v1/doors", Access::kAdmin,
+  routes.Add(
+      http::verb::post, "/api/v1/doors", Access::kAdmin,
       Sync([this, doors_here, door_json](const Request& r, const Params&) {
         const json body = ParseJsonBody(r);
         if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
@@ -225,7 +239,7 @@ void Api::AddMapRoutes() {
         if (length < 0.3 || length > 20.0) {
           throw ApiError(http::status::unprocessable_entity, "Not a door", "a door is 0.3 to 20 m across", "bad_door");
         }
-        const nav::OccupancyGrid& grid = c_.maps.active()->grid;
+        const nav::OccupancyGrid& grid = maps_.active()->grid;
         if (!grid.WorldToCell(door.a) || !grid.WorldToCell(door.b)) {
           throw ApiError(http::status::unprocessable_entity, "Door outside the map", "both ends must be on the map",
                          "goal_outside_map");
@@ -235,78 +249,82 @@ void Api::AddMapRoutes() {
             throw ApiError(http::status::conflict, "Id taken", "a door '" + door.id + "' is on this map", "name_taken");
           }
         }
-        c_.store.PutDoor(c_.maps.active()->name, door);
-        c_.core.MapEdited("doors", "rest");
+        store_.PutDoor(maps_.active()->name, door);
+        core_.MapEdited("doors", "rest");
         return JsonResponse(r, door_json({door, "drawn"}), http::status::created);
       }));
-  Add(http::verb::delete_, "/api/v1/doors/{id}", Access::kAdmin,
-      Sync([this, doors_here](const Request& r, const Params& p) {
-        const std::string& id = p.at("id");
-        if (!c_.store.DeleteDoor(c_.maps.active()->name, id)) {
-          for (const MapDoor& d : doors_here()) {
-            if (d.door.id == id) {
-              throw ApiError(http::status::conflict, "Configured door",
-                             "door '" + id + "' is in the configuration (doors.list or sim.doors), not drawn",
-                             "configured");
-            }
-          }
-          throw ApiError(http::status::not_found, "Not found", "no door " + id + " on this map");
-        }
-        c_.core.MapEdited("doors", "rest");
-        return MakeResponse(r, http::status::no_content, "application/json", "");
-      }));
+  routes.Add(http::verb::delete_, "/api/v1/doors/{id}", Access::kAdmin,
+             Sync([this, doors_here](const Request& r, const Params& p) {
+               const std::string& id = p.at("id");
+               if (!store_.DeleteDoor(maps_.active()->name, id)) {
+                 for (const MapDoor& d : doors_here()) {
+                   if (d.door.id == id) {
+                     throw ApiError(http::status::conflict, "Configured door",
+                                    "door '" + id + "' is in the configuration (doors.list or sim.doors), not drawn",
+                                    "configured");
+                   }
+                 }
+                 throw ApiError(http::status::not_found, "Not found", "no door " + id + " on this map");
+               }
+               core_.MapEdited("doors", "rest");
+               return MakeResponse(r, http::status::no_content, "application/json", "");
+             }));
   // A lift's stop on a floor, drawn in the console: its door there and the lobby facing it.
-  Add(http::verb::put, "/api/v1/building/lifts/{id}/stops/{floor}", Access::kAdmin,
-      Sync([this](const Request& r, const Params& p) {
-        const std::string& id = p.at("id");
-        if (id.empty() || id.size() > 64 ||
-            id.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
-                                 "0123456789_.-") != std::string::npos) {
-          throw ApiError(http::status::bad_request, "Invalid request",
-                         "a lift's id is 1 to 64 letters, digits, '_', '.' or '-'");
-        }
-        const json body = ParseJsonBody(r);
-        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
-        AllowOnlyKeys(body, {"x1", "y1", "x2", "y2", "lobby"}, "");
-        if (!body.contains("lobby")) throw ApiError(http::status::bad_request, "Invalid request", "missing 'lobby'");
-        const json& lobby = body["lobby"];
-        if (!lobby.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "'lobby' must be a pose");
-        AllowOnlyKeys(lobby, {"x", "y", "yaw"}, "lobby");
-        nav::LiftStop stop{p.at("floor"),
-                           {"",
-                            {RequireNumber(body, "x1", ""), RequireNumber(body, "y1", "")},
-                            {RequireNumber(body, "x2", ""), RequireNumber(body, "y2", "")}},
-                           {RequireNumber(lobby, "x", "lobby"), RequireNumber(lobby, "y", "lobby"),
-                            nav::WrapAngle(RequireNumber(lobby, "yaw", "lobby"))}};
-        try {
-          nav::ValidateStop(CurrentBuilding(c_.config, c_.store), stop);
-        } catch (const std::invalid_argument& e) {
-          throw ApiError(http::status::unprocessable_entity, "Not a lift stop", e.what(), "bad_lift_stop");
-        }
-        c_.store.PutLiftStop(id, stop);
-        c_.core.MapEdited("lift stops", "rest");
-        const nav::Building building = CurrentBuilding(c_.config, c_.store);
-        const nav::Lift* lift = building.LiftNamed(id);
-        return JsonResponse(r, {{"id", id}, {"stops", lift->stops.size()}});
-      }));
-  Add(http::verb::delete_, "/api/v1/building/lifts/{id}/stops/{floor}", Access::kAdmin,
-      Sync([this](const Request& r, const Params& p) {
-        if (!c_.store.DeleteLiftStop(p.at("id"), p.at("floor"))) {
-          throw ApiError(http::status::not_found, "Not found",
-                         "no stop of lift " + p.at("id") + " on floor " + p.at("floor") +
-                             " was drawn (the configuration's lifts stay)");
-        }
-        c_.core.MapEdited("lift stops", "rest");
-        return MakeResponse(r, http::status::no_content, "application/json", "");
-      }));
-  Add(http::verb::get, "/api/v1/map/image", Access::kViewer, Sync([this](const Request& r, const Params&) {
-        return MakeResponse(r, http::status::ok, "image/png", c_.maps.active()->png);
-      }));
+  routes.Add(http::verb::put, "/api/v1/building/lifts/{id}/stops/{floor}", Access::kAdmin,
+             Sync([this](const Request& r, const Params& p) {
+               const std::string& id = p.at("id");
+               if (id.empty() || id.size() > 64 ||
+                   id.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                        "0123456789_.-") != std::string::npos) {
+                 throw ApiError(http::status::bad_request, "Invalid request",
+                                "a lift's id is 1 to 64 letters, digits, '_', '.' or '-'");
+               }
+               const json body = ParseJsonBody(r);
+               if (!body.is_object())
+                 throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
+               AllowOnlyKeys(body, {"x1", "y1", "x2", "y2", "lobby"}, "");
+               if (!body.contains("lobby"))
+                 throw ApiError(http::status::bad_request, "Invalid request", "missing 'lobby'");
+               const json& lobby = body["lobby"];
+               if (!lobby.is_object())
+                 throw ApiError(http::status::bad_request, "Invalid request", "'lobby' must be a pose");
+               AllowOnlyKeys(lobby, {"x", "y", "yaw"}, "lobby");
+               nav::LiftStop stop{p.at("floor"),
+                                  {"",
+                                   {RequireNumber(body, "x1", ""), RequireNumber(body, "y1", "")},
+                                   {RequireNumber(body, "x2", ""), RequireNumber(body, "y2", "")}},
+                                  {RequireNumber(lobby, "x", "lobby"), RequireNumber(lobby, "y", "lobby"),
+                                   nav::WrapAngle(RequireNumber(lobby, "yaw", "lobby"))}};
+               try {
+                 nav::ValidateStop(CurrentBuilding(config_, store_), stop);
+               } catch (const std::invalid_argument& e) {
+                 throw ApiError(http::status::unprocessable_entity, "Not a lift stop", e.what(), "bad_lift_stop");
+               }
+               store_.PutLiftStop(id, stop);
+               core_.MapEdited("lift stops", "rest");
+               const nav::Building building = CurrentBuilding(config_, store_);
+               const nav::Lift* lift = building.LiftNamed(id);
+               return JsonResponse(r, {{"id", id}, {"stops", lift->stops.size()}});
+             }));
+  routes.Add(http::verb::delete_, "/api/v1/building/lifts/{id}/stops/{floor}", Access::kAdmin,
+             Sync([this](const Request& r, const Params& p) {
+               if (!store_.DeleteLiftStop(p.at("id"), p.at("floor"))) {
+                 throw ApiError(http::status::not_found, "Not found",
+                                "no stop of lift " + p.at("id") + " on floor " + p.at("floor") +
+                                    " was drawn (the configuration's lifts stay)");
+               }
+               core_.MapEdited("lift stops", "rest");
+               return MakeResponse(r, http::status::no_content, "application/json", "");
+             }));
+  routes.Add(http::verb::get, "/api/v1/map/image", Access::kViewer, Sync([this](const Request& r, const Params&) {
+               return MakeResponse(r, http::status::ok, "image/png", maps_.active()->png);
+             }));
   // Where people have been walking, as the planner weighs it: a red overlay for the map image (its size, row 0 at
   // the top), most opaque where the extra cost is highest.
-  Add(http::verb::get, "/api/v1/map/traffic", Access::kViewer, Sync([this](const Request& r, const Params&) {
-        const auto cost = c_.planner.traffic();
-        const nav::OccupancyGrid& grid = c_.maps.active()->grid;
+  routes.Add(
+      http::verb::get, "/api/v1/map/traffic", Access::kViewer, Sync([this](const Request& r, const Params&) {
+        const auto cost = planner_.traffic();
+        const nav::OccupancyGrid& grid = maps_.active()->grid;
         if (!cost || cost->size() != static_cast<std::size_t>(grid.width()) * static_cast<std::size_t>(grid.height())) {
           throw ApiError(http::status::not_found, "No traffic", "nobody has been seen walking on this map lately");
         }
@@ -314,19 +332,19 @@ void Api::AddMapRoutes() {
       }));
   // The 3D map (server/nodes/octree_node.h): what it is, the OctoMap binary (.bt, for octovis or ROS's
   // octomap_server), and its occupied voxels for drawing (little-endian float32 x, y, z, size per voxel, map frame).
-  // The snapshot is taken on the mapping executor; the answer comes back through Answer.
-  using Respond = std::function<Response(const Request&, const OctreeSnapshot&)>;
-  const auto octree_route = [this](const std::string& path, Respond respond) {
-    Add(http::verb::get, path, Access::kViewer, [this, respond](const Request& r, const Params&, Reply reply) {
-      if (c_.octree == nullptr) {
+  // The snapshot is taken on the mapping executor, which answers.
+  using SnapshotResponse = std::function<Response(const Request&, const OctreeSnapshot&)>;
+  const auto octree_route = [this, &routes](const std::string& path, SnapshotResponse respond) {
+    routes.Add(http::verb::get, path, Access::kViewer, [this, respond](const Request& r, const Params&, Reply reply) {
+      if (octree_ == nullptr) {
         throw ApiError(http::status::not_found, "No 3D map", "the 3D map is off (octomap.enabled in the configuration)",
                        "no_octomap");
       }
-      c_.octree->Snapshot([this, r, reply, respond](std::shared_ptr<const OctreeSnapshot> snapshot) {
-        Answer(r, reply, [&]() -> Response {
+      octree_->Snapshot([r, reply, respond](std::shared_ptr<const OctreeSnapshot> snapshot) {
+        reply(Respond(r, [&]() -> Response {
           if (!snapshot) throw ApiError(http::status::not_found, "No 3D map", "there is no map yet", "no_octomap");
           return respond(r, *snapshot);
-        });
+        }));
       });
     });
   };
@@ -351,11 +369,12 @@ void Api::AddMapRoutes() {
     std::memcpy(bytes.data(), o.voxels.data(), bytes.size());
     return MakeResponse(r, http::status::ok, "application/octet-stream", std::move(bytes));
   });
-  Add(http::verb::put, "/api/v1/map/image", Access::kAdmin, Sync([this](const Request& r, const Params&) {
-        ExpectMapEdit([&] { c_.maps.ReplaceImage(r.body()); });
-        return JsonResponse(r, {{"revision", c_.maps.active()->revision}});
-      }));
-  Add(http::verb::put, "/api/v1/map/cells", Access::kAdmin, Sync([this](const Request& r, const Params&) {
+  routes.Add(http::verb::put, "/api/v1/map/image", Access::kAdmin, Sync([this](const Request& r, const Params&) {
+               ExpectMapEdit([&] { maps_.ReplaceImage(r.body()); });
+               return JsonResponse(r, {{"revision", maps_.active()->revision}});
+             }));
+  routes.Add(
+      http::verb::put, "/api/v1/map/cells", Access::kAdmin, Sync([this](const Request& r, const Params&) {
         const json body = ParseJsonBody(r);
         AllowOnlyKeys(body, {"cells", "rects"}, "");
         std::vector<CellEdit> edits;
@@ -390,78 +409,81 @@ void Api::AddMapRoutes() {
           throw ApiError(http::status::payload_too_large, "Edit too large",
                          "at most " + std::to_string(kMaxCellEdits) + " cells per edit; use PUT /api/v1/map/image");
         }
-        ExpectMapEdit([&] { c_.maps.EditCells(edits); });
-        return JsonResponse(r, {{"revision", c_.maps.active()->revision}, {"changed", edits.size()}});
+        ExpectMapEdit([&] { maps_.EditCells(edits); });
+        return JsonResponse(r, {{"revision", maps_.active()->revision}, {"changed", edits.size()}});
       }));
-  Add(http::verb::get, "/api/v1/maps", Access::kViewer, Sync([this](const Request& r, const Params&) {
-        return JsonResponse(r, {{"maps", c_.maps.Names()}, {"active", c_.maps.active()->name}});
-      }));
-  Add(http::verb::put, "/api/v1/map/active", Access::kAdmin, Sync([this](const Request& r, const Params&) {
+  routes.Add(http::verb::get, "/api/v1/maps", Access::kViewer, Sync([this](const Request& r, const Params&) {
+               return JsonResponse(r, {{"maps", maps_.Names()}, {"active", maps_.active()->name}});
+             }));
+  routes.Add(
+      http::verb::put, "/api/v1/map/active", Access::kAdmin, Sync([this](const Request& r, const Params&) {
         const json body = ParseJsonBody(r);
         AllowOnlyKeys(body, {"name"}, "");
         if (!body.contains("name") || !body["name"].is_string()) {
           throw ApiError(http::status::bad_request, "Invalid request", "'name' must be a map name");
         }
-        if (const auto refused = c_.core.SelectMap(body["name"].get<std::string>(), "rest")) {
+        if (const auto refused = core_.SelectMap(body["name"].get<std::string>(), "rest")) {
           if (refused->reason == MapRefusal::kMissionInProgress) {
             throw ApiError(http::status::conflict, "Mission in progress", refused->detail, "mission_in_progress");
           }
           throw ApiError(http::status::unprocessable_entity, "Invalid map edit", refused->detail, "invalid_map_edit");
         }
-        return JsonResponse(r, {{"active", c_.maps.active()->name}});
+        return JsonResponse(r, {{"active", maps_.active()->name}});
       }));
 
   // Zones and places belong to the active map.
-  Add(http::verb::get, "/api/v1/zones", Access::kViewer, Sync([this](const Request& r, const Params&) {
-        json zones = json::array();
-        for (const nav::Zone& z : c_.store.Zones(c_.maps.active()->name)) zones.push_back(ZoneJson(z));
-        return JsonResponse(r, {{"zones", zones}});
-      }));
-  Add(http::verb::post, "/api/v1/zones", Access::kAdmin, Sync([this](const Request& r, const Params&) {
-        const nav::Zone z = ParseZone(ParseJsonBody(r), NewId());
-        c_.store.PutZone(c_.maps.active()->name, z);
-        c_.core.MapEdited("zones", "rest");
-        Response res = JsonResponse(r, ZoneJson(z), http::status::created);
-        res.set(http::field::location, "/api/v1/zones/" + z.id);
-        return res;
-      }));
+  routes.Add(http::verb::get, "/api/v1/zones", Access::kViewer, Sync([this](const Request& r, const Params&) {
+               json zones = json::array();
+               for (const nav::Zone& z : store_.Zones(maps_.active()->name)) zones.push_back(ZoneJson(z));
+               return JsonResponse(r, {{"zones", zones}});
+             }));
+  routes.Add(http::verb::post, "/api/v1/zones", Access::kAdmin, Sync([this](const Request& r, const Params&) {
+               const nav::Zone z = ParseZone(ParseJsonBody(r), NewId());
+               store_.PutZone(maps_.active()->name, z);
+               core_.MapEdited("zones", "rest");
+               Response res = JsonResponse(r, ZoneJson(z), http::status::created);
+               res.set(http::field::location, "/api/v1/zones/" + z.id);
+               return res;
+             }));
   const auto find_zone = [this](const std::string& id) {
-    for (const nav::Zone& z : c_.store.Zones(c_.maps.active()->name)) {
+    for (const nav::Zone& z : store_.Zones(maps_.active()->name)) {
       if (z.id == id) return z;
     }
     throw ApiError(http::status::not_found, "Not found", "no zone " + id);
   };
-  Add(http::verb::get, "/api/v1/zones/{id}", Access::kViewer, Sync([find_zone](const Request& r, const Params& p) {
-        return JsonResponse(r, ZoneJson(find_zone(p.at("id"))));
-      }));
-  Add(http::verb::put, "/api/v1/zones/{id}", Access::kAdmin, Sync([this, find_zone](const Request& r, const Params& p) {
-        find_zone(p.at("id"));
-        const nav::Zone z = ParseZone(ParseJsonBody(r), p.at("id"));
-        c_.store.PutZone(c_.maps.active()->name, z);
-        c_.core.MapEdited("zones", "rest");
-        return JsonResponse(r, ZoneJson(z));
-      }));
-  Add(http::verb::delete_, "/api/v1/zones/{id}", Access::kAdmin, Sync([this](const Request& r, const Params& p) {
-        if (!c_.store.DeleteZone(c_.maps.active()->name, p.at("id"))) {
-          throw ApiError(http::status::not_found, "Not found", "no zone " + p.at("id"));
-        }
-        c_.core.MapEdited("zones", "rest");
-        return MakeResponse(r, http::status::no_content, "application/json", "");
-      }));
+  routes.Add(http::verb::get, "/api/v1/zones/{id}", Access::kViewer,
+             Sync([find_zone](const Request& r, const Params& p) {
+               return JsonResponse(r, ZoneJson(find_zone(p.at("id"))));
+             }));
+  routes.Add(http::verb::put, "/api/v1/zones/{id}", Access::kAdmin,
+             Sync([this, find_zone](const Request& r, const Params& p) {
+               find_zone(p.at("id"));
+               const nav::Zone z = ParseZone(ParseJsonBody(r), p.at("id"));
+               store_.PutZone(maps_.active()->name, z);
+               core_.MapEdited("zones", "rest");
+               return JsonResponse(r, ZoneJson(z));
+             }));
+  routes.Add(http::verb::delete_, "/api/v1/zones/{id}", Access::kAdmin, Sync([this](const Request& r, const Params& p) {
+               if (!store_.DeleteZone(maps_.active()->name, p.at("id"))) {
+                 throw ApiError(http::status::not_found, "Not found", "no zone " + p.at("id"));
+               }
+               core_.MapEdited("zones", "rest");
+               return MakeResponse(r, http::status::no_content, "application/json", "");
+             }));
 
-  Add(http::verb::get, "/api/v1/places", Access::kViewer, Sync([this](const Request& r, const Params&) {
-        json places = json::array();
-        for (const nav::Place& p : c_.store.Places(c_.maps.active()->name))
-          places.push_back(PlaceJson(p, c_.config.mission.docking.dock));
-        return JsonResponse(r, {{"places", places}});
-      }));
+  routes.Add(http::verb::get, "/api/v1/places", Access::kViewer, Sync([this](const Request& r, const Params&) {
+               json places = json::array();
+               for (const nav::Place& p : store_.Places(maps_.active()->name))
+                 places.push_back(PlaceJson(p, config_.mission.docking.dock));
+               return JsonResponse(r, {{"places", places}});
+             }));
   const auto check_name_free = [this](const nav::Place& place) {
-    for (const nav::Place& p : c_.store.Places(c_.maps.active()->name)) {
+    for (const nav::Place& p : store_.Places(maps_.active()->name)) {
       if (p.name == place.name && p.id != place.id) {
         throw ApiError(http::status::conflict, "Name taken", "a place named '" + place.name + "' exists", "name_taken");
       }
     }
-    const auto cell = c_.maps.active()->grid.WorldToCell(place.pose.translation());
+    const auto cell = maps_.active()->grid.WorldToCell(place.pose.translation());
     if (!cell) {
       throw ApiError(http::status::unprocessable_entity, "Place outside the map", "the place is outside the map",
                      "goal_outside_map");
@@ -472,47 +494,49 @@ void Api::AddMapRoutes() {
   // with the docked pose itself off any obstacle. Then it is stored, on the io executor.
   const auto put_place = [this, check_name_free](const Request& r, Reply reply, nav::Place place, bool made) {
     check_name_free(place);
-    c_.planner.WithCostmap([this, r, reply, place = std::move(place), made, check_name_free](
-                               std::shared_ptr<const nav::Costmap> costmap, std::uint64_t) {
-      const auto problem = PlaceProblem(*costmap, place, c_.config.mission.docking.dock);
-      boost::asio::post(c_.io.context(), [this, r, reply, place, made, problem, check_name_free] {
-        Answer(r, reply, [&]() -> Response {
+    planner_.WithCostmap([this, r, reply, place = std::move(place), made, check_name_free](
+                             std::shared_ptr<const nav::Costmap> costmap, std::uint64_t) {
+      const auto problem = PlaceProblem(*costmap, place, config_.mission.docking.dock);
+      boost::asio::post(io_.context(), [this, r, reply, place, made, problem, check_name_free] {
+        reply(Respond(r, [&]() -> Response {
           if (problem)
             throw ApiError(http::status::unprocessable_entity, "Place unreachable", *problem, "goal_occupied");
           check_name_free(place);  // again: another request may have taken the name meanwhile
-          c_.store.PutPlace(c_.maps.active()->name, place);
-          Response res = JsonResponse(r, PlaceJson(place, c_.config.mission.docking.dock),
+          store_.PutPlace(maps_.active()->name, place);
+          Response res = JsonResponse(r, PlaceJson(place, config_.mission.docking.dock),
                                       made ? http::status::created : http::status::ok);
           if (made) res.set(http::field::location, "/api/v1/places/" + place.id);
           return res;
-        });
+        }));
       });
     });
   };
-  Add(http::verb::post, "/api/v1/places", Access::kAdmin, [put_place](const Request& r, const Params&, Reply reply) {
-    put_place(r, std::move(reply), ParsePlace(ParseJsonBody(r), NewId()), true);
-  });
+  routes.Add(http::verb::post, "/api/v1/places", Access::kAdmin,
+             [put_place](const Request& r, const Params&, Reply reply) {
+               put_place(r, std::move(reply), ParsePlace(ParseJsonBody(r), NewId()), true);
+             });
   const auto find_place = [this](const std::string& id) {
-    for (const nav::Place& p : c_.store.Places(c_.maps.active()->name)) {
+    for (const nav::Place& p : store_.Places(maps_.active()->name)) {
       if (p.id == id) return p;
     }
     throw ApiError(http::status::not_found, "Not found", "no place " + id);
   };
-  Add(http::verb::get, "/api/v1/places/{id}", Access::kViewer,
-      Sync([this, find_place](const Request& r, const Params& p) {
-        return JsonResponse(r, PlaceJson(find_place(p.at("id")), c_.config.mission.docking.dock));
-      }));
-  Add(http::verb::put, "/api/v1/places/{id}", Access::kAdmin,
-      [find_place, put_place](const Request& r, const Params& p, Reply reply) {
-        find_place(p.at("id"));
-        put_place(r, std::move(reply), ParsePlace(ParseJsonBody(r), p.at("id")), false);
-      });
-  Add(http::verb::delete_, "/api/v1/places/{id}", Access::kAdmin, Sync([this](const Request& r, const Params& p) {
-        if (!c_.store.DeletePlace(c_.maps.active()->name, p.at("id"))) {
-          throw ApiError(http::status::not_found, "Not found", "no place " + p.at("id"));
-        }
-        return MakeResponse(r, http::status::no_content, "application/json", "");
-      }));
+  routes.Add(http::verb::get, "/api/v1/places/{id}", Access::kViewer,
+             Sync([this, find_place](const Request& r, const Params& p) {
+               return JsonResponse(r, PlaceJson(find_place(p.at("id")), config_.mission.docking.dock));
+             }));
+  routes.Add(http::verb::put, "/api/v1/places/{id}", Access::kAdmin,
+             [find_place, put_place](const Request& r, const Params& p, Reply reply) {
+               find_place(p.at("id"));
+               put_place(r, std::move(reply), ParsePlace(ParseJsonBody(r), p.at("id")), false);
+             });
+  routes.Add(http::verb::delete_, "/api/v1/places/{id}", Access::kAdmin,
+             Sync([this](const Request& r, const Params& p) {
+               if (!store_.DeletePlace(maps_.active()->name, p.at("id"))) {
+                 throw ApiError(http::status::not_found, "Not found", "no place " + p.at("id"));
+               }
+               return MakeResponse(r, http::status::no_content, "application/json", "");
+             }));
 }
 
 }  // namespace corridor::server

@@ -1,4 +1,5 @@
-// Routes for planning and missions: POST /api/v1/plan, /api/v1/missions and their actions.
+#include "server/api/api_navigation.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -6,7 +7,6 @@
 #include <variant>
 
 #include "nav/mission/docking.h"
-#include "server/api/api.h"
 #include "server/runtime/topics.h"
 
 namespace corridor::server {
@@ -56,17 +56,21 @@ ApiError RefusalError(const nav::MissionRefusal& refusal, const std::string& lis
 
 }  // namespace
 
-nav::MissionGoal Api::ParseGoal(const json& j, const std::string& where) const {
+MissionRequests::MissionRequests(Bus& bus, const RobotCore& core, const MapLibrary& maps, const Store& store,
+                                 const Config& config)
+    : bus_(bus), core_(core), maps_(maps), store_(store), config_(config) {}
+
+nav::MissionGoal MissionRequests::ParseGoal(const json& j, const std::string& where) const {
   if (!j.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "'" + where + "' must be an object");
   nav::MissionGoal goal;
   // On another floor of the building: its map's places and frame.
-  std::string map = c_.maps.active()->name;
+  std::string map = maps_.active()->name;
   if (j.contains("floor")) {
     if (!j["floor"].is_string() || j["floor"].get<std::string>().empty()) {
       throw ApiError(http::status::bad_request, "Invalid request", "'" + where + ".floor' must be a floor's name");
     }
     goal.floor = j["floor"].get<std::string>();
-    const nav::Building building = BuildingOf(c_.config.building);
+    const nav::Building building = BuildingOf(config_.building);
     const nav::Floor* floor = building.FloorNamed(goal.floor);
     if (floor == nullptr) {
       throw ApiError(http::status::unprocessable_entity, "Unknown floor",
@@ -80,10 +84,10 @@ nav::MissionGoal Api::ParseGoal(const json& j, const std::string& where) const {
       throw ApiError(http::status::bad_request, "Invalid request", "'" + where + ".place' must be a place name");
     }
     const std::string wanted = j["place"].get<std::string>();
-    for (const nav::Place& p : c_.store.Places(map)) {
+    for (const nav::Place& p : store_.Places(map)) {
       if (p.name == wanted || p.id == wanted) {
         if (p.kind == nav::PlaceKind::kDock) {
-          nav::MissionGoal dock = nav::DockGoal(p, c_.config.mission.docking.dock);
+          nav::MissionGoal dock = nav::DockGoal(p, config_.mission.docking.dock);
           dock.floor = goal.floor;
           return dock;
         }
@@ -106,50 +110,54 @@ nav::MissionGoal Api::ParseGoal(const json& j, const std::string& where) const {
   return goal;
 }
 
-void Api::AddNavigationRoutes() {
-  Add(http::verb::post, "/api/v1/plan", Access::kOperator,
-      [this](const Request& r, const Params&, Reply reply) { Plan(r, std::move(reply)); });
-  Add(http::verb::post, "/api/v1/missions", Access::kOperator,
-      [this](const Request& r, const Params&, Reply reply) { StartMission(r, std::move(reply)); });
-  Add(http::verb::post, "/api/v1/dock", Access::kOperator,
-      [this](const Request& r, const Params&, Reply reply) { Dock(r, std::move(reply)); });
-  Add(http::verb::post, "/api/v1/undock", Access::kOperator,
-      [this](const Request& r, const Params&, Reply reply) { Undock(r, std::move(reply)); });
-  Add(http::verb::get, "/api/v1/missions", Access::kViewer, Sync([this](const Request& r, const Params&) {
-        return JsonResponse(r, {{"missions", c_.store.Missions(50)}});
-      }));
-  Add(http::verb::get, "/api/v1/missions/{id}", Access::kViewer, Sync([this](const Request& r, const Params& p) {
-        const std::string& id = p.at("id");
-        if (auto state = c_.core.Mission(id)) return JsonResponse(r, ToJson(*state));
-        if (auto doc = c_.store.Mission(id)) return JsonResponse(r, *doc);
-        throw ApiError(http::status::not_found, "Not found", "no mission " + id);
-      }));
+NavigationApi::NavigationApi(Bus& bus, const RobotCore& core, const Store& store, PlannerService& planner,
+                             const MissionRequests& missions)
+    : bus_(bus), core_(core), store_(store), planner_(planner), missions_(missions) {}
+
+void NavigationApi::AddRoutes(Router& routes) const {
+  routes.Add(http::verb::post, "/api/v1/plan", Access::kOperator,
+             [this](const Request& r, const Params&, Reply reply) { Plan(r, std::move(reply)); });
+  routes.Add(http::verb::post, "/api/v1/missions", Access::kOperator,
+             [this](const Request& r, const Params&, Reply reply) { StartMission(r, std::move(reply)); });
+  routes.Add(http::verb::post, "/api/v1/dock", Access::kOperator,
+             [this](const Request& r, const Params&, Reply reply) { Dock(r, std::move(reply)); });
+  routes.Add(http::verb::post, "/api/v1/undock", Access::kOperator,
+             [this](const Request& r, const Params&, Reply reply) { Undock(r, std::move(reply)); });
+  routes.Add(http::verb::get, "/api/v1/missions", Access::kViewer, Sync([this](const Request& r, const Params&) {
+               return JsonResponse(r, {{"missions", store_.Missions(50)}});
+             }));
+  routes.Add(http::verb::get, "/api/v1/missions/{id}", Access::kViewer, Sync([this](const Request& r, const Params& p) {
+               const std::string& id = p.at("id");
+               if (auto state = core_.Mission(id)) return JsonResponse(r, ToJson(*state));
+               if (auto doc = store_.Mission(id)) return JsonResponse(r, *doc);
+               throw ApiError(http::status::not_found, "Not found", "no mission " + id);
+             }));
   for (const MissionStep step : {MissionStep::kPause, MissionStep::kResume, MissionStep::kCancel}) {
-    Add(http::verb::post, std::string("/api/v1/missions/{id}/") + ToString(step), Access::kOperator,
-        [this, step](const Request& r, const Params& p, Reply reply) {
-          MissionAction(r, std::move(reply), p.at("id"), step);
-        });
+    routes.Add(http::verb::post, std::string("/api/v1/missions/{id}/") + ToString(step), Access::kOperator,
+               [this, step](const Request& r, const Params& p, Reply reply) {
+                 MissionAction(r, std::move(reply), p.at("id"), step);
+               });
   }
 }
 
-void Api::Plan(const Request& request, Reply reply) const {
+void NavigationApi::Plan(const Request& request, Reply reply) const {
   const json body = ParseJsonBody(request);
   AllowOnlyKeys(body, {"start", "goal"}, "");
   if (!body.contains("goal")) throw ApiError(http::status::bad_request, "Invalid request", "missing 'goal'");
-  const nav::MissionGoal goal = ParseGoal(body["goal"], "goal");
+  const nav::MissionGoal goal = missions_.ParseGoal(body["goal"], "goal");
   PlanRequest plan;
   plan.goal = goal.pose.translation();
   if (goal.has_yaw) plan.goal_yaw = goal.pose.yaw_rad;
   if (body.contains("start")) {
-    plan.start = ParseGoal(body["start"], "start").pose.translation();
+    plan.start = missions_.ParseGoal(body["start"], "start").pose.translation();
   } else {
-    const auto pose = c_.bus.Get(topics::kPose).latest();
+    const auto pose = bus_.Get(topics::kPose).latest();
     if (!pose) throw ApiError(http::status::service_unavailable, "No pose", "the robot does not know where it is yet");
     plan.start = pose->pose.translation();
     plan.robot_at_start = true;
   }
-  c_.planner.Plan(std::move(plan), [this, request, reply](PlanReply r) {
-    Answer(request, reply, [&]() -> Response {
+  planner_.Plan(std::move(plan), [request, reply](PlanReply r) {
+    reply(Respond(request, [&]() -> Response {
       if (!r.result.ok()) {
         throw ApiError(StatusFor(r.result.error), TitleFor(r.result.error), r.result.detail,
                        nav::ToString(r.result.error));
@@ -169,11 +177,11 @@ void Api::Plan(const Request& request, Reply reply) const {
                                     {"expanded", p.expanded},
                                     {"planning_ms", r.planning_ms},
                                     {"costmap_ms", r.costmap_ms}});
-    });
+    }));
   });
 }
 
-void Api::StartMission(const Request& request, Reply reply) const {
+void NavigationApi::StartMission(const Request& request, Reply reply) const {
   const json body = ParseJsonBody(request);
   AllowOnlyKeys(body, {"waypoints", "speed_limit_mps"}, "");
   const auto list = body.find("waypoints");
@@ -182,21 +190,21 @@ void Api::StartMission(const Request& request, Reply reply) const {
   }
   std::vector<nav::MissionGoal> goals;
   for (std::size_t i = 0; i < list->size(); ++i)
-    goals.push_back(ParseGoal((*list)[i], "waypoints[" + std::to_string(i) + "]"));
+    goals.push_back(missions_.ParseGoal((*list)[i], "waypoints[" + std::to_string(i) + "]"));
   double speed_limit = std::numeric_limits<double>::infinity();
   if (body.contains("speed_limit_mps")) {
     speed_limit = RequireNumber(body, "speed_limit_mps", "");
     if (speed_limit <= 0.0)
       throw ApiError(http::status::bad_request, "Invalid request", "'speed_limit_mps' must be > 0");
   }
-  StartGoals(request, std::move(reply), std::move(goals), speed_limit);
+  missions_.Start(request, std::move(reply), std::move(goals), speed_limit, "rest");
 }
 
-nav::Place Api::FindDock(const std::string& wanted) const {
-  const auto map = c_.maps.active();
-  const std::vector<nav::Place> places = c_.store.Places(map->name);
+nav::Place MissionRequests::FindDock(const std::string& wanted) const {
+  const auto map = maps_.active();
+  const std::vector<nav::Place> places = store_.Places(map->name);
   if (wanted.empty()) {
-    const auto pose = c_.bus.Get(topics::kPose).latest();
+    const auto pose = bus_.Get(topics::kPose).latest();
     if (auto dock = nav::NearestDock(places, pose ? pose->pose.translation() : Eigen::Vector2d::Zero())) return *dock;
     throw ApiError(http::status::unprocessable_entity, "No dock",
                    "map '" + map->name + "' has no dock (a place of kind dock)", "no_dock");
@@ -211,59 +219,61 @@ nav::Place Api::FindDock(const std::string& wanted) const {
                  "no dock named '" + wanted + "' on map '" + map->name + "'", "unknown_place");
 }
 
-std::vector<nav::MissionGoal> Api::DockGoals(const std::string& wanted) const {
+std::vector<nav::MissionGoal> MissionRequests::DockGoals(const std::string& wanted) const {
   const nav::Place dock = FindDock(wanted);
-  if (c_.core.Docked()) {
+  if (core_.Docked()) {
     throw ApiError(http::status::conflict, "Docked", "the robot stands on a dock already", "docked");
   }
-  return {nav::DockGoal(dock, c_.config.mission.docking.dock)};
+  return {nav::DockGoal(dock, config_.mission.docking.dock)};
 }
 
-std::vector<nav::MissionGoal> Api::UndockGoals() const {
-  if (!c_.core.Docked()) {
+std::vector<nav::MissionGoal> MissionRequests::UndockGoals() const {
+  if (!core_.Docked()) {
     throw ApiError(http::status::conflict, "Not docked", "the robot is not on a dock", "not_docked");
   }
-  const auto pose = c_.bus.Get(topics::kPose).latest();
-  return {nav::UndockGoal(pose ? std::optional<nav::Pose2>(pose->pose) : std::nullopt, c_.config.mission.docking.dock)};
+  const auto pose = bus_.Get(topics::kPose).latest();
+  return {nav::UndockGoal(pose ? std::optional<nav::Pose2>(pose->pose) : std::nullopt, config_.mission.docking.dock)};
 }
 
-void Api::Dock(const Request& request, Reply reply) const {
+void NavigationApi::Dock(const Request& request, Reply reply) const {
   const json body = request.body().empty() ? json::object() : ParseJsonBody(request);
   if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
   AllowOnlyKeys(body, {"dock"}, "");
   if (body.contains("dock") && (!body["dock"].is_string() || body["dock"].get<std::string>().empty())) {
     throw ApiError(http::status::bad_request, "Invalid request", "'dock' must be a dock's name or id");
   }
-  StartGoals(request, std::move(reply), DockGoals(body.value("dock", "")), std::numeric_limits<double>::infinity());
+  missions_.Start(request, std::move(reply), missions_.DockGoals(body.value("dock", "")),
+                  std::numeric_limits<double>::infinity(), "rest");
 }
 
-void Api::Undock(const Request& request, Reply reply) const {
+void NavigationApi::Undock(const Request& request, Reply reply) const {
   if (!request.body().empty()) {
     const json body = ParseJsonBody(request);
     if (!body.is_object() || !body.empty()) {
       throw ApiError(http::status::bad_request, "Invalid request", "undock takes no body (or {})");
     }
   }
-  StartGoals(request, std::move(reply), UndockGoals(), std::numeric_limits<double>::infinity());
+  missions_.Start(request, std::move(reply), missions_.UndockGoals(), std::numeric_limits<double>::infinity(), "rest");
 }
 
-void Api::StartGoals(const Request& request, Reply reply, std::vector<nav::MissionGoal> goals, double speed_limit,
-                     std::function<json(const MissionState&)> started) const {
+void MissionRequests::Start(const Request& request, Reply reply, std::vector<nav::MissionGoal> goals,
+                            double speed_limit, const std::string& origin,
+                            std::function<json(const MissionState&)> started) const {
   // Every waypoint must be somewhere the robot can stand: the core says which one is not before anything moves.
-  c_.core.StartMission({std::move(goals), speed_limit, "rest"}, [this, request, reply, started](MissionResult result) {
-    Answer(request, reply, [&]() -> Response {
+  core_.StartMission({std::move(goals), speed_limit, origin}, [request, reply, started](MissionResult result) {
+    reply(Respond(request, [&]() -> Response {
       if (const auto* refusal = std::get_if<nav::MissionRefusal>(&result)) throw RefusalError(*refusal, "waypoints");
       const MissionState& state = std::get<MissionState>(result);
       Response res = JsonResponse(request, started ? started(state) : ToJson(state), http::status::created);
       res.set(http::field::location, "/api/v1/missions/" + state.id);
       return res;
-    });
+    }));
   });
 }
 
-void Api::MissionAction(const Request& request, Reply reply, const std::string& id, MissionStep step) const {
-  c_.core.Command(step, id, "rest", [this, request, reply = std::move(reply), id, step](MissionNode::Outcome outcome) {
-    Answer(request, reply, [&]() -> Response {
+void NavigationApi::MissionAction(const Request& request, Reply reply, const std::string& id, MissionStep step) const {
+  core_.Command(step, id, "rest", [request, reply = std::move(reply), id, step](MissionNode::Outcome outcome) {
+    reply(Respond(request, [&]() -> Response {
       if (outcome.outcome == nav::TransitionOutcome::kNotFound || !outcome.mission) {
         throw ApiError(http::status::not_found, "Not found", "no mission " + id + " in progress");
       }
@@ -274,7 +284,7 @@ void Api::MissionAction(const Request& request, Reply reply, const std::string& 
             "invalid_transition");
       }
       return JsonResponse(request, ToJson(*outcome.mission));
-    });
+    }));
   });
 }
 

@@ -1,10 +1,10 @@
-// Routes for Open-RMF fleet adapters (server/fleet/rmf.h) under /api/v1/rmf/: the calls of the fleet adapter
-// template's RobotClientAPI, one route each, and the robot's state as Open-RMF's robot_state.
+#include "server/api/api_rmf.h"
+
 #include <chrono>
 #include <cmath>
 #include <limits>
 
-#include "server/api/api.h"
+#include "server/api/api_localization.h"
 #include "server/runtime/topics.h"
 
 namespace corridor::server {
@@ -37,13 +37,6 @@ nav::Pose2 RequirePose(const json& body) {
   return {v[0], v[1], nav::WrapAngle(v[2])};
 }
 
-json ObjectBody(const Request& r, std::initializer_list<const char*> keys) {
-  const json body = ParseJsonBody(r);
-  if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
-  AllowOnlyKeys(body, keys, "");
-  return body;
-}
-
 std::string RequireText(const json& body, const char* key) {
   const auto it = body.find(key);
   if (it == body.end() || !it->is_string() || it->get<std::string>().empty()) {
@@ -55,10 +48,20 @@ std::string RequireText(const json& body, const char* key) {
 
 }  // namespace
 
-RmfSample Api::SampleForRmf() const {
-  const std::shared_ptr<const RobotState> state = c_.core.State();
+RmfApi::RmfApi(Bus& bus, const RobotCore& core, const MapLibrary& maps, const Store& store,
+               const BuildingOptions& building, const MissionRequests& missions, std::string robot_name)
+    : bus_(bus),
+      core_(core),
+      maps_(maps),
+      store_(store),
+      building_(building),
+      missions_(missions),
+      robot_name_(std::move(robot_name)) {}
+
+RmfSample RmfApi::Sample() const {
+  const std::shared_ptr<const RobotState> state = core_.State();
   RmfSample s;
-  s.name = c_.robot_name;
+  s.name = robot_name_;
   s.map = state->map;
   if (const auto& pose = state->pose) {
     s.has_pose = true;
@@ -88,13 +91,13 @@ RmfSample Api::SampleForRmf() const {
   return s;
 }
 
-void Api::AddRmfRoutes() {
+void RmfApi::AddRoutes(Router& routes) const {
   // The robot's map, or (with a building) another floor's: that floor's name; else 422.
   const auto require_map = [this](const json& body) -> std::string {
     const std::string map = RequireText(body, "map_name");
-    const std::string active = c_.maps.active()->name;
+    const std::string active = maps_.active()->name;
     if (map == active) return "";
-    const nav::Building building = BuildingOf(c_.config.building);
+    const nav::Building building = BuildingOf(building_);
     if (const nav::Floor* floor = building.FloorOfMap(map)) return floor->name;
     throw ApiError(http::status::unprocessable_entity, "Not the robot's map",
                    "the robot is on map '" + active + "', not '" + map + "' (nor is that a floor of its building)",
@@ -102,71 +105,77 @@ void Api::AddRmfRoutes() {
   };
   // A mission that carries command `cmd_id`: its reply names both.
   const auto carried = [this](std::uint64_t cmd_id) {
-    return [commands = rmf_commands_, cmd_id](const MissionState& state) {
+    return [commands = commands_, cmd_id](const MissionState& state) {
       commands->Carried(cmd_id, state.id);
       return json{{"cmd_id", cmd_id}, {"mission", state.id}};
     };
   };
-  Add(http::verb::post, "/api/v1/rmf/navigate", Access::kOperator,
-      [this, require_map, carried](const Request& r, const Params&, Reply reply) {
-        const json body = ObjectBody(r, {"cmd_id", "pose", "map_name", "speed_limit"});
-        const std::uint64_t cmd_id = RequireCommandId(body);
-        nav::MissionGoal goal;
-        goal.pose = RequirePose(body);
-        goal.has_yaw = true;
-        goal.floor = require_map(body);  // on another floor: through the lifts
-        double speed_limit = std::numeric_limits<double>::infinity();
-        if (body.contains("speed_limit")) {
-          const double v = RequireNumber(body, "speed_limit", "");
-          if (v < 0.0) throw ApiError(http::status::bad_request, "Invalid request", "'speed_limit' must be >= 0");
-          if (v > 0.0) speed_limit = v;  // the template's 0.0: none
-        }
-        StartGoals(r, std::move(reply), {goal}, speed_limit, carried(cmd_id));
-      });
-  Add(http::verb::post, "/api/v1/rmf/dock", Access::kOperator,
-      [this, carried](const Request& r, const Params&, Reply reply) {
-        const json body = ObjectBody(r, {"cmd_id", "dock_name"});
-        const std::uint64_t cmd_id = RequireCommandId(body);
-        StartGoals(r, std::move(reply), DockGoals(RequireText(body, "dock_name")),
-                   std::numeric_limits<double>::infinity(), carried(cmd_id));
-      });
-  Add(http::verb::post, "/api/v1/rmf/start_activity", Access::kOperator,
-      [this, carried](const Request& r, const Params&, Reply reply) {
-        const json body = ObjectBody(r, {"cmd_id", "activity", "label"});
-        const std::uint64_t cmd_id = RequireCommandId(body);
-        const std::string activity = RequireText(body, "activity");
-        const std::string label =
-            body.contains("label") && body["label"].is_string() ? body["label"].get<std::string>() : "";
-        std::vector<nav::MissionGoal> goals;
-        if (activity == "dock") {
-          goals = DockGoals(label);
-        } else if (activity == "undock") {
-          goals = UndockGoals();
-        } else {
-          throw ApiError(http::status::unprocessable_entity, "Unknown activity",
-                         "activities are \"dock\" (label: the dock, or empty for the nearest) and \"undock\", not '" +
-                             activity + "'",
-                         "unknown_activity");
-        }
-        StartGoals(r, std::move(reply), std::move(goals), std::numeric_limits<double>::infinity(), carried(cmd_id));
-      });
-  Add(http::verb::post, "/api/v1/rmf/stop", Access::kOperator, [this](const Request& r, const Params&, Reply reply) {
-    const json body = ObjectBody(r, {"cmd_id"});
-    const std::uint64_t cmd_id = RequireCommandId(body);
-    const auto stopped = [this, r, reply, cmd_id] {
-      Answer(r, reply, [&] {
-        rmf_commands_->Done(cmd_id);
-        return JsonResponse(r, {{"cmd_id", cmd_id}, {"completed", true}});
-      });
-    };
-    // Answered once the mission is cancelled, so that the command it carried reads as such.
-    if (const auto mission = c_.bus.Get(topics::kMission).latest()) {
-      c_.core.Command(MissionStep::kCancel, mission->id, "rmf", [stopped](const MissionNode::Outcome&) { stopped(); });
-    } else {
-      stopped();
-    }
-  });
-  Add(http::verb::post, "/api/v1/rmf/localize", Access::kOperator,
+  routes.Add(http::verb::post, "/api/v1/rmf/navigate", Access::kOperator,
+             [this, require_map, carried](const Request& r, const Params&, Reply reply) {
+               const json body = ObjectBody(r, {"cmd_id", "pose", "map_name", "speed_limit"});
+               const std::uint64_t cmd_id = RequireCommandId(body);
+               nav::MissionGoal goal;
+               goal.pose = RequirePose(body);
+               goal.has_yaw = true;
+               goal.floor = require_map(body);  // on another floor: through the lifts
+               double speed_limit = std::numeric_limits<double>::infinity();
+               if (body.contains("speed_limit")) {
+                 const double v = RequireNumber(body, "speed_limit", "");
+                 if (v < 0.0)
+                   throw ApiError(http::status::bad_request, "Invalid request", "'speed_limit' must be >= 0");
+                 if (v > 0.0) speed_limit = v;  // the template's 0.0: none
+               }
+               missions_.Start(r, std::move(reply), {goal}, speed_limit, "rmf", carried(cmd_id));
+             });
+  routes.Add(http::verb::post, "/api/v1/rmf/dock", Access::kOperator,
+             [this, carried](const Request& r, const Params&, Reply reply) {
+               const json body = ObjectBody(r, {"cmd_id", "dock_name"});
+               const std::uint64_t cmd_id = RequireCommandId(body);
+               missions_.Start(r, std::move(reply), missions_.DockGoals(RequireText(body, "dock_name")),
+                               std::numeric_limits<double>::infinity(), "rmf", carried(cmd_id));
+             });
+  routes.Add(http::verb::post, "/api/v1/rmf/start_activity", Access::kOperator,
+             [this, carried](const Request& r, const Params&, Reply reply) {
+               const json body = ObjectBody(r, {"cmd_id", "activity", "label"});
+               const std::uint64_t cmd_id = RequireCommandId(body);
+               const std::string activity = RequireText(body, "activity");
+               const std::string label =
+                   body.contains("label") && body["label"].is_string() ? body["label"].get<std::string>() : "";
+               std::vector<nav::MissionGoal> goals;
+               if (activity == "dock") {
+                 goals = missions_.DockGoals(label);
+               } else if (activity == "undock") {
+                 goals = missions_.UndockGoals();
+               } else {
+                 throw ApiError(
+                     http::status::unprocessable_entity, "Unknown activity",
+                     "activities are \"dock\" (label: the dock, or empty for the nearest) and \"undock\", not '" +
+                         activity + "'",
+                     "unknown_activity");
+               }
+               missions_.Start(r, std::move(reply), std::move(goals), std::numeric_limits<double>::infinity(), "rmf",
+                               carried(cmd_id));
+             });
+  routes.Add(http::verb::post, "/api/v1/rmf/stop", Access::kOperator,
+             [this](const Request& r, const Params&, Reply reply) {
+               const json body = ObjectBody(r, {"cmd_id"});
+               const std::uint64_t cmd_id = RequireCommandId(body);
+               const auto stopped = [this, r, reply, cmd_id] {
+                 reply(Respond(r, [&] {
+                   commands_->Done(cmd_id);
+                   return JsonResponse(r, {{"cmd_id", cmd_id}, {"completed", true}});
+                 }));
+               };
+               // Answered once the mission is cancelled, so that the command it carried reads as such.
+               if (const auto mission = bus_.Get(topics::kMission).latest()) {
+                 core_.Command(MissionStep::kCancel, mission->id, "rmf",
+                               [stopped](const MissionNode::Outcome&) { stopped(); });
+               } else {
+                 stopped();
+               }
+             });
+  routes.Add(
+      http::verb::post, "/api/v1/rmf/localize", Access::kOperator,
       [this, require_map](const Request& r, const Params&, Reply reply) {
         const json body = ObjectBody(r, {"cmd_id", "pose", "map_name"});
         const std::uint64_t cmd_id = RequireCommandId(body);
@@ -174,58 +183,61 @@ void Api::AddRmfRoutes() {
         order.pose = RequirePose(body);
         order.origin = "rmf";
         const std::string floor = require_map(body);
-        RequireLocalizing();
+        RequireLocalizing(core_);
         if (!floor.empty()) {
           // The fleet adapter took the robot to another floor itself (it rode the lift): that floor's map.
-          if (const auto refused = c_.core.SelectMap(RequireText(body, "map_name"), "rmf")) {
+          if (const auto refused = core_.SelectMap(RequireText(body, "map_name"), "rmf")) {
             if (refused->reason == MapRefusal::kMissionInProgress) {
               throw ApiError(http::status::conflict, "Mission in progress", refused->detail, "mission_in_progress");
             }
             throw ApiError(http::status::unprocessable_entity, "Map unusable", refused->detail, "wrong_map");
           }
         }
-        c_.core.SetPose(order, [this, r, reply, cmd_id](PoseResult result) {
-          Answer(r, reply, [&]() -> Response {
+        core_.SetPose(order, [this, r, reply, cmd_id](PoseResult result) {
+          reply(Respond(r, [&]() -> Response {
             if (const auto* refused = std::get_if<PoseRefused>(&result)) {
               if (refused->reason == PoseRefusal::kOutsideMap) {
                 throw ApiError(http::status::unprocessable_entity, "Outside the map", refused->detail, "outside_map");
               }
               throw ApiError(http::status::conflict, "Not now", refused->detail, "not_now");
             }
-            rmf_commands_->Done(cmd_id);
+            commands_->Done(cmd_id);
             return JsonResponse(r, {{"cmd_id", cmd_id}, {"completed", true}});
-          });
+          }));
         });
       });
-  Add(http::verb::get, "/api/v1/rmf/position", Access::kViewer, Sync([this](const Request& r, const Params&) {
-        const RmfSample s = SampleForRmf();
-        if (!s.has_pose) {
-          throw ApiError(http::status::service_unavailable, "No pose yet", "the robot does not know where it is yet");
-        }
-        return JsonResponse(r, {{"position", {s.x, s.y, s.yaw}}, {"map_name", s.map}});
-      }));
-  Add(http::verb::get, "/api/v1/rmf/battery_soc", Access::kViewer, Sync([this](const Request& r, const Params&) {
-        const RmfSample s = SampleForRmf();
-        if (!s.battery) {
-          throw ApiError(http::status::service_unavailable, "No battery", "nothing reports this robot's battery");
-        }
-        return JsonResponse(r, {{"battery_soc", *s.battery}});
-      }));
-  Add(http::verb::get, "/api/v1/rmf/map", Access::kViewer, Sync([this](const Request& r, const Params&) {
-        return JsonResponse(r, {{"map_name", c_.maps.active()->name}});
-      }));
-  Add(http::verb::get, "/api/v1/rmf/is_command_completed", Access::kViewer,
+  routes.Add(http::verb::get, "/api/v1/rmf/position", Access::kViewer, Sync([this](const Request& r, const Params&) {
+               const RmfSample s = Sample();
+               if (!s.has_pose) {
+                 throw ApiError(http::status::service_unavailable, "No pose yet",
+                                "the robot does not know where it is yet");
+               }
+               return JsonResponse(r, {{"position", {s.x, s.y, s.yaw}}, {"map_name", s.map}});
+             }));
+  routes.Add(http::verb::get, "/api/v1/rmf/battery_soc", Access::kViewer, Sync([this](const Request& r, const Params&) {
+               const RmfSample s = Sample();
+               if (!s.battery) {
+                 throw ApiError(http::status::service_unavailable, "No battery",
+                                "nothing reports this robot's battery");
+               }
+               return JsonResponse(r, {{"battery_soc", *s.battery}});
+             }));
+  routes.Add(http::verb::get, "/api/v1/rmf/map", Access::kViewer, Sync([this](const Request& r, const Params&) {
+               return JsonResponse(r, {{"map_name", maps_.active()->name}});
+             }));
+  routes.Add(
+      http::verb::get, "/api/v1/rmf/is_command_completed", Access::kViewer,
       Sync([this](const Request& r, const Params&) {
         const std::string text = QueryValue(r.target(), "cmd_id");
         if (text.empty()) throw ApiError(http::status::bad_request, "Invalid request", "'cmd_id' is required");
         const std::uint64_t cmd_id = ParseCount(text, "'cmd_id' a whole number >= 0");
-        const auto command = rmf_commands_->Find(cmd_id);
+        const auto command = commands_->Find(cmd_id);
         if (!command) throw ApiError(http::status::not_found, "Not found", "no command " + text);
         if (command->mission_id.empty()) {
           return JsonResponse(r, {{"cmd_id", cmd_id}, {"completed", true}, {"status", "succeeded"}, {"error", ""}});
         }
-        const auto state = c_.core.Mission(command->mission_id);
-        const auto stored = state ? std::nullopt : c_.store.Mission(command->mission_id);
+        const auto state = core_.Mission(command->mission_id);
+        const auto stored = state ? std::nullopt : store_.Mission(command->mission_id);
         const std::string status = state    ? nav::ToString(state->status)
                                    : stored ? stored->value("status", "canceled")
                                             : "canceled";
@@ -236,8 +248,8 @@ void Api::AddRmfRoutes() {
                                 {"mission", command->mission_id},
                                 {"error", error}});
       }));
-  Add(http::verb::get, "/api/v1/rmf/robot_state", Access::kViewer,
-      Sync([this](const Request& r, const Params&) { return JsonResponse(r, RmfRobotState(SampleForRmf())); }));
+  routes.Add(http::verb::get, "/api/v1/rmf/robot_state", Access::kViewer,
+             Sync([this](const Request& r, const Params&) { return JsonResponse(r, RmfRobotState(Sample())); }));
 }
 
 }  // namespace corridor::server

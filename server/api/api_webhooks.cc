@@ -1,11 +1,8 @@
-// Routes for building systems that want to be told what happens: /api/v1/webhooks (subscriptions kept in the
-// database, and their recent deliveries), a ping to check one works, and /api/v1/events (the robot's events as the
-// database keeps them, for a system that polls instead).
+#include "server/api/api_webhooks.h"
+
 #include <algorithm>
 #include <cstdint>
 #include <limits>
-
-#include "server/api/api.h"
 
 namespace corridor::server {
 namespace {
@@ -86,58 +83,63 @@ WebhookRecord ParseWebhook(const json& body) {
 
 }  // namespace
 
-void Api::AddWebhookRoutes() {
-  Add(http::verb::get, "/api/v1/webhooks", Access::kAdmin, Sync([this](const Request& r, const Params&) {
-        json hooks = json::array();
-        for (const WebhookRecord& w : c_.store.Webhooks()) hooks.push_back(WebhookJson(w));
-        return JsonResponse(r, {{"webhooks", hooks}});
-      }));
-  Add(http::verb::post, "/api/v1/webhooks", Access::kAdmin, Sync([this](const Request& r, const Params&) {
-        WebhookRecord w = ParseWebhook(ParseJsonBody(r));
-        w.id = NewId();
-        w.created = IsoUtc(std::chrono::system_clock::now());
-        c_.store.PutWebhook(w);
-        // The secret is shown once, here: the receiver needs it to check signatures.
-        json body = WebhookJson(w);
-        body["secret"] = w.secret;
-        Response res = JsonResponse(r, body, http::status::created);
-        res.set(http::field::location, "/api/v1/webhooks/" + w.id);
-        return res;
-      }));
+WebhooksApi::WebhooksApi(Store& store, Webhooks& webhooks, const WebhookOptions& options)
+    : store_(store), webhooks_(webhooks), options_(options) {}
+
+void WebhooksApi::AddRoutes(Router& routes) const {
+  routes.Add(http::verb::get, "/api/v1/webhooks", Access::kAdmin, Sync([this](const Request& r, const Params&) {
+               json hooks = json::array();
+               for (const WebhookRecord& w : store_.Webhooks()) hooks.push_back(WebhookJson(w));
+               return JsonResponse(r, {{"webhooks", hooks}});
+             }));
+  routes.Add(http::verb::post, "/api/v1/webhooks", Access::kAdmin, Sync([this](const Request& r, const Params&) {
+               WebhookRecord w = ParseWebhook(ParseJsonBody(r));
+               w.id = NewId();
+               w.created = IsoUtc(std::chrono::system_clock::now());
+               store_.PutWebhook(w);
+               // The secret is shown once, here: the receiver needs it to check signatures.
+               json body = WebhookJson(w);
+               body["secret"] = w.secret;
+               Response res = JsonResponse(r, body, http::status::created);
+               res.set(http::field::location, "/api/v1/webhooks/" + w.id);
+               return res;
+             }));
   const auto find = [this](const std::string& id) {
-    std::optional<WebhookRecord> w = c_.store.Webhook(id);
+    std::optional<WebhookRecord> w = store_.Webhook(id);
     if (!w) throw ApiError(http::status::not_found, "Not found", "no webhook " + id);
     return *w;
   };
-  Add(http::verb::get, "/api/v1/webhooks/{id}", Access::kAdmin,
-      Sync([find](const Request& r, const Params& p) { return JsonResponse(r, WebhookJson(find(p.at("id")))); }));
-  Add(http::verb::delete_, "/api/v1/webhooks/{id}", Access::kAdmin, Sync([this](const Request& r, const Params& p) {
-        if (!c_.store.DeleteWebhook(p.at("id"))) {
-          throw ApiError(http::status::not_found, "Not found", "no webhook " + p.at("id"));
-        }
-        c_.webhooks.Forget(p.at("id"));
-        return MakeResponse(r, http::status::no_content, "application/json", "");
-      }));
-  Add(http::verb::get, "/api/v1/webhooks/{id}/deliveries", Access::kAdmin,
-      Sync([this, find](const Request& r, const Params& p) {
-        const WebhookRecord w = find(p.at("id"));
-        json deliveries = json::array();
-        const int most = c_.config.webhooks.keep_deliveries + c_.config.webhooks.max_pending;
-        for (const DeliveryRecord& d : c_.store.Deliveries(w.id, most)) {
-          deliveries.push_back(DeliveryJson(d));
-        }
-        return JsonResponse(r, {{"deliveries", deliveries}});
-      }));
-  Add(http::verb::post, "/api/v1/webhooks/{id}/ping", Access::kAdmin,
-      Sync([this, find](const Request& r, const Params& p) {
-        const std::string delivery = c_.webhooks.Ping(find(p.at("id")));
-        c_.webhooks.Dispatch();
-        return JsonResponse(r, {{"delivery", delivery}}, http::status::accepted);
-      }));
+  routes.Add(http::verb::get, "/api/v1/webhooks/{id}", Access::kAdmin, Sync([find](const Request& r, const Params& p) {
+               return JsonResponse(r, WebhookJson(find(p.at("id"))));
+             }));
+  routes.Add(http::verb::delete_, "/api/v1/webhooks/{id}", Access::kAdmin,
+             Sync([this](const Request& r, const Params& p) {
+               if (!store_.DeleteWebhook(p.at("id"))) {
+                 throw ApiError(http::status::not_found, "Not found", "no webhook " + p.at("id"));
+               }
+               webhooks_.Forget(p.at("id"));
+               return MakeResponse(r, http::status::no_content, "application/json", "");
+             }));
+  routes.Add(http::verb::get, "/api/v1/webhooks/{id}/deliveries", Access::kAdmin,
+             Sync([this, find](const Request& r, const Params& p) {
+               const WebhookRecord w = find(p.at("id"));
+               json deliveries = json::array();
+               const int most = options_.keep_deliveries + options_.max_pending;
+               for (const DeliveryRecord& d : store_.Deliveries(w.id, most)) {
+                 deliveries.push_back(DeliveryJson(d));
+               }
+               return JsonResponse(r, {{"deliveries", deliveries}});
+             }));
+  routes.Add(http::verb::post, "/api/v1/webhooks/{id}/ping", Access::kAdmin,
+             Sync([this, find](const Request& r, const Params& p) {
+               const std::string delivery = webhooks_.Ping(find(p.at("id")));
+               webhooks_.Dispatch();
+               return JsonResponse(r, {{"delivery", delivery}}, http::status::accepted);
+             }));
   // The events recorded in the database: the newest 256, or those after `after` (a poller's last sequence).
-  Add(http::verb::get, "/api/v1/events", Access::kViewer, Sync([this](const Request& r, const Params&) {
-        return JsonResponse(r, {{"events", c_.store.Events(AfterParameter(r.target()), kEventsPerPage)}});
-      }));
+  routes.Add(http::verb::get, "/api/v1/events", Access::kViewer, Sync([this](const Request& r, const Params&) {
+               return JsonResponse(r, {{"events", store_.Events(AfterParameter(r.target()), kEventsPerPage)}});
+             }));
 }
 
 }  // namespace corridor::server

@@ -119,7 +119,7 @@ class StreamSession : public std::enable_shared_from_this<StreamSession<Stream>>
   const Api& api_;
   boost::asio::steady_timer timer_;
   std::chrono::nanoseconds period_;
-  Api::Identity who_;
+  Identity who_;
   beast::flat_buffer buffer_;
   std::vector<std::string> subscriptions_;
   std::deque<std::string> queue_;

@@ -265,25 +265,9 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   }
   lifecycle_.ConfigureAll();
 
-  api_ = std::make_unique<Api>(ApiContext{bus_,
-                                          lifecycle_,
-                                          *maps_,
-                                          store_,
-                                          planner_,
-                                          *core_,
-                                          octree_,
-                                          perception_,
-                                          *spoken_,
-                                          *webhooks_,
-                                          access_,
-                                          config_,
-                                          clock_,
-                                          executors_.io,
-                                          executors_.control,
-                                          devices_.sim,
-                                          std::move(tls_fingerprint),
-                                          hooks.robot,
-                                          devices_.laser,
+  api_ = std::make_unique<Api>(ApiContext{bus_, *maps_, store_, planner_, *core_, octree_, perception_, *spoken_,
+                                          *webhooks_, access_, config_, clock_, executors_.io, executors_.control,
+                                          devices_.sim, std::move(tls_fingerprint), hooks.robot, devices_.laser,
                                           devices_.camera});
 
   // ROS 2 over DDS: last up, first down.

@@ -11,7 +11,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   auto& fuzz = corridor::fuzz::FuzzGraph::Get();
   std::vector<std::string> subscriptions{"state"};
   // An operator: every message type is open to them.
-  static const corridor::server::Api::Identity admin{
+  static const corridor::server::Identity admin{
       corridor::server::auth::Principal{"fuzz", corridor::server::auth::Role::kOperator, "user", ""}, false};
   const std::string text(reinterpret_cast<const char*>(data), size);
   const nlohmann::json reply = fuzz.graph().api().StreamReply(text, subscriptions, admin);
