@@ -7,6 +7,8 @@
 // tests/navigation_test.mjs.)
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -99,6 +101,19 @@ TEST_F(MissionsLockstep, AGoalIsReachedWithinTwoCentimetresAndTwoDegrees) {
     listed = listed || (m["id"] == id && m["status"] == "succeeded");
   }
   EXPECT_TRUE(listed) << "not kept";
+}
+
+TEST_F(MissionsLockstep, AMissionReplacedByAnotherIsKeptAsCanceled) {
+  const std::string first = Start({{"waypoints", json::array({{{"x", 3.0}, {"y", 0.75}}})}});
+  const std::string second = Start({{"waypoints", json::array({{{"x", 2.0}, {"y", 0.75}}})}});
+  robot_->StepFor(0.2);
+  const json missions = robot_->Call("GET", "/api/v1/missions").body["missions"];
+  std::map<std::string, std::string> kept;
+  for (const json& m : missions) {
+    kept[m["id"].get<std::string>()] = m["status"].get<std::string>();
+  }
+  EXPECT_EQ(kept[first], "canceled");
+  EXPECT_EQ(kept[second], "active");
 }
 
 TEST_F(MissionsLockstep, APausedMissionStaysStillResumesAndFinishes) {

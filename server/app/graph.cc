@@ -21,6 +21,7 @@
 #include "server/nodes/event_node.h"
 #include "server/nodes/explore_node.h"
 #include "server/nodes/face_node.h"
+#include "server/nodes/floor_node.h"
 #include "server/nodes/ground_node.h"
 #include "server/nodes/lift_node.h"
 #include "server/nodes/localization_node.h"
@@ -141,16 +142,6 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   }
   ConnectDrivers(bus_, clock_, devices_.camera, devices_.base, devices_.laser, devices_.battery, devices_.slots);
 
-  // Mission documents are written to the database on the io executor, off the control path.
-  const auto persist = [this](const MissionState& state) {
-    executors_.io.Post([this, id = state.id, doc = ToJson(state)] {
-      try {
-        store_.PutMission(id, doc);
-      } catch (const StoreError& e) {
-        spdlog::error("{}", e.what());
-      }
-    });
-  };
   // The simulator's dock is a place on the map it stands in (as an installer would add a real one). A dock no mission
   // can reach (its staging pose against a wall) is a configuration error: it is refused here, before anything runs.
   if (devices_.sim != nullptr && devices_.sim->dock() && maps_->active()->name == SimMapName(config_)) {
@@ -162,29 +153,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
     }
     AddSimulatedDock(store_, maps_->active()->name, dock);
   }
-  // A lift has brought the robot to another floor: that floor's map, the robot where the lift put it.
-  const auto switch_floor = [this](const std::string& floor, const nav::Pose2& pose) {
-    const nav::Building building = BuildingOf(config_.building);
-    const nav::Floor* f = building.FloorNamed(floor);
-    if (f == nullptr) return;
-    executors_.io.Post([this, map = f->map, floor, pose] {
-      try {
-        maps_->Select(map);
-      } catch (const MapEditError& e) {
-        spdlog::error("floor {}: its map '{}' cannot be used: {}", floor, map, e.what());
-        return;
-      }
-      spdlog::info("floor {}: map '{}', the robot at ({:.2f}, {:.2f})", floor, map, pose.x_m, pose.y_m);
-      LocalizationCommand command;
-      command.kind = LocalizationCommand::Kind::kSetPose;
-      command.pose = pose;
-      command.sigma_m = 0.05;
-      command.sigma_rad = 0.03;
-      bus_.Get(topics::kLocalizationCommand).Publish(command);
-    });
-  };
-  auto mission_node =
-      std::make_unique<MissionNode>(executors_.control, bus_, planner_, config_.mission, persist, switch_floor);
+  auto mission_node = std::make_unique<MissionNode>(executors_.control, bus_, planner_, config_.mission);
   missions_ = mission_node.get();
   core_ = std::make_unique<RobotCore>(config_, bus_, clock_, lifecycle_, planner_, *missions_, *localization_, *maps_,
                                       store_);
@@ -217,6 +186,9 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   if (hooks.robot.empty()) hooks.robot = HostName();
   webhooks_ = std::make_unique<Webhooks>(executors_.io.context(), store_, clock_, hooks);
   lifecycle_.Add(std::make_unique<EventNode>(executors_.io, bus_, *events_, store_, *webhooks_));
+  if (!config_.building.floors.empty()) {
+    lifecycle_.Add(std::make_unique<FloorNode>(executors_.io, bus_, *maps_, config_.building));
+  }
   if (devices_.camera != nullptr) {
     lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.camera->info(), config_.ground,
                                                 config_.mission.policy));

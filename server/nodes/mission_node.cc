@@ -28,14 +28,11 @@ const char* ToString(MissionStep step) {
   return "?";
 }
 
-MissionNode::MissionNode(Executor& control, Bus& bus, PlannerService& planner, const nav::MissionRunnerOptions& options,
-                         std::function<void(const MissionState&)> on_change, FloorSwitch switch_floor)
+MissionNode::MissionNode(Executor& control, Bus& bus, PlannerService& planner, const nav::MissionRunnerOptions& options)
     : PeriodicNode("mission", control, bus, kRateHz),
       planner_(planner),
-      on_change_(std::move(on_change)),
       plan_loop_(Loop("plan")),
       docking_(options.docking),
-      switch_floor_(std::move(switch_floor)),
       runner_(options) {}
 
 void MissionNode::Activate() {
@@ -83,7 +80,7 @@ void MissionNode::Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_
   if (update.switch_floor) {
     const auto& [floor, pose] = *update.switch_floor;
     spdlog::info("mission {}: arrived on floor {} at ({:.2f}, {:.2f})", runner_.id(), floor, pose.x_m, pose.y_m);
-    if (switch_floor_) switch_floor_(floor, pose);
+    floor_topic_.Publish(FloorArrival{floor, pose});
   }
   if (update.over) {
     // Tell the control node at once, rather than letting the last command go stale.
@@ -94,7 +91,7 @@ void MissionNode::Carry(const nav::MissionUpdate& update, drivers::TimeNs frame_
   }
   if (update.persist || update.publish) {
     MissionState state = runner_.Snapshot();
-    if (update.persist && on_change_) on_change_(state);
+    if (update.persist) changes_topic_.Publish(state);
     mission_topic_.Publish(std::move(state));
   }
   if (update.step && update.step->replan) {
@@ -150,7 +147,7 @@ void MissionNode::Start(std::vector<nav::MissionGoal> goals, double speed_limit_
       std::optional<nav::MissionSnapshot> cancelled;
       const nav::MissionUpdate update =
           runner_.Start(nav::Mission(NewId(), std::move(goals), speed_limit_mps), &cancelled);
-      if (cancelled && on_change_) on_change_(*cancelled);
+      if (cancelled) changes_topic_.Publish(*cancelled);
       Carry(update);
       MissionState started = runner_.Snapshot();
       spdlog::info("mission {}: {} waypoint(s)", started.id, started.goals.size());

@@ -2,9 +2,10 @@
 // (ground/lanes), the robot's pose, what the tracker shows and the bumps the control node reports, on the control
 // executor, and carries out what it asks: plans and path checks on the planner service, the command on
 // mission/command (once per frame: the control loop runs at the camera's rate), the mission's state on mission and,
-// when its status or leg changes, to `on_change` (to store it). A timer at 20 Hz does the rest (planning, checking the
-// path, holding still when frames stop). Each local step also goes out on mission/step, for traces and the console.
-// The doors to have opened and the building's lifts come with the map in use (topics::kMapInUse).
+// when its status or leg changes, on mission/changes (every change, for the database), and a lift's arrival on
+// another floor on mission/floor_arrival (FloorNode switches the map). A timer at 20 Hz does the rest (planning,
+// checking the path, holding still when frames stop). Each local step also goes out on mission/step, for traces and the
+// console. The doors to have opened and the building's lifts come with the map in use (topics::kMapInUse).
 #pragma once
 
 #include <atomic>
@@ -28,14 +29,8 @@ class MissionNode final : public PeriodicNode {
  public:
   // The docking goal to the dock nearest the robot (at `robot`, map frame) on the active map, if there is one.
   using DockFinder = std::function<std::optional<nav::MissionGoal>(const nav::Pose2& robot)>;
-  // A lift has brought the robot to another floor: make that floor's map the active one with the robot at `pose`.
-  // Called on the control executor: it must hand the work elsewhere.
-  using FloorSwitch = std::function<void(const std::string& floor, const nav::Pose2& pose)>;
-
-  // `on_change` receives the mission's state whenever its status or leg changes (to persist it); called on the
-  // control executor, so it must hand the work elsewhere. Throws std::invalid_argument for bad options.
-  MissionNode(Executor& control, Bus& bus, PlannerService& planner, const nav::MissionRunnerOptions& options,
-              std::function<void(const MissionState&)> on_change, FloorSwitch switch_floor = {});
+  // Throws std::invalid_argument for bad options.
+  MissionNode(Executor& control, Bus& bus, PlannerService& planner, const nav::MissionRunnerOptions& options);
   void Activate() override;
 
   // Commands: each is carried out on the node's executor (the control loop's, so that the loop never waits on a
@@ -64,12 +59,10 @@ class MissionNode final : public PeriodicNode {
   double now_s() const { return drivers::ToSeconds(clock().Now()); }
 
   PlannerService& planner_;
-  std::function<void(const MissionState&)> on_change_;
   LoopStats& plan_loop_;
   std::atomic<bool> docked_{false};
   bool looking_around_ = false;  // turning on the spot for localization
   nav::DockingOptions docking_;
-  FloorSwitch switch_floor_;
   nav::MissionRunner runner_;
   nav::DoorReports door_reports_;  // what the door controller says
   nav::LiftReports lift_reports_;  // what the lift controller says
@@ -81,6 +74,8 @@ class MissionNode final : public PeriodicNode {
   Topic<LocalStepState>& local_step_topic_ = bus().Get(topics::kLocalStep);
   Topic<LocalizationCommand>& localization_command_topic_ = bus().Get(topics::kLocalizationCommand);
   Topic<MissionState>& mission_topic_ = bus().Get(topics::kMission);
+  Topic<MissionState>& changes_topic_ = bus().Get(topics::kMissionChanges);
+  Topic<FloorArrival>& floor_topic_ = bus().Get(topics::kFloorArrival);
   Topic<MissionCommand>& mission_command_topic_ = bus().Get(topics::kMissionCommand);
   Topic<drivers::WheelOdometry>& odometry_topic_ = bus().Get(topics::kOdometry);
   Topic<StampedPose>& pose_topic_ = bus().Get(topics::kPose);

@@ -14,7 +14,7 @@ class MissionNodeTest : public ::testing::Test {
   explicit MissionNodeTest(const nav::MissionRunnerOptions& options = {})
       : executors_(clock_, Schedule::kLockstep),
         planner_(executors_.planning, bus_, nav::CostmapOptions{}),
-        node_(executors_.control, bus_, planner_, options, [](const MissionState&) {}) {
+        node_(executors_.control, bus_, planner_, options) {
     MapInUse room;
     room.name = "room";
     room.grid = std::make_shared<const nav::OccupancyGrid>(200, 200, 0.05, nav::Pose2{}, nav::kFreeCell);

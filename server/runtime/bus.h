@@ -1,8 +1,9 @@
 // The in-process topic bus. A topic has one name and one message type; publishers hand it immutable messages
 // (shared_ptr<const T>), it keeps the latest, and each subscriber gets messages on its own executor. A subscriber
-// that falls behind gets the newest message, not a backlog: a control loop must act on the latest frame. A latched
-// topic (what holds, such as the map in use, rather than what happens) also gives a new subscriber its latest message
-// at once, as a ROS 2 topic with transient-local durability does.
+// that falls behind gets the newest message, not a backlog: a control loop must act on the latest frame. A topic of
+// events that must each be handled (a mission's state to record, a lift's arrival on a floor) delivers every message,
+// in order, as a ROS 2 topic with a keep-all history does. A latched topic (what holds, such as the map in use, rather
+// than what happens) also gives a new subscriber its latest message at once, as one with transient-local durability.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -24,11 +25,15 @@
 
 namespace corridor::server {
 
+// What a subscriber that falls behind gets: the newest message only, or every message in order.
+enum class Delivery { kNewest, kEvery };
+
 // A topic's name carrying its message type, so that publisher and subscriber agree at compile time.
 template <typename T>
 struct TopicName {
   std::string_view name;
   bool latched = false;
+  Delivery delivery = Delivery::kNewest;
 };
 
 template <typename T>
@@ -38,13 +43,15 @@ concept JsonMessage = requires(const T& message) {
 
 class TopicBase {
  public:
-  TopicBase(std::string name, bool latched) : name_(std::move(name)), latched_(latched) {}
+  TopicBase(std::string name, bool latched, Delivery delivery)
+      : name_(std::move(name)), latched_(latched), delivery_(delivery) {}
   TopicBase(const TopicBase&) = delete;
   TopicBase& operator=(const TopicBase&) = delete;
   virtual ~TopicBase() = default;
 
   const std::string& name() const { return name_; }
   bool latched() const { return latched_; }
+  Delivery delivery() const { return delivery_; }
   virtual const std::type_info& type() const = 0;
   // The latest message as JSON; nullopt before the first message or for binary types (camera frames).
   virtual std::optional<nlohmann::json> LatestJson() const = 0;
@@ -52,6 +59,7 @@ class TopicBase {
  private:
   std::string name_;
   bool latched_;
+  Delivery delivery_;
 };
 
 template <typename T>
@@ -87,7 +95,7 @@ class Topic final : public TopicBase {
 
   // Delivers future messages to `callback` on `executor`, and on a latched topic the latest one first. Thread-safe.
   void Subscribe(Executor& executor, Callback callback) {
-    auto s = std::make_shared<Subscriber>(executor, std::move(callback));
+    auto s = std::make_shared<Subscriber>(executor, std::move(callback), delivery() == Delivery::kEvery);
     std::lock_guard lock(mutex_);
     auto next = std::make_shared<Subscribers>(*subscribers_);
     const auto at = executor.urgent() ? std::find_if(next->begin(), next->end(),
@@ -107,30 +115,41 @@ class Topic final : public TopicBase {
   }
 
  private:
-  // A one-slot mailbox: a new message replaces one that has not been delivered yet.
+  // A one-slot mailbox, where a new message replaces one that has not been delivered yet; or, for every message, a
+  // queue handed over whole to each delivery.
   struct Subscriber : std::enable_shared_from_this<Subscriber> {
-    Subscriber(Executor& e, Callback c) : executor(e), callback(std::move(c)) {}
+    Subscriber(Executor& e, Callback c, bool each) : executor(e), callback(std::move(c)), every(each) {}
     void Offer(const Message& message) {
       {
         std::lock_guard lock(mutex);
-        pending = message;
+        if (every) {
+          queue.push_back(message);
+        } else {
+          pending = message;
+        }
         if (scheduled) return;
         scheduled = true;
       }
-      executor.Post([self = this->shared_from_this()] {
-        Message m;
-        {
-          std::lock_guard lock(self->mutex);
-          m = std::move(self->pending);
-          self->scheduled = false;
-        }
-        if (m) self->callback(m);
-      });
+      executor.Post([self = this->shared_from_this()] { self->Deliver(); });
+    }
+    void Deliver() {
+      Message m;
+      std::vector<Message> due;
+      {
+        std::lock_guard lock(mutex);
+        m = std::move(pending);
+        due.swap(queue);
+        scheduled = false;
+      }
+      if (m) callback(m);
+      for (const Message& each : due) callback(each);
     }
     Executor& executor;
     Callback callback;
+    const bool every;
     std::mutex mutex;
-    Message pending;
+    Message pending;             // the newest
+    std::vector<Message> queue;  // every one, oldest first
     bool scheduled = false;
   };
 
@@ -149,14 +168,14 @@ class Bus {
   Bus(const Bus&) = delete;
   Bus& operator=(const Bus&) = delete;
 
-  // The topic with this name, created on first use. Asking for an existing name with another type, or latched where
-  // it is not, is a bug.
+  // The topic with this name, created on first use. Asking for an existing name with another type, latched where it
+  // is not, or with another delivery, is a bug.
   template <typename T>
   Topic<T>& Get(TopicName<T> name) {
     std::lock_guard lock(mutex_);
     auto& slot = topics_[std::string(name.name)];
-    if (!slot) slot = std::make_unique<Topic<T>>(std::string(name.name), name.latched);
-    DEMAND(slot->type() == typeid(T) && slot->latched() == name.latched);
+    if (!slot) slot = std::make_unique<Topic<T>>(std::string(name.name), name.latched, name.delivery);
+    DEMAND(slot->type() == typeid(T) && slot->latched() == name.latched && slot->delivery() == name.delivery);
     return static_cast<Topic<T>&>(*slot);
   }
 

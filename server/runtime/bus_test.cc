@@ -11,6 +11,8 @@ constexpr TopicName<nav::Twist2> kTwist{"twist"};
 constexpr TopicName<StampedPose> kWrongType{"twist"};
 constexpr TopicName<nav::Twist2> kLatchedTwist{"latched", true};
 constexpr TopicName<nav::Twist2> kNotLatched{"latched"};
+constexpr TopicName<nav::Twist2> kEveryTwist{"every", false, Delivery::kEvery};
+constexpr TopicName<nav::Twist2> kNewestTwist{"every"};
 
 TEST(BusTest, SubscriberGetsMessagesOnItsExecutorAndLatestIsKept) {
   Bus bus;
@@ -48,6 +50,26 @@ TEST(BusTest, SlowSubscriberSkipsToTheNewestMessage) {
   EXPECT_EQ(seen[0], 99.0);
 }
 
+TEST(BusTest, ATopicOfEventsDeliversEveryMessageInOrderToASlowSubscriber) {
+  Bus bus;
+  const drivers::SteadyClock clock;
+  Executor executor("test", clock, Schedule::kThreads);
+  std::vector<double> seen;
+  bus.Get(kEveryTwist).Subscribe(executor, [&](const auto& m) { seen.push_back(m->linear_mps); });
+  for (int i = 0; i < 100; ++i) bus.Get(kEveryTwist).Publish(nav::Twist2{static_cast<double>(i), 0.0});
+  executor.Start();
+  std::promise<void> drained;
+  executor.Post([&] { drained.set_value(); });
+  drained.get_future().wait();
+  bus.Get(kEveryTwist).Publish(nav::Twist2{100.0, 0.0});
+  std::promise<void> last;
+  executor.Post([&] { last.set_value(); });
+  last.get_future().wait();
+  executor.Stop();
+  ASSERT_EQ(seen.size(), 101u);
+  for (int i = 0; i <= 100; ++i) EXPECT_EQ(seen[static_cast<std::size_t>(i)], i);
+}
+
 TEST(BusTest, ALatchedTopicGivesALateSubscriberItsLatestMessageThenTheNextOnes) {
   Bus bus;
   const drivers::SteadyClock clock;
@@ -73,6 +95,12 @@ TEST(BusDeathTest, SameNameWithAnotherTypeIsABug) {
   Bus bus;
   bus.Get(kTwist);
   EXPECT_DEATH(bus.Get(kWrongType), "DEMAND");
+}
+
+TEST(BusDeathTest, SameNameWithAnotherDeliveryIsABug) {
+  Bus bus;
+  bus.Get(kEveryTwist);
+  EXPECT_DEATH(bus.Get(kNewestTwist), "DEMAND");
 }
 
 TEST(BusDeathTest, SameNameLatchedAndNotIsABug) {

@@ -123,6 +123,13 @@ struct DoorStates {
 struct LiftRequests {
   std::vector<nav::LiftRequest> requests;
 };
+// A lift has brought the robot to another floor (the mission said so): that floor's map is to be the one in use, the
+// robot at `pose` on it.
+struct FloorArrival {
+  std::string floor;
+  nav::Pose2 pose;
+};
+
 struct LiftStates {
   nav::LiftReports lifts;  // the lifts in use, by id
 };

@@ -29,6 +29,9 @@ inline constexpr TopicName<FaceCommand> kFaceCommand{"face/command"};
 inline constexpr TopicName<Detections> kDetections{"perception/detections"};
 inline constexpr TopicName<MissionCommand> kMissionCommand{"mission/command"};
 inline constexpr TopicName<MissionState> kMission{"mission"};
+// The mission's state each time its status or leg changes: every one, in order (the database records them).
+inline constexpr TopicName<MissionState> kMissionChanges{"mission/changes", false, Delivery::kEvery};
+inline constexpr TopicName<FloorArrival> kFloorArrival{"mission/floor_arrival", false, Delivery::kEvery};
 inline constexpr TopicName<LocalStepState> kLocalStep{"mission/step"};  // each local step, on a depth frame
 inline constexpr TopicName<GroundLanes> kGroundLanes{"ground/lanes"};
 inline constexpr TopicName<TrackedObjects> kTrackedObjects{"tracking/objects"};
