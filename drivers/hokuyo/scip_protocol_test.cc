@@ -97,7 +97,7 @@ TEST(ScipProtocolTest, ABadCheckCharacterOrALostByteCostsThatScanOnly) {
   EXPECT_EQ(answers[1].status, "00");
   EXPECT_GE(reader.dropped(), 2u);
   // Garbage without a line end is dropped whole, and the next answer is read.
-  EXPECT_EQ(Read(reader, std::string(500, 'x') + "\n\nBM\n00P\n\n").size(), 1u);
+  EXPECT_EQ(Read(reader, std::string(500, 'x').append("\n\nBM\n00P\n\n")).size(), 1u);
 }
 
 }  // namespace
