@@ -110,6 +110,56 @@ nav::MissionGoal MissionRequests::ParseGoal(const json& j, const std::string& wh
   return goal;
 }
 
+nav::Place MissionRequests::FindDock(const std::string& wanted) const {
+  const auto map = maps_.active();
+  const std::vector<nav::Place> places = store_.Places(map->name);
+  if (wanted.empty()) {
+    const auto pose = bus_.Get(topics::kPose).latest();
+    if (auto dock = nav::NearestDock(places, pose ? pose->pose.translation() : Eigen::Vector2d::Zero())) return *dock;
+    throw ApiError(http::status::unprocessable_entity, "No dock",
+                   "map '" + map->name + "' has no dock (a place of kind dock)", "no_dock");
+  }
+  for (const nav::Place& p : places) {
+    if (p.name != wanted && p.id != wanted) continue;
+    if (p.kind == nav::PlaceKind::kDock) return p;
+    throw ApiError(http::status::unprocessable_entity, "Not a dock", "the place '" + wanted + "' is not a dock",
+                   "not_a_dock");
+  }
+  throw ApiError(http::status::unprocessable_entity, "Unknown dock",
+                 "no dock named '" + wanted + "' on map '" + map->name + "'", "unknown_place");
+}
+
+std::vector<nav::MissionGoal> MissionRequests::DockGoals(const std::string& wanted) const {
+  const nav::Place dock = FindDock(wanted);
+  if (core_.Docked()) {
+    throw ApiError(http::status::conflict, "Docked", "the robot stands on a dock already", "docked");
+  }
+  return {nav::DockGoal(dock, config_.mission.docking.dock)};
+}
+
+std::vector<nav::MissionGoal> MissionRequests::UndockGoals() const {
+  if (!core_.Docked()) {
+    throw ApiError(http::status::conflict, "Not docked", "the robot is not on a dock", "not_docked");
+  }
+  const auto pose = bus_.Get(topics::kPose).latest();
+  return {nav::UndockGoal(pose ? std::optional<nav::Pose2>(pose->pose) : std::nullopt, config_.mission.docking.dock)};
+}
+
+void MissionRequests::Start(const Request& request, Reply reply, std::vector<nav::MissionGoal> goals,
+                            double speed_limit, const std::string& origin,
+                            std::function<json(const MissionState&)> started) const {
+  // Every waypoint must be somewhere the robot can stand: the core says which one is not before anything moves.
+  core_.StartMission({std::move(goals), speed_limit, origin}, [request, reply, started](MissionResult result) {
+    reply(Respond(request, [&]() -> Response {
+      if (const auto* refusal = std::get_if<nav::MissionRefusal>(&result)) throw RefusalError(*refusal, "waypoints");
+      const MissionState& state = std::get<MissionState>(result);
+      Response res = JsonResponse(request, started ? started(state) : ToJson(state), http::status::created);
+      res.set(http::field::location, "/api/v1/missions/" + state.id);
+      return res;
+    }));
+  });
+}
+
 NavigationApi::NavigationApi(Bus& bus, const RobotCore& core, const Store& store, PlannerService& planner,
                              const MissionRequests& missions)
     : bus_(bus), core_(core), store_(store), planner_(planner), missions_(missions) {}
@@ -200,41 +250,6 @@ void NavigationApi::StartMission(const Request& request, Reply reply) const {
   missions_.Start(request, std::move(reply), std::move(goals), speed_limit, "rest");
 }
 
-nav::Place MissionRequests::FindDock(const std::string& wanted) const {
-  const auto map = maps_.active();
-  const std::vector<nav::Place> places = store_.Places(map->name);
-  if (wanted.empty()) {
-    const auto pose = bus_.Get(topics::kPose).latest();
-    if (auto dock = nav::NearestDock(places, pose ? pose->pose.translation() : Eigen::Vector2d::Zero())) return *dock;
-    throw ApiError(http::status::unprocessable_entity, "No dock",
-                   "map '" + map->name + "' has no dock (a place of kind dock)", "no_dock");
-  }
-  for (const nav::Place& p : places) {
-    if (p.name != wanted && p.id != wanted) continue;
-    if (p.kind == nav::PlaceKind::kDock) return p;
-    throw ApiError(http::status::unprocessable_entity, "Not a dock", "the place '" + wanted + "' is not a dock",
-                   "not_a_dock");
-  }
-  throw ApiError(http::status::unprocessable_entity, "Unknown dock",
-                 "no dock named '" + wanted + "' on map '" + map->name + "'", "unknown_place");
-}
-
-std::vector<nav::MissionGoal> MissionRequests::DockGoals(const std::string& wanted) const {
-  const nav::Place dock = FindDock(wanted);
-  if (core_.Docked()) {
-    throw ApiError(http::status::conflict, "Docked", "the robot stands on a dock already", "docked");
-  }
-  return {nav::DockGoal(dock, config_.mission.docking.dock)};
-}
-
-std::vector<nav::MissionGoal> MissionRequests::UndockGoals() const {
-  if (!core_.Docked()) {
-    throw ApiError(http::status::conflict, "Not docked", "the robot is not on a dock", "not_docked");
-  }
-  const auto pose = bus_.Get(topics::kPose).latest();
-  return {nav::UndockGoal(pose ? std::optional<nav::Pose2>(pose->pose) : std::nullopt, config_.mission.docking.dock)};
-}
-
 void NavigationApi::Dock(const Request& request, Reply reply) const {
   const json body = request.body().empty() ? json::object() : ParseJsonBody(request);
   if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
@@ -254,21 +269,6 @@ void NavigationApi::Undock(const Request& request, Reply reply) const {
     }
   }
   missions_.Start(request, std::move(reply), missions_.UndockGoals(), std::numeric_limits<double>::infinity(), "rest");
-}
-
-void MissionRequests::Start(const Request& request, Reply reply, std::vector<nav::MissionGoal> goals,
-                            double speed_limit, const std::string& origin,
-                            std::function<json(const MissionState&)> started) const {
-  // Every waypoint must be somewhere the robot can stand: the core says which one is not before anything moves.
-  core_.StartMission({std::move(goals), speed_limit, origin}, [request, reply, started](MissionResult result) {
-    reply(Respond(request, [&]() -> Response {
-      if (const auto* refusal = std::get_if<nav::MissionRefusal>(&result)) throw RefusalError(*refusal, "waypoints");
-      const MissionState& state = std::get<MissionState>(result);
-      Response res = JsonResponse(request, started ? started(state) : ToJson(state), http::status::created);
-      res.set(http::field::location, "/api/v1/missions/" + state.id);
-      return res;
-    }));
-  });
 }
 
 void NavigationApi::MissionAction(const Request& request, Reply reply, const std::string& id, MissionStep step) const {
