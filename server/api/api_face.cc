@@ -121,9 +121,7 @@ void FaceApi::AddDetectionRoutes(Router& routes) const {
         if (perception_ == nullptr) {
           throw ApiError(http::status::conflict, "Perception is off", "perception.enabled is false", "perception_off");
         }
-        const json body = ParseJsonBody(r);
-        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
-        AllowOnlyKeys(body, {"source", "ttl_s", "detections"}, "");
+        const json body = ObjectBody(r, {"source", "ttl_s", "detections"});
         ExternalDetections pushed;
         if (!body.contains("source") || !body["source"].is_string() ||
             !ValidSourceName(body["source"].get<std::string>())) {

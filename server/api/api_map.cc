@@ -224,9 +224,7 @@ void MapApi::AddRoutes(Router& routes) const {
   routes.Add(
       http::verb::post, "/api/v1/doors", Access::kAdmin,
       Sync([this, doors_here, door_json](const Request& r, const Params&) {
-        const json body = ParseJsonBody(r);
-        if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
-        AllowOnlyKeys(body, {"id", "x1", "y1", "x2", "y2"}, "");
+        const json body = ObjectBody(r, {"id", "x1", "y1", "x2", "y2"});
         if (!body.contains("id") || !body["id"].is_string() || body["id"].get<std::string>().empty() ||
             body["id"].get<std::string>().size() > 64) {
           throw ApiError(http::status::bad_request, "Invalid request",
@@ -279,10 +277,7 @@ void MapApi::AddRoutes(Router& routes) const {
                  throw ApiError(http::status::bad_request, "Invalid request",
                                 "a lift's id is 1 to 64 letters, digits, '_', '.' or '-'");
                }
-               const json body = ParseJsonBody(r);
-               if (!body.is_object())
-                 throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
-               AllowOnlyKeys(body, {"x1", "y1", "x2", "y2", "lobby"}, "");
+               const json body = ObjectBody(r, {"x1", "y1", "x2", "y2", "lobby"});
                if (!body.contains("lobby"))
                  throw ApiError(http::status::bad_request, "Invalid request", "missing 'lobby'");
                const json& lobby = body["lobby"];

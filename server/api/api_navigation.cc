@@ -251,9 +251,7 @@ void NavigationApi::StartMission(const Request& request, Reply reply) const {
 }
 
 void NavigationApi::Dock(const Request& request, Reply reply) const {
-  const json body = request.body().empty() ? json::object() : ParseJsonBody(request);
-  if (!body.is_object()) throw ApiError(http::status::bad_request, "Invalid request", "expected a JSON object");
-  AllowOnlyKeys(body, {"dock"}, "");
+  const json body = request.body().empty() ? json::object() : ObjectBody(request, {"dock"});
   if (body.contains("dock") && (!body["dock"].is_string() || body["dock"].get<std::string>().empty())) {
     throw ApiError(http::status::bad_request, "Invalid request", "'dock' must be a dock's name or id");
   }
