@@ -1,24 +1,12 @@
 #include "server/api/api.h"
 
 #include <boost/asio/post.hpp>
-#include <spdlog/fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
-#include <charconv>
-#include <cmath>
+#include <filesystem>
 #include <fstream>
-#include <limits>
-#include <numbers>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
+#include <map>
 #include <sstream>
-#include <thread>
-
-#include "drivers/discovery.h"
-#include "drivers/openni2/openni2_camera.h"
-#include "drivers/realsense/v4l2_capture.h"
-#include "server/config/config_file.h"
-#include "server/runtime/topics.h"
 
 namespace corridor::server {
 namespace {

@@ -143,13 +143,12 @@ AccountsApi::AccountsApi(auth::AccessControl& access, bool secure, std::string t
     : access_(access), secure_(secure), tls_fingerprint_(std::move(tls_fingerprint)) {}
 
 void AccountsApi::AddRoutes(Router& routes) const {
-  const bool secure = secure_;
   const auto lifetime = std::chrono::seconds(static_cast<std::int64_t>(access_.options.session_hours * 3600));
   // Logs `who` in: a session and its cookie.
-  const auto login = [this, secure, lifetime](const Request& r, const Principal& who, http::status status) {
+  const auto login = [this, lifetime](const Request& r, const Principal& who, http::status status) {
     Response res = JsonResponse(r, PrincipalJson(who), status);
     res.set(http::field::set_cookie,
-            auth::SessionCookie(access_.accounts.OpenSession(who.name, lifetime), lifetime, secure));
+            auth::SessionCookie(access_.accounts.OpenSession(who.name, lifetime), lifetime, secure_));
     return res;
   };
 
@@ -221,12 +220,11 @@ void AccountsApi::AddRoutes(Router& routes) const {
                          body["anonymous_viewer"] = access_.options.anonymous_viewer;
                          return JsonResponse(r, body);
                        });
-  routes.Add(http::verb::delete_, "/api/v1/session", Access::kPublic,
-             Sync([this, secure](const Request& r, const Params&) {
+  routes.Add(http::verb::delete_, "/api/v1/session", Access::kPublic, Sync([this](const Request& r, const Params&) {
                const std::string session = auth::SessionFromCookies(r[http::field::cookie]);
                if (!session.empty()) access_.accounts.CloseSession(session);
                Response res = MakeResponse(r, http::status::no_content, "application/json", "");
-               res.set(http::field::set_cookie, auth::ClearedSessionCookie(secure));
+               res.set(http::field::set_cookie, auth::ClearedSessionCookie(secure_));
                return res;
              }));
 

@@ -14,6 +14,21 @@ constexpr TopicName<nav::Twist2> kNotLatched{"latched"};
 constexpr TopicName<nav::Twist2> kEveryTwist{"every", false, Delivery::kEvery};
 constexpr TopicName<nav::Twist2> kNewestTwist{"every"};
 
+// Waits until `executor` (running on its thread) has run everything posted to it so far.
+void Drain(Executor& executor) {
+  std::promise<void> drained;
+  executor.Post([&] { drained.set_value(); });
+  drained.get_future().wait();
+}
+
+// Publishes 0 to 99 on `topic` before `executor` runs, then runs it: a subscriber on it puts what it sees in `seen`.
+void DeliverABacklog(Bus& bus, Executor& executor, TopicName<nav::Twist2> topic, std::vector<double>& seen) {
+  bus.Get(topic).Subscribe(executor, [&seen](const auto& m) { seen.push_back(m->linear_mps); });
+  for (int i = 0; i < 100; ++i) bus.Get(topic).Publish(nav::Twist2{static_cast<double>(i), 0.0});
+  executor.Start();
+  Drain(executor);
+}
+
 TEST(BusTest, SubscriberGetsMessagesOnItsExecutorAndLatestIsKept) {
   Bus bus;
   const drivers::SteadyClock clock;
@@ -39,12 +54,7 @@ TEST(BusTest, SlowSubscriberSkipsToTheNewestMessage) {
   Executor executor("test", clock, Schedule::kThreads);
   // Publish 100 messages before the executor runs: the subscriber sees only the newest.
   std::vector<double> seen;
-  bus.Get(kTwist).Subscribe(executor, [&](const auto& m) { seen.push_back(m->linear_mps); });
-  for (int i = 0; i < 100; ++i) bus.Get(kTwist).Publish(nav::Twist2{static_cast<double>(i), 0.0});
-  executor.Start();
-  std::promise<void> drained;
-  executor.Post([&] { drained.set_value(); });
-  drained.get_future().wait();
+  DeliverABacklog(bus, executor, kTwist, seen);
   executor.Stop();
   ASSERT_EQ(seen.size(), 1u);
   EXPECT_EQ(seen[0], 99.0);
@@ -55,16 +65,9 @@ TEST(BusTest, ATopicOfEventsDeliversEveryMessageInOrderToASlowSubscriber) {
   const drivers::SteadyClock clock;
   Executor executor("test", clock, Schedule::kThreads);
   std::vector<double> seen;
-  bus.Get(kEveryTwist).Subscribe(executor, [&](const auto& m) { seen.push_back(m->linear_mps); });
-  for (int i = 0; i < 100; ++i) bus.Get(kEveryTwist).Publish(nav::Twist2{static_cast<double>(i), 0.0});
-  executor.Start();
-  std::promise<void> drained;
-  executor.Post([&] { drained.set_value(); });
-  drained.get_future().wait();
+  DeliverABacklog(bus, executor, kEveryTwist, seen);
   bus.Get(kEveryTwist).Publish(nav::Twist2{100.0, 0.0});
-  std::promise<void> last;
-  executor.Post([&] { last.set_value(); });
-  last.get_future().wait();
+  Drain(executor);
   executor.Stop();
   ASSERT_EQ(seen.size(), 101u);
   for (int i = 0; i <= 100; ++i) EXPECT_EQ(seen[static_cast<std::size_t>(i)], i);
