@@ -8,7 +8,7 @@ import { after, before, describe, test } from 'node:test';
 
 import {
   authHeaders, getJson, gotoConsole, launchBrowser, mintToken, openApiValidator, postJson, require, sendJson,
-  startDaemon, writeRoom,
+  startDaemon, waitFor, writeRoom,
 } from './daemon.mjs';
 
 const WebSocket = require('ws');
@@ -149,7 +149,7 @@ describe('roles, tokens and sessions', () => {
     ws.on('message', (d) => { const m = JSON.parse(String(d)); if (m.type) replies.push(m); });
     await new Promise((resolve) => ws.once('open', resolve));
     ws.send(JSON.stringify({ type: 'teleop', linear_mps: 0.1, angular_rps: 0 }));
-    while (replies.length === 0) await new Promise((r) => setTimeout(r, 20));
+    await waitFor(() => replies, (r) => r.length > 0, 5000, 'a reply to the teleop');
     ws.close();
     assert.equal(replies[0].type, 'error');
     assert.equal(replies[0].status, 403);

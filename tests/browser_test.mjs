@@ -6,7 +6,7 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 
-import { gotoConsole, launchBrowser, openConsole, sleep, sourceDir, startDaemon } from './daemon.mjs';
+import { gotoConsole, launchBrowser, openConsole, sourceDir, startDaemon } from './daemon.mjs';
 
 const artifacts = process.env.CORRIDOR_ARTIFACTS ?? join(sourceDir, 'tests/artifacts');
 
@@ -27,6 +27,24 @@ function parsePose(text) {
   const m = /x (-?[\d.]+) m, y (-?[\d.]+) m, (-?[\d.]+)°/.exec(text);
   assert.ok(m, `pose text '${text}'`);
   return { x: Number(m[1]), y: Number(m[2]), yawDeg: Number(m[3]) };
+}
+
+// Holds `key` down until the pose the console shows satisfies `done` (up to 10 s), then lets go; `held` runs once
+// the key is down.
+async function holdKeyUntil(page, key, done, what, held = async () => {}) {
+  await page.keyboard.down(key);
+  try {
+    await held();
+    const end = Date.now() + 10000;
+    let pose = null;
+    while (!pose || !done(pose)) {
+      if (Date.now() > end) throw new Error(`holding ${key}: not ${what}; the pose shown: ${JSON.stringify(pose)}`);
+      await page.waitForTimeout(50);
+      pose = parsePose(await page.getByTestId('pose').textContent());
+    }
+  } finally {
+    await page.keyboard.up(key);
+  }
 }
 
 test('open the console, see the map and the robot, drive with the keyboard', async () => {
@@ -52,10 +70,8 @@ test('open the console, see the map and the robot, drive with the keyboard', asy
 
   // Hold the up arrow: the robot drives forward (+y); release: it stops.
   await page.getByRole('heading', { name: 'Telemetry' }).click();  // the page has the keys, no control does
-  await page.keyboard.down('ArrowUp');
-  await page.getByTestId('mode').filter({ hasText: 'teleop' }).waitFor({ timeout: 5000 });
-  await sleep(1500);
-  await page.keyboard.up('ArrowUp');
+  await holdKeyUntil(page, 'ArrowUp', (pose) => pose.y > start.y + 0.35, 'driven 0.35 m forward',
+    () => page.getByTestId('mode').filter({ hasText: 'teleop' }).waitFor({ timeout: 5000 }));
   await page.getByTestId('mode').filter({ hasText: 'idle' }).waitFor({ timeout: 5000 });
   await page.getByTestId('speed').filter({ hasText: /^0\.00 m\/s/ }).waitFor({ timeout: 5000 });
   const driven = parsePose(await page.getByTestId('pose').textContent());
@@ -63,9 +79,7 @@ test('open the console, see the map and the robot, drive with the keyboard', asy
   assert.ok(Math.abs(driven.x - start.x) < 0.1, 'straight ahead');
 
   // D turns right (clockwise).
-  await page.keyboard.down('d');
-  await sleep(800);
-  await page.keyboard.up('d');
+  await holdKeyUntil(page, 'd', (pose) => pose.yawDeg < driven.yawDeg - 12, 'turned 12 degrees right');
   await page.getByTestId('mode').filter({ hasText: 'idle' }).waitFor({ timeout: 5000 });
   const turned = parsePose(await page.getByTestId('pose').textContent());
   assert.ok(turned.yawDeg < driven.yawDeg - 10, `turned from ${driven.yawDeg} to ${turned.yawDeg}`);

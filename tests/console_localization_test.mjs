@@ -6,7 +6,7 @@ import { mkdirSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 
-import { getJson, gotoConsole, launchBrowser, sleep, sourceDir, startDaemon } from './daemon.mjs';
+import { getJson, gotoConsole, launchBrowser, sourceDir, startDaemon } from './daemon.mjs';
 
 const artifacts = process.env.CORRIDOR_ARTIFACTS ?? join(sourceDir, 'tests/artifacts');
 const config = `
@@ -30,8 +30,12 @@ before(async () => {
   page.on('pageerror', (e) => errors.push(e.message));
   await gotoConsole(page, daemon.url);
   await page.waitForFunction(() => window.corridorConsole?.localization !== undefined);
-  await page.evaluate(() => window.corridorConsole.view.map.setView([1.5, 2.0], 7, { animate: false }));
-  await sleep(300);
+  await page.getByTestId('pose').filter({ hasText: 'x ' }).waitFor();  // the console has centred on the robot
+  // Zoom so the whole arena fills the map, and let the page draw it.
+  await page.evaluate(() => new Promise((drawn) => {
+    window.corridorConsole.view.map.setView([1.5, 2.0], 7, { animate: false });
+    requestAnimationFrame(() => requestAnimationFrame(drawn));
+  }));
 });
 
 after(async () => {

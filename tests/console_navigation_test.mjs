@@ -43,9 +43,11 @@ before(async () => {
   await gotoConsole(page, daemon.url);
   await page.waitForFunction(() => window.corridorConsole !== undefined);
   await page.getByTestId('pose').filter({ hasText: 'x ' }).waitFor();  // the console has centred on the robot
-  // Zoom so the whole arena fills the map.
-  await page.evaluate(() => window.corridorConsole.view.map.setView([1.5, 2.0], 7, { animate: false }));
-  await sleep(300);
+  // Zoom so the whole arena fills the map, and let the page draw it.
+  await page.evaluate(() => new Promise((drawn) => {
+    window.corridorConsole.view.map.setView([1.5, 2.0], 7, { animate: false });
+    requestAnimationFrame(() => requestAnimationFrame(drawn));
+  }));
 });
 
 after(async () => {

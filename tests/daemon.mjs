@@ -180,13 +180,18 @@ export function openApiValidator() {
   };
 }
 
-// Sends teleop over REST every 100 ms for `ms` milliseconds, as a joystick would.
-export async function driveFor(url, command, ms) {
+// Sends teleop over REST every 100 ms, as a joystick would, until the robot's state satisfies `predicate`; returns
+// that state, or throws after `ms`.
+export async function driveUntil(url, command, predicate, ms, what) {
   const end = Date.now() + ms;
+  let value;
   while (Date.now() < end) {
     await postJson(`${url}/api/v1/teleop`, command);
+    value = (await getJson(`${url}/api/v1/state`)).body;
+    if (predicate(value)) return value;
     await sleep(100);
   }
+  throw new Error(`timed out driving until ${what}; last: ${JSON.stringify(value)?.slice(0, 400)}`);
 }
 
 // An empty room `width` x `height` metres at 5 cm, walled by one cell; its inside corner at (0, 0).

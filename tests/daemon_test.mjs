@@ -3,8 +3,8 @@ import assert from 'node:assert/strict';
 import { after, before, describe, test } from 'node:test';
 
 import {
-  apiFetch, authHeaders, driveFor, getJson, openApiValidator, postJson, require, runCorridord, sleep, sourceDir,
-  startDaemon,
+  apiFetch, authHeaders, driveUntil, getJson, openApiValidator, postJson, require, runCorridord, sourceDir,
+  startDaemon, waitFor,
 } from './daemon.mjs';
 
 const WebSocket = require('ws');
@@ -39,6 +39,13 @@ async function openStream(url) {
   return { ws, messages };
 }
 
+// Subscribes the stream `ws` (its messages collected in `messages`) to `topics` and waits for the reply.
+async function subscribed(ws, messages, topics) {
+  const count = messages.length;
+  ws.send(JSON.stringify({ type: 'subscribe', topics }));
+  await waitFor(() => messages.slice(count), (m) => m.some((x) => x.message.type === 'subscribed'), 5000, 'subscribed');
+}
+
 describe('corridord in the Willow Garage building', () => {
   let daemon;
   before(async () => { daemon = await startDaemon(); });
@@ -49,8 +56,9 @@ describe('corridord in the Willow Garage building', () => {
     assert.equal(health.status, 200);
     api.check('Health', health.body);
 
-    await sleep(500);
-    const s = await state(daemon.url);
+    // Every node up and looping (explore waits for mapping).
+    const s = await waitFor(() => state(daemon.url), (x) => x.nodes.every((n) => n.health === 'ok' &&
+      (n.name === 'explore' || n.rate_hz > 0)), 5000, 'every node ok and looping');
     assert.deepEqual(s.nodes.map((n) => n.name).sort(), ['charging', 'control', 'devices', 'events', 'explore', 'face',
       'ground', 'localization', 'mission', 'octree', 'perception', 'sim', 'tracking']);
     assert.equal(s.face, 'neutral');
@@ -91,53 +99,60 @@ describe('corridord in the Willow Garage building', () => {
     assert.equal(accepted.status, 200);
     api.check('TeleopAccepted', accepted.body);
     assert.equal(accepted.body.expires_in_s, 0.5);
-    await driveFor(daemon.url, { linear_mps: 0.4, angular_rps: 0 }, 1500);
-    const moving = await state(daemon.url);
-    assert.equal(moving.mode, 'teleop');
-    assert.ok(moving.velocity.linear_mps > 0.3, `moving at ${moving.velocity.linear_mps}`);
     // The robot faces +y (yaw 90 degrees) down a free corridor.
-    assert.ok(moving.sim_true_pose.y - before.sim_true_pose.y > 0.3, 'moved forward');
+    const moving = await driveUntil(daemon.url, { linear_mps: 0.4, angular_rps: 0 },
+      (x) => x.velocity.linear_mps > 0.3 && x.sim_true_pose.y - before.sim_true_pose.y > 0.3, 5000, 'moving forward');
+    assert.equal(moving.mode, 'teleop');
 
-    // No more commands: within the 0.5 s deadman plus the braking ramp the robot is still.
-    await sleep(1200);
-    const stopped = await state(daemon.url);
-    assert.equal(stopped.mode, 'idle');
-    assert.equal(stopped.velocity.linear_mps, 0);
-    await sleep(500);
-    const later = await state(daemon.url);
+    // No more commands: the deadman (0.5 s) runs out and the robot brakes to a stop, and stays there.
+    const stopped = await waitFor(() => state(daemon.url), (x) => x.mode === 'idle' && x.velocity.linear_mps === 0,
+      5000, 'stopped by the deadman');
+    const later = await waitFor(() => state(daemon.url), (x) => x.stamp_s > stopped.stamp_s + 0.5, 5000,
+      'half a second later');
     assert.ok(distance(later.sim_true_pose, stopped.sim_true_pose) < 1e-6, 'stays still');
   });
 
   test('the stream pushes state at 10 Hz or more and accepts teleop', async () => {
     const { ws, messages } = await openStream(daemon.url);
-    await sleep(1000);
-    const states = messages.filter((m) => m.message.topic === 'state');
-    assert.ok(states.length >= 10, `${states.length} state messages in 1 s`);
+    const states = await waitFor(() => messages.filter((m) => m.message.topic === 'state'), (x) => x.length >= 11,
+      5000, 'eleven state messages');
+    // Ten intervals by the daemon's own clock: 10 Hz or more (5 % for the timer's wake-ups).
+    const span = states[10].message.data.stamp_s - states[0].message.data.stamp_s;
+    assert.ok(span <= 1.05, `ten state intervals took ${span} s`);
     api.check('State', states.at(-1).message.data);
 
     const start = states.at(-1).message.data.sim_true_pose;
-    const timer = setInterval(() => ws.send(JSON.stringify({ type: 'teleop', linear_mps: 0, angular_rps: 1.0 })), 100);
-    await sleep(1500);
-    clearInterval(timer);
-    const acks = messages.filter((m) => m.message.type === 'teleop_ack');
-    assert.ok(acks.length >= 10);
-    const turned = (await state(daemon.url)).sim_true_pose;
-    assert.ok(Math.abs(turned.yaw - start.yaw) > 0.5, `turned from ${start.yaw} to ${turned.yaw}`);
+    let sent = 0;
+    const timer = setInterval(() => {
+      ws.send(JSON.stringify({ type: 'teleop', linear_mps: 0, angular_rps: 1.0 }));
+      ++sent;
+    }, 100);
+    try {
+      await waitFor(() => state(daemon.url), (x) => Math.abs(x.sim_true_pose.yaw - start.yaw) > 0.5, 5000,
+        `turned half a radian from ${start.yaw}`);
+    } finally {
+      clearInterval(timer);
+    }
+    // Every command acknowledged.
+    await waitFor(() => messages.filter((m) => m.message.type === 'teleop_ack'), (acks) => acks.length === sent, 5000,
+      'an acknowledgement of each teleop message');
+    await waitFor(() => state(daemon.url), (x) => x.mode === 'idle', 5000, 'the turn ended by the deadman');
 
     // Bad messages get an error reply and the stream stays open.
     ws.send('not json');
     ws.send(JSON.stringify({ type: 'teleop', linear_mps: 'fast', angular_rps: 0 }));
     ws.send(JSON.stringify({ type: 'subscribe', topics: ['no/such/topic'] }));
-    await sleep(300);
-    const errors = messages.filter((m) => m.message.type === 'error');
-    assert.equal(errors.length, 3);
+    await waitFor(() => messages.filter((m) => m.message.type === 'error'), (e) => e.length >= 3, 5000, 'three errors');
+    // Replies come in order: once a good message's is here, so is every bad one's, and there is no fourth.
+    await subscribed(ws, messages, ['state']);
+    assert.equal(messages.filter((m) => m.message.type === 'error').length, 3);
     assert.equal(ws.readyState, WebSocket.OPEN);
 
     // Subscribing to a bus topic by name streams it.
     ws.send(JSON.stringify({ type: 'subscribe', topics: ['odom', 'ground/lanes'] }));
-    await sleep(500);
+    await waitFor(() => messages, (all) => all.filter((m) => m.message.topic === 'odom').length >= 3 &&
+      all.filter((m) => m.message.topic === 'ground/lanes').length >= 3, 5000, 'odom and lanes streamed');
     const odom = messages.filter((m) => m.message.topic === 'odom');
-    assert.ok(odom.length >= 3);
     assert.ok('bumper_pressed' in odom.at(-1).message.data);
     const lanes = messages.filter((m) => m.message.topic === 'ground/lanes');
     assert.ok(lanes.length >= 3);
@@ -199,15 +214,15 @@ describe('corridord in the Willow Garage building', () => {
       '{"type":"teleop","linear_mps":1e400,"angular_rps":0}', '{"type":"teleop","linear_mps":null,"angular_rps":0}',
       '{"type":"teleop","linear_mps":0,"angular_rps":0,"extra":{}}', '\u0000\u00ff', '{"type":"\ud800"}'];
     for (const text of bad) ws.send(text);
-    await sleep(500);
+    // Replies come in order: once a good message's is here, so is every bad one's.
+    await subscribed(ws, messages, ['state']);
     const errors = messages.filter((m) => m.message.type === 'error');
     assert.equal(errors.length, bad.length, JSON.stringify(errors.map((e) => e.message.detail)));
     for (const e of errors) assert.ok(e.message.status >= 400 && e.message.status < 500, JSON.stringify(e.message));
     assert.equal(ws.readyState, WebSocket.OPEN);
     // The other client still gets its state, and every node is as healthy as before.
     const before = bystander.messages.length;
-    await sleep(300);
-    assert.ok(bystander.messages.length > before, 'the other client is still served');
+    await waitFor(() => bystander.messages.length, (n) => n > before, 5000, 'the other client still served');
     const s = await state(daemon.url);
     for (const node of s.nodes) assert.notEqual(node.health, 'error', `${node.name}: ${node.message}`);
     assert.equal((await getJson(`${daemon.url}/api/v1/health`)).status, 200);
@@ -222,12 +237,8 @@ describe('corridord in the Willow Garage building', () => {
     const res = await postJson(`${daemon.url}/api/v1/face`, { expression: 'happy', hold_s: 3, say: 'Welcome to the lab' });
     assert.equal(res.status, 202, JSON.stringify(res.body));
     api.check('FaceAccepted', res.body);
-    let face;
-    for (let i = 0; i < 20; ++i) {
-      await sleep(100);
-      face = (await getJson(`${daemon.url}/api/v1/face`)).body;
-      if (face.expression === 'happy' && face.said_sequence > before.body.said_sequence) break;
-    }
+    const face = await waitFor(async () => (await getJson(`${daemon.url}/api/v1/face`)).body,
+      (f) => f.expression === 'happy' && f.said_sequence > before.body.said_sequence, 5000, 'the face happy and speaking');
     api.check('Face', face);
     assert.equal(face.expression, 'happy');
     assert.equal(face.said, 'Welcome to the lab');
@@ -269,18 +280,14 @@ sim:
   test('driving at a wall it sees, the robot slows and stops short of it', async () => {
     const daemon = await startDaemon({ config });
     try {
-      // The outer wall stands 2.95 m ahead; ask for full speed at it for longer than it takes to get there.
+      // The outer wall stands 2.95 m ahead; ask for full speed at it until the robot stands still.
       let bumped = false;
       let slowed = false;
-      const end = Date.now() + 9000;
-      while (Date.now() < end) {
-        await postJson(`${daemon.url}/api/v1/teleop`, { linear_mps: 0.5, angular_rps: 0 });
-        const s = await state(daemon.url);
-        bumped ||= s.bumper_pressed;
-        slowed ||= s.stop_reason === 'slowed for an obstacle ahead';
-        await sleep(100);
-      }
-      const s = await state(daemon.url);
+      const s = await driveUntil(daemon.url, { linear_mps: 0.5, angular_rps: 0 }, (x) => {
+        bumped ||= x.bumper_pressed;
+        slowed ||= x.stop_reason === 'slowed for an obstacle ahead';
+        return bumped || (x.sim_true_pose.x > 2.0 && Math.abs(x.velocity.linear_mps) < 0.005);
+      }, 15000, 'standing still before the wall');
       const front = s.sim_true_pose.x + 0.2;
       assert.ok(!bumped, 'never touched the wall');
       assert.ok(slowed, 'the control loop said why it slowed');
@@ -296,16 +303,13 @@ sim:
       // The wall behind stands 0.95 m back (x = 0.05); the camera looks forward, so only the bumper tells.
       let bumped = false;
       let surprised = false;
-      const end = Date.now() + 5000;
-      while (Date.now() < end) {
-        await postJson(`${daemon.url}/api/v1/teleop`, { linear_mps: -0.4, angular_rps: 0 });
-        const s = await state(daemon.url);
+      await driveUntil(daemon.url, { linear_mps: -0.4, angular_rps: 0 }, (x) => {
         // Pressed for a moment: the control node then holds the robot from backing on for a second, and says why.
-        bumped ||= s.bumper_pressed || s.stop_reason === 'bumper pressed: not backing';
-        surprised ||= s.face === 'surprised';
-        assert.ok(s.sim_true_pose.x - 0.2 >= 0.05 - 1e-6, `inside the wall at x = ${s.sim_true_pose.x}`);
-        await sleep(100);
-      }
+        bumped ||= x.bumper_pressed || x.stop_reason === 'bumper pressed: not backing';
+        surprised ||= x.face === 'surprised';
+        assert.ok(x.sim_true_pose.x - 0.2 >= 0.05 - 1e-6, `inside the wall at x = ${x.sim_true_pose.x}`);
+        return bumped && surprised;
+      }, 8000, 'bumped, and surprised');
       assert.ok(bumped, 'the bumper reported the contact');
       assert.ok(surprised, 'the face showed surprise at the bump');
       const s = await state(daemon.url);
@@ -373,9 +377,9 @@ describe('corridord start-up', () => {
     try {
       const map = await getJson(`${daemon.url}/api/v1/map`);
       assert.equal(map.body.name, 'map');
-      await sleep(500);
-      const depth = await apiFetch(`${daemon.url}/api/v1/camera/depth`);
-      assert.equal(depth.status, 200);
+      // A depth image once the camera has seen the house.
+      await waitFor(async () => (await apiFetch(`${daemon.url}/api/v1/camera/depth`)).status, (status) => status === 200,
+        5000, 'a depth image');
     } finally {
       await daemon.stop();
     }

@@ -12,7 +12,7 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
-import { apiFetch, getJson, openApiValidator, postJson, sleep, startDaemon, waitFor } from './daemon.mjs';
+import { apiFetch, getJson, openApiValidator, postJson, startDaemon, waitFor } from './daemon.mjs';
 import { Broker, freePort, publish, subscribe } from './mqtt.mjs';
 
 const api = openApiValidator();
@@ -174,9 +174,10 @@ doors:
     assert.equal(done.status, 'failed');
     assert.match(done.error, /door d1 refused to open: 403 Forbidden: locked for the night/);
     assert.ok(nearest > 4.0 + 0.2, `the robot came to x ${nearest}`);
-    await sleep(500);
-    const { body: doors } = await getJson(`${daemon.url}/api/v1/sim/doors`);
-    assert.deepEqual(doors.doors, [{ id: 'd1', open: false }]);
+    // The door the controller refused stays shut.
+    const doors = await waitFor(async () => (await getJson(`${daemon.url}/api/v1/sim/doors`)).body.doors,
+      (d) => d.length === 1 && d[0].id === 'd1' && !d[0].open, 5000, 'door d1 shut');
+    assert.deepEqual(doors, [{ id: 'd1', open: false }]);
   });
 
   test('a controller that stops answering: the robot waits short of the door, then the mission ends saying so',

@@ -58,14 +58,17 @@ test('the face page follows the robot: expressions, a bump, a person to look at,
   for (const expression of ['neutral', 'happy', 'focused', 'surprised', 'worried', 'sleepy', 'confused', 'sad']) {
     const res = await postJson(`${daemon.url}/api/v1/face`, { expression, hold_s: 2 });
     assert.equal(res.status, 202);
-    await page.waitForFunction((e) => document.body.dataset.expression === e, expression, { timeout: 3000 });
-    await sleep(500);  // eased in
+    // Eased in: the page has stopped moving to it.
+    await page.waitForFunction((e) => document.body.dataset.expression === e && document.body.dataset.still === 'true',
+      expression, { timeout: 3000 });
     await page.screenshot({ path: join(artifacts, `face-${expression}.png`) });
   }
   await page.setViewportSize({ width: 1920, height: 1080 });
-  await sleep(300);
+  await page.waitForFunction(() => document.getElementById('face').width === Math.round(1920 * devicePixelRatio));
+  await page.evaluate(() => new Promise((drawn) => requestAnimationFrame(() => requestAnimationFrame(drawn))));
   await page.screenshot({ path: join(artifacts, 'face-1080p.png') });
-  await sleep(2100);  // the last request's hold runs out
+  // The last request's hold runs out: the face is the robot's own again.
+  await page.waitForFunction(() => document.body.dataset.expression !== 'sad', null, { timeout: 5000 });
 
   // Backing into the wall it cannot see: surprised.
   let surprised = false;

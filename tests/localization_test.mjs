@@ -10,7 +10,7 @@ import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
 import {
-  driveFor, getJson, loadMachine, openApiValidator, postJson, sendJson, sleep, startDaemon, waitFor,
+  driveUntil, getJson, loadMachine, openApiValidator, postJson, sendJson, startDaemon, waitFor,
 } from './daemon.mjs';
 
 const api = openApiValidator();
@@ -118,7 +118,8 @@ describe('the pose across a restart', () => {
       assert.equal((await postJson(`${daemon.url}/api/v1/localization/relocalize`, {})).status, 202);
       await waitFor(async () => ({ l: await localization(daemon.url), s: await state(daemon.url) }),
         ({ l, s }) => l.health === 'ok' && errorOf(s)[0] < 0.05, 30000, 'relocalized');
-      await driveFor(daemon.url, { linear_mps: 0.1, angular_rps: 0 }, 500);
+      await driveUntil(daemon.url, { linear_mps: 0.1, angular_rps: 0 }, (x) => x.pose.x > 6.04, 5000,
+        'nudged 4 cm forward');
       before = await waitFor(() => state(daemon.url), (s) => Math.abs(s.velocity?.linear_mps ?? 0) < 0.005 &&
         s.pose.x > 6.02, 10000, 'nudged forward and standing');
     } finally {

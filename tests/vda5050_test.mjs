@@ -13,7 +13,7 @@ import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 
 import {
-  getJson, launchBrowser, openApiValidator, openConsole, require, sleep, sourceDir, startDaemon, writeRoom,
+  getJson, launchBrowser, openApiValidator, openConsole, require, sleep, sourceDir, startDaemon, waitFor, writeRoom,
 } from './daemon.mjs';
 import { Broker, freePort, publish, subscribe } from './mqtt.mjs';
 
@@ -38,9 +38,14 @@ class Master {
     this.messages = [];  // {topic, body, at}
     this.invalid = [];
     this.headerId = 0;
-    const topics = ['state', 'connection', 'visualization', 'factsheet'].map((t) => `${PREFIX}/${t}`);
+    // Its own probe topic too: a probe it hears back says its subscriptions are in place (ready()).
+    const topics = ['state', 'connection', 'visualization', 'factsheet', 'probe'].map((t) => `${PREFIX}/${t}`);
     this.proc = subscribe(port, topics, (full, payload) => {
       const topic = full.slice(PREFIX.length + 1);
+      if (topic === 'probe') {
+        this.probed = true;
+        return;
+      }
       const body = JSON.parse(payload);
       if (!schemas[topic](body)) {
         this.invalid.push({ topic, errors: schemas[topic].errors, body });
@@ -49,6 +54,15 @@ class Master {
     });
   }
   stop() { this.proc.kill('SIGTERM'); }
+  // Resolves once the broker delivers to this master: probes until one comes back.
+  async ready() {
+    const end = Date.now() + 10000;
+    while (!this.probed) {
+      if (Date.now() > end) throw new Error('the master never heard its own probe');
+      this.sendRaw('probe', '{}');
+      await sleep(50);
+    }
+  }
   publish(topic, body) {
     const message = { headerId: this.headerId++, timestamp: new Date().toISOString(), version: '2.1.0',
       manufacturer: 'corridor', serialNumber: 'r1', ...body };
@@ -106,7 +120,7 @@ describe('VDA 5050 over MQTT', () => {
     broker = new Broker(dir, port);
     await broker.start();
     master = new Master(port);
-    await sleep(300);  // subscribed before the robot says it is online
+    await master.ready();  // subscribed before the robot says it is online
     daemon = await startDaemon({ config: `
 sim:
   world: "${writeRoom(dir, 6, 3)}"
@@ -213,7 +227,9 @@ fleet:
       edges: [edge('c', 'e', 1, true), edge('e', 'f', 3, false)] });
     await master.waitFor('state', (s) => s.orderId === 'o3' && s.driving, 10000, 'driving o3');
     await broker.stop();
-    await sleep(2000);
+    // Away until the robot knows it (it goes on driving meanwhile).
+    await waitFor(async () => (await getJson(`${daemon.url}/api/v1/state`)).body.fleet, (f) => !f.connected, 10000,
+      'the robot seeing the broker gone');
     await broker.start();
     const count = master.messages.length;
     // Back online by itself; the order went on meanwhile (e reached while the broker was away, or after).

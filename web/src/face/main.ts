@@ -50,6 +50,7 @@ function frame(now: number): void {
   drawFace(ctx, width, height, { shape: face.shape, blink, gaze: face.gaze, speaking, connected });
   document.body.dataset.gaze = face.gaze.toFixed(2);
   document.body.dataset.speaking = String(voice.speaking());
+  document.body.dataset.still = String(!moving);  // eased into the expression and the gaze asked for
   if (moving || blink > 0 || voice.speaking()) {
     animation = requestAnimationFrame(frame);
   } else {
@@ -80,6 +81,7 @@ function onFace(data: FaceMessage): void {
   face.setExpression(expression);
   face.setGaze(data.gaze);
   document.body.dataset.expression = expression;
+  document.body.dataset.still = 'false';
   // Speak what was said since the page connected (not what was said before it opened).
   if (lastSaid !== null && data.said_sequence > lastSaid && data.said) voice.say(data.said_sequence, data.said);
   lastSaid = data.said_sequence;
