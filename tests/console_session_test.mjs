@@ -5,7 +5,7 @@
 import assert from 'node:assert/strict';
 import { after, before, test } from 'node:test';
 
-import { getJson, gotoConsole, launchBrowser, sendJson, startDaemon } from './daemon.mjs';
+import { getJson, gotoConsole, launchBrowser, sendJson, startDaemon, waitFor } from './daemon.mjs';
 
 const kSizes = [
   { name: 'desktop', viewport: { width: 1280, height: 800 }, touch: false },
@@ -238,8 +238,12 @@ for (const size of kSizes) {
       await page.getByTestId('mapping-status').filter({ hasText: new RegExp(`^mapping '${name}': [1-9]`) })
         .waitFor({ timeout: 10000 });
       await page.locator('body').click({ position: { x: 1, y: 1 } });
+      // Turning: the key held until the robot has turned about a radian.
+      const yaw = async () => (await getJson(`${url}/api/v1/state`)).body.sim_true_pose.yaw;
+      const from = await yaw();
       await page.keyboard.down('ArrowLeft');
-      await page.waitForTimeout(1000);  // turning: the keys are held as long as a person would
+      await waitFor(yaw, (now) => Math.abs(Math.atan2(Math.sin(now - from), Math.cos(now - from))) > 0.8, 10000,
+        'turned while mapping');
       await page.keyboard.up('ArrowLeft');
       await page.getByTestId('mapping-stop').click();
       await page.getByTestId('mapping-status').filter({ hasText: `'${name}' saved and in use` })
