@@ -96,10 +96,15 @@ class RotatingLaser : public Laser2D, public LinkedDevice<Status> {
     take(first, last_frame_ns);
     this->SetState(LinkState::kRunning);
     std::array<std::uint8_t, 1024> buffer{};
+    bool flowing = false;  // the last read brought bytes: the next finds more there without waiting on the port
     while (!stop.stop_requested()) {
-      // Waits no longer than until the link would be stale, so that gathering does not put off noticing it.
-      const double to_stale_s = link_.stale_s - ToSeconds(clock_.Now() - last_frame_ns);
-      const std::size_t n = port.Read(buffer, to_stale_s > 0.0 ? to_stale_s : link_.stale_s);
+      std::size_t n = flowing ? port.ReadArrived(buffer) : 0;
+      if (n == 0) {
+        // Waits no longer than until the link would be stale, so that gathering does not put off noticing it.
+        const double to_stale_s = link_.stale_s - ToSeconds(clock_.Now() - last_frame_ns);
+        n = port.Read(buffer, to_stale_s > 0.0 ? to_stale_s : link_.stale_s);
+      }
+      flowing = n > 0;
       const TimeNs now = clock_.Now();
       if (take(std::span<const std::uint8_t>(buffer.data(), n), now) > 0) {
         last_frame_ns = now;

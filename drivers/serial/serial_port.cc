@@ -41,7 +41,12 @@ std::size_t SerialPort::Read(std::span<std::uint8_t> into, double timeout_s) {
     throw boost::system::system_error(errno, boost::system::system_category(), "waiting on the serial port");
   }
   if (ready == 0) return 0;
-  const ssize_t n = ::read(fd, into.data(), into.size());
+  return ReadArrived(into);
+}
+
+std::size_t SerialPort::ReadArrived(std::span<std::uint8_t> into) {
+  // The descriptor is non-blocking (Boost.Asio opens it so): nothing there is EAGAIN.
+  const ssize_t n = ::read(port_.native_handle(), into.data(), into.size());
   if (n > 0) return static_cast<std::size_t>(n);
   if (n < 0 && (errno == EAGAIN || errno == EINTR)) return 0;
   if (n == 0) throw boost::system::system_error(boost::asio::error::eof, "reading the serial port");
