@@ -1,8 +1,8 @@
 #!/bin/sh
 # The lint gate's analysis half: clang-tidy 16 with the tree's .clang-tidy over the pure modules (nav, face, drivers),
 # from the compile commands of BUILD_DIR (the fuzz build: clang 16 reads libstdc++ 12, which Debian's clang 14 cannot).
-# Prints each finding and fails on any. server/ is left out: its files include Asio, Beast and the whole graph, and
-# take 10-25 s each to parse, which a gate in every test run cannot pay.
+# Prints each finding and fails on any. server/ is left out of the gate for the CI budget: its 66 files in the fuzz
+# build (Asio, Beast and the whole graph in each) took 8 CPU-minutes more, and passed (checked by hand, 2026-11-29).
 #   tests/tidy_check.sh BUILD_DIR
 set -eu
 cd "$(dirname "$0")/.."
