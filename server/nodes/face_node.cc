@@ -61,9 +61,7 @@ FaceNode::FaceNode(Executor& executor, Bus& bus, const FaceOptions& options, con
       spoken_(std::move(spoken)) {}
 
 void FaceNode::Activate() {
-  Subscribe(topics::kOdometry, "odometry", [this](const auto& odometry) {
-    if (odometry->bumper_pressed) bumped_since_tick_ = true;
-  });
+  Subscribe(topics::kBumped, "bump", [this](const auto&) { bumped_since_tick_ = true; });
   Subscribe(topics::kFaceCommand, "command", [this](const auto& command) { OnCommand(*command); });
   // New detections move the eyes at once, not at the next tick: a person appearing is looked at within a frame.
   Subscribe(topics::kDetections, "people", [this](const auto&) { Tick(); });

@@ -1,8 +1,9 @@
 // Feeds the face's expression machine (face/expression.h) from the bus and publishes the expression, and what the
 // robot says, on face/expression, on the perception executor, five times a second: base motion and the bumper (a bump
-// is seen however briefly the bumper was pressed: the control node stops pushing at once, so it may be pressed for a
-// single odometry message between two ticks), the control mode (teleop, a protective stop), localization's health,
-// the mission (its phase, the place it goes to, whether it holds the robot still), the people detected
+// is seen however briefly the bumper was pressed, through safety/bumped, which the control node publishes for each
+// odometry message with the bumper pressed: it stops pushing at once, so that may be one message between two ticks;
+// the face does not take every odometry message itself), the control mode (teleop, a protective stop), localization's
+// health, the mission (its phase, the place it goes to, whether it holds the robot still), the people detected
 // (perception/detections, through face/social.h: near, in the way, looking at the robot; where the eyes look), and
 // requests from apps (face/command: an expression for a while, a phrase to say). What it says is synthesized
 // (espeak-ng, face/speech.h) into SpokenPhrases for the page to play. The same situation, sampled once, also gives the
