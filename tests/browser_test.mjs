@@ -6,7 +6,7 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 
-import { gotoConsole, launchBrowser, openConsole, sourceDir, startDaemon } from './daemon.mjs';
+import { gotoConsole, launchBrowser, openConsole, sourceDir, startDaemon, waitFor } from './daemon.mjs';
 
 const artifacts = process.env.CORRIDOR_ARTIFACTS ?? join(sourceDir, 'tests/artifacts');
 
@@ -35,13 +35,8 @@ async function holdKeyUntil(page, key, done, what, held = async () => {}) {
   await page.keyboard.down(key);
   try {
     await held();
-    const end = Date.now() + 10000;
-    let pose = null;
-    while (!pose || !done(pose)) {
-      if (Date.now() > end) throw new Error(`holding ${key}: not ${what}; the pose shown: ${JSON.stringify(pose)}`);
-      await page.waitForTimeout(50);
-      pose = parsePose(await page.getByTestId('pose').textContent());
-    }
+    await waitFor(async () => parsePose(await page.getByTestId('pose').textContent()), done, 10000,
+      `holding ${key}: ${what}`);
   } finally {
     await page.keyboard.up(key);
   }

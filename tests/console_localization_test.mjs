@@ -6,7 +6,7 @@ import { mkdirSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 
-import { getJson, gotoConsole, launchBrowser, sourceDir, startDaemon } from './daemon.mjs';
+import { getJson, gotoConsole, launchBrowser, showMap, sourceDir, startDaemon } from './daemon.mjs';
 
 const artifacts = process.env.CORRIDOR_ARTIFACTS ?? join(sourceDir, 'tests/artifacts');
 const config = `
@@ -32,10 +32,7 @@ before(async () => {
   await page.waitForFunction(() => window.corridorConsole?.localization !== undefined);
   await page.getByTestId('pose').filter({ hasText: 'x ' }).waitFor();  // the console has centred on the robot
   // Zoom so the whole arena fills the map, and let the page draw it.
-  await page.evaluate(() => new Promise((drawn) => {
-    window.corridorConsole.view.map.setView([1.5, 2.0], 7, { animate: false });
-    requestAnimationFrame(() => requestAnimationFrame(drawn));
-  }));
+  await showMap(page, [1.5, 2.0], 7);
 });
 
 after(async () => {

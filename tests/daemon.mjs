@@ -182,16 +182,19 @@ export function openApiValidator() {
 
 // Sends teleop over REST every 100 ms, as a joystick would, until the robot's state satisfies `predicate`; returns
 // that state, or throws after `ms`.
-export async function driveUntil(url, command, predicate, ms, what) {
-  const end = Date.now() + ms;
-  let value;
-  while (Date.now() < end) {
+export function driveUntil(url, command, predicate, ms, what) {
+  return waitFor(async () => {
     await postJson(`${url}/api/v1/teleop`, command);
-    value = (await getJson(`${url}/api/v1/state`)).body;
-    if (predicate(value)) return value;
-    await sleep(100);
-  }
-  throw new Error(`timed out driving until ${what}; last: ${JSON.stringify(value)?.slice(0, 400)}`);
+    return (await getJson(`${url}/api/v1/state`)).body;
+  }, predicate, ms, `driving until ${what}`);
+}
+
+// Centres the console's map in `page` on `latLng` at `zoom` and waits until the page has drawn it.
+export function showMap(page, latLng, zoom) {
+  return page.evaluate(([at, z]) => new Promise((drawn) => {
+    window.corridorConsole.view.map.setView(at, z, { animate: false });
+    requestAnimationFrame(() => requestAnimationFrame(drawn));
+  }), [latLng, zoom]);
 }
 
 // An empty room `width` x `height` metres at 5 cm, walled by one cell; its inside corner at (0, 0).

@@ -142,7 +142,6 @@ describe('corridord in the Willow Garage building', () => {
     ws.send('not json');
     ws.send(JSON.stringify({ type: 'teleop', linear_mps: 'fast', angular_rps: 0 }));
     ws.send(JSON.stringify({ type: 'subscribe', topics: ['no/such/topic'] }));
-    await waitFor(() => messages.filter((m) => m.message.type === 'error'), (e) => e.length >= 3, 5000, 'three errors');
     // Replies come in order: once a good message's is here, so is every bad one's, and there is no fourth.
     await subscribed(ws, messages, ['state']);
     assert.equal(messages.filter((m) => m.message.type === 'error').length, 3);
