@@ -5,6 +5,8 @@
 // in under the same path (udev's stable name) scans again by itself.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -74,11 +76,16 @@ class RotatingLaser : public Laser2D, public LinkedDevice<Status> {
                   const std::function<void(Status&)>& note) {
     SweepAssembler sweeps(sweep_);
     std::vector<SweepPoint> points;
-    const auto take = [&](std::span<const std::uint8_t> bytes, TimeNs now) {
+    // Decodes `bytes`, which arrived from `from_ns` on at the line's pace (byte_ns each): a point is stamped when its
+    // share of the bytes was in, a sweep when its last point was. Returns how many whole frames came.
+    const auto take = [&](std::span<const std::uint8_t> bytes, TimeNs from_ns, TimeNs byte_ns) {
       points.clear();
       const std::uint64_t frames = decode(bytes, points);
-      for (const SweepPoint& point : points) {
-        std::optional<LaserScan> scan = sweeps.Add(point, now);
+      const auto n = static_cast<TimeNs>(bytes.size());
+      const auto m = static_cast<TimeNs>(points.size());
+      for (TimeNs i = 0; i < m; ++i) {
+        std::optional<LaserScan> scan =
+            sweeps.Add(points[static_cast<std::size_t>(i)], from_ns + n * (i + 1) / m * byte_ns);
         if (!scan) continue;
         ScanHandler handler;
         {
@@ -92,37 +99,54 @@ class RotatingLaser : public Laser2D, public LinkedDevice<Status> {
       note(this->status_);
       return frames;
     };
-    TimeNs last_frame_ns = clock_.Now();
-    take(first, last_frame_ns);
+    TimeNs read_ns = clock_.Now();  // the last read: what the next one brings arrived after it
+    TimeNs last_frame_ns = read_ns;
+    take(first, read_ns, 0);
     this->SetState(LinkState::kRunning);
-    std::array<std::uint8_t, 1024> buffer{};
+    const TimeNs byte_ns = FromSeconds(port.byte_s());
+    // Bytes are let gather between reads for the time a quarter of the buffer takes on the line, at most kGather: a
+    // faster device than the line's pace still leaves room in the buffer.
+    const TimeNs gather_ns =
+        std::min<TimeNs>(std::chrono::nanoseconds(kGather).count(), static_cast<TimeNs>(kBufferBytes / 4) * byte_ns);
+    std::array<std::uint8_t, kBufferBytes> buffer{};
     bool flowing = false;  // the last read brought bytes: the next finds more there without waiting on the port
     while (!stop.stop_requested()) {
       std::size_t n = flowing ? port.ReadArrived(buffer) : 0;
+      bool waited = false;
       if (n == 0) {
-        // Waits no longer than until the link would be stale, so that gathering does not put off noticing it.
+        // Waits no longer than until the link would be stale.
         const double to_stale_s = link_.stale_s - ToSeconds(clock_.Now() - last_frame_ns);
         n = port.Read(buffer, to_stale_s > 0.0 ? to_stale_s : link_.stale_s);
+        waited = true;
       }
       flowing = n > 0;
       const TimeNs now = clock_.Now();
-      if (take(std::span<const std::uint8_t>(buffer.data(), n), now) > 0) {
-        last_frame_ns = now;
+      const auto line_ns = static_cast<TimeNs>(n) * byte_ns;
+      // A wait ends with the first byte; bytes gathered while the thread slept came from the read before on. Each
+      // came no earlier than its place in the line after that, which is when the last whole frame is counted to
+      // have come: the link is noticed stale stale_s after the device's last byte, however long bytes gathered.
+      const TimeNs from_ns = waited ? std::max(read_ns, now - line_ns) : read_ns;
+      if (take(std::span<const std::uint8_t>(buffer.data(), n), from_ns, byte_ns) > 0) {
+        last_frame_ns = std::min(now, from_ns + line_ns);
         this->SetState(LinkState::kRunning);
       }
-      const double quiet_s = ToSeconds(now - last_frame_ns);
-      if (quiet_s >= link_.silence_s) {
+      read_ns = now;
+      const TimeNs quiet_ns = now - last_frame_ns;
+      if (ToSeconds(quiet_ns) >= link_.silence_s) {
         this->SetState(LinkState::kSilent,
                        fmt::format("no measurement for {:.1f} s: opening the port again", link_.silence_s));
         return;
       }
-      if (quiet_s >= link_.stale_s) {
+      const TimeNs stale_ns = FromSeconds(link_.stale_s);
+      if (quiet_ns >= stale_ns) {
         this->SetState(LinkState::kStale, fmt::format("no measurement for {:.0f} ms", link_.stale_s * 1e3));
       }
-      // A few bytes came (a USB adapter passes them on every millisecond or so): let more gather before the next
-      // read, rather than wake a thousand times a second. A revolution is handed on at most kGather late, and the
-      // link noticed stale at most kGather late (the last frame's time is when it was read).
-      if (n > 0 && n < buffer.size() / 4) std::this_thread::sleep_for(kGather);
+      // Bytes came, and the buffer took them all (a USB adapter passes them on every millisecond or so): let more
+      // gather before the next read, rather than wake hundreds of times a second, but not past when the link would
+      // be stale. A revolution is handed on at most kGather late.
+      if (n > 0 && n < buffer.size() && quiet_ns < stale_ns) {
+        std::this_thread::sleep_for(std::chrono::nanoseconds(std::min(gather_ns, stale_ns - quiet_ns)));
+      }
     }
   }
 
@@ -138,7 +162,8 @@ class RotatingLaser : public Laser2D, public LinkedDevice<Status> {
   const Clock& clock() const { return clock_; }
 
  private:
-  static constexpr std::chrono::milliseconds kGather{5};
+  static constexpr std::chrono::milliseconds kGather{20};
+  static constexpr std::size_t kBufferBytes = 1024;
 
   Link link_;
   nav::Pose2 base_T_laser_;

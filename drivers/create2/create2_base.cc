@@ -11,6 +11,9 @@ namespace {
 // Safe mode is asked for again at most this often while the robot sits in Passive (after a cliff or a dropped
 // wheel): the OI takes a moment to change modes.
 constexpr double kSafeRetryS = 0.5;
+// The wheels' command is sent when it changes, and again this often: the OI keeps the last one (it has no timeout of
+// its own), and a command lost on the line is put right within this time.
+constexpr double kDriveRefreshS = 0.25;
 
 }  // namespace
 
@@ -22,6 +25,7 @@ Create2Base::~Create2Base() { StopThread(); }
 
 void Create2Base::Session(SerialPort& port, std::stop_token stop) {
   Begin();
+  sent_oi_mode_ = -1;  // the first frame's command is sent whatever it is
   port.Write(EncodeStart());
   port.Write(EncodeSafe());
   port.Write(EncodeStream(StreamedPackets()));
@@ -68,8 +72,14 @@ void Create2Base::Take(SerialPort& port, const SensorFrame& frame) {
   const nav::Twist2& driven = Drive(target, floor_missing, dt);
   const double half_track = 0.5 * options_.wheels.track_m;
   const auto mmps = [](double mps) { return static_cast<int>(std::lround(mps * 1000.0)); };
-  port.Write(EncodeDriveDirect(mmps(driven.linear_mps - half_track * driven.angular_rps),
-                               mmps(driven.linear_mps + half_track * driven.angular_rps)));
+  const std::array<int, 2> wheels{mmps(driven.linear_mps - half_track * driven.angular_rps),
+                                  mmps(driven.linear_mps + half_track * driven.angular_rps)};
+  if (wheels != sent_mmps_ || frame.oi_mode != sent_oi_mode_ || ToSeconds(now - sent_ns_) >= kDriveRefreshS) {
+    port.Write(EncodeDriveDirect(wheels[0], wheels[1]));
+    sent_mmps_ = wheels;
+    sent_oi_mode_ = frame.oi_mode;
+    sent_ns_ = now;
+  }
   // Passive after a safety stop: Safe again once the floor is back.
   if (frame.oi_mode == 1 && !floor_missing && ToSeconds(now - last_safe_ns_) >= kSafeRetryS) {
     port.Write(EncodeSafe());

@@ -1,12 +1,14 @@
 // An iRobot Create 2 (or Roomba 600-900; the base of a TurtleBot 2e) on a serial port, through its Open Interface
 // (open_interface.h): the driver's thread starts the OI in Safe mode, streams the sensors it needs (every 15 ms), turns
-// the wheels' encoder counts into odometry, and drives the wheels with Drive Direct on every frame, ramped to the
-// acceleration limits. The wheels stop when commands stop arriving for command_timeout_s, and while a cliff or a
-// dropped wheel is reported (the robot's own Safe mode stops them too and falls back to Passive; the driver returns it
-// to Safe once the floor is back). A port that fails (unplugged) is reopened every reconnect_s; a stream silent for
-// silence_s is restarted. What it shares with the other bases: drivers/wheels/serial_base.h.
+// the wheels' encoder counts into odometry, and drives the wheels with Drive Direct, ramped to the acceleration limits
+// (sent when the speeds change, and at least every 0.25 s). The wheels stop when commands stop arriving for
+// command_timeout_s, and while a cliff or a dropped wheel is reported (the robot's own Safe mode stops them too and
+// falls back to Passive; the driver returns it to Safe once the floor is back). A port that fails (unplugged) is
+// reopened every reconnect_s; a stream silent for silence_s is restarted. What it shares with the other bases:
+// drivers/wheels/serial_base.h.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "drivers/create2/create2_options.h"
@@ -35,7 +37,11 @@ class Create2Base final : public SerialBase<Create2Options, Create2Status> {
   // The frame's odometry and battery handed on, and the wheels' command for it.
   void Take(SerialPort& port, const SensorFrame& frame);
 
-  TimeNs last_safe_ns_ = 0;  // the driver's thread only
+  // The driver's thread only:
+  TimeNs last_safe_ns_ = 0;
+  std::array<int, 2> sent_mmps_{};  // the last Drive Direct sent (left, right), its time, and the OI mode then
+  TimeNs sent_ns_ = 0;
+  int sent_oi_mode_ = -1;
 };
 
 }  // namespace corridor::drivers::create2

@@ -14,7 +14,7 @@
 
 namespace corridor::drivers {
 
-SerialPort::SerialPort(const std::filesystem::path& path, int baud_rate) : port_(io_) {
+SerialPort::SerialPort(const std::filesystem::path& path, int baud_rate) : byte_s_(10.0 / baud_rate), port_(io_) {
   using boost::asio::serial_port_base;
   port_.open(path.string());
   port_.set_option(serial_port_base::baud_rate(static_cast<unsigned>(baud_rate)));

@@ -33,8 +33,11 @@ class SerialPort final : public ByteStream {
   void Drain(double quiet_s);
   // Sets or clears the DTR line. A pseudo-terminal has no modem lines: false, which callers may ignore.
   bool SetDtr(bool on);
+  // How long one byte takes on the line at the port's baud rate (8N1: ten bits).
+  double byte_s() const { return byte_s_; }
 
  private:
+  double byte_s_;
   boost::asio::io_context io_;
   boost::asio::serial_port port_;
 };
