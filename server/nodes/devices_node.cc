@@ -35,52 +35,62 @@ DevicesNode::DevicesNode(Executor& io, Bus& bus, std::vector<DeviceSlot> slots, 
     : PeriodicNode("devices", io, bus, kReportHz) {
   for (DeviceSlot& slot : slots) {
     const double stale_after = StaleAfter(slot.device, safety);
-    devices_.push_back({std::move(slot), nav::DeviceWatch(stale_after)});
-  }
-}
-
-void DevicesNode::Arrived(nav::Device device) {
-  const double now_s = drivers::ToSeconds(clock().Now());
-  for (Watched& d : devices_) {
-    if (d.slot.device == device) d.watch.Arrived(now_s);
+    watches_->devices.push_back({std::move(slot), nav::DeviceWatch(stale_after)});
   }
 }
 
 void DevicesNode::Activate() {
-  Subscribe(topics::kOdometry, "odometry", [this](const auto&) { Arrived(nav::Device::kBase); });
-  Subscribe(topics::kScan, "scan", [this](const auto&) { Arrived(nav::Device::kLaser); });
-  Subscribe(topics::kRgbd, "frame", [this](const auto&) { Arrived(nav::Device::kCamera); });
+  const auto tap = [this](auto topic, nav::Device device) {
+    bus().Get(topic).Tap([watches = watches_, device, &clock = clock()] {
+      std::lock_guard lock(watches->mutex);
+      const double now_s = drivers::ToSeconds(clock.Now());  // under the lock: a device's times never go back
+      for (Watched& d : watches->devices) {
+        if (d.slot.device == device) d.watch.Arrived(now_s);
+      }
+    });
+  };
+  tap(topics::kOdometry, nav::Device::kBase);
+  tap(topics::kScan, nav::Device::kLaser);
+  tap(topics::kRgbd, nav::Device::kCamera);
   PeriodicNode::Activate();
 }
 
 void DevicesNode::Tick() {
-  const drivers::TimeNs now = clock().Now();
-  const double now_s = drivers::ToSeconds(now);
-  DevicesHealth health{now, {}};
+  // The drivers' links first, each under its driver's lock, then the watches under theirs.
+  std::vector<drivers::LinkStatus> statuses(watches_->devices.size());
+  std::vector<nav::LinkView> links;
+  for (std::size_t i = 0; i < statuses.size(); ++i) {
+    links.push_back(ViewOf(watches_->devices[i].slot.link, statuses[i]));
+  }
+  DevicesHealth health;
   std::string worst;
-  for (const Watched& d : devices_) {
-    drivers::LinkStatus status;
-    const nav::LinkView link = ViewOf(d.slot.link, status);
-    DeviceReport r;
-    r.device = nav::ToString(d.slot.device);
-    r.driver = d.slot.driver;
-    r.port = d.slot.port;
-    r.state = d.watch.State(now_s, link);
-    r.rate_hz = d.watch.RateHz(now_s);
-    r.age_s = d.watch.AgeS(now_s);
-    if (d.slot.link != nullptr) {
-      r.link = drivers::ToString(status.state);
-      r.reconnects = status.reconnects;
-      r.last_error = status.last_error;
+  {
+    std::lock_guard lock(watches_->mutex);
+    health.stamp_ns = clock().Now();  // under the lock: no arrival is counted after it
+    const double now_s = drivers::ToSeconds(health.stamp_ns);
+    for (std::size_t i = 0; i < statuses.size(); ++i) {
+      const Watched& d = watches_->devices[i];
+      DeviceReport r;
+      r.device = nav::ToString(d.slot.device);
+      r.driver = d.slot.driver;
+      r.port = d.slot.port;
+      r.state = d.watch.State(now_s, links[i]);
+      r.rate_hz = d.watch.RateHz(now_s);
+      r.age_s = d.watch.AgeS(now_s);
+      if (d.slot.link != nullptr) {
+        r.link = drivers::ToString(statuses[i].state);
+        r.reconnects = statuses[i].reconnects;
+        r.last_error = statuses[i].last_error;
+      }
+      if (r.state != nav::DeviceState::kOk && worst.empty()) {
+        worst = Describe(d.slot) + " " + nav::ToString(r.state);
+      }
+      health.devices.push_back(std::move(r));
     }
-    if (r.state != nav::DeviceState::kOk && worst.empty()) {
-      worst = Describe(d.slot) + " " + nav::ToString(r.state);
-    }
-    health.devices.push_back(std::move(r));
   }
   bus().Get(topics::kDevices).Publish(std::move(health));
   if (worst.empty()) {
-    SetHealth(Health::kOk, std::to_string(devices_.size()) + " devices");
+    SetHealth(Health::kOk, std::to_string(watches_->devices.size()) + " devices");
   } else {
     SetHealth(Health::kDegraded, worst);
   }

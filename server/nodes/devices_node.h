@@ -1,9 +1,12 @@
 // The robot's devices' health (nav/safety/device_health.h), on the io executor: it counts the data each device
 // delivers (odometry, scans, frames), asks the native drivers how their links stand, and publishes every device's
 // state, rate and last error on devices a few times a second (GET /api/v1/devices, the stream, the console). A device
-// is stale after the command gate's timeout for it (safety.*_timeout_s), so the report and the robot agree.
+// is stale after the command gate's timeout for it (safety.*_timeout_s), so the report and the robot agree. The data
+// are counted by taps on their topics, on the publishers' threads, not by waking the io thread for every message.
 #pragma once
 
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include "nav/safety/command_gate.h"
@@ -20,13 +23,17 @@ class DevicesNode final : public PeriodicNode {
 
  private:
   void Tick() override;
-  void Arrived(nav::Device device);
 
   struct Watched {
     DeviceSlot slot;
     nav::DeviceWatch watch;
   };
-  std::vector<Watched> devices_;
+  // Shared with the taps, which may count a message after the node is gone.
+  struct Watches {
+    std::mutex mutex;
+    std::vector<Watched> devices;
+  };
+  std::shared_ptr<Watches> watches_ = std::make_shared<Watches>();
 };
 
 }  // namespace corridor::server

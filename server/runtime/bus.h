@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -77,14 +78,15 @@ class Topic final : public TopicBase {
   // publisher's place, and a depth frame must not wait behind the mapping's wake-up to reach the control loop.
   void Publish(Message message) {
     DEMAND(message != nullptr);
-    std::shared_ptr<const Subscribers> subscribers;
+    std::shared_ptr<const Listeners> listeners;
     Message replaced;  // freed after the deliveries are scheduled (a depth frame's buffers take a while to free)
     {
       std::lock_guard lock(mutex_);
       replaced = std::exchange(latest_, message);
-      subscribers = subscribers_;
+      listeners = listeners_;
     }
-    for (const auto& s : *subscribers) s->Offer(message);
+    for (const auto& tap : listeners->taps) tap();
+    for (const auto& s : listeners->subscribers) s->Offer(message);
   }
   void Publish(T message) { Publish(std::make_shared<const T>(std::move(message))); }
 
@@ -97,13 +99,24 @@ class Topic final : public TopicBase {
   void Subscribe(Executor& executor, Callback callback) {
     auto s = std::make_shared<Subscriber>(executor, std::move(callback), delivery() == Delivery::kEvery);
     std::lock_guard lock(mutex_);
-    auto next = std::make_shared<Subscribers>(*subscribers_);
-    const auto at = executor.urgent() ? std::find_if(next->begin(), next->end(),
+    auto next = std::make_shared<Listeners>(*listeners_);
+    auto& subscribers = next->subscribers;
+    const auto at = executor.urgent() ? std::find_if(subscribers.begin(), subscribers.end(),
                                                      [](const auto& other) { return !other->executor.urgent(); })
-                                      : next->end();
-    next->insert(at, s);
-    subscribers_ = std::move(next);
+                                      : subscribers.end();
+    subscribers.insert(at, s);
+    listeners_ = std::move(next);
     if (latched() && latest_) s->Offer(latest_);
+  }
+
+  // Runs `tap` on the publisher's thread at every publish, before the deliveries: for bookkeeping that must see each
+  // message when it comes (a device's arrivals) and costs less than waking a thread for it (a clock read, a counter
+  // under a mutex), never for work or anything that may block. Thread-safe.
+  void Tap(std::function<void()> tap) {
+    std::lock_guard lock(mutex_);
+    auto next = std::make_shared<Listeners>(*listeners_);
+    next->taps.push_back(std::move(tap));
+    listeners_ = std::move(next);
   }
 
   std::optional<nlohmann::json> LatestJson() const override {
@@ -153,13 +166,16 @@ class Topic final : public TopicBase {
     bool scheduled = false;
   };
 
-  // Replaced, never changed, when someone subscribes: a publish takes it without copying (nor allocating) before the
-  // first delivery.
-  using Subscribers = std::vector<std::shared_ptr<Subscriber>>;
+  // Replaced, never changed, when someone subscribes or taps: a publish takes it without copying (nor allocating)
+  // before the first delivery.
+  struct Listeners {
+    std::vector<std::function<void()>> taps;
+    std::vector<std::shared_ptr<Subscriber>> subscribers;
+  };
 
   mutable std::mutex mutex_;
   Message latest_;
-  std::shared_ptr<const Subscribers> subscribers_ = std::make_shared<const Subscribers>();
+  std::shared_ptr<const Listeners> listeners_ = std::make_shared<const Listeners>();
 };
 
 class Bus {

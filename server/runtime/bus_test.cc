@@ -60,6 +60,19 @@ TEST(BusTest, SlowSubscriberSkipsToTheNewestMessage) {
   EXPECT_EQ(seen[0], 99.0);
 }
 
+TEST(BusTest, ATapSeesEveryMessageOnThePublishersThreadBeforeAnySubscriber) {
+  Bus bus;
+  const drivers::SteadyClock clock;
+  Executor executor("test", clock, Schedule::kThreads);
+  std::vector<std::thread::id> taps;
+  bus.Get(kTwist).Tap([&] { taps.push_back(std::this_thread::get_id()); });
+  std::vector<double> seen;
+  DeliverABacklog(bus, executor, kTwist, seen);  // the subscriber, its executor stopped, sees only the newest
+  executor.Stop();
+  EXPECT_EQ(taps, std::vector<std::thread::id>(100, std::this_thread::get_id()));
+  EXPECT_EQ(seen.size(), 1u);
+}
+
 TEST(BusTest, ATopicOfEventsDeliversEveryMessageInOrderToASlowSubscriber) {
   Bus bus;
   const drivers::SteadyClock clock;
