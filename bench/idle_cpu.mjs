@@ -6,12 +6,11 @@
 import { execFileSync } from 'node:child_process';
 
 import {
-  apiFetch, authHeaders, require, sleep, startDaemon, threadTicks,
+  apiFetch, authHeaders, cpuByName, require, sleep, startDaemon, threadCpu,
 } from '../tests/daemon.mjs';
 
 const seconds = Number(process.argv.find((a) => /^\d+$/.test(a)) ?? 30);
 const withConsole = process.argv.includes('--console');
-const ticksPerSecond = Number(execFileSync('getconf', ['CLK_TCK']).toString());
 
 const daemon = await startDaemon();
 const pid = Number(execFileSync('pgrep', ['-n', 'corridord']).toString());
@@ -24,24 +23,20 @@ if (withConsole) {
   camera = setInterval(() => apiFetch(view).then((r) => r.arrayBuffer()), 200);
 }
 await sleep(3000);  // start-up and the first frames are not idle
-const before = threadTicks(pid);
+const before = threadCpu(pid);
 await sleep(seconds * 1000);
-const after = threadTicks(pid);
+const after = threadCpu(pid);
 ws?.close();
 clearInterval(camera);
 await daemon.stop();
 
-const byName = new Map();
-for (const [tid, { name, ticks }] of after) {
-  const used = ticks - (before.get(tid)?.ticks ?? 0);
-  byName.set(name, (byName.get(name) ?? 0) + used);
-}
-const percent = (ticks) => (100 * ticks) / ticksPerSecond / seconds;
+const byName = new Map([...cpuByName(before, after)].map(([name, { ns }]) => [name, ns]));
+const percent = (ns) => (100 * ns) / 1e9 / seconds;
 const total = [...byName.values()].reduce((a, b) => a + b, 0);
 const sim = byName.get('sim') ?? 0;
 console.log(`corridord idle for ${seconds} s${withConsole ? ' with a console connected' : ''}:`);
-for (const [name, ticks] of [...byName].sort((a, b) => b[1] - a[1])) {
-  console.log(`  ${name.padEnd(16)} ${percent(ticks).toFixed(1).padStart(5)} % of one core`);
+for (const [name, ns] of [...byName].sort((a, b) => b[1] - a[1])) {
+  console.log(`  ${name.padEnd(16)} ${percent(ns).toFixed(1).padStart(5)} % of one core`);
 }
 console.log(`  total            ${percent(total).toFixed(1).padStart(5)} %`);
 console.log(`  beyond the sim   ${percent(total - sim).toFixed(1).padStart(5)} %`);

@@ -10,7 +10,9 @@
 // Needs ./dev build. Run nothing else meanwhile: the times and the CPU are this machine's.
 import { execFileSync } from 'node:child_process';
 
-import { getJson, postJson, readMap, sendJson, sleep, sourceDir, startDaemon, threadTicks } from '../tests/daemon.mjs';
+import {
+  cpuByName, getJson, postJson, readMap, sendJson, sleep, sourceDir, startDaemon, threadCpu,
+} from '../tests/daemon.mjs';
 
 function option(name, fallback) {
   const i = process.argv.indexOf(name);
@@ -69,7 +71,6 @@ localization: {source: mcl}
 const state = async () => (await getJson(`${daemon.url}/api/v1/state`)).body;
 const localization = async () => (await getJson(`${daemon.url}/api/v1/localization`)).body;
 const pid = Number(execFileSync('pgrep', ['-n', 'corridord']).toString());
-const ticksPerSecond = Number(execFileSync('getconf', ['CLK_TCK']).toString());
 
 try {
   // 1. Missions.
@@ -82,7 +83,7 @@ try {
   let last = (await state()).sim_true_pose;
   let missions = 0;
   let failed = 0;
-  const ticksBefore = threadTicks(pid);
+  const cpuBefore = threadCpu(pid);
   const started = Date.now();
   let lastCount = -1;
   while (driven < distance) {
@@ -116,12 +117,8 @@ try {
     }
   }
   const seconds = (Date.now() - started) / 1000;
-  const ticksAfter = threadTicks(pid);
-  const cpu = new Map();
-  for (const [tid, { name, ticks }] of ticksAfter) {
-    cpu.set(name, (cpu.get(name) ?? 0) + ticks - (ticksBefore.get(tid)?.ticks ?? 0));
-  }
-  const percent = (ticks) => (100 * ticks) / ticksPerSecond / seconds;
+  const cpu = new Map([...cpuByName(cpuBefore, threadCpu(pid))].map(([name, { ns }]) => [name, ns]));
+  const percent = (ns) => (100 * ns) / 1e9 / seconds;
   const total = [...cpu.values()].reduce((a, b) => a + b, 0);
   if (distance > 0) {
     console.log(`${sensor}: ${missions} missions (${failed} not succeeded), ${driven.toFixed(0)} m in ${seconds.toFixed(0)} s`);

@@ -3,17 +3,16 @@
 //   sim     corridord with the simulator's base and laser (its "sim" thread, physics and ray casting, left out);
 //   native  corridord with a Create 2 and an RPLIDAR on pseudo-terminals, served by corridor-emulate (the simulator
 //           in another process): the drivers' threads, their decoding and their reconnect watch are all in corridord.
-//   node bench/native_cpu.mjs [seconds=30]
-import { execFileSync, spawn } from 'node:child_process';
-import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+//   node bench/native_cpu.mjs [seconds=60]
+import { spawn } from 'node:child_process';
+import { existsSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 
-import { sleep, sourceDir, startDaemon, threadTicks } from '../tests/daemon.mjs';
+import { cpuByName, sleep, sourceDir, startDaemon, threadCpu } from '../tests/daemon.mjs';
 
-const seconds = Number(process.argv.find((a) => /^\d+$/.test(a)) ?? 30);
+const seconds = Number(process.argv.find((a) => /^\d+$/.test(a)) ?? 60);
 const emulate = join(sourceDir, 'build/tools/emulate/corridor-emulate');
-const ticksPerSecond = Number(execFileSync('getconf', ['CLK_TCK']).toString());
 
 // The shipped configuration with `devices` in place of the simulator's slots (and, for native devices, the world's map
 // as the robot's map), its relative paths made absolute.
@@ -30,25 +29,29 @@ function check(condition, message) {
   if (!condition) throw new Error(message);
 }
 
-async function measure(daemon) {
-  const pid = Number(execFileSync('pgrep', ['-n', 'corridord']).toString());
-  await sleep(5000);  // start-up, the first scans and localization settling are not idle
-  const before = threadTicks(pid);
-  await sleep(seconds * 1000);
-  const after = threadTicks(pid);
-  const byName = new Map();
-  for (const [tid, { name, ticks }] of after) {
-    byName.set(name, (byName.get(name) ?? 0) + ticks - (before.get(tid)?.ticks ?? 0));
-  }
+// What a daemon's threads used between two threadCpu() readings: on-CPU time by thread name, and the user share
+// of what is beyond the simulator (in the kernel: system calls, wake-ups, and on a virtual machine the hypervisor's
+// part of each; ticks are samples, so a share, not a time).
+function used(before, after, span) {
+  const byThread = cpuByName(before, after);
+  const percent = (ns) => (100 * ns) / 1e9 / span;
+  const byName = new Map([...byThread].map(([name, { ns }]) => [name, ns]));
   const total = [...byName.values()].reduce((a, b) => a + b, 0);
-  const percent = (ticks) => (100 * ticks) / ticksPerSecond / seconds;
-  return { total: percent(total), beyondSim: percent(total - (byName.get('sim') ?? 0)), byName, percent };
+  const sim = byThread.get('sim') ?? { ns: 0, userTicks: 0, systemTicks: 0 };
+  let [user, system] = [0, 0];
+  for (const [, t] of byThread) [user, system] = [user + t.userTicks, system + t.systemTicks];
+  const userShare = (user - sim.userTicks) / Math.max(1, user + system - sim.userTicks - sim.systemTicks);
+  return { total: percent(total), beyondSim: percent(total - sim.ns), byName, percent, userShare };
 }
 
-const simDaemon = await startDaemon({ config: configWith('  camera:\n    driver: none\n') });
-const sim = await measure(simDaemon);
-await simDaemon.stop();
+async function until(condition, what) {
+  for (let i = 0; i < 100 && !condition(); ++i) await sleep(100);
+  check(condition(), what);
+}
 
+// Both robots run at once and are measured over the same windows, so that what else this machine does in a minute
+// (it is shared) falls on both alike.
+const simDaemon = await startDaemon({ config: configWith('  camera:\n    driver: none\n') });
 const dir = mkdtempSync(join(tmpdir(), 'corridor-native-cpu-'));
 const devices = `  base: {driver: create2, port: ${join(dir, 'create2')}}\n`
   + `  laser: {driver: rplidar, port: ${join(dir, 'rplidar')}}\n  camera: {driver: none}\n`;
@@ -57,22 +60,37 @@ writeFileSync(join(dir, 'emulated.yaml'), configWith('  camera:\n    driver: non
 const emulator = spawn(emulate,
   ['--config', join(dir, 'emulated.yaml'), '--create2', join(dir, 'create2'), '--rplidar', join(dir, 'rplidar')],
   { stdio: 'ignore' });
-await sleep(1000);  // its pseudo-terminals linked
+await until(() => existsSync(join(dir, 'create2')) && existsSync(join(dir, 'rplidar')), 'corridor-emulate linked no ports');
 const nativeDaemon = await startDaemon({ config });
-const native = await measure(nativeDaemon);
-await nativeDaemon.stop();
+await sleep(5000);  // start-up, the first scans and localization settling are not idle
+const windows = 3;
+const ratios = [];
+const first = [threadCpu(simDaemon.pid), threadCpu(nativeDaemon.pid)];
+let last = first;
+for (let w = 0; w < windows; ++w) {
+  await sleep((seconds * 1000) / windows);
+  const now = [threadCpu(simDaemon.pid), threadCpu(nativeDaemon.pid)];
+  const span = seconds / windows;
+  ratios.push(used(last[1], now[1], span).total / used(last[0], now[0], span).beyondSim);
+  last = now;
+}
+const sim = used(first[0], last[0], seconds);
+const native = used(first[1], last[1], seconds);
+await Promise.all([simDaemon.stop(), nativeDaemon.stop()]);
 emulator.kill('SIGTERM');
 rmSync(dir, { recursive: true, force: true });
 
-console.log(`corridord idle for ${seconds} s, a base and a laser, no camera:`);
-console.log(`  simulator's devices, beyond the simulator  ${sim.beyondSim.toFixed(1).padStart(5)} % of one core`
-  + ` (the simulator ${(sim.total - sim.beyondSim).toFixed(1)} %)`);
+console.log(`corridord idle for ${seconds} s, a base and a laser, no camera (time on a CPU, schedstat):`);
 const threads = (run) => {
-  for (const [name, ticks] of [...run.byName].sort((a, b) => b[1] - a[1]).slice(0, 6)) {
-    console.log(`    ${name.padEnd(16)} ${run.percent(ticks).toFixed(1).padStart(5)} %`);
+  for (const [name, ns] of [...run.byName].sort((a, b) => b[1] - a[1]).slice(0, 6)) {
+    console.log(`    ${name.padEnd(16)} ${run.percent(ns).toFixed(2).padStart(5)} %`);
   }
 };
+const user = (run) => `${Math.round(100 * run.userShare)} % of it in corridord's own code`;
+console.log(`  simulator's devices, beyond the simulator  ${sim.beyondSim.toFixed(2).padStart(5)} % of one core`
+  + ` (the simulator ${(sim.total - sim.beyondSim).toFixed(2)} %), ${user(sim)}`);
 threads(sim);
-console.log(`  native devices (Create 2, RPLIDAR)         ${native.total.toFixed(1).padStart(5)} % of one core`);
+console.log(`  native devices (Create 2, RPLIDAR)         ${native.total.toFixed(2).padStart(5)} % of one core, ${user(native)}`);
 threads(native);
-console.log(`  ratio native / sim beyond the simulator    ${(native.total / sim.beyondSim).toFixed(2)}`);
+console.log(`  ratio native / sim beyond the simulator    ${(native.total / sim.beyondSim).toFixed(2)}`
+  + ` (by ${seconds / windows} s window: ${ratios.map((r) => r.toFixed(2)).join(', ')})`);

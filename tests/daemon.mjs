@@ -252,17 +252,36 @@ export function readMap(yamlFile) {
   return { resolution, origin, width, height, grey, cell };
 }
 
-// CPU ticks (utime + stime) of each thread of process `pid`, with the thread's name (corridord names its executor
-// threads: control, mapping, planning, perception, io, sim).
-export function threadTicks(pid) {
+// Each thread of process `pid`, with its name (corridord names its executor threads: control, mapping, planning,
+// perception, io, sim, and the native drivers' dev-*): its time on a CPU in nanoseconds, as the scheduler counts it
+// (schedstat: exact, where utime and stime are sampled at the 100 Hz tick, a few samples a second for a thread at
+// 1 % of a core), and those two in ticks, for the split between the thread's own code and the kernel's work for it.
+export function threadCpu(pid) {
   const out = new Map();
   for (const tid of readdirSync(`/proc/${pid}/task`)) {
-    const stat = readFileSync(`/proc/${pid}/task/${tid}/stat`, 'utf8');
+    const task = `/proc/${pid}/task/${tid}`;
+    const stat = readFileSync(`${task}/stat`, 'utf8');
     const name = stat.slice(stat.indexOf('(') + 1, stat.lastIndexOf(')'));
     const fields = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
-    out.set(tid, { name, ticks: Number(fields[11]) + Number(fields[12]) });
+    const ns = Number(readFileSync(`${task}/schedstat`, 'utf8').split(' ')[0]);
+    out.set(tid, { name, ns, userTicks: Number(fields[11]), systemTicks: Number(fields[12]) });
   }
   return out;
+}
+
+// What each thread name used between two threadCpu() readings (threads of one name summed): nanoseconds on a CPU,
+// and user and system ticks.
+export function cpuByName(before, after) {
+  const byName = new Map();
+  for (const [tid, now] of after) {
+    const then = before.get(tid) ?? { ns: 0, userTicks: 0, systemTicks: 0 };
+    const sum = byName.get(now.name) ?? { ns: 0, userTicks: 0, systemTicks: 0 };
+    sum.ns += now.ns - then.ns;
+    sum.userTicks += now.userTicks - then.userTicks;
+    sum.systemTicks += now.systemTicks - then.systemTicks;
+    byName.set(now.name, sum);
+  }
+  return byName;
 }
 
 // Keeps `threads` cores busy (worker threads spinning) until the returned function is called: a machine loaded by
