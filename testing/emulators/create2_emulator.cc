@@ -7,13 +7,13 @@
 #include <numeric>
 #include <optional>
 
+#include "testing/emulators/device_end.h"
+
 namespace corridor::testing {
 namespace {
 
 constexpr double kFramePeriodS = 0.015;  // the OI streams every 15 ms
 constexpr double kCountsPerMetre = 508.8 / (std::numbers::pi * 0.072);
-
-double NowS() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 // Bytes of arguments after an opcode (OI specification, "Open Interface Commands"); Stream's depend on its first.
 std::optional<std::size_t> Arguments(const std::vector<std::uint8_t>& bytes) {

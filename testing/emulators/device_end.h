@@ -3,11 +3,17 @@
 // into under the same name. Not thread-safe: its emulator serialises access.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <span>
 #include <vector>
 
 namespace corridor::testing {
+
+// Seconds on the steady clock: the time an emulator paces its device and schedules its faults by.
+inline double NowS() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
 class DeviceEnd {
  public:

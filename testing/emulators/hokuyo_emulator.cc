@@ -4,13 +4,12 @@
 #include <cmath>
 #include <numbers>
 
+#include "testing/emulators/device_end.h"
 #include "testing/emulators/pseudo_terminal.h"
 #include "testing/emulators/tcp_endpoint.h"
 
 namespace corridor::testing {
 namespace {
-
-double NowS() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 // The document's check character: the low 6 bits of the sum, plus 0x30.
 char Check(const std::string& text) {

@@ -4,14 +4,14 @@
 #include <cmath>
 #include <numbers>
 
+#include "testing/emulators/device_end.h"
+
 namespace corridor::testing {
 namespace {
 
 constexpr double kPacketPeriodS = 0.02;  // feedback at 50 Hz
 constexpr double kTrackM = 0.230;
 constexpr double kCountsPerMetre = 2578.33 / (std::numbers::pi * 0.070);
-
-double NowS() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 void Little16(std::vector<std::uint8_t>& out, int value) {
   const auto word = static_cast<std::uint16_t>(value);

@@ -4,10 +4,10 @@
 #include <chrono>
 #include <cmath>
 
+#include "testing/emulators/device_end.h"
+
 namespace corridor::testing {
 namespace {
-
-double NowS() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 void PutLittle16(std::vector<std::uint8_t>& out, long value) {
   const auto v = static_cast<std::uint16_t>(std::clamp<long>(value, 0, 0xFFFF));

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "testing/emulators/device_end.h"
+
 namespace corridor::testing {
 namespace {
 
@@ -26,8 +28,6 @@ constexpr std::size_t kCmdLinearX = 150;
 constexpr std::size_t kCmdAngularZ = 170;
 constexpr std::size_t kTableEnd = 182;  // past the profile accelerations
 constexpr std::uint16_t kModel = 0x5000;
-
-double NowS() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 // CRC-16, polynomial 0x8005, bit by bit as the protocol's document defines it.
 std::uint16_t Crc(const std::vector<std::uint8_t>& bytes, std::size_t count) {

@@ -7,10 +7,10 @@
 #include <system_error>
 #include <thread>
 
+#include "testing/emulators/device_end.h"
+
 namespace corridor::testing {
 namespace {
-
-double NowS() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 // The protocol's response descriptor: A5 5A, the response's length in the low 30 bits and the send mode in the top
 // two of a little-endian word, the data type.

@@ -5,13 +5,13 @@
 #include <numbers>
 #include <sstream>
 
+#include "testing/emulators/device_end.h"
+
 namespace corridor::testing {
 namespace {
 
 constexpr double kPidRateHz = 30.0;
 constexpr double kAutoStopS = 2.0;
-
-double NowS() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 // A 32-bit signed count from the running total (an AVR `long`, wrapping).
 long Count(double counts) {
