@@ -6,7 +6,7 @@
 import { execFileSync } from 'node:child_process';
 
 import {
-  apiFetch, authHeaders, cpuByName, require, sleep, startDaemon, threadCpu,
+  apiFetch, authHeaders, nsByName, require, sleep, startDaemon, threadCpu,
 } from '../tests/daemon.mjs';
 
 const seconds = Number(process.argv.find((a) => /^\d+$/.test(a)) ?? 30);
@@ -30,7 +30,7 @@ ws?.close();
 clearInterval(camera);
 await daemon.stop();
 
-const byName = new Map([...cpuByName(before, after)].map(([name, { ns }]) => [name, ns]));
+const byName = nsByName(before, after);
 const percent = (ns) => (100 * ns) / 1e9 / seconds;
 const total = [...byName.values()].reduce((a, b) => a + b, 0);
 const sim = byName.get('sim') ?? 0;

@@ -11,7 +11,7 @@
 import { execFileSync } from 'node:child_process';
 
 import {
-  cpuByName, getJson, postJson, readMap, sendJson, sleep, sourceDir, startDaemon, threadCpu,
+  getJson, nsByName, postJson, readMap, sendJson, sleep, sourceDir, startDaemon, threadCpu,
 } from '../tests/daemon.mjs';
 
 function option(name, fallback) {
@@ -117,7 +117,7 @@ try {
     }
   }
   const seconds = (Date.now() - started) / 1000;
-  const cpu = new Map([...cpuByName(cpuBefore, threadCpu(pid))].map(([name, { ns }]) => [name, ns]));
+  const cpu = nsByName(cpuBefore, threadCpu(pid));
   const percent = (ns) => (100 * ns) / 1e9 / seconds;
   const total = [...cpu.values()].reduce((a, b) => a + b, 0);
   if (distance > 0) {

@@ -9,7 +9,9 @@ import { existsSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'no
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 
-import { cpuByName, sleep, sourceDir, startDaemon, threadCpu } from '../tests/daemon.mjs';
+import {
+  cpuByName, nsByName, sleep, sourceDir, startDaemon, threadCpu, waitFor,
+} from '../tests/daemon.mjs';
 
 const seconds = Number(process.argv.find((a) => /^\d+$/.test(a)) ?? 60);
 const emulate = join(sourceDir, 'build/tools/emulate/corridor-emulate');
@@ -35,18 +37,13 @@ function check(condition, message) {
 function used(before, after, span) {
   const byThread = cpuByName(before, after);
   const percent = (ns) => (100 * ns) / 1e9 / span;
-  const byName = new Map([...byThread].map(([name, { ns }]) => [name, ns]));
+  const byName = nsByName(before, after);
   const total = [...byName.values()].reduce((a, b) => a + b, 0);
   const sim = byThread.get('sim') ?? { ns: 0, userTicks: 0, systemTicks: 0 };
   let [user, system] = [0, 0];
   for (const [, t] of byThread) [user, system] = [user + t.userTicks, system + t.systemTicks];
   const userShare = (user - sim.userTicks) / Math.max(1, user + system - sim.userTicks - sim.systemTicks);
   return { total: percent(total), beyondSim: percent(total - sim.ns), byName, percent, userShare };
-}
-
-async function until(condition, what) {
-  for (let i = 0; i < 100 && !condition(); ++i) await sleep(100);
-  check(condition(), what);
 }
 
 // Both robots run at once and are measured over the same windows, so that what else this machine does in a minute
@@ -60,7 +57,8 @@ writeFileSync(join(dir, 'emulated.yaml'), configWith('  camera:\n    driver: non
 const emulator = spawn(emulate,
   ['--config', join(dir, 'emulated.yaml'), '--create2', join(dir, 'create2'), '--rplidar', join(dir, 'rplidar')],
   { stdio: 'ignore' });
-await until(() => existsSync(join(dir, 'create2')) && existsSync(join(dir, 'rplidar')), 'corridor-emulate linked no ports');
+await waitFor(() => existsSync(join(dir, 'create2')) && existsSync(join(dir, 'rplidar')), (linked) => linked, 10000,
+  'corridor-emulate to link its ports');
 const nativeDaemon = await startDaemon({ config });
 await sleep(5000);  // start-up, the first scans and localization settling are not idle
 const windows = 3;

@@ -108,6 +108,8 @@ class RotatingLaser : public Laser2D, public LinkedDevice<Status> {
     // faster device than the line's pace still leaves room in the buffer.
     const TimeNs gather_ns =
         std::min<TimeNs>(std::chrono::nanoseconds(kGather).count(), static_cast<TimeNs>(kBufferBytes / 4) * byte_ns);
+    const TimeNs stale_ns = FromSeconds(link_.stale_s);
+    const TimeNs silence_ns = FromSeconds(link_.silence_s);
     std::array<std::uint8_t, kBufferBytes> buffer{};
     bool flowing = false;  // the last read brought bytes: the next finds more there without waiting on the port
     while (!stop.stop_requested()) {
@@ -115,8 +117,8 @@ class RotatingLaser : public Laser2D, public LinkedDevice<Status> {
       bool waited = false;
       if (n == 0) {
         // Waits no longer than until the link would be stale.
-        const double to_stale_s = link_.stale_s - ToSeconds(clock_.Now() - last_frame_ns);
-        n = port.Read(buffer, to_stale_s > 0.0 ? to_stale_s : link_.stale_s);
+        const TimeNs to_stale_ns = stale_ns - (clock_.Now() - last_frame_ns);
+        n = port.Read(buffer, ToSeconds(to_stale_ns > 0 ? to_stale_ns : stale_ns));
         waited = true;
       }
       flowing = n > 0;
@@ -132,12 +134,11 @@ class RotatingLaser : public Laser2D, public LinkedDevice<Status> {
       }
       read_ns = now;
       const TimeNs quiet_ns = now - last_frame_ns;
-      if (ToSeconds(quiet_ns) >= link_.silence_s) {
+      if (quiet_ns >= silence_ns) {
         this->SetState(LinkState::kSilent,
                        fmt::format("no measurement for {:.1f} s: opening the port again", link_.silence_s));
         return;
       }
-      const TimeNs stale_ns = FromSeconds(link_.stale_s);
       if (quiet_ns >= stale_ns) {
         this->SetState(LinkState::kStale, fmt::format("no measurement for {:.0f} ms", link_.stale_s * 1e3));
       }

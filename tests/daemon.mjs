@@ -269,6 +269,11 @@ export function threadCpu(pid) {
   return out;
 }
 
+// Nanoseconds on a CPU by thread name between two threadCpu() readings.
+export function nsByName(before, after) {
+  return new Map([...cpuByName(before, after)].map(([name, { ns }]) => [name, ns]));
+}
+
 // What each thread name used between two threadCpu() readings (threads of one name summed): nanoseconds on a CPU,
 // and user and system ticks.
 export function cpuByName(before, after) {

@@ -60,7 +60,7 @@ TEST(BusTest, SlowSubscriberSkipsToTheNewestMessage) {
   EXPECT_EQ(seen[0], 99.0);
 }
 
-TEST(BusTest, ATapSeesEveryMessageOnThePublishersThreadBeforeAnySubscriber) {
+TEST(BusTest, ATapSeesEveryMessageOnThePublishersThreadWhereASlowSubscriberSeesTheNewest) {
   Bus bus;
   const drivers::SteadyClock clock;
   Executor executor("test", clock, Schedule::kThreads);
