@@ -6,8 +6,6 @@
 #pragma once
 
 #include <algorithm>
-#include <array>
-#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -17,7 +15,6 @@
 #include <stdexcept>
 #include <stop_token>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
@@ -69,9 +66,9 @@ class RotatingLaser : public Laser2D, public LinkedDevice<Status> {
   // Decodes the bytes a read brought, appending the measurements they complete; returns how many whole frames came
   // (bytes that are all noise are no sign of life).
   using Decoder = std::function<std::uint64_t(std::span<const std::uint8_t> bytes, std::vector<SweepPoint>& points)>;
-  // Reads `port` until `stop`, the port fails (throws), or no frame has come for silence_s (the session ends);
-  // `first` is what came with the answer to the request that started the scan. `note` runs under the status lock
-  // after each read, for the driver's own counters.
+  // Streams `port` (Stream: on the driver's thread, or a pumping one) until `stop`, the port fails (throws), or no
+  // frame has come for silence_s (the session ends); `first` is what came with the answer to the request that started
+  // the scan. `note` runs under the status lock after each pass, for the driver's own counters.
   void ReadSweeps(SerialPort& port, std::stop_token stop, std::span<const std::uint8_t> first, const Decoder& decode,
                   const std::function<void(Status&)>& note) {
     SweepAssembler sweeps(sweep_);
@@ -99,56 +96,43 @@ class RotatingLaser : public Laser2D, public LinkedDevice<Status> {
       note(this->status_);
       return frames;
     };
-    TimeNs read_ns = clock_.Now();  // the last read: what the next one brings arrived after it
+    TimeNs read_ns = clock_.Now();  // the pass before: what this one brings arrived after it
     TimeNs last_frame_ns = read_ns;
     take(first, read_ns, 0);
     this->SetState(LinkState::kRunning);
     const TimeNs byte_ns = FromSeconds(port.byte_s());
-    // Bytes are let gather between reads for the time a quarter of the buffer takes on the line, at most kGather: a
-    // faster device than the line's pace still leaves room in the buffer.
-    const TimeNs gather_ns =
-        std::min<TimeNs>(std::chrono::nanoseconds(kGather).count(), static_cast<TimeNs>(kBufferBytes / 4) * byte_ns);
     const TimeNs stale_ns = FromSeconds(link_.stale_s);
     const TimeNs silence_ns = FromSeconds(link_.silence_s);
-    std::array<std::uint8_t, kBufferBytes> buffer{};
-    bool flowing = false;  // the last read brought bytes: the next finds more there without waiting on the port
-    while (!stop.stop_requested()) {
-      std::size_t n = flowing ? port.ReadArrived(buffer) : 0;
-      bool waited = false;
-      if (n == 0) {
-        // Waits no longer than until the link would be stale.
-        const TimeNs to_stale_ns = stale_ns - (clock_.Now() - last_frame_ns);
-        n = port.Read(buffer, ToSeconds(to_stale_ns > 0 ? to_stale_ns : stale_ns));
-        waited = true;
-      }
-      flowing = n > 0;
-      const TimeNs now = clock_.Now();
-      const auto line_ns = static_cast<TimeNs>(n) * byte_ns;
-      // A wait ends with the first byte; bytes gathered while the thread slept came from the read before on. Each
-      // came no earlier than its place in the line after that, which is when the last whole frame is counted to
-      // have come: the link is noticed stale stale_s after the device's last byte, however long bytes gathered.
-      const TimeNs from_ns = waited ? std::max(read_ns, now - line_ns) : read_ns;
-      if (take(std::span<const std::uint8_t>(buffer.data(), n), from_ns, byte_ns) > 0) {
-        last_frame_ns = std::min(now, from_ns + line_ns);
-        this->SetState(LinkState::kRunning);
-      }
-      read_ns = now;
-      const TimeNs quiet_ns = now - last_frame_ns;
-      if (quiet_ns >= silence_ns) {
-        this->SetState(LinkState::kSilent,
-                       fmt::format("no measurement for {:.1f} s: opening the port again", link_.silence_s));
-        return;
-      }
-      if (quiet_ns >= stale_ns) {
-        this->SetState(LinkState::kStale, fmt::format("no measurement for {:.0f} ms", link_.stale_s * 1e3));
-      }
-      // Bytes came, and the buffer took them all (a USB adapter passes them on every millisecond or so): let more
-      // gather before the next read, rather than wake hundreds of times a second, but not past when the link would
-      // be stale. A revolution is handed on at most kGather late.
-      if (n > 0 && n < buffer.size() && quiet_ns < stale_ns) {
-        std::this_thread::sleep_for(std::chrono::nanoseconds(std::min(gather_ns, stale_ns - quiet_ns)));
-      }
-    }
+    this->Stream(
+        port, stop,
+        [&] {
+          // The driver's thread waits no longer than until the link would be stale.
+          const TimeNs to_stale_ns = stale_ns - (clock_.Now() - last_frame_ns);
+          return ToSeconds(to_stale_ns > 0 ? to_stale_ns : stale_ns);
+        },
+        [&](std::span<const std::uint8_t> bytes, bool waited) {
+          const TimeNs now = clock_.Now();
+          const auto line_ns = static_cast<TimeNs>(bytes.size()) * byte_ns;
+          // Bytes that ended a wait came at most their line time ago; a pump's came after the pass before, each no
+          // earlier than its place in the line after it. The last whole frame is counted from then, so that the link
+          // is noticed stale stale_s after the device's last byte however long bytes gathered between pumps.
+          const TimeNs from_ns = waited ? std::max(read_ns, now - line_ns) : read_ns;
+          if (take(bytes, from_ns, byte_ns) > 0) {
+            last_frame_ns = std::min(now, from_ns + line_ns);
+            this->SetState(LinkState::kRunning);
+          }
+          read_ns = now;
+          const TimeNs quiet_ns = now - last_frame_ns;
+          if (quiet_ns >= silence_ns) {
+            this->SetState(LinkState::kSilent,
+                           fmt::format("no measurement for {:.1f} s: opening the port again", link_.silence_s));
+            return false;
+          }
+          if (quiet_ns >= stale_ns) {
+            this->SetState(LinkState::kStale, fmt::format("no measurement for {:.0f} ms", link_.stale_s * 1e3));
+          }
+          return true;
+        });
   }
 
   // Runs `session` on an opened port until `stop`, opening it anew every reconnect_s after a session ends or fails.
@@ -163,9 +147,6 @@ class RotatingLaser : public Laser2D, public LinkedDevice<Status> {
   const Clock& clock() const { return clock_; }
 
  private:
-  static constexpr std::chrono::milliseconds kGather{20};
-  static constexpr std::size_t kBufferBytes = 1024;
-
   Link link_;
   nav::Pose2 base_T_laser_;
   double height_m_;

@@ -25,42 +25,47 @@ Create2Base::~Create2Base() { StopThread(); }
 
 void Create2Base::Session(SerialPort& port, std::stop_token stop) {
   Begin();
-  sent_oi_mode_ = -1;  // the first frame's command is sent whatever it is
+  sent_oi_mode_ = -1;  // the first command is sent whatever it is
+  last_frame_.reset();
   port.Write(EncodeStart());
   port.Write(EncodeSafe());
   port.Write(EncodeStream(StreamedPackets()));
   StreamParser parser;
   std::vector<SensorFrame> frames;
-  std::array<std::uint8_t, 256> buffer{};
   const std::vector<std::uint8_t> stop_wheels = EncodeDriveDirect(0, 0);
-  while (!stop.stop_requested()) {
-    const std::size_t n = port.Read(buffer, options_.stale_s);
-    frames.clear();
-    parser.Push(std::span<const std::uint8_t>(buffer.data(), n), frames);
-    {
-      std::lock_guard lock(mutex_);
-      status_.dropped_frames = parser.dropped();
-    }
-    for (const SensorFrame& frame : frames) Take(port, frame);
-    if (!Watch(port, stop_wheels, "sensor frame")) return;
-  }
+  Stream(
+      port, stop, [&] { return options_.stale_s; },
+      [&](std::span<const std::uint8_t> bytes, bool) {
+        frames.clear();
+        parser.Push(bytes, frames);
+        {
+          std::lock_guard lock(mutex_);
+          status_.dropped_frames = parser.dropped();
+        }
+        if (!frames.empty()) Take(frames);
+        Command(port);
+        return Watch(port, stop_wheels, "sensor frame");
+      });
   port.Write(stop_wheels);
   port.Write(EncodePauseStream(false));
   port.Write(EncodeStop());
 }
 
-void Create2Base::Take(SerialPort& port, const SensorFrame& frame) {
+void Create2Base::Take(std::span<const SensorFrame> frames) {
   const TimeNs now = clock_.Now();
-  const double dt = Reported(now);
-  if (frame.has_encoders) odometry_.Update(now, frame.left_counts, frame.right_counts);
-  // The wheels' command: zero when commands stopped coming or the floor is not there.
-  nav::Twist2 target;
+  Reported(now);
+  bool bumped = false;
+  for (const SensorFrame& frame : frames) {
+    if (frame.has_encoders) odometry_.Update(now, frame.left_counts, frame.right_counts);
+    bumped = bumped || frame.bump_left || frame.bump_right;
+  }
+  const SensorFrame& frame = frames.back();
+  last_frame_ = frame;
   OdometryHandler odometry;
   BatteryHandler battery;
   {
     std::lock_guard lock(mutex_);
-    target = CommandAt(now);
-    ++status_.frames;
+    status_.frames += frames.size();
     status_.oi_mode = frame.oi_mode;
     status_.cliff = frame.cliff;
     status_.wheel_drop = frame.wheel_drop_left || frame.wheel_drop_right;
@@ -68,8 +73,30 @@ void Create2Base::Take(SerialPort& port, const SensorFrame& frame) {
     battery = BatteryDue(now);
   }
   SetState(LinkState::kRunning);
-  const bool floor_missing = frame.cliff || frame.wheel_drop_left || frame.wheel_drop_right;
-  const nav::Twist2& driven = Drive(target, floor_missing, dt);
+  if (odometry) odometry(WheelOdometry{now, odometry_.pose(), odometry_.velocity(), bumped, FloorMissing(frame)});
+  if (battery) {
+    BatteryState state;
+    state.stamp_ns = now;
+    state.charge = frame.capacity_ah > 0.0 ? std::clamp(frame.charge_ah / frame.capacity_ah, 0.0, 1.0) : 0.0;
+    state.voltage_v = frame.voltage_v;
+    state.current_a = frame.current_a;
+    state.charging = frame.charging_state >= 1 && frame.charging_state <= 3;  // reconditioning, full, trickle
+    state.on_charger = frame.on_home_base;
+    battery(state);
+  }
+}
+
+void Create2Base::Command(SerialPort& port) {
+  const TimeNs now = clock_.Now();
+  if (!last_frame_ || !Fresh(now)) return;  // Watch stops the wheels of a stale stream
+  nav::Twist2 target;
+  {
+    std::lock_guard lock(mutex_);
+    target = CommandAt(now);
+  }
+  const SensorFrame& frame = *last_frame_;
+  const bool floor_missing = FloorMissing(frame);
+  const nav::Twist2& driven = Drive(target, floor_missing, now);
   const double half_track = 0.5 * options_.wheels.track_m;
   const auto mmps = [](double mps) { return static_cast<int>(std::lround(mps * 1000.0)); };
   const std::array<int, 2> wheels{mmps(driven.linear_mps - half_track * driven.angular_rps),
@@ -85,20 +112,10 @@ void Create2Base::Take(SerialPort& port, const SensorFrame& frame) {
     port.Write(EncodeSafe());
     last_safe_ns_ = now;
   }
-  if (odometry) {
-    odometry(
-        WheelOdometry{now, odometry_.pose(), odometry_.velocity(), frame.bump_left || frame.bump_right, floor_missing});
-  }
-  if (battery) {
-    BatteryState state;
-    state.stamp_ns = now;
-    state.charge = frame.capacity_ah > 0.0 ? std::clamp(frame.charge_ah / frame.capacity_ah, 0.0, 1.0) : 0.0;
-    state.voltage_v = frame.voltage_v;
-    state.current_a = frame.current_a;
-    state.charging = frame.charging_state >= 1 && frame.charging_state <= 3;  // reconditioning, full, trickle
-    state.on_charger = frame.on_home_base;
-    battery(state);
-  }
+}
+
+bool Create2Base::FloorMissing(const SensorFrame& frame) {
+  return frame.cliff || frame.wheel_drop_left || frame.wheel_drop_right;
 }
 
 }  // namespace corridor::drivers::create2

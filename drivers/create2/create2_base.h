@@ -1,7 +1,8 @@
 // An iRobot Create 2 (or Roomba 600-900; the base of a TurtleBot 2e) on a serial port, through its Open Interface
-// (open_interface.h): the driver's thread starts the OI in Safe mode, streams the sensors it needs (every 15 ms), turns
-// the wheels' encoder counts into odometry, and drives the wheels with Drive Direct, ramped to the acceleration limits
-// (sent when the speeds change, and at least every 0.25 s). The wheels stop when commands stop arriving for
+// (open_interface.h): the driver's thread starts the OI in Safe mode and streams the sensors it needs (every 15 ms);
+// the stream's passes (on that thread, or the daemon's control loop pumping it) turn the wheels' encoder counts into
+// odometry, and drive the wheels with Drive Direct, ramped to the acceleration limits (sent when the speeds change,
+// and at least every 0.25 s). The wheels stop when commands stop arriving for
 // command_timeout_s, and while a cliff or a dropped wheel is reported (the robot's own Safe mode stops them too and
 // falls back to Passive; the driver returns it to Safe once the floor is back). A port that fails (unplugged) is
 // reopened every reconnect_s; a stream silent for silence_s is restarted. What it shares with the other bases:
@@ -10,6 +11,8 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
+#include <span>
 
 #include "drivers/create2/create2_options.h"
 #include "drivers/create2/open_interface.h"
@@ -34,10 +37,16 @@ class Create2Base final : public SerialBase<Create2Options, Create2Status> {
 
  private:
   void Session(SerialPort& port, std::stop_token stop) override;
-  // The frame's odometry and battery handed on, and the wheels' command for it.
-  void Take(SerialPort& port, const SensorFrame& frame);
+  // A pass's frames (at least one) taken: one odometry report handed on (the pose after the last, bumped if any
+  // was), and the battery when due.
+  void Take(std::span<const SensorFrame> frames);
+  // The wheels' command for the last frame and the velocity asked for now, sent when it changed (and Safe mode asked
+  // for again after a safety stop): after every pass, so that a new command goes out with the pass after it.
+  void Command(SerialPort& port);
+  static bool FloorMissing(const SensorFrame& frame);
 
-  // The driver's thread only:
+  // The session's only (its thread, or the stream's passes):
+  std::optional<SensorFrame> last_frame_;
   TimeNs last_safe_ns_ = 0;
   std::array<int, 2> sent_mmps_{};  // the last Drive Direct sent (left, right), its time, and the OI mode then
   TimeNs sent_ns_ = 0;

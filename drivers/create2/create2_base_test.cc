@@ -6,12 +6,16 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cmath>
+#include <memory>
 #include <string>
+#include <thread>
 
 #include "testing/emulators/create2_emulator.h"
 #include "testing/eventually.h"
 #include "testing/latest_reports.h"
+#include "testing/pumping.h"
 
 namespace corridor::drivers::create2 {
 namespace {
@@ -19,6 +23,7 @@ namespace {
 using corridor::testing::Create2Emulator;
 using corridor::testing::Eventually;
 using corridor::testing::LatestReports;
+using corridor::testing::Pumping;
 using namespace std::chrono_literals;
 
 std::filesystem::path Link(const std::string& name) {
@@ -140,6 +145,37 @@ TEST(Create2BaseTest, UnpluggedOrSilentItSaysSoAndDrivesAgainWhenTheRobotIsBack)
   base.SetVelocity({0.1, 0.0});
   ASSERT_TRUE(Eventually([&] { return robot.wheels_mmps().first == 100; }, 2000ms));
   EXPECT_GT(base.status().reconnects, 0u);
+}
+
+// The daemon's control loop pumps the driver (linked_device.h): the frames are taken and the wheels written on the
+// pumping thread; a robot unplugged under the pumps is taken up again and pumped again; once the pumps stop, the
+// driver's own thread takes the stream back.
+TEST(Create2BaseTest, PumpedItsStreamRunsOnThePumpersThreadAndItsOwnOnceThePumpsStop) {
+  const std::filesystem::path link = Link("pumped");
+  Create2Emulator robot(link);
+  SteadyClock clock;
+  Create2Base base(OptionsFor(link), clock);
+  std::atomic<std::thread::id> reporter;
+  base.SetOdometryHandler([&](const WheelOdometry&) { reporter = std::this_thread::get_id(); });
+  auto pump = std::make_unique<Pumping>(base);
+  ASSERT_TRUE(Eventually([&] { return reporter.load() == pump->id(); }, 3000ms));
+  base.SetVelocity({0.2, 0.0});
+  ASSERT_TRUE(Eventually([&] { return robot.wheels_mmps() == std::make_pair(200, 200); }, 2000ms));
+  robot.Unplug();
+  ASSERT_TRUE(Eventually([&] { return base.status().state == LinkState::kDisconnected; }, 3000ms));
+  robot.Replug();
+  ASSERT_TRUE(Eventually([&] { return robot.mode() == 2 && base.status().state == LinkState::kRunning; }, 3000ms))
+      << ToString(base.status().state) << " " << base.status().last_error;
+  base.SetVelocity({0.1, 0.0});
+  ASSERT_TRUE(Eventually([&] { return robot.wheels_mmps().first == 100; }, 2000ms));
+  EXPECT_EQ(reporter.load(), pump->id());
+  const std::thread::id pumper = pump->id();
+  pump.reset();
+  reporter = std::thread::id();
+  ASSERT_TRUE(Eventually([&] { return reporter.load() != std::thread::id(); }, 2000ms));
+  EXPECT_NE(reporter.load(), pumper);
+  base.SetVelocity({0.15, 0.0});
+  ASSERT_TRUE(Eventually([&] { return robot.wheels_mmps().first == 150; }, 2000ms));
 }
 
 TEST(Create2BaseTest, BadOptionsAreRefused) {

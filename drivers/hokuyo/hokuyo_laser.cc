@@ -90,37 +90,38 @@ void HokuyoLaser::Session(ByteStream& stream, std::stop_token stop) {
   }
   SetState(LinkState::kRunning);
   std::vector<Response> answers;
-  std::array<std::uint8_t, 4096> buffer{};
   TimeNs last_scan_ns = clock_.Now();
-  while (!stop.stop_requested()) {
-    const std::size_t n = stream.Read(buffer, stale_s / 2.0);
-    const TimeNs now = clock_.Now();
-    answers.clear();
-    reader.Push(std::span<const std::uint8_t>(buffer.data(), n), answers);
-    for (const Response& answer : answers) {
-      const std::optional<ScanData> data = DecodeScan(answer);
-      if (!data) continue;
-      last_scan_ns = now;
-      ScanHandler handler;
-      {
-        std::lock_guard lock(mutex_);
-        ++status_.scans;
-        handler = handler_;
-      }
-      SetState(LinkState::kRunning);
-      if (handler) handler(std::make_shared<const LaserScan>(ToScan(*parameters, *data, now)));
-    }
-    {
-      std::lock_guard lock(mutex_);
-      status_.dropped_answers = reader.dropped();
-    }
-    const double quiet_s = ToSeconds(now - last_scan_ns);
-    if (quiet_s >= options_.silence_s) {
-      SetState(LinkState::kSilent, fmt::format("no scan for {:.1f} s: restarting the stream", options_.silence_s));
-      return;
-    }
-    if (quiet_s >= stale_s) SetState(LinkState::kStale, fmt::format("no scan for {:.0f} ms", stale_s * 1e3));
-  }
+  Stream(
+      stream, stop, [&] { return stale_s / 2.0; },
+      [&](std::span<const std::uint8_t> bytes, bool) {
+        const TimeNs now = clock_.Now();
+        answers.clear();
+        reader.Push(bytes, answers);
+        for (const Response& answer : answers) {
+          const std::optional<ScanData> data = DecodeScan(answer);
+          if (!data) continue;
+          last_scan_ns = now;
+          ScanHandler handler;
+          {
+            std::lock_guard lock(mutex_);
+            ++status_.scans;
+            handler = handler_;
+          }
+          SetState(LinkState::kRunning);
+          if (handler) handler(std::make_shared<const LaserScan>(ToScan(*parameters, *data, now)));
+        }
+        {
+          std::lock_guard lock(mutex_);
+          status_.dropped_answers = reader.dropped();
+        }
+        const double quiet_s = ToSeconds(now - last_scan_ns);
+        if (quiet_s >= options_.silence_s) {
+          SetState(LinkState::kSilent, fmt::format("no scan for {:.1f} s: restarting the stream", options_.silence_s));
+          return false;
+        }
+        if (quiet_s >= stale_s) SetState(LinkState::kStale, fmt::format("no scan for {:.0f} ms", stale_s * 1e3));
+        return true;
+      });
   stream.Write(Bytes("QT\n"));  // the stream and the laser off
 }
 

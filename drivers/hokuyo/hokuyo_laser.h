@@ -1,10 +1,11 @@
 // A Hokuyo scanner (URG-04LX, UTM-30LX on USB serial; UST-10LX/20LX on TCP) through SCIP 2.0 (scip_protocol.h): the
 // driver's thread opens the port (or connects), stops any stream under way, switches an older URG to SCIP 2.0, reads
-// the device's parameters (range limits, steps, its front, scan rate), and streams scans (MD, every step, 3-character
-// ranges), handing each on as a LaserScan counter-clockwise from the front (REP-103: the device's steps already turn
-// that way), ranges below the device's minimum (its error codes) or outside the configured limits as +infinity. A
-// port that fails or goes away is reopened every reconnect_s; a device that sends no scan for silence_s is restarted.
-// What it is doing is in status().
+// the device's parameters (range limits, steps, its front, scan rate), and starts the scans' stream (MD, every step,
+// 3-character ranges); the stream's passes (on that thread, or the daemon's control loop pumping it) hand each on,
+// stamped when it was taken (a pump's: up to a control tick after its last byte), as a LaserScan counter-clockwise from
+// the front (REP-103: the device's steps already turn that way), ranges below the device's minimum (its error codes) or
+// outside the configured limits as +infinity. A port that fails or goes away is reopened every reconnect_s; a device
+// that sends no scan for silence_s is restarted. What it is doing is in status().
 #pragma once
 
 #include <cstdint>
@@ -29,7 +30,7 @@ struct HokuyoStatus : LinkStatus {
 
 class HokuyoLaser final : public Laser2D, public LinkedDevice<HokuyoStatus> {
  public:
-  // Starts the driver's thread; `clock` stamps the scans (when a scan's last byte arrived) and must outlive it.
+  // Starts the driver's thread; `clock` stamps the scans and must outlive it.
   // Throws std::invalid_argument for options that cannot work.
   HokuyoLaser(const HokuyoOptions& options, const Clock& clock);
   ~HokuyoLaser() override;  // stops the stream and the laser, joins the thread

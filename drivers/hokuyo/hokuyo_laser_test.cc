@@ -8,12 +8,15 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <thread>
 
 #include "testing/emulators/hokuyo_emulator.h"
 #include "testing/eventually.h"
+#include "testing/pumping.h"
 
 namespace corridor::drivers::hokuyo {
 namespace {
@@ -21,6 +24,7 @@ namespace {
 using corridor::testing::Eventually;
 using corridor::testing::HokuyoEmulator;
 using corridor::testing::HokuyoEmulatorOptions;
+using corridor::testing::Pumping;
 using namespace std::chrono_literals;
 
 std::string Link(const std::string& name) {
@@ -106,6 +110,35 @@ TEST(HokuyoLaserTest, AUstOnTcpScansAtFortyHertz) {
   device.Replug();
   const std::uint64_t before = laser.status().scans;
   ASSERT_TRUE(Eventually([&] { return laser.status().scans > before + 3; }, 3000ms)) << laser.status().last_error;
+  EXPECT_EQ(laser.status().state, LinkState::kRunning);
+}
+
+// Pumped by the daemon's control loop every 20 ms (linked_device.h): the connection's bytes are read without waiting,
+// the scans (two a tick at 40 Hz) handed on from the pumping thread, and a dropped connection taken up again.
+TEST(HokuyoLaserTest, AUstOnTcpPumpedHandsItsScansOnFromThePumpingThread) {
+  HokuyoEmulatorOptions emulated;
+  emulated.model = corridor::testing::Ust10lx();
+  HokuyoEmulator device(emulated);
+  SteadyClock clock;
+  HokuyoLaser laser(OptionsFor("127.0.0.1:" + std::to_string(device.port())), clock);
+  std::atomic<std::thread::id> taker;
+  std::atomic<int> scans = 0;
+  laser.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) {
+    taker = std::this_thread::get_id();
+    if (scan->ranges.size() == 1081u) ++scans;
+  });
+  Pumping pump(laser);
+  ASSERT_TRUE(Eventually([&] { return scans >= 5 && taker.load() == pump.id(); }, 3000ms)) << laser.status().last_error;
+  const auto start = std::chrono::steady_clock::now();
+  const int before = scans;
+  ASSERT_TRUE(Eventually([&] { return scans >= before + 20; }, 3000ms));
+  EXPECT_GT(20.0 / std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30.0);
+  device.Unplug();
+  ASSERT_TRUE(Eventually([&] { return laser.status().state == LinkState::kDisconnected; }, 3000ms));
+  device.Replug();
+  const int again = scans;
+  ASSERT_TRUE(Eventually([&] { return scans > again + 3; }, 3000ms)) << laser.status().last_error;
+  EXPECT_EQ(taker.load(), pump.id());
   EXPECT_EQ(laser.status().state, LinkState::kRunning);
 }
 

@@ -20,27 +20,27 @@ void KobukiBase::Session(SerialPort& port, std::stop_token stop) {
   Begin();
   PacketParser parser;
   std::vector<FeedbackPacket> packets;
-  std::array<std::uint8_t, 256> buffer{};
   const std::vector<std::uint8_t> stop_wheels = EncodeBaseControl({});
-  while (!stop.stop_requested()) {
-    const std::size_t n = port.Read(buffer, options_.stale_s);
-    packets.clear();
-    parser.Push(std::span<const std::uint8_t>(buffer.data(), n), packets);
-    {
-      std::lock_guard lock(mutex_);
-      status_.dropped_packets = parser.dropped();
-    }
-    for (const FeedbackPacket& packet : packets) {
-      if (packet.sensors) Take(port, *packet.sensors);
-    }
-    if (!Watch(port, stop_wheels, "feedback")) return;
-  }
+  Stream(
+      port, stop, [&] { return options_.stale_s; },
+      [&](std::span<const std::uint8_t> bytes, bool) {
+        packets.clear();
+        parser.Push(bytes, packets);
+        {
+          std::lock_guard lock(mutex_);
+          status_.dropped_packets = parser.dropped();
+        }
+        for (const FeedbackPacket& packet : packets) {
+          if (packet.sensors) Take(port, *packet.sensors);
+        }
+        return Watch(port, stop_wheels, "feedback");
+      });
   port.Write(stop_wheels);
 }
 
 void KobukiBase::Take(SerialPort& port, const SensorData& sensors) {
   const TimeNs now = clock_.Now();
-  const double dt = Reported(now);
+  Reported(now);
   odometry_.Update(now, sensors.left_counts, sensors.right_counts);
   const bool floor_missing = sensors.cliff || sensors.wheel_drop_left || sensors.wheel_drop_right;
   nav::Twist2 target;
@@ -56,7 +56,7 @@ void KobukiBase::Take(SerialPort& port, const SensorData& sensors) {
     battery = BatteryDue(now);
   }
   SetState(LinkState::kRunning);
-  port.Write(EncodeBaseControl(ToBaseControl(Drive(target, floor_missing, dt), options_.wheels.track_m)));
+  port.Write(EncodeBaseControl(ToBaseControl(Drive(target, floor_missing, now), options_.wheels.track_m)));
   if (odometry) {
     odometry(WheelOdometry{now, odometry_.pose(), odometry_.velocity(),
                            sensors.bump_left || sensors.bump_centre || sensors.bump_right, floor_missing});

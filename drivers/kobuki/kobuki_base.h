@@ -1,10 +1,10 @@
 // A Kobuki (the base of a TurtleBot 2) on a serial port, through its protocol (kobuki_protocol.h): the Kobuki streams
-// its sensors every 20 ms without being asked; the driver's thread turns the wheels' encoder counts into odometry and
-// answers each report with a Base Control, the commanded velocity ramped to the acceleration limits. The wheels stop
-// when commands stop arriving for command_timeout_s, while a cliff or a dropped wheel is reported, and while the
-// stream is stale (stale_s without a report: the Kobuki keeps its last command otherwise). A port that fails
-// (unplugged) or a stream silent for silence_s is opened anew every reconnect_s. What it shares with the other bases:
-// drivers/wheels/serial_base.h.
+// its sensors every 20 ms without being asked; the stream's passes (on the driver's thread, or the daemon's control
+// loop pumping it) turn the wheels' encoder counts into odometry and answer each report with a Base Control, the
+// commanded velocity ramped to the acceleration limits. The wheels stop when commands stop arriving for
+// command_timeout_s, while a cliff or a dropped wheel is reported, and while the stream is stale (stale_s without a
+// report: the Kobuki keeps its last command otherwise). A port that fails (unplugged) or a stream silent for silence_s
+// is opened anew every reconnect_s. What it shares with the other bases: drivers/wheels/serial_base.h.
 #pragma once
 
 #include <cstdint>

@@ -23,6 +23,9 @@ class ByteStream {
   virtual void Write(std::span<const std::uint8_t> bytes) = 0;
   // What arrives within timeout_s, at most into.size() bytes: 0 when nothing did. Throws when the link fails.
   virtual std::size_t Read(std::span<std::uint8_t> into, double timeout_s) = 0;
+  // What has arrived already, at most into.size() bytes, without waiting: 0 when nothing has. Throws when the link
+  // fails.
+  virtual std::size_t ReadArrived(std::span<std::uint8_t> into) = 0;
 };
 
 // `port` as the configuration gives it: "host:port" (a TCP device, connected within connect_s) or a serial device's

@@ -50,8 +50,12 @@ class DeviceLink {
   virtual ~DeviceLink() = default;
 
   virtual LinkStatus link() const = 0;
-  // Called on the driver's thread whenever the link's state changes; must return quickly.
+  // Called on the driver's thread (or the pumping one: Pump) whenever the link's state changes; must return quickly.
   virtual void SetLinkHandler(LinkHandler handler) = 0;
+  // Reads what the device sent since the last call, hands it on and writes what is due, without waiting: the
+  // daemon's control loop calls it on every decision (ros2_control's read and write around its update), so that a
+  // device's data costs no wake-up of a thread of its own. A device read by its own thread (a camera) ignores it.
+  virtual void Pump() {}
 };
 
 // A driver's link going to `state`: `status` (a LinkStatus or a driver's status extending it) set under `mutex`, which

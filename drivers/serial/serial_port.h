@@ -26,7 +26,7 @@ class SerialPort final : public ByteStream {
   std::size_t Read(std::span<std::uint8_t> into, double timeout_s) override;
   // What has arrived already, at most into.size() bytes, without waiting: 0 when nothing has. One system call where
   // Read makes two, for a reader that knows bytes are flowing. Throws when the port fails.
-  std::size_t ReadArrived(std::span<std::uint8_t> into);
+  std::size_t ReadArrived(std::span<std::uint8_t> into) override;
   // Reads until `count` bytes are in `out`, within timeout_s in all; false if they did not come.
   bool ReadExactly(std::vector<std::uint8_t>& out, std::size_t count, double timeout_s);
   // Reads and forgets what arrives until the line has been quiet for quiet_s.

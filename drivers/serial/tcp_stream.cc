@@ -31,6 +31,7 @@ TcpStream::TcpStream(const std::string& host, int port, double connect_s) : sock
   }
   if (error) throw boost::system::system_error(error, "connecting to " + host + ":" + std::to_string(port));
   socket_.set_option(boost::asio::ip::tcp::no_delay(true));
+  socket_.non_blocking(true);  // ReadArrived's synchronous reads never wait (Read's asynchronous ones are not affected)
 }
 
 void TcpStream::Write(std::span<const std::uint8_t> bytes) {
@@ -55,6 +56,14 @@ std::size_t TcpStream::Read(std::span<std::uint8_t> into, double timeout_s) {
     io_.run();  // the cancelled read's handler (or its data, had it just arrived)
   }
   if (error == boost::asio::error::operation_aborted) return 0;
+  if (error) throw boost::system::system_error(error, "reading the connection");
+  return got;
+}
+
+std::size_t TcpStream::ReadArrived(std::span<std::uint8_t> into) {
+  boost::system::error_code error;
+  const std::size_t got = socket_.read_some(boost::asio::buffer(into.data(), into.size()), error);
+  if (error == boost::asio::error::would_block || error == boost::asio::error::try_again) return 0;
   if (error) throw boost::system::system_error(error, "reading the connection");
   return got;
 }

@@ -19,6 +19,7 @@ class TcpStream final : public ByteStream {
 
   void Write(std::span<const std::uint8_t> bytes) override;
   std::size_t Read(std::span<std::uint8_t> into, double timeout_s) override;
+  std::size_t ReadArrived(std::span<std::uint8_t> into) override;
 
  private:
   boost::asio::io_context io_;

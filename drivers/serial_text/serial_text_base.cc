@@ -42,17 +42,15 @@ void SerialTextBase::Session(SerialPort& port, std::stop_token stop) {
   LineSplitter lines;
   AwaitBoard(port, lines, stop);
   const std::string stop_wheels = EncodeMotorSpeeds(0, 0);
-  std::array<std::uint8_t, 256> buffer{};
-  while (!stop.stop_requested()) {
-    // Ask, then take what comes until the next question is due (a slow board's answer is taken in a later cycle).
-    const TimeNs cycle_end = clock_.Now() + FromSeconds(options_.poll_period_s);
-    port.Write(Bytes(kReadEncoders));
-    for (TimeNs now = clock_.Now(); now < cycle_end && !stop.stop_requested(); now = clock_.Now()) {
-      const std::size_t n = port.Read(buffer, ToSeconds(cycle_end - now));
-      Handle(port, lines, std::span<const std::uint8_t>(buffer.data(), n));
-    }
-    if (!Watch(port, Bytes(stop_wheels), "encoder reply")) return;
-  }
+  TimeNs next_ask_ns = clock_.Now();
+  // Each pass takes the replies that came (a slow board's answer is taken in a later pass), and asks again when due.
+  Stream(
+      port, stop, [&] { return std::max(1e-3, ToSeconds(next_ask_ns - clock_.Now())); },
+      [&](std::span<const std::uint8_t> bytes, bool) {
+        Handle(port, lines, bytes);
+        if (Due(next_ask_ns, clock_.Now(), options_.poll_period_s)) port.Write(Bytes(kReadEncoders));
+        return Watch(port, Bytes(stop_wheels), "encoder reply");
+      });
   port.Write(Bytes(stop_wheels));
 }
 
@@ -122,7 +120,7 @@ void SerialTextBase::Take(SerialPort& port, const EncoderCounts& counts) {
   implausible_run_ = 0;
   last_counts_ = counts;
   last_counts_ns_ = now;
-  const double dt = Reported(now);
+  Reported(now);
   // The low 16 bits: the odometry's wrap-around arithmetic holds for any count width.
   odometry_.Update(now, static_cast<std::uint16_t>(counts.left), static_cast<std::uint16_t>(counts.right));
   nav::Twist2 target;
@@ -134,7 +132,7 @@ void SerialTextBase::Take(SerialPort& port, const EncoderCounts& counts) {
     odometry = odometry_handler_;
   }
   SetState(LinkState::kRunning);
-  const nav::Twist2& driven = Drive(target, false, dt);
+  const nav::Twist2& driven = Drive(target, false, now);
   const double half_track = 0.5 * options_.wheels.track_m;
   const std::string command = EncodeMotorSpeeds(CountsPerFrame(driven.linear_mps - half_track * driven.angular_rps),
                                                 CountsPerFrame(driven.linear_mps + half_track * driven.angular_rps));

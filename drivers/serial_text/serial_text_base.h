@@ -1,6 +1,7 @@
 // A home-made differential base whose microcontroller speaks the serial text protocol (serial_text_protocol.h,
-// ROSArduinoBridge's commands): the driver's thread asks for the encoders' counts every poll_period_s, turns them into
-// odometry, and answers each reply with the wheels' speeds, the commanded velocity ramped to the acceleration limits.
+// ROSArduinoBridge's commands): the driver's thread waits for the board to answer; then the stream's passes (on that
+// thread, or the daemon's control loop pumping it) ask for the encoders' counts every poll_period_s, turn them into
+// odometry, and answer each reply with the wheels' speeds, the commanded velocity ramped to the acceleration limits.
 // The text has no checksum: a reply that lost or changed a digit would move the robot's pose by metres, so counts
 // that moved further than the wheels can turn are dropped, and three such replies in a row are taken as the board
 // having restarted counting. The wheels stop when commands stop arriving for command_timeout_s and while the replies

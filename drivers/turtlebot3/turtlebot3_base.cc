@@ -60,26 +60,30 @@ void TurtleBot3Base::Session(SerialPort& port, std::stop_token stop) {
   Reported(clock_.Now());  // the state is watched from here
   const std::vector<std::uint8_t> stop_wheels = VelocityCommand({});
   const std::vector<std::uint8_t> read_state = dynamixel::EncodeRead(kOpenCrId, kStateFirst, kStateLength);
-  std::vector<StatusPacket> stray;
-  std::array<std::uint8_t, 256> buffer{};
-  while (!stop.stop_requested()) {
-    const TimeNs cycle_end = clock_.Now() + FromSeconds(options_.poll_period_s);
-    if (const std::optional<StatusPacket> state =
-            Transact(port, parser, read_state, kStateLength, options_.poll_period_s)) {
-      Take(port, state->parameters);
-    }
-    // The rest of the cycle: the answers to the writes come and are passed over.
-    for (TimeNs now = clock_.Now(); now < cycle_end && !stop.stop_requested(); now = clock_.Now()) {
-      const std::size_t n = port.Read(buffer, ToSeconds(cycle_end - now));
-      stray.clear();
-      parser.Push(std::span<const std::uint8_t>(buffer.data(), n), stray);
-    }
-    {
-      std::lock_guard lock(mutex_);
-      status_.dropped_packets = parser.dropped();
-    }
-    if (!Watch(port, stop_wheels, "state")) return;
-  }
+  std::vector<StatusPacket> got;
+  TimeNs next_read_ns = clock_.Now();
+  // Each pass takes the state that came (the answers to the writes are passed over), and asks for it again when due.
+  Stream(
+      port, stop, [&] { return std::max(1e-3, ToSeconds(next_read_ns - clock_.Now())); },
+      [&](std::span<const std::uint8_t> bytes, bool) {
+        got.clear();
+        parser.Push(bytes, got);
+        for (const StatusPacket& status : got) {
+          if (status.id != kOpenCrId || status.parameters.size() != kStateLength) continue;  // a write's answer
+          if ((status.error & ~dynamixel::kAlertBit) != 0) {
+            std::lock_guard lock(mutex_);
+            ++status_.device_errors;
+            continue;
+          }
+          Take(port, status.parameters);
+        }
+        {
+          std::lock_guard lock(mutex_);
+          status_.dropped_packets = parser.dropped();
+        }
+        if (Due(next_read_ns, clock_.Now(), options_.poll_period_s)) port.Write(read_state);
+        return Watch(port, stop_wheels, "state");
+      });
   port.Write(stop_wheels);
 }
 
@@ -110,7 +114,7 @@ std::optional<StatusPacket> TurtleBot3Base::Transact(SerialPort& port, StatusPar
 void TurtleBot3Base::Take(SerialPort& port, std::span<const std::uint8_t> state) {
   const auto at = [](std::uint16_t address) { return static_cast<std::size_t>(address - kStateFirst); };
   const TimeNs now = clock_.Now();
-  const double dt = Reported(now);
+  Reported(now);
   // The positions' low 16 bits: the odometry's wrap-around arithmetic holds for any count width.
   odometry_.Update(now, static_cast<std::uint16_t>(dynamixel::ReadInt32(state, at(address::kPresentPositionLeft))),
                    static_cast<std::uint16_t>(dynamixel::ReadInt32(state, at(address::kPresentPositionRight))));
@@ -127,7 +131,7 @@ void TurtleBot3Base::Take(SerialPort& port, std::span<const std::uint8_t> state)
     battery = BatteryDue(now);
   }
   SetState(LinkState::kRunning);
-  port.Write(VelocityCommand(Drive(target, false, dt)));
+  port.Write(VelocityCommand(Drive(target, false, now)));
   if (ToSeconds(now - last_heartbeat_ns_) >= options_.heartbeat_period_s) {
     const std::array<std::uint8_t, 1> beat{++heartbeat_};
     port.Write(dynamixel::EncodeWrite(kOpenCrId, address::kHeartbeat, beat));

@@ -1,10 +1,10 @@
-// A TurtleBot 3 through its OpenCR board (opencr_table.h, DYNAMIXEL Protocol 2.0): the driver's thread pings the board,
-// turns the wheels' torque on, and every poll_period_s reads the board's state in one Read (buttons, bumpers,
-// battery, the wheels' velocities and positions), turns the positions into odometry, and writes the commanded velocity
-// (ramped to the acceleration limits) as the board's velocity command, with a heartbeat every heartbeat_period_s. The
-// wheels stop when commands stop arriving for command_timeout_s and while the state is stale. A port that fails or a
-// board silent for silence_s is opened anew every reconnect_s. What it shares with the other bases:
-// drivers/wheels/serial_base.h.
+// A TurtleBot 3 through its OpenCR board (opencr_table.h, DYNAMIXEL Protocol 2.0): the driver's thread pings the board
+// and turns the wheels' torque on; then the stream's passes (on that thread, or the daemon's control loop pumping it)
+// every poll_period_s read the board's state in one Read (buttons, bumpers, battery, the wheels' velocities and
+// positions), turn the positions into odometry, and write the commanded velocity (ramped to the acceleration limits) as
+// the board's velocity command, with a heartbeat every heartbeat_period_s. The wheels stop when commands stop arriving
+// for command_timeout_s and while the state is stale. A port that fails or a board silent for silence_s is opened anew
+// every reconnect_s. What it shares with the other bases: drivers/wheels/serial_base.h.
 #pragma once
 
 #include <cstdint>
@@ -41,7 +41,7 @@ class TurtleBot3Base final : public SerialBase<TurtleBot3Options, TurtleBot3Stat
   // The state read: odometry, bumpers and battery handed on, and the wheels' command written.
   void Take(SerialPort& port, std::span<const std::uint8_t> state);
 
-  // The driver's thread only.
+  // The session's only (its thread, or the stream's passes).
   TimeNs last_heartbeat_ns_ = 0;
   std::uint8_t heartbeat_ = 0;
 };

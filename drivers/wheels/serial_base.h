@@ -1,9 +1,9 @@
 // What the native base drivers (Create 2, Kobuki, TurtleBot 3, serial text) share around their own protocol: options
 // checked once, the velocity asked for (clamped to the limits, with when it came), the odometry, battery and link
 // handlers and the driver's status under one mutex, the driver's thread running sessions on the serial port and
-// reopening it when it fails (drivers/serial/linked_device.h), the watch for a stream gone quiet, the wheels' command
-// ramped, and the odometry from the encoders. A driver supplies Session: one session on an open port, its protocol's
-// commands and reports.
+// reopening it when it fails (drivers/serial/linked_device.h, whose Stream runs a session's passes on the driver's
+// thread or a pumping one), the watch for a stream gone quiet, the wheels' command ramped, and the odometry from the
+// encoders. A driver supplies Session: one session on an open port, its protocol's commands and reports.
 //
 // `Options` has the bases' common keys (port, baud_rate, wheels, max_linear_mps, max_angular_rps,
 // max_linear_accel_mps2, max_angular_accel_rps2, footprint_radius_m, command_timeout_s, stale_s, silence_s,
@@ -75,10 +75,11 @@ class SerialBase : public DiffDriveBase, public Battery, public LinkedDevice<Sta
     if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id()) thread_.join();
   }
 
-  // One session on an open port: until the port fails, the stream falls silent, or `stop`.
+  // One session on an open port: until the port fails, the stream falls silent, or `stop`. Its streaming part goes
+  // through Stream (linked_device.h), whose passes may run on a pumping thread.
   virtual void Session(SerialPort& port, std::stop_token stop) = 0;
 
-  // After each read: no report for stale_s and the link is stale (the wheels get `stop_wheels`: the robot keeps its
+  // After each pass: no report for stale_s and the link is stale (the wheels get `stop_wheels`: the robot keeps its
   // last command otherwise, for as long as it may still listen); for silence_s, false: the session ends.
   bool Watch(SerialPort& port, std::span<const std::uint8_t> stop_wheels, const char* report) {
     const double quiet_s = ToSeconds(clock_.Now() - last_report_ns_);
@@ -93,11 +94,18 @@ class SerialBase : public DiffDriveBase, public Battery, public LinkedDevice<Sta
     }
     return true;
   }
-  // A report came at `now`: its time since the last one (at least 1 ms).
-  double Reported(TimeNs now) {
-    const double dt = std::max(1e-3, ToSeconds(now - last_report_ns_));
-    last_report_ns_ = now;
-    return dt;
+  // A report came at `now`.
+  void Reported(TimeNs now) { last_report_ns_ = now; }
+  // Whether the last report is at most stale_s old.
+  bool Fresh(TimeNs now) const { return ToSeconds(now - last_report_ns_) <= options_.stale_s; }
+  // Whether a request asked every period_s is due at `now`, `next_ns` moved on if so. Passes come at their own pace
+  // (a pump's every control tick), so one within half a period of the due time takes it; on average no more often
+  // than every period_s.
+  static bool Due(TimeNs& next_ns, TimeNs now, double period_s) {
+    const TimeNs period = FromSeconds(period_s);
+    if (now < next_ns - period / 2) return false;
+    next_ns = std::max(next_ns + period, now + period / 2);
+    return true;
   }
   // With mutex_ held: the velocity asked for, zero once commands stopped coming for command_timeout_s.
   nav::Twist2 CommandAt(TimeNs now) const {
@@ -109,9 +117,11 @@ class SerialBase : public DiffDriveBase, public Battery, public LinkedDevice<Sta
     last_battery_ns_ = now;
     return battery_handler_;
   }
-  // The wheels' command for this report: `target` ramped to the acceleration limits, or zero at once while the floor
-  // is missing.
-  const nav::Twist2& Drive(const nav::Twist2& target, bool floor_missing, double dt) {
+  // The wheels' command at `now`: `target` ramped to the acceleration limits since the command before (at least
+  // 1 ms), or zero at once while the floor is missing.
+  const nav::Twist2& Drive(const nav::Twist2& target, bool floor_missing, TimeNs now) {
+    const double dt = std::max(1e-3, ToSeconds(now - driven_ns_));
+    driven_ns_ = now;
     driven_ = floor_missing
                   ? nav::Twist2{}
                   : RampToward(driven_, target, options_.max_linear_accel_mps2, options_.max_angular_accel_rps2, dt);
@@ -122,13 +132,13 @@ class SerialBase : public DiffDriveBase, public Battery, public LinkedDevice<Sta
     SetState(LinkState::kConnecting);
     odometry_.Restart();
     driven_ = {};
-    last_report_ns_ = clock_.Now();
+    last_report_ns_ = driven_ns_ = clock_.Now();
   }
 
   const Options options_;
   const Clock& clock_;
   OdometryHandler odometry_handler_;
-  // The driver's thread only.
+  // The session's only (its thread, or the stream's passes).
   EncoderOdometry odometry_;
 
  private:
@@ -151,9 +161,10 @@ class SerialBase : public DiffDriveBase, public Battery, public LinkedDevice<Sta
   nav::Twist2 command_;
   TimeNs command_ns_ = 0;
   BatteryHandler battery_handler_;
-  TimeNs last_report_ns_ = 0;   // the driver's thread only
+  TimeNs last_report_ns_ = 0;   // the stream's passes only
   TimeNs last_battery_ns_ = 0;  // under mutex_
-  nav::Twist2 driven_;          // the ramped command sent last; the driver's thread only
+  nav::Twist2 driven_;          // the ramped command sent last, and when; the stream's passes only
+  TimeNs driven_ns_ = 0;
   std::jthread thread_;
 };
 

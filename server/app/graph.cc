@@ -201,7 +201,11 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   lifecycle_.Add(std::move(mission_node));
   lifecycle_.Add(std::move(explore_node));
   lifecycle_.Add(std::make_unique<ChargingNode>(executors_.io, bus_, *core_, config_.charging));
-  lifecycle_.Add(std::make_unique<ControlNode>(executors_.control, bus_, devices_.base, config_.safety));
+  std::vector<drivers::DeviceLink*> links;
+  for (const DeviceSlot& slot : devices_.slots) {
+    if (slot.link != nullptr) links.push_back(slot.link);
+  }
+  lifecycle_.Add(std::make_unique<ControlNode>(executors_.control, bus_, devices_.base, config_.safety, links));
   lifecycle_.Add(std::make_unique<DevicesNode>(executors_.io, bus_, devices_.slots, config_.safety));
   // The building's door controller, when one is configured: missions ask it to open the doors on their way. In a
   // simulated world with doors that names none, the simulator's doors answer themselves.

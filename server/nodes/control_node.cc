@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <future>
+#include <utility>
 
 #include "server/runtime/topics.h"
 
@@ -14,8 +15,11 @@ constexpr drivers::TimeNs kPastExpiryNs = 100'000;  // 0.1 ms
 }  // namespace
 
 ControlNode::ControlNode(Executor& executor, Bus& bus, drivers::DiffDriveBase& base,
-                         const nav::CommandGateOptions& options)
-    : PeriodicNode("control", executor, bus, options.control_rate_hz), base_(base), gate_(options) {}
+                         const nav::CommandGateOptions& options, std::vector<drivers::DeviceLink*> pumped)
+    : PeriodicNode("control", executor, bus, options.control_rate_hz),
+      base_(base),
+      pumped_(std::move(pumped)),
+      gate_(options) {}
 
 void ControlNode::Activate() {
   deadline_ = std::make_unique<DeadlineTimer>(executor(), [this] {
@@ -68,8 +72,13 @@ void ControlNode::Activate() {
   PeriodicNode::Activate();
 }
 
+void ControlNode::Send(const nav::Twist2& twist) {
+  base_.SetVelocity(twist);
+  for (drivers::DeviceLink* link : pumped_) link->Pump();
+}
+
 void ControlNode::Stop(nav::GateReason reason, std::string detail) {
-  base_.SetVelocity({});
+  Send({});
   bus()
       .Get(topics::kCmdVel)
       .Publish(BaseCommand{clock().Now(), {}, nav::ControlMode::kStopped, reason, std::move(detail)});
@@ -116,7 +125,7 @@ void ControlNode::Act() {
   }
   const nav::GateDecision decision = gate_.Decide(drivers::ToSeconds(now), asked_teleop ? &*asked_teleop : nullptr,
                                                   asked_mission ? &*asked_mission : nullptr);
-  base_.SetVelocity(decision.twist);
+  Send(decision.twist);
   const drivers::TimeNs sent_ns = clock().Now();
   if ((decision.mode == nav::ControlMode::kMission || decision.mode == nav::ControlMode::kDocking) &&
       mission->frame_arrival_ns >= 0 && mission->frame_arrival_ns != answered_frame_ns_) {

@@ -5,14 +5,18 @@
 // a tick later). The latency from a frame's arrival to the base command that answers it is published on
 // control/latency; each bump on safety/bumped with the way the base was driving; a fault of any node (safety/faults)
 // puts the robot in a protective stop; a device whose native driver says it went down (devices/links) stops the robot
-// at once. On deactivation (shutdown) it commands zero velocity last.
+// at once. After every decision it pumps the native drivers (ros2_control's read and write around its update): what
+// their devices sent is taken and handed on, and the decision written to the wheels at once, on the control loop's
+// own wake-ups. On deactivation (shutdown) it commands zero velocity last.
 #pragma once
 
 #include <array>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "drivers/diff_drive_base.h"
+#include "drivers/serial/link_state.h"
 #include "nav/safety/command_gate.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/latency_stats.h"
@@ -23,7 +27,9 @@ namespace corridor::server {
 
 class ControlNode final : public PeriodicNode {
  public:
-  ControlNode(Executor& executor, Bus& bus, drivers::DiffDriveBase& base, const nav::CommandGateOptions& options);
+  // `pumped`: the native drivers' links, pumped after every decision (drivers/serial/linked_device.h).
+  ControlNode(Executor& executor, Bus& bus, drivers::DiffDriveBase& base, const nav::CommandGateOptions& options,
+              std::vector<drivers::DeviceLink*> pumped = {});
   void Activate() override;
   // Stops the timer and commands zero velocity: the first thing shutdown does.
   void Deactivate() override;
@@ -34,9 +40,12 @@ class ControlNode final : public PeriodicNode {
   void Watch();  // the deadline timer set at the gate's next expiry
   // Zero velocity to the base at once, and on cmd_vel with `reason`.
   void Stop(nav::GateReason reason, std::string detail);
+  // `twist` to the base, and the native drivers pumped.
+  void Send(const nav::Twist2& twist);
   void OnFault() override;  // this node's own callback failed: stop from here
 
   drivers::DiffDriveBase& base_;
+  std::vector<drivers::DeviceLink*> pumped_;
   // On the control executor only:
   nav::CommandGate gate_;
   std::unique_ptr<DeadlineTimer> deadline_;                   // while active
