@@ -1,8 +1,12 @@
 // corridord's CPU with native devices against its CPU with the simulator's devices, beyond the simulator (issue 37's
 // target: at most the same). Both robots have a base and a laser and no camera, and sit idle, localizing:
-//   sim     corridord with the simulator's base and laser (its "sim" thread, physics and ray casting, left out);
+//   sim     corridord with the simulator's base and laser: every thread but the simulator's ("sim": physics and ray
+//           casting), plus what the simulator's thread spent handing its devices' data to the graph (publishing it,
+//           waking the threads that take it: GET /api/v1/devices' handoff_cpu_s), which is the devices' work, not the
+//           simulation's;
 //   native  corridord with a Create 2 and an RPLIDAR on pseudo-terminals, served by corridor-emulate (the simulator
-//           in another process): the drivers' threads, their decoding and their reconnect watch are all in corridord.
+//           in another process): the drivers' threads, the control loop's pumps (reading, decoding, handing on) and
+//           the reconnect watch are all in corridord, measured whole.
 //   node bench/native_cpu.mjs [seconds=60]
 import { spawn } from 'node:child_process';
 import { existsSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
@@ -10,7 +14,7 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 
 import {
-  cpuByName, nsByName, sleep, sourceDir, startDaemon, threadCpu, waitFor,
+  cpuByName, getJson, nsByName, sleep, sourceDir, startDaemon, threadCpu, waitFor,
 } from '../tests/daemon.mjs';
 
 const seconds = Number(process.argv.find((a) => /^\d+$/.test(a)) ?? 60);
@@ -61,19 +65,37 @@ await waitFor(() => existsSync(join(dir, 'create2')) && existsSync(join(dir, 'rp
   'corridor-emulate to link its ports');
 const nativeDaemon = await startDaemon({ config });
 await sleep(5000);  // start-up, the first scans and localization settling are not idle
+// The CPU seconds a daemon has spent handing its devices' data to the graph.
+async function handoffS(daemon) {
+  const { status, body } = await getJson(`${daemon.url}/api/v1/devices`);
+  check(status === 200, `GET /api/v1/devices: ${status}`);
+  return body.devices.reduce((sum, d) => sum + d.handoff_cpu_s, 0);
+}
+const sample = async () => ({
+  cpu: [threadCpu(simDaemon.pid), threadCpu(nativeDaemon.pid)],
+  handoff: [await handoffS(simDaemon), await handoffS(nativeDaemon)],
+});
+// The simulator's devices between two samples: beyond the simulator, and with the simulator's handing on.
+const simSide = (a, b, span) => {
+  const run = used(a.cpu[0], b.cpu[0], span);
+  const handoff = (100 * (b.handoff[0] - a.handoff[0])) / span;
+  return { run, handoff, devices: run.beyondSim + handoff };
+};
 const windows = 3;
 const ratios = [];
-const first = [threadCpu(simDaemon.pid), threadCpu(nativeDaemon.pid)];
+const first = await sample();
 let last = first;
 for (let w = 0; w < windows; ++w) {
   await sleep((seconds * 1000) / windows);
-  const now = [threadCpu(simDaemon.pid), threadCpu(nativeDaemon.pid)];
+  const now = await sample();
   const span = seconds / windows;
-  ratios.push(used(last[1], now[1], span).total / used(last[0], now[0], span).beyondSim);
+  ratios.push(used(last.cpu[1], now.cpu[1], span).total / simSide(last, now, span).devices);
   last = now;
 }
-const sim = used(first[0], last[0], seconds);
-const native = used(first[1], last[1], seconds);
+const simDevices = simSide(first, last, seconds);
+const sim = simDevices.run;
+const native = used(first.cpu[1], last.cpu[1], seconds);
+const nativeHandoff = (100 * (last.handoff[1] - first.handoff[1])) / seconds;
 await Promise.all([simDaemon.stop(), nativeDaemon.stop()]);
 emulator.kill('SIGTERM');
 rmSync(dir, { recursive: true, force: true });
@@ -85,10 +107,13 @@ const threads = (run) => {
   }
 };
 const user = (run) => `${Math.round(100 * run.userShare)} % of it in corridord's own code`;
-console.log(`  simulator's devices, beyond the simulator  ${sim.beyondSim.toFixed(2).padStart(5)} % of one core`
-  + ` (the simulator ${(sim.total - sim.beyondSim).toFixed(2)} %), ${user(sim)}`);
+console.log(`  simulator's devices                        ${simDevices.devices.toFixed(2).padStart(5)} % of one core:`
+  + ` ${sim.beyondSim.toFixed(2)} % beyond the simulator's thread, ${simDevices.handoff.toFixed(2)} % its handing`
+  + ` their data on (the simulation ${(sim.total - sim.beyondSim - simDevices.handoff).toFixed(2)} %), ${user(sim)}`);
 threads(sim);
-console.log(`  native devices (Create 2, RPLIDAR)         ${native.total.toFixed(2).padStart(5)} % of one core, ${user(native)}`);
+console.log(`  native devices (Create 2, RPLIDAR)         ${native.total.toFixed(2).padStart(5)} % of one core`
+  + ` (${nativeHandoff.toFixed(2)} % handing their data on), ${user(native)}`);
 threads(native);
-console.log(`  ratio native / sim beyond the simulator    ${(native.total / sim.beyondSim).toFixed(2)}`
-  + ` (by ${seconds / windows} s window: ${ratios.map((r) => r.toFixed(2)).join(', ')})`);
+console.log(`  ratio native / simulator's devices         ${(native.total / simDevices.devices).toFixed(2)}`
+  + ` (by ${Math.round(seconds / windows)} s window: ${ratios.map((r) => r.toFixed(2)).join(', ')});`
+  + ` against beyond the simulator's thread alone ${(native.total / sim.beyondSim).toFixed(2)}`);

@@ -77,6 +77,7 @@ void DevicesNode::Tick() {
       r.state = d.watch.State(now_s, links[i]);
       r.rate_hz = d.watch.RateHz(now_s);
       r.age_s = d.watch.AgeS(now_s);
+      r.handoff_cpu_s = d.slot.handoff->cpu_s();
       if (d.slot.link != nullptr) {
         r.link = drivers::ToString(statuses[i].state);
         r.reconnects = statuses[i].reconnects;

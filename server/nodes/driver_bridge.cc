@@ -2,7 +2,45 @@
 
 #include "server/runtime/topics.h"
 
+#include <time.h>
+
 namespace corridor::server {
+namespace {
+
+std::uint64_t ThreadCpuNs() {
+  timespec t{};
+  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<std::uint64_t>(t.tv_sec) * 1'000'000'000u + static_cast<std::uint64_t>(t.tv_nsec);
+}
+
+// Runs `deliver`, timing one call in Handoff::kSampling to `handoff` (none: untimed).
+template <typename Deliver>
+void HandOff(Handoff* handoff, Deliver&& deliver) {
+  if (handoff == nullptr || handoff->count.fetch_add(1, std::memory_order_relaxed) % Handoff::kSampling != 0) {
+    deliver();
+    return;
+  }
+  const std::uint64_t before = ThreadCpuNs();
+  deliver();
+  handoff->timed_ns.fetch_add(ThreadCpuNs() - before, std::memory_order_relaxed);
+  handoff->timed.fetch_add(1, std::memory_order_relaxed);
+}
+
+Handoff* HandoffOf(const std::vector<DeviceSlot>& slots, nav::Device device) {
+  for (const DeviceSlot& slot : slots) {
+    if (slot.device == device) return slot.handoff.get();
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+double Handoff::cpu_s() const {
+  const std::uint64_t n = timed.load(std::memory_order_relaxed);
+  if (n == 0) return 0.0;
+  return 1e-9 * static_cast<double>(timed_ns.load(std::memory_order_relaxed)) *
+         static_cast<double>(count.load(std::memory_order_relaxed)) / static_cast<double>(n);
+}
 
 std::string Describe(const DeviceSlot& slot) {
   std::string text = std::string(nav::ToString(slot.device)) + " (" + slot.driver;
@@ -14,20 +52,28 @@ void ConnectDrivers(Bus& bus, const drivers::Clock& clock, drivers::DepthCamera*
                     drivers::Laser2D* laser, drivers::Battery* battery, const std::vector<DeviceSlot>& slots) {
   if (camera != nullptr) {
     auto& rgbd = bus.Get(topics::kRgbd);
-    camera->SetFrameHandler([&rgbd, &clock](std::shared_ptr<drivers::RgbdFrame> frame) {
-      frame->arrival_ns = clock.Now();
-      rgbd.Publish(std::move(frame));
-    });
+    camera->SetFrameHandler(
+        [&rgbd, &clock, handoff = HandoffOf(slots, nav::Device::kCamera)](std::shared_ptr<drivers::RgbdFrame> frame) {
+          frame->arrival_ns = clock.Now();
+          HandOff(handoff, [&] { rgbd.Publish(std::move(frame)); });
+        });
   }
+  Handoff* base_handoff = HandoffOf(slots, nav::Device::kBase);
   auto& odometry = bus.Get(topics::kOdometry);
-  base.SetOdometryHandler([&odometry](const drivers::WheelOdometry& o) { odometry.Publish(o); });
+  base.SetOdometryHandler([&odometry, base_handoff](const drivers::WheelOdometry& o) {
+    HandOff(base_handoff, [&] { odometry.Publish(o); });
+  });
   if (laser != nullptr) {
     auto& scan = bus.Get(topics::kScan);
-    laser->SetScanHandler([&scan](std::shared_ptr<const drivers::LaserScan> s) { scan.Publish(std::move(s)); });
+    laser->SetScanHandler(
+        [&scan, handoff = HandoffOf(slots, nav::Device::kLaser)](std::shared_ptr<const drivers::LaserScan> s) {
+          HandOff(handoff, [&] { scan.Publish(std::move(s)); });
+        });
   }
   if (battery != nullptr) {
     auto& state = bus.Get(topics::kBattery);
-    battery->SetBatteryHandler([&state](const drivers::BatteryState& b) { state.Publish(b); });
+    battery->SetBatteryHandler(
+        [&state, base_handoff](const drivers::BatteryState& b) { HandOff(base_handoff, [&] { state.Publish(b); }); });
   }
   auto& links = bus.Get(topics::kDeviceLinks);
   for (const DeviceSlot& slot : slots) {

@@ -1,6 +1,9 @@
 // Connects device drivers to the bus: whatever a driver delivers on its own thread is published on its topic.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -14,19 +17,32 @@
 
 namespace corridor::server {
 
-// One of the robot's devices as the daemon reports its health: its driver, where it is reached, and its link when the
-// driver watches one (native drivers; null for the simulator and DDS).
+// The CPU time a device's data took to be handed to the graph (the publication on its topic: the taps, and the
+// wake-ups of the executors that take it), on whichever thread delivered it: the simulator's, a driver's, or the
+// control loop pumping a native driver. One handoff in kSampling is timed (a thread's CPU clock is a system
+// call); the total is estimated from them.
+struct Handoff {
+  static constexpr std::uint64_t kSampling = 8;
+  std::atomic<std::uint64_t> count{0};     // handoffs
+  std::atomic<std::uint64_t> timed{0};     // of them timed
+  std::atomic<std::uint64_t> timed_ns{0};  // their CPU time
+  double cpu_s() const;                    // the estimate for all of them
+};
+
+// One of the robot's devices as the daemon reports its health: its driver, where it is reached, its link when the
+// driver watches one (native drivers; null for the simulator and DDS), and what handing its data on costs.
 struct DeviceSlot {
   nav::Device device = nav::Device::kBase;
   std::string driver;  // sim, dds, create2, rplidar
   std::string port;    // the serial device or the ROS 2 topic; empty for the simulator
   drivers::DeviceLink* link = nullptr;
+  std::shared_ptr<Handoff> handoff = std::make_shared<Handoff>();  // shared by the slot's copies
 };
 
 // `camera`, `laser` and `battery` may be null (no camera or laser fitted, nothing reports the battery). The drivers
 // must outlive the bus subscriptions' use of them. Frames are stamped with their arrival on `clock` (the host's), from
 // which the control loop's latency is measured. Each slot's link, when it has one, reports its changes on
-// devices/links.
+// devices/links; each delivery is counted to its device's slot's Handoff (the battery's to the base's).
 void ConnectDrivers(Bus& bus, const drivers::Clock& clock, drivers::DepthCamera* camera, drivers::DiffDriveBase& base,
                     drivers::Laser2D* laser, drivers::Battery* battery, const std::vector<DeviceSlot>& slots);
 

@@ -232,7 +232,8 @@ nlohmann::json ToJson(const DevicesHealth& health) {
                        {"age_s", d.age_s >= 0.0 ? nlohmann::json(d.age_s) : nlohmann::json(nullptr)},
                        {"link", d.link.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.link)},
                        {"reconnects", d.reconnects},
-                       {"last_error", d.last_error.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.last_error)}});
+                       {"last_error", d.last_error.empty() ? nlohmann::json(nullptr) : nlohmann::json(d.last_error)},
+                       {"handoff_cpu_s", d.handoff_cpu_s}});
   }
   return {{"stamp_s", drivers::ToSeconds(health.stamp_ns)}, {"devices", std::move(devices)}};
 }

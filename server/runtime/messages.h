@@ -75,7 +75,8 @@ struct DeviceReport {
   double age_s = -1.0;   // since the last data; negative: none yet
   std::string link;      // a native driver's link state (running, stale, silent, ...); empty for the others
   std::uint64_t reconnects = 0;
-  std::string last_error;  // the driver's last error; empty: none
+  std::string last_error;      // the driver's last error; empty: none
+  double handoff_cpu_s = 0.0;  // CPU time handing its data to the graph since the start (DeviceSlot's Handoff)
 };
 struct DevicesHealth {
   drivers::TimeNs stamp_ns = 0;

@@ -38,6 +38,7 @@ export interface LaserScanReading {
 export interface Device {
   device: 'base' | 'laser' | 'camera'; driver: string; port: string; state: 'ok' | 'stale' | 'disconnected';
   rate_hz: number; age_s: number | null; link: string | null; reconnects: number; last_error: string | null;
+  handoff_cpu_s: number;
 }
 // A fleet manager's order (VDA 5050): the last node traversed, the nodes still to traverse, base (released) then
 // horizon, and their edges.
