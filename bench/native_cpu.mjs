@@ -61,6 +61,7 @@ writeFileSync(join(dir, 'emulated.yaml'), configWith('  camera:\n    driver: non
 const emulator = spawn(emulate,
   ['--config', join(dir, 'emulated.yaml'), '--create2', join(dir, 'create2'), '--rplidar', join(dir, 'rplidar')],
   { stdio: 'ignore' });
+process.on('exit', () => emulator.kill('SIGTERM'));  // also when the bench fails: a stray emulator loads the machine
 await waitFor(() => existsSync(join(dir, 'create2')) && existsSync(join(dir, 'rplidar')), (linked) => linked, 10000,
   'corridor-emulate to link its ports');
 const nativeDaemon = await startDaemon({ config });
