@@ -22,11 +22,7 @@ EmulatedRobot::EmulatedRobot(server::Config config, const std::filesystem::path&
   config.sim.robot.laser.enabled = true;
   sim_ = server::MakeSimulator(config);
   drivers::sim::SimRobot& robot = *sim_.robot;
-  robot.SetScanHandler([this](std::shared_ptr<const drivers::LaserScan> scan) {
-    std::lock_guard lock(mutex_);
-    scan_ = std::move(scan);
-  });
-  base_ = std::make_unique<Create2Emulator>(create2);
+  base_ = std::make_unique<Create2Emulator>(create2, Pace::kOwner);
   robot.SetBatteryHandler([this](const drivers::BatteryState& b) {
     base_->SetBattery(static_cast<int>(std::lround(b.charge * kCapacityMah)), kCapacityMah, b.on_charger);
   });
@@ -34,6 +30,7 @@ EmulatedRobot::EmulatedRobot(server::Config config, const std::filesystem::path&
   lidar.revolutions_hz = config.sim.robot.laser.rate_hz;
   lidar.samples = config.sim.robot.laser.beams;
   lidar.range = [this](double clockwise_deg) { return RangeAt(clockwise_deg); };
+  lidar.pace = Pace::kOwner;
   laser_ = std::make_unique<RplidarEmulator>(rplidar, std::move(lidar));
   thread_ = std::jthread([this](std::stop_token stop) { Run(std::move(stop)); });
 }
@@ -52,21 +49,9 @@ bool EmulatedRobot::bumped() const {
   return bumped_;
 }
 
-double EmulatedRobot::RangeAt(double clockwise_deg) const {
-  std::shared_ptr<const drivers::LaserScan> scan;
-  {
-    std::lock_guard lock(mutex_);
-    scan = scan_;
-  }
-  if (!scan || scan->ranges.empty() || !(scan->angle_increment_rad > 0.0)) return 0.0;
-  // The RPLIDAR measures clockwise from its forward; the simulated laser's sweep runs counter-clockwise (REP-103).
-  const double angle = -clockwise_deg * std::numbers::pi / 180.0;
-  const double turn = 2.0 * std::numbers::pi;
-  const double from_min = std::fmod(std::fmod(angle - scan->angle_min_rad, turn) + turn, turn);
-  const auto n = static_cast<long>(scan->ranges.size());
-  const long i = std::lround(from_min / scan->angle_increment_rad) % n;
-  const double r = scan->ranges[static_cast<std::size_t>(i)];
-  return std::isfinite(r) && r > 0.0 ? r : 0.0;  // no return: nothing measured
+double EmulatedRobot::RangeAt(double clockwise_deg) {
+  const float r = sim_.robot->CastLaserBeam(clockwise_deg * std::numbers::pi / 180.0);
+  return std::isfinite(r) && r > 0.0f ? r : 0.0;  // no return: nothing measured
 }
 
 void EmulatedRobot::Run(std::stop_token stop) {
@@ -77,6 +62,11 @@ void EmulatedRobot::Run(std::stop_token stop) {
     const auto [left_mmps, right_mmps] = base_->wheels_mmps();
     robot.SetVelocity({(left_mmps + right_mmps) / 2000.0, (right_mmps - left_mmps) / 1000.0 / kTrackM});
     robot.Step();
+    // The devices in the simulator's time: the wheels counted over the step the body moved, the beams due cast from
+    // where it is now.
+    const double now_s = drivers::ToSeconds(robot.now_ns());
+    base_->Tick(now_s);
+    laser_->Tick(now_s);
     const bool pressed = robot.bumper_pressed();
     base_->SetBump(pressed);
     if (pressed) {

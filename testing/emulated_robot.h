@@ -3,11 +3,14 @@
 // (testing/emulators), so that corridord configured for those devices drives the simulated robot through its native
 // drivers, byte for byte as it would drive the real ones.
 //
-// The simulator runs in real time on a thread of its own. The Create 2's wheel speeds, as corridord commands them,
-// drive the simulated base (its encoders count those speeds, as a real Create 2's count its wheels' turns: where the
-// simulated body slips or is held, odometry and truth part, as on a real robot); the RPLIDAR serves the simulated
-// laser's latest sweep (the simulated laser sits at the base's centre: corridord's rplidar slot has no mounting
-// offset); a bump in the simulator presses the Create 2's bumper; the simulated battery is the Create 2's.
+// The simulator runs in real time on a thread of its own, and paces both devices in its own time (Pace::kOwner): a
+// machine too busy to keep the simulator up delays what the devices send, as a slow link would, but never makes them
+// report a world other than the simulated one. The Create 2's wheel speeds, as corridord commands them, drive the
+// simulated base (its encoders count those speeds over each physics step, as a real Create 2's count its wheels'
+// turns: where the simulated body slips or is held, odometry and truth part, as on a real robot); the RPLIDAR's every
+// sample is a beam cast as it is sent, from where the robot is then (a rotating laser's timing; the simulated laser
+// sits at the base's centre: corridord's rplidar slot has no mounting offset); a bump in the simulator presses the
+// Create 2's bumper; the simulated battery is the Create 2's.
 #pragma once
 
 #include <filesystem>
@@ -43,11 +46,10 @@ class EmulatedRobot {
 
  private:
   void Run(std::stop_token stop);
-  double RangeAt(double clockwise_deg) const;  // the RPLIDAR's measurement, from the latest sweep
+  double RangeAt(double clockwise_deg);  // the RPLIDAR's measurement, on the simulator's thread
 
   server::Simulator sim_;
-  mutable std::mutex mutex_;  // guards scan_ and bumped_
-  std::shared_ptr<const drivers::LaserScan> scan_;
+  mutable std::mutex mutex_;  // guards bumped_
   bool bumped_ = false;
   std::unique_ptr<Create2Emulator> base_;
   std::unique_ptr<RplidarEmulator> laser_;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace corridor::drivers::sim {
 namespace {
@@ -172,7 +173,8 @@ void SimRobot::Step() {
   const bool frame_due = Due(now, options_.camera.rate_hz, next_frame_ns_) && frame_handler_ && !camera_stopped_;
   const bool sweeping = options_.laser.enabled && options_.laser.sweep && scan_handler_;
   // A rotating laser casts a few beams every step; the moving things are redrawn for it at its rate, as for a scan.
-  const bool scan_due = options_.laser.enabled && Due(now, options_.laser.rate_hz, next_scan_ns_) && scan_handler_;
+  const bool scan_due =
+      options_.laser.enabled && Due(now, options_.laser.rate_hz, next_scan_ns_) && (scan_handler_ || beams_cast_);
   if ((!crowd_.empty() || movers_changed_) && (frame_due || scan_due)) {
     std::lock_guard lock(mutex_);
     caster_.SetMovers(MoversMesh());
@@ -187,7 +189,7 @@ void SimRobot::Step() {
   }
   if (sweeping) {
     SweepLaser(now, pose);
-  } else if (scan_due) {
+  } else if (scan_due && scan_handler_) {
     auto scan = std::make_shared<LaserScan>();
     scan->stamp_ns = now;
     Eigen::Isometry3d world_T_laser = pose.ToIsometry3();
@@ -195,6 +197,20 @@ void SimRobot::Step() {
     CastScan(caster_, world_T_laser, options_.laser, rng_, *scan);
     scan_handler_(std::move(scan));
   }
+}
+
+float SimRobot::CastLaserBeam(double clockwise_rad) {
+  beams_cast_ = true;
+  Eigen::Isometry3d world_T_laser = true_pose().ToIsometry3();
+  world_T_laser.translation().z() = options_.laser.mount_height_m;
+  const Eigen::Vector3f direction =
+      world_T_laser.linear().cast<float>() *
+      Eigen::Vector3f(static_cast<float>(std::cos(-clockwise_rad)), static_cast<float>(std::sin(-clockwise_rad)), 0.0f);
+  const RayHit hit =
+      caster_.Cast(world_T_laser.translation().cast<float>(), direction, static_cast<float>(options_.laser.min_range_m),
+                   static_cast<float>(options_.laser.max_range_m));
+  std::normal_distribution<float> noise(0.0f, static_cast<float>(options_.laser.noise_m));
+  return hit.hit() ? hit.distance + noise(rng_) : std::numeric_limits<float>::infinity();
 }
 
 void SimRobot::SweepLaser(TimeNs now, const nav::Pose2& pose) {

@@ -55,6 +55,12 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   const Clock& clock() const { return clock_; }
   double step_s() const { return 1.0 / options_.physics_rate_hz; }
 
+  // One beam of the laser, `clockwise_rad` clockwise from its forward, measured now from where the robot truly is (with
+  // the laser's noise): a rotating laser emulated beam by beam as it turns. +infinity for no return. From the first
+  // call on, the moving things are redrawn for such beams at the laser's rate. Call on the stepping thread, between
+  // Steps.
+  float CastLaserBeam(double clockwise_rad);
+
   // Ground truth, for the console and for tests. Thread-safe.
   nav::Pose2 true_pose() const;
   std::vector<Pedestrian> pedestrians() const;
@@ -124,6 +130,7 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   TimeNs next_odometry_ns_ = 0;
   TimeNs next_frame_ns_ = 0;
   TimeNs next_scan_ns_ = 0;
+  bool beams_cast_ = false;  // CastLaserBeam is in use
   // A rotating laser's sweep under way (SimLaserOptions::sweep): its beams so far, when it began.
   std::shared_ptr<LaserScan> sweep_;
   int sweep_done_ = 0;

@@ -73,6 +73,42 @@ TEST(SimRobotTest, SameSeedSameRun) {
   EXPECT_GT(truth_a.x_m, 1.3);          // and the commands were obeyed
 }
 
+// A beam cast on its own reads what the whole scan reads at its angle (clockwise from forward is the scan's negative
+// angle), from where the robot is at the moment of the cast, not at its last scan.
+TEST(SimRobotTest, ALaserBeamCastAloneIsTheScansBeamFromWhereTheRobotIsNow) {
+  SimOptions o;
+  o.start = {1.0, 0.75, 0.0};
+  o.camera.rate_hz = 1.0;
+  o.camera.width = 32;
+  o.camera.height = 24;
+  const auto world = Arena();
+  SimRobot robot(world, o);
+  std::shared_ptr<const LaserScan> last;
+  robot.SetScanHandler([&](std::shared_ptr<const LaserScan> scan) { last = std::move(scan); });
+  robot.SetVelocity({0.3, 0.8});
+  for (int i = 0; i < 55; ++i) robot.Step();  // half a step's worth past the last scan: the robot has moved since
+  ASSERT_TRUE(last);
+  const std::shared_ptr<const LaserScan> then = last;
+  // Where the robot is now, scanned whole for reference.
+  LaserScan now;
+  Eigen::Isometry3d world_T_laser = robot.true_pose().ToIsometry3();
+  world_T_laser.translation().z() = o.laser.mount_height_m;
+  std::mt19937 rng(3);
+  CastScan(RayCaster(world->mesh), world_T_laser, o.laser, rng, now);
+  int beams = 0;
+  int off_then = 0;
+  for (std::size_t i = 0; i < now.ranges.size(); ++i) {
+    const double a = now.angle_min_rad + static_cast<double>(i) * now.angle_increment_rad;
+    const float r = robot.CastLaserBeam(-a);
+    if (!std::isfinite(now.ranges[i])) continue;
+    ++beams;
+    EXPECT_NEAR(r, now.ranges[i], 8.0 * o.laser.noise_m) << a;
+    off_then += std::abs(r - then->ranges[i]) > 8.0 * o.laser.noise_m;
+  }
+  EXPECT_GT(beams, 300);
+  EXPECT_GT(off_then, 20);  // the scan before is another view: the beams are not read from it
+}
+
 }  // namespace
 }  // namespace corridor::drivers::sim
 

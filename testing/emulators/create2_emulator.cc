@@ -47,9 +47,19 @@ void Big16(std::vector<std::uint8_t>& out, int value) {
 
 }  // namespace
 
-Create2Emulator::Create2Emulator(std::filesystem::path link) : terminal_(std::move(link)) {
+Create2Emulator::Create2Emulator(std::filesystem::path link, Pace pace) : terminal_(std::move(link)) {
+  if (pace == Pace::kOwner) {
+    last_s_ = -1.0;  // counting starts at the first tick
+    return;
+  }
   last_s_ = NowS();
   thread_ = std::jthread([this](std::stop_token stop) { Serve(stop); });
+}
+
+void Create2Emulator::Tick(double now_s) {
+  std::lock_guard lock(mutex_);
+  if (last_s_ < 0.0) last_s_ = now_s;
+  Step(now_s);
 }
 
 Create2Emulator::~Create2Emulator() {

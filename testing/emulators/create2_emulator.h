@@ -12,16 +12,22 @@
 #include <thread>
 #include <vector>
 
+#include "testing/emulators/device_end.h"
 #include "testing/emulators/pseudo_terminal.h"
 
 namespace corridor::testing {
 
 class Create2Emulator {
  public:
-  explicit Create2Emulator(std::filesystem::path link);
+  // Serves a new pseudo-terminal whose slave `link` points to, paced by `pace` (device_end.h).
+  explicit Create2Emulator(std::filesystem::path link, Pace pace = Pace::kOwnThread);
   ~Create2Emulator();
   Create2Emulator(const Create2Emulator&) = delete;
   Create2Emulator& operator=(const Create2Emulator&) = delete;
+
+  // Pace::kOwner: one turn of the robot at `now_s` of the owner's clock (commands taken, wheels counted since the
+  // turn before, a frame sent when one is due). Thread-safe.
+  void Tick(double now_s);
 
   // The robot's state.
   int mode() const;                         // 0 off, 1 passive, 2 safe, 3 full

@@ -15,6 +15,11 @@ inline double NowS() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
+// Who paces an emulated device: its own thread, on the steady clock (NowS), or its owner, calling the emulator's Tick
+// with the seconds of its own clock (a simulator that steps the world the device measures, so that what the device
+// reports and the world it reports on keep one time however late the simulator runs).
+enum class Pace { kOwnThread, kOwner };
+
 class DeviceEnd {
  public:
   DeviceEnd() = default;

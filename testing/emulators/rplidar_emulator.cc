@@ -29,7 +29,12 @@ std::vector<std::uint8_t> Descriptor(std::uint32_t length, bool repeated, std::u
 
 RplidarEmulator::RplidarEmulator(std::filesystem::path link, RplidarEmulatorOptions options)
     : options_(std::move(options)), terminal_(std::move(link)), health_status_(options_.health_status) {
-  thread_ = std::jthread([this](std::stop_token stop) { Serve(stop); });
+  if (options_.pace == Pace::kOwnThread) thread_ = std::jthread([this](std::stop_token stop) { Serve(stop); });
+}
+
+void RplidarEmulator::Tick(double now_s) {
+  std::lock_guard lock(mutex_);
+  Step(now_s);
 }
 
 RplidarEmulator::~RplidarEmulator() {
@@ -134,24 +139,24 @@ void RplidarEmulator::SendCapsule(int first_index) {
   SendWithFaults(std::move(capsule), 0, 0x01);  // the checksum's lowest bit flipped
 }
 
-void RplidarEmulator::StartScan(bool express) {
+void RplidarEmulator::StartScan(bool express, double now_s) {
   if (health_status_ == 2) return;  // in protection stop: no scan until reset
   Send(express ? Descriptor(84, true, 0x82) : Descriptor(5, true, 0x81));
   scanning_ = true;
   express_ = express;
   first_capsule_ = express;
   next_sample_ = 0;
-  sent_until_s_ = NowS();
+  sent_until_s_ = now_s;
   ++(express ? express_scans_started_ : scans_started_);
 }
 
-void RplidarEmulator::Handle(std::uint8_t command) {
+void RplidarEmulator::Handle(std::uint8_t command, double now_s) {
   switch (command) {
     case 0x25:  // STOP
       scanning_ = false;
       break;
     case 0x82:  // EXPRESS_SCAN (its payload, the working mode, is taken as 0: the legacy capsules)
-      StartScan(true);
+      StartScan(true, now_s);
       break;
     case 0x40:  // RESET: reboots, printing its banner as text, and is healthy again
       scanning_ = false;
@@ -162,7 +167,7 @@ void RplidarEmulator::Handle(std::uint8_t command) {
       break;
     case 0x20:  // SCAN
     case 0x21:  // FORCE_SCAN
-      StartScan(false);
+      StartScan(false, now_s);
       break;
     case 0x50: {  // GET_INFO: model, firmware minor and major, hardware, 16-byte serial
       std::vector<std::uint8_t> info = Descriptor(20, false, 0x04);
@@ -188,13 +193,13 @@ void RplidarEmulator::Serve(std::stop_token stop) {
   while (!stop.stop_requested()) {
     {
       std::lock_guard lock(mutex_);
-      Step();
+      Step(NowS());
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));  // the device's pace; the faults' lock free meanwhile
   }
 }
 
-void RplidarEmulator::Step() {
+void RplidarEmulator::Step(double now_s) {
   std::vector<std::uint8_t> received;
   terminal_.Receive(received, 0);
   if (!silent_) request_.insert(request_.end(), received.begin(), received.end());  // silent: deaf too
@@ -213,16 +218,16 @@ void RplidarEmulator::Step() {
     }
     if (request_.size() < length) break;
     request_.erase(request_.begin(), request_.begin() + static_cast<std::ptrdiff_t>(length));
-    Handle(command);
+    Handle(command, now_s);
   }
   if (!scanning_ || silent_) {
-    sent_until_s_ = NowS();
+    sent_until_s_ = now_s;
     return;
   }
   // The samples due by now, at the device's rate: one by one, or 32 at a time in a capsule.
   const int batch = express_ ? 32 : 1;
   const double period_s = batch / (options_.revolutions_hz * options_.samples);
-  for (int sent = 0; sent_until_s_ + period_s <= NowS() && sent < 1000; ++sent) {
+  for (int sent = 0; sent_until_s_ + period_s <= now_s && sent < 1000; ++sent) {
     if (express_) {
       SendCapsule(next_sample_);
     } else {

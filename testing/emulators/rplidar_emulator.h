@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "testing/emulators/device_end.h"
 #include "testing/emulators/pseudo_terminal.h"
 
 namespace corridor::testing {
@@ -21,9 +22,11 @@ namespace corridor::testing {
 struct RplidarEmulatorOptions {
   double revolutions_hz = 10.0;
   int samples = 360;  // measurements a revolution, evenly spaced
-  // The distance in metres at an angle clockwise from the device's forward (degrees); 0: nothing measured.
+  // The distance in metres at an angle clockwise from the device's forward (degrees), measured as the sample is sent;
+  // 0: nothing measured. Called on the thread that paces the device.
   std::function<double(double)> range = [](double) { return 2.0; };
-  int health_status = 0;  // 0 good, 1 warning, 2 error (until a RESET)
+  Pace pace = Pace::kOwnThread;  // device_end.h
+  int health_status = 0;         // 0 good, 1 warning, 2 error (until a RESET)
 };
 
 class RplidarEmulator {
@@ -33,6 +36,10 @@ class RplidarEmulator {
   ~RplidarEmulator();
   RplidarEmulator(const RplidarEmulator&) = delete;
   RplidarEmulator& operator=(const RplidarEmulator&) = delete;
+
+  // Pace::kOwner: one turn of the device at `now_s` of the owner's clock (requests answered, the samples due since the
+  // turn before sent). Thread-safe.
+  void Tick(double now_s);
 
   // Faults, each played once at the next node or capsule: bytes of noise before it, its check bit cleared (a capsule:
   // its checksum wrong), one of its bytes left out.
@@ -53,10 +60,10 @@ class RplidarEmulator {
 
  private:
   void Serve(std::stop_token stop);
-  void Step();  // one turn of the device: requests answered, the samples due sent
-  void Handle(std::uint8_t command);
+  void Step(double now_s);  // one turn of the device: requests answered, the samples due by now_s sent
+  void Handle(std::uint8_t command, double now_s);
   // SCAN (nodes) or EXPRESS_SCAN (capsules) answered and begun, unless the device is in error.
-  void StartScan(bool express);
+  void StartScan(bool express, double now_s);
   void Send(const std::vector<std::uint8_t>& bytes) { terminal_.Send(bytes); }
   void SendNode(int index);
   void SendCapsule(int first_index);  // samples first_index.. first_index + 31
