@@ -18,6 +18,8 @@ constexpr double kPlausibleSlackCounts = 20.0;
 constexpr int kRestartAfter = 3;
 // While the board boots, the counts are asked for this often.
 constexpr double kBootPollS = 0.2;
+// Asks kept waiting for their answers: a second of them at the usual rate (replies lost to noise leave theirs behind).
+constexpr std::size_t kAsksKept = 32;
 
 std::span<const std::uint8_t> Bytes(std::string_view text) {
   return {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()};
@@ -38,6 +40,7 @@ SerialTextBase::~SerialTextBase() { StopThread(); }
 void SerialTextBase::Session(SerialPort& port, std::stop_token stop) {
   Begin();
   last_counts_.reset();
+  asks_.clear();
   implausible_run_ = 0;
   LineSplitter lines;
   AwaitBoard(port, lines, stop);
@@ -48,7 +51,7 @@ void SerialTextBase::Session(SerialPort& port, std::stop_token stop) {
       port, stop, [&] { return std::max(1e-3, ToSeconds(next_ask_ns - clock_.Now())); },
       [&](std::span<const std::uint8_t> bytes, bool) {
         Handle(port, lines, bytes);
-        if (Due(next_ask_ns, clock_.Now(), options_.poll_period_s)) port.Write(Bytes(kReadEncoders));
+        if (Due(next_ask_ns, clock_.Now(), options_.poll_period_s)) Ask(port);
         return Watch(port, Bytes(stop_wheels), "encoder reply");
       });
   port.Write(Bytes(stop_wheels));
@@ -65,18 +68,18 @@ void SerialTextBase::AwaitBoard(SerialPort& port, LineSplitter& lines, std::stop
           fmt::format("no answer to 'e' within {:.1f} s (a ROSArduinoBridge-class board at {} baud?)", options_.boot_s,
                       options_.baud_rate));
     }
-    port.Write(Bytes(kReadEncoders));
+    Ask(port);
     const std::size_t n = port.Read(buffer, std::min(kBootPollS, ToSeconds(give_up - now)));
     got.clear();
     lines.Push(std::span<const std::uint8_t>(buffer.data(), n), got);
     for (const std::string& line : got) {
       if (const std::optional<EncoderCounts> counts = ParseEncoders(line)) {
         // Where counting starts; the stream is watched from here on.
+        const TimeNs at = clock_.Now();
         last_counts_ = counts;
-        last_counts_ns_ = clock_.Now();
-        Reported(last_counts_ns_);
-        odometry_.Update(last_counts_ns_, static_cast<std::uint16_t>(counts->left),
-                         static_cast<std::uint16_t>(counts->right));
+        last_counts_asked_ns_ = Answered(at);
+        Reported(at);
+        odometry_.Update(at, static_cast<std::uint16_t>(counts->left), static_cast<std::uint16_t>(counts->right));
         return;
       }
     }
@@ -98,12 +101,26 @@ void SerialTextBase::Handle(SerialPort& port, LineSplitter& lines, std::span<con
   status_.bad_lines += bad;
 }
 
+void SerialTextBase::Ask(SerialPort& port) {
+  port.Write(Bytes(kReadEncoders));
+  asks_.push_back(clock_.Now());
+  if (asks_.size() > kAsksKept) asks_.pop_front();
+}
+
+TimeNs SerialTextBase::Answered(TimeNs now) {
+  if (asks_.empty()) return now;
+  const TimeNs asked = asks_.front();
+  asks_.pop_front();
+  return asked;
+}
+
 void SerialTextBase::Take(SerialPort& port, const EncoderCounts& counts) {
   const TimeNs now = clock_.Now();
-  // Believable only if neither wheel turned further than it can since the counts before.
+  const TimeNs asked = Answered(now);
+  // Believable only if neither wheel turned further than it can since the counts before were asked for.
   const double top_mps = options_.max_linear_mps + options_.max_angular_rps * 0.5 * options_.wheels.track_m;
-  const double limit =
-      kPlausibleSpeedFactor * top_mps * ToSeconds(now - last_counts_ns_) * CountsPerMetre() + kPlausibleSlackCounts;
+  const double limit = kPlausibleSpeedFactor * top_mps * ToSeconds(now - last_counts_asked_ns_) * CountsPerMetre() +
+                       kPlausibleSlackCounts;
   const bool believable = !last_counts_ || (std::abs(CountsChange(last_counts_->left, counts.left)) <= limit &&
                                             std::abs(CountsChange(last_counts_->right, counts.right)) <= limit);
   if (!believable && ++implausible_run_ < kRestartAfter) {
@@ -119,7 +136,7 @@ void SerialTextBase::Take(SerialPort& port, const EncoderCounts& counts) {
   }
   implausible_run_ = 0;
   last_counts_ = counts;
-  last_counts_ns_ = now;
+  last_counts_asked_ns_ = asked;
   Reported(now);
   // The low 16 bits: the odometry's wrap-around arithmetic holds for any count width.
   odometry_.Update(now, static_cast<std::uint16_t>(counts.left), static_cast<std::uint16_t>(counts.right));

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <optional>
 
 #include "drivers/serial_text/serial_text_options.h"
@@ -40,13 +41,20 @@ class SerialTextBase final : public SerialBase<SerialTextOptions, SerialTextStat
   // What came: counts taken, the rest counted as bad.
   void Handle(SerialPort& port, LineSplitter& lines, std::span<const std::uint8_t> bytes);
   void Take(SerialPort& port, const EncoderCounts& counts);
+  // Asks for the counts ('e'), noting when.
+  void Ask(SerialPort& port);
+  // When the ask a reply answers was sent (replies come in the order of the asks; now when none is outstanding).
+  TimeNs Answered(TimeNs now);
   double CountsPerMetre() const;
   // Counts a wheel at `mps` turns in one PID frame.
   int CountsPerFrame(double mps) const;
 
-  // The driver's thread only.
+  // The session's only (its thread, or the stream's passes).
   std::optional<EncoderCounts> last_counts_;
-  TimeNs last_counts_ns_ = 0;
+  // When the ask that the last believed counts answered was sent: the board measured them no earlier, so the wheels
+  // turned for at most the time from then to a reply's arrival, however late the replies are taken.
+  TimeNs last_counts_asked_ns_ = 0;
+  std::deque<TimeNs> asks_;  // when each ask not yet answered was sent, oldest first
   int implausible_run_ = 0;
 };
 

@@ -14,12 +14,14 @@
 #include "testing/emulators/serial_text_emulator.h"
 #include "testing/eventually.h"
 #include "testing/latest_reports.h"
+#include "testing/pumping.h"
 
 namespace corridor::drivers::serial_text {
 namespace {
 
 using corridor::testing::Eventually;
 using corridor::testing::LatestReports;
+using corridor::testing::Pumping;
 using corridor::testing::SerialTextEmulator;
 using namespace std::chrono_literals;
 
@@ -70,6 +72,25 @@ TEST(SerialTextBaseTest, ItWaitsForTheBoardToBootDrivesTheWheelsAndItsOdometryFo
   EXPECT_EQ(status.bad_lines, 0u);
   EXPECT_EQ(status.implausible, 0u);
   EXPECT_EQ(board.invalid_commands(), 0);
+}
+
+// A control loop that is late now and then takes one reply late and the next at once: the counts between them cover
+// the time between their questions, not between their takings, and are believed.
+TEST(SerialTextBaseTest, RepliesTakenLateAndThenAtOnceAreBelieved) {
+  const std::filesystem::path link = Link("late");
+  SerialTextEmulator board(link);
+  SteadyClock clock;
+  SerialTextBase base(OptionsFor(link), clock);
+  LatestReports latest;
+  latest.Connect(base);
+  ASSERT_TRUE(Eventually([&] { return base.status().state == LinkState::kRunning; }, 3000ms))
+      << base.status().last_error;
+  Pumping pump(base, {100ms, 2ms});
+  base.SetVelocity({0.2, 0.0});
+  ASSERT_TRUE(Eventually([&] { return latest.Odometry().odom_T_base.x_m > 0.3; }, 5000ms));
+  EXPECT_EQ(base.status().implausible, 0u);
+  EXPECT_EQ(base.status().restarts, 0u);
+  EXPECT_NEAR(latest.Odometry().velocity.linear_mps, 0.2, 0.05);
 }
 
 TEST(SerialTextBaseTest, WhenCommandsStopComingTheWheelsStop) {
