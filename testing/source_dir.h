@@ -12,4 +12,7 @@ inline std::filesystem::path SourceDir() {
   return dir ? std::filesystem::path(dir) : std::filesystem::current_path();
 }
 
+// The shipped configuration, config/corridor.yaml (the simulated robot in the default world).
+inline std::filesystem::path ShippedConfig() { return SourceDir() / "config/corridor.yaml"; }
+
 }  // namespace corridor::testing

@@ -36,7 +36,7 @@ std::string DocumentedName(server::auth::Access access) {
 class ApiRoutesTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    testing::LockstepRobot robot(testing::SourceDir() / "config/corridor.yaml");
+    testing::LockstepRobot robot(testing::ShippedConfig());
     for (const server::Router::RouteInfo& route : robot.graph().api().Routes()) {
       std::string method(boost::beast::http::to_string(route.method));
       std::transform(method.begin(), method.end(), method.begin(), [](unsigned char c) { return std::tolower(c); });

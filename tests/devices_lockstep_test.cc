@@ -18,8 +18,7 @@ namespace {
 
 using json = nlohmann::json;
 using testing::LockstepRobot;
-
-std::filesystem::path DefaultConfig() { return testing::SourceDir() / "config/corridor.yaml"; }
+using testing::ShippedConfig;
 
 json Device(const json& health, const std::string& name) {
   for (const json& d : health["devices"]) {
@@ -29,7 +28,7 @@ json Device(const json& health, const std::string& name) {
 }
 
 TEST(DevicesLockstep, TheSimulatorsDevicesAreOkAtTheirRatesAndAStoppedCameraIsStale) {
-  LockstepRobot robot(DefaultConfig());
+  LockstepRobot robot(ShippedConfig());
   robot.StepFor(3.0);
   const LockstepRobot::Reply health = robot.Call("GET", "/api/v1/devices");
   ASSERT_EQ(health.status, 200) << health.body.dump();
@@ -80,14 +79,14 @@ TEST(DevicesLockstep, TheSimulatorsDevicesAreOkAtTheirRatesAndAStoppedCameraIsSt
 }
 
 TEST(DevicesLockstep, ARobotWithoutALaserHasNoScanToGive) {
-  LockstepRobot robot(DefaultConfig(), [](server::Config& c) { c.devices.laser.driver = server::DeviceDriver::kNone; });
+  LockstepRobot robot(ShippedConfig(), [](server::Config& c) { c.devices.laser.driver = server::DeviceDriver::kNone; });
   robot.StepFor(1.0);
   EXPECT_EQ(robot.Call("GET", "/api/v1/laser/scan").status, 404);
   EXPECT_EQ(robot.Call("GET", "/api/v1/devices").body["devices"].size(), 2u);
 }
 
 TEST(DevicesLockstep, ARobotWithoutACameraStopsShortOfAWallOnItsLasersLanes) {
-  LockstepRobot robot(DefaultConfig(),
+  LockstepRobot robot(ShippedConfig(),
                       [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
   robot.StepFor(1.0);
   const json devices = robot.Call("GET", "/api/v1/devices").body;
@@ -123,7 +122,7 @@ TEST(DevicesLockstep, ARobotWithoutACameraStopsShortOfAWallOnItsLasersLanes) {
 // What is plugged in: this machine's serial ports, video nodes and OpenNI2 devices (here, none of any: the lists are
 // empty, and answer all the same).
 TEST(DevicesLockstep, WhatIsPluggedInIsListed) {
-  LockstepRobot robot(DefaultConfig());
+  LockstepRobot robot(ShippedConfig());
   const LockstepRobot::Reply hardware = robot.Call("GET", "/api/v1/devices/hardware");
   ASSERT_EQ(hardware.status, 200) << hardware.body.dump();
   for (const char* kind : {"serial", "video", "openni2"}) {
@@ -135,7 +134,7 @@ TEST(DevicesLockstep, WhatIsPluggedInIsListed) {
 // The camera's mounting measured from the floor in its latest frame: the simulator's camera sits 0.3 m up, tilted
 // 10 degrees down, and the measurement says so, with the configuration's keys to keep it.
 TEST(DevicesLockstep, TheCamerasHeightAndTiltAreMeasuredFromTheFloor) {
-  LockstepRobot robot(DefaultConfig());
+  LockstepRobot robot(ShippedConfig());
   robot.StepFor(0.5);
   const LockstepRobot::Reply fit = robot.Call("POST", "/api/v1/devices/camera/calibration", json::object());
   ASSERT_EQ(fit.status, 200) << fit.body.dump();
@@ -145,7 +144,7 @@ TEST(DevicesLockstep, TheCamerasHeightAndTiltAreMeasuredFromTheFloor) {
   EXPECT_NEAR(fit.body["configured"]["tilt_deg"].get<double>(), 10.0, 1e-6);
   EXPECT_NEAR(fit.body["patch"]["sim"]["camera"]["mount_height_m"].get<double>(), 0.3, 0.02);
   // A robot without a camera has nothing to measure.
-  LockstepRobot blind(DefaultConfig(),
+  LockstepRobot blind(ShippedConfig(),
                       [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
   EXPECT_EQ(blind.Call("POST", "/api/v1/devices/camera/calibration", json::object()).status, 404);
 }
@@ -153,7 +152,7 @@ TEST(DevicesLockstep, TheCamerasHeightAndTiltAreMeasuredFromTheFloor) {
 // The laser's yaw against the camera: the configuration says the simulator's laser is turned 4 degrees, it faces
 // forward, and laying its scan on the camera's view says so.
 TEST(DevicesLockstep, TheLasersYawIsMeasuredAgainstTheCamera) {
-  LockstepRobot robot(DefaultConfig(), [](server::Config& c) { c.sim.robot.laser.mount_yaw_deg = 4.0; });
+  LockstepRobot robot(ShippedConfig(), [](server::Config& c) { c.sim.robot.laser.mount_yaw_deg = 4.0; });
   robot.StepFor(0.5);
   const LockstepRobot::Reply fit = robot.Call("POST", "/api/v1/devices/laser/calibration", json::object());
   ASSERT_EQ(fit.status, 200) << fit.body.dump();
@@ -171,7 +170,7 @@ TEST(DevicesLockstep, TheLasersYawIsMeasuredAgainstTheCamera) {
       },
       2.0));
   EXPECT_EQ(robot.Call("POST", "/api/v1/devices/laser/calibration", json::object()).status, 409);
-  LockstepRobot blind(DefaultConfig(),
+  LockstepRobot blind(ShippedConfig(),
                       [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
   blind.StepFor(0.5);
   EXPECT_EQ(blind.Call("POST", "/api/v1/devices/laser/calibration", json::object()).status, 404);
@@ -180,7 +179,7 @@ TEST(DevicesLockstep, TheLasersYawIsMeasuredAgainstTheCamera) {
 // The wheels: the simulator's odometry counts with a wheel diameter 4 % too large and a track 3 % too small. A straight
 // run towards the wall ahead measures the diameter, a turn on the spot the track, and the patches undo both errors.
 TEST(DevicesLockstep, TheWheelsDiameterAndTrackAreMeasuredFromAStraightRunAndATurn) {
-  LockstepRobot robot(DefaultConfig(), [](server::Config& c) {
+  LockstepRobot robot(ShippedConfig(), [](server::Config& c) {
     c.sim.robot.base.wheel_diameter_error = 1.04;
     c.sim.robot.base.track_error = 0.97;
   });

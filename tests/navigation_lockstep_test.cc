@@ -24,9 +24,7 @@ namespace {
 
 using nlohmann::json;
 using testing::LockstepRobot;
-using testing::SourceDir;
-
-std::filesystem::path DefaultConfig() { return SourceDir() / "config/corridor.yaml"; }
+using testing::ShippedConfig;
 
 // The simulator's truth kept by stamp, to compare the robot's pose with the truth when that pose was made.
 class Truth {
@@ -96,7 +94,7 @@ MissionRun RunMission(LockstepRobot& robot, const json& waypoints, double max_s)
 // 0.8 cm RMSE over 241 m). Issue 36: in a real-time daemon this check depended on the machine's load, because the
 // error was measured between a pose and a truth read at different moments.
 TEST(NavigationLockstep, LocalizationFollowsAMissionWithinCentimetresOfTheTruth) {
-  LockstepRobot robot(DefaultConfig());
+  LockstepRobot robot(ShippedConfig());
   ASSERT_TRUE(robot.StepUntil([&] { return Health(robot) == "ok"; }, 10.0)) << "localization never ok";
   const MissionRun run = RunMission(
       robot, json::array({{{"x", 24.4}, {"y", 26.5}}, {{"x", 25.0}, {"y", 27.2}}, {{"x", 24.4}, {"y", 24.6}}}), 120.0);
@@ -107,7 +105,7 @@ TEST(NavigationLockstep, LocalizationFollowsAMissionWithinCentimetresOfTheTruth)
 
 // The same from the depth camera's scans alone (no laser): within 10 cm and 4 degrees.
 TEST(NavigationLockstep, LocalizationFromTheDepthCameraFollowsAMission) {
-  LockstepRobot robot(DefaultConfig(), [](server::Config& c) { c.devices.laser.driver = server::DeviceDriver::kNone; });
+  LockstepRobot robot(ShippedConfig(), [](server::Config& c) { c.devices.laser.driver = server::DeviceDriver::kNone; });
   ASSERT_TRUE(robot.StepUntil([&] { return Health(robot) == "ok"; }, 10.0)) << "localization never ok";
   const MissionRun run = RunMission(robot, json::array({{{"x", 24.4}, {"y", 26.5}}, {{"x", 25.0}, {"y", 27.2}}}), 90.0);
   EXPECT_EQ(run.status, "succeeded");
@@ -120,7 +118,7 @@ TEST(NavigationLockstep, LocalizationFromTheDepthCameraFollowsAMission) {
 // sees walls right beside the robot that a camera, blind nearer than half a metre, does not, so a goal the map puts
 // within the gate's margin of a wall is reached by the camera robot and missed by 0.15 m by the laser robot.)
 TEST(NavigationLockstep, ARobotWithoutACameraRunsAMissionOnItsLasersLanes) {
-  LockstepRobot robot(DefaultConfig(),
+  LockstepRobot robot(ShippedConfig(),
                       [](server::Config& c) { c.devices.camera.driver = server::DeviceDriver::kNone; });
   ASSERT_TRUE(robot.StepUntil([&] { return Health(robot) == "ok"; }, 10.0)) << "localization never ok";
   const MissionRun run = RunMission(
@@ -133,7 +131,7 @@ TEST(NavigationLockstep, ARobotWithoutACameraRunsAMissionOnItsLasersLanes) {
 // The same with a rotating laser, as an RPLIDAR measures (each beam as the laser comes round to it, over 0.1 s, while
 // the robot turns at up to 1.5 rad/s at the waypoints): its sweeps undone by the odometry, it stays within 5 cm.
 TEST(NavigationLockstep, ARobotWithARotatingLaserStaysLocalizedThroughItsTurns) {
-  LockstepRobot robot(DefaultConfig(), [](server::Config& c) {
+  LockstepRobot robot(ShippedConfig(), [](server::Config& c) {
     c.devices.camera.driver = server::DeviceDriver::kNone;
     c.sim.robot.laser.sweep = true;
   });
@@ -153,7 +151,7 @@ TEST(NavigationLockstep, ARobotWithARotatingLaserStaysLocalizedThroughItsTurns) 
 TEST(NavigationLockstep, AMissionFromAnIslandAmongTheMapsSpecksFindsItsWayOutAndGoes) {
   const json goal = {{"x", 18.0}, {"y", 26.0}};
   for (const json& waypoints : {json::array({goal}), json::array({{{"x", 22.0}, {"y", 24.3}}, goal})}) {
-    LockstepRobot robot(DefaultConfig(), [](server::Config& c) { c.sim.robot.start = {24.0, 25.5, 3.1}; });
+    LockstepRobot robot(ShippedConfig(), [](server::Config& c) { c.sim.robot.start = {24.0, 25.5, 3.1}; });
     ASSERT_TRUE(robot.StepUntil([&] { return Health(robot) == "ok"; }, 10.0)) << "localization never ok";
     const LockstepRobot::Reply preview = robot.Call("POST", "/api/v1/plan", {{"goal", waypoints[0]}});
     ASSERT_EQ(preview.status, 200) << preview.body.dump();
@@ -177,7 +175,7 @@ TEST(NavigationLockstep, AMissionFromAnIslandAmongTheMapsSpecksFindsItsWayOutAnd
 // 0.9 m away round a corner of the path beside the same specks, without the loop the follower used to drive when its
 // arc cut the corner (2.9 m).
 TEST(NavigationLockstep, AGoalBehindTheSpecksIsReachedTheLongWayRoundAndTheNextWithoutALoop) {
-  LockstepRobot robot(DefaultConfig());
+  LockstepRobot robot(ShippedConfig());
   ASSERT_TRUE(robot.StepUntil([&] { return Health(robot) == "ok"; }, 10.0)) << "localization never ok";
   bool bumped = false;
   std::optional<nav::Pose2> in_band;
@@ -245,7 +243,7 @@ TEST(NavigationLockstep, AMissionThatCannotGoOnEndsWithTheReasonAndSaysWhatItWai
 // Issue 36: "Set pose" said "pose set" and the estimate jumped back within 1.5 s. A pose near the truth, given while
 // the robot stands still, settles there without it moving; a pose the scans contradict is taken, and the reply says so.
 TEST(NavigationLockstep, APoseGivenStandingStillSettlesAndOneTheScansContradictIsSaidSo) {
-  LockstepRobot robot(DefaultConfig());
+  LockstepRobot robot(ShippedConfig());
   ASSERT_TRUE(robot.StepUntil([&] { return Health(robot) == "ok"; }, 10.0)) << "localization never ok";
   const nav::Pose2 truth = robot.graph().bus().Get(server::topics::kSimTruePose).latest()->pose;
   const json near = {{"x", truth.x_m + 0.15}, {"y", truth.y_m - 0.1}, {"yaw", truth.yaw_rad + 0.1}, {"sigma_m", 0.3}};

@@ -8,7 +8,7 @@ namespace corridor::nav {
 namespace {
 
 // A 10 x 10 m room at 0.1 m: free inside, a wall along x = 5, a keep-out zone over x 7..9, y 7..9.
-OccupancyGrid Room() {
+OccupancyGrid WalledRoom() {
   OccupancyGrid grid(100, 100, 0.1, Pose2{}, kFreeCell);
   for (int y = 0; y < 100; ++y) grid.at({50, y}) = kOccupiedCell;
   return grid;
@@ -16,7 +16,7 @@ OccupancyGrid Room() {
 
 Costmap RoomCostmap() {
   const Zone keep_out{"z1", "store room", ZoneKind::kKeepOut, {{7, 7}, {9, 7}, {9, 9}, {7, 9}}, 0.0};
-  return Costmap(Room(), std::vector<Zone>{keep_out}, CostmapOptions{});
+  return Costmap(WalledRoom(), std::vector<Zone>{keep_out}, CostmapOptions{});
 }
 
 MissionGoal At(double x, double y, const std::string& floor = "") {
@@ -27,7 +27,7 @@ MissionGoal At(double x, double y, const std::string& floor = "") {
 }
 
 // Floors L1 (this map, "room") and L2 ("upper": the same room), one lift between them.
-Building TwoFloors() {
+Building RoomFloors() {
   Building b;
   b.floors = {{"L1", "room"}, {"L2", "upper"}, {"L3", "roof"}};
   Lift lift;
@@ -40,7 +40,7 @@ Building TwoFloors() {
 
 struct Check {
   Costmap costmap = RoomCostmap();
-  Building building = TwoFloors();
+  Building building = RoomFloors();
   bool lifts = true;
   GoalCheckResult operator()(std::vector<MissionGoal> goals) const {
     GoalCheckInputs in;
@@ -48,7 +48,7 @@ struct Check {
     in.building = &building;
     in.map = "room";
     in.grid_of = [](const std::string& map) {
-      return map == "upper" ? std::make_shared<const OccupancyGrid>(Room()) : nullptr;
+      return map == "upper" ? std::make_shared<const OccupancyGrid>(WalledRoom()) : nullptr;
     };
     in.lift_controller = lifts;
     return CheckMissionGoals(std::move(goals), in);

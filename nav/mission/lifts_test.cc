@@ -9,7 +9,7 @@ namespace {
 
 // Two floors whose maps are turned a quarter turn to each other. On L1 the lift's door spans y 0..1 at x = 2 with the
 // lobby at (1, 0.5) facing +x; on L2 it spans x 5..6 at y = 3 with the lobby at (5.5, 2) facing +y.
-Building TwoFloors() {
+Building TurnedFloors() {
   Building b;
   b.floors = {{"L1", "ground"}, {"L2", "first"}, {"L3", "roof"}};
   Lift lift;
@@ -36,7 +36,7 @@ MissionGoal GoalOn(const std::string& floor, double x, double y) {
 }
 
 TEST(LiftsTest, AGoalOnAnotherFloorGoesThroughALiftServingBoth) {
-  const Building b = TwoFloors();
+  const Building b = TurnedFloors();
   EXPECT_NO_THROW(Validate(b));
   const auto goals = ThroughLifts(b, "L1", {GoalOn("", 0.5, 0.5), GoalOn("L2", 7.0, 7.0), GoalOn("", 8.0, 7.0)});
   ASSERT_EQ(goals.size(), 4u);
@@ -60,7 +60,7 @@ TEST(LiftsTest, AGoalOnAnotherFloorGoesThroughALiftServingBoth) {
 }
 
 TEST(LiftsTest, AStopDrawnOnAFloorJoinsItsLiftOrMakesOne) {
-  Building b = TwoFloors();
+  Building b = TurnedFloors();
   PutStop(b, "west", {"L3", {"", {0.0, 0.0}, {1.0, 0.0}}, {0.5, -0.8, M_PI / 2}});
   ASSERT_EQ(b.lifts.size(), 2u);
   EXPECT_EQ(b.lifts[1].stops[0].door.id, "west@L3");
@@ -74,7 +74,7 @@ TEST(LiftsTest, AStopDrawnOnAFloorJoinsItsLiftOrMakesOne) {
 }
 
 TEST(LiftsTest, TheCarIsBehindTheDoorFacingIn) {
-  const Building b = TwoFloors();
+  const Building b = TurnedFloors();
   const Lift& lift = b.lifts[0];
   const Pose2 car1 = CarPose(lift, lift.stops[0]);
   EXPECT_NEAR(car1.x_m, 2.7, 1e-12);
@@ -88,7 +88,7 @@ TEST(LiftsTest, TheCarIsBehindTheDoorFacingIn) {
 
 // The robot driven by the ride's twists (odometry = map pose on L1, exact), the lift answering like a building's.
 struct RideRun {
-  Building building = TwoFloors();
+  Building building = TurnedFloors();
   LiftRide ride{LiftOptions{}, building.lifts[0], "L1", "L2", 0.0};
   Pose2 pose{1.0, 0.5, 0.0};  // map frame of the floor the robot is on
   Pose2 odom{1.0, 0.5, 0.0};
@@ -186,7 +186,7 @@ TEST(LiftsTest, ARefusalATimeoutOrAnOccupiedCarEndTheRideAndReleaseTheLift) {
     EXPECT_NE(step.error.find("stayed occupied"), std::string::npos);
     EXPECT_NEAR(run.pose.x_m, 1.0, 1e-9);  // never moved
   }
-  EXPECT_THROW(LiftRide(LiftOptions{}, TwoFloors().lifts[0], "L1", "L3", 0.0), std::invalid_argument);
+  EXPECT_THROW(LiftRide(LiftOptions{}, TurnedFloors().lifts[0], "L1", "L3", 0.0), std::invalid_argument);
   EXPECT_THROW(Validate(LiftOptions{.speed_mps = 0.0}), std::invalid_argument);
 }
 

@@ -9,7 +9,7 @@ namespace corridor::nav {
 namespace {
 
 // An empty 10 x 10 m room at 5 cm.
-std::shared_ptr<const Costmap> Room(const std::vector<Zone>& zones = {}) {
+std::shared_ptr<const Costmap> OpenRoom(const std::vector<Zone>& zones = {}) {
   return std::make_shared<const Costmap>(OccupancyGrid(200, 200, 0.05, Pose2{}, kFreeCell), zones, CostmapOptions{});
 }
 
@@ -117,7 +117,7 @@ class Drive {
 TEST(MissionRunnerTest, PlansItsLegAndDrivesItToTheGoal) {
   MissionRunner runner(MissionRunnerOptions{});
   EXPECT_TRUE(runner.Start(ToGoal("m1", 6.0, 5.0)).persist);
-  Drive drive(runner, Room(), {2.0, 5.0, 0.0});
+  Drive drive(runner, OpenRoom(), {2.0, 5.0, 0.0});
   ASSERT_TRUE(drive.For(60.0));
   const MissionSnapshot s = runner.Snapshot();
   EXPECT_EQ(s.status, MissionStatus::kSucceeded);
@@ -132,7 +132,7 @@ TEST(MissionRunnerTest, ExtendedWhileUnderWayItDrivesOnAndAGoalsSpeedLimitHoldsO
   first.pose = {4.0, 5.0, 0.0};
   first.max_speed_mps = 0.2;
   runner.Start(Mission("m1", {first}, std::numeric_limits<double>::infinity()));
-  Drive drive(runner, Room(), {2.0, 5.0, 0.0});
+  Drive drive(runner, OpenRoom(), {2.0, 5.0, 0.0});
   double fastest = 0.0;
   for (int i = 0; i < 40; ++i) {
     drive.For(0.1);
@@ -156,7 +156,7 @@ TEST(MissionRunnerTest, ADoorOnThePathIsAskedForWaitedForAndReleasedOncePassed) 
   MissionRunner runner(MissionRunnerOptions{});
   runner.SetDoors({{"d1", {5.0, 4.0}, {5.0, 6.0}}});
   runner.Start(ToGoal("m1", 8.0, 5.0));
-  Drive drive(runner, Room(), {2.0, 5.0, 0.0});
+  Drive drive(runner, OpenRoom(), {2.0, 5.0, 0.0});
   ASSERT_FALSE(drive.For(15.0));
   // Asked for once; held short of its line while it is closed.
   ASSERT_EQ(drive.requests_.size(), 1u);
@@ -177,7 +177,7 @@ TEST(MissionRunnerTest, ADoorThatRefusesEndsTheMissionBeforeTheRobotReachesIt) {
   MissionRunner runner(MissionRunnerOptions{});
   runner.SetDoors({{"d1", {5.0, 4.0}, {5.0, 6.0}}});
   runner.Start(ToGoal("m1", 8.0, 5.0));
-  Drive drive(runner, Room(), {2.0, 5.0, 0.0});
+  Drive drive(runner, OpenRoom(), {2.0, 5.0, 0.0});
   drive.doors_["d1"] = {DoorStatus::kRefused, "locked for the night"};
   ASSERT_TRUE(drive.For(30.0));
   EXPECT_EQ(runner.Snapshot().status, MissionStatus::kFailed);
@@ -191,7 +191,7 @@ TEST(MissionRunnerTest, ADoorThatRefusesEndsTheMissionBeforeTheRobotReachesIt) {
 TEST(MissionRunnerTest, LostLocalizationPausesTheMissionUntilTheRobotIsFoundAgain) {
   MissionRunner runner(MissionRunnerOptions{});
   runner.Start(ToGoal("m1", 6.0, 5.0));
-  Drive drive(runner, Room(), {2.0, 5.0, 0.0});
+  Drive drive(runner, OpenRoom(), {2.0, 5.0, 0.0});
   ASSERT_FALSE(drive.For(2.0));
   const MissionUpdate lost = runner.SetLocalized(false);
   EXPECT_EQ(runner.Snapshot().status, MissionStatus::kPaused);
@@ -220,7 +220,7 @@ TEST(MissionRunnerTest, NoWayFailsTheMissionWithThePlannersReason) {
   runner.Start(ToGoal("m1", 6.0, 5.0));
   // A keep-out zone round the goal.
   const Zone fence{"z", "fence", ZoneKind::kKeepOut, {{5.0, 4.0}, {7.0, 4.0}, {7.0, 6.0}, {5.0, 6.0}}};
-  Drive drive(runner, Room({fence}), {2.0, 5.0, 0.0});
+  Drive drive(runner, OpenRoom({fence}), {2.0, 5.0, 0.0});
   ASSERT_TRUE(drive.For(1.0));
   EXPECT_EQ(runner.Snapshot().status, MissionStatus::kFailed);
   EXPECT_FALSE(runner.Snapshot().error.empty());
@@ -230,7 +230,7 @@ TEST(MissionRunnerTest, NoWayFailsTheMissionWithThePlannersReason) {
 TEST(MissionRunnerTest, WithoutDepthFramesItHoldsStillAndSaysSo) {
   MissionRunner runner(MissionRunnerOptions{});
   runner.Start(ToGoal("m1", 6.0, 5.0));
-  Drive drive(runner, Room(), {2.0, 5.0, 0.0});
+  Drive drive(runner, OpenRoom(), {2.0, 5.0, 0.0});
   drive.frames_ = false;
   EXPECT_FALSE(drive.For(2.0));
   EXPECT_EQ(runner.Snapshot().policy, PolicyMode::kWaitingForDepth);
@@ -245,7 +245,7 @@ TEST(MissionRunnerTest, WithoutDepthFramesItHoldsStillAndSaysSo) {
 TEST(MissionRunnerTest, AWallDrawnAcrossThePathMakesItPlanAgainAroundIt) {
   MissionRunner runner(MissionRunnerOptions{});
   runner.Start(ToGoal("m1", 8.0, 5.0));
-  Drive drive(runner, Room(), {1.0, 5.0, 0.0});
+  Drive drive(runner, OpenRoom(), {1.0, 5.0, 0.0});
   ASSERT_FALSE(drive.For(1.0));
   ASSERT_EQ(drive.plans_, 1);
   // A wall across the way at x = 5 m from y = 3 to 7 m: the map's version changes.
@@ -263,7 +263,7 @@ TEST(MissionRunnerTest, WherePeopleWalkItTakesAPathThatGoesAnotherWayAndKeepsOne
   options.navigator.reroute_s = 1.0;
   MissionRunner runner(options);
   runner.Start(ToGoal("m1", 8.0, 5.0));
-  Drive drive(runner, Room(), {1.0, 5.0, 0.0});
+  Drive drive(runner, OpenRoom(), {1.0, 5.0, 0.0});
   ASSERT_FALSE(drive.For(0.5));
   const auto farthest_off_the_line = [&] {
     double farthest = 0.0;
@@ -297,7 +297,7 @@ TEST(MissionRunnerTest, StartingAMissionCancelsTheOneInProgressAndStaleAnswersAr
   EXPECT_EQ(cancelled->id, "m1");
   EXPECT_EQ(cancelled->status, MissionStatus::kCanceled);
   // The answer to m1's query arrives after m2 started: it is not m2's path.
-  const auto room = Room();
+  const auto room = OpenRoom();
   const PlanResult m1_path = PlanPath(*room, first.plan->start, first.plan->goal);
   EXPECT_FALSE(runner.OnPlan(*first.plan, m1_path, room, 1, 0.2).persist);
   EXPECT_TRUE(runner.Snapshot().path.empty());
@@ -314,7 +314,7 @@ TEST(MissionRunnerTest, TheVoxelReactivePolicyDrivesTheSameMissionsOnObstaclePoi
   options.policy = LocalPolicyKind::kVoxelReactive;
   MissionRunner runner(options);
   runner.Start(ToGoal("m1", 6.0, 5.0));
-  Drive drive(runner, Room(), {2.0, 5.0, 0.0});
+  Drive drive(runner, OpenRoom(), {2.0, 5.0, 0.0});
   drive.For(2.0);
   EXPECT_EQ(runner.Snapshot().policy, PolicyMode::kReactive);
   drive.For(20.0);
@@ -357,7 +357,7 @@ TEST(MissionRunnerTest, ACancelWhileTheCarTravelsEndsOutOfTheCarOnTheFloorItArri
   MissionRunner runner(MissionRunnerOptions{});
   runner.SetBuilding(OneLift());
   runner.Start(RideFromL1ToL2("m1"));
-  Drive drive(runner, Room(), {1.0, 0.5, 0.0});
+  Drive drive(runner, OpenRoom(), {1.0, 0.5, 0.0});
   drive.lifts_["east"] = OpenAt("L1");
   for (int i = 0; i < 600 && runner.Snapshot().lift != "riding"; ++i) drive.For(0.05);
   ASSERT_EQ(runner.Snapshot().lift, "riding");
@@ -392,7 +392,7 @@ TEST(MissionRunnerTest, ACancelWhileBoardingBacksOutToTheLobby) {
   MissionRunner runner(MissionRunnerOptions{});
   runner.SetBuilding(OneLift());
   runner.Start(RideFromL1ToL2("m1"));
-  Drive drive(runner, Room(), {1.0, 0.5, 0.0});
+  Drive drive(runner, OpenRoom(), {1.0, 0.5, 0.0});
   drive.lifts_["east"] = OpenAt("L1");
   for (int i = 0; i < 600 && drive.pose_.x_m < 1.8; ++i) drive.For(0.05);
   ASSERT_EQ(runner.Snapshot().lift, "boarding");

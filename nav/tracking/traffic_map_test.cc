@@ -11,7 +11,7 @@ namespace corridor::nav {
 namespace {
 
 // An empty 10 m room with walls round it.
-OccupancyGrid Room() {
+OccupancyGrid TrafficRoom() {
   OccupancyGrid grid(200, 200, 0.05, Pose2{0.0, 0.0, 0.0}, kFreeCell);
   for (int i = 0; i < 200; ++i) {
     for (const int j : {0, 199}) {
@@ -54,7 +54,7 @@ std::pair<double, double> Beside(const Plan& plan) {
 }
 
 TEST(TrafficMapTest, PlansKeepOutOfTheWayPeopleWalkUntilItFades) {
-  const OccupancyGrid room = Room();
+  const OccupancyGrid room = TrafficRoom();
   const Costmap costmap(room, {}, CostmapOptions{});
   TrafficOptions options;
   TrafficMap traffic(room, options);
@@ -85,7 +85,7 @@ TEST(TrafficMapTest, PlansKeepOutOfTheWayPeopleWalkUntilItFades) {
 }
 
 TEST(TrafficMapTest, OnlyWalkersMakeTrafficItFadesAndBadInputIsRefused) {
-  const OccupancyGrid room = Room();
+  const OccupancyGrid room = TrafficRoom();
   TrafficMap traffic(room, TrafficOptions{});
   TrackedObject standing = Walker({5.0, 5.0}, {0.0, 0.0});
   standing.moving = false;

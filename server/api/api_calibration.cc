@@ -14,6 +14,14 @@
 #include "server/runtime/topics.h"
 
 namespace corridor::server {
+
+// The laser's hits in the base frame (or its own), with where the odometry had the robot standing. Outside the
+// anonymous namespace: WheelCalibration, declared in the header, keeps one.
+struct Standing {
+  std::vector<Eigen::Vector2f> hits;
+  nav::Pose2 odom;
+};
+
 namespace {
 
 using auth::Access;
@@ -25,10 +33,6 @@ double Round(double value, double unit) { return std::round(value / unit) * unit
 
 // The laser's hits in the base frame (or its own, `in_laser_frame`), with the robot standing still; throws ApiError
 // when there is no laser, no scan or odometry yet, or the robot is moving.
-struct Standing {
-  std::vector<Eigen::Vector2f> hits;
-  nav::Pose2 odom;
-};
 Standing StandingScan(Bus& bus, const drivers::Laser2D* laser, bool in_laser_frame) {
   if (laser == nullptr) {
     throw ApiError(http::status::not_found, "No laser", "this robot has no laser (devices.laser.driver: none)");

@@ -7,7 +7,7 @@
 namespace corridor::server {
 namespace {
 
-constexpr double kRateHz = 5.0;
+constexpr double kFaceRateHz = 5.0;
 constexpr double kMovingMps = 0.02;
 constexpr double kMovingRps = 0.05;
 constexpr double kWaitingAfterS = 2.0;  // a mission holding the robot still this long is waiting
@@ -52,7 +52,7 @@ std::shared_ptr<const std::string> SpokenPhrases::Find(std::uint64_t sequence) c
 FaceNode::FaceNode(Executor& executor, Bus& bus, const FaceOptions& options, const face::SocialOptions& social,
                    std::shared_ptr<const face::Speech> speech, std::shared_ptr<SpokenPhrases> spoken,
                    std::shared_ptr<EventLog> events)
-    : PeriodicNode("face", executor, bus, kRateHz),
+    : PeriodicNode("face", executor, bus, kFaceRateHz),
       machine_(options.expression),
       social_(social),
       watch_(options.events),

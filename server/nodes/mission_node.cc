@@ -11,7 +11,7 @@
 namespace corridor::server {
 namespace {
 
-constexpr double kRateHz = 20.0;
+constexpr double kMissionRateHz = 20.0;
 
 std::optional<nav::Pose2> PoseOf(const std::shared_ptr<const StampedPose>& pose) {
   return pose ? std::optional<nav::Pose2>(pose->pose) : std::nullopt;
@@ -29,7 +29,7 @@ const char* ToString(MissionStep step) {
 }
 
 MissionNode::MissionNode(Executor& control, Bus& bus, PlannerService& planner, const nav::MissionRunnerOptions& options)
-    : PeriodicNode("mission", control, bus, kRateHz),
+    : PeriodicNode("mission", control, bus, kMissionRateHz),
       planner_(planner),
       plan_loop_(Loop("plan")),
       docking_(options.docking),

@@ -13,7 +13,7 @@ namespace corridor::testing {
 namespace {
 
 constexpr double kFramePeriodS = 0.015;  // the OI streams every 15 ms
-constexpr double kCountsPerMetre = 508.8 / (std::numbers::pi * 0.072);
+constexpr double kCreate2CountsPerMetre = 508.8 / (std::numbers::pi * 0.072);
 
 // Bytes of arguments after an opcode (OI specification, "Open Interface Commands"); Stream's depend on its first.
 std::optional<std::size_t> Arguments(const std::vector<std::uint8_t>& bytes) {
@@ -198,8 +198,8 @@ void Create2Emulator::Step(double now_s) {
   }
   const double dt = now_s - last_s_;
   last_s_ = now_s;
-  left_counts_ = std::fmod(left_counts_ + left_mmps_ / 1000.0 * dt * kCountsPerMetre + 65536.0, 65536.0);
-  right_counts_ = std::fmod(right_counts_ + right_mmps_ / 1000.0 * dt * kCountsPerMetre + 65536.0, 65536.0);
+  left_counts_ = std::fmod(left_counts_ + left_mmps_ / 1000.0 * dt * kCreate2CountsPerMetre + 65536.0, 65536.0);
+  right_counts_ = std::fmod(right_counts_ + right_mmps_ / 1000.0 * dt * kCreate2CountsPerMetre + 65536.0, 65536.0);
   if (!streaming_ || silent_ || now_s < next_frame_s_) return;
   next_frame_s_ = now_s + kFramePeriodS;
   if (!noise_.empty()) {

@@ -10,8 +10,8 @@ namespace corridor::testing {
 namespace {
 
 constexpr double kPacketPeriodS = 0.02;  // feedback at 50 Hz
-constexpr double kTrackM = 0.230;
-constexpr double kCountsPerMetre = 2578.33 / (std::numbers::pi * 0.070);
+constexpr double kKobukiTrackM = 0.230;
+constexpr double kKobukiCountsPerMetre = 2578.33 / (std::numbers::pi * 0.070);
 
 void Little16(std::vector<std::uint8_t>& out, int value) {
   const auto word = static_cast<std::uint16_t>(value);
@@ -98,7 +98,7 @@ void KobukiEmulator::Handle(std::uint8_t id, const std::uint8_t* data, std::size
   } else {
     // The outer wheel at the speed; the inner one on a circle a track nearer the centre.
     const double r = std::abs(radius_mm) / 1000.0;
-    const double inner = speed * (r - kTrackM / 2.0) / (r + kTrackM / 2.0);
+    const double inner = speed * (r - kKobukiTrackM / 2.0) / (r + kKobukiTrackM / 2.0);
     left_mps_ = radius_mm > 0 ? inner : speed;
     right_mps_ = radius_mm > 0 ? speed : inner;
   }
@@ -168,9 +168,9 @@ void KobukiEmulator::Step(double now_s) {
   }
   const double dt = now_s - last_s_;
   last_s_ = now_s;
-  left_counts_ = std::fmod(left_counts_ + left_mps_ * dt * kCountsPerMetre + 65536.0, 65536.0);
-  right_counts_ = std::fmod(right_counts_ + right_mps_ * dt * kCountsPerMetre + 65536.0, 65536.0);
-  heading_rad_ += (right_mps_ - left_mps_) / kTrackM * dt;
+  left_counts_ = std::fmod(left_counts_ + left_mps_ * dt * kKobukiCountsPerMetre + 65536.0, 65536.0);
+  right_counts_ = std::fmod(right_counts_ + right_mps_ * dt * kKobukiCountsPerMetre + 65536.0, 65536.0);
+  heading_rad_ += (right_mps_ - left_mps_) / kKobukiTrackM * dt;
   if (silent_ || now_s < next_packet_s_) return;
   next_packet_s_ = now_s + kPacketPeriodS;
   if (!noise_.empty()) {

@@ -11,7 +11,7 @@ namespace {
 
 constexpr std::uint8_t kId = 200;
 constexpr double kTicksPerMetre = 4096.0 / (std::numbers::pi * 0.066);
-constexpr double kTrackM = 0.160;
+constexpr double kOpenCrTrackM = 0.160;
 constexpr double kVelocityUnitMps = 0.229 / 60.0 * std::numbers::pi * 0.066;  // 0.229 rpm of a 66 mm wheel
 // The control table's addresses (the e-Manual's TurtleBot 3 OpenCR table).
 constexpr std::size_t kModelNumber = 0;
@@ -217,8 +217,8 @@ void OpenCrEmulator::Step(double now_s) {
   const bool driven = table_[kTorqueEnable] != 0;
   const double v = driven ? Int32At(kCmdLinearX) / 100.0 : 0.0;
   const double w = driven ? Int32At(kCmdAngularZ) / 100.0 : 0.0;
-  left_mps_ = v - w * kTrackM / 2.0;
-  right_mps_ = v + w * kTrackM / 2.0;
+  left_mps_ = v - w * kOpenCrTrackM / 2.0;
+  right_mps_ = v + w * kOpenCrTrackM / 2.0;
   const double dt = now_s - last_s_;
   last_s_ = now_s;
   left_ticks_ += left_mps_ * dt * kTicksPerMetre;
