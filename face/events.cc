@@ -7,7 +7,7 @@
 namespace corridor::face {
 namespace {
 
-constexpr std::array<std::string_view, kEventTypeCount> kNames = {
+constexpr std::array<std::string_view, kEventTypeCount> kEventNames = {
     "person_detected", "person_left", "mission_succeeded", "mission_failed", "blocked", "lost", "fault", "bump"};
 
 bool Ended(MissionPhase phase) {
@@ -18,12 +18,12 @@ bool Ended(MissionPhase phase) {
 
 std::string_view ToString(EventType type) {
   const auto i = static_cast<std::size_t>(type);
-  return i < kNames.size() ? kNames[i] : "bump";
+  return i < kEventNames.size() ? kEventNames[i] : "bump";
 }
 
 std::optional<EventType> EventTypeFromString(std::string_view name) {
-  for (std::size_t i = 0; i < kNames.size(); ++i) {
-    if (kNames[i] == name) return static_cast<EventType>(i);
+  for (std::size_t i = 0; i < kEventNames.size(); ++i) {
+    if (kEventNames[i] == name) return static_cast<EventType>(i);
   }
   return std::nullopt;
 }

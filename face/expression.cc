@@ -9,8 +9,8 @@
 namespace corridor::face {
 namespace {
 
-constexpr std::array<std::string_view, kExpressionCount> kNames = {"neutral", "happy",  "focused",  "surprised",
-                                                                   "worried", "sleepy", "confused", "sad"};
+constexpr std::array<std::string_view, kExpressionCount> kExpressionNames = {
+    "neutral", "happy", "focused", "surprised", "worried", "sleepy", "confused", "sad"};
 
 // The rules' urgencies (expression.h), from the bottom of the list.
 enum Urgency : int {
@@ -37,13 +37,13 @@ std::string ArrivedText(const ExpressionOptions& o, const std::string& place) {
 
 std::string_view ToString(Expression expression) {
   const auto i = static_cast<std::size_t>(expression);
-  DEMAND(i < kNames.size());
-  return kNames[i];
+  DEMAND(i < kExpressionNames.size());
+  return kExpressionNames[i];
 }
 
 std::optional<Expression> ExpressionFromString(std::string_view name) {
-  for (std::size_t i = 0; i < kNames.size(); ++i) {
-    if (kNames[i] == name) return static_cast<Expression>(i);
+  for (std::size_t i = 0; i < kExpressionNames.size(); ++i) {
+    if (kExpressionNames[i] == name) return static_cast<Expression>(i);
   }
   return std::nullopt;
 }

@@ -12,7 +12,7 @@
 namespace corridor::nav {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kNotReached = std::numeric_limits<float>::infinity();
 constexpr double kSqrt2 = 1.4142135623730951;
 constexpr int kCancelPollMask = 4095;  // poll the cancel flag every 4096 expansions
 
@@ -89,7 +89,7 @@ SearchResult Search(const Costmap& costmap, const Eigen::Vector2d& start, const 
     const int dy = std::abs(index / width - goal_cell->y);
     return static_cast<float>(res * (std::max(dx, dy) + (kSqrt2 - 1.0) * std::min(dx, dy)));
   };
-  std::vector<float> cost(grid.cells().size(), kInf);
+  std::vector<float> cost(grid.cells().size(), kNotReached);
   std::vector<int> parent(grid.cells().size(), -1);
   std::vector<std::uint8_t> closed(grid.cells().size(), 0);
   BucketQueue open(kOpenQuantumM, 3.0 * heuristic(static_cast<int>(s)));

@@ -9,7 +9,7 @@
 namespace corridor::nav {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kBeyondMarch = std::numeric_limits<float>::infinity();
 // Cells this close to an obstacle (in cells) get their exact Euclidean distance before marching starts. The front
 // is most curved there (corners, single cells), where an upwind scheme errs most; farther out it is flat enough.
 constexpr int kExactBand = 3;
@@ -52,7 +52,7 @@ class Solver {
   // cell beyond it is known and not larger: dT ~ (3T - 4T1 + T2) / 2, i.e. (9/4) * (T - (4T1 - T2) / 3)^2.
   template <bool kInterior>
   Term AxisTerm(int x, int y, int dx, int dy) const {
-    Term best{kInf, 1.0f};
+    Term best{kBeyondMarch, 1.0f};
     for (int dir = -1; dir <= 1; dir += 2) {
       const int nx = x + dir * dx;
       const int ny = y + dir * dy;
@@ -72,10 +72,10 @@ class Solver {
     Term a = AxisTerm<kInterior>(x, y, 1, 0);
     Term b = AxisTerm<kInterior>(x, y, 0, 1);
     if (b.value < a.value) std::swap(a, b);
-    if (a.value == kInf) return kInf;
+    if (a.value == kBeyondMarch) return kBeyondMarch;
     // From the nearer axis alone; the other axis joins only if the front reached it first.
     const float one_sided = a.value + 1.0f / std::sqrt(a.coef);
-    if (b.value == kInf || one_sided <= b.value) return one_sided;
+    if (b.value == kBeyondMarch || one_sided <= b.value) return one_sided;
     const float qa = a.coef + b.coef;
     const float qb = -2.0f * (a.coef * a.value + b.coef * b.value);
     const float qc = a.coef * a.value * a.value + b.coef * b.value * b.value - 1.0f;
@@ -97,7 +97,7 @@ DistanceField FastMarchingDistance(const std::vector<std::uint8_t>& obstacle, in
     throw std::invalid_argument("FastMarchingDistance: obstacle mask does not match width x height");
   }
   const std::size_t n = obstacle.size();
-  std::vector<float> t(n, kInf);
+  std::vector<float> t(n, kBeyondMarch);
   std::vector<State> state(n, State::kFar);
   const float limit_cells =
       static_cast<float>(std::min(options.max_distance_m / resolution_m, static_cast<double>(width + height)));
@@ -145,7 +145,7 @@ DistanceField FastMarchingDistance(const std::vector<std::uint8_t>& obstacle, in
     if (t[i] <= kExactBand) {
       state[i] = State::kKnown;
     } else {
-      t[i] = kInf;
+      t[i] = kBeyondMarch;
     }
   }
   const Solver solver(t, state, width, height);
@@ -180,7 +180,7 @@ DistanceField FastMarchingDistance(const std::vector<std::uint8_t>& obstacle, in
     relax_neighbours(index % width, index / width);
   }
 
-  DistanceField field{width, height, resolution_m, std::vector<float>(n, kInf)};
+  DistanceField field{width, height, resolution_m, std::vector<float>(n, kBeyondMarch)};
   for (std::size_t i = 0; i < n; ++i) {
     if (state[i] == State::kKnown) field.distance_m[i] = t[i] * static_cast<float>(resolution_m);
   }
