@@ -41,7 +41,7 @@ DevicesNode::DevicesNode(Executor& io, Bus& bus, std::vector<DeviceSlot> slots, 
 
 void DevicesNode::Activate() {
   const auto tap = [this](auto topic, nav::Device device) {
-    bus().Get(topic).Tap([watches = watches_, device, &clock = clock()] {
+    bus().Get(topic).Tap([watches = watches_, device, &clock = clock()](const auto&) {
       std::lock_guard lock(watches->mutex);
       const double now_s = drivers::ToSeconds(clock.Now());  // under the lock: a device's times never go back
       for (Watched& d : watches->devices) {

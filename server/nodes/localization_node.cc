@@ -15,7 +15,6 @@
 namespace corridor::server {
 namespace {
 
-constexpr drivers::TimeNs kOdometryKeptNs = 1'000'000'000;
 // Over a sweep of a rotating laser, the base moved less than this and its beams are taken as measured at once: a beam
 // 8 m away put 8 mm off at most, a sixth of a map cell.
 constexpr double kStillM = 0.001;
@@ -40,7 +39,7 @@ LocalizationNode::LocalizationNode(Executor& executor, Bus& bus, const Localizat
     : Node("localization", executor, bus),
       options_(options),
       base_T_laser_(base_T_laser),
-      map_T_odom_(initial_pose),
+      frame_(std::make_shared<OdometryFrame>(initial_pose)),
       pose_file_(std::move(pose_file)),
       saved_(restored),
       restored_(std::move(restored)),
@@ -55,7 +54,7 @@ LocalizationNode::LocalizationNode(Executor& executor, Bus& bus, const Localizat
   }
   // The initial pose is known before the first odometry arrives. Published here, before the executors run: from
   // Activate it raced SetMap, which may change it on the executor.
-  bus.Get(topics::kPose).Publish(StampedPose{clock().Now(), map_T_odom_});
+  bus.Get(topics::kPose).Publish(StampedPose{clock().Now(), initial_pose});
 }
 
 void LocalizationNode::Save(const nav::Pose2& pose, double sigma_m, double sigma_rad, bool always) {
@@ -72,9 +71,9 @@ void LocalizationNode::OnMap(const MapInUse& in_use) {
   map_name_ = in_use.name;
   double sigma_m = options_.initial_sigma_m;
   double sigma_rad = Radians(options_.initial_sigma_deg);
-  const nav::Pose2 odom = LatestOdometry();
+  const nav::Pose2 odom = frame_->Latest();
   if (restored_ && restored_->place == map_name_) {
-    map_T_odom_ = restored_->pose * odom.Inverse();
+    frame_->set_map_T_odom(restored_->pose * odom.Inverse());
     sigma_m = std::max(sigma_m, restored_->sigma_m);
     sigma_rad = std::max(sigma_rad, restored_->sigma_rad);
     spdlog::info("localization: starting where the robot was in map '{}': ({:.2f}, {:.2f})", map_name_,
@@ -84,7 +83,7 @@ void LocalizationNode::OnMap(const MapInUse& in_use) {
   if (options_.source != LocalizationOptions::Source::kMonteCarlo) return;
   // Where the robot is now, by the last estimate: the filter restarts there in the new map.
   filter_ = std::make_unique<nav::MonteCarloLocalization>(*map_, options_.mcl, options_.seed);
-  ResetFilter(map_T_odom_ * odom, sigma_m, sigma_rad);
+  ResetFilter(frame_->map_T_odom() * odom, sigma_m, sigma_rad);
 }
 
 void LocalizationNode::ResetFilter(const nav::Pose2& pose, double sigma_m, double sigma_rad) {
@@ -104,7 +103,8 @@ void LocalizationNode::Cleanup() {
       const Eigen::Matrix3d& c = estimate.covariance;
       Save(estimate.pose, std::sqrt(c(0, 0) + c(1, 1)), std::sqrt(c(2, 2)), true);
     } else if (options_.source == LocalizationOptions::Source::kOdometry) {
-      Save(map_T_odom_ * LatestOdometry(), options_.initial_sigma_m, Radians(options_.initial_sigma_deg), true);
+      Save(frame_->map_T_odom() * frame_->Latest(), options_.initial_sigma_m, Radians(options_.initial_sigma_deg),
+           true);
     }
   } catch (const std::exception& e) {
     spdlog::error("localization: the pose at the stop was not saved: {}", e.what());
@@ -120,8 +120,20 @@ void LocalizationNode::Activate() {
     SetHealth(Health::kOk, "the simulator's ground truth");
     return;
   }
-  Subscribe(topics::kOdometry, "odometry", [this](const auto& odometry) { OnOdometry(*odometry); });
+  if (!tapped_) {
+    tapped_ = true;
+    bus().Get(topics::kOdometry).Tap([frame = frame_, &pose](const drivers::WheelOdometry& odometry) {
+      pose.Publish(StampedPose{odometry.stamp_ns, frame->Add(odometry)});
+    });
+  }
   if (options_.source == Source::kOdometry) {
+    // Dead reckoning has no spread to speak of: the start's is kept. Saved here, off the publisher's thread.
+    Subscribe(topics::kOdometry, "odometry", [this](const auto& odometry) {
+      if (!map_name_.empty()) {
+        Save(frame_->map_T_odom() * odometry->odom_T_base, options_.initial_sigma_m,
+             Radians(options_.initial_sigma_deg));
+      }
+    });
     SetHealth(Health::kOk, "dead reckoning from wheel odometry");
     return;
   }
@@ -134,34 +146,6 @@ void LocalizationNode::Activate() {
   SetHealth(Health::kDegraded, base_T_laser_ ? "waiting for the first scan" : "waiting for the first depth frame");
 }
 
-void LocalizationNode::OnOdometry(const drivers::WheelOdometry& odometry) {
-  odometry_.push_back(odometry);
-  while (odometry_.size() > 2 && odometry_.back().stamp_ns - odometry_.front().stamp_ns > kOdometryKeptNs) {
-    odometry_.pop_front();
-  }
-  const nav::Pose2 pose = map_T_odom_ * odometry.odom_T_base;
-  pose_topic_.Publish(StampedPose{odometry.stamp_ns, pose});
-  // Dead reckoning has no spread to speak of: the start's is kept.
-  if (!filter_ && !map_name_.empty()) Save(pose, options_.initial_sigma_m, Radians(options_.initial_sigma_deg));
-}
-
-std::optional<nav::Pose2> LocalizationNode::OdometryAt(drivers::TimeNs stamp_ns) const {
-  if (odometry_.empty()) return std::nullopt;
-  if (stamp_ns >= odometry_.back().stamp_ns) return odometry_.back().odom_T_base;
-  if (stamp_ns <= odometry_.front().stamp_ns) return odometry_.front().odom_T_base;
-  const auto after =
-      std::lower_bound(odometry_.begin(), odometry_.end(), stamp_ns,
-                       [](const drivers::WheelOdometry& o, drivers::TimeNs t) { return o.stamp_ns < t; });
-  const auto before = std::prev(after);
-  const double f = static_cast<double>(stamp_ns - before->stamp_ns) /
-                   static_cast<double>(std::max<drivers::TimeNs>(1, after->stamp_ns - before->stamp_ns));
-  return nav::Interpolate(before->odom_T_base, after->odom_T_base, f);
-}
-
-nav::Pose2 LocalizationNode::LatestOdometry() const {
-  return odometry_.empty() ? nav::Pose2{} : odometry_.back().odom_T_base;
-}
-
 void LocalizationNode::OnScan(const drivers::LaserScan& scan) {
   nav::RangeLimits limits;
   limits.min_range_m = std::max(limits.min_range_m, scan.range_min_m);
@@ -169,11 +153,11 @@ void LocalizationNode::OnScan(const drivers::LaserScan& scan) {
   // A rotating laser's beams are put where they lie at the stamp, by the odometry over the sweep (unless the base
   // stood still through it).
   nav::BeamMotion motion;
-  const std::optional<nav::Pose2> at_stamp = scan.sweep_s > 0.0 ? OdometryAt(scan.stamp_ns) : std::nullopt;
-  if (at_stamp && Moved(*OdometryAt(scan.stamp_ns - drivers::FromSeconds(scan.sweep_s)), *at_stamp)) {
+  const std::optional<nav::Pose2> at_stamp = scan.sweep_s > 0.0 ? frame_->At(scan.stamp_ns) : std::nullopt;
+  if (at_stamp && Moved(*frame_->At(scan.stamp_ns - drivers::FromSeconds(scan.sweep_s)), *at_stamp)) {
     motion = [this, &scan, stamp_T_odom = at_stamp->Inverse()](std::size_t i) {
       const auto age_ns = static_cast<drivers::TimeNs>(drivers::BeamAgeS(scan, i) * 1e9);
-      return stamp_T_odom * *OdometryAt(scan.stamp_ns - age_ns);
+      return stamp_T_odom * *frame_->At(scan.stamp_ns - age_ns);
     };
   }
   Localize(scan.stamp_ns, nav::ScanFromRanges(*base_T_laser_, scan.angle_min_rad, scan.angle_increment_rad, scan.ranges,
@@ -198,7 +182,7 @@ void LocalizationNode::Localize(drivers::TimeNs stamp_ns, const nav::RangeScan& 
     SetHealth(Health::kDegraded, "no map to localize in");
     return;
   }
-  const std::optional<nav::Pose2> odom = OdometryAt(stamp_ns);
+  const std::optional<nav::Pose2> odom = frame_->At(stamp_ns);
   if (!odom) return;  // no odometry yet: nothing to move the filter with
   if (held_) {
     SetHealth(Health::kOk, "holding on odometry");
@@ -242,7 +226,7 @@ void LocalizationNode::Localize(drivers::TimeNs stamp_ns, const nav::RangeScan& 
     history_.Clear();
     if (depth_scan_) history_.Add(*odom, range);
   }
-  map_T_odom_ = estimate.pose * odom->Inverse();
+  frame_->set_map_T_odom(estimate.pose * odom->Inverse());
   Publish(stamp_ns);
   if (estimate.health != nav::LocalizationHealth::kLost) {
     const Eigen::Matrix3d& c = estimate.covariance;
@@ -268,7 +252,8 @@ void LocalizationNode::OnCommand(const LocalizationCommand& command) {
     held_ = command.kind == Kind::kHold;
     spdlog::info("localization: {}", held_ ? "holding on odometry" : "back on the scans");
     if (!held_) {
-      ResetFilter(map_T_odom_ * LatestOdometry(), options_.initial_sigma_m, Radians(options_.initial_sigma_deg));
+      ResetFilter(frame_->map_T_odom() * frame_->Latest(), options_.initial_sigma_m,
+                  Radians(options_.initial_sigma_deg));
     }
     return;
   }
@@ -304,7 +289,7 @@ PoseCheck LocalizationNode::TakePose(const nav::Pose2& pose, double sigma_m, dou
   PoseCheck check;
   if (options_.source == LocalizationOptions::Source::kOdometry || !filter_) {
     // Dead reckoning goes on from the pose given (or, with no map yet, the filter starts there).
-    map_T_odom_ = pose * LatestOdometry().Inverse();
+    frame_->set_map_T_odom(pose * frame_->Latest().Inverse());
     check.taken = true;
     check.detail = filter_ || options_.source == LocalizationOptions::Source::kOdometry
                        ? "taken: dead reckoning goes on from it"
@@ -318,7 +303,7 @@ PoseCheck LocalizationNode::TakePose(const nav::Pose2& pose, double sigma_m, dou
   if (last_scan_) {
     // The last scan, at the given pose carried back to when it was taken, against where the filter had the robot then.
     const auto& [scan_odom, scan] = *last_scan_;
-    const nav::Pose2 then = pose * LatestOdometry().Inverse() * scan_odom;
+    const nav::Pose2 then = pose * frame_->Latest().Inverse() * scan_odom;
     check.checked = true;
     check.agreement = filter_->AgreementAt(scan.hits, then);
     check.agreement_before = filter_->AgreementAt(scan.hits, filter_->estimate().pose);
@@ -326,7 +311,7 @@ PoseCheck LocalizationNode::TakePose(const nav::Pose2& pose, double sigma_m, dou
     check.agrees = check.agreement >= ok || check.agreement >= 0.8 * check.agreement_before;
   }
   ResetFilter(pose, sigma_m, sigma_rad);
-  map_T_odom_ = pose * LatestOdometry().Inverse();
+  frame_->set_map_T_odom(pose * frame_->Latest().Inverse());
   Publish(clock().Now());
   check.taken = true;
   const auto percent = [](double f) { return std::to_string(static_cast<int>(std::lround(100.0 * f))) + " %"; };
@@ -362,7 +347,7 @@ void LocalizationNode::Publish(drivers::TimeNs stamp_ns) {
 void LocalizationNode::StartMapping(const std::string& name) {
   if (slam_) return;
   // From where the robot is in the present map: the new map shares its frame.
-  const nav::Pose2 start = map_T_odom_ * LatestOdometry();
+  const nav::Pose2 start = frame_->map_T_odom() * frame_->Latest();
   slam_ = std::make_unique<nav::GraphSlam>(nav::GraphSlamOptions{}, start);
   mapping_ = MappingState{};
   mapping_.active = true;
@@ -376,7 +361,7 @@ void LocalizationNode::StartMapping(const std::string& name) {
 void LocalizationNode::Map(drivers::TimeNs stamp_ns, const nav::Pose2& odom, const nav::RangeScan& scan) {
   const nav::Pose2 pose = slam_->AddScan(scan, odom);
   slam_odom_ = odom;
-  map_T_odom_ = pose * odom.Inverse();
+  frame_->set_map_T_odom(pose * odom.Inverse());
   PublishMapping(stamp_ns, stamp_ns - last_render_ns_ >= kRenderEveryNs);
 }
 
@@ -417,7 +402,7 @@ void LocalizationNode::StopMapping() {
     PublishMapping(clock().Now(), true);
     return;
   }
-  map_T_odom_ = pose * slam_odom_.Inverse();
+  frame_->set_map_T_odom(pose * slam_odom_.Inverse());
   spdlog::info("mapping '{}': saved ({} scans, {} loop closures)", mapping_.name, slam_->stats().scans,
                slam_->stats().loop_closures);
   PublishMapping(clock().Now(), true);

@@ -1,5 +1,6 @@
-// Where the robot is in the map, on the pose topic at the odometry's rate: map_T_odom * odom_T_base, with map_T_odom
-// from one of three sources (localization.source):
+// Where the robot is in the map, on the pose topic at the odometry's rate: map_T_odom * odom_T_base, made from each
+// odometry reading on its publisher's thread (a tap: the node's thread wakes for scans, not for the odometry's 50 Hz),
+// with map_T_odom from one of three sources (localization.source):
 //   - mcl: Monte Carlo localization in the active map (nav/localization/monte_carlo.h) from the laser's scans or,
 //     without a laser, from each depth frame's scan (nav/ground/depth_scan.h). Each scan updates the filter with the
 //     odometry at the scan's time; map_T_odom follows. When the filter is lost, a global search of the map runs every
@@ -24,6 +25,7 @@
 #include "nav/localization/monte_carlo.h"
 #include "nav/localization/scan_history.h"
 #include "server/config/config.h"
+#include "server/nodes/odometry_frame.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
 #include "server/runtime/topics.h"
@@ -64,7 +66,6 @@ class LocalizationNode final : public Node {
   void SetPose(const nav::Pose2& pose, double sigma_m, double sigma_rad, std::function<void(PoseCheck)> done);
 
  private:
-  void OnOdometry(const drivers::WheelOdometry& odometry);
   void OnScan(const drivers::LaserScan& scan);
   void OnFrame(const drivers::RgbdFrame& frame);
   // One scan (base frame) taken at stamp_ns: the filter's update, a search when one is due, the pose published.
@@ -74,10 +75,6 @@ class LocalizationNode final : public Node {
   // around the last estimate.
   void OnMap(const MapInUse& map);
   PoseCheck TakePose(const nav::Pose2& pose, double sigma_m, double sigma_rad);
-  // The odometry at `stamp_ns`, interpolated between the readings around it; nullopt before any.
-  std::optional<nav::Pose2> OdometryAt(drivers::TimeNs stamp_ns) const;
-  // The last odometry reading; the identity before any.
-  nav::Pose2 LatestOdometry() const;
   void Publish(drivers::TimeNs stamp_ns);
   void ResetFilter(const nav::Pose2& pose, double sigma_m, double sigma_rad);
   // Writes the pose to pose_file_ when it moved enough since the last write (always with `always`). Throws when the
@@ -94,15 +91,16 @@ class LocalizationNode final : public Node {
   std::optional<nav::DepthScan> depth_scan_;  // without a laser
   nav::ScanHistory history_;                  // what the camera saw lately, for a search (no laser)
   double look_around_rps_ = 0.0;              // lost with the camera's narrow view: turn on the spot to see more
-  nav::Pose2 map_T_odom_;
-  bool held_ = false;  // on odometry alone, the scans not weighed (riding a lift)
+  // The odometry's last second and map_T_odom, shared with the odometry's tap.
+  std::shared_ptr<OdometryFrame> frame_;
+  bool tapped_ = false;  // the odometry's tap is in place (a topic keeps its taps)
+  bool held_ = false;    // on odometry alone, the scans not weighed (riding a lift)
   std::shared_ptr<const nav::OccupancyGrid> map_;
   std::string map_name_;
   std::filesystem::path pose_file_;
   std::optional<SavedPose> saved_;     // what the file holds
   std::optional<SavedPose> restored_;  // until the first map is set
   std::unique_ptr<nav::MonteCarloLocalization> filter_;
-  std::deque<drivers::WheelOdometry> odometry_;                     // the last second
   bool relocalize_ = false;                                         // search the whole map on the next scan
   std::optional<std::pair<nav::Pose2, nav::RangeScan>> last_scan_;  // the last one localized with, and its odometry
   drivers::TimeNs last_search_ns_ = 0;

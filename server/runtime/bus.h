@@ -85,7 +85,7 @@ class Topic final : public TopicBase {
       replaced = std::exchange(latest_, message);
       listeners = listeners_;
     }
-    for (const auto& tap : listeners->taps) tap();
+    for (const auto& tap : listeners->taps) tap(*message);
     for (const auto& s : listeners->subscribers) s->Offer(message);
   }
   void Publish(T message) { Publish(std::make_shared<const T>(std::move(message))); }
@@ -109,10 +109,10 @@ class Topic final : public TopicBase {
     if (latched() && latest_) s->Offer(latest_);
   }
 
-  // Runs `tap` on the publisher's thread at every publish, before the deliveries: for bookkeeping that must see each
-  // message when it comes (a device's arrivals) and costs less than waking a thread for it (a clock read, a counter
-  // under a mutex), never for work or anything that may block. Thread-safe.
-  void Tap(std::function<void()> tap) {
+  // Runs `tap` with each message on the publisher's thread, before the deliveries: for what must see each message
+  // when it comes and costs less than waking a thread for it (a device's arrivals counted, a pose made from odometry
+  // and published), never for work or anything that may block. Thread-safe; a tap stays as long as the topic.
+  void Tap(std::function<void(const T&)> tap) {
     std::lock_guard lock(mutex_);
     auto next = std::make_shared<Listeners>(*listeners_);
     next->taps.push_back(std::move(tap));
@@ -169,7 +169,7 @@ class Topic final : public TopicBase {
   // Replaced, never changed, when someone subscribes or taps: a publish takes it without copying (nor allocating)
   // before the first delivery.
   struct Listeners {
-    std::vector<std::function<void()>> taps;
+    std::vector<std::function<void(const T&)>> taps;
     std::vector<std::shared_ptr<Subscriber>> subscribers;
   };
 

@@ -65,11 +65,17 @@ TEST(BusTest, ATapSeesEveryMessageOnThePublishersThreadWhereASlowSubscriberSeesT
   const drivers::SteadyClock clock;
   Executor executor("test", clock, Schedule::kThreads);
   std::vector<std::thread::id> taps;
-  bus.Get(kTwist).Tap([&] { taps.push_back(std::this_thread::get_id()); });
+  std::vector<double> tapped;
+  bus.Get(kTwist).Tap([&](const nav::Twist2& twist) {
+    taps.push_back(std::this_thread::get_id());
+    tapped.push_back(twist.linear_mps);
+  });
   std::vector<double> seen;
   DeliverABacklog(bus, executor, kTwist, seen);  // the subscriber, its executor stopped, sees only the newest
   executor.Stop();
   EXPECT_EQ(taps, std::vector<std::thread::id>(100, std::this_thread::get_id()));
+  ASSERT_EQ(tapped.size(), 100u);
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(tapped[static_cast<std::size_t>(i)], i);
   EXPECT_EQ(seen.size(), 1u);
 }
 
