@@ -10,7 +10,6 @@
 namespace corridor::server {
 namespace {
 
-constexpr drivers::TimeNs kPosesKeptNs = 1'000'000'000;
 constexpr drivers::TimeNs kPoseGapNs = 100'000'000;  // a frame farther than this from every pose is not placed
 
 drivers::TimeNs Ns(double seconds) { return static_cast<drivers::TimeNs>(seconds * 1e9); }
@@ -47,10 +46,11 @@ OctreeNode::OctreeNode(Executor& mapping, Bus& bus, const OctreeOptions& options
       octree_(options.octree) {}
 
 void OctreeNode::Activate() {
-  Subscribe(topics::kPose, "pose", [this](const auto& pose) {
-    poses_.push_back(*pose);
-    while (poses_.size() > 2 && poses_.back().stamp_ns - poses_.front().stamp_ns > kPosesKeptNs) poses_.pop_front();
-  });
+  if (!tapped_) {
+    tapped_ = true;
+    // Each pose recorded on its publisher's thread: this thread wakes for the frames, not the poses' 50 Hz.
+    bus().Get(topics::kPose).Tap([poses = poses_](const StampedPose& pose) { poses->Add(pose.stamp_ns, pose.pose); });
+  }
   Subscribe(topics::kMapping, "mapping", [this](const auto& mapping) { OnMapping(*mapping); });
   Subscribe(topics::kMapInUse, "map", [this](const auto& map) { OnMap(*map); });
   Subscribe(topics::kRgbd, "frame", [this](const auto& frame) { OnFrame(*frame); });
@@ -120,21 +120,7 @@ bool OctreeNode::PoseTrusted() {
 }
 
 std::optional<nav::Pose2> OctreeNode::PoseAt(drivers::TimeNs stamp_ns) const {
-  if (poses_.empty()) return std::nullopt;
-  const auto after = std::lower_bound(poses_.begin(), poses_.end(), stamp_ns,
-                                      [](const StampedPose& p, drivers::TimeNs t) { return p.stamp_ns < t; });
-  if (after == poses_.end()) {
-    if (stamp_ns - poses_.back().stamp_ns > kPoseGapNs) return std::nullopt;
-    return poses_.back().pose;
-  }
-  if (after == poses_.begin()) {
-    if (after->stamp_ns - stamp_ns > kPoseGapNs) return std::nullopt;
-    return after->pose;
-  }
-  const auto before = std::prev(after);
-  const double f = static_cast<double>(stamp_ns - before->stamp_ns) /
-                   static_cast<double>(std::max<drivers::TimeNs>(1, after->stamp_ns - before->stamp_ns));
-  return nav::Interpolate(before->pose, after->pose, f);
+  return poses_->At(stamp_ns, kPoseGapNs);
 }
 
 void OctreeNode::OnFrame(const drivers::RgbdFrame& frame) {

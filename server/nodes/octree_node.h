@@ -11,7 +11,6 @@
 // building starts an empty octree under the new name; it is written once the map is saved (and active).
 #pragma once
 
-#include <deque>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -21,6 +20,7 @@
 
 #include "nav/mapping/occupancy_octree.h"
 #include "server/config/config.h"
+#include "server/nodes/pose_history.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
 #include "server/runtime/topics.h"
@@ -76,7 +76,8 @@ class OctreeNode final : public Node {
   std::uint64_t revision_ = 0;                     // bumped by every change of the octree
   bool unsaved_ = false;                           // changed since the last save
   std::optional<Eigen::AlignedBox2d> touched_;     // where it changed since the layer was last projected
-  std::deque<StampedPose> poses_;                  // the last second
+  std::shared_ptr<PoseHistory> poses_ = std::make_shared<PoseHistory>();  // the last second, filled by a tap
+  bool tapped_ = false;
   drivers::TimeNs last_insert_ns_ = 0;
   drivers::TimeNs last_update_ns_ = 0;
   drivers::TimeNs last_save_ns_ = 0;
