@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 
@@ -91,6 +92,27 @@ TEST_F(ApiRoutesTest, EveryOperationDeclaresTheRefusalsItCanAnswer) {
         EXPECT_TRUE(responses.contains(status)) << name << ": takes a body but does not declare " << status;
       }
     }
+  }
+}
+
+// The API page groups operations by tag and shows each one's summary and description: every operation has one tag of
+// those the document lists, a summary short enough for a line, and a description that says more.
+TEST_F(ApiRoutesTest, EveryOperationIsTaggedSummarizedAndDescribed) {
+  const nlohmann::json document = nlohmann::json::parse(server::OpenApiDocument());
+  std::set<std::string> tags;
+  for (const nlohmann::json& tag : document.at("tags")) {
+    tags.insert(tag.at("name").get<std::string>());
+    EXPECT_FALSE(tag.value("description", "").empty()) << tag.dump();
+  }
+  for (const auto& [operation, spec] : documented_) {
+    const std::string name = operation.first + " " + operation.second;
+    ASSERT_TRUE(spec.contains("tags") && spec.at("tags").size() == 1) << name << ": one tag";
+    EXPECT_TRUE(tags.contains(spec.at("tags")[0].get<std::string>())) << name << ": a tag the document lists";
+    const std::string summary = spec.value("summary", "");
+    const std::string description = spec.value("description", "");
+    EXPECT_FALSE(summary.empty()) << name;
+    EXPECT_LE(summary.size(), 40u) << name << ": a summary is a line: " << summary;
+    EXPECT_GT(description.size(), summary.size()) << name << ": the description says more than the summary";
   }
 }
 

@@ -6,7 +6,9 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, test } from 'node:test';
 
-import { gotoConsole, launchBrowser, openConsole, sourceDir, startDaemon, waitFor } from './daemon.mjs';
+import {
+  gotoConsole, launchBrowser, openApiValidator, openConsole, sourceDir, startDaemon, waitFor,
+} from './daemon.mjs';
 
 const artifacts = process.env.CORRIDOR_ARTIFACTS ?? join(sourceDir, 'tests/artifacts');
 
@@ -82,6 +84,27 @@ test('open the console, see the map and the robot, drive with the keyboard', asy
   mkdirSync(artifacts, { recursive: true });
   await page.screenshot({ path: join(artifacts, 'console.png') });
   assert.deepEqual(errors, []);
+});
+
+test('the API page renders the daemon\'s own document, every operation under its tag, without logging in', async () => {
+  const page = await browser.newPage();
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(e.message));
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  page.on('requestfailed', (r) => errors.push(`${r.url()}: ${r.failure()?.errorText}`));
+  await page.goto(`${daemon.url}/api/docs`);
+  const { doc } = openApiValidator();
+  await page.waitForFunction((n) => document.querySelectorAll('.opblock-tag-section').length === n, doc.tags.length,
+    { timeout: 15000 });
+  const operations = Object.values(doc.paths).flatMap((item) => Object.keys(item)).length;
+  assert.equal(await page.locator('.opblock').count(), operations);
+  // An operation opens on its description.
+  await page.locator('.opblock-summary', { hasText: 'Start a mission' }).first().click();
+  await page.getByText('Every waypoint is checked first').waitFor({ timeout: 5000 });
+  mkdirSync(artifacts, { recursive: true });
+  await page.screenshot({ path: join(artifacts, 'api-docs.png') });
+  assert.deepEqual(errors, []);
+  await page.close();
 });
 
 test('the connection indicator shows a lost daemon and reconnects by itself', async () => {

@@ -1,5 +1,5 @@
-// Builds the console, the admin page and the face kiosk page into web/dist: one bundled script each, the pages, the styles (ours and
-// Leaflet's).
+// Builds the console, the admin page, the face kiosk page and the API page into web/dist: one bundled script each, the
+// pages, the styles (ours and Leaflet's), and Swagger UI's prebuilt bundle for the API page.
 import { build } from 'esbuild';
 import { cpSync, mkdirSync } from 'node:fs';
 
@@ -34,7 +34,18 @@ await build({
   outfile: `${dist}admin.js`,
   logLevel: 'warning',
 });
+await build({
+  entryPoints: ['src/api_docs.ts'],
+  bundle: true,
+  minify: true,
+  target: 'es2022',
+  outfile: `${dist}api-docs.js`,
+  logLevel: 'warning',
+});
 cpSync('index.html', `${dist}index.html`);
+cpSync('api-docs.html', `${dist}api-docs.html`);
+cpSync('node_modules/swagger-ui-dist/swagger-ui-bundle.js', `${dist}swagger-ui-bundle.js`);
+cpSync('node_modules/swagger-ui-dist/swagger-ui.css', `${dist}swagger-ui.css`);
 cpSync('admin.html', `${dist}admin.html`);
 cpSync('face.html', `${dist}face.html`);
 cpSync('style.css', `${dist}style.css`);

@@ -15,6 +15,9 @@ namespace fs = std::filesystem;
 using auth::Access;
 using nlohmann::json;
 
+// The API's documentation: a page (web/api-docs.html), open to anyone as the document it renders is.
+constexpr std::string_view kApiDocs = "/api/docs";
+
 std::string ContentTypeFor(const fs::path& file) {
   static const std::map<std::string, std::string> kTypes = {{".html", "text/html; charset=utf-8"},
                                                             {".js", "text/javascript; charset=utf-8"},
@@ -61,7 +64,7 @@ Api::Api(ApiContext context)
 
 Access Api::AccessFor(const Router::Route* route, const std::string& path) {
   if (route != nullptr) return route->access;
-  return path.starts_with("/api/") ? Access::kViewer : Access::kPublic;
+  return path.starts_with("/api/") && path != kApiDocs ? Access::kViewer : Access::kPublic;
 }
 
 void Api::Answer(const Request& request, Reply reply, const std::function<Response()>& work) const {
@@ -117,7 +120,9 @@ void Api::Handle(const Request& request, const Caller& caller, Reply reply) cons
       throw ApiError(http::status::method_not_allowed, "Method not allowed",
                      std::string(request.method_string()) + " is not supported on " + path);
     }
-    if (path.starts_with("/api/")) throw ApiError(http::status::not_found, "Not found", "no API route " + path);
+    if (path.starts_with("/api/") && path != kApiDocs) {
+      throw ApiError(http::status::not_found, "Not found", "no API route " + path);
+    }
     if (method != http::verb::get) {
       throw ApiError(http::status::method_not_allowed, "Method not allowed", "only GET is supported on " + path);
     }
@@ -190,10 +195,11 @@ json Api::StreamMessage(const std::string& text, std::vector<std::string>& subsc
 }
 
 Response Api::ServeFile(const Request& request, const std::string& target) const {
-  // The console at /, the face kiosk page at /face, the admin page at /admin.
+  // The console at /, the face kiosk page at /face, the admin page at /admin, the API's documentation at /api/docs.
   const std::string relative = target == "/"        ? "index.html"
                                : target == "/face"  ? "face.html"
                                : target == "/admin" ? "admin.html"
+                               : target == kApiDocs ? "api-docs.html"
                                                     : target.substr(1);
   if (relative.find("..") != std::string::npos || relative.find('\0') != std::string::npos) {
     throw ApiError(http::status::bad_request, "Bad path", "path must not contain '..'");
