@@ -134,6 +134,25 @@ TEST_F(MissionsLockstep, APausedMissionStaysStillResumesAndFinishes) {
   EXPECT_EQ(robot_->Call("POST", "/api/v1/missions/nope/cancel", json::object()).status, 404);
 }
 
+// The console's emergency stop: one request stops the robot and pauses its mission, which resumes where it was.
+TEST_F(MissionsLockstep, StopHaltsTheRobotAndPausesItsMissionWhichThenResumes) {
+  const LockstepRobot::Reply idle = robot_->Call("POST", "/api/v1/stop", json::object());
+  ASSERT_EQ(idle.status, 200) << idle.body.dump();
+  EXPECT_TRUE(idle.body["paused"].is_null()) << "no mission to pause";
+  const std::string id = Start({{"waypoints", json::array({{{"x", 3.0}, {"y", 0.75}}})}, {"speed_limit_mps", 0.3}});
+  ASSERT_TRUE(UntilMoving(8.0)) << "the robot never drove";
+  const LockstepRobot::Reply stopped = robot_->Call("POST", "/api/v1/stop", json::object());
+  ASSERT_EQ(stopped.status, 200) << stopped.body.dump();
+  EXPECT_EQ(stopped.body["paused"]["id"], id);
+  EXPECT_EQ(stopped.body["paused"]["status"], "paused");
+  robot_->StepFor(0.8);  // braking
+  const Eigen::Vector2d held = Truth();
+  robot_->StepFor(1.5);
+  EXPECT_LT((Truth() - held).norm(), 0.002) << "it moved after the stop";
+  EXPECT_EQ(robot_->Call("POST", "/api/v1/missions/" + id + "/resume", json::object()).body["status"], "active");
+  EXPECT_EQ(UntilOver(id, 30.0)["status"], "succeeded");
+}
+
 TEST_F(MissionsLockstep, ANamedPlaceIsAGoalAndOneTheRobotCannotStandAtIsRefused) {
   ASSERT_EQ(robot_->Call("POST", "/api/v1/places", {{"name", "desk"}, {"x", 2.5}, {"y", 0.7}, {"yaw", 0}}).status, 201);
   EXPECT_EQ(robot_->Call("POST", "/api/v1/places", {{"name", "desk"}, {"x", 1}, {"y", 1}}).status, 409);

@@ -182,6 +182,14 @@ void NavigationApi::AddRoutes(Router& routes) const {
                if (auto doc = store_.Mission(id)) return JsonResponse(r, *doc);
                throw ApiError(http::status::not_found, "Not found", "no mission " + id);
              }));
+  // The console's emergency stop: the robot stopped and the mission in progress paused, in one request.
+  routes.Add(http::verb::post, "/api/v1/stop", Access::kOperator, [this](const Request& r, const Params&, Reply reply) {
+    core_.Stop("rest", [r, reply = std::move(reply)](std::optional<MissionState> paused) {
+      reply(Respond(r, [&] {
+        return JsonResponse(r, {{"stopped", true}, {"paused", paused ? ToJson(*paused) : json(nullptr)}});
+      }));
+    });
+  });
   for (const MissionStep step : {MissionStep::kPause, MissionStep::kResume, MissionStep::kCancel}) {
     routes.Add(http::verb::post, std::string("/api/v1/missions/{id}/") + ToString(step), Access::kOperator,
                [this, step](const Request& r, const Params& p, Reply reply) {

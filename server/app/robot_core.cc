@@ -181,6 +181,20 @@ void RobotCore::Command(MissionStep step, const std::string& id, std::string_vie
                  });
 }
 
+void RobotCore::Stop(std::string_view origin, std::function<void(std::optional<MissionState>)> done) const {
+  Teleop({}, origin);
+  spdlog::warn("stop from {}", origin);
+  const auto mission = bus_.Get(topics::kMission).latest();
+  if (!mission || mission->status != nav::MissionStatus::kActive) {
+    if (done) done(std::nullopt);
+    return;
+  }
+  Command(MissionStep::kPause, mission->id, origin, [done = std::move(done)](MissionNode::Outcome outcome) {
+    // A mission that ended meanwhile has nothing to pause.
+    if (done) done(outcome.outcome == nav::TransitionOutcome::kOk ? outcome.mission : std::nullopt);
+  });
+}
+
 std::optional<MapRefused> RobotCore::SelectMap(const std::string& name, std::string_view origin) const {
   if (const auto mission = bus_.Get(topics::kMission).latest(); mission && nav::InProgress(mission->status)) {
     return MapRefused{MapRefusal::kMissionInProgress, "cancel the mission before changing maps"};

@@ -121,6 +121,11 @@ class RobotCore {
   // mission's state afterwards. Thread-safe.
   void Command(MissionStep step, const std::string& id, std::string_view origin,
                std::function<void(MissionNode::Outcome)> done = {}) const;
+  // Stops the robot at once, as an emergency stop button does: zero velocity by hand (the control node takes it over a
+  // mission's command at once) and the mission in progress paused, so that it waits to be resumed or cancelled. `done`
+  // (may be empty) is told the paused mission's state, or nothing when none was active; once, on the control executor
+  // or the calling thread. Thread-safe.
+  void Stop(std::string_view origin, std::function<void(std::optional<MissionState>)> done = {}) const;
   // Makes map `name` the one in use (the console's choice, or a floor a fleet adapter took the robot to), or refuses.
   std::optional<MapRefused> SelectMap(const std::string& name, std::string_view origin) const;
   // Mission `id`'s state when it is the current (or last) one, as last published (topics::kMission): its progress
