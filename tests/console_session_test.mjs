@@ -104,15 +104,28 @@ async function dragFourWays(page, sent, touch, where) {
   }
 }
 
-// Scrolls the side panel (or the page) until the joystick is in view: it moves on the screen after it was made.
-async function scrollToJoystick(page) {
-  const joystick = page.getByTestId('joystick');
-  await joystick.scrollIntoViewIfNeeded();
-  const moved = await page.evaluate(() => {
-    const aside = document.querySelector('aside');
-    return (aside?.scrollTop ?? 0) + window.scrollY;
-  });
-  return moved;
+// Whether the page has the phone's layout (style.css: 700 px wide or less): the panels a sheet of tabs, the tools and
+// the account a menu each.
+function isPhone(page) {
+  return page.viewportSize().width <= 700;
+}
+
+// Shows the panels of sheet tab `sheet` (mission, drive, camera, robot, map): on a phone its tab opens the sheet; on a
+// wider screen every panel is in the column already.
+async function showPanel(page, sheet) {
+  if (!isPhone(page)) return;
+  const tab = page.getByTestId(`sheet-${sheet}`);
+  const selected = await tab.getAttribute('aria-selected') === 'true';
+  const open = await page.getByTestId('panels').evaluate((e) => e.classList.contains('expanded'));
+  if (!(selected && open)) await tab.click();
+}
+
+// Brings the joystick into view (a phone's Drive tab, or the side column scrolled down to it): it moves on the
+// screen after it was made. Returns how far the column or the page scrolled.
+async function reachJoystick(page) {
+  await showPanel(page, 'drive');
+  await page.getByTestId('joystick').scrollIntoViewIfNeeded();
+  return page.evaluate(() => (document.querySelector('aside')?.scrollTop ?? 0) + window.scrollY);
 }
 
 for (const size of kSizes) {
@@ -120,7 +133,7 @@ for (const size of kSizes) {
     const { context, page, errors, sent } = await openAt(size);
     try {
       // The map is the first thing anyone clicks; the arrow keys still drive after it (they do not pan the map).
-      await page.getByTestId('map').click({ position: { x: 20, y: 20 } });
+      await page.getByTestId('map').click({ position: { x: 30, y: 200 } });
       let count = sent.length;
       await page.keyboard.down('ArrowUp');
       const up = await nextCommand(sent, count, (c) => !isStop(c), 'for the up arrow after clicking the map');
@@ -134,6 +147,7 @@ for (const size of kSizes) {
       assert.deepEqual([left.linear_mps, left.angular_rps], [0, 1]);
       await page.keyboard.up('ArrowLeft');
       // In a text field the keys type and do not drive.
+      await showPanel(page, 'map');
       await page.getByTestId('mapping-name').focus();
       count = sent.length;
       await page.keyboard.press('ArrowDown');
@@ -142,12 +156,15 @@ for (const size of kSizes) {
       assert.deepEqual(sent.slice(count).filter((c) => !isStop(c)), [], 'keys in a text field sent commands');
       await page.getByTestId('mapping-name').fill('');
 
-      // The joystick is below the fold at every size: the panel scrolls to reach it after it was made.
-      assert.ok(await scrollToJoystick(page) > 0, 'the joystick was reached without scrolling');
-      await dragFourWays(page, sent, size.touch, 'after scrolling to it');
-      // A resize, or the phone or tablet turned: the joystick moves again.
+      // The joystick is below the fold on a wider screen (the column scrolls to reach it) and on its own tab on a
+      // phone (the sheet opens to show it): either way it moved after it was made.
+      const scrolled = await reachJoystick(page);
+      if (!isPhone(page)) assert.ok(scrolled > 0, 'the joystick was reached without scrolling');
+      await dragFourWays(page, sent, size.touch, 'after reaching it');
+      // A resize, or the phone or tablet turned (a phone on its side has the tablet's layout): the joystick moves
+      // again.
       await page.setViewportSize({ width: size.viewport.height, height: size.viewport.width });
-      await scrollToJoystick(page);
+      await reachJoystick(page);
       await dragFourWays(page, sent, size.touch, 'after turning the screen');
       assert.deepEqual(errors, []);
     } finally {
@@ -167,8 +184,10 @@ async function showAt(page, x, y, zoom = 6) {
   }, [x, y, zoom]);
 }
 
+// Picks map tool `name`: on a phone from the tools' menu (which closes it, and the sheet, to leave the map free).
 async function tool(page, name) {
-  const button = page.getByRole('button', { name, exact: true });
+  if (isPhone(page)) await page.getByTestId('tools-toggle').click();
+  const button = page.getByTestId('tools').getByRole('button', { name, exact: true });
   await button.scrollIntoViewIfNeeded();
   await button.click();
 }
@@ -182,13 +201,14 @@ for (const size of kSizes) {
     const message = page.getByTestId('message');
     try {
       await page.waitForFunction(() => window.corridorConsole !== undefined);
+      await showPanel(page, 'robot');
       await page.getByTestId('pose').filter({ hasText: 'x ' }).waitFor();
       // Drive: a key, then the joystick.
-      await page.getByTestId('map').click({ position: { x: 10, y: 10 } });
+      await page.getByTestId('map').click({ position: { x: 30, y: 200 } });
       await page.keyboard.down('ArrowLeft');
       await nextCommand(sent, 0, (c) => c.angular_rps > 0, 'for the left arrow');
       await page.keyboard.up('ArrowLeft');
-      await scrollToJoystick(page);
+      await reachJoystick(page);
       const count = sent.length;
       const release = await drag(page, size.touch, 0, -40);
       await nextCommand(sent, count, (c) => c.linear_mps > 0, 'for the joystick pushed up');
@@ -201,6 +221,7 @@ for (const size of kSizes) {
       await page.mouse.click(goal.x, goal.y);
       await page.getByTestId('plan-summary').filter({ hasText: /m, clearance/ }).waitFor({ timeout: 10000 });
       await page.getByTestId('plan-go').click();
+      await showPanel(page, 'mission');
       await page.getByTestId('mission-status').filter({ hasText: /^active/ }).waitFor({ timeout: 5000 });
       await page.locator('#mission-cancel').click();
       await page.getByTestId('mission-status').filter({ hasText: /^canceled/ }).waitFor({ timeout: 5000 });
@@ -225,6 +246,7 @@ for (const size of kSizes) {
       await tool(page, 'Pan');
 
       // Dock: the mission starts (issue 36: it was refused in this world), then cancelled.
+      await showPanel(page, 'mission');
       await page.getByTestId('dock').scrollIntoViewIfNeeded();
       await page.getByTestId('dock').click();
       await page.getByTestId('mission-status').filter({ hasText: /^active/ }).waitFor({ timeout: 10000 });
@@ -233,6 +255,7 @@ for (const size of kSizes) {
 
       // Map while turning on the spot, stop: the new map is in use and the building's map is still there.
       const name = `session-${size.name}`;
+      await showPanel(page, 'map');
       await page.getByTestId('mapping-name').fill(name);
       await page.getByTestId('mapping-start').click();
       await page.getByTestId('mapping-status').filter({ hasText: new RegExp(`^mapping '${name}': [1-9]`) })
@@ -248,15 +271,15 @@ for (const size of kSizes) {
       await page.getByTestId('mapping-stop').click();
       await page.getByTestId('mapping-status').filter({ hasText: `'${name}' saved and in use` })
         .waitFor({ timeout: 15000 });
-      await page.locator('#map-name').filter({ hasText: name }).waitFor({ timeout: 5000 });
+      await page.getByTestId('map-in-use').filter({ hasText: name }).waitFor({ timeout: 5000 });
       const maps = (await getJson(`${url}/api/v1/maps`)).body.maps.map((m) => m.name ?? m);
       assert.ok(maps.includes('willow-full-0.05') && maps.includes(name), JSON.stringify(maps));
       const back = await sendJson('PUT', `${url}/api/v1/map/active`, { name: 'willow-full-0.05' });
       assert.ok(back.status < 300, JSON.stringify(back.body));
-      await page.locator('#map-name').filter({ hasText: 'willow-full-0.05' }).waitFor({ timeout: 5000 });
+      await page.getByTestId('map-in-use').filter({ hasText: 'willow-full-0.05' }).waitFor({ timeout: 5000 });
 
-      // Log out: the login form, and nothing on the page failed along the way.
-      await page.getByTestId('logout').scrollIntoViewIfNeeded();
+      // Log out (on a phone from the header's menu): the login form, and nothing on the page failed along the way.
+      if (isPhone(page)) await page.getByTestId('menu-toggle').click();
       await page.getByTestId('logout').click();
       await page.getByTestId('login').waitFor({ state: 'visible', timeout: 10000 });
       assert.deepEqual(errors, []);

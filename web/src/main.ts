@@ -1,6 +1,10 @@
 // The corridor console: map, live pose, camera, telemetry, teleoperation, and the navigation tools.
-import { request, send, type Detections, type Device, type GroundLanes, type MapInfo, type Mission, type Pose, type State, type Twist } from './api';
+import {
+  request, send, type Detections, type Device, type GroundLanes, type LaserScanReading, type MapInfo, type Mission,
+  type Pose, type State, type Twist,
+} from './api';
 import { byId, type Report } from './dom';
+import { setUpLayout, shown } from './layout';
 import { repeat } from './poll';
 import { LocalizationPanel } from './localization';
 import { MapView } from './map_view';
@@ -14,6 +18,7 @@ import { Tools } from './tools';
 import { ZoneLayers } from './zones';
 
 const kCameraPeriodMs = 200;
+const kScanPeriodMs = 500;
 // The console drives at a walking pace; the daemon clamps to its own limits anyway.
 const kTeleopLimits = { maxLinear: 0.4, maxAngular: 1.0 };
 const kFootprintRadius = 0.2;
@@ -171,6 +176,7 @@ function startCamera(): void {
   const status = byId('camera-status');
   let url: string | null = null;
   repeat(async () => {
+    if (!shown(img)) return;  // a phone's closed sheet: no image to fetch
     const path = kind.value === 'depth' ? '/api/v1/camera/depth?colormap=true' : '/api/v1/camera/color';
     const res = await request(path, { cache: 'no-store' });
     if (!res.ok) throw new Error(`HTTP ${res.status}`);
@@ -242,6 +248,39 @@ function showDetections(detections: Detections, view: MapView | null, pose: Pose
   }
 }
 
+// The laser's latest scan on the map, through the robot's pose, while the laser is ok (`laserOk`).
+function startScan(view: MapView, current: () => { pose: Pose | null; laserOk: boolean }): void {
+  repeat(async () => {
+    const { pose, laserOk } = current();
+    if (!laserOk || !pose) {
+      view.showScan([]);
+      return;
+    }
+    const scan = await send<LaserScanReading>('GET', '/api/v1/laser/scan');
+    const mount = scan.base_T_laser;
+    const points: [number, number][] = [];
+    scan.ranges.forEach((r, i) => {
+      if (r === null) return;
+      const a = scan.angle_min_rad + i * scan.angle_increment_rad;
+      const bx = mount.x + r * Math.cos(mount.yaw + a);
+      const by = mount.y + r * Math.sin(mount.yaw + a);
+      points.push([pose.x + bx * Math.cos(pose.yaw) - by * Math.sin(pose.yaw),
+        pose.y + bx * Math.sin(pose.yaw) + by * Math.cos(pose.yaw)]);
+    });
+    view.showScan(points);
+  }, kScanPeriodMs, () => view.showScan([]));
+}
+
+// The emergency stop: the robot stopped and its mission paused (POST /api/v1/stop), whatever else is going on.
+async function emergencyStop(): Promise<void> {
+  try {
+    const { paused } = await send<{ paused: Mission | null }>('POST', '/api/v1/stop');
+    report(paused ? `stopped; mission paused (resume or cancel it)` : 'stopped');
+  } catch (e) {
+    report(e as Error);
+  }
+}
+
 function missionAction(action: 'pause' | 'resume' | 'cancel', current: () => Mission | null): void {
   byId(`mission-${action}`).addEventListener('click', () => {
     const mission = current();
@@ -250,8 +289,10 @@ function missionAction(action: 'pause' | 'resume' | 'cancel', current: () => Mis
 }
 
 async function main(): Promise<void> {
+  setUpLayout();
   const me = await requireSession();
   applyRole(me);
+  byId('estop').addEventListener('click', () => void emergencyStop());
   let view: MapView | null = null;
   let tools: Tools | null = null;
   let building: BuildingLayers | null = null;
@@ -259,12 +300,16 @@ async function main(): Promise<void> {
   let zones: ZoneLayers | null = null;
   let mapRevision = -1;
   let mapName = '';
+  let pose: Pose | null = null;
+  let laserOk = false;
   // The active map again (after an edit, a change of map, or mapping). Another map brings its own zones, places and
   // doors: what was drawn for the one before goes.
   const showActiveMap = () => {
     void send<MapInfo>('GET', '/api/v1/map').then((info) => {
       view?.setMap(info);
       byId('map-name').textContent = info.name;
+    byId('map-in-use').textContent = info.name;
+      byId('map-in-use').textContent = info.name;
       tools?.clearPaintPreview();
       const reloads = [building?.reload()];
       if (info.name !== mapName) reloads.push(zones?.reload(), tools?.reloadPlaces());
@@ -276,6 +321,7 @@ async function main(): Promise<void> {
   try {
     const info = await send<MapInfo>('GET', '/api/v1/map');
     byId('map-name').textContent = info.name;
+    byId('map-in-use').textContent = info.name;
     view = new MapView(byId('map'), info, kFootprintRadius);
     mapRevision = info.revision;
     mapName = info.name;
@@ -284,6 +330,17 @@ async function main(): Promise<void> {
     tools.attachPlaces();
     building = new BuildingLayers(view.map, report);
     await Promise.all([zones.reload(), tools.reloadPlaces(), building.reload()]);
+    const mapView = view;
+    mapView.addControl(document.querySelector<HTMLElement>('.map-buttons')!, 'topright');
+    mapView.addControl(byId('legend'), 'topright');
+    byId('centre-robot').addEventListener('click', () => { if (pose) mapView.centreOn(pose); });
+    const legendToggle = byId('legend-toggle');
+    legendToggle.addEventListener('click', () => {
+      const legend = byId('legend');
+      legend.hidden = !legend.hidden;
+      legendToggle.setAttribute('aria-expanded', String(!legend.hidden));
+    });
+    startScan(mapView, () => ({ pose, laserOk }));
     const localization = new LocalizationPanel(view, report);
     const mapping = new MappingPanel(view, report, showActiveMap);
     // For tests and debugging from the browser's console.
@@ -295,7 +352,6 @@ async function main(): Promise<void> {
   for (const action of ['pause', 'resume', 'cancel'] as const) missionAction(action, () => mission);
   const connection = byId('connection');
   const scheme = location.protocol === 'https:' ? 'wss' : 'ws';
-  let pose: Pose | null = null;
   let doorsShownAt = 0;
   const stream = new Stream(`${scheme}://${location.host}/api/v1/stream`, ['state', 'ground/lanes', 'perception/detections'],
     (topic, data) => {
@@ -304,6 +360,7 @@ async function main(): Promise<void> {
       if (topic !== 'state') return;
       const state = data as State;
       pose = state.pose;
+      laserOk = state.devices.some((d) => d.device === 'laser' && d.state === 'ok');
       mission = state.mission;
       showState(state, view);
       building?.showFloor(state.floor);

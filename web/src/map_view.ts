@@ -1,6 +1,6 @@
 // The map with pan and zoom (Leaflet, in metres: CRS.Simple with lat = y and lng = x of the map frame), the robot
-// as its footprint and heading, its recent trail, the simulator's ground truth as a faint ghost (with its people and
-// the obstacles it adds to the world), and the mission's path and waypoints.
+// as its footprint and heading, its recent trail, the laser's latest scan, the simulator's ground truth as a faint
+// ghost (with its people and the obstacles it adds to the world), and the mission's path and waypoints.
 import L from 'leaflet';
 
 import type { Detection, FleetOrder, MapInfo, Mission, Pose, SimObstacle, SimPerson, TrackedObject } from './api';
@@ -32,6 +32,9 @@ export class MapView {
   private trafficAt = 0;
   private shownObstacles = '';
   private followed = false;
+  // The scan's points on a canvas of their own: a few hundred markers redrawn twice a second.
+  private readonly scan = L.layerGroup();
+  private readonly scanRenderer = L.canvas({ padding: 0.2 });
 
   constructor(element: HTMLElement, info: MapInfo, private readonly footprintRadius: number) {
     this.info = info;
@@ -53,6 +56,7 @@ export class MapView {
     this.simObstacles.addTo(this.map);
     this.simPeople.addTo(this.map);
     this.tracked.addTo(this.map);
+    this.scan.addTo(this.map);
     this.ghost = L.circle([0, 0], { radius: footprintRadius, color: '#888', weight: 1, fill: false, dashArray: '3',
       className: 'robot-truth' });
     this.footprint = L.circle([0, 0], { radius: footprintRadius, color: '#1f6feb', weight: 2, fillOpacity: 0.5,
@@ -82,6 +86,31 @@ export class MapView {
     if (now - this.trafficAt < 2000) return;
     this.trafficAt = now;
     this.traffic.setUrl(`/api/v1/map/traffic?t=${now}`);
+  }
+
+  // `element` as a control over the map at `position` (its clicks and drags are the element's, not the map's).
+  addControl(element: HTMLElement, position: L.ControlPosition): void {
+    const control = new L.Control({ position });
+    control.onAdd = () => {
+      L.DomEvent.disableClickPropagation(element);
+      L.DomEvent.disableScrollPropagation(element);
+      return element;
+    };
+    control.addTo(this.map);
+  }
+
+  // Pans the map to `pose`, keeping the zoom.
+  centreOn(pose: Pose): void {
+    this.map.panTo(toLatLng(pose.x, pose.y));
+  }
+
+  // The laser's scan: its points (metres, map frame) as small dots; none clears it.
+  showScan(points: [number, number][]): void {
+    this.scan.clearLayers();
+    for (const [x, y] of points) {
+      L.circleMarker(toLatLng(x, y), { renderer: this.scanRenderer, radius: 1.5, weight: 0, fillColor: '#e3b341',
+        fillOpacity: 1, interactive: false }).addTo(this.scan);
+    }
   }
 
   // The map cell under a map-frame point, or null outside the map.

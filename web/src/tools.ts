@@ -30,9 +30,30 @@ export class Tools {
     for (const button of document.querySelectorAll<HTMLButtonElement>('#tools button[data-tool]')) {
       button.addEventListener('click', () => this.select(button.dataset.tool as Tool));
     }
-    map.on('mousedown', (e) => this.down(e.latlng));
-    map.on('mousemove', (e) => this.move(e.latlng));
-    map.on('mouseup', (e) => void this.up(e.latlng));
+    // Pointer events on the map's element, so that a finger (or a pen) presses, drags a heading or paints as a mouse
+    // does; one pointer at a time, and none that starts on a control over the map.
+    const element = map.getContainer();
+    let pointer: number | null = null;
+    element.addEventListener('pointerdown', (e) => {
+      if (pointer !== null || !e.isPrimary || !this.pointed() || (e.target as Element).closest('.leaflet-control')) return;
+      pointer = e.pointerId;
+      element.setPointerCapture(e.pointerId);
+      this.down(map.mouseEventToLatLng(e));
+    });
+    element.addEventListener('pointermove', (e) => {
+      if (e.pointerId === pointer) this.move(map.mouseEventToLatLng(e));
+    });
+    element.addEventListener('pointerup', (e) => {
+      if (e.pointerId !== pointer) return;
+      pointer = null;
+      void this.up(map.mouseEventToLatLng(e));
+    });
+    element.addEventListener('pointercancel', (e) => {
+      if (e.pointerId !== pointer) return;
+      pointer = null;
+      this.press = null;
+      this.preview.clearLayers();
+    });
     byId('plan-go').addEventListener('click', () => void this.go());
     byId('plan-clear').addEventListener('click', () => this.clear());
     byId('place-go').addEventListener('click', () => {
@@ -69,11 +90,19 @@ export class Tools {
     const map = this.view.map;
     if (tool === 'pan' || tool === 'edit_zones' || tool === 'delete_zones') map.dragging.enable();
     else map.dragging.disable();
+    // The browser leaves a finger's drags on the map to the tool (no scrolling, no zooming) while it takes them.
+    map.getContainer().classList.toggle('pointer-tool', this.pointed());
     if (tool === 'keep_out' || tool === 'speed_limit') {
       this.zones.draw(tool, Number(byId<HTMLInputElement>('zone-speed').value) || 0.2);
     }
     if (tool === 'edit_zones') this.zones.edit(true);
     if (tool === 'delete_zones') this.zones.remove(true);
+  }
+
+  // Whether the tool takes the pointer's presses, drags and releases itself (Leaflet pans for the others, and the zone
+  // tools have Geoman's).
+  private pointed(): boolean {
+    return !['pan', 'keep_out', 'speed_limit', 'edit_zones', 'delete_zones'].includes(this.tool);
   }
 
   async reloadPlaces(): Promise<void> {
