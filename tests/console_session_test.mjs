@@ -192,6 +192,63 @@ async function tool(page, name) {
   await button.click();
 }
 
+// Presses at page point `from`, drags to `to` and lets go: with the mouse, or with a finger through the DevTools
+// protocol.
+async function dragOnPage(page, touch, from, to) {
+  if (!touch) {
+    await page.mouse.move(from.x, from.y);
+    await page.mouse.down();
+    await page.mouse.move(to.x, to.y, { steps: 6 });
+    await page.mouse.up();
+    return;
+  }
+  const cdp = await page.context().newCDPSession(page);
+  await cdp.send('Input.dispatchTouchEvent', { type: 'touchStart', touchPoints: [from] });
+  for (let i = 1; i <= 6; ++i) {
+    await cdp.send('Input.dispatchTouchEvent', { type: 'touchMove',
+      touchPoints: [{ x: from.x + ((to.x - from.x) * i) / 6, y: from.y + ((to.y - from.y) * i) / 6 }] });
+  }
+  await cdp.send('Input.dispatchTouchEvent', { type: 'touchEnd', touchPoints: [] });
+  await cdp.detach();
+}
+
+// Issue 39: every drag tool works with a finger as with a mouse, and the stop button is there at every size.
+for (const size of kSizes) {
+  test(`${size.name}: a goal dragged for its heading, driven, and stopped with one tap`, async () => {
+    const { context, page, errors } = await openAt(size);
+    try {
+      await page.waitForFunction(() => window.corridorConsole !== undefined);
+      await tool(page, 'Go to');
+      // Pressed at the goal, dragged 1 m towards -x: the goal faces west.
+      const goal = await showAt(page, 23.4, 24.3);
+      await dragOnPage(page, size.touch, goal, { x: goal.x - goal.scale, y: goal.y });
+      await page.getByTestId('plan-summary').filter({ hasText: /m, clearance/ }).waitFor({ timeout: 10000 });
+      const yaw = await page.evaluate(() => window.corridorConsole.tools.goal.yaw);
+      assert.ok(Math.abs(Math.abs(yaw) - Math.PI) < 0.1, `the goal faces ${yaw}`);
+      await page.getByTestId('plan-go').click();
+      await waitFor(async () => (await getJson(`${daemon.url}/api/v1/state`)).body,
+        (s) => s.mission?.status === 'active' && Math.abs(s.velocity.linear_mps) > 0.05, 10000, 'driving to the goal');
+      // The stop button, always in the header: the robot stops and the mission waits, paused.
+      await page.getByTestId('estop').click();
+      await showPanel(page, 'mission');
+      await page.getByTestId('mission-status').filter({ hasText: /^paused/ }).waitFor({ timeout: 5000 });
+      await waitFor(async () => (await getJson(`${daemon.url}/api/v1/state`)).body,
+        (s) => Math.abs(s.velocity.linear_mps) < 0.01 && Math.abs(s.velocity.angular_rps) < 0.01, 5000, 'stopped');
+      await page.getByTestId('message').filter({ hasText: 'mission paused' }).waitFor({ timeout: 5000 });
+      await page.locator('#mission-cancel').click();
+      await page.getByTestId('mission-status').filter({ hasText: /^canceled/ }).waitFor({ timeout: 5000 });
+      // The laser's scan is on the map, and the legend says what the dots are.
+      await page.waitForFunction(() => window.corridorConsole.view.scan.getLayers().length > 100, null,
+        { timeout: 5000 });
+      await page.getByTestId('legend-toggle').click();
+      await page.getByTestId('legend').getByText('the laser\'s scan').waitFor();
+      assert.deepEqual(errors, []);
+    } finally {
+      await context.close();
+    }
+  });
+}
+
 // Issue 36, done when: a normal session (log in, drive with keys and joystick, send a goal, draw a zone, dock, map and
 // stop mapping, log out) at each of the three sizes leaves no error in the browser's console and no failed request.
 for (const size of kSizes) {
