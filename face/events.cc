@@ -8,7 +8,10 @@ namespace corridor::face {
 namespace {
 
 constexpr std::array<std::string_view, kEventTypeCount> kEventNames = {
-    "person_detected", "person_left", "mission_succeeded", "mission_failed", "blocked", "lost", "fault", "bump"};
+    "person_detected", "person_left", "mission_succeeded", "mission_failed", "blocked", "lost",
+    "fault",           "bump",        "waiting",           "battery_low"};
+// A low battery is news again once the charge has risen this far above the threshold (or it charges).
+constexpr double kBatteryRearmPercent = 5.0;
 
 bool Ended(MissionPhase phase) {
   return phase == MissionPhase::kSucceeded || phase == MissionPhase::kFailed || phase == MissionPhase::kCanceled;
@@ -31,6 +34,9 @@ std::optional<EventType> EventTypeFromString(std::string_view name) {
 EventWatch::EventWatch(const EventOptions& options) : options_(options) {
   for (const double t : {options.person_left_after_s, options.blocked_after_s}) {
     if (!(t >= 0.0) || !std::isfinite(t)) throw std::invalid_argument("events: times must be finite and >= 0");
+  }
+  if (!(options.battery_low_percent >= 0.0 && options.battery_low_percent <= 100.0)) {
+    throw std::invalid_argument("events: battery_low_percent must be within 0 to 100");
   }
 }
 
@@ -83,6 +89,25 @@ std::vector<RobotEvent> EventWatch::Update(const Situation& s, const std::vector
       e.place = s.place;
       e.detail = s.person_blocking ? "person" : "waiting";
       blocked_told_ = true;
+    }
+  }
+
+  // Each thing a mission waits for at a door or a lift, as it starts waiting for it.
+  if (!s.waiting_for.empty() && s.waiting_for != waiting_for_) {
+    RobotEvent& e = emit(EventType::kWaiting);
+    e.mission_id = s.mission_id;
+    e.place = s.place;
+    e.detail = s.waiting_for;
+  }
+  waiting_for_ = s.waiting_for;
+
+  // The battery running low, once until it charges or rises again.
+  if (s.battery_percent) {
+    const double low = options_.battery_low_percent;
+    if (s.charging || *s.battery_percent >= low + kBatteryRearmPercent) battery_low_ = false;
+    if (!battery_low_ && !s.charging && *s.battery_percent < low) {
+      emit(EventType::kBatteryLow).detail = std::to_string(static_cast<int>(std::lround(*s.battery_percent))) + " %";
+      battery_low_ = true;
     }
   }
 

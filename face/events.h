@@ -9,8 +9,13 @@
 //   blocked           an active mission's way has been blocked (a person in it, or the mission holding the robot
 //                     still) for blocked_after_s; once per blocking
 //   lost              localization stops knowing where the robot is
-//   fault             the robot stopped because something is wrong (a protective stop)
+//   fault             the robot stopped because something is wrong (a protective stop; a device that stopped
+//                     answering is one)
 //   bump              the bumper is pressed
+//   waiting           a mission holds for a door to open or a lift (each thing it waits for in turn: the lift to come,
+//                     its car to be empty, the ride)
+//   battery_low       the battery's charge fell below battery_low_percent while not charging; again only after it
+//                     charged, or rose 5 points above it
 // Each fires on the change, not while the condition lasts (a robot already lost or stopped at its first sample is
 // news: someone should know).
 #pragma once
@@ -35,9 +40,11 @@ enum class EventType {
   kBlocked,
   kLost,
   kFault,
-  kBump
+  kBump,
+  kWaiting,
+  kBatteryLow
 };
-inline constexpr int kEventTypeCount = 8;
+inline constexpr int kEventTypeCount = 10;
 std::string_view ToString(EventType type);
 // The event type named `name` (as ToString writes it); nullopt for any other name.
 std::optional<EventType> EventTypeFromString(std::string_view name);
@@ -45,15 +52,17 @@ std::optional<EventType> EventTypeFromString(std::string_view name);
 struct RobotEvent {
   EventType type = EventType::kBump;
   drivers::TimeNs stamp_ns = 0;
-  std::string mission_id{};           // mission_*, blocked
+  std::string mission_id{};           // mission_*, blocked, waiting
   std::string place{};                // mission_*: the named place of the last goal, if any
-  std::string detail{};               // mission_failed: why; fault: what failed; blocked: "person" or "waiting"
+  std::string detail{};               // mission_failed: why; fault: what failed; blocked: "person" or "waiting";
+                                      // waiting: what for; battery_low: the charge ("18 %")
   std::optional<Detection> person{};  // person_detected: the detection; person_left: the last one seen
 };
 
 struct EventOptions {
-  double person_left_after_s = 2.0;  // a track unseen this long has left (the tracker forgets after 1.5 s)
-  double blocked_after_s = 3.0;      // blocked this long before it is news
+  double person_left_after_s = 2.0;   // a track unseen this long has left (the tracker forgets after 1.5 s)
+  double blocked_after_s = 3.0;       // blocked this long before it is news
+  double battery_low_percent = 20.0;  // a charge below this is news (0: never)
 };
 
 class EventWatch {
@@ -76,6 +85,8 @@ class EventWatch {
   bool lost_ = false;
   bool fault_ = false;
   bool bumped_ = false;
+  std::string waiting_for_;   // as last sampled
+  bool battery_low_ = false;  // told, and not yet charged or risen again
   std::string mission_id_;
   MissionPhase mission_ = MissionPhase::kNone;
   drivers::TimeNs blocked_since_ns_ = -1;

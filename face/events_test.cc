@@ -129,5 +129,62 @@ TEST(EventWatchTest, LostFaultAndBumpFireOnTheirRisingEdges) {
   EXPECT_EQ(Types(watch.Update(s, {})), std::vector{EventType::kBump});
 }
 
+TEST(EventWatchTest, EachThingAMissionWaitsForAtADoorOrALiftIsNewsOnce) {
+  EventWatch watch;
+  Situation s{.now_ns = 0, .mission = MissionPhase::kActive, .mission_id = "m1"};
+  EXPECT_TRUE(watch.Update(s, {}).empty());
+  s.waiting_for = "door d1 to open";
+  for (int i = 1; i <= 3; ++i) {
+    s.now_ns = i * kSecond;
+    const auto events = watch.Update(s, {});
+    if (i == 1) {
+      ASSERT_EQ(Types(events), std::vector{EventType::kWaiting});
+      EXPECT_EQ(events[0].detail, "door d1 to open");
+      EXPECT_EQ(events[0].mission_id, "m1");
+    } else {
+      EXPECT_TRUE(events.empty()) << "still the same door";
+    }
+  }
+  s.now_ns = 4 * kSecond;
+  s.waiting_for = "lift east to come with its door open";
+  EXPECT_EQ(Types(watch.Update(s, {})), std::vector{EventType::kWaiting});
+  s.now_ns = 5 * kSecond;
+  s.waiting_for.clear();
+  EXPECT_TRUE(watch.Update(s, {}).empty());
+  s.now_ns = 6 * kSecond;
+  s.waiting_for = "door d1 to open";  // the same door again, after it was through: news again
+  EXPECT_EQ(Types(watch.Update(s, {})), std::vector{EventType::kWaiting});
+}
+
+TEST(EventWatchTest, ALowBatteryIsNewsOnceUntilItChargesOrRisesAgain) {
+  EventWatch watch({.battery_low_percent = 20.0});
+  Situation s{.now_ns = 0, .battery_percent = 25.0};
+  EXPECT_TRUE(watch.Update(s, {}).empty());
+  s.now_ns = kSecond;
+  s.battery_percent = 19.6;
+  const auto low = watch.Update(s, {});
+  ASSERT_EQ(Types(low), std::vector{EventType::kBatteryLow});
+  EXPECT_EQ(low[0].detail, "20 %");
+  // Hovering round the threshold is not news again.
+  for (const double percent : {20.5, 19.8, 21.0, 18.0}) {
+    s.now_ns += kSecond;
+    s.battery_percent = percent;
+    EXPECT_TRUE(watch.Update(s, {}).empty()) << percent;
+  }
+  // Charged on the dock, then off it and low again: news.
+  s.now_ns += kSecond;
+  s.charging = true;
+  EXPECT_TRUE(watch.Update(s, {}).empty()) << "charging";
+  s.now_ns += kSecond;
+  s.charging = false;
+  s.battery_percent = 17.0;
+  EXPECT_EQ(Types(watch.Update(s, {})), std::vector{EventType::kBatteryLow});
+  // A base that reports no battery, and a threshold of 0, tell nothing.
+  EventWatch never({.battery_low_percent = 0.0});
+  EXPECT_TRUE(never.Update({.now_ns = 0, .battery_percent = 0.0}, {}).empty());
+  EXPECT_TRUE(watch.Update({.now_ns = 100 * kSecond}, {}).empty());
+  EXPECT_THROW(EventWatch({.battery_low_percent = 101.0}), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace corridor::face

@@ -45,15 +45,17 @@ struct Situation {
                         // failing, a protective stop)
   bool lost = false;    // localization does not know where the robot is
   MissionPhase mission = MissionPhase::kNone;
-  std::string mission_id{};      // of the mission in `mission` (a new id is a new mission)
-  std::string place{};           // the named place the mission's last goal is, if any
-  std::string mission_error{};   // why a failed mission failed
-  std::string fault_detail{};    // what failed, with `fault`
-  bool waiting = false;          // an active or paused mission holds the robot still
-  bool person_blocking = false;  // a person stands in the robot's way (in front, close)
-  bool person_near = false;      // a person is close in front
-  bool person_looking = false;   // a person's face is turned to the robot, close
-  bool charging = false;         // the battery is charging (the robot stands on its dock)
+  std::string mission_id{};                 // of the mission in `mission` (a new id is a new mission)
+  std::string place{};                      // the named place the mission's last goal is, if any
+  std::string mission_error{};              // why a failed mission failed
+  std::string fault_detail{};               // what failed, with `fault`
+  bool waiting = false;                     // an active or paused mission holds the robot still
+  bool person_blocking = false;             // a person stands in the robot's way (in front, close)
+  bool person_near = false;                 // a person is close in front
+  bool person_looking = false;              // a person's face is turned to the robot, close
+  bool charging = false;                    // the battery is charging (the robot stands on its dock)
+  std::optional<double> battery_percent{};  // its charge, 0 to 100, when the base reports one
+  std::string waiting_for{};  // what a mission holds for at a door or a lift ("door d1 to open"), "" when nothing
 };
 
 enum class PhraseKind { kGreeting, kExcuseMe, kArrived };

@@ -6,6 +6,8 @@
 // controller that stops answering are tests/doors_test.mjs.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -112,6 +114,12 @@ TEST(DoorsLockstep, AMissionThroughTheDoorWaitsForItPassesAndReleasesIt) {
 
   // Released behind the robot: the door it opened closes.
   EXPECT_TRUE(robot.StepUntil([&] { return !DoorOpen(robot); }, 10.0));
+  // Building systems were told the mission waited for the door (GET /api/v1/events, as webhooks are).
+  const json events = robot.Call("GET", "/api/v1/events").body["events"];
+  const auto waited = std::find_if(events.begin(), events.end(), [](const json& e) { return e["type"] == "waiting"; });
+  ASSERT_NE(waited, events.end()) << events.dump();
+  EXPECT_EQ((*waited)["data"]["detail"], "door d1 to open");
+  EXPECT_EQ((*waited)["data"]["mission_id"], started.body["id"]);
 }
 
 }  // namespace

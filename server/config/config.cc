@@ -307,6 +307,7 @@ void ReadFace(ConfigReader& r, FaceOptions& f) {
   r.Section("events", [&](ConfigReader& v) {
     v.Read("person_left_after_s", f.events.person_left_after_s, 0.0, 600.0);
     v.Read("blocked_after_s", f.events.blocked_after_s, 0.0, 600.0);
+    v.Read("battery_low_percent", f.events.battery_low_percent, 0.0, 100.0);
   });
   r.Section("voice", [&](ConfigReader& v) {
     v.Read("mute", f.mute);

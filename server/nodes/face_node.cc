@@ -109,7 +109,10 @@ face::Situation FaceNode::Sample() {
     s.fault = command->mode == nav::ControlMode::kStopped;
     if (s.fault) s.fault_detail = command->detail;
   }
-  if (const auto battery = battery_topic_.latest()) s.charging = battery->charging;
+  if (const auto battery = battery_topic_.latest()) {
+    s.charging = battery->charging;
+    s.battery_percent = battery->charge * 100.0;
+  }
   if (const auto localization = localization_topic_.latest()) {
     s.lost = localization->estimate.health == nav::LocalizationHealth::kLost;
   }
@@ -119,6 +122,8 @@ face::Situation FaceNode::Sample() {
     if (!mission->goals.empty()) s.place = mission->goals.back().place;
     s.mission_error = mission->error;
     const bool held_still = still_since_ns_ >= 0 && s.now_ns - still_since_ns_ >= drivers::FromSeconds(kWaitingAfterS);
+    // At a door or a lift: what for (the runner's words for people).
+    if (!mission->waiting_for_door.empty() || !mission->lift.empty()) s.waiting_for = mission->waiting;
     s.waiting = s.mission == face::MissionPhase::kPaused ||
                 (s.mission == face::MissionPhase::kActive &&
                  (held_still || mission->policy == nav::PolicyMode::kWaitingForDepth));
