@@ -107,7 +107,8 @@ face::Situation FaceNode::Sample() {
   if (const auto command = cmd_vel_topic_.latest()) {
     s.driven = command->mode == nav::ControlMode::kTeleop;
     s.fault = command->mode == nav::ControlMode::kStopped;
-    if (s.fault) s.fault_detail = command->detail;
+    // What stopped it: the failing part or device, else the gate's reason (no odometry, a cliff).
+    if (s.fault) s.fault_detail = command->detail.empty() ? StopReason(*command) : command->detail;
   }
   if (const auto battery = battery_topic_.latest()) {
     s.charging = battery->charging;

@@ -176,3 +176,11 @@ export async function send<T>(method: string, url: string, body?: unknown): Prom
   }
   return parsed as T;
 }
+
+// One of the robot's events (GET /api/v1/events): what building systems are told, numbered across restarts.
+export type EventType = 'person_detected' | 'person_left' | 'mission_succeeded' | 'mission_failed' | 'blocked' | 'lost' |
+  'fault' | 'bump' | 'waiting' | 'battery_low';
+export interface RobotEvent {
+  sequence: number; time: string; type: EventType;
+  data: { mission_id?: string; place?: string; detail?: string; person?: { track_id?: number } };
+}

@@ -4,6 +4,8 @@ import {
   type Pose, type State, type Twist,
 } from './api';
 import { byId, type Report } from './dom';
+import { EventsPanel } from './events';
+import { FacePanel } from './face_panel';
 import { setUpLayout, shown } from './layout';
 import { repeat } from './poll';
 import { LocalizationPanel } from './localization';
@@ -293,6 +295,8 @@ async function main(): Promise<void> {
   const me = await requireSession();
   applyRole(me);
   byId('estop').addEventListener('click', () => void emergencyStop());
+  const face = new FacePanel(report);
+  void new EventsPanel().start().catch((e: Error) => report(e));
   let view: MapView | null = null;
   let tools: Tools | null = null;
   let building: BuildingLayers | null = null;
@@ -359,6 +363,7 @@ async function main(): Promise<void> {
       if (topic === 'perception/detections') showDetections(data as Detections, view, pose);
       if (topic !== 'state') return;
       const state = data as State;
+      face.show(state.face);
       pose = state.pose;
       laserOk = state.devices.some((d) => d.device === 'laser' && d.state === 'ok');
       mission = state.mission;
