@@ -249,6 +249,41 @@ for (const size of kSizes) {
   });
 }
 
+// Issue 39: the robot's events reach people as notifications and in a history they can filter, and the face can be
+// set and made to speak from the console, at every size.
+for (const size of kSizes) {
+  test(`${size.name}: events arrive as notifications and in the history; the face shows and says what it is told`,
+    async () => {
+      const { context, page, errors } = await openAt(size);
+      try {
+        await page.waitForFunction(() => window.corridorConsole !== undefined);
+        const started = await sendJson('POST', `${daemon.url}/api/v1/missions`, { waypoints: [{ x: 24.4, y: 24.5 }] });
+        assert.equal(started.status, 201, JSON.stringify(started.body));
+        await page.getByTestId('toasts').locator('.toast[data-type=mission_succeeded]')
+          .filter({ hasText: 'done' }).waitFor({ timeout: 30000 });
+        await showPanel(page, 'events');
+        const list = page.getByTestId('events-list');
+        await list.locator('[data-type=mission_succeeded]').first().waitFor();
+        await page.getByTestId('events-filter').selectOption('people');
+        assert.equal(await list.locator('[data-type=mission_succeeded]').count(), 0, 'filtered out');
+        await page.getByTestId('events-filter').selectOption('missions');
+        await list.locator('[data-type=mission_succeeded]').first().waitFor();
+
+        await showPanel(page, 'robot');
+        await page.getByTestId('face-expression').selectOption('surprised');
+        await page.getByTestId('face-show').click();
+        await page.getByTestId('face-now').filter({ hasText: 'surprised' }).waitFor({ timeout: 5000 });
+        await page.getByTestId('face-say').fill('Excuse me, coming through');
+        await page.getByTestId('face-speak').click();
+        await waitFor(async () => (await getJson(`${daemon.url}/api/v1/face`)).body.said,
+          (said) => said === 'Excuse me, coming through', 5000, 'the phrase said');
+        assert.deepEqual(errors, []);
+      } finally {
+        await context.close();
+      }
+    });
+}
+
 // Issue 36, done when: a normal session (log in, drive with keys and joystick, send a goal, draw a zone, dock, map and
 // stop mapping, log out) at each of the three sizes leaves no error in the browser's console and no failed request.
 for (const size of kSizes) {
