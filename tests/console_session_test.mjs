@@ -257,7 +257,9 @@ for (const size of kSizes) {
       const { context, page, errors } = await openAt(size);
       try {
         await page.waitForFunction(() => window.corridorConsole !== undefined);
-        const started = await sendJson('POST', `${daemon.url}/api/v1/missions`, { waypoints: [{ x: 24.4, y: 24.5 }] });
+        // Half a metre to a metre away, the other way each time (every size drives the same robot).
+        const goal = size.name === 'tablet' ? { x: 23.4, y: 24.3 } : { x: 24.4, y: 24.6 };
+        const started = await sendJson('POST', `${daemon.url}/api/v1/missions`, { waypoints: [goal] });
         assert.equal(started.status, 201, JSON.stringify(started.body));
         await page.getByTestId('toasts').locator('.toast[data-type=mission_succeeded]')
           .filter({ hasText: 'done' }).waitFor({ timeout: 30000 });
@@ -269,7 +271,12 @@ for (const size of kSizes) {
         await page.getByTestId('events-filter').selectOption('missions');
         await list.locator('[data-type=mission_succeeded]').first().waitFor();
 
+        // The plots have been sampling the state all along: the mission's speed is in them, drawn on the Robot tab.
         await showPanel(page, 'robot');
+        await page.getByTestId('plots').locator('.plot canvas').first().waitFor();
+        assert.equal(await page.getByTestId('plots').locator('.plot').count(), 5);
+        const speeds = await page.evaluate(() => window.corridorConsole.plots.values[0][1]);
+        assert.ok(speeds.some((v) => v > 0.1), `measured speeds plotted: ${JSON.stringify(speeds)}`);
         await page.getByTestId('face-expression').selectOption('surprised');
         await page.getByTestId('face-show').click();
         await page.getByTestId('face-now').filter({ hasText: 'surprised' }).waitFor({ timeout: 5000 });

@@ -46,6 +46,7 @@ cpSync('index.html', `${dist}index.html`);
 cpSync('api-docs.html', `${dist}api-docs.html`);
 cpSync('node_modules/swagger-ui-dist/swagger-ui-bundle.js', `${dist}swagger-ui-bundle.js`);
 cpSync('node_modules/swagger-ui-dist/swagger-ui.css', `${dist}swagger-ui.css`);
+cpSync('node_modules/uplot/dist/uPlot.min.css', `${dist}uPlot.min.css`);
 cpSync('admin.html', `${dist}admin.html`);
 cpSync('face.html', `${dist}face.html`);
 cpSync('style.css', `${dist}style.css`);

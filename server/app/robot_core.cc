@@ -1,6 +1,7 @@
 #include "server/app/robot_core.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <memory>
 #include <numbers>
@@ -69,6 +70,10 @@ RobotState RobotCore::Take() const {
   s.sim_true_pose = bus_.Get(topics::kSimTruePose).latest();
   s.sim_pedestrians = bus_.Get(topics::kSimPedestrians).latest();
   s.docked = missions_.docked();
+  // CPU time is real time's: sampled on the steady clock even when the graph runs on the simulator's.
+  s.process = process_.Sample(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+          .count());
   const auto map = maps_.active();
   s.map = map->name;
   s.map_revision = map->revision;

@@ -177,6 +177,7 @@ class RobotCore {
   const drivers::TimeNs tick_ns_;
   mutable std::mutex state_mutex_;
   mutable std::shared_ptr<const RobotState> state_;  // the latest taken; null: stale
+  mutable ProcessUsage process_;
 };
 
 }  // namespace corridor::server

@@ -1,5 +1,8 @@
 #include "server/app/robot_state.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "face/expression.h"
 
 namespace corridor::server {
@@ -46,6 +49,17 @@ json ToJson(const RobotState& s, const Config& config) {
   state["map"] = {{"name", s.map}, {"revision", s.map_revision}, {"traffic", s.map_traffic}};
   state["floor"] = s.floor ? json(*s.floor) : json(nullptr);
   state["nodes"] = s.nodes;
+  // How sure localization is, for the console's plots: null unless the filter localizes.
+  if (s.localization && s.localization->source == "mcl") {
+    const nav::LocalizationEstimate& e = s.localization->estimate;
+    state["localization"] = {{"health", nav::ToString(e.health)},
+                             {"agreement", e.agreement},
+                             {"sigma_m", std::sqrt(std::max(0.0, e.covariance(0, 0) + e.covariance(1, 1)))}};
+  } else {
+    state["localization"] = nullptr;
+  }
+  state["process"] = s.process ? json{{"cpu_percent", s.process->cpu_percent}, {"resident_mb", s.process->resident_mb}}
+                               : json(nullptr);
   return state;
 }
 

@@ -14,6 +14,7 @@
 #include "server/config/config.h"
 #include "server/nodes/mission_node.h"
 #include "server/runtime/messages.h"
+#include "server/runtime/process_usage.h"
 
 namespace corridor::server {
 
@@ -34,6 +35,7 @@ struct RobotState {
   std::shared_ptr<const ControlLatency> latency;
   std::shared_ptr<const StampedPose> sim_true_pose;
   std::shared_ptr<const SimPedestrians> sim_pedestrians;
+  std::optional<ProcessUsageSample> process;  // the daemon's CPU and memory, after its first second
   bool docked = false;
   std::string map;  // the map in use
   std::uint64_t map_revision = 0;

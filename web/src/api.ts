@@ -28,6 +28,8 @@ export interface State {
   fleet: FleetOrder | null;
   floor: string | null;
   devices: Device[];
+  localization: { health: 'ok' | 'uncertain' | 'lost'; agreement: number; sigma_m: number } | null;
+  process: { cpu_percent: number; resident_mb: number } | null;
 }
 // The laser's latest scan (GET /api/v1/laser/scan), in its own frame; null ranges saw nothing.
 export interface LaserScanReading {

@@ -6,6 +6,7 @@ import {
 import { byId, type Report } from './dom';
 import { EventsPanel } from './events';
 import { FacePanel } from './face_panel';
+import { Plots } from './plots';
 import { setUpLayout, shown } from './layout';
 import { repeat } from './poll';
 import { LocalizationPanel } from './localization';
@@ -296,6 +297,7 @@ async function main(): Promise<void> {
   applyRole(me);
   byId('estop').addEventListener('click', () => void emergencyStop());
   const face = new FacePanel(report);
+  const plots = new Plots(byId('plots'));
   void new EventsPanel().start().catch((e: Error) => report(e));
   let view: MapView | null = null;
   let tools: Tools | null = null;
@@ -349,7 +351,7 @@ async function main(): Promise<void> {
     const mapping = new MappingPanel(view, report, showActiveMap);
     // For tests and debugging from the browser's console.
     (window as unknown as { corridorConsole: object }).corridorConsole =
-      { view, tools, zones, localization, mapping, building };
+      { view, tools, zones, localization, mapping, building, plots };
   } catch (e) {
     byId('map').textContent = `map unavailable: ${(e as Error).message}`;
   }
@@ -364,6 +366,7 @@ async function main(): Promise<void> {
       if (topic !== 'state') return;
       const state = data as State;
       face.show(state.face);
+      plots.add(state);
       pose = state.pose;
       laserOk = state.devices.some((d) => d.device === 'laser' && d.state === 'ok');
       mission = state.mission;
