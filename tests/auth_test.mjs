@@ -2,6 +2,7 @@
 // CSRF and Origin checks, the limit on wrong passwords, and the audit log.
 import assert from 'node:assert/strict';
 import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import { createServer } from 'node:http';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
@@ -257,6 +258,77 @@ describe('roles, tokens and sessions', () => {
       await other.waitForURL(`${daemon.url}/`);
     } finally {
       await browser.close();
+    }
+  });
+});
+
+// Issue 39: webhooks made, tested and deleted from the admin page (against a real receiver on loopback), and the
+// audit log filtered and paged there.
+describe('the admin page\'s webhooks and audit log', () => {
+  let daemon;
+  before(async () => {
+    daemon = await startDaemon();
+    await postJson(`${daemon.url}/api/v1/users`, { username: 'admin2', password: 'admin-password', role: 'admin' });
+  });
+  after(async () => { await daemon?.stop(); });
+
+  test('a webhook is added, tested against a receiver and deleted; the audit log is filtered and paged', async () => {
+    const received = [];
+    const receiver = createServer((req, res) => {
+      let body = '';
+      req.on('data', (c) => { body += c; });
+      req.on('end', () => { received.push({ event: req.headers['x-corridor-event'], body }); res.end(); });
+    });
+    await new Promise((r) => receiver.listen(0, '127.0.0.1', r));
+    const browser = await launchBrowser();
+    try {
+      const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+      const errors = [];
+      page.on('pageerror', (e) => errors.push(e.message));
+      await gotoConsole(page, daemon.url, { username: 'admin2', password: 'admin-password' });
+      await page.goto(`${daemon.url}/admin`);
+      const url = `http://127.0.0.1:${receiver.address().port}/hook`;
+      await page.getByTestId('webhook-url').fill(url);
+      await page.getByTestId('webhook-events').getByLabel('bump').uncheck();
+      await page.getByTestId('webhook-description').fill('the front desk');
+      await page.getByTestId('webhook-add').click();
+      await page.getByTestId('webhook-secret').filter({ hasText: 'signing secret' }).waitFor();
+      const { body } = await getJson(`${daemon.url}/api/v1/webhooks`);
+      const hook = body.webhooks.find((w) => w.url === url);
+      assert.ok(hook && !hook.events.includes('bump') && hook.events.includes('waiting'), JSON.stringify(body));
+      await page.getByTestId(`test-webhook-${hook.id}`).click();
+      await waitFor(async () => received.length, (n) => n >= 1, 10000, 'the test delivery');
+      assert.equal(received[0].event, 'ping');
+      await page.getByTestId('webhooks').filter({ hasText: 'ping delivered' }).waitFor({ timeout: 10000 });
+      await page.getByTestId(`delete-webhook-${hook.id}`).click();
+      await page.waitForFunction((u) => !document.getElementById('webhooks').textContent.includes(u), url);
+
+      // The audit log: 60 refused writes by a viewer's token make more than a page; filtered to failures, paged back.
+      const viewer = mintToken(daemon.stateDir, 'viewer', 'audit-viewer');
+      for (let i = 0; i < 60; ++i) {
+        await sendJson('POST', `${daemon.url}/api/v1/places`, { name: `p${i}`, x: 1, y: 1 }, undefined, bearer(viewer));
+      }
+      await page.getByTestId('audit-who').fill('token:audit-viewer');
+      await page.getByTestId('audit-failed').check();
+      await page.getByTestId('audit-apply').click();
+      await page.getByTestId('audit-page').filter({ hasText: '50 record(s)' }).waitFor();
+      assert.equal(await page.locator('#audit tr').count(), 50);
+      assert.equal(await page.locator('#audit tr', { hasText: '403' }).count(), 50);
+      await page.getByTestId('audit-older').click();
+      await page.getByTestId('audit-page').filter({ hasText: '10 record(s), page 2' }).waitFor();
+      assert.equal(await page.getByTestId('audit-older').isDisabled(), true);
+      await page.getByTestId('audit-newer').click();
+      await page.getByTestId('audit-page').filter({ hasText: /^50 record/ }).waitFor();
+      await page.getByTestId('audit-path').fill('webhooks');
+      await page.getByTestId('audit-who').fill('');
+      await page.getByTestId('audit-failed').uncheck();
+      await page.getByTestId('audit-apply').click();
+      await page.locator('#audit tr', { hasText: 'POST /api/v1/webhooks' }).first().waitFor();
+      assert.equal(await page.locator('#audit tr', { hasText: '/api/v1/places' }).count(), 0);
+      assert.deepEqual(errors, []);
+    } finally {
+      await browser.close();
+      receiver.close();
     }
   });
 });

@@ -2,6 +2,10 @@
 // setup, browser sessions, users, API tokens and the audit log.
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+
 #include "server/api/api.h"
 #include "server/api/api_auth.h"
 
@@ -281,7 +285,30 @@ void AccountsApi::AddRoutes(Router& routes) const {
   // The newest records, or those after `after` (a poller's last sequence).
   routes.Add(
       http::verb::get, "/api/v1/audit", Access::kAdmin, Sync([this](const Request& r, const Params&) {
-        return JsonResponse(r, {{"records", access_.accounts.AuditLog(AfterParameter(r.target()), kAuditPerPage)}});
+        auth::AuditQuery query;
+        query.after = AfterParameter(r.target());
+        const std::string before = QueryValue(r.target(), "before");
+        if (!before.empty()) {
+          query.before = static_cast<std::int64_t>(std::min<std::uint64_t>(
+              ParseCount(before, "before: a sequence number, 1 or more"), std::numeric_limits<std::int64_t>::max()));
+        }
+        query.who = QueryValue(r.target(), "who");
+        query.path_contains = QueryValue(r.target(), "path");
+        const std::string failed = QueryValue(r.target(), "failed");
+        if (!failed.empty() && failed != "true" && failed != "false") {
+          throw ApiError(http::status::bad_request, "Invalid request", "failed: true or false, got '" + failed + "'");
+        }
+        query.failed_only = failed == "true";
+        const std::string limit = QueryValue(r.target(), "limit");
+        query.limit = kAuditPerPage;
+        if (!limit.empty()) {
+          const std::uint64_t n = ParseCount(limit, "limit: a count of records, 1 to 256");
+          if (n < 1 || n > static_cast<std::uint64_t>(kAuditPerPage)) {
+            throw ApiError(http::status::bad_request, "Invalid request", "limit: a count of records, 1 to 256");
+          }
+          query.limit = static_cast<int>(n);
+        }
+        return JsonResponse(r, {{"records", access_.accounts.AuditLog(query)}});
       }));
 }
 

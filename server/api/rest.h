@@ -76,7 +76,7 @@ nlohmann::json ObjectBody(const Request& request, std::initializer_list<const ch
 double RequireNumber(const nlohmann::json& body, const char* key, const std::string& where);
 // A whole number >= 0 written in `text` (a path segment or query value); throws ApiError 400 with `what` it must be.
 std::uint64_t ParseCount(const std::string& text, const std::string& what);
-// One query parameter's value from "/path?a=1&b=2"; "true" for a bare key, "" when absent.
+// One query parameter's value from "/path?a=1&b=2", percent escapes decoded; "true" for a bare key, "" when absent.
 std::string QueryValue(std::string_view target, std::string_view key);
 // The "after" query parameter of a log's page (events, audit): a sequence number, 0 when absent; 400 otherwise.
 std::int64_t AfterParameter(std::string_view target);

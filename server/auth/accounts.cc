@@ -252,12 +252,21 @@ void Accounts::Audit(const AuditRecord& r, int keep) {
   });
 }
 
-std::vector<json> Accounts::AuditLog(std::int64_t after, int limit) const {
+std::vector<json> Accounts::AuditLog(const AuditQuery& q) const {
   std::lock_guard lock(mutex_);
   Statement s(db_,
-              "SELECT * FROM (SELECT seq, time, who, client, method, path, status, detail FROM audit WHERE seq > ?"
-              " ORDER BY seq DESC LIMIT ?) ORDER BY seq");
-  s.Bind(1, after).Bind(2, limit);
+              "SELECT * FROM (SELECT seq, time, who, client, method, path, status, detail FROM audit"
+              " WHERE seq > ? AND (? = 0 OR seq < ?) AND (? = '' OR who = ?) AND (? = '' OR instr(path, ?) > 0)"
+              " AND (? = 0 OR status >= 400) ORDER BY seq DESC LIMIT ?) ORDER BY seq");
+  s.Bind(1, q.after)
+      .Bind(2, q.before)
+      .Bind(3, q.before)
+      .Bind(4, q.who)
+      .Bind(5, q.who)
+      .Bind(6, q.path_contains)
+      .Bind(7, q.path_contains)
+      .Bind(8, q.failed_only ? 1 : 0)
+      .Bind(9, q.limit);
   std::vector<json> out;
   while (s.Step()) {
     out.push_back({{"sequence", s.Int64(0)},

@@ -70,6 +70,18 @@ struct AuditRecord {
   std::string detail;  // e.g. the id of what was created
 };
 
+// Which audit records to read: numbered above `after` and below `before` (0: no bound), by `who` (exactly; empty:
+// anyone), with `path_contains` in their path (empty: any), only those that failed (status 400 or more); the newest
+// `limit` of them.
+struct AuditQuery {
+  std::int64_t after = 0;
+  std::int64_t before = 0;
+  std::string who{};
+  std::string path_contains{};
+  bool failed_only = false;
+  int limit = 256;
+};
+
 nlohmann::json ToJson(const UserRecord& user);
 nlohmann::json ToJson(const TokenRecord& token);
 
@@ -102,8 +114,8 @@ class Accounts {
 
   // Appends to the audit log and forgets all but the newest `keep` records.
   void Audit(const AuditRecord& record, int keep = 100000);
-  // The newest `limit` records numbered above `after`, oldest first.
-  std::vector<nlohmann::json> AuditLog(std::int64_t after, int limit) const;
+  // The records `query` asks for, oldest first.
+  std::vector<nlohmann::json> AuditLog(const AuditQuery& query) const;
 
  private:
   mutable std::mutex mutex_;

@@ -131,10 +131,35 @@ TEST_F(AccountsTest, UsersSessionsAndTokens) {
 
   for (int i = 0; i < 5; ++i)
     accounts.Audit({"root", "127.0.0.1", "POST", "/api/v1/zones", 201, "z" + std::to_string(i)}, 3);
-  const auto log = accounts.AuditLog(0, 10);
+  const auto log = accounts.AuditLog({.limit = 10});
   ASSERT_EQ(log.size(), 3u) << "only the newest kept";
   EXPECT_EQ(log.back()["detail"], "z4");
-  EXPECT_EQ(accounts.AuditLog(log[1]["sequence"].get<std::int64_t>(), 10).size(), 1u);
+  EXPECT_EQ(accounts.AuditLog({.after = log[1]["sequence"].get<std::int64_t>(), .limit = 10}).size(), 1u);
+}
+
+// The admin page's filters and pages: by who, by path, failures only, and older pages by `before`.
+TEST_F(AccountsTest, TheAuditLogIsFilteredAndPaged) {
+  Accounts accounts(dir_ / "corridor.db");
+  for (int i = 0; i < 10; ++i) {
+    accounts.Audit({i % 2 == 0 ? "alice" : "token:fleet", "127.0.0.1", "POST",
+                    i < 5 ? "/api/v1/zones" : "/api/v1/missions", i % 3 == 0 ? 422 : 201, std::to_string(i)});
+  }
+  const auto details = [](const std::vector<nlohmann::json>& log) {
+    std::string out;
+    for (const nlohmann::json& r : log) out += r["detail"].get<std::string>();
+    return out;
+  };
+  EXPECT_EQ(details(accounts.AuditLog({})), "0123456789");
+  EXPECT_EQ(details(accounts.AuditLog({.who = "alice"})), "02468");
+  EXPECT_EQ(details(accounts.AuditLog({.path_contains = "missions"})), "56789");
+  EXPECT_EQ(details(accounts.AuditLog({.failed_only = true})), "0369");
+  EXPECT_EQ(details(accounts.AuditLog({.who = "token:fleet", .path_contains = "zones"})), "13");
+  // Pages of three, newest first: each the three before the oldest of the page after it.
+  const auto newest = accounts.AuditLog({.limit = 3});
+  EXPECT_EQ(details(newest), "789");
+  const auto older = accounts.AuditLog({.before = newest.front()["sequence"].get<std::int64_t>(), .limit = 3});
+  EXPECT_EQ(details(older), "456");
+  EXPECT_EQ(details(accounts.AuditLog({.before = 2, .limit = 3})), "0");
 }
 
 }  // namespace

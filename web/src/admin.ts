@@ -23,7 +23,15 @@ interface WheelRun {
   run: 'straight' | 'turn'; unit: string; odometry: number; measured: number; score: number;
   diameter_factor: number; track_factor: number; patch: object | null;
 }
-interface AuditRecord { time: string; who: string; client: string; method: string; path: string; status: number; detail: string; }
+interface AuditRecord {
+  sequence: number; time: string; who: string; client: string; method: string; path: string; status: number;
+  detail: string;
+}
+
+// What webhooks can be told (GET /api/v1/events' kinds), for the form's checkboxes.
+const kEventTypes = ['mission_succeeded', 'mission_failed', 'blocked', 'waiting', 'lost', 'fault', 'bump',
+  'battery_low', 'person_detected', 'person_left'];
+const kAuditPage = 50;
 
 function report(e: Error): void {
   byId('admin-message').textContent = e.message;
@@ -74,18 +82,50 @@ async function showWebhooks(me: Me): Promise<void> {
   const rows = await Promise.all(webhooks.map(async (w) => {
     const { deliveries } = await send<{ deliveries: Delivery[] }>('GET', `/api/v1/webhooks/${w.id}/deliveries`);
     const recent = deliveries.slice(0, 3).map((d) => `${d.event} ${d.status}${d.response_status ? ` (${d.response_status})` : ''}`);
-    return row([w.url, w.events.join(', '), recent.join('; ') || 'none'], {
+    const tr = row([w.url, w.events.join(', '), recent.join('; ') || 'none'], {
       label: 'Delete', testId: `delete-webhook-${w.id}`,
       onClick: () => void send('DELETE', `/api/v1/webhooks/${w.id}`).then(() => refresh(me)).catch(report),
     });
+    // A test delivery now (a ping): its outcome shows among the last deliveries.
+    const test = document.createElement('button');
+    test.textContent = 'Test';
+    test.dataset.testid = `test-webhook-${w.id}`;
+    test.addEventListener('click', () => void send('POST', `/api/v1/webhooks/${w.id}/ping`)
+      .then(() => new Promise((r) => window.setTimeout(r, 1000))).then(() => showWebhooks(me)).catch(report));
+    tr.lastElementChild?.prepend(test, ' ');
+    return tr;
   }));
   byId('webhooks').replaceChildren(...rows);
 }
 
+// The audit log by pages of kAuditPage, newest first, with the form's filters: `before` pages back (0: the newest).
+const audit = { before: 0, pages: [] as number[] };
 async function showAudit(): Promise<void> {
-  const { records } = await send<{ records: AuditRecord[] }>('GET', '/api/v1/audit');
-  byId('audit').replaceChildren(...records.reverse().map((r) =>
+  const params = new URLSearchParams({ limit: String(kAuditPage) });
+  if (audit.before > 0) params.set('before', String(audit.before));
+  const who = byId<HTMLInputElement>('audit-who').value.trim();
+  const path = byId<HTMLInputElement>('audit-path').value.trim();
+  if (who) params.set('who', who);
+  if (path) params.set('path', path);
+  if (byId<HTMLInputElement>('audit-failed').checked) params.set('failed', 'true');
+  const { records } = await send<{ records: AuditRecord[] }>('GET', `/api/v1/audit?${params}`);
+  byId('audit').replaceChildren(...records.slice().reverse().map((r) =>
     row([day(r.time), r.who, r.client, `${r.method} ${r.path}`, String(r.status), r.detail])));
+  const older = byId<HTMLButtonElement>('audit-older');
+  older.disabled = records.length < kAuditPage;
+  older.onclick = () => {
+    audit.pages.push(audit.before);
+    audit.before = records[0].sequence;
+    void showAudit().catch(report);
+  };
+  const newer = byId<HTMLButtonElement>('audit-newer');
+  newer.disabled = audit.pages.length === 0;
+  newer.onclick = () => {
+    audit.before = audit.pages.pop() ?? 0;
+    void showAudit().catch(report);
+  };
+  byId('audit-page').textContent = records.length === 0 ? 'none'
+    : `${records.length} record(s)${audit.pages.length > 0 ? `, page ${audit.pages.length + 1}` : ''}`;
 }
 
 // Serial ports (by their stable names and USB ids), video nodes and OpenNI2 devices, each with the driver it suggests.
@@ -272,6 +312,36 @@ async function main(): Promise<void> {
     }).catch(report);
   });
   byId('audit-refresh').addEventListener('click', () => void showAudit().catch(report));
+  byId('audit-filter').addEventListener('submit', (event) => {
+    event.preventDefault();
+    audit.before = 0;
+    audit.pages = [];
+    void showAudit().catch(report);
+  });
+  const events = byId('webhook-events');
+  for (const type of kEventTypes) {
+    const label = document.createElement('label');
+    const box = document.createElement('input');
+    box.type = 'checkbox';
+    box.value = type;
+    box.defaultChecked = !type.startsWith('person_');
+    label.append(box, ` ${type.replaceAll('_', ' ')}`);
+    events.append(label);
+  }
+  byId('webhook-form').addEventListener('submit', (event) => {
+    event.preventDefault();
+    const chosen = [...events.querySelectorAll<HTMLInputElement>('input:checked')].map((b) => b.value);
+    const description = byId<HTMLInputElement>('webhook-description').value.trim();
+    const body = { url: byId<HTMLInputElement>('webhook-url').value.trim(), events: chosen,
+      ...(description ? { description } : {}) };
+    send<Webhook & { secret: string }>('POST', '/api/v1/webhooks', body).then((made) => {
+      const secret = byId('webhook-secret');
+      secret.hidden = false;
+      secret.textContent = `${made.url}: signing secret ${made.secret} (copy it now: it is not shown again)`;
+      byId<HTMLFormElement>('webhook-form').reset();
+      return refresh(me);
+    }).catch(report);
+  });
   byId('hardware-refresh').addEventListener('click', () => void showHardware().catch(report));
   const camera = calibration('camera');
   const laser = calibration('laser');
