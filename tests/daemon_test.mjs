@@ -184,7 +184,7 @@ describe('corridord in the Willow Garage building', () => {
     await expectProblem(postJson(url, { linear_mps: 0.2, angular_rps: 0, turbo: true }), 400);
     await expectProblem(postJson(url, [1, 2]), 400);
     await expectProblem(postJson(url, 'linear_mps=0.2', 'application/x-www-form-urlencoded'), 415);
-    await expectProblem(postJson(url, JSON.stringify({ pad: 'x'.repeat(200000) })), 413);
+    await expectProblem(postJson(url, JSON.stringify({ pad: 'x'.repeat(5_000_000) })), 413);
     await expectProblem(getJson(`${daemon.url}/api/v1/no-such-route`), 404);
     await expectProblem(getJson(`${daemon.url}/api/v1/teleop`), 405);
     await expectProblem(postJson(`${daemon.url}/api/v1/state`, {}), 405);

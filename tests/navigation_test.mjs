@@ -3,7 +3,7 @@
 // places, keep-out zones) is tests/missions_lockstep_test.cc in simulated time; here are the requests, their answers
 // against the OpenAPI document, and what survives a restart.
 import assert from 'node:assert/strict';
-import { copyFileSync, mkdirSync, mkdtempSync, rmSync } from 'node:fs';
+import { copyFileSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
@@ -175,6 +175,75 @@ describe('what the robot is told survives a restart', () => {
       assert.equal((await sendJson('PUT', `${daemon.url}/api/v1/map/active`, { name: '../etc' })).status, 422);
     } finally {
       await daemon.stop();
+    }
+  });
+});
+
+describe('the map library over REST', () => {
+  test('a map is imported, exported, renamed and deleted; its zones go with it', async () => {
+    const stateDir = mkdtempSync(join(tmpdir(), 'corridor-maps-'));
+    const daemon = await startDaemon({ config, stateDir });
+    const url = `${daemon.url}/api/v1`;
+    const arena = join(sourceDir, 'tests/data/maps/lse_arena');
+    const yaml = readFileSync(join(arena, 'lse_arena.yaml'), 'utf8');
+    const image = readFileSync(join(arena, 'lse_arena.pgm')).toString('base64');
+    const zone = { name: 'slow', kind: 'speed_limit', max_speed_mps: 0.2, polygon: [[2.5, 0.2], [3.5, 0.2], [3.5, 1.2]] };
+    try {
+      // Imported map_server files join the library; the map in use stays in use.
+      const imported = await postJson(`${url}/maps`, { name: 'annex', yaml, image });
+      assert.equal(imported.status, 201, JSON.stringify(imported.body));
+      api.check('Maps', imported.body);
+      assert.deepEqual(imported.body, { maps: ['lse_arena', 'annex'], active: 'lse_arena' });
+      const refused = async (body, status, code) => {
+        const answer = await postJson(`${url}/maps`, body);
+        assert.equal(answer.status, status, JSON.stringify(answer.body));
+        if (code) assert.equal(answer.body.code, code);
+        return answer.body.detail;
+      };
+      await refused({ name: 'annex', yaml, image }, 409, 'name_taken');
+      await refused({ name: '../annex', yaml, image }, 422, 'invalid_name');
+      assert.match(await refused({ name: 'b', yaml, image: 'bm90IGFuIGltYWdl' }, 422, 'invalid_map'), /image/);
+      assert.match(await refused({ name: 'b', yaml: 'resolution: -1', image }, 422, 'invalid_map'), /map_server/);
+      await refused({ name: 'b', yaml, image: '%%%' }, 400);
+      await refused({ name: 'b', yaml }, 400);
+      assert.deepEqual((await getJson(`${url}/maps`)).body.maps, ['lse_arena', 'annex'], 'nothing half-imported');
+
+      // Exported as map_server files that import again into the same grid.
+      const files = await getJson(`${url}/maps/annex/files`);
+      assert.equal(files.status, 200);
+      api.check('MapFiles', files.body);
+      assert.match(files.body.yaml, /^image: annex\.png$/m);
+      assert.equal(Buffer.from(files.body.image, 'base64').subarray(1, 4).toString(), 'PNG');
+      const again = await postJson(`${url}/maps`, { name: 'annex-copy', yaml: files.body.yaml, image: files.body.image });
+      assert.equal(again.status, 201, JSON.stringify(again.body));
+      const copy = (await getJson(`${url}/maps/annex-copy/files`)).body;
+      assert.equal(copy.image, files.body.image);
+
+      // A zone drawn on the imported map goes with it through a rename; the map in use is not renamed or deleted.
+      assert.equal((await sendJson('PUT', `${url}/map/active`, { name: 'annex' })).status, 200);
+      assert.equal((await postJson(`${url}/zones`, zone)).status, 201);
+      assert.equal((await sendJson('PATCH', `${url}/maps/annex`, { name: 'wing' })).body.code, 'map_in_use');
+      assert.equal((await sendJson('DELETE', `${url}/maps/annex`)).body.code, 'map_in_use');
+      assert.equal((await sendJson('DELETE', `${url}/maps/lse_arena`)).body.code, 'map_configured');
+      assert.equal((await sendJson('PUT', `${url}/map/active`, { name: 'lse_arena' })).status, 200);
+      const renamed = await sendJson('PATCH', `${url}/maps/annex`, { name: 'wing' });
+      assert.equal(renamed.status, 200, JSON.stringify(renamed.body));
+      assert.deepEqual(renamed.body.maps, ['lse_arena', 'annex-copy', 'wing']);
+      assert.equal((await sendJson('PATCH', `${url}/maps/wing`, { name: 'annex-copy' })).body.code, 'name_taken');
+      assert.equal((await sendJson('PATCH', `${url}/maps/nowhere`, { name: 'x' })).status, 404);
+      assert.equal((await sendJson('PUT', `${url}/map/active`, { name: 'wing' })).status, 200);
+      assert.deepEqual((await getJson(`${url}/zones`)).body.zones.map((z) => z.name), ['slow']);
+
+      // Deleted with its zones: a map imported later under the name starts bare.
+      assert.equal((await sendJson('PUT', `${url}/map/active`, { name: 'lse_arena' })).status, 200);
+      assert.equal((await sendJson('DELETE', `${url}/maps/wing`)).status, 204);
+      assert.equal((await getJson(`${url}/maps/wing/files`)).status, 404);
+      assert.equal((await postJson(`${url}/maps`, { name: 'wing', yaml, image })).status, 201);
+      assert.equal((await sendJson('PUT', `${url}/map/active`, { name: 'wing' })).status, 200);
+      assert.deepEqual((await getJson(`${url}/zones`)).body.zones, []);
+    } finally {
+      await daemon.stop();
+      rmSync(stateDir, { recursive: true, force: true });
     }
   });
 });

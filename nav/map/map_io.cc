@@ -172,13 +172,17 @@ void SaveMap(const OccupancyGrid& grid, const std::filesystem::path& yaml_path) 
   image_path.replace_extension(".pgm");
   WriteAtomically(image_path, std::string(pgm.begin(), pgm.end()));
 
+  WriteAtomically(yaml_path, MapYaml(grid, image_path.filename().string()));
+}
+
+std::string MapYaml(const OccupancyGrid& grid, const std::string& image) {
   YAML::Emitter out;
-  out << YAML::BeginMap << YAML::Key << "image" << YAML::Value << image_path.filename().string() << YAML::Key << "mode"
-      << YAML::Value << "trinary" << YAML::Key << "resolution" << YAML::Value << grid.resolution_m() << YAML::Key
-      << "origin" << YAML::Value << YAML::Flow << YAML::BeginSeq << grid.origin().x_m << grid.origin().y_m
-      << grid.origin().yaw_rad << YAML::EndSeq << YAML::Key << "negate" << YAML::Value << 0 << YAML::Key
-      << "occupied_thresh" << YAML::Value << 0.65 << YAML::Key << "free_thresh" << YAML::Value << 0.196 << YAML::EndMap;
-  WriteAtomically(yaml_path, std::string(out.c_str()) + "\n");
+  out << YAML::BeginMap << YAML::Key << "image" << YAML::Value << image << YAML::Key << "mode" << YAML::Value
+      << "trinary" << YAML::Key << "resolution" << YAML::Value << grid.resolution_m() << YAML::Key << "origin"
+      << YAML::Value << YAML::Flow << YAML::BeginSeq << grid.origin().x_m << grid.origin().y_m << grid.origin().yaw_rad
+      << YAML::EndSeq << YAML::Key << "negate" << YAML::Value << 0 << YAML::Key << "occupied_thresh" << YAML::Value
+      << 0.65 << YAML::Key << "free_thresh" << YAML::Value << 0.196 << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
 }
 
 }  // namespace corridor::nav

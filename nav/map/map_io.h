@@ -46,6 +46,9 @@ OccupancyGrid LoadMap(const std::filesystem::path& yaml_path);
 // each atomically (temporary file, then rename). Throws MapFileError when a file cannot be written.
 void SaveMap(const OccupancyGrid& grid, const std::filesystem::path& yaml_path);
 
+// The map_server YAML for `grid` in trinary mode naming `image` (its file name, beside the YAML), as SaveMap writes it.
+std::string MapYaml(const OccupancyGrid& grid, const std::string& image);
+
 // The image nav2_map_server would save for `grid` in trinary mode: 8-bit grey, row 0 at the top.
 cv::Mat GridToImage(const OccupancyGrid& grid);
 

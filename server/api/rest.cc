@@ -1,5 +1,7 @@
 #include "server/api/rest.h"
 
+#include <openssl/evp.h>
+
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -60,6 +62,32 @@ std::string QueryValue(std::string_view target, std::string_view key) {
     query.remove_prefix(amp + 1);
   }
   return "";
+}
+
+std::string ToBase64(std::string_view bytes) {
+  std::string out(4 * ((bytes.size() + 2) / 3), '\0');
+  const int n = EVP_EncodeBlock(reinterpret_cast<unsigned char*>(out.data()),
+                                reinterpret_cast<const unsigned char*>(bytes.data()), static_cast<int>(bytes.size()));
+  out.resize(static_cast<std::size_t>(std::max(0, n)));
+  return out;
+}
+
+std::optional<std::string> FromBase64(std::string_view text) {
+  std::string out(3 * (text.size() / 4) + 3, '\0');
+  EVP_ENCODE_CTX* context = EVP_ENCODE_CTX_new();
+  if (context == nullptr) return std::nullopt;
+  EVP_DecodeInit(context);
+  int n = 0;
+  int last = 0;
+  const int updated =
+      EVP_DecodeUpdate(context, reinterpret_cast<unsigned char*>(out.data()), &n,
+                       reinterpret_cast<const unsigned char*>(text.data()), static_cast<int>(text.size()));
+  const int finished =
+      updated < 0 ? -1 : EVP_DecodeFinal(context, reinterpret_cast<unsigned char*>(out.data()) + n, &last);
+  EVP_ENCODE_CTX_free(context);
+  if (updated < 0 || finished < 0) return std::nullopt;
+  out.resize(static_cast<std::size_t>(n + last));
+  return out;
 }
 
 std::int64_t AfterParameter(std::string_view target) {

@@ -78,6 +78,9 @@ double RequireNumber(const nlohmann::json& body, const char* key, const std::str
 std::uint64_t ParseCount(const std::string& text, const std::string& what);
 // One query parameter's value from "/path?a=1&b=2", percent escapes decoded; "true" for a bare key, "" when absent.
 std::string QueryValue(std::string_view target, std::string_view key);
+// `bytes` as base64 (RFC 4648's alphabet, padded), and back; nullopt for text that is not base64.
+std::string ToBase64(std::string_view bytes);
+std::optional<std::string> FromBase64(std::string_view text);
 // The "after" query parameter of a log's page (events, audit): a sequence number, 0 when absent; 400 otherwise.
 std::int64_t AfterParameter(std::string_view target);
 // Throws ApiError 400 for a key not in `allowed`.

@@ -4,6 +4,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include <fstream>
 #include <set>
 
 #include "nav/map/map_io.h"
@@ -61,7 +62,8 @@ std::vector<std::string> MapLibrary::Names() const {
   std::set<std::string> others;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir_, ec)) {
-    if (fs::exists(entry.path() / "map.yaml")) others.insert(entry.path().filename().string());
+    const std::string name = entry.path().filename().string();
+    if (ValidMapName(name) && fs::exists(entry.path() / "map.yaml")) others.insert(name);  // not one being imported
   }
   {
     std::lock_guard lock(mutex_);
@@ -165,6 +167,89 @@ std::shared_ptr<const nav::OccupancyGrid> MapLibrary::Grid(const std::string& na
 void MapLibrary::AddConfigured(const std::string& name, const fs::path& file) {
   std::lock_guard lock(mutex_);
   configured_[name] = file;
+}
+
+bool MapLibrary::Configured(const std::string& name) const {
+  if (name == initial_name_) return true;
+  std::lock_guard lock(mutex_);
+  return configured_.contains(name);
+}
+
+void MapLibrary::Import(const std::string& name, const std::string& yaml, const std::string& image) {
+  if (!ValidMapName(name)) throw MapEditError("'" + name + "' is not a map name (letters, digits, '-', '_', '.')");
+  if (Contains(name)) throw MapEditError("a map named '" + name + "' exists");
+  // The YAML is read from a file of its own (the map_server reader's way); the image from the bytes given.
+  const fs::path staging = dir_ / (".import-" + name);
+  const auto clean_up = [&] {
+    std::error_code ignored;
+    fs::remove_all(staging, ignored);
+  };
+  nav::OccupancyGrid grid;
+  try {
+    fs::create_directories(staging);
+    const fs::path yaml_file = staging / "map.yaml";
+    std::ofstream(yaml_file, std::ios::binary) << yaml;
+    const nav::MapMetadata meta = nav::LoadMapMetadata(yaml_file);
+    const std::vector<std::uint8_t> bytes(image.begin(), image.end());
+    cv::Mat decoded;
+    try {
+      decoded = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+    } catch (const cv::Exception&) {
+    }
+    if (decoded.empty()) throw MapEditError("the image is not a PNG or PGM image");
+    constexpr int kMaxCells = 8192 * 8192;  // 410 m square at 5 cm: a building's floor with room to spare
+    if (decoded.total() > kMaxCells) throw MapEditError("the image has more than 8192 x 8192 cells");
+    if (decoded.depth() != CV_8U) decoded.convertTo(decoded, CV_8U, 1.0 / 257.0);
+    grid = nav::GridFromImage(decoded, meta);
+  } catch (const nav::MapFileError& e) {
+    clean_up();
+    throw MapEditError(std::string("not a map_server map: ") + e.what());
+  } catch (...) {
+    clean_up();
+    throw;
+  }
+  clean_up();
+  try {
+    fs::create_directories(dir_ / name);
+    nav::SaveMap(grid, dir_ / name / "map.yaml");
+  } catch (const std::exception& e) {
+    std::error_code ignored;
+    fs::remove_all(dir_ / name, ignored);
+    throw MapEditError(std::string("the map could not be saved: ") + e.what());
+  }
+}
+
+void MapLibrary::CheckOwned(const std::string& name, const char* what) const {
+  if (Configured(name)) {
+    throw MapEditError("map '" + name + "' is the configuration's (corridor.yaml): it cannot be " + what);
+  }
+  if (!ValidMapName(name) || !fs::exists(dir_ / name / "map.yaml")) throw MapEditError("no map named '" + name + "'");
+  if (name == active()->name) throw MapEditError("map '" + name + "' is in use: choose another map first");
+}
+
+void MapLibrary::Rename(const std::string& from, const std::string& to) {
+  CheckOwned(from, "renamed");
+  if (!ValidMapName(to)) throw MapEditError("'" + to + "' is not a map name (letters, digits, '-', '_', '.')");
+  if (Contains(to)) throw MapEditError("a map named '" + to + "' exists");
+  std::error_code ec;
+  fs::rename(dir_ / from, dir_ / to, ec);
+  if (ec) throw MapEditError("map '" + from + "' could not be renamed: " + ec.message());
+}
+
+void MapLibrary::Delete(const std::string& name) {
+  CheckOwned(name, "deleted");
+  // Out of the library at once (a rename), then its files removed.
+  const fs::path gone = dir_ / (".deleted-" + name);
+  std::error_code ec;
+  fs::remove_all(gone, ec);
+  fs::rename(dir_ / name, gone, ec);
+  if (ec) throw MapEditError("map '" + name + "' could not be deleted: " + ec.message());
+  fs::remove_all(gone, ec);
+}
+
+std::pair<std::string, std::string> MapLibrary::Files(const std::string& name) const {
+  const std::shared_ptr<const nav::OccupancyGrid> grid = Grid(name);
+  return {nav::MapYaml(*grid, name + ".png"), EncodePng(*grid)};
 }
 
 bool MapLibrary::Contains(const std::string& name) const {

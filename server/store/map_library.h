@@ -57,6 +57,20 @@ class MapLibrary {
   // is not valid or already taken, or when it cannot be saved; nothing changes then.
   void Add(const std::string& name, nav::OccupancyGrid grid);
   bool Contains(const std::string& name) const;
+  // Whether `name` is a map the configuration names (the initial map, a floor's): it is neither renamed nor deleted.
+  bool Configured(const std::string& name) const;
+  // Saves a map given as map_server files' contents (its YAML, and the image whatever the YAML calls it: PNG or PGM)
+  // under `name`, without making it the active one. Throws MapEditError for a name that is not valid or is taken, or
+  // files that are not a map (saying what is wrong); nothing is saved then.
+  void Import(const std::string& name, const std::string& yaml, const std::string& image);
+  // Renames a saved map (its files, its 3D map). Throws MapEditError for the active map, a configured or unknown one,
+  // or a new name that is not valid or is taken; nothing changes then.
+  void Rename(const std::string& from, const std::string& to);
+  // Deletes a saved map and its files. Throws MapEditError for the active map or a configured or unknown one.
+  void Delete(const std::string& name);
+  // Map `name` as map_server files: a YAML naming `name`.png, and that PNG. Throws MapEditError when there is no
+  // such map or it cannot be read.
+  std::pair<std::string, std::string> Files(const std::string& name) const;
   // A map the configuration names (a floor's): selectable by `name`, read from `file` unless an edited copy is saved.
   void AddConfigured(const std::string& name, const std::filesystem::path& file);
   // The grid of map `name` (the active one, an edited copy or a configured file). Throws MapEditError when there is
@@ -65,6 +79,8 @@ class MapLibrary {
 
  private:
   void Publish(nav::OccupancyGrid grid, const std::string& name, bool save);
+  // Throws MapEditError unless `name` is a saved map that may be `what` (renamed, deleted): see Rename.
+  void CheckOwned(const std::string& name, const char* what) const;
   // The saved (edited) copy of `name`, else its configured file; throws MapEditError.
   nav::OccupancyGrid Load(const std::string& name) const;
 

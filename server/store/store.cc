@@ -82,6 +82,30 @@ std::vector<nav::Zone> Store::Zones(const std::string& map) const {
   return out;
 }
 
+void Store::RenameMap(const std::string& from, const std::string& to) {
+  std::lock_guard lock(mutex_);
+  InTransaction(db_, [&] {
+    for (const char* sql : {"UPDATE zones SET map = ? WHERE map = ?", "UPDATE places SET map = ? WHERE map = ?",
+                            "UPDATE doors SET map = ? WHERE map = ?"}) {
+      Statement s(db_, sql);
+      s.Bind(1, to).Bind(2, from);
+      s.Step();
+    }
+  });
+}
+
+void Store::DeleteMap(const std::string& name) {
+  std::lock_guard lock(mutex_);
+  InTransaction(db_, [&] {
+    for (const char* sql :
+         {"DELETE FROM zones WHERE map = ?", "DELETE FROM places WHERE map = ?", "DELETE FROM doors WHERE map = ?"}) {
+      Statement s(db_, sql);
+      s.Bind(1, name);
+      s.Step();
+    }
+  });
+}
+
 void Store::PutZone(const std::string& map, const nav::Zone& zone) {
   std::lock_guard lock(mutex_);
   Statement s(db_, "INSERT OR REPLACE INTO zones (map, id, name, kind, polygon, max_speed_mps) VALUES (?,?,?,?,?,?)");

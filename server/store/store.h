@@ -66,6 +66,11 @@ class Store {
   void PutDoor(const std::string& map, const nav::Door& door);  // insert or replace by id
   bool DeleteDoor(const std::string& map, const std::string& id);
 
+  // What belongs to map `from` (its zones, places and doors) now belongs to map `to`, in one transaction.
+  void RenameMap(const std::string& from, const std::string& to);
+  // Forgets map `name`'s zones, places and doors, in one transaction.
+  void DeleteMap(const std::string& name);
+
   // Lift stops drawn in the console (lift id, stop), for the building beside the configuration's lifts.
   std::vector<std::pair<std::string, nav::LiftStop>> LiftStops() const;
   void PutLiftStop(const std::string& lift, const nav::LiftStop& stop);  // insert or replace by lift and floor

@@ -1,6 +1,6 @@
 // libFuzzer target: JSON bodies of the routes that take them (zones, places, missions, plans, map cells, teleop, sim
-// faults, the active map, the face, an initial pose, a webhook, pushed detections), through the real router and
-// handlers. The first byte picks the route; the rest is the body.
+// faults, the active map, an imported or renamed map, the face, an initial pose, a webhook, pushed detections), through
+// the real router and handlers. The first byte picks the route; the rest is the body.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -22,6 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       {http::verb::put, "/api/v1/sim/faults"}, {http::verb::put, "/api/v1/map/active"},
       {http::verb::post, "/api/v1/face"},      {http::verb::put, "/api/v1/localization/pose"},
       {http::verb::post, "/api/v1/webhooks"},  {http::verb::post, "/api/v1/detections"},
+      {http::verb::post, "/api/v1/maps"},      {http::verb::patch, "/api/v1/maps/m1"},
   };
   if (size == 0) return 0;
   const Route& route = kRoutes[data[0] % (sizeof(kRoutes) / sizeof(kRoutes[0]))];
