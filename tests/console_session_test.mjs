@@ -5,7 +5,11 @@
 import assert from 'node:assert/strict';
 import { after, before, test } from 'node:test';
 
-import { getJson, gotoConsole, launchBrowser, sendJson, startDaemon, waitFor } from './daemon.mjs';
+import { mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+
+import { getJson, gotoConsole, launchBrowser, sendJson, sourceDir, startDaemon, waitFor } from './daemon.mjs';
 
 const kSizes = [
   { name: 'desktop', viewport: { width: 1280, height: 800 }, touch: false },
@@ -291,6 +295,62 @@ for (const size of kSizes) {
     });
 }
 
+// Issue 39: the map library from the console at every size: a map exported as a zip of map_server files and imported
+// from it, another imported from its .yaml and image, one renamed, both deleted.
+for (const size of kSizes) {
+  test(`${size.name}: maps exported, imported, renamed and deleted from the console`, async () => {
+    const { context, page, errors } = await openAt(size);
+    const library = page.getByTestId('maps-list');
+    const row = (name) => library.locator(`li[data-map="${name}"]`);
+    const names = async () => (await getJson(`${daemon.url}/api/v1/maps`)).body.maps;
+    const exportDir = mkdtempSync(join(tmpdir(), 'corridor-export-'));
+    try {
+      await showPanel(page, 'map');
+      await row('willow-full-0.05').waitFor();
+      const [download] = await Promise.all([page.waitForEvent('download'),
+        row('willow-full-0.05').locator('[data-action=export]').click()]);
+      assert.equal(download.suggestedFilename(), 'willow-full-0.05.zip');
+
+      // The zip imported under a name of its own; the name proposed is the zip's.
+      const copy = `copy-${size.name}`;
+      const zip = join(exportDir, download.suggestedFilename());
+      await download.saveAs(zip);
+      await page.getByTestId('maps-import-files').setInputFiles(zip);
+      assert.equal(await page.getByTestId('maps-import-name').inputValue(), 'willow-full-0.05');
+      await page.getByTestId('maps-import-name').fill(copy);
+      await page.getByTestId('maps-import').click();
+      await row(copy).waitFor({ timeout: 10000 });
+      assert.equal(await page.getByTestId('maps-import-name').inputValue(), '', 'the form is emptied');
+
+      // A .yaml and its image, chosen together.
+      const arena = join(sourceDir, 'tests/data/maps/lse_arena');
+      await page.getByTestId('maps-import-files').setInputFiles(
+        [join(arena, 'lse_arena.yaml'), join(arena, 'lse_arena.pgm')]);
+      await page.getByTestId('maps-import-name').fill(`arena-${size.name}`);
+      await page.getByTestId('maps-import').click();
+      await row(`arena-${size.name}`).waitFor({ timeout: 10000 });
+
+      // Renamed in place (Enter), then both deleted (confirmed).
+      await row(copy).locator('[data-action=rename]').click();
+      const field = library.getByRole('textbox', { name: `new name for map ${copy}` });
+      await field.fill(`${copy}-b`);
+      await field.press('Enter');
+      await row(`${copy}-b`).waitFor({ timeout: 5000 });
+      assert.ok(!(await names()).includes(copy));
+      page.on('dialog', (dialog) => void dialog.accept());
+      for (const name of [`${copy}-b`, `arena-${size.name}`]) {
+        await row(name).locator('[data-action=delete]').click();
+        await row(name).waitFor({ state: 'detached', timeout: 5000 });
+      }
+      assert.deepEqual((await names()).filter((n) => n.endsWith(size.name)), []);
+      assert.deepEqual(errors, []);
+    } finally {
+      await context.close();
+      rmSync(exportDir, { recursive: true, force: true });
+    }
+  });
+}
+
 // Issue 36, done when: a normal session (log in, drive with keys and joystick, send a goal, draw a zone, dock, map and
 // stop mapping, log out) at each of the three sizes leaves no error in the browser's console and no failed request.
 for (const size of kSizes) {
@@ -373,9 +433,12 @@ for (const size of kSizes) {
       await page.getByTestId('map-in-use').filter({ hasText: name }).waitFor({ timeout: 5000 });
       const maps = (await getJson(`${url}/api/v1/maps`)).body.maps.map((m) => m.name ?? m);
       assert.ok(maps.includes('willow-full-0.05') && maps.includes(name), JSON.stringify(maps));
-      const back = await sendJson('PUT', `${url}/api/v1/map/active`, { name: 'willow-full-0.05' });
-      assert.ok(back.status < 300, JSON.stringify(back.body));
+      // Back to the building's map, chosen in the map library.
+      const library = page.getByTestId('maps-list');
+      await library.locator(`li[data-map="${name}"] em`).filter({ hasText: 'in use' }).waitFor({ timeout: 5000 });
+      await library.locator('li[data-map="willow-full-0.05"] [data-action=use]').click();
       await page.getByTestId('map-in-use').filter({ hasText: 'willow-full-0.05' }).waitFor({ timeout: 5000 });
+      await library.locator('li[data-map="willow-full-0.05"] em').filter({ hasText: 'in use' }).waitFor();
 
       // Log out (on a phone from the header's menu): the login form, and nothing on the page failed along the way.
       if (isPhone(page)) await page.getByTestId('menu-toggle').click();

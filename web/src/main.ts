@@ -11,6 +11,7 @@ import { setUpLayout, shown } from './layout';
 import { repeat } from './poll';
 import { LocalizationPanel } from './localization';
 import { MapView } from './map_view';
+import { MapsPanel } from './maps';
 import { MappingPanel } from './mapping';
 import { OctomapView } from './octomap_view';
 import { BuildingLayers } from './building';
@@ -298,6 +299,8 @@ async function main(): Promise<void> {
   byId('estop').addEventListener('click', () => void emergencyStop());
   const face = new FacePanel(report);
   const plots = new Plots(byId('plots'));
+  const maps = new MapsPanel(me, report);
+  void maps.reload().catch((e: Error) => report(e));
   void new EventsPanel().start().catch((e: Error) => report(e));
   let view: MapView | null = null;
   let tools: Tools | null = null;
@@ -314,7 +317,6 @@ async function main(): Promise<void> {
     void send<MapInfo>('GET', '/api/v1/map').then((info) => {
       view?.setMap(info);
       byId('map-name').textContent = info.name;
-    byId('map-in-use').textContent = info.name;
       byId('map-in-use').textContent = info.name;
       tools?.clearPaintPreview();
       const reloads = [building?.reload()];
@@ -359,6 +361,7 @@ async function main(): Promise<void> {
   const connection = byId('connection');
   const scheme = location.protocol === 'https:' ? 'wss' : 'ws';
   let doorsShownAt = 0;
+  let streamMapName = mapName;  // the map the stream last named
   const stream = new Stream(`${scheme}://${location.host}/api/v1/stream`, ['state', 'ground/lanes', 'perception/detections'],
     (topic, data) => {
       if (topic === 'ground/lanes') showLanes(data as GroundLanes, view, pose);
@@ -378,8 +381,11 @@ async function main(): Promise<void> {
         void building.reloadDoors().catch(() => {});
       }
       octomap.showRobot(state.pose);
-      if (view && state.map.revision !== mapRevision) {
+      // Another map, or this one edited.
+      if (view && (state.map.revision !== mapRevision || state.map.name !== streamMapName)) {
         mapRevision = state.map.revision;
+        streamMapName = state.map.name;
+        maps.showActive(state.map.name);
         showActiveMap();
       }
     },

@@ -57,7 +57,13 @@ export function applyRole(me: Me): void {
       .finally(() => location.reload());
   });
   document.body.dataset.role = me.role;
-  for (const element of document.querySelectorAll<HTMLElement>('[data-needs]')) {
+  applyNeeds(me, document);
+}
+
+// Disables the elements under `root` marked with a role (data-needs) that `me` does not have: the page's at login,
+// and the rows a panel draws later.
+export function applyNeeds(me: Me, root: ParentNode): void {
+  for (const element of root.querySelectorAll<HTMLElement>('[data-needs]')) {
     const needed = element.dataset.needs as Role;
     if (mayDo(me, needed)) continue;
     element.classList.add('forbidden');
