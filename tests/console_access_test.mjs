@@ -1,5 +1,5 @@
 // The console's pages for everyone (issue 39): axe-core (@axe-core/playwright) finds no serious or critical
-// accessibility violation on the console, the admin page and the face page, at the three sizes the console is used at
+// accessibility violation on the console, the admin, settings and face pages, at the three sizes the console is used at
 // (a desktop, a tablet and a phone with touch), with each of the phone's panels, menus and the map's legend open as
 // well as closed. Screenshots of each size are saved with the test's artifacts.
 import assert from 'node:assert/strict';
@@ -41,7 +41,7 @@ async function violations(page, where) {
 }
 
 for (const size of kSizes) {
-  test(`${size.name}: no serious or critical accessibility violation on the console, admin and face pages`, async () => {
+  test(`${size.name}: no serious or critical accessibility violation on the console, admin, settings and face pages`, async () => {
     const context = await browser.newContext({ viewport: size.viewport, hasTouch: size.touch, isMobile: size.touch });
     const page = await context.newPage();
     try {
@@ -70,6 +70,11 @@ for (const size of kSizes) {
       await page.goto(`${daemon.url}/admin`);
       await page.getByTestId('users').filter({ hasText: 'tester' }).waitFor();
       found.push(...await violations(page, 'admin'));
+      await page.goto(`${daemon.url}/settings`);
+      await page.locator('details[data-section=safety] summary').click();
+      await page.locator('.setting[data-path="safety.max_linear_mps"] input').waitFor();
+      found.push(...await violations(page, 'settings'));
+      await page.screenshot({ path: join(artifacts, `settings-${size.name}.png`) });
       await page.goto(`${daemon.url}/face`);
       await page.locator('canvas').first().waitFor();
       found.push(...await violations(page, 'face'));

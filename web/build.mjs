@@ -1,4 +1,4 @@
-// Builds the console, the admin page, the face kiosk page and the API page into web/dist: one bundled script each, the
+// Builds the console, the admin and settings pages, the face kiosk page and the API page into web/dist: one bundled script each, the
 // pages, the styles (ours and Leaflet's), and Swagger UI's prebuilt bundle for the API page.
 import { build } from 'esbuild';
 import { cpSync, mkdirSync } from 'node:fs';
@@ -25,6 +25,16 @@ await build({
   logLevel: 'warning',
 });
 await build({
+  entryPoints: ['src/settings.ts'],
+  bundle: true,
+  minify: true,
+  sourcemap: true,
+  target: 'es2022',
+  format: 'esm',
+  outfile: `${dist}settings.js`,
+  logLevel: 'warning',
+});
+await build({
   entryPoints: ['src/admin.ts'],
   bundle: true,
   minify: true,
@@ -48,6 +58,7 @@ cpSync('node_modules/swagger-ui-dist/swagger-ui-bundle.js', `${dist}swagger-ui-b
 cpSync('node_modules/swagger-ui-dist/swagger-ui.css', `${dist}swagger-ui.css`);
 cpSync('node_modules/uplot/dist/uPlot.min.css', `${dist}uPlot.min.css`);
 cpSync('admin.html', `${dist}admin.html`);
+cpSync('settings.html', `${dist}settings.html`);
 cpSync('face.html', `${dist}face.html`);
 cpSync('style.css', `${dist}style.css`);
 cpSync('favicon.svg', `${dist}favicon.svg`);

@@ -195,12 +195,14 @@ json Api::StreamMessage(const std::string& text, std::vector<std::string>& subsc
 }
 
 Response Api::ServeFile(const Request& request, const std::string& target) const {
-  // The console at /, the face kiosk page at /face, the admin page at /admin, the API's documentation at /api/docs.
-  const std::string relative = target == "/"        ? "index.html"
-                               : target == "/face"  ? "face.html"
-                               : target == "/admin" ? "admin.html"
-                               : target == kApiDocs ? "api-docs.html"
-                                                    : target.substr(1);
+  // The console at /, the face kiosk page at /face, the admin page at /admin, the settings at /settings, the API's
+  // documentation at /api/docs.
+  const std::string relative = target == "/"           ? "index.html"
+                               : target == "/face"     ? "face.html"
+                               : target == "/admin"    ? "admin.html"
+                               : target == "/settings" ? "settings.html"
+                               : target == kApiDocs    ? "api-docs.html"
+                                                       : target.substr(1);
   if (relative.find("..") != std::string::npos || relative.find('\0') != std::string::npos) {
     throw ApiError(http::status::bad_request, "Bad path", "path must not contain '..'");
   }

@@ -55,7 +55,13 @@ json Hardware() {
 
 SystemApi::SystemApi(Bus& bus, const RobotCore& core, const Config& config, const drivers::Clock& clock,
                      const drivers::Laser2D* laser)
-    : bus_(bus), core_(core), config_(config), clock_(clock), laser_(laser), start_ns_(clock.Now()) {}
+    : bus_(bus), core_(core), config_(config), clock_(clock), laser_(laser), start_ns_(clock.Now()) {
+  if (config_.file.empty()) return;
+  try {
+    started_config_ = ConfigDocument(config_.file);
+  } catch (const ConfigError&) {
+  }
+}
 
 void SystemApi::AddRoutes(Router& routes) const {
   routes.Add(http::verb::get, "/api/v1/health", Access::kPublic, Sync([this](const Request& r, const Params&) {
@@ -107,16 +113,32 @@ void SystemApi::AddRoutes(Router& routes) const {
     if (config_.file.empty()) throw ApiError(http::status::not_found, "No configuration file", "built in code");
     return config_.file;
   };
-  routes.Add(http::verb::get, "/api/v1/config", Access::kAdmin, Sync([config_file](const Request& r, const Params&) {
+  // The keys whose values in the file are not those the daemon started with: they take effect at the next start.
+  const auto pending = [this](const json& document) {
+    return started_config_.is_null() ? json::array() : json(ChangedKeys(started_config_, document));
+  };
+  routes.Add(
+      http::verb::get, "/api/v1/config", Access::kAdmin, Sync([config_file, pending](const Request& r, const Params&) {
+        const auto file = config_file();
+        try {
+          const json document = ConfigDocument(file);
+          return JsonResponse(r, {{"file", file.string()}, {"config", document}, {"pending", pending(document)}});
+        } catch (const ConfigError& e) {
+          throw ApiError(http::status::service_unavailable, "Configuration unreadable", e.what());
+        }
+      }));
+  routes.Add(http::verb::get, "/api/v1/config/schema", Access::kAdmin,
+             Sync([config_file](const Request& r, const Params&) {
                const auto file = config_file();
                try {
-                 return JsonResponse(r, {{"file", file.string()}, {"config", ConfigDocument(file)}});
+                 return JsonResponse(r, ConfigSchemaJson(file));
                } catch (const ConfigError& e) {
                  throw ApiError(http::status::service_unavailable, "Configuration unreadable", e.what());
                }
              }));
   routes.Add(
-      http::verb::patch, "/api/v1/config", Access::kAdmin, Sync([config_file](const Request& r, const Params&) {
+      http::verb::patch, "/api/v1/config", Access::kAdmin,
+      Sync([config_file, pending](const Request& r, const Params&) {
         const auto file = config_file();
         const json patch = ParseJsonBody(r);
         ConfigChange change;
@@ -131,6 +153,7 @@ void SystemApi::AddRoutes(Router& routes) const {
         return JsonResponse(r, {{"file", file.string()},
                                 {"config", change.document},
                                 {"changed", change.changed},
+                                {"pending", pending(change.document)},
                                 {"restart_required", !change.changed.empty()},
                                 {"detail", change.changed.empty() ? "nothing changed"
                                                                   : "corridord reads its configuration at start: "

@@ -35,6 +35,7 @@ class SystemApi {
   const drivers::Clock& clock_;
   const drivers::Laser2D* laser_;
   drivers::TimeNs start_ns_;
+  nlohmann::json started_config_;  // the configuration file's document when the daemon started (null: unreadable)
 };
 
 // The OpenAPI 3.1 document (server/api/openapi.json, built into the binary).

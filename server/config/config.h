@@ -407,7 +407,7 @@ Config LoadConfig(const std::filesystem::path& file, const ConfigOverrides& over
 // The YAML document in `file`; throws ConfigError naming the file when it cannot be read or parsed.
 YAML::Node ReadConfigYaml(const std::filesystem::path& file);
 // The configuration in `root`, checked as LoadConfig checks a file; relative paths resolve against `file`'s
-// directory and errors name `file`. Throws ConfigError.
-Config ConfigFromYaml(const YAML::Node& root, const std::filesystem::path& file);
+// directory and errors name `file`. Every key read is recorded in `schema` when given. Throws ConfigError.
+Config ConfigFromYaml(const YAML::Node& root, const std::filesystem::path& file, ConfigSchema* schema = nullptr);
 
 }  // namespace corridor::server

@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <regex>
+#include <sstream>
 
 #include "server/config/config.h"
 
@@ -117,7 +119,124 @@ void WriteAtomically(const fs::path& file, const std::string& text) {
   }
 }
 
+// Where a comment starts in a YAML line (a '#' outside quotes, at the start or after a space), or npos.
+std::size_t CommentStart(const std::string& line) {
+  char quote = 0;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quote) {
+      if (c == quote) quote = 0;
+    } else if (c == '"' || c == '\'') {
+      quote = c;
+    } else if (c == '#' && (i == 0 || line[i - 1] == ' ' || line[i - 1] == '\t')) {
+      return i;
+    }
+  }
+  return std::string::npos;
+}
+
+std::string Trim(const std::string& text) {
+  const auto first = text.find_first_not_of(" \t");
+  if (first == std::string::npos) return "";
+  return text.substr(first, text.find_last_not_of(" \t") - first + 1);
+}
+
 }  // namespace
+
+std::map<std::string, std::string> ConfigComments(const std::string& yaml) {
+  static const std::regex kKey(R"(^( *)([A-Za-z_][A-Za-z0-9_]*):( .*|)$)");
+  std::map<std::string, std::string> help;
+  std::vector<std::pair<std::size_t, std::string>> keys;  // the open keys: indentation, name
+  std::string block;                                      // comment lines since the last key or blank line
+  std::string* continued = nullptr;                       // the help a comment in `column` continues
+  std::size_t column = std::string::npos;
+  std::istringstream in(yaml);
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::size_t hash = CommentStart(line);
+    const std::string code = Trim(line.substr(0, hash));
+    const std::string comment = hash == std::string::npos ? "" : Trim(line.substr(hash + 1));
+    if (code.empty()) {
+      if (hash == std::string::npos) {  // a blank line ends a block
+        block.clear();
+        continued = nullptr;
+      } else if (continued && hash == column) {
+        *continued += " " + comment;
+      } else {
+        // Prose wrapped over lines joins up; an indented line (a table, an example) keeps its own line.
+        continued = nullptr;
+        const std::string raw = line.substr(hash + 1);
+        const bool indented = raw.starts_with("  ");
+        block += (block.empty() ? "" : indented ? "\n" : " ") + (indented ? raw.substr(1) : comment);
+      }
+      continue;
+    }
+    std::smatch match;
+    continued = nullptr;
+    const std::string before_comment = line.substr(0, hash);
+    if (!std::regex_match(before_comment, match, kKey)) {
+      block.clear();
+      continue;
+    }
+    const std::size_t indent = match[1].length();
+    while (!keys.empty() && keys.back().first >= indent) keys.pop_back();
+    keys.emplace_back(indent, match[2]);
+    std::string path;
+    for (const auto& key : keys) path += (path.empty() ? "" : ".") + key.second;
+    std::string text = block;
+    if (!comment.empty()) text += (text.empty() ? "" : "\n") + comment;
+    block.clear();
+    if (text.empty()) continue;
+    std::string& entry = help[path];
+    entry = text;
+    if (!comment.empty()) {
+      continued = &entry;
+      column = hash;
+    }
+  }
+  return help;
+}
+
+std::string UnitOfKey(const std::string& key) {
+  static const std::vector<std::pair<std::string, std::string>> kUnits = {
+      {"_mps2", "m/s²"},   {"_rps2", "rad/s²"}, {"_mps", "m/s"},      {"_rps", "rad/s"}, {"_ms", "ms"},
+      {"_m", "m"},         {"_s", "s"},         {"_hz", "Hz"},        {"_deg", "°"},     {"_rad", "rad"},
+      {"_px", "px"},       {"_percent", "%"},   {"_v", "V"},          {"_w", "W"},       {"_wh", "Wh"},
+      {"_bytes", "bytes"}, {"_hours", "h"},     {"_wpm", "words/min"}};
+  for (const auto& [suffix, unit] : kUnits) {
+    if (key.size() > suffix.size() && key.ends_with(suffix)) return unit;
+  }
+  return "";
+}
+
+json ConfigSchemaJson(const fs::path& file) {
+  ConfigSchema schema;
+  ConfigFromYaml(ReadConfigYaml(file), file, &schema);
+  const std::map<std::string, std::string> comments = ConfigComments(ShippedConfigText());
+  json fields = json::array();
+  for (const ConfigField& f : schema) {
+    json field = {{"path", f.path}, {"type", f.type}, {"default", f.default_value}};
+    if (f.min) field["min"] = *f.min;
+    if (f.max) field["max"] = *f.max;
+    if (!f.choices.empty()) field["choices"] = f.choices;
+    const std::string key = f.path.substr(f.path.rfind('.') + 1);
+    field["unit"] = UnitOfKey(key);
+    const auto help = comments.find(f.path);
+    field["help"] = help == comments.end() ? "" : help->second;
+    fields.push_back(std::move(field));
+  }
+  json sections = json::object();
+  for (const auto& [path, help] : comments) {
+    if (path.find('.') == std::string::npos) sections[path] = help;
+  }
+  return {{"fields", std::move(fields)}, {"sections", std::move(sections)}};
+}
+
+std::vector<std::string> ChangedKeys(const json& before, const json& after) {
+  std::vector<std::string> changed;
+  Differences(before, after, "", changed);
+  return changed;
+}
 
 json ConfigDocument(const fs::path& file) {
   const json document = ToJson(ReadConfigYaml(file));
@@ -133,8 +252,7 @@ ConfigChange PatchConfigFile(const fs::path& file, const json& patch) {
   Emit(out, after);
   const std::string text = std::string(out.c_str()) + "\n";
   ConfigFromYaml(YAML::Load(text), file);  // as strict as at start-up; throws ConfigError
-  ConfigChange change{after, {}};
-  Differences(before, after, "", change.changed);
+  ConfigChange change{after, ChangedKeys(before, after)};
   if (!change.changed.empty()) WriteAtomically(file, text);
   return change;
 }

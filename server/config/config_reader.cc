@@ -16,8 +16,27 @@ YAML::Node ConfigReader::Take(const char* key) {
   return node[key];
 }
 
+void ConfigReader::Record(const char* key, const char* type, nlohmann::json default_value) {
+  if (!schema_) return;
+  ConfigField field;
+  field.path = PathOf(key);
+  field.type = type;
+  field.default_value = std::move(default_value);
+  schema_->push_back(std::move(field));
+}
+
+ConfigField* ConfigReader::Recorded(const char* key) const {
+  if (!schema_) return nullptr;
+  const std::string path = PathOf(key);
+  for (auto field = schema_->rbegin(); field != schema_->rend(); ++field) {
+    if (field->path == path) return &*field;
+  }
+  return nullptr;
+}
+
 void ConfigReader::Section(const char* key, const std::function<void(ConfigReader&)>& read) {
   ConfigReader section(Take(key), PathOf(key));
+  section.schema_ = schema_;
   read(section);
   section.Finish();
 }
@@ -28,6 +47,7 @@ void ConfigReader::List(const char* key, const std::function<void(ConfigReader&)
   if (!list.IsSequence()) throw ConfigError(PathOf(key) + ": expected a list");
   for (std::size_t i = 0; i < list.size(); ++i) {
     ConfigReader item(list[i], PathOf(key) + "[" + std::to_string(i) + "]");
+    item.schema_ = schema_;
     read_item(item);
     item.Finish();
   }

@@ -4,7 +4,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <nlohmann/json.hpp>
+
 #include <functional>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -20,6 +23,17 @@ class ConfigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// What a reader learns of each key it reads, when asked to (ConfigReader::Describe): the configuration's schema, made
+// by the very code that checks it, so that the two cannot disagree.
+struct ConfigField {
+  std::string path;                  // dotted; a list's items as key[i]
+  std::string type;                  // "boolean", "integer", "number" or "string"
+  nlohmann::json default_value;      // the value before the key was read: the code's default
+  std::optional<double> min, max;    // the range checked, when there is one
+  std::vector<std::string> choices;  // the names allowed, when there is a fixed set
+};
+using ConfigSchema = std::vector<ConfigField>;
+
 class ConfigReader {
  public:
   // `node` must be a mapping or null (an absent section); `path` is its dotted key path ("" at the root).
@@ -28,6 +42,7 @@ class ConfigReader {
   // Reads an optional key into `value`, which keeps its default when the key is absent.
   template <typename T>
   void Read(const char* key, T& value) {
+    if constexpr (std::is_arithmetic_v<T> || std::is_same_v<T, std::string>) Record(key, TypeId<T>(), value);
     const YAML::Node child = Take(key);
     if (!child || child.IsNull()) return;  // absent, or "key:" with no value: keep the default
     try {
@@ -46,6 +61,10 @@ class ConfigReader {
   // Throws ConfigError unless min <= value <= max.
   template <typename T>
   void Check(const char* key, const T& value, T min, T max) const {
+    if (ConfigField* field = Recorded(key)) {
+      field->min = static_cast<double>(min);
+      field->max = static_cast<double>(max);
+    }
     if (!(value >= min && value <= max)) {
       std::ostringstream msg;
       msg << PathOf(key) << ": must be between " << min << " and " << max << ", got " << value;
@@ -63,6 +82,9 @@ class ConfigReader {
       names += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + choices[i].first;
     }
     Read(key, name);
+    if (ConfigField* field = Recorded(key)) {
+      for (const auto& choice : choices) field->choices.push_back(choice.first);
+    }
     for (const auto& [n, v] : choices) {
       if (n == name) {
         value = v;
@@ -83,8 +105,25 @@ class ConfigReader {
   const std::string& path() const { return path_; }
   std::string PathOf(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
 
+  // Records every key read from here on (and in the sections and lists read through this reader) into `schema`.
+  void Describe(ConfigSchema* schema) { schema_ = schema; }
+
  private:
   YAML::Node Take(const char* key);
+  void Record(const char* key, const char* type, nlohmann::json default_value);
+  // The field recorded for `key` by this reader, or null when not describing.
+  ConfigField* Recorded(const char* key) const;
+  template <typename T>
+  static const char* TypeId() {
+    if constexpr (std::is_same_v<T, bool>)
+      return "boolean";
+    else if constexpr (std::is_integral_v<T>)
+      return "integer";
+    else if constexpr (std::is_floating_point_v<T>)
+      return "number";
+    else
+      return "string";
+  }
   static std::string Text(const YAML::Node& node);
   template <typename T>
   static std::string TypeName() {
@@ -101,6 +140,7 @@ class ConfigReader {
   YAML::Node node_;
   std::string path_;
   std::set<std::string> read_;
+  ConfigSchema* schema_ = nullptr;
 };
 
 }  // namespace corridor::server

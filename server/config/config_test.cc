@@ -1,4 +1,5 @@
 #include "server/config/config.h"
+#include "server/config/config_file.h"
 
 #include <gtest/gtest.h>
 
@@ -484,6 +485,71 @@ TEST_F(ConfigTest, BrokenFilesAreReported) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("cannot be opened"), std::string::npos);
   }
+}
+
+TEST(ConfigCommentsTest, AKeysHelpIsItsCommentWithItsContinuationsAfterTheBlockAboveIt) {
+  const auto help = ConfigComments(
+      "# The file's header.\n"
+      "\n"
+      "# Who may use the robot.\n"
+      "#   viewer  reads\n"
+      "auth:\n"
+      "  open: false   # true: reads without logging in\n"
+      "  name: \"a # not a comment\"\n"
+      "  # Forward motion stops before\n"
+      "  # what the camera sees.\n"
+      "  timeout_s: 0.3   # scans older than this are stale\n"
+      "                   # (an RPLIDAR turns at 5.5 Hz)\n"
+      "  list:\n"
+      "    - {a: 1}   # an item\n"
+      "other:\n"
+      "  deep:\n"
+      "    leaf: 1   # a leaf\n");
+  EXPECT_EQ(help.at("auth"), "Who may use the robot.\n  viewer  reads");
+  EXPECT_EQ(help.at("auth.open"), "true: reads without logging in");
+  EXPECT_FALSE(help.contains("auth.name"));
+  EXPECT_EQ(help.at("auth.timeout_s"),
+            "Forward motion stops before what the camera sees.\n"
+            "scans older than this are stale (an RPLIDAR turns at 5.5 Hz)");
+  EXPECT_EQ(help.at("other.deep.leaf"), "a leaf");
+  EXPECT_FALSE(help.contains("auth.list.a"));
+}
+
+TEST(ConfigCommentsTest, UnitsComeFromTheKeysSuffix) {
+  EXPECT_EQ(UnitOfKey("max_linear_mps"), "m/s");
+  EXPECT_EQ(UnitOfKey("max_decel_mps2"), "m/s²");
+  EXPECT_EQ(UnitOfKey("odometry_timeout_s"), "s");
+  EXPECT_EQ(UnitOfKey("mount_yaw_deg"), "°");
+  EXPECT_EQ(UnitOfKey("port"), "");
+  EXPECT_EQ(UnitOfKey("_s"), "");
+}
+
+TEST_F(ConfigTest, TheSchemaIsWhatTheCheckingCodeReadsWithTheShippedFilesHelp) {
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\n"
+                                    "safety: {max_linear_mps: 0.3}\n";
+  const nlohmann::json schema = ConfigSchemaJson(dir_ / "c.yaml");
+  const auto field = [&](const std::string& path) {
+    for (const auto& f : schema["fields"]) {
+      if (f["path"] == path) return f;
+    }
+    ADD_FAILURE() << path << " is not in the schema";
+    return nlohmann::json();
+  };
+  const auto speed = field("safety.max_linear_mps");
+  EXPECT_EQ(speed["type"], "number");
+  EXPECT_EQ(speed["default"], 0.5);  // the code's, not the file's
+  EXPECT_EQ(speed["min"], 0.0);
+  EXPECT_EQ(speed["max"], 3.0);
+  EXPECT_EQ(speed["unit"], "m/s");
+  EXPECT_EQ(field("server.port")["type"], "integer");
+  EXPECT_EQ(field("server.port")["help"], "0 picks a free port");
+  EXPECT_EQ(field("auth.anonymous_viewer")["type"], "boolean");
+  EXPECT_EQ(field("log.level")["choices"], nlohmann::json({"trace", "debug", "info", "warn", "error"}));
+  EXPECT_NE(schema["sections"]["auth"].get<std::string>().find("Who may use the robot"), std::string::npos);
+  // Every key the shipped file sets is described, with help.
+  std::size_t undocumented = 0;
+  for (const auto& f : schema["fields"]) undocumented += f["help"].get<std::string>().empty() ? 1 : 0;
+  EXPECT_LT(undocumented, schema["fields"].size());
 }
 
 }  // namespace

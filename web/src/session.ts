@@ -50,6 +50,7 @@ export async function requireSession(): Promise<Me> {
 export function applyRole(me: Me): void {
   byId('user').textContent = `${me.name} (${me.role})`;
   byId('admin-link').hidden = !mayDo(me, 'admin');
+  byId('settings-link').hidden = !mayDo(me, 'admin');
   byId('logout').addEventListener('click', () => {
     // Nothing more is asked, and what was asked is answered, before the session ends; then the login form.
     void leavePage()
