@@ -12,7 +12,7 @@ sed -e 's|^  port: 8080 .*|  port: 8443                 # HTTPS (server.tls); 0 
     -e 's|^  world: "worlds/|  world: "/usr/share/corridor/worlds/|' \
     -e 's|^    enabled: false .*# HTTPS and WSS.*|    enabled: true            # HTTPS and WSS on server.port|' \
     -e 's|^    redirect_port: 0 .*|    redirect_port: 8080      # plain HTTP here only redirects to HTTPS|' \
-    -e '/^dds:/,/^$/ s|^  enabled: false$|  enabled: true              # ROS 2 tools on the robot'"'"'s network see it|' \
+    -e '/^dds:/,/^$/ s|^  enabled: false .*|  enabled: true                # ROS 2 tools on the robot'"'"'s network see it|' \
     "$src" > "$out"
 for want in '^  port: 8443 ' '^  state_dir: "/var/lib/corridor"' '^  world: "/usr/share/corridor/worlds/' \
             '^    enabled: true ' '^    redirect_port: 8080 ' '^  enabled: true  *# ROS 2'; do
