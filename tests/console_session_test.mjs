@@ -253,8 +253,8 @@ for (const size of kSizes) {
   });
 }
 
-// Issue 39: the robot's events reach people as notifications and in a history they can filter, and the face can be
-// set and made to speak from the console, at every size.
+// Issue 39: the robot's events reach people as notifications and in a history they can filter, a failed mission says
+// why, and the face can be set and made to speak from the console, at every size.
 for (const size of kSizes) {
   test(`${size.name}: events arrive as notifications and in the history; the face shows and says what it is told`,
     async () => {
@@ -275,12 +275,12 @@ for (const size of kSizes) {
         await page.getByTestId('events-filter').selectOption('missions');
         await list.locator('[data-type=mission_succeeded]').first().waitFor();
 
-        // The plots have been sampling the state all along: the mission's speed is in them, drawn on the Robot tab.
+        // The plots have been sampling the state all along: the mission's speed (forward or backing) is in them.
         await showPanel(page, 'robot');
         await page.getByTestId('plots').locator('.plot canvas').first().waitFor();
         assert.equal(await page.getByTestId('plots').locator('.plot').count(), 5);
         const speeds = await page.evaluate(() => window.corridorConsole.plots.values[0][1]);
-        assert.ok(speeds.some((v) => v > 0.1), `measured speeds plotted: ${JSON.stringify(speeds)}`);
+        assert.ok(speeds.some((v) => Math.abs(v) > 0.1), `measured speeds plotted: ${JSON.stringify(speeds)}`);
         await page.getByTestId('face-expression').selectOption('surprised');
         await page.getByTestId('face-show').click();
         await page.getByTestId('face-now').filter({ hasText: 'surprised' }).waitFor({ timeout: 5000 });
@@ -288,6 +288,15 @@ for (const size of kSizes) {
         await page.getByTestId('face-speak').click();
         await waitFor(async () => (await getJson(`${daemon.url}/api/v1/face`)).body.said,
           (said) => said === 'Excuse me, coming through', 5000, 'the phrase said');
+
+        // A mission that cannot be done says why: in a notification, and on the Mission tab.
+        const island = { x: 12.73, y: 27.12 };  // free floor, but walled in on the map: no path reaches it
+        const doomed = await sendJson('POST', `${daemon.url}/api/v1/missions`, { waypoints: [island] });
+        assert.equal(doomed.status, 201, JSON.stringify(doomed.body));
+        await page.getByTestId('toasts').locator('.toast[data-type=mission_failed]').filter({ hasText: 'no path' })
+          .waitFor({ timeout: 15000 });
+        await showPanel(page, 'mission');
+        await page.getByTestId('mission-status').filter({ hasText: /^failed: no path from/ }).waitFor({ timeout: 5000 });
         assert.deepEqual(errors, []);
       } finally {
         await context.close();
