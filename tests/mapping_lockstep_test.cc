@@ -83,6 +83,11 @@ TEST(MappingLockstep, AMapBuiltWhileDrivingThroughTheHouseHasItsWallsWhereTheRef
   ASSERT_EQ(started.status, 202) << started.body.dump();
   ASSERT_TRUE(robot.StepUntil([&] { return mapping()["active"] == true; }, 5.0)) << "mapping never under way";
   EXPECT_EQ(robot.Call("POST", "/api/v1/mapping/start", {{"name", "other"}}).body["code"], "already_mapping");
+  // No map may take the name of the one being made.
+  const LockstepRobot::Reply taken =
+      robot.Call("POST", "/api/v1/maps", {{"name", "house-new"}, {"yaml", ""}, {"image", ""}});
+  EXPECT_EQ(taken.status, 409) << taken.body.dump();
+  EXPECT_NE(taken.body.value("detail", "").find("being made"), std::string::npos) << taken.body.dump();
   // Round the middle of the house and back (the planner still plans on the reference map).
   const json waypoints = json::array({{{"x", -3.5}, {"y", -3.3}},
                                       {{"x", 2.0}, {"y", -3.8}},

@@ -460,6 +460,11 @@ void MapApi::AddRoutes(Router& routes) const {
     if (maps_.Contains(name)) {
       throw ApiError(http::status::conflict, "Name taken", "a map named '" + name + "' exists", "name_taken");
     }
+    // The map being made will be saved under its name: nothing may take it first.
+    const auto mapping = bus_.Get(topics::kMapping).latest();
+    if (mapping && mapping->active && mapping->name == name) {
+      throw ApiError(http::status::conflict, "Name taken", "a map named '" + name + "' is being made", "name_taken");
+    }
   };
   routes.Add(
       http::verb::post, "/api/v1/maps", Access::kAdmin,
