@@ -188,15 +188,16 @@ int Run(const CommandLine& cl) {
   server.Start();
   graph.Start();
   ServiceNotifier service(graph.executors().control);
-  spdlog::info("listening on {}://{}:{}", tls ? "https" : "http", config.server.bind_address, server.port());
-  if (tls && config.server.tls.redirect_port != 0) {
-    spdlog::info("plain HTTP on port {} redirects to HTTPS", config.server.tls.redirect_port);
-  }
+  // The setup code before the port: whoever waits for "listening" in the journal has the code by then.
   if (const auto code = graph.access().setup.code()) {
     spdlog::warn(
         "no users yet: create the first admin in the console with the setup code {} (also shown on the "
         "robot's screen)",
         *code);
+  }
+  spdlog::info("listening on {}://{}:{}", tls ? "https" : "http", config.server.bind_address, server.port());
+  if (tls && config.server.tls.redirect_port != 0) {
+    spdlog::info("plain HTTP on port {} redirects to HTTPS", config.server.tls.redirect_port);
   }
   service.Ready("listening on port " + std::to_string(server.port()));
   std::cerr << std::flush;
