@@ -125,16 +125,14 @@ class ConfigReader {
       return "string";
   }
   static std::string Text(const YAML::Node& node);
+  // The type in an error's words.
   template <typename T>
   static std::string TypeName() {
-    if constexpr (std::is_same_v<T, bool>)
-      return "true or false";
-    else if constexpr (std::is_integral_v<T>)
-      return "an integer";
-    else if constexpr (std::is_floating_point_v<T>)
-      return "a number";
-    else
-      return "a string";
+    const std::string id = TypeId<T>();
+    return id == "boolean"   ? "true or false"
+           : id == "integer" ? "an integer"
+           : id == "number"  ? "a number"
+                             : "a string";
   }
 
   YAML::Node node_;

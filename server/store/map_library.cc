@@ -14,6 +14,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// An image in a file format OpenCV reads (PNG, PGM, ...), or an empty one when the bytes are none.
+cv::Mat DecodeImage(const std::string& bytes, int flags) {
+  const std::vector<std::uint8_t> data(bytes.begin(), bytes.end());
+  try {
+    return cv::imdecode(data, flags);
+  } catch (const cv::Exception&) {
+    return {};
+  }
+}
+
 }  // namespace
 
 std::string EncodePng(const nav::OccupancyGrid& grid) {
@@ -118,12 +128,7 @@ void MapLibrary::EditCells(const std::vector<CellEdit>& edits) {
 
 void MapLibrary::ReplaceImage(const std::string& bytes) {
   const auto current = active();
-  const std::vector<std::uint8_t> data(bytes.begin(), bytes.end());
-  cv::Mat image;
-  try {
-    image = cv::imdecode(data, cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception&) {
-  }
+  const cv::Mat image = DecodeImage(bytes, cv::IMREAD_GRAYSCALE);
   if (image.empty()) throw MapEditError("the body is not a PNG or PGM image");
   if (image.cols != current->grid.width() || image.rows != current->grid.height()) {
     throw MapEditError("the image is " + std::to_string(image.cols) + " x " + std::to_string(image.rows) +
@@ -190,12 +195,7 @@ void MapLibrary::Import(const std::string& name, const std::string& yaml, const 
     const fs::path yaml_file = staging / "map.yaml";
     std::ofstream(yaml_file, std::ios::binary) << yaml;
     const nav::MapMetadata meta = nav::LoadMapMetadata(yaml_file);
-    const std::vector<std::uint8_t> bytes(image.begin(), image.end());
-    cv::Mat decoded;
-    try {
-      decoded = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
-    } catch (const cv::Exception&) {
-    }
+    cv::Mat decoded = DecodeImage(image, cv::IMREAD_UNCHANGED);
     if (decoded.empty()) throw MapEditError("the image is not a PNG or PGM image");
     constexpr int kMaxCells = 8192 * 8192;  // 410 m square at 5 cm: a building's floor with room to spare
     if (decoded.total() > kMaxCells) throw MapEditError("the image has more than 8192 x 8192 cells");

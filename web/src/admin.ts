@@ -3,7 +3,7 @@
 import { request, send, type LaserScanReading, type State, type Twist } from './api';
 import { byId } from './dom';
 import { repeat } from './poll';
-import { type Me, whoAmI } from './session';
+import { type Me, requireAdmin } from './session';
 
 interface User { username: string; role: string; created: string; }
 interface Token { id: string; name: string; role: string; created: string; created_by: string; last_used: string | null; token?: string; }
@@ -283,12 +283,8 @@ function refresh(me: Me): Promise<void> {
 }
 
 async function main(): Promise<void> {
-  const me = await whoAmI();
-  if (!me || me.role !== 'admin') {
-    location.href = '/';
-    return;
-  }
-  byId('user').textContent = `${me.name} (${me.role})`;
+  const me = await requireAdmin();
+  if (!me) return;
   byId('user-form').addEventListener('submit', (event) => {
     event.preventDefault();
     const body = {

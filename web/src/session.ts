@@ -19,6 +19,18 @@ export async function whoAmI(): Promise<Me | null> {
   return (await send<SetupStatus>('GET', '/api/v1/setup')).session;
 }
 
+// The logged-in admin, named in the page's #user, for the admin-only pages; anyone else is sent to the console (which
+// logs them in) and gets null.
+export async function requireAdmin(): Promise<Me | null> {
+  const me = await whoAmI();
+  if (!me || me.role !== 'admin') {
+    location.href = '/';
+    return null;
+  }
+  byId('user').textContent = `${me.name} (${me.role})`;
+  return me;
+}
+
 // Resolves with the logged-in user; otherwise shows the login (or setup) form and never resolves: the page reloads
 // after logging in.
 export async function requireSession(): Promise<Me> {

@@ -6,7 +6,7 @@
 // For admins; anyone else is sent to the console.
 import { send } from './api';
 import { byId } from './dom';
-import { whoAmI } from './session';
+import { requireAdmin } from './session';
 
 interface Field {
   path: string; type: 'boolean' | 'integer' | 'number' | 'string'; default: unknown;
@@ -263,12 +263,7 @@ class SettingsPage {
 }
 
 async function main(): Promise<void> {
-  const me = await whoAmI();
-  if (!me || me.role !== 'admin') {
-    location.href = '/';
-    return;
-  }
-  byId('user').textContent = `${me.name} (${me.role})`;
+  if (!(await requireAdmin())) return;
   const page = new SettingsPage();
   page.start();
   await page.load().catch((e: Error) => {
