@@ -360,8 +360,9 @@ for (const size of kSizes) {
   });
 }
 
-// Issue 36, done when: a normal session (log in, drive with keys and joystick, send a goal, draw a zone, dock, map and
-// stop mapping, log out) at each of the three sizes leaves no error in the browser's console and no failed request.
+// Issue 36, done when: a normal session (log in, drive with keys and joystick, send a goal and go to a place, draw a
+// zone, dock, map and stop mapping, log out) at each of the three sizes leaves no error in the browser's console and
+// no failed request.
 for (const size of kSizes) {
   test(`${size.name}: a whole session leaves no error in the browser's console`, async () => {
     const { context, page, errors, sent } = await openAt(size);
@@ -413,8 +414,16 @@ for (const size of kSizes) {
       assert.equal((await getJson(`${url}/api/v1/zones`)).body.zones.length, 0);
       await tool(page, 'Pan');
 
-      // Dock: the mission starts (issue 36: it was refused in this world), then cancelled.
+      // A named place, chosen on the Mission tab: the mission to it starts, then is cancelled.
       await showPanel(page, 'mission');
+      await page.getByTestId('places').selectOption('dock');
+      await page.locator('#place-go').click();
+      await page.getByTestId('mission-status').filter({ hasText: /^active/ }).waitFor({ timeout: 10000 });
+      assert.equal((await getJson(`${url}/api/v1/state`)).body.mission.waypoints.at(-1).place, 'dock');
+      await page.locator('#mission-cancel').click();
+      await page.getByTestId('mission-status').filter({ hasText: /^canceled/ }).waitFor({ timeout: 5000 });
+
+      // Dock: the mission starts (issue 36: it was refused in this world), then cancelled.
       await page.getByTestId('dock').scrollIntoViewIfNeeded();
       await page.getByTestId('dock').click();
       await page.getByTestId('mission-status').filter({ hasText: /^active/ }).waitFor({ timeout: 10000 });
