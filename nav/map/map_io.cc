@@ -64,15 +64,9 @@ void WriteAtomically(const std::filesystem::path& path, const std::string& bytes
 
 }  // namespace
 
-MapMetadata LoadMapMetadata(const std::filesystem::path& yaml_path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(yaml_path.string());
-  } catch (const YAML::BadFile&) {
-    Fail(yaml_path, "cannot be opened");
-  } catch (const YAML::Exception& e) {
-    Fail(yaml_path, "is not valid YAML: " + std::string(e.what()));
-  }
+namespace {
+
+MapMetadata ParseMapMetadata(const YAML::Node& root, const std::filesystem::path& yaml_path) {
   if (!root.IsMap()) Fail(yaml_path, "is not a YAML mapping of map_server keys");
 
   MapMetadata m;
@@ -92,6 +86,30 @@ MapMetadata LoadMapMetadata(const std::filesystem::path& yaml_path) {
   m.negate = ParseNegate(root["negate"], yaml_path);
   m.mode = ParseMode(root["mode"], yaml_path);
   return m;
+}
+
+}  // namespace
+
+MapMetadata LoadMapMetadata(const std::filesystem::path& yaml_path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(yaml_path.string());
+  } catch (const YAML::BadFile&) {
+    Fail(yaml_path, "cannot be opened");
+  } catch (const YAML::Exception& e) {
+    Fail(yaml_path, "is not valid YAML: " + std::string(e.what()));
+  }
+  return ParseMapMetadata(root, yaml_path);
+}
+
+MapMetadata MapMetadataFromText(const std::string& yaml, const std::filesystem::path& yaml_path) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml);
+  } catch (const YAML::Exception& e) {
+    Fail(yaml_path, "is not valid YAML: " + std::string(e.what()));
+  }
+  return ParseMapMetadata(root, yaml_path);
 }
 
 OccupancyGrid GridFromImage(const cv::Mat& image, const MapMetadata& m) {

@@ -34,6 +34,9 @@ class MapFileError : public std::runtime_error {
 
 // Reads the YAML metadata only. Throws MapFileError.
 MapMetadata LoadMapMetadata(const std::filesystem::path& yaml_path);
+// The same from the YAML's text, as if it were the file `yaml_path` (its image resolved against that file's folder,
+// errors naming it). Throws MapFileError.
+MapMetadata MapMetadataFromText(const std::string& yaml, const std::filesystem::path& yaml_path);
 
 // Turns an 8-bit image (grey, grey+alpha, BGR or BGRA; row 0 at the top) into a grid using the metadata's
 // mode, negate flag and thresholds. Throws MapFileError for an empty or unsupported image.

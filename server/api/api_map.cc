@@ -19,6 +19,20 @@
 namespace corridor::server {
 namespace {
 
+// The library's refusal of a map library request as the API's: what about decides the status.
+ApiError LibraryRefusal(const MapEditError& e) {
+  using Kind = MapEditError::Kind;
+  switch (e.kind()) {
+    case Kind::kUnknownMap: return {http::status::not_found, "Not found", e.what()};
+    case Kind::kNameTaken: return {http::status::conflict, "Name taken", e.what(), "name_taken"};
+    case Kind::kInUse: return {http::status::conflict, "Map in use", e.what(), "map_in_use"};
+    case Kind::kConfigured: return {http::status::conflict, "Configured map", e.what(), "map_configured"};
+    case Kind::kBadName: return {http::status::unprocessable_entity, "Invalid name", e.what(), "invalid_name"};
+    case Kind::kInvalid: break;
+  }
+  return {http::status::unprocessable_entity, "Invalid map", e.what(), "invalid_map"};
+}
+
 using auth::Access;
 using nlohmann::json;
 
@@ -436,31 +450,8 @@ void MapApi::AddRoutes(Router& routes) const {
     }
     return body[key].get<std::string>();
   };
-  const auto known = [this](const std::string& name) {
-    if (!maps_.Contains(name)) throw ApiError(http::status::not_found, "Not found", "no map named '" + name + "'");
-  };
-  // A map that may be renamed or deleted: not the one in use, not the configuration's.
-  const auto owned = [this, known](const std::string& name, const char* what) {
-    known(name);
-    if (maps_.Configured(name)) {
-      throw ApiError(http::status::conflict, "Configured map",
-                     "map '" + name + "' is the configuration's (corridor.yaml): it cannot be " + what,
-                     "map_configured");
-    }
-    if (maps_.active()->name == name) {
-      throw ApiError(http::status::conflict, "Map in use", "map '" + name + "' is in use: choose another map first",
-                     "map_in_use");
-    }
-  };
-  const auto free_name = [this](const std::string& name) {
-    if (!ValidMapName(name)) {
-      throw ApiError(http::status::unprocessable_entity, "Invalid name",
-                     "'" + name + "' is not a map name: letters, digits, '-', '_' and '.', not first", "invalid_name");
-    }
-    if (maps_.Contains(name)) {
-      throw ApiError(http::status::conflict, "Name taken", "a map named '" + name + "' exists", "name_taken");
-    }
-    // The map being made will be saved under its name: nothing may take it first.
+  // The map being made will be saved under its name: nothing may take it first.
+  const auto not_being_made = [this](const std::string& name) {
     const auto mapping = bus_.Get(topics::kMapping).latest();
     if (mapping && mapping->active && mapping->name == name) {
       throw ApiError(http::status::conflict, "Name taken", "a map named '" + name + "' is being made", "name_taken");
@@ -468,58 +459,55 @@ void MapApi::AddRoutes(Router& routes) const {
   };
   routes.Add(
       http::verb::post, "/api/v1/maps", Access::kAdmin,
-      Sync([this, string_of, free_name](const Request& r, const Params&) {
+      Sync([this, string_of, not_being_made](const Request& r, const Params&) {
         const json body = ObjectBody(r, {"name", "yaml", "image"});
         const std::string name = string_of(body, "name");
-        free_name(name);
+        not_being_made(name);
         const std::optional<std::string> image = FromBase64(string_of(body, "image"));
         if (!image) throw ApiError(http::status::bad_request, "Invalid request", "'image' must be base64");
         try {
           maps_.Import(name, string_of(body, "yaml"), *image);
         } catch (const MapEditError& e) {
-          throw ApiError(http::status::unprocessable_entity, "Invalid map", e.what(), "invalid_map");
+          throw LibraryRefusal(e);
         }
         spdlog::info("map '{}' imported", name);
         return JsonResponse(r, {{"maps", maps_.Names()}, {"active", maps_.active()->name}}, http::status::created);
       }));
   routes.Add(http::verb::patch, "/api/v1/maps/{name}", Access::kAdmin,
-             Sync([this, string_of, owned, free_name](const Request& r, const Params& p) {
+             Sync([this, string_of, not_being_made](const Request& r, const Params& p) {
                const std::string& from = p.at("name");
                const std::string to = string_of(ObjectBody(r, {"name"}), "name");
-               owned(from, "renamed");
-               free_name(to);
+               not_being_made(to);
                try {
                  maps_.Rename(from, to);
                } catch (const MapEditError& e) {
-                 throw ApiError(http::status::unprocessable_entity, "Invalid map edit", e.what(), "invalid_map_edit");
+                 throw LibraryRefusal(e);
                }
                store_.RenameMap(from, to);
                spdlog::info("map '{}' renamed '{}'", from, to);
                return JsonResponse(r, {{"maps", maps_.Names()}, {"active", maps_.active()->name}});
              }));
   routes.Add(http::verb::delete_, "/api/v1/maps/{name}", Access::kAdmin,
-             Sync([this, owned](const Request& r, const Params& p) {
+             Sync([this](const Request& r, const Params& p) {
                const std::string& name = p.at("name");
-               owned(name, "deleted");
                try {
                  maps_.Delete(name);
                } catch (const MapEditError& e) {
-                 throw ApiError(http::status::unprocessable_entity, "Invalid map edit", e.what(), "invalid_map_edit");
+                 throw LibraryRefusal(e);
                }
                store_.DeleteMap(name);
                spdlog::info("map '{}' deleted", name);
                return MakeResponse(r, http::status::no_content, "application/json", "");
              }));
   routes.Add(http::verb::get, "/api/v1/maps/{name}/files", Access::kViewer,
-             Sync([this, known](const Request& r, const Params& p) {
+             Sync([this](const Request& r, const Params& p) {
                const std::string& name = p.at("name");
-               known(name);
                try {
                  const auto [yaml, png] = maps_.Files(name);
                  return JsonResponse(
                      r, {{"name", name}, {"yaml", yaml}, {"image_name", name + ".png"}, {"image", ToBase64(png)}});
                } catch (const MapEditError& e) {
-                 throw ApiError(http::status::unprocessable_entity, "Unreadable map", e.what(), "invalid_map");
+                 throw LibraryRefusal(e);
                }
              }));
 

@@ -4,7 +4,6 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include <fstream>
 #include <set>
 
 #include "nav/map/map_io.h"
@@ -73,7 +72,7 @@ std::vector<std::string> MapLibrary::Names() const {
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir_, ec)) {
     const std::string name = entry.path().filename().string();
-    if (ValidMapName(name) && fs::exists(entry.path() / "map.yaml")) others.insert(name);  // not one being imported
+    if (ValidMapName(name) && fs::exists(entry.path() / "map.yaml")) others.insert(name);  // not one being deleted
   }
   {
     std::lock_guard lock(mutex_);
@@ -142,13 +141,13 @@ void MapLibrary::ReplaceImage(const std::string& bytes) {
 }
 
 nav::OccupancyGrid MapLibrary::Load(const std::string& name) const {
-  if (!ValidMapName(name)) throw MapEditError("'" + name + "' is not a map name");
+  if (!ValidMapName(name)) throw MapEditError("'" + name + "' is not a map name", MapEditError::Kind::kUnknownMap);
   fs::path file = dir_ / name / "map.yaml";
   if (!fs::exists(file)) {
     if (name == initial_name_) return *initial_;
     std::lock_guard lock(mutex_);
     const auto it = configured_.find(name);
-    if (it == configured_.end()) throw MapEditError("no map named '" + name + "'");
+    if (it == configured_.end()) throw MapEditError("no map named '" + name + "'", MapEditError::Kind::kUnknownMap);
     file = it->second;
   }
   try {
@@ -181,20 +180,15 @@ bool MapLibrary::Configured(const std::string& name) const {
 }
 
 void MapLibrary::Import(const std::string& name, const std::string& yaml, const std::string& image) {
-  if (!ValidMapName(name)) throw MapEditError("'" + name + "' is not a map name (letters, digits, '-', '_', '.')");
-  if (Contains(name)) throw MapEditError("a map named '" + name + "' exists");
-  // The YAML is read from a file of its own (the map_server reader's way); the image from the bytes given.
-  const fs::path staging = dir_ / (".import-" + name);
-  const auto clean_up = [&] {
-    std::error_code ignored;
-    fs::remove_all(staging, ignored);
-  };
+  if (!ValidMapName(name))
+    throw MapEditError("'" + name + "' is not a map name (letters, digits, '-', '_', '.')",
+                       MapEditError::Kind::kBadName);
+  if (Contains(name)) throw MapEditError("a map named '" + name + "' exists", MapEditError::Kind::kNameTaken);
+  // The YAML's metadata as the map_server reader takes it from a file (its image name is not used: the image is
+  // the bytes given).
   nav::OccupancyGrid grid;
   try {
-    fs::create_directories(staging);
-    const fs::path yaml_file = staging / "map.yaml";
-    std::ofstream(yaml_file, std::ios::binary) << yaml;
-    const nav::MapMetadata meta = nav::LoadMapMetadata(yaml_file);
+    const nav::MapMetadata meta = nav::MapMetadataFromText(yaml, name + ".yaml");
     cv::Mat decoded = DecodeImage(image, cv::IMREAD_UNCHANGED);
     if (decoded.empty()) throw MapEditError("the image is not a PNG or PGM image");
     constexpr int kMaxCells = 8192 * 8192;  // 410 m square at 5 cm: a building's floor with room to spare
@@ -202,13 +196,8 @@ void MapLibrary::Import(const std::string& name, const std::string& yaml, const 
     if (decoded.depth() != CV_8U) decoded.convertTo(decoded, CV_8U, 1.0 / 257.0);
     grid = nav::GridFromImage(decoded, meta);
   } catch (const nav::MapFileError& e) {
-    clean_up();
     throw MapEditError(std::string("not a map_server map: ") + e.what());
-  } catch (...) {
-    clean_up();
-    throw;
   }
-  clean_up();
   try {
     fs::create_directories(dir_ / name);
     nav::SaveMap(grid, dir_ / name / "map.yaml");
@@ -221,16 +210,20 @@ void MapLibrary::Import(const std::string& name, const std::string& yaml, const 
 
 void MapLibrary::CheckOwned(const std::string& name, const char* what) const {
   if (Configured(name)) {
-    throw MapEditError("map '" + name + "' is the configuration's (corridor.yaml): it cannot be " + what);
+    throw MapEditError("map '" + name + "' is the configuration's (corridor.yaml): it cannot be " + what,
+                       MapEditError::Kind::kConfigured);
   }
-  if (!ValidMapName(name) || !fs::exists(dir_ / name / "map.yaml")) throw MapEditError("no map named '" + name + "'");
-  if (name == active()->name) throw MapEditError("map '" + name + "' is in use: choose another map first");
+  if (!ValidMapName(name) || !fs::exists(dir_ / name / "map.yaml"))
+    throw MapEditError("no map named '" + name + "'", MapEditError::Kind::kUnknownMap);
+  if (name == active()->name)
+    throw MapEditError("map '" + name + "' is in use: choose another map first", MapEditError::Kind::kInUse);
 }
 
 void MapLibrary::Rename(const std::string& from, const std::string& to) {
   CheckOwned(from, "renamed");
-  if (!ValidMapName(to)) throw MapEditError("'" + to + "' is not a map name (letters, digits, '-', '_', '.')");
-  if (Contains(to)) throw MapEditError("a map named '" + to + "' exists");
+  if (!ValidMapName(to))
+    throw MapEditError("'" + to + "' is not a map name (letters, digits, '-', '_', '.')", MapEditError::Kind::kBadName);
+  if (Contains(to)) throw MapEditError("a map named '" + to + "' exists", MapEditError::Kind::kNameTaken);
   std::error_code ec;
   fs::rename(dir_ / from, dir_ / to, ec);
   if (ec) throw MapEditError("map '" + from + "' could not be renamed: " + ec.message());
@@ -260,8 +253,8 @@ bool MapLibrary::Contains(const std::string& name) const {
 }
 
 void MapLibrary::Add(const std::string& name, nav::OccupancyGrid grid) {
-  if (!ValidMapName(name)) throw MapEditError("'" + name + "' is not a map name");
-  if (Contains(name)) throw MapEditError("a map named '" + name + "' exists");
+  if (!ValidMapName(name)) throw MapEditError("'" + name + "' is not a map name", MapEditError::Kind::kBadName);
+  if (Contains(name)) throw MapEditError("a map named '" + name + "' exists", MapEditError::Kind::kNameTaken);
   if (grid.width() == 0 || grid.height() == 0) throw MapEditError("the map is empty");
   Publish(std::move(grid), name, true);
 }

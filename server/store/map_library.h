@@ -23,10 +23,23 @@ struct ActiveMap {
   std::uint64_t revision = 0;  // bumped by every edit and selection
 };
 
-// A map edit or selection the library refuses; what() says why.
+// A map edit or selection the library refuses; what() says why, kind() what about (for an API's status).
 class MapEditError : public std::invalid_argument {
  public:
-  using std::invalid_argument::invalid_argument;
+  enum class Kind {
+    kInvalid,     // the edit, the file or the image is not right
+    kBadName,     // not a map name
+    kNameTaken,   // a map of that name exists
+    kUnknownMap,  // no map of that name
+    kInUse,       // the map in use may not be renamed or deleted
+    kConfigured,  // nor may a map the configuration names
+  };
+  explicit MapEditError(const std::string& what, Kind kind = Kind::kInvalid)
+      : std::invalid_argument(what), kind_(kind) {}
+  Kind kind() const { return kind_; }
+
+ private:
+  Kind kind_;
 };
 
 struct CellEdit {
