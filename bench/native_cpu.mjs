@@ -10,8 +10,11 @@
 // This machine's CPU time per wake-up swings by 2x from minute to minute (a virtual machine: most of a wake-up is the
 // hypervisor's), and a robot idling is a few hundred wake-ups a second: the run is cut into 5 s windows, each robot's
 // share taken over the same window, and the median of the windows' ratios is the result (with its quartiles).
-//   node bench/native_cpu.mjs [seconds=60]
-import { spawn } from 'node:child_process';
+// --pin puts both daemons on core 0 and the emulator on core 1: the devices are outside a real robot's board, and
+// with the emulator on the daemons' core each read of a port follows a switch from another process (the quartiles
+// narrow from about 0.8-1.4 to 1.16-1.24).
+//   node bench/native_cpu.mjs [seconds=60] [--pin]
+import { execFileSync, spawn } from 'node:child_process';
 import { existsSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -69,6 +72,12 @@ process.on('exit', () => emulator.kill('SIGTERM'));  // also when the bench fail
 await waitFor(() => existsSync(join(dir, 'create2')) && existsSync(join(dir, 'rplidar')), (linked) => linked, 10000,
   'corridor-emulate to link its ports');
 const nativeDaemon = await startDaemon({ config });
+if (process.argv.includes('--pin')) {
+  const pin = (core, pid) => execFileSync('taskset', ['--all-tasks', '--pid', '--cpu-list', core, String(pid)]);
+  pin('1', emulator.pid);
+  pin('0', simDaemon.pid);
+  pin('0', nativeDaemon.pid);
+}
 await sleep(5000);  // start-up, the first scans and localization settling are not idle
 // The CPU seconds a daemon has spent handing its devices' data to the graph.
 async function handoffS(daemon) {
