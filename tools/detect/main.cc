@@ -3,7 +3,6 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -24,11 +23,13 @@
 #include "face/detect/hog_people.h"
 #include "face/detect/people_detector.h"
 #include "face/detect/tracker.h"
+#include "tools/common/command_line.h"
 
 namespace {
 
 using namespace corridor;
 using nlohmann::json;
+using tools::ParseNumber;
 
 constexpr const char* kUsage = R"(usage: corridor-detect IMAGE_OR_VIDEO... [options]
 
@@ -63,16 +64,6 @@ Runs one of corridor's detectors on each image, or each frame of each video, and
   --save DIR         the frames with their boxes drawn (truth in green, detections in red)
   --help
 )";
-
-double ParseNumber(const std::string& flag, const std::string& text, double lo, double hi) {
-  double value = 0.0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc() || end != text.data() + text.size() || !(value >= lo && value <= hi)) {
-    throw std::invalid_argument(flag + ": expected a number from " + std::to_string(lo) + " to " + std::to_string(hi) +
-                                ", got '" + text + "'");
-  }
-  return value;
-}
 
 struct Options {
   std::vector<std::string> inputs;

@@ -2,7 +2,6 @@
 // the log's corrected poses. See --help, and docs/benchmarks.md for results.
 #include <nlohmann/json.hpp>
 
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -19,6 +18,7 @@
 #include "nav/localization/monte_carlo.h"
 #include "nav/localization/trajectory_error.h"
 #include "nav/map/map_io.h"
+#include "tools/common/command_line.h"
 #include "tools/slam_eval/heading_noise.h"
 #include "tools/slam_eval/odometry_noise.h"
 
@@ -26,6 +26,7 @@ namespace {
 
 using namespace corridor;
 using nav::Pose2;
+using tools::ParseNumber;
 
 constexpr const char* kUsage = R"(usage: corridor-slam-eval LOG [options]
 
@@ -54,16 +55,6 @@ of heading lost per metre), and scores the estimate against the corrected poses.
   --trajectory FILE   the estimated pose of every scan: "index timestamp x y theta" per line
   --help
 )";
-
-double ParseNumber(const std::string& flag, const std::string& text, double lo, double hi) {
-  double value = 0.0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc() || end != text.data() + text.size() || !(value >= lo && value <= hi)) {
-    throw std::invalid_argument(flag + ": expected a number from " + std::to_string(lo) + " to " + std::to_string(hi) +
-                                ", got '" + text + "'");
-  }
-  return value;
-}
 
 struct Options {
   std::string log;
