@@ -1,0 +1,192 @@
+// corridor-train: trains the learned local policies' networks from seeded commands (docs/policies.md).
+//   corridor-train dpoom   behaviour cloning on DPoom's own demonstrations with the paper's split (d3_s3 held out),
+//                          as DPoom's script does it: a check of the trainer against someone else's data and result.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "nav/learning/dpoom_demonstrations.h"
+#include "nav/learning/mlp_training.h"
+#include "tools/common/command_line.h"
+
+namespace {
+
+using namespace corridor;
+using tools::ParseNumber;
+
+constexpr const char* kUsage = R"(usage: corridor-train dpoom [options]
+Clones a driver from DPoom's demonstrations (tests/data/dpoom_bc) with the paper's split: d3_s3.csv is the validation
+recording; of the others' examples, a share drawn by the seed is the test set that picks the best epoch (as DPoom's
+script does), the rest is trained on. Prints each epoch, then the validation RMSE of the best epoch's network against
+the paper's 0.01477 and against repeating the last command.
+  --data DIR          the recordings, default tests/data/dpoom_bc
+  --history H         steps of history, default 4 (the paper's best): 12 H inputs
+  --epochs N          default 200
+  --patience N        stop after N epochs without a better test loss, default 50 (DPoom's script: 50)
+  --learning-rate R   Adam's, default 1e-4 (DPoom's script: 1e-5 for about 1000 epochs)
+  --batch N           default 32
+  --test-share S      of the training recordings' examples, default 0.3
+  --as-dpooms-script  also train on d3_s3, as DPoom's script does (it lists every recording for training, the
+                      validation one among them): to compare with the paper's figure, not a held-out result
+  --seed N            the initial weights, the test share and the order of the examples, default 1
+  --out FILE          the best network's weights (mlp.h's format)
+  --json              the result as JSON on stdout (no epochs)
+  --help
+)";
+
+struct Options {
+  std::filesystem::path data = "tests/data/dpoom_bc";
+  int history = 4;
+  int epochs = 200;
+  int patience = 50;
+  float learning_rate = 1e-4F;
+  int batch = 32;
+  double test_share = 0.3;
+  std::uint64_t seed = 1;
+  std::filesystem::path out;
+  bool json = false;
+  bool as_dpooms_script = false;
+};
+
+Options ParseOptions(int argc, char** argv) {
+  if (argc < 2 || std::string(argv[1]) == "--help") {
+    std::cout << kUsage;
+    std::exit(argc < 2 ? 2 : 0);
+  }
+  if (std::string(argv[1]) != "dpoom")
+    throw std::invalid_argument("unknown mode '" + std::string(argv[1]) + "' (dpoom)");
+  Options o;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument(arg + ": needs a value");
+      return argv[++i];
+    };
+    if (arg == "--help") {
+      std::cout << kUsage;
+      std::exit(0);
+    } else if (arg == "--data") {
+      o.data = value();
+    } else if (arg == "--history") {
+      o.history = static_cast<int>(ParseNumber(arg, value(), 1, 20));
+    } else if (arg == "--epochs") {
+      o.epochs = static_cast<int>(ParseNumber(arg, value(), 1, 100000));
+    } else if (arg == "--patience") {
+      o.patience = static_cast<int>(ParseNumber(arg, value(), 1, 100000));
+    } else if (arg == "--learning-rate") {
+      o.learning_rate = static_cast<float>(ParseNumber(arg, value(), 1e-9, 1));
+    } else if (arg == "--batch") {
+      o.batch = static_cast<int>(ParseNumber(arg, value(), 1, 65536));
+    } else if (arg == "--test-share") {
+      o.test_share = ParseNumber(arg, value(), 0.01, 0.9);
+    } else if (arg == "--seed") {
+      o.seed = static_cast<std::uint64_t>(ParseNumber(arg, value(), 0, 1e15));
+    } else if (arg == "--out") {
+      o.out = value();
+    } else if (arg == "--json") {
+      o.json = true;
+    } else if (arg == "--as-dpooms-script") {
+      o.as_dpooms_script = true;
+    } else {
+      throw std::invalid_argument("unknown option '" + arg + "' (see --help)");
+    }
+  }
+  return o;
+}
+
+int Run(const Options& o) {
+  nav::Examples recorded;
+  nav::Examples validation;
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(o.data)) {
+    if (entry.path().extension() != ".csv") continue;
+    const nav::Examples examples = nav::DpoomExamples(nav::ReadDpoomDemonstration(entry.path()), o.history);
+    const bool held_out = entry.path().filename() == "d3_s3.csv";
+    if (held_out) validation.Append(examples);
+    if (!held_out || o.as_dpooms_script) recorded.Append(examples);
+    ++files;
+  }
+  if (validation.size() == 0 || recorded.size() == 0) {
+    throw std::runtime_error(o.data.string() + ": want DPoom's recordings, d3_s3.csv among them");
+  }
+  const auto [train, test] = nav::SplitExamples(recorded, o.test_share, o.seed);
+  const int inputs = 12 * o.history;
+  // DPoom's code's layers: the input's width, then twice, three times and once it again, then the command.
+  nav::Mlp net = nav::Mlp::Random(
+      std::vector<int>{inputs, inputs, 2 * inputs, 3 * inputs, inputs, 2},
+      std::vector<nav::Activation>{nav::Activation::kRelu, nav::Activation::kRelu, nav::Activation::kRelu,
+                                   nav::Activation::kRelu, nav::Activation::kIdentity},
+      o.seed);
+  nav::TrainingOptions training;
+  training.adam.learning_rate = o.learning_rate;
+  training.batch = o.batch;
+  training.seed = o.seed;
+  nav::MlpTrainer trainer(net, training);
+  nav::Mlp best = net;
+  double best_test = INFINITY;
+  int best_epoch = -1;
+  for (int epoch = 0; epoch < o.epochs && epoch - best_epoch <= o.patience; ++epoch) {
+    const double train_loss = trainer.Epoch(train.inputs, train.targets);
+    const double test_loss = nav::Evaluate(net, nav::Loss::kMeanSquared, test.inputs, test.targets);
+    if (test_loss < best_test) {
+      best_test = test_loss;
+      best_epoch = epoch;
+      best = net;
+    }
+    if (!o.json) {
+      std::printf("epoch %4d  train RMSE %.5f  test RMSE %.5f%s\n", epoch, std::sqrt(train_loss), std::sqrt(test_loss),
+                  best_epoch == epoch ? "  (best)" : "");
+      std::fflush(stdout);
+    }
+  }
+  const double validation_rmse =
+      std::sqrt(nav::Evaluate(best, nav::Loss::kMeanSquared, validation.inputs, validation.targets));
+  const Eigen::MatrixXf predicted = best.ForwardBatch(validation.inputs);
+  const auto output_rmse = [&](Eigen::Index row) {
+    return std::sqrt((predicted.row(row) - validation.targets.row(row)).squaredNorm() /
+                     static_cast<double>(validation.size()));
+  };
+  const double repeat = nav::RepeatLastCommandRmse(validation, o.history);
+  const double test_repeat = nav::RepeatLastCommandRmse(test, o.history);
+  if (!o.out.empty()) best.Save(o.out);
+  if (o.json) {
+    nlohmann::json result = {{"files", files},
+                             {"train_examples", train.size()},
+                             {"test_examples", test.size()},
+                             {"validation_examples", validation.size()},
+                             {"best_epoch", best_epoch},
+                             {"test_rmse", std::sqrt(best_test)},
+                             {"test_repeat_last_rmse", test_repeat},
+                             {"validation_rmse", validation_rmse},
+                             {"validation_rmse_linear", output_rmse(0)},
+                             {"validation_rmse_angular", output_rmse(1)},
+                             {"repeat_last_rmse", repeat},
+                             {"paper_validation_error", 0.01477},
+                             {"trained_on_validation", o.as_dpooms_script}};
+    std::cout << result.dump(2) << '\n';
+  } else {
+    std::printf(
+        "best epoch %d (test RMSE %.5f, repeating the last command %.5f); validation on d3_s3 (%lld examples): RMSE "
+        "%.5f (linear %.5f, angular %.5f);"
+        " repeating the last command %.5f; the paper 0.01477\n",
+        best_epoch, std::sqrt(best_test), test_repeat, static_cast<long long>(validation.size()), validation_rmse,
+        output_rmse(0), output_rmse(1), repeat);
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return Run(ParseOptions(argc, argv));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "corridor-train: %s\n", e.what());
+    return 2;
+  }
+}
