@@ -15,7 +15,12 @@ std::unique_ptr<LocalPolicy> MakePolicy(const MissionRunnerOptions& o) {
   if (o.policy == LocalPolicyKind::kVoxelReactive) {
     return std::make_unique<ReactiveNavigator>(o.navigator.follower, o.reactive, o.navigator.replan_distance_m);
   }
-  return std::make_unique<LocalNavigator>(o.navigator);
+  LocalNavigatorOptions navigator = o.navigator;
+  if (o.policy == LocalPolicyKind::kMorpIl && !navigator.learned) {
+    throw std::invalid_argument("mission.policy morp-il: no network loaded (mission.morp_il.weights)");
+  }
+  if (o.policy == LocalPolicyKind::kMorpRb) navigator.learned = nullptr;  // the rules drive (and teach, if asked)
+  return std::make_unique<LocalNavigator>(navigator);
 }
 
 PolicyMode ModeOf(MorpRbMode mode) {
@@ -48,6 +53,7 @@ const char* ToString(PolicyMode mode) {
     case PolicyMode::kOvertake: return "overtake";
     case PolicyMode::kEvade: return "evade";
     case PolicyMode::kReactive: return "reactive";
+    case PolicyMode::kLearned: return "learned";
     case PolicyMode::kWaitingForDepth: return "waiting_for_depth";
     case PolicyMode::kWaitingForDoor: return "waiting_for_door";
   }
@@ -323,6 +329,7 @@ MissionUpdate MissionRunner::FrameStep(const FrameInput& frame) {
   remaining_m_ = step.remaining_m;
   mode_ = options_.policy == LocalPolicyKind::kVoxelReactive ? PolicyMode::kReactive
           : step.evading                                     ? PolicyMode::kEvade
+          : step.learned                                     ? PolicyMode::kLearned
                                                              : ModeOf(step.mode);
   if (step.done) {
     policy_->Clear();

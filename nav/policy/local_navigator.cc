@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <stdexcept>
 
 namespace corridor::nav {
@@ -14,7 +15,9 @@ LocalNavigator::LocalNavigator(const LocalNavigatorOptions& options)
       follower_(options.follower),
       avoid_(options.avoid),
       memory_(options.memory),
-      evade_(options.evade) {
+      evade_(options.evade),
+      features_(options.il) {
+  if (options.learned) CheckMorpIlNetwork(*options.learned, options.il);
   if (!(options.stuck_s >= 0.0) || !(options.stuck_distance_m > 0.0) || !(options.blocked_radius_m >= 0.0) ||
       !(options.blocked_cost >= 0.0) || !(options.blocked_hold_s >= 0.0) || !(options.reorient_done_rad > 0.0) ||
       !(options.reorient_max_s >= 0.0)) {
@@ -37,7 +40,8 @@ void LocalNavigator::SetPath(std::vector<Waypoint> path, std::shared_ptr<const C
   follower_.SetPath(std::move(path));
   SetMap(std::move(map));
   avoid_ = MorpRb(options_.avoid);  // a new path: no side committed, no overtaking in progress
-  headway_from_.reset();            // and stuck_s to make headway on it
+  features_.Clear();
+  headway_from_.reset();  // and stuck_s to make headway on it
   // The first path after a blocked way may lead off another way: turn to it on the spot first.
   reorient_s_ = reorient_next_path_ ? 0.0 : -1.0;
   reorient_next_path_ = false;
@@ -103,6 +107,7 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
       out.twist = guarded;
       Evade(robot, follow.target, around, out);
       last_speed_mps_ = std::max(0.0, out.twist.linear_mps);
+      last_command_ = out.twist;
       return out;
     }
   }
@@ -143,6 +148,7 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
     out.twist = decision.twist;
     out.twist.linear_mps = std::min(out.twist.linear_mps, follow.speed_limit_mps);
   }
+  if (options_.learned || options_.teach) out.twist = Imitate(robot, lanes, follow, out.twist, v_free, out);
   ObstacleMemory::Blocker refused_by = ObstacleMemory::Blocker::kNone;
   const Twist2 guarded = memory_.Guard(robot, out.twist, follow.final_approach, &refused_by);
   out.guarded = guarded.linear_mps != out.twist.linear_mps || guarded.angular_rps != out.twist.angular_rps;
@@ -155,7 +161,36 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
   out.twist = guarded;
   Evade(robot, follow.target, around, out);
   last_speed_mps_ = std::max(0.0, out.twist.linear_mps);
+  last_command_ = out.twist;
   return out;
+}
+
+Twist2 LocalNavigator::Imitate(const Pose2& robot, const std::vector<LaneResult>& lanes, const FollowStep& follow,
+                               const Twist2& expert, double v_free, LocalStep& step) {
+  // What MORP-RB sees: the map's own obstacles are the path's business.
+  seen_ = lanes;
+  for (LaneResult& lane : seen_) {
+    if (lane.dead_end && OnMap(robot, lane)) lane.dead_end = false;
+  }
+  const Eigen::Vector2d to_target = follow.target - robot.translation();
+  features_.Push(seen_, std::atan2(to_target.y(), to_target.x()) - robot.yaw_rad, to_target.norm(),
+                 follow.final_approach, last_command_);
+  const Eigen::VectorXf input = features_.Input();
+  Demonstrations* teach = options_.teach.get();
+  if (teach != nullptr) {
+    teach->inputs.insert(teach->inputs.end(), input.data(), input.data() + input.size());
+    // On the network's scale, within what it can answer.
+    teach->targets.push_back(static_cast<float>(std::clamp(expert.linear_mps / options_.il.max_linear_mps, -1.0, 1.0)));
+    teach->targets.push_back(
+        static_cast<float>(std::clamp(expert.angular_rps / options_.il.max_angular_rps, -1.0, 1.0)));
+  }
+  const bool expert_drives = !options_.learned || (teach != nullptr && std::uniform_real_distribution<double>(
+                                                                           0.0, 1.0)(teach->random) < teach->beta);
+  if (expert_drives) return expert;
+  Twist2 learned = MorpIlCommand(*options_.learned, input, options_.il);
+  learned.linear_mps = std::min({learned.linear_mps, v_free, follow.speed_limit_mps});
+  step.learned = true;
+  return learned;
 }
 
 bool LocalNavigator::OnMap(const Pose2& robot, const LaneResult& lane) const {

@@ -33,6 +33,7 @@
 #include "nav/planner/costmap.h"
 #include "nav/policy/evasion.h"
 #include "nav/policy/local_policy.h"
+#include "nav/policy/morp_il.h"
 #include "nav/policy/morp_rb.h"
 #include "nav/policy/path_follower.h"
 #include "nav/safety/obstacle_memory.h"
@@ -76,6 +77,13 @@ struct LocalNavigatorOptions {
   // MORP-RB turning toward the free lanes in the gap, back and forth.
   double reorient_done_rad = 0.35;
   double reorient_max_s = 10.0;
+  // MORP-IL (morp_il.h) in MORP-RB's place: its network gives the command wherever MORP-RB and the path follower
+  // would (not while turning to a new path on the spot), capped like theirs by the path's speed and what the robot
+  // can stop within. Null: MORP-RB.
+  std::shared_ptr<const Mlp> learned;
+  MorpIlOptions il;
+  // Training only: records every step's input and the rules' command, and mixes who drives (Demonstrations).
+  std::shared_ptr<Demonstrations> teach;
 };
 
 class LocalNavigator final : public LocalPolicy {
@@ -113,6 +121,10 @@ class LocalNavigator final : public LocalPolicy {
                    const Surroundings* around) override;
 
  private:
+  // The command MORP-IL gives (or the rules' `expert`, while training lets them drive), recording the step when
+  // training; `v_free`: what the robot can stop within.
+  Twist2 Imitate(const Pose2& robot, const std::vector<LaneResult>& lanes, const FollowStep& follow,
+                 const Twist2& expert, double v_free, LocalStep& step);
   // Replaces the step's twist when a tracked moving object would meet the robot on it; `target`: where the robot
   // is heading (world frame).
   void Evade(const Pose2& robot, const Eigen::Vector2d& target, const Surroundings* around, LocalStep& step);
@@ -125,6 +137,9 @@ class LocalNavigator final : public LocalPolicy {
   ObstacleMemory memory_;
   Evasion evade_;
   std::vector<LaneResult> ahead_;  // this frame's lanes in the corridor
+  std::vector<LaneResult> seen_;   // all of them, the map's own obstacles taken out (MORP-IL's)
+  MorpIlFeatures features_;
+  Twist2 last_command_;  // the step before's
   double detour_left_m_ = 0.0;
   double last_speed_mps_ = 0.0;
   std::optional<Eigen::Vector2d> headway_from_;  // where the robot was when it last made headway

@@ -9,12 +9,13 @@ const char* ToString(LocalPolicyKind kind) {
   switch (kind) {
     case LocalPolicyKind::kMorpRb: return "morp-rb";
     case LocalPolicyKind::kVoxelReactive: return "voxel-reactive";
+    case LocalPolicyKind::kMorpIl: return "morp-il";
   }
   return "unknown";
 }
 
 std::optional<LocalPolicyKind> ParseLocalPolicy(const std::string& name) {
-  for (LocalPolicyKind kind : {LocalPolicyKind::kMorpRb, LocalPolicyKind::kVoxelReactive}) {
+  for (LocalPolicyKind kind : {LocalPolicyKind::kMorpRb, LocalPolicyKind::kVoxelReactive, LocalPolicyKind::kMorpIl}) {
     if (name == ToString(kind)) return kind;
   }
   return std::nullopt;

@@ -787,12 +787,11 @@ void ReadTracking(ConfigReader& r, TrackingOptions& t) {
   });
 }
 
-void ReadMission(ConfigReader& r, nav::MissionRunnerOptions& mission) {
-  std::string policy = nav::ToString(mission.policy);
-  r.Read("policy", policy);
-  const auto kind = nav::ParseLocalPolicy(policy);
-  if (!kind) throw ConfigError(r.PathOf("policy") + ": must be morp-rb or voxel-reactive, got '" + policy + "'");
-  mission.policy = *kind;
+void ReadMission(ConfigReader& r, nav::MissionRunnerOptions& mission, const fs::path& base) {
+  using Policy = nav::LocalPolicyKind;
+  r.ReadChoice<Policy>(
+      "policy", mission.policy,
+      {{"morp-rb", Policy::kMorpRb}, {"voxel-reactive", Policy::kVoxelReactive}, {"morp-il", Policy::kMorpIl}});
   nav::LocalNavigatorOptions& navigator = mission.navigator;
   nav::FollowerOptions& o = navigator.follower;
   r.Read("k_rho", o.gains.k_rho, -100.0, 100.0);
@@ -818,6 +817,24 @@ void ReadMission(ConfigReader& r, nav::MissionRunnerOptions& mission) {
   r.Read("stuck_s", navigator.stuck_s, 0.0, 600.0);
   r.Section("avoid", [&](ConfigReader& a) { ReadAvoid(a, navigator.avoid); });
   r.Section("evade", [&](ConfigReader& e) { ReadEvade(e, navigator.evade); });
+  // MORP-IL's commands are on the scale of the fastest the navigator drives; its network is read only when it drives.
+  navigator.il.max_linear_mps = std::max(o.max_linear_mps, navigator.avoid.max_linear_mps);
+  navigator.il.max_angular_rps = std::max(o.max_angular_rps, navigator.avoid.max_angular_rps);
+  fs::path weights;
+  r.Section("morp_il", [&](ConfigReader& m) {
+    ReadPath(m, "weights", weights, base);
+    m.Read("history", navigator.il.history, 1, 20);
+  });
+  if (mission.policy == Policy::kMorpIl) {
+    if (weights.empty()) throw ConfigError(r.PathOf("morp_il") + ".weights: required with policy morp-il");
+    try {
+      auto net = std::make_shared<nav::Mlp>(nav::Mlp::Load(weights));
+      nav::CheckMorpIlNetwork(*net, navigator.il);
+      navigator.learned = std::move(net);
+    } catch (const std::exception& e) {
+      throw ConfigError(r.PathOf("morp_il") + ".weights: " + e.what());
+    }
+  }
 }
 
 drivers::sim::StaticObstacle ReadObstacle(ConfigReader& r) {
@@ -1077,7 +1094,7 @@ Config ConfigFromYaml(const YAML::Node& root, const fs::path& file, ConfigSchema
     r.Section("sim", [&](ConfigReader& s) { ReadSim(s, config.sim, base); });
     r.Section("ground", [&](ConfigReader& s) { ReadGround(s, config.ground); });
     r.Section("planner", [&](ConfigReader& s) { ReadPlanner(s, config.planner); });
-    r.Section("mission", [&](ConfigReader& s) { ReadMission(s, config.mission); });
+    r.Section("mission", [&](ConfigReader& s) { ReadMission(s, config.mission, base); });
     r.Section("docking", [&](ConfigReader& s) { ReadDocking(s, config.mission.docking, config.charging); });
     r.Section("tracking", [&](ConfigReader& s) { ReadTracking(s, config.tracking); });
     r.Section("localization", [&](ConfigReader& s) { ReadLocalization(s, config.localization); });

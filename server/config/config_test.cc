@@ -5,6 +5,7 @@
 
 #include "testing/source_dir.h"
 
+#include <array>
 #include <cstdlib>
 #include <fstream>
 
@@ -97,6 +98,29 @@ TEST_F(ConfigTest, PolarGainsAreCheckedForConvergence) {
   EXPECT_NE(ErrorOf("sim: {world: w.yaml}\nmission: {k_rho: 3, k_alpha: 2}\n").find("k_alpha - k_rho must be > 0"),
             std::string::npos);
   EXPECT_EQ(ErrorOf("sim: {world: w.yaml}\nmission: {k_rho: 0.5, k_alpha: 1.5, k_beta: -0.3}\n"), "");
+}
+
+TEST_F(ConfigTest, MorpIlDrivesWithTheNetworkItNamesAndOnlyOneThatFits) {
+  // Read only when it drives: the default policy does not need the file.
+  EXPECT_EQ(ErrorOf("sim: {world: w.yaml}\nmission: {morp_il: {weights: none.weights}}\n"), "");
+  std::string e = ErrorOf("sim: {world: w.yaml}\nmission: {policy: morp-il, morp_il: {weights: none.weights}}\n");
+  EXPECT_NE(e.find("mission.morp_il.weights: "), std::string::npos) << e;
+  EXPECT_NE(e.find("none.weights: cannot open the weights"), std::string::npos) << e;
+  // A network of the wrong shape for the history.
+  using nav::Activation;
+  nav::Mlp::Random(std::array{36, 8, 2}, std::array{Activation::kRelu, Activation::kIdentity}, 1)
+      .Save(dir_ / "h3.weights");
+  e = ErrorOf("sim: {world: w.yaml}\nmission: {policy: morp-il, morp_il: {weights: h3.weights}}\n");
+  EXPECT_NE(e.find("a network of 36 inputs and 2 outputs; want 48 (history 4) and 2"), std::string::npos) << e;
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\nmission: {policy: morp-il, morp_il: {weights: h3.weights, "
+                                    "history: 3}}\n";
+  const Config c = LoadConfig(dir_ / "c.yaml");
+  EXPECT_EQ(c.mission.policy, nav::LocalPolicyKind::kMorpIl);
+  ASSERT_NE(c.mission.navigator.learned, nullptr);
+  EXPECT_EQ(c.mission.navigator.learned->inputs(), 36);
+  EXPECT_EQ(c.mission.navigator.il.max_linear_mps, c.mission.navigator.follower.max_linear_mps);
+  e = ErrorOf("sim: {world: w.yaml}\nmission: {policy: sarl}\n");
+  EXPECT_NE(e.find("mission.policy: must be morp-rb, voxel-reactive or morp-il, got 'sarl'"), std::string::npos) << e;
 }
 
 TEST_F(ConfigTest, TheVdaBrokerIsOffByDefaultAndTheFlagSetsIt) {

@@ -2,9 +2,12 @@
 // See tools/scenario/scenario.h for the protocol and docs/benchmarks.md for results.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <memory>
 #include <string>
 
 #include <spdlog/spdlog.h>
@@ -32,7 +35,8 @@ Runs the DPoom evaluation protocol: a DPoom-like robot (0.26 m/s, camera 85.2 x 
                       and stands, as in DPoom's evaluation) or pacing (harder: routes anywhere, walked back and
                       forth at 0.8 m/s for the whole run)
   --static N          static obstacles, 0 to 9, default 0
-  --policy NAME       morp-rb or voxel-reactive; repeat for several; default both
+  --policy NAME       morp-rb, voxel-reactive or morp-il; repeat for several; default the first two
+  --weights FILE      morp-il's network, default config/policies/morp_il.weights
   --laser             give the robot corridor's optional 2D laser: morp-rb tracks moving objects and evades them
   --no-camera-tracking
                       without the laser, morp-rb does not track people in the depth camera's view (DPoom's robot as
@@ -79,6 +83,7 @@ int main(int argc, char** argv) {
   ScenarioOptions options;
   bool json = false;
   bool quiet = false;
+  std::filesystem::path weights = "config/policies/morp_il.weights";
   try {
     std::vector<Policy> policies;
     for (int i = 1; i < argc; ++i) {
@@ -115,8 +120,12 @@ int main(int argc, char** argv) {
       } else if (flag == "--policy") {
         const std::string name = value();
         const auto policy = corridor::scenario::ParsePolicy(name);
-        if (!policy) throw std::invalid_argument("--policy: unknown policy '" + name + "' (morp-rb, voxel-reactive)");
+        if (!policy) {
+          throw std::invalid_argument("--policy: unknown policy '" + name + "' (morp-rb, voxel-reactive, morp-il)");
+        }
         policies.push_back(*policy);
+      } else if (flag == "--weights") {
+        weights = value();
       } else if (flag == "--timeout") {
         options.timeout_s = ParseInt(flag, value(), 1, 100000);
       } else if (flag == "--laser") {
@@ -136,6 +145,13 @@ int main(int argc, char** argv) {
       }
     }
     if (!policies.empty()) options.policies = policies;
+    if (std::find(options.policies.begin(), options.policies.end(), Policy::kMorpIl) != options.policies.end()) {
+      options.morp_il = std::make_shared<corridor::nav::Mlp>(corridor::nav::Mlp::Load(weights));
+      corridor::nav::CheckMorpIlNetwork(*options.morp_il, corridor::nav::MorpIlOptions{});
+    }
+  } catch (const corridor::nav::MlpFormatError& e) {
+    std::cerr << "corridor-scenario: --weights: " << e.what() << '\n';
+    return 2;
   } catch (const std::invalid_argument& e) {
     std::cerr << "corridor-scenario: " << e.what() << "\n\n" << kUsage;
     return 2;

@@ -164,7 +164,11 @@ server::Config GraphConfig(const drivers::sim::SimOptions& sim, Policy policy, c
   navigator.avoid.max_linear_mps = options.max_speed_mps;
   // Backing away is the laser's to allow: the graph takes it away without one (a forward camera cannot see behind).
   navigator.evade.max_reverse_mps = options.max_speed_mps;
-  config.tracking.enabled = policy == Policy::kMorpRb && (sim.laser.enabled || options.camera_tracking);
+  navigator.il.max_linear_mps = options.max_speed_mps;
+  navigator.il.max_angular_rps = std::max(navigator.follower.max_angular_rps, navigator.avoid.max_angular_rps);
+  navigator.learned = options.morp_il;
+  navigator.teach = options.teach;
+  config.tracking.enabled = policy != Policy::kVoxelReactive && (sim.laser.enabled || options.camera_tracking);
   config.tracking.camera = options.camera_tracking;
   server::ApplyDerivedOptions(config);
   return config;
@@ -376,7 +380,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   sim.start = layout.start;
   sim.seed = layout.seed;
   sim.camera.rate_hz = options.camera_rate_hz;
-  sim.laser.enabled = options.laser && policy == Policy::kMorpRb;
+  sim.laser.enabled = options.laser && policy != Policy::kVoxelReactive;
   sim.pedestrians = layout.routes;
   sim.crowd = layout.crowd;
   sim.base.limits.footprint_radius_m = kRobotRadiusM;

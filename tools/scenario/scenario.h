@@ -11,7 +11,8 @@
 // the local policy the graph is configured with (mission.policy):
 //   - morp-rb: MORP lanes and corridor's local navigator;
 //   - voxel-reactive: the comparison pipeline, a point cloud downsampled in a voxel grid with obstacle extraction,
-//     feeding a simple reactive controller.
+//     feeding a simple reactive controller;
+//   - morp-il: morp-rb with MORP-IL's network in MORP-RB's place (nav/policy/morp_il.h).
 // A run succeeds when the robot is within goal_tolerance_m of the goal, fails with a collision when its footprint
 // touches anything (wall, obstacle, person), and times out otherwise. People do not see the robot, so many contacts
 // are a person walking into it from its side or back; each collision also says whether the robot drove into it (it
@@ -25,6 +26,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -37,6 +39,7 @@
 #include "nav/geometry/pose2.h"
 #include "nav/map/occupancy_grid.h"
 #include "nav/policy/local_policy.h"
+#include "nav/policy/morp_il.h"
 
 namespace corridor::scenario {
 
@@ -83,6 +86,11 @@ struct ScenarioOptions {
   bool trace = false;  // every morp-rb decision and every collision's surroundings on stderr
   // Only this world and run (indices from 0), to look into one with `trace`; the same layout as in the full set.
   std::optional<std::pair<int, int>> only;
+  // morp-il's network (required with that policy).
+  std::shared_ptr<const nav::Mlp> morp_il;
+  // Training only (corridor-train): every run of morp-rb or morp-il records its steps' inputs and the rules' commands
+  // here, and mixes who drives (nav::Demonstrations).
+  std::shared_ptr<nav::Demonstrations> teach;
 };
 
 // Everything one run needs, drawn from the seed.

@@ -1,6 +1,8 @@
 // corridor-train: trains the learned local policies' networks from seeded commands (docs/policies.md).
-//   corridor-train dpoom   behaviour cloning on DPoom's own demonstrations with the paper's split (d3_s3 held out),
-//                          as DPoom's script does it: a check of the trainer against someone else's data and result.
+//   corridor-train morp-il  MORP-IL cloned from MORP-RB in the scenario runner (the daemon's graph in lockstep), then
+//                           improved with DAgger (the paper's Algorithm 2); writes the shipped weights.
+//   corridor-train dpoom    behaviour cloning on DPoom's own demonstrations with the paper's split (d3_s3 held out),
+//                           as DPoom's script does it: a check of the trainer against someone else's data and result.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -9,15 +11,41 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
 
 #include "nav/learning/dpoom_demonstrations.h"
 #include "nav/learning/mlp_training.h"
 #include "tools/common/command_line.h"
+#include "tools/train/dagger.h"
 
 namespace {
 
 using namespace corridor;
 using tools::ParseNumber;
+
+constexpr const char* kMorpIlUsage = R"(usage: corridor-train morp-il [options]
+Clones MORP-IL from MORP-RB driving scenario runs (the daemon's graph in lockstep), then runs DAgger: runs driven by
+the rules at a share beta^i of the steps and by the network at the rest, labelled by the rules, aggregated, trained
+on again. Keeps the network that succeeds most on validation runs (the network alone, seeds no training used).
+  --crowd KIND        paper or pacing (default), as corridor-scenario
+  --pedestrians N     default 5
+  --static N          static obstacles, default 0
+  --laser             the robot carries the 2D laser (default: camera only)
+  --train-seed N      iteration i's runs use N + 1000 i, default 1000
+  --train-worlds N    per iteration, default 5
+  --train-runs N      per world, default 2
+  --validate-seed N   default 500000
+  --validate-worlds N default 5
+  --validate-runs N   default 2
+  --iterations N      DAgger's after the cloning, default 3
+  --beta B            default 0.5
+  --epochs N          per iteration, default 30
+  --learning-rate R   Adam's, default 1e-3
+  --seed N            the network's initial weights, the order of the examples, the mixing; default 1
+  --out FILE          the best network's weights (mlp.h's format)
+  --json              the result as JSON on stdout
+  --help
+)";
 
 constexpr const char* kUsage = R"(usage: corridor-train dpoom [options]
 Clones a driver from DPoom's demonstrations (tests/data/dpoom_bc) with the paper's split: d3_s3.csv is the validation
@@ -180,10 +208,118 @@ int Run(const Options& o) {
   return 0;
 }
 
+struct MorpIlOptions {
+  tools::DaggerOptions dagger;
+  std::filesystem::path out;
+  bool json = false;
+};
+
+MorpIlOptions ParseMorpIlOptions(int argc, char** argv) {
+  MorpIlOptions o;
+  tools::DaggerOptions& d = o.dagger;
+  d.protocol.crowd = scenario::CrowdKind::kPacing;
+  d.protocol.pedestrians = 5;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument(arg + ": needs a value");
+      return argv[++i];
+    };
+    const auto count = [&](double lo, double hi) { return static_cast<int>(ParseNumber(arg, value(), lo, hi)); };
+    const auto seed = [&] { return static_cast<std::uint32_t>(ParseNumber(arg, value(), 0, 1 << 30)); };
+    if (arg == "--help") {
+      std::cout << kMorpIlUsage;
+      std::exit(0);
+    } else if (arg == "--crowd") {
+      const std::string name = value();
+      const auto kind = scenario::ParseCrowdKind(name);
+      if (!kind) throw std::invalid_argument("--crowd: paper or pacing, got '" + name + "'");
+      d.protocol.crowd = *kind;
+    } else if (arg == "--pedestrians") {
+      d.protocol.pedestrians = count(0, 20);
+    } else if (arg == "--static") {
+      d.protocol.static_obstacles = count(0, 30);
+    } else if (arg == "--laser") {
+      d.protocol.laser = true;
+    } else if (arg == "--train-seed") {
+      d.train_seed = seed();
+    } else if (arg == "--train-worlds") {
+      d.train_worlds = count(1, 1000);
+    } else if (arg == "--train-runs") {
+      d.train_runs = count(1, 1000);
+    } else if (arg == "--validate-seed") {
+      d.validate_seed = seed();
+    } else if (arg == "--validate-worlds") {
+      d.validate_worlds = count(1, 1000);
+    } else if (arg == "--validate-runs") {
+      d.validate_runs = count(1, 1000);
+    } else if (arg == "--iterations") {
+      d.iterations = count(0, 100);
+    } else if (arg == "--beta") {
+      d.beta = ParseNumber(arg, value(), 0, 1);
+    } else if (arg == "--epochs") {
+      d.epochs = count(1, 100000);
+    } else if (arg == "--learning-rate") {
+      d.learning_rate = static_cast<float>(ParseNumber(arg, value(), 1e-9, 1));
+    } else if (arg == "--seed") {
+      d.seed = static_cast<std::uint64_t>(ParseNumber(arg, value(), 0, 1e15));
+    } else if (arg == "--out") {
+      o.out = value();
+    } else if (arg == "--json") {
+      o.json = true;
+    } else {
+      throw std::invalid_argument("unknown option '" + arg + "' (see --help)");
+    }
+  }
+  return o;
+}
+
+nlohmann::json ToJson(const tools::DaggerIteration& it) {
+  return {{"iteration", it.iteration},
+          {"beta", it.beta},
+          {"examples", it.examples},
+          {"train_rmse", it.train_rmse},
+          {"validation",
+           {{"runs", it.validation.runs},
+            {"success", it.validation.success},
+            {"collision", it.validation.collision},
+            {"timeout", it.validation.timeout},
+            {"mean_time_to_goal_s", it.validation.mean_time_to_goal_s}}}};
+}
+
+int RunMorpIl(const MorpIlOptions& o) {
+  const tools::DaggerResult result = tools::TrainMorpIl(o.dagger, [&](const tools::DaggerIteration& it) {
+    if (o.json) return;
+    std::printf(
+        "iteration %d (beta %.3f): %lld examples, train RMSE %.4f; validation (%d runs) success %.2f, "
+        "collisions %.2f, timeouts %.2f\n",
+        it.iteration, it.beta, static_cast<long long>(it.examples), it.train_rmse, it.validation.runs,
+        it.validation.success, it.validation.collision, it.validation.timeout);
+    std::fflush(stdout);
+  });
+  if (!o.out.empty()) result.best.Save(o.out);
+  if (o.json) {
+    nlohmann::json doc = {{"best_iteration", result.best_iteration}, {"iterations", nlohmann::json::array()}};
+    for (const tools::DaggerIteration& it : result.iterations) doc["iterations"].push_back(ToJson(it));
+    std::cout << doc.dump(2) << '\n';
+  } else {
+    std::printf("best: iteration %d\n", result.best_iteration);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  const std::string mode = argc > 1 ? argv[1] : "";
+  if (mode.empty() || mode == "--help") {
+    std::cout << "usage: corridor-train morp-il|dpoom [options]   (corridor-train MODE --help)\n";
+    return mode.empty() ? 2 : 0;
+  }
+  spdlog::set_level(spdlog::level::warn);  // the graph's own logs: only what goes wrong
   try {
+    if (mode == "morp-il") return RunMorpIl(ParseMorpIlOptions(argc, argv));
+    if (mode != "dpoom") throw std::invalid_argument("unknown mode '" + mode + "' (morp-il, dpoom)");
     return Run(ParseOptions(argc, argv));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "corridor-train: %s\n", e.what());
