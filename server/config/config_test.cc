@@ -119,6 +119,10 @@ TEST_F(ConfigTest, MorpIlDrivesWithTheNetworkItNamesAndOnlyOneThatFits) {
   ASSERT_NE(c.mission.navigator.learned, nullptr);
   EXPECT_EQ(c.mission.navigator.learned->inputs(), 36);
   EXPECT_EQ(c.mission.navigator.il.max_linear_mps, c.mission.navigator.follower.max_linear_mps);
+  // The shipped network drives (config/policies/morp_il.weights, as the shipped configuration names it).
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\nmission: {policy: morp-il, morp_il: {weights: "
+                                 << (SourceDir() / "config/policies/morp_il.weights").string() << "}}\n";
+  EXPECT_EQ(LoadConfig(dir_ / "c.yaml").mission.navigator.learned->inputs(), 48);
   e = ErrorOf("sim: {world: w.yaml}\nmission: {policy: sarl}\n");
   EXPECT_NE(e.find("mission.policy: must be morp-rb, voxel-reactive or morp-il, got 'sarl'"), std::string::npos) << e;
 }
