@@ -12,6 +12,7 @@
 #include <opencv2/dnn.hpp>
 
 #include "nav/learning/mlp_training.h"
+#include "testing/opencv_mlp.h"
 
 namespace corridor::nav {
 namespace {
@@ -42,30 +43,7 @@ void TimeForward(benchmark::State& state, const Mlp& net) {
 
 // The same layers in OpenCV's dnn module.
 void TimeOpenCv(benchmark::State& state, const Mlp& mlp) {
-  cv::dnn::Net net;
-  int index = 0;
-  for (const DenseLayer& layer : mlp.layers()) {
-    cv::dnn::LayerParams dense;
-    dense.set("num_output", static_cast<int>(layer.weights.rows()));
-    dense.set("bias_term", true);
-    cv::Mat weights;
-    cv::Mat(static_cast<int>(layer.weights.cols()), static_cast<int>(layer.weights.rows()), CV_32F,
-            const_cast<float*>(layer.weights.data()))
-        .copyTo(weights);
-    dense.blobs = {
-        weights.t(),
-        cv::Mat(1, static_cast<int>(layer.bias.size()), CV_32F, const_cast<float*>(layer.bias.data())).clone()};
-    const std::string name = "layer" + std::to_string(index++);
-    net.addLayerToPrev(name, "InnerProduct", dense);
-    if (layer.activation == Activation::kRelu) {
-      cv::dnn::LayerParams relu;
-      net.addLayerToPrev(name + "_relu", "ReLU", relu);
-    } else if (layer.activation == Activation::kSoftmax) {
-      cv::dnn::LayerParams softmax;
-      net.addLayerToPrev(name + "_softmax", "Softmax", softmax);
-    }
-  }
-  net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  cv::dnn::Net net = testing::OpenCvMlp(mlp);
   const Eigen::VectorXf x = Input(mlp.inputs());
   const cv::Mat blob(1, mlp.inputs(), CV_32F, const_cast<float*>(x.data()));
   for (auto _ : state) {

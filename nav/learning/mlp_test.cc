@@ -15,44 +15,12 @@
 #include <opencv2/core.hpp>
 #include <opencv2/dnn.hpp>
 
+#include "testing/opencv_mlp.h"
+
 namespace corridor::nav {
 namespace {
 
 using ::testing::HasSubstr;
-
-// The same layers built in OpenCV's dnn module (its InnerProduct and activation layers), from the same weights.
-cv::dnn::Net OpenCvNet(const Mlp& mlp) {
-  cv::dnn::Net net;
-  int index = 0;
-  for (const DenseLayer& layer : mlp.layers()) {
-    cv::dnn::LayerParams dense;
-    dense.set("num_output", static_cast<int>(layer.weights.rows()));
-    dense.set("bias_term", true);
-    cv::Mat weights(static_cast<int>(layer.weights.rows()), static_cast<int>(layer.weights.cols()), CV_32F);
-    for (int r = 0; r < weights.rows; ++r) {
-      for (int c = 0; c < weights.cols; ++c) weights.at<float>(r, c) = layer.weights(r, c);
-    }
-    cv::Mat bias(1, static_cast<int>(layer.bias.size()), CV_32F);
-    for (int c = 0; c < bias.cols; ++c) bias.at<float>(0, c) = layer.bias(c);
-    dense.blobs = {weights, bias};
-    const std::string name = "layer" + std::to_string(index++);
-    net.addLayerToPrev(name, "InnerProduct", dense);
-    const char* type = nullptr;
-    switch (layer.activation) {
-      case Activation::kIdentity: break;
-      case Activation::kRelu: type = "ReLU"; break;
-      case Activation::kTanh: type = "TanH"; break;
-      case Activation::kSigmoid: type = "Sigmoid"; break;
-      case Activation::kSoftmax: type = "Softmax"; break;
-    }
-    if (type != nullptr) {
-      cv::dnn::LayerParams activation;
-      net.addLayerToPrev(name + "_" + type, type, activation);
-    }
-  }
-  net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
-  return net;
-}
 
 TEST(MlpTest, ForwardAgreesWithOpenCvDnnForEveryActivation) {
   // Random networks (seeded) of each activation, on random inputs: corridor's forward pass and OpenCV's agree.
@@ -67,7 +35,7 @@ TEST(MlpTest, ForwardAgreesWithOpenCvDnnForEveryActivation) {
   const std::array<int, 4> sizes{48, 96, 144, 20};
   for (std::size_t s = 0; s < shapes.size(); ++s) {
     const Mlp mlp = Mlp::Random(sizes, shapes[s], 100 + s);
-    cv::dnn::Net net = OpenCvNet(mlp);
+    cv::dnn::Net net = testing::OpenCvMlp(mlp);
     Eigen::MatrixXf inputs(sizes.front(), 16);
     for (Eigen::Index i = 0; i < inputs.size(); ++i) inputs(i) = normal(random);
     const Eigen::MatrixXf batch = mlp.ForwardBatch(inputs);

@@ -18,4 +18,27 @@ inline double ParseNumber(const std::string& flag, const std::string& text, doub
   return value;
 }
 
+// A command line's arguments from `first` on, one at a time: Next() moves to the next (false after the last), Value()
+// takes the one after it as the current option's value (std::invalid_argument naming the option when there is none).
+class Arguments {
+ public:
+  Arguments(int argc, char** argv, int first = 1) : argc_(argc), argv_(argv), next_(first) {}
+  bool Next() {
+    if (next_ >= argc_) return false;
+    current_ = argv_[next_++];
+    return true;
+  }
+  const std::string& current() const { return current_; }
+  std::string Value() {
+    if (next_ >= argc_) throw std::invalid_argument(current_ + ": needs a value");
+    return argv_[next_++];
+  }
+
+ private:
+  int argc_;
+  char** argv_;
+  int next_;
+  std::string current_;
+};
+
 }  // namespace corridor::tools

@@ -85,12 +85,9 @@ struct Options {
 
 Options ParseOptions(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + ": needs a value");
-      return argv[++i];
-    };
+  for (tools::Arguments args(argc, argv, 1); args.Next();) {
+    const std::string arg = args.current();
+    const auto value = [&] { return args.Value(); };
     if (arg == "--help") {
       std::cout << kUsage;
       std::exit(0);

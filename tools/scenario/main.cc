@@ -12,6 +12,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "tools/common/command_line.h"
 #include "tools/scenario/scenario.h"
 
 namespace {
@@ -86,12 +87,9 @@ int main(int argc, char** argv) {
   std::filesystem::path weights = "config/policies/morp_il.weights";
   try {
     std::vector<Policy> policies;
-    for (int i = 1; i < argc; ++i) {
-      const std::string flag = argv[i];
-      const auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw std::invalid_argument(flag + ": needs a value");
-        return argv[++i];
-      };
+    for (corridor::tools::Arguments args(argc, argv, 1); args.Next();) {
+      const std::string flag = args.current();
+      const auto value = [&] { return args.Value(); };
       if (flag == "--help" || flag == "-h") {
         std::cout << kUsage;
         return 0;

@@ -82,19 +82,10 @@ struct Options {
 };
 
 Options ParseOptions(int argc, char** argv) {
-  if (argc < 2 || std::string(argv[1]) == "--help") {
-    std::cout << kUsage;
-    std::exit(argc < 2 ? 2 : 0);
-  }
-  if (std::string(argv[1]) != "dpoom")
-    throw std::invalid_argument("unknown mode '" + std::string(argv[1]) + "' (dpoom)");
   Options o;
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + ": needs a value");
-      return argv[++i];
-    };
+  for (tools::Arguments args(argc, argv, 2); args.Next();) {
+    const std::string arg = args.current();
+    const auto value = [&] { return args.Value(); };
     if (arg == "--help") {
       std::cout << kUsage;
       std::exit(0);
@@ -219,12 +210,9 @@ MorpIlOptions ParseMorpIlOptions(int argc, char** argv) {
   tools::DaggerOptions& d = o.dagger;
   d.protocol.crowd = scenario::CrowdKind::kPacing;
   d.protocol.pedestrians = 5;
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(arg + ": needs a value");
-      return argv[++i];
-    };
+  for (tools::Arguments args(argc, argv, 2); args.Next();) {
+    const std::string arg = args.current();
+    const auto value = [&] { return args.Value(); };
     const auto count = [&](double lo, double hi) { return static_cast<int>(ParseNumber(arg, value(), lo, hi)); };
     const auto seed = [&] { return static_cast<std::uint32_t>(ParseNumber(arg, value(), 0, 1 << 30)); };
     if (arg == "--help") {
