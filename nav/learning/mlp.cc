@@ -3,11 +3,13 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <istream>
 #include <ostream>
 #include <random>
 #include <sstream>
+#include <system_error>
 #include <utility>
 
 namespace corridor::nav {
@@ -30,6 +32,21 @@ std::string Text(const Parts&... parts) {
   (out << ... << parts);
   return out.str();
 }
+
+// One header line of at most kMaxLine characters (a longer one is not a weights file's: false, as at the end).
+constexpr std::size_t kMaxLine = 200;
+bool ReadLine(std::istream& in, std::string& line) {
+  line.clear();
+  for (int c = in.get(); c != std::istream::traits_type::eof(); c = in.get()) {
+    if (c == '\n') return true;
+    if (line.size() == kMaxLine) return false;
+    line.push_back(static_cast<char>(c));
+  }
+  return !line.empty();
+}
+
+// A weights file larger than this is not a small policy network's.
+constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t{256} << 20U;
 
 // Layers wider than this are not a small policy network: a header asking for more is a broken file.
 constexpr int kMaxWidth = 1 << 16;
@@ -183,11 +200,11 @@ void Mlp::Save(const std::filesystem::path& path) const {
 Mlp Mlp::Load(std::istream& in, std::string_view what) {
   const auto fail = [&](const std::string& why) { return MlpFormatError(Text(what, ": ", why)); };
   std::string line;
-  if (!std::getline(in, line) || line != kMagic) throw fail(Text("not a weights file (want '", kMagic, "')"));
+  if (!ReadLine(in, line) || line != kMagic) throw fail(Text("not a weights file (want '", kMagic, "')"));
   std::size_t count = 0;
   {
     std::string word;
-    if (!std::getline(in, line) || !(std::istringstream(line) >> word >> count) || word != "layers" || count < 1 ||
+    if (!ReadLine(in, line) || !(std::istringstream(line) >> word >> count) || word != "layers" || count < 1 ||
         count > 64) {
       throw fail(Text("want 'layers N' (1 to 64), got '", line, "'"));
     }
@@ -198,7 +215,7 @@ Mlp Mlp::Load(std::istream& in, std::string_view what) {
     std::string activation;
     int in_size = 0;
     int out_size = 0;
-    if (!std::getline(in, line) || !(std::istringstream(line) >> word >> in_size >> out_size >> activation) ||
+    if (!ReadLine(in, line) || !(std::istringstream(line) >> word >> in_size >> out_size >> activation) ||
         word != "dense" || in_size < 1 || out_size < 1 || in_size > kMaxWidth || out_size > kMaxWidth) {
       throw fail(Text("layer ", i, ": want 'dense IN OUT ACTIVATION', got '", line, "'"));
     }
@@ -215,7 +232,7 @@ Mlp Mlp::Load(std::istream& in, std::string_view what) {
   } catch (const std::invalid_argument& e) {
     throw fail(e.what());
   }
-  if (!std::getline(in, line) || line != "data") throw fail("no 'data' line after the layers");
+  if (!ReadLine(in, line) || line != "data") throw fail("no 'data' line after the layers");
   for (std::size_t i = 0; i < count; ++i) {
     DenseLayer& layer = layers[i];
     Eigen::MatrixXf rows(layer.weights.cols(), layer.weights.rows());
@@ -231,6 +248,14 @@ Mlp Mlp::Load(std::istream& in, std::string_view what) {
 }
 
 Mlp Mlp::Load(const std::filesystem::path& path) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) {
+    throw MlpFormatError(Text(path.string(), ": cannot open the weights (not a file)"));
+  }
+  if (std::filesystem::file_size(path, error) > kMaxFileBytes) {
+    throw MlpFormatError(
+        Text(path.string(), ": larger than a policy network's weights (", kMaxFileBytes >> 20U, " MB at most)"));
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw MlpFormatError(Text(path.string(), ": cannot open the weights"));
   return Load(in, path.string());

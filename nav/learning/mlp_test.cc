@@ -158,7 +158,11 @@ TEST(MlpTest, BrokenWeightsFilesAreRefusedSayingWhy) {
   const float nan = std::nanf("");
   not_a_number.replace(good.find("data\n") + 5, sizeof(float), reinterpret_cast<const char*>(&nan), sizeof(float));
   EXPECT_THAT(refusal(not_a_number), HasSubstr("layer 0: not a number"));
+  EXPECT_THAT(refusal(std::string(100000, 'x')), HasSubstr("not a weights file"));  // one endless line
   EXPECT_THROW(Mlp::Load(std::filesystem::path("/nonexistent/policy.weights")), MlpFormatError);
+  // Not a file: a device that never ends, a directory.
+  EXPECT_THROW(Mlp::Load(std::filesystem::path("/dev/zero")), MlpFormatError);
+  EXPECT_THROW(Mlp::Load(std::filesystem::temp_directory_path()), MlpFormatError);
 }
 
 }  // namespace
