@@ -14,7 +14,9 @@ const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const scenario = join(root, 'build/tools/scenario/corridor-scenario');
 
 // name, flags, seeds. The paper's crowd (5 people placed in the robot's way, walked once, then standing) is the
-// protocol of Table 4; the pacing crowd is our harder one.
+// protocol of Table 4; the pacing crowd is our harder one. MORP-IL drives with the shipped network, on seeds its
+// training never used (config/policies/README.md).
+const il = ['--policy', 'morp-il', '--weights', join(root, 'config/policies/morp_il.weights')];
 const SETTINGS = [
   ['paper', ['--policy', 'morp-rb'], [1, 2, 3, 4, 5]],
   ['paper-static', ['--policy', 'morp-rb', '--static', '9'], [1, 2]],
@@ -24,6 +26,9 @@ const SETTINGS = [
   ['paper-static-voxel', ['--policy', 'voxel-reactive', '--static', '9'], [1, 2]],
   ['pacing', ['--policy', 'morp-rb', '--crowd', 'pacing'], [1, 2]],
   ['pacing-laser', ['--policy', 'morp-rb', '--crowd', 'pacing', '--laser'], [1, 2]],
+  ['paper-il', il, [1, 2]],
+  ['paper-static-il', [...il, '--static', '9'], [1, 2]],
+  ['pacing-il', [...il, '--crowd', 'pacing'], [1, 2]],
 ];
 
 function option(name, fallback) {
