@@ -2,28 +2,31 @@
 // base command that drives on it (the issue's target: <= 5 ms at the 99th percentile), while a mission drives
 // across a 12 x 8 m room with unmapped pillars and three walking people, the simulator rendering 320 x 240 depth
 // at 15 Hz on the same two cores.
-//   node bench/control_latency.mjs [--console] [--no-laser] [--vga] [--hog]
+//   node bench/control_latency.mjs [--console] [--no-laser] [--vga] [--hog] [--morp-il]
 // --console: with a console's load as well (a stream client and the depth view fetched five times a second).
 // --no-laser: a robot without the laser, whose tracking node then reads every depth frame (tracking.camera).
 // --vga: the camera at 640 x 480 (as a real RGB-D camera) instead of 320 x 240.
 // --hog: people found by the HOG detector in the colour frames at 5 Hz (as on a real camera) instead of the
 //        simulator's list of its people: the perception executor's load beside the control loop.
+// --morp-il: the mission drives with MORP-IL's shipped network in MORP-RB's place (mission.policy morp-il).
 import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 
 import {
-  apiFetch, authHeaders, getJson, pillarRoom, postJson, require, sleep, startDaemon,
+  apiFetch, authHeaders, getJson, pillarRoom, postJson, require, sleep, sourceDir, startDaemon,
 } from '../tests/daemon.mjs';
 
 const withConsole = process.argv.includes('--console');
 const withLaser = !process.argv.includes('--no-laser');
 const vga = process.argv.includes('--vga');
 const hog = process.argv.includes('--hog');
+const morpIl = process.argv.includes('--morp-il');
 const dir = mkdtempSync(join(tmpdir(), 'corridor-bench-'));
 const daemon = await startDaemon({ config: `
 devices: {laser: {driver: ${withLaser ? 'sim' : 'none'}}}
-${pillarRoom(dir)}${vga ? '  camera: {width: 640, height: 480}\n' : ''}${hog ? 'perception: {detector: hog}\n' : ''}` });
+${pillarRoom(dir)}${vga ? '  camera: {width: 640, height: 480}\n' : ''}${hog ? 'perception: {detector: hog}\n' : ''}${
+  morpIl ? `mission: {policy: morp-il, morp_il: {weights: ${join(sourceDir, 'config/policies/morp_il.weights')}}}\n` : ''}` });
 let ws = null;
 let camera = null;
 if (withConsole) {

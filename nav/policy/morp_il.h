@@ -34,8 +34,10 @@ struct MorpIlOptions {
   int history = 4;  // H: steps of inputs
   double lane_range_m = 3.0;
   double goal_range_m = 2.0;
-  double max_linear_mps = 0.26;  // the outputs' scale (MORP-RB's limits)
-  double max_angular_rps = 1.0;
+  // The scale of the commands in and out, the network's own (what it was trained with: the shipped one at DPoom's
+  // 0.26 m/s and the path follower's 1.5 rad/s), not the robot's limits, which cap its commands afterwards.
+  double max_linear_mps = 0.26;
+  double max_angular_rps = 1.5;
 };
 
 inline constexpr int kMorpIlStepInputs = 12;

@@ -41,7 +41,7 @@ TEST(MorpIlFeaturesTest, EachStepIsLanesCommandGoalAndApproachOldestFirst) {
   // Lane 0 (leftmost) blocked at 1.5 m of the 3 m range; lane 9 blind; 10 lanes in 7 bins by index.
   std::vector<LaneResult> lanes = TenLanes({{0, 1.5}});
   lanes[9].blind = true;
-  features.Push(lanes, std::numbers::pi / 2, 1.0, false, Twist2{0.13, -0.5});
+  features.Push(lanes, std::numbers::pi / 2, 1.0, false, Twist2{0.13, -0.75});
   const Eigen::VectorXf first = features.Input();
   // Before four steps the first is repeated.
   for (int s = 0; s < 4; ++s) EXPECT_EQ(first.segment<12>(12 * s), first.head<12>());
@@ -49,7 +49,7 @@ TEST(MorpIlFeaturesTest, EachStepIsLanesCommandGoalAndApproachOldestFirst) {
   EXPECT_FLOAT_EQ(first(3), 1.0F);   // free
   EXPECT_FLOAT_EQ(first(6), 0.0F);   // the right bin: blind
   EXPECT_FLOAT_EQ(first(7), 0.5F);   // 0.13 of 0.26 m/s
-  EXPECT_FLOAT_EQ(first(8), -0.5F);  // -0.5 of 1 rad/s
+  EXPECT_FLOAT_EQ(first(8), -0.5F);  // -0.75 of 1.5 rad/s
   EXPECT_FLOAT_EQ(first(9), 0.5F);   // the goal to the left: pi/2 over pi
   EXPECT_FLOAT_EQ(first(10), 0.5F);  // 1 m of the 2 m range
   EXPECT_FLOAT_EQ(first(11), 0.0F);
@@ -69,7 +69,7 @@ TEST(MorpIlFeaturesTest, EachStepIsLanesCommandGoalAndApproachOldestFirst) {
 TEST(MorpIlTest, TheNetworksOutputIsScaledAndKeptWithinTheLimits) {
   MorpIlOptions options;
   EXPECT_NEAR(MorpIlCommand(*ConstantNetwork(0.5F, -0.25F), Eigen::VectorXf::Zero(48), options).linear_mps, 0.13, 1e-6);
-  EXPECT_NEAR(MorpIlCommand(*ConstantNetwork(0.5F, -0.25F), Eigen::VectorXf::Zero(48), options).angular_rps, -0.25,
+  EXPECT_NEAR(MorpIlCommand(*ConstantNetwork(0.5F, -0.25F), Eigen::VectorXf::Zero(48), options).angular_rps, -0.375,
               1e-6);
   const Twist2 wild = MorpIlCommand(*ConstantNetwork(7.0F, std::nanf("")), Eigen::VectorXf::Zero(48), options);
   EXPECT_DOUBLE_EQ(wild.linear_mps, 0.26);

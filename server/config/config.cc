@@ -817,13 +817,13 @@ void ReadMission(ConfigReader& r, nav::MissionRunnerOptions& mission, const fs::
   r.Read("stuck_s", navigator.stuck_s, 0.0, 600.0);
   r.Section("avoid", [&](ConfigReader& a) { ReadAvoid(a, navigator.avoid); });
   r.Section("evade", [&](ConfigReader& e) { ReadEvade(e, navigator.evade); });
-  // MORP-IL's commands are on the scale of the fastest the navigator drives; its network is read only when it drives.
-  navigator.il.max_linear_mps = std::max(o.max_linear_mps, navigator.avoid.max_linear_mps);
-  navigator.il.max_angular_rps = std::max(o.max_angular_rps, navigator.avoid.max_angular_rps);
+  // MORP-IL's network is read only when it drives.
   fs::path weights;
   r.Section("morp_il", [&](ConfigReader& m) {
     ReadPath(m, "weights", weights, base);
     m.Read("history", navigator.il.history, 1, 20);
+    m.Read("scale_linear_mps", navigator.il.max_linear_mps, 0.01, 3.0);
+    m.Read("scale_angular_rps", navigator.il.max_angular_rps, 0.01, 6.0);
   });
   if (mission.policy == Policy::kMorpIl) {
     if (weights.empty()) throw ConfigError(r.PathOf("morp_il") + ".weights: required with policy morp-il");

@@ -164,8 +164,6 @@ server::Config GraphConfig(const drivers::sim::SimOptions& sim, Policy policy, c
   navigator.avoid.max_linear_mps = options.max_speed_mps;
   // Backing away is the laser's to allow: the graph takes it away without one (a forward camera cannot see behind).
   navigator.evade.max_reverse_mps = options.max_speed_mps;
-  navigator.il.max_linear_mps = options.max_speed_mps;
-  navigator.il.max_angular_rps = std::max(navigator.follower.max_angular_rps, navigator.avoid.max_angular_rps);
   navigator.learned = options.morp_il;
   navigator.teach = options.teach;
   config.tracking.enabled = policy != Policy::kVoxelReactive && (sim.laser.enabled || options.camera_tracking);
