@@ -11,17 +11,14 @@
 
 #include <opencv2/dnn.hpp>
 
+#include "nav/learning/dpoom_demonstrations.h"
 #include "nav/learning/mlp_training.h"
 #include "testing/opencv_mlp.h"
 
 namespace corridor::nav {
 namespace {
 
-Mlp MorpIl() {
-  return Mlp::Random(
-      std::array{48, 48, 96, 144, 48, 2},
-      std::array{Activation::kRelu, Activation::kRelu, Activation::kRelu, Activation::kRelu, Activation::kIdentity}, 1);
-}
+Mlp MorpIl() { return DpoomNetwork(48, 1); }
 
 Mlp Direction(int width) {
   return Mlp::Random(std::array{274, width, width, width, 20},

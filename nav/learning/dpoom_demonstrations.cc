@@ -79,6 +79,13 @@ Examples DpoomExamples(std::span<const DpoomRow> all_rows, int history, int skip
   return examples;
 }
 
+Mlp DpoomNetwork(int inputs, std::uint64_t seed) {
+  return Mlp::Random(
+      std::array{inputs, inputs, 2 * inputs, 3 * inputs, inputs, 2},
+      std::array{Activation::kRelu, Activation::kRelu, Activation::kRelu, Activation::kRelu, Activation::kIdentity},
+      seed);
+}
+
 double RepeatLastCommandRmse(const Examples& examples, int history) {
   if (examples.size() == 0) return 0.0;
   const Eigen::Index last_command = static_cast<Eigen::Index>(history) * kLanes + 2 * (history - 1);

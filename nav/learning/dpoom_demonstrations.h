@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <span>
 #include <stdexcept>
@@ -41,6 +42,11 @@ std::vector<DpoomRow> ReadDpoomDemonstration(const std::filesystem::path& path);
 // robot standing still at the start), and so are the last `history` rows. Throws std::invalid_argument for a history
 // below 1.
 Examples DpoomExamples(std::span<const DpoomRow> rows, int history, int skip = 10);
+
+// A new network of DPoom's code's layers for `inputs` (12 a step of history: 48-48-96-144-48-2 for the paper's H = 4):
+// the inputs' width, then twice, three times and once it again, with ReLU, then the command (linear, angular).
+// Initialised from `seed` (Mlp::Random). MORP-IL's network has the same shape.
+Mlp DpoomNetwork(int inputs, std::uint64_t seed);
 
 // The root mean squared error of predicting each example's target as its last command (the input's command of the
 // newest step): the baseline a cloned policy must beat. Same layout as DpoomExamples'.

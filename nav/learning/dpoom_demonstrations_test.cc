@@ -85,9 +85,7 @@ TEST(DpoomDemonstrationsTest, ACloneOfThePersonPredictsTheirNextCommandBetterTha
   const auto [train, test] = SplitExamples(recorded, 0.3, 1);
   EXPECT_EQ(test.size(), static_cast<Eigen::Index>(std::round(0.3 * static_cast<double>(recorded.size()))));
   EXPECT_EQ(train.size() + test.size(), recorded.size());
-  Mlp net = Mlp::Random(
-      std::array{48, 48, 96, 144, 48, 2},
-      std::array{Activation::kRelu, Activation::kRelu, Activation::kRelu, Activation::kRelu, Activation::kIdentity}, 1);
+  Mlp net = DpoomNetwork(48, 1);
   TrainingOptions options;
   options.adam.learning_rate = kCloningTestLearningRate;
   MlpTrainer trainer(net, options);

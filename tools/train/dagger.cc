@@ -1,23 +1,14 @@
 #include "tools/train/dagger.h"
 
-#include <array>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
 
+#include "nav/learning/dpoom_demonstrations.h"
 #include "nav/policy/morp_il.h"
 
 namespace corridor::tools {
 namespace {
-
-// DPoom's code's layers for a history of H steps: 12 H, then twice, three times and once that again, then the command.
-nav::Mlp NewNetwork(int inputs, std::uint64_t seed) {
-  using nav::Activation;
-  return nav::Mlp::Random(
-      std::array{inputs, inputs, 2 * inputs, 3 * inputs, inputs, 2},
-      std::array{Activation::kRelu, Activation::kRelu, Activation::kRelu, Activation::kRelu, Activation::kIdentity},
-      seed);
-}
 
 scenario::ScenarioOptions Runs(const DaggerOptions& o, std::uint32_t seed, int worlds, int runs,
                                scenario::Policy policy) {
@@ -46,7 +37,7 @@ DaggerResult TrainMorpIl(const DaggerOptions& o, const std::function<void(const 
   }
   const nav::MorpIlOptions il;  // the history the graph's navigator is configured with
   const int inputs = il.history * nav::kMorpIlStepInputs;
-  auto net = std::make_shared<nav::Mlp>(NewNetwork(inputs, o.seed));
+  auto net = std::make_shared<nav::Mlp>(nav::DpoomNetwork(inputs, o.seed));
   nav::TrainingOptions training;
   training.adam.learning_rate = o.learning_rate;
   training.batch = o.batch;

@@ -135,12 +135,7 @@ int Run(const Options& o) {
   }
   const auto [train, test] = nav::SplitExamples(recorded, o.test_share, o.seed);
   const int inputs = 12 * o.history;
-  // DPoom's code's layers: the input's width, then twice, three times and once it again, then the command.
-  nav::Mlp net = nav::Mlp::Random(
-      std::vector<int>{inputs, inputs, 2 * inputs, 3 * inputs, inputs, 2},
-      std::vector<nav::Activation>{nav::Activation::kRelu, nav::Activation::kRelu, nav::Activation::kRelu,
-                                   nav::Activation::kRelu, nav::Activation::kIdentity},
-      o.seed);
+  nav::Mlp net = nav::DpoomNetwork(inputs, o.seed);
   nav::TrainingOptions training;
   training.adam.learning_rate = o.learning_rate;
   training.batch = o.batch;
