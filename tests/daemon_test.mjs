@@ -233,7 +233,7 @@ describe('corridord in the Willow Garage building', () => {
     const before = await getJson(`${daemon.url}/api/v1/face`);
     assert.equal(before.status, 200);
     api.check('Face', before.body);
-    const res = await postJson(`${daemon.url}/api/v1/face`, { expression: 'happy', hold_s: 3, say: 'Welcome to the lab' });
+    const res = await postJson(`${daemon.url}/api/v1/face`, { expression: 'happy', hold_s: 30, say: 'Welcome to the lab' });
     assert.equal(res.status, 202, JSON.stringify(res.body));
     api.check('FaceAccepted', res.body);
     const face = await waitFor(async () => (await getJson(`${daemon.url}/api/v1/face`)).body,

@@ -69,9 +69,10 @@ void FaceNode::Activate() {
 }
 
 void FaceNode::OnCommand(const FaceCommand& command) {
+  // Said first: synthesis can take a while on a busy board, and the expression's hold counts from when it can show.
+  if (!command.say.empty()) Say(command.say, "request");
   // The API validated it: an expression's hold is finite and not negative.
   if (command.expression) machine_.Show(*command.expression, command.hold_s, clock().Now());
-  if (!command.say.empty()) Say(command.say, "request");
 }
 
 void FaceNode::Say(std::string text, std::string kind) {
