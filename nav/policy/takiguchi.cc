@@ -1,0 +1,184 @@
+#include "nav/policy/takiguchi.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace corridor::nav {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kTie = 1e-9;  // costs this close are equal (mirror-image headings' angles differ in the last bit)
+
+// Every ray's nearest hit: how far, and the moving object's velocity there (robot frame; zero for a standing thing).
+struct Hits {
+  std::vector<double> distance_m;
+  std::vector<Eigen::Vector2d> velocity;
+};
+
+// Casts the rays at a disc centred at `centre` (robot frame) that moves at `velocity` (robot frame).
+void Cast(const Eigen::Vector2d& centre, double radius_m, const Eigen::Vector2d& velocity,
+          const TakiguchiOptions& options, Hits& hits) {
+  const double d = centre.norm();
+  if (d - radius_m >= options.range_m) return;
+  const int last = options.rays - 1;
+  const double step = kPi / last;
+  const double bearing = std::atan2(centre.y(), centre.x());
+  // Inside the disc: every ray toward its side of the robot meets it at once.
+  const double half = d <= radius_m ? kPi / 2 : std::asin(radius_m / d);
+  // The disc's span of bearings may cross the cut at +-pi: try it on both sides.
+  for (const double shift : {-2.0 * kPi, 0.0, 2.0 * kPi}) {
+    const double low = bearing + shift - half;
+    const double high = bearing + shift + half;
+    const int first = std::max(0, static_cast<int>(std::ceil((low + kPi / 2) / step)));
+    const int end = std::min(last, static_cast<int>(std::floor((high + kPi / 2) / step)));
+    for (int i = first; i <= end; ++i) {
+      const double angle = -kPi / 2 + step * i;
+      const Eigen::Vector2d u(std::cos(angle), std::sin(angle));
+      const double along = u.dot(centre);
+      const double across2 = d * d - along * along;
+      const double t = d <= radius_m ? 0.0 : along - std::sqrt(std::max(0.0, radius_m * radius_m - across2));
+      const auto k = static_cast<std::size_t>(i);
+      if (t < hits.distance_m[k]) {
+        hits.distance_m[k] = std::max(0.0, t);
+        hits.velocity[k] = velocity;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+int TakiguchiInputs(const TakiguchiOptions& options) { return 3 * options.rays + 1; }
+int TakiguchiClasses(const TakiguchiOptions& options) { return options.headings + 1; }
+
+void CheckTakiguchiOptions(const TakiguchiOptions& options) {
+  const auto require = [](bool ok, const char* what) {
+    if (!ok) throw std::invalid_argument(std::string("takiguchi: ") + what);
+  };
+  require(options.rays >= 3, "rays: at least 3");
+  require(options.headings >= 2, "headings: at least 2");
+  require(options.range_m > 0.0, "range_m: positive");
+  require(options.max_object_speed_mps > 0.0, "max_object_speed_mps: positive");
+  require(options.min_object_radius_m >= 0.0 && options.point_radius_m > 0.0, "object and point radii: positive");
+  require(options.max_linear_mps > 0.0 && options.max_angular_rps > 0.0, "speeds: positive");
+  require(options.k_heading > 0.0 && options.turn_in_place_rad > 0.0, "heading controller: positive gains");
+}
+
+Eigen::VectorXf TakiguchiInput(const Pose2& robot, const Surroundings& around, double goal_bearing_rad,
+                               const TakiguchiOptions& options) {
+  const auto n = static_cast<std::size_t>(options.rays);
+  Hits hits{std::vector<double>(n, kInf), std::vector<Eigen::Vector2d>(n, Eigen::Vector2d::Zero())};
+  const Pose2 to_robot = robot.Inverse();
+  const Eigen::Rotation2Dd unrotate(-robot.yaw_rad);
+  for (const Eigen::Vector2d& p : around.static_points) {
+    Cast(to_robot.Transform(p), options.point_radius_m, Eigen::Vector2d::Zero(), options, hits);
+  }
+  for (const TrackedObject& o : around.objects) {
+    const Eigen::Vector2d velocity = o.moving ? Eigen::Vector2d(unrotate * o.velocity) : Eigen::Vector2d::Zero();
+    Cast(to_robot.Transform(o.position), std::max(o.radius_m, options.min_object_radius_m), velocity, options, hits);
+  }
+  Eigen::VectorXf input(TakiguchiInputs(options));
+  const double step = kPi / (options.rays - 1);
+  for (int i = 0; i < options.rays; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    input(i) = static_cast<float>(std::min(1.0, hits.distance_m[k] / options.range_m));
+    const double speed = hits.velocity[k].norm();
+    input(options.rays + i) = static_cast<float>(std::min(1.0, speed / options.max_object_speed_mps));
+    double direction = 0.0;
+    if (speed > 0.0) {
+      const double coming_at_robot = -kPi / 2 + step * i + kPi;
+      direction = WrapAngle(std::atan2(hits.velocity[k].y(), hits.velocity[k].x()) - coming_at_robot) / kPi;
+    }
+    input(2 * options.rays + i) = static_cast<float>(direction);
+  }
+  input(3 * options.rays) = static_cast<float>(WrapAngle(goal_bearing_rad) / kPi);
+  return input;
+}
+
+std::optional<double> TakiguchiHeading(int klass, const TakiguchiOptions& options) {
+  if (klass < 0 || klass > options.headings) {
+    throw std::out_of_range("takiguchi: class " + std::to_string(klass) + " of " +
+                            std::to_string(TakiguchiClasses(options)));
+  }
+  if (klass == options.headings) return std::nullopt;
+  return -kPi / 2 + kPi * klass / (options.headings - 1);
+}
+
+int NearestTakiguchiClass(double heading_rad, const TakiguchiOptions& options) {
+  const double clamped = std::clamp(WrapAngle(heading_rad), -kPi / 2, kPi / 2);
+  return static_cast<int>(std::lround((clamped + kPi / 2) / (kPi / (options.headings - 1))));
+}
+
+Twist2 TakiguchiCommand(int klass, const TakiguchiOptions& options) {
+  const std::optional<double> heading = TakiguchiHeading(klass, options);
+  if (!heading) return {};
+  const double w = std::clamp(options.k_heading * *heading, -options.max_angular_rps, options.max_angular_rps);
+  const double v = std::abs(*heading) > options.turn_in_place_rad ? 0.0 : options.max_linear_mps * std::cos(*heading);
+  return {v, w};
+}
+
+double TimeToMeet(const Eigen::Vector2d& robot, const Eigen::Vector2d& velocity, const DiscMover& mover,
+                  const SafeDirectionOptions& options) {
+  const Eigen::Vector2d p = mover.position - robot;
+  const Eigen::Vector2d w = velocity - mover.velocity;  // the robot's, relative to the mover
+  const double r = options.robot_radius_m + mover.radius_m + options.margin_m;
+  const double closing = p.dot(w);
+  const double c = p.squaredNorm() - r * r;
+  if (c <= 0.0) return closing > 0.0 ? 0.0 : kInf;
+  const double a = w.squaredNorm();
+  const double discriminant = closing * closing - a * c;
+  if (closing <= 0.0 || discriminant < 0.0) return kInf;
+  return (closing - std::sqrt(discriminant)) / a;
+}
+
+int SafeDirectionLabel(const Pose2& robot, const std::vector<DiscMover>& movers, double goal_bearing_rad,
+                       const TakiguchiOptions& options, const SafeDirectionOptions& safe) {
+  const Eigen::Vector2d at = robot.translation();
+  const double goal = std::clamp(WrapAngle(goal_bearing_rad), -kPi / 2, kPi / 2);
+  int best = options.headings;
+  double best_meet = -1.0;
+  double best_cost = kInf;
+  for (int k = 0; k < TakiguchiClasses(options); ++k) {
+    const std::optional<double> heading = TakiguchiHeading(k, options);
+    Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
+    if (heading) {
+      velocity = options.max_linear_mps *
+                 Eigen::Vector2d(std::cos(robot.yaw_rad + *heading), std::sin(robot.yaw_rad + *heading));
+    }
+    double meet = kInf;
+    for (const DiscMover& m : movers) meet = std::min(meet, TimeToMeet(at, velocity, m, safe));
+    // Safe choices all count the same; among them (or, with none, among the latest to meet) the cheapest wins, the
+    // first of equals (the robot's right).
+    const double meet_score = std::min(meet, safe.horizon_s);
+    const double cost = heading ? std::abs(*heading - goal) : safe.stop_cost_rad;
+    if (meet_score > best_meet || (meet_score == best_meet && cost < best_cost - kTie)) {
+      best = k;
+      best_meet = meet_score;
+      best_cost = cost;
+    }
+  }
+  return best;
+}
+
+std::vector<DiscMover> MoversAround(const Eigen::Vector2d& robot, const Surroundings& around, double reach_m,
+                                    const TakiguchiOptions& options) {
+  std::vector<DiscMover> movers;
+  for (const TrackedObject& o : around.objects) {
+    const double radius = std::max(o.radius_m, options.min_object_radius_m);
+    if ((o.position - robot).norm() - radius > reach_m) continue;
+    movers.push_back({o.position, o.moving ? o.velocity : Eigen::Vector2d::Zero(), radius});
+  }
+  for (const Eigen::Vector2d& p : around.static_points) {
+    if ((p - robot).norm() - options.point_radius_m > reach_m) continue;
+    movers.push_back({p, Eigen::Vector2d::Zero(), options.point_radius_m});
+  }
+  return movers;
+}
+
+}  // namespace corridor::nav

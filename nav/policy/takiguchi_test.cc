@@ -1,0 +1,160 @@
+#include "nav/policy/takiguchi.h"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace corridor::nav {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr int kAhead = 45;  // of 91 rays, right to left
+constexpr int kLeft = 90;
+
+TrackedObject RayObject(const Eigen::Vector2d& position, const Eigen::Vector2d& velocity, double radius_m = 0.3) {
+  TrackedObject o;
+  o.position = position;
+  o.velocity = velocity;
+  o.radius_m = radius_m;
+  o.moving = velocity.norm() > 0.0;
+  return o;
+}
+
+TEST(TakiguchiInputTest, RaysShowDistanceSpeedAndWayOfWhatIsAroundAndTheGoalComesLast) {
+  const TakiguchiOptions options;
+  EXPECT_EQ(TakiguchiInputs(options), 274);
+  EXPECT_EQ(TakiguchiClasses(options), 20);
+  // The robot at (1, 1) facing +y: world (1, 3) is 2 m straight ahead.
+  const Pose2 robot{1.0, 1.0, kPi / 2};
+  Surroundings nothing;
+  const Eigen::VectorXf empty = TakiguchiInput(robot, nothing, -kPi / 4, options);
+  ASSERT_EQ(empty.size(), 274);
+  EXPECT_EQ(empty.head(91), Eigen::VectorXf::Ones(91));
+  EXPECT_EQ(empty.segment(91, 182), Eigen::VectorXf::Zero(182));
+  EXPECT_FLOAT_EQ(empty(273), -0.25F);
+
+  Surroundings walking;
+  walking.objects.push_back(RayObject({1.0, 3.0}, {0.0, -0.75}));  // walking straight at the robot
+  const Eigen::VectorXf at = TakiguchiInput(robot, walking, 0.0, options);
+  EXPECT_NEAR(at(kAhead), (2.0 - 0.3) / 5.0, 1e-6);
+  EXPECT_NEAR(at(91 + kAhead), 0.5, 1e-6);
+  EXPECT_NEAR(at(182 + kAhead), 0.0, 1e-6);
+  EXPECT_FLOAT_EQ(at(0), 1.0F);  // nothing to the right
+  EXPECT_FLOAT_EQ(at(kLeft), 1.0F);
+  // The same person crossing to the robot's right (world +x): a quarter turn from coming at it.
+  walking.objects[0].velocity = {0.75, 0.0};
+  EXPECT_NEAR(TakiguchiInput(robot, walking, 0.0, options)(182 + kAhead), 0.5, 1e-6);
+  // Walking away: the cut at +-1, where it matters least.
+  walking.objects[0].velocity = {0.0, 0.75};
+  EXPECT_NEAR(std::abs(TakiguchiInput(robot, walking, 0.0, options)(182 + kAhead)), 1.0, 1e-6);
+
+  // A wall's points to the left stand still; something behind the robot is not on any ray, even straddling the
+  // cut at +-pi.
+  Surroundings still;
+  still.static_points.push_back(robot.Transform({0.0, 1.5}));
+  still.objects.push_back(RayObject(robot.Transform({-0.5, -0.05}), Eigen::Vector2d::Zero(), 0.45));
+  const Eigen::VectorXf side = TakiguchiInput(robot, still, 0.0, options);
+  EXPECT_NEAR(side(kLeft), (1.5 - options.point_radius_m) / 5.0, 1e-6);
+  EXPECT_FLOAT_EQ(side(91 + kLeft), 0.0F);
+  for (int i = 0; i < 91; ++i) {
+    if (i != kLeft && i != kLeft - 1) {
+      EXPECT_FLOAT_EQ(side(i), 1.0F) << "ray " << i;
+    }
+  }
+  // A large object beside the robot, its centre behind it, still reaches the ray to the left.
+  still.objects.push_back(RayObject(robot.Transform({-0.5, 0.45}), Eigen::Vector2d::Zero(), 0.55));
+  EXPECT_LT(TakiguchiInput(robot, still, 0.0, options)(kLeft), 0.1F);
+  // Inside an object: every ray toward it meets it at once.
+  Surroundings inside;
+  inside.objects.push_back(RayObject(robot.Transform({0.1, 0.0}), Eigen::Vector2d::Zero(), 0.3));
+  EXPECT_FLOAT_EQ(TakiguchiInput(robot, inside, 0.0, options)(kAhead), 0.0F);
+}
+
+TEST(TakiguchiCommandTest, ClassesAreHeadingsFromRightToLeftThenStop) {
+  const TakiguchiOptions options;
+  EXPECT_NEAR(*TakiguchiHeading(0, options), -kPi / 2, 1e-12);
+  EXPECT_NEAR(*TakiguchiHeading(9, options), 0.0, 1e-12);
+  EXPECT_NEAR(*TakiguchiHeading(18, options), kPi / 2, 1e-12);
+  EXPECT_FALSE(TakiguchiHeading(19, options));
+  EXPECT_THROW(TakiguchiHeading(20, options), std::out_of_range);
+  EXPECT_THROW(TakiguchiHeading(-1, options), std::out_of_range);
+  EXPECT_EQ(NearestTakiguchiClass(0.05, options), 9);
+  EXPECT_EQ(NearestTakiguchiClass(3.0, options), 18);
+  EXPECT_EQ(NearestTakiguchiClass(-2.0, options), 0);
+  // Straight on at full speed; a heading to the side turns on the spot; stop stops.
+  EXPECT_DOUBLE_EQ(TakiguchiCommand(9, options).linear_mps, options.max_linear_mps);
+  EXPECT_DOUBLE_EQ(TakiguchiCommand(9, options).angular_rps, 0.0);
+  const Twist2 slight = TakiguchiCommand(11, options);  // 20 degrees left
+  EXPECT_NEAR(slight.linear_mps, options.max_linear_mps * std::cos(kPi / 9), 1e-12);
+  EXPECT_NEAR(slight.angular_rps, options.k_heading * kPi / 9, 1e-12);
+  EXPECT_DOUBLE_EQ(TakiguchiCommand(0, options).linear_mps, 0.0);
+  EXPECT_DOUBLE_EQ(TakiguchiCommand(0, options).angular_rps, -options.max_angular_rps);
+  EXPECT_DOUBLE_EQ(TakiguchiCommand(19, options).linear_mps, 0.0);
+  EXPECT_DOUBLE_EQ(TakiguchiCommand(19, options).angular_rps, 0.0);
+  TakiguchiOptions bad;
+  bad.rays = 1;
+  EXPECT_THROW(CheckTakiguchiOptions(bad), std::invalid_argument);
+  EXPECT_NO_THROW(CheckTakiguchiOptions(options));
+}
+
+TEST(SafeDirectionTest, TimeToMeetIsWhenTheDiscsTouch) {
+  const SafeDirectionOptions safe;  // 0.2 + 0.25 + 0.1 = 0.55 m apart at contact
+  const DiscMover oncoming{{3.0, 0.0}, {-0.8, 0.0}, 0.25};
+  EXPECT_NEAR(TimeToMeet({0.0, 0.0}, {0.26, 0.0}, oncoming, safe), (3.0 - 0.55) / 1.06, 1e-12);
+  EXPECT_EQ(TimeToMeet({0.0, 0.0}, {0.26, 0.0}, DiscMover{{3.0, 0.0}, {0.8, 0.0}, 0.25}, safe),
+            std::numeric_limits<double>::infinity());
+  // Overlapping already: 0 while closing in, never while getting out.
+  const DiscMover touching{{0.4, 0.0}, {0.0, 0.0}, 0.25};
+  EXPECT_EQ(TimeToMeet({0.0, 0.0}, {0.26, 0.0}, touching, safe), 0.0);
+  EXPECT_EQ(TimeToMeet({0.0, 0.0}, {-0.26, 0.0}, touching, safe), std::numeric_limits<double>::infinity());
+  // Passing wide of it: never.
+  EXPECT_EQ(TimeToMeet({0.0, 0.0}, {0.26, 0.0}, DiscMover{{3.0, 1.0}, {0.0, 0.0}, 0.25}, safe),
+            std::numeric_limits<double>::infinity());
+}
+
+TEST(SafeDirectionTest, TheExpertHeadsForTheGoalAndStepsAsideOrWaitsForPeople) {
+  const TakiguchiOptions options;
+  const SafeDirectionOptions safe;
+  const Pose2 robot{2.0, -1.0, kPi};  // facing -x
+  // Nothing around: the heading nearest the goal; a goal behind turns the robot toward its side.
+  EXPECT_EQ(SafeDirectionLabel(robot, {}, 0.0, options, safe), 9);
+  EXPECT_EQ(SafeDirectionLabel(robot, {}, 32.0 * kPi / 180, options, safe), 12);
+  EXPECT_EQ(SafeDirectionLabel(robot, {}, 3.0, options, safe), 18);
+  EXPECT_EQ(SafeDirectionLabel(robot, {}, -3.0, options, safe), 0);
+  // Someone walking straight at the robot 2.5 m ahead: straight on and standing still both meet them within the
+  // horizon; the robot steps aside at 60 degrees (the least that keeps clear), to its right of equals.
+  const std::vector<DiscMover> oncoming{{robot.Transform({2.5, 0.0}), Eigen::Vector2d(0.8, 0.0), 0.25}};
+  const int aside = SafeDirectionLabel(robot, oncoming, 0.0, options, safe);
+  EXPECT_EQ(aside, 3);
+  // Someone crossing from the left 0.6 m ahead: waiting lets them pass (keeping clear of them otherwise takes a
+  // detour of 80 degrees or more).
+  const std::vector<DiscMover> crossing{{robot.Transform({0.6, 1.0}), Eigen::Vector2d(0.0, 0.8), 0.25}};
+  EXPECT_EQ(SafeDirectionLabel(robot, crossing, 0.0, options, safe), 19);
+  // A wall across the way 0.45 m ahead: along it to the goal's side beats standing still only when the goal is
+  // beside the robot.
+  std::vector<DiscMover> wall;
+  for (int i = -40; i <= 40; ++i) wall.push_back({robot.Transform({0.45, 0.05 * i}), Eigen::Vector2d::Zero(), 0.05});
+  EXPECT_EQ(SafeDirectionLabel(robot, wall, 0.0, options, safe), 19);
+  EXPECT_EQ(SafeDirectionLabel(robot, wall, 1.4, options, safe), 18);
+}
+
+TEST(SafeDirectionTest, MoversAroundAreTheTrackersObjectsAndPointsWithinReach) {
+  const TakiguchiOptions options;
+  Surroundings around;
+  around.objects.push_back(RayObject({1.0, 0.0}, {0.5, 0.0}, 0.1));
+  around.objects.push_back(RayObject({9.0, 0.0}, {0.5, 0.0}));
+  around.static_points = {{0.0, 1.0}, {0.0, 8.0}};
+  const std::vector<DiscMover> movers = MoversAround({0.0, 0.0}, around, 3.0, options);
+  ASSERT_EQ(movers.size(), 2U);
+  EXPECT_DOUBLE_EQ(movers[0].radius_m, options.min_object_radius_m);
+  EXPECT_EQ(movers[0].velocity, Eigen::Vector2d(0.5, 0.0));
+  EXPECT_EQ(movers[1].velocity, Eigen::Vector2d::Zero());
+  EXPECT_DOUBLE_EQ(movers[1].radius_m, options.point_radius_m);
+}
+
+}  // namespace
+}  // namespace corridor::nav
