@@ -49,11 +49,12 @@ for (;;) {
 }
 ws?.close();
 clearInterval(camera);
+const mission = (await getJson(`${daemon.url}/api/v1/missions/${start.body.id}`)).body;
 await daemon.stop();
 rmSync(dir, { recursive: true, force: true });
 const l = state.control_latency;
 const mean = rates.reduce((a, b) => a + b, 0) / Math.max(rates.length, 1);
-console.log(`mission ${state.mission.status}; ${l.samples} frame-driven commands at ${mean.toFixed(1)} Hz on average`);
+console.log(`mission ${state.mission.status}${mission.error ? ` (${mission.error})` : ''}; ${l.samples} frame-driven commands at ${mean.toFixed(1)} Hz on average`);
 console.log(`frame arrival to base command over the last ${Math.min(l.samples, 1000)}: p50 ${l.p50_ms.toFixed(3)} ms, ` +
             `p99 ${l.p99_ms.toFixed(3)} ms, max ${l.max_ms.toFixed(3)} ms`);
 const perception = state.nodes.find((n) => n.name === 'perception');

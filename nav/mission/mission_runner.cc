@@ -19,7 +19,12 @@ std::unique_ptr<LocalPolicy> MakePolicy(const MissionRunnerOptions& o) {
   if (o.policy == LocalPolicyKind::kMorpIl && !navigator.learned) {
     throw std::invalid_argument("mission.policy morp-il: no network loaded (mission.morp_il.weights)");
   }
-  if (o.policy == LocalPolicyKind::kMorpRb) navigator.learned = nullptr;  // the rules drive (and teach, if asked)
+  if (o.policy == LocalPolicyKind::kTakiguchi && !navigator.direction && !navigator.teach) {
+    throw std::invalid_argument("mission.policy takiguchi: no network loaded (mission.takiguchi.weights)");
+  }
+  if (o.policy != LocalPolicyKind::kMorpIl) navigator.learned = nullptr;  // the rules drive (and teach, if asked)
+  navigator.direction_policy = o.policy == LocalPolicyKind::kTakiguchi;
+  if (!navigator.direction_policy) navigator.direction = nullptr;
   return std::make_unique<LocalNavigator>(navigator);
 }
 

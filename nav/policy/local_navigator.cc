@@ -18,6 +18,13 @@ LocalNavigator::LocalNavigator(const LocalNavigatorOptions& options)
       evade_(options.evade),
       features_(options.il) {
   if (options.learned) CheckMorpIlNetwork(*options.learned, options.il);
+  if (options.direction_policy) {
+    CheckTakiguchiOptions(options.takiguchi);
+    if (options.direction) CheckTakiguchiNetwork(*options.direction, options.takiguchi);
+    if (!options.direction && !options.teach) {
+      throw std::invalid_argument("local navigator: Takiguchi's policy needs its network (or, training, teach)");
+    }
+  }
   if (!(options.stuck_s >= 0.0) || !(options.stuck_distance_m > 0.0) || !(options.blocked_radius_m >= 0.0) ||
       !(options.blocked_cost >= 0.0) || !(options.blocked_hold_s >= 0.0) || !(options.reorient_done_rad > 0.0) ||
       !(options.reorient_max_s >= 0.0)) {
@@ -148,7 +155,15 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
     out.twist = decision.twist;
     out.twist.linear_mps = std::min(out.twist.linear_mps, follow.speed_limit_mps);
   }
-  if (options_.learned || options_.teach) out.twist = Imitate(robot, lanes, follow, out.twist, v_free, out);
+  bool evade = true;
+  if (options_.direction_policy) {
+    if (!follow.final_approach) {
+      out.twist = Direct(robot, around, follow, v_free, out);
+      evade = false;
+    }
+  } else if (options_.learned || options_.teach) {
+    out.twist = Imitate(robot, lanes, follow, out.twist, v_free, out);
+  }
   ObstacleMemory::Blocker refused_by = ObstacleMemory::Blocker::kNone;
   const Twist2 guarded = memory_.Guard(robot, out.twist, follow.final_approach, &refused_by);
   out.guarded = guarded.linear_mps != out.twist.linear_mps || guarded.angular_rps != out.twist.angular_rps;
@@ -159,10 +174,40 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
     detour_left_m_ = options_.detour_m;
   }
   out.twist = guarded;
-  Evade(robot, follow.target, around, out);
+  if (evade) Evade(robot, follow.target, around, out);
   last_speed_mps_ = std::max(0.0, out.twist.linear_mps);
   last_command_ = out.twist;
   return out;
+}
+
+Twist2 LocalNavigator::Direct(const Pose2& robot, const Surroundings* around, const FollowStep& follow, double v_free,
+                              LocalStep& step) {
+  static const Surroundings kNothing;
+  const Surroundings& seen = around != nullptr ? *around : kNothing;
+  const Eigen::Vector2d to_target = follow.target - robot.translation();
+  const double bearing = WrapAngle(std::atan2(to_target.y(), to_target.x()) - robot.yaw_rad);
+  const Eigen::VectorXf input = TakiguchiInput(robot, seen, bearing, options_.takiguchi);
+  Demonstrations* teach = options_.teach.get();
+  const bool expert_drives = !options_.direction || (teach != nullptr && std::uniform_real_distribution<double>(
+                                                                             0.0, 1.0)(teach->random) < teach->beta);
+  int klass = 0;
+  if (teach != nullptr || expert_drives) {
+    const int label = SafeDirectionLabel(
+        robot, MoversAround(robot.translation(), seen, options_.takiguchi.range_m, options_.takiguchi), bearing,
+        options_.takiguchi, options_.safe);
+    if (teach != nullptr) {
+      teach->inputs.insert(teach->inputs.end(), input.data(), input.data() + input.size());
+      for (int k = 0; k < TakiguchiClasses(options_.takiguchi); ++k) teach->targets.push_back(k == label ? 1.0F : 0.0F);
+    }
+    klass = label;
+  }
+  if (!expert_drives) {
+    options_.direction->Forward(input).maxCoeff(&klass);
+    step.learned = true;
+  }
+  Twist2 command = TakiguchiCommand(klass, options_.takiguchi);
+  command.linear_mps = std::min({command.linear_mps, v_free, follow.speed_limit_mps});
+  return command;
 }
 
 Twist2 LocalNavigator::Imitate(const Pose2& robot, const std::vector<LaneResult>& lanes, const FollowStep& follow,
@@ -175,6 +220,9 @@ Twist2 LocalNavigator::Imitate(const Pose2& robot, const std::vector<LaneResult>
   const Eigen::Vector2d to_target = follow.target - robot.translation();
   features_.Push(seen_, std::atan2(to_target.y(), to_target.x()) - robot.yaw_rad, to_target.norm(),
                  follow.final_approach, last_command_);
+  // The last stretch to a waypoint is the pose controller's (within a centimetre and a degree): the network drives
+  // round what is in the way, it does not stop on a point. Nothing to learn there either.
+  if (follow.final_approach) return expert;
   const Eigen::VectorXf input = features_.Input();
   Demonstrations* teach = options_.teach.get();
   if (teach != nullptr) {

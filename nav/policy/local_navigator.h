@@ -36,6 +36,7 @@
 #include "nav/policy/morp_il.h"
 #include "nav/policy/morp_rb.h"
 #include "nav/policy/path_follower.h"
+#include "nav/policy/takiguchi.h"
 #include "nav/safety/obstacle_memory.h"
 #include "nav/tracking/moving_objects.h"
 
@@ -78,12 +79,21 @@ struct LocalNavigatorOptions {
   double reorient_done_rad = 0.35;
   double reorient_max_s = 10.0;
   // MORP-IL (morp_il.h) in MORP-RB's place: its network gives the command wherever MORP-RB and the path follower
-  // would (not while turning to a new path on the spot), capped like theirs by the path's speed and what the robot
-  // can stop within. Null: MORP-RB.
+  // would (not while turning to a new path on the spot, nor on the final approach, which stays the pose
+  // controller's), capped like theirs by the path's speed and what the robot can stop within. Null: MORP-RB.
   std::shared_ptr<const Mlp> learned;
   MorpIlOptions il;
   // Training only: records every step's input and the rules' command, and mixes who drives (Demonstrations).
   std::shared_ptr<Demonstrations> teach;
+  // Takiguchi's direction network (takiguchi.h) in MORP-RB's place instead, where MORP-IL's would be: it picks a
+  // heading or stop from what the tracker shows round the robot, and the heading controller drives. While training
+  // (`teach`), every step is labelled by the safe-direction expert, which drives alone without a network. Its
+  // commands are capped by the path's speed and what the robot can stop within, and guarded by the obstacle memory;
+  // evasion does not replace them (finding a way past people is what the network is for).
+  bool direction_policy = false;
+  std::shared_ptr<const Mlp> direction;
+  TakiguchiOptions takiguchi;
+  SafeDirectionOptions safe;
 };
 
 class LocalNavigator final : public LocalPolicy {
@@ -125,6 +135,10 @@ class LocalNavigator final : public LocalPolicy {
   // training; `v_free`: what the robot can stop within.
   Twist2 Imitate(const Pose2& robot, const std::vector<LaneResult>& lanes, const FollowStep& follow,
                  const Twist2& expert, double v_free, LocalStep& step);
+  // The command of Takiguchi's network (or of the expert, while training lets it drive), recording the step when
+  // training.
+  Twist2 Direct(const Pose2& robot, const Surroundings* around, const FollowStep& follow, double v_free,
+                LocalStep& step);
   // Replaces the step's twist when a tracked moving object would meet the robot on it; `target`: where the robot
   // is heading (world frame).
   void Evade(const Pose2& robot, const Eigen::Vector2d& target, const Surroundings* around, LocalStep& step);

@@ -4,7 +4,8 @@
 //     obstacle memory fed with the frame's depth scan, and evasion of tracked moving objects;
 //   - voxel-reactive: the comparison pipeline of DPoom's evaluation (reactive_navigator.h): the path follower's
 //     target and a memoryless reactive controller on the obstacle points of a voxel-grid front end;
-//   - morp-il: the local navigator with MORP-IL's network (morp_il.h) in MORP-RB's place.
+//   - morp-il: the local navigator with MORP-IL's network (morp_il.h) in MORP-RB's place;
+//   - takiguchi: the local navigator with Takiguchi's direction network (takiguchi.h) in MORP-RB's place.
 // The ground node makes what the configured policy reads from each frame (FrameView).
 #pragma once
 
@@ -24,7 +25,7 @@
 
 namespace corridor::nav {
 
-enum class LocalPolicyKind { kMorpRb, kVoxelReactive, kMorpIl };
+enum class LocalPolicyKind { kMorpRb, kVoxelReactive, kMorpIl, kTakiguchi };
 const char* ToString(LocalPolicyKind kind);
 std::optional<LocalPolicyKind> ParseLocalPolicy(const std::string& name);
 
@@ -50,7 +51,7 @@ struct LocalStep {
   bool avoiding = false;   // MORP-RB, not the path follower, chose the twist
   bool guarded = false;    // the obstacle memory replaced the chosen twist
   bool evading = false;    // a moving object's predicted path did
-  bool learned = false;    // MORP-IL's network chose the twist
+  bool learned = false;    // MORP-IL's or Takiguchi's network chose the twist
   double nearest_m = 0.0;  // the nearest dead-end ahead
 };
 

@@ -70,13 +70,14 @@ Twist2 MorpIlCommand(const Mlp& net, const Eigen::VectorXf& input, const MorpIlO
 void CheckMorpIlNetwork(const Mlp& net, const MorpIlOptions& options);
 
 // Training (DAgger, the paper's Algorithm 2): at every step the navigator records the input and the expert's command
-// (MORP-RB's, before the memory and evasion check it), and the robot drives with the expert's command at a share
-// `beta` of the steps, drawn from `seed`, and with the learner's at the rest (always the expert's without a learner).
+// (MORP-RB's, before the memory and evasion check it; for Takiguchi's network, the safe-direction expert's class,
+// one-hot), and the robot drives with the expert's command at a share `beta` of the steps, drawn from `seed`, and with
+// the learner's at the rest (always the expert's without a learner).
 struct Demonstrations {
   double beta = 1.0;
   std::mt19937_64 random{1};
   std::vector<float> inputs;   // each step's input, one after the other
-  std::vector<float> targets;  // the expert's commands, scaled as the network's outputs
+  std::vector<float> targets;  // the expert's answers, as the network's outputs (the same number each step)
 
   // What was recorded since the last Take, as examples (one per column).
   Examples Take(int input_size);

@@ -140,5 +140,22 @@ TEST(MorpIlTest, WhileTrainingEveryStepIsRecordedWithTheRulesCommandAndTheMixDec
   EXPECT_GT(mixed_steps.targets.row(0).minCoeff(), 0.0F);  // labelled with the rules' forward command throughout
 }
 
+TEST(MorpIlTest, TheLastStretchToAWaypointIsThePoseControllersAndEndsWithinItsTolerance) {
+  LocalNavigatorOptions options;
+  options.learned = ConstantNetwork(1.0F, 1.0F);  // full speed, turning hard left: it would circle the goal for ever
+  LocalNavigator navigator(options);
+  navigator.SetPath(FiveMetresEast());
+  Pose2 robot{4.6, 0.05, 0.1};  // within approach_m of the goal
+  LocalStep step;
+  const double dt = 0.05;
+  for (int i = 0; i < 400 && !step.done; ++i) {
+    step = navigator.Update(robot, TenLanes(), 1.0, dt);
+    EXPECT_FALSE(step.learned);
+    robot = robot * Pose2{step.twist.linear_mps * dt, 0.0, step.twist.angular_rps * dt};
+  }
+  ASSERT_TRUE(step.done);
+  EXPECT_LE((robot.translation() - Eigen::Vector2d(5.0, 0.0)).norm(), options.follower.position_tolerance_m * 5.0);
+}
+
 }  // namespace
 }  // namespace corridor::nav

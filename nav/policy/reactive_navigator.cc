@@ -10,12 +10,14 @@ const char* ToString(LocalPolicyKind kind) {
     case LocalPolicyKind::kMorpRb: return "morp-rb";
     case LocalPolicyKind::kVoxelReactive: return "voxel-reactive";
     case LocalPolicyKind::kMorpIl: return "morp-il";
+    case LocalPolicyKind::kTakiguchi: return "takiguchi";
   }
   return "unknown";
 }
 
 std::optional<LocalPolicyKind> ParseLocalPolicy(const std::string& name) {
-  for (LocalPolicyKind kind : {LocalPolicyKind::kMorpRb, LocalPolicyKind::kVoxelReactive, LocalPolicyKind::kMorpIl}) {
+  for (LocalPolicyKind kind : {LocalPolicyKind::kMorpRb, LocalPolicyKind::kVoxelReactive, LocalPolicyKind::kMorpIl,
+                               LocalPolicyKind::kTakiguchi}) {
     if (name == ToString(kind)) return kind;
   }
   return std::nullopt;

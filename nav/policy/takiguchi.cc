@@ -123,6 +123,16 @@ Twist2 TakiguchiCommand(int klass, const TakiguchiOptions& options) {
   return {v, w};
 }
 
+void CheckTakiguchiNetwork(const Mlp& net, const TakiguchiOptions& options) {
+  if (net.inputs() != TakiguchiInputs(options) || net.outputs() != TakiguchiClasses(options)) {
+    throw std::invalid_argument("takiguchi: the network has " + std::to_string(net.inputs()) + " inputs and " +
+                                std::to_string(net.outputs()) + " outputs, the policy " +
+                                std::to_string(TakiguchiInputs(options)) + " and " +
+                                std::to_string(TakiguchiClasses(options)) + " (rays " + std::to_string(options.rays) +
+                                ", headings " + std::to_string(options.headings) + ")");
+  }
+}
+
 double TimeToMeet(const Eigen::Vector2d& robot, const Eigen::Vector2d& velocity, const DiscMover& mover,
                   const SafeDirectionOptions& options) {
   const Eigen::Vector2d p = mover.position - robot;

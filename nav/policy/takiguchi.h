@@ -31,6 +31,7 @@
 #include <Eigen/Core>
 
 #include "nav/geometry/pose2.h"
+#include "nav/learning/mlp.h"
 #include "nav/tracking/moving_objects.h"
 
 namespace corridor::nav {
@@ -70,6 +71,9 @@ std::optional<double> TakiguchiHeading(int klass, const TakiguchiOptions& option
 int NearestTakiguchiClass(double heading_rad, const TakiguchiOptions& options);
 // The heading controller's command for a class.
 Twist2 TakiguchiCommand(int klass, const TakiguchiOptions& options);
+// A network the policy can drive with: TakiguchiInputs inputs, TakiguchiClasses outputs. Throws
+// std::invalid_argument otherwise.
+void CheckTakiguchiNetwork(const Mlp& net, const TakiguchiOptions& options);
 
 // The expert's view of one thing to keep clear of (world frame).
 struct DiscMover {

@@ -2,11 +2,14 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "nav/policy/local_navigator.h"
 
 namespace corridor::nav {
 namespace {
@@ -154,6 +157,67 @@ TEST(SafeDirectionTest, MoversAroundAreTheTrackersObjectsAndPointsWithinReach) {
   EXPECT_EQ(movers[0].velocity, Eigen::Vector2d(0.5, 0.0));
   EXPECT_EQ(movers[1].velocity, Eigen::Vector2d::Zero());
   EXPECT_DOUBLE_EQ(movers[1].radius_m, options.point_radius_m);
+}
+
+// A network answering `klass` whatever it is shown.
+std::shared_ptr<const Mlp> Always(int klass) {
+  Eigen::VectorXf bias = Eigen::VectorXf::Zero(20);
+  bias(klass) = 5.0F;
+  return std::make_shared<const Mlp>(
+      std::vector<DenseLayer>{{Eigen::MatrixXf::Zero(20, 274), bias, Activation::kSoftmax}});
+}
+
+std::vector<LaneResult> OpenLanes() {
+  std::vector<LaneResult> lanes(10);
+  for (std::size_t i = 0; i < lanes.size(); ++i) {
+    lanes[i].offset_m = 0.45 - 0.1 * static_cast<double>(i);
+    lanes[i].free_distance_m = 4.0;
+  }
+  return lanes;
+}
+
+std::vector<Waypoint> EastFiveMetres() {
+  std::vector<Waypoint> path;
+  for (int i = 0; i <= 50; ++i) path.push_back(Waypoint{Pose2{0.1 * i, 0.0, 0.0}});
+  return path;
+}
+
+TEST(TakiguchiPolicyTest, TheNavigatorDrivesTheNetworksHeadingAndTheExpertTeachesWithoutOne) {
+  LocalNavigatorOptions options;
+  options.direction_policy = true;
+  EXPECT_THROW(LocalNavigator{options}, std::invalid_argument);  // neither a network nor training
+  options.direction = Always(13);                                // 40 degrees to the left
+  LocalNavigator driven(options);
+  driven.SetPath(EastFiveMetres());
+  Surroundings around;
+  const LocalStep step = driven.Update(Pose2{}, OpenLanes(), 1.0, 0.05, &around);
+  EXPECT_TRUE(step.learned);
+  const Twist2 want = TakiguchiCommand(13, options.takiguchi);
+  EXPECT_NEAR(step.twist.linear_mps, want.linear_mps, 1e-9);
+  EXPECT_NEAR(step.twist.angular_rps, want.angular_rps, 1e-9);
+  options.direction = Always(3);
+  options.takiguchi.rays = 45;
+  EXPECT_THROW(LocalNavigator{options}, std::invalid_argument);  // a network for other rays
+
+  // Training without a network: the expert drives, and every step is its one-hot label. Someone walks straight at
+  // the robot: it steps aside, and evasion does not take the command over.
+  LocalNavigatorOptions teaching;
+  teaching.direction_policy = true;
+  teaching.teach = std::make_shared<Demonstrations>();
+  LocalNavigator expert(teaching);
+  expert.SetPath(EastFiveMetres());
+  around.objects.push_back(RayObject({2.5, 0.0}, {-0.8, 0.0}, 0.25));
+  const LocalStep aside = expert.Update(Pose2{}, OpenLanes(), 1.0, 0.05, &around);
+  EXPECT_FALSE(aside.learned);
+  EXPECT_FALSE(aside.evading);
+  const Examples recorded = teaching.teach->Take(274);
+  ASSERT_EQ(recorded.size(), 1);
+  ASSERT_EQ(recorded.targets.rows(), 20);
+  EXPECT_EQ(recorded.targets.sum(), 1.0F);
+  Eigen::Index label = 0;
+  recorded.targets.col(0).maxCoeff(&label);
+  EXPECT_NE(label, 9);  // not straight on
+  EXPECT_NEAR(aside.twist.angular_rps, TakiguchiCommand(static_cast<int>(label), teaching.takiguchi).angular_rps, 1e-9);
 }
 
 }  // namespace

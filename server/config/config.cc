@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cstdlib>
+#include <functional>
 
 #include <map>
 #include <numbers>
@@ -787,11 +788,29 @@ void ReadTracking(ConfigReader& r, TrackingOptions& t) {
   });
 }
 
+// The network of the configured policy from `weights` (section `section`'s key), checked by `check`; a missing or
+// unfit file is a ConfigError naming the key.
+std::shared_ptr<const nav::Mlp> ReadNetwork(ConfigReader& r, const char* section, nav::LocalPolicyKind policy,
+                                            const fs::path& weights,
+                                            const std::function<void(const nav::Mlp&)>& check) {
+  const std::string key = r.PathOf(section) + ".weights";
+  if (weights.empty()) throw ConfigError(key + ": required with policy " + nav::ToString(policy));
+  try {
+    auto net = std::make_shared<nav::Mlp>(nav::Mlp::Load(weights));
+    check(*net);
+    return net;
+  } catch (const std::exception& e) {
+    throw ConfigError(key + ": " + e.what());
+  }
+}
+
 void ReadMission(ConfigReader& r, nav::MissionRunnerOptions& mission, const fs::path& base) {
   using Policy = nav::LocalPolicyKind;
-  r.ReadChoice<Policy>(
-      "policy", mission.policy,
-      {{"morp-rb", Policy::kMorpRb}, {"voxel-reactive", Policy::kVoxelReactive}, {"morp-il", Policy::kMorpIl}});
+  r.ReadChoice<Policy>("policy", mission.policy,
+                       {{"morp-rb", Policy::kMorpRb},
+                        {"voxel-reactive", Policy::kVoxelReactive},
+                        {"morp-il", Policy::kMorpIl},
+                        {"takiguchi", Policy::kTakiguchi}});
   nav::LocalNavigatorOptions& navigator = mission.navigator;
   nav::FollowerOptions& o = navigator.follower;
   r.Read("k_rho", o.gains.k_rho, -100.0, 100.0);
@@ -826,14 +845,18 @@ void ReadMission(ConfigReader& r, nav::MissionRunnerOptions& mission, const fs::
     m.Read("scale_angular_rps", navigator.il.max_angular_rps, 0.01, 6.0);
   });
   if (mission.policy == Policy::kMorpIl) {
-    if (weights.empty()) throw ConfigError(r.PathOf("morp_il") + ".weights: required with policy morp-il");
-    try {
-      auto net = std::make_shared<nav::Mlp>(nav::Mlp::Load(weights));
-      nav::CheckMorpIlNetwork(*net, navigator.il);
-      navigator.learned = std::move(net);
-    } catch (const std::exception& e) {
-      throw ConfigError(r.PathOf("morp_il") + ".weights: " + e.what());
-    }
+    navigator.learned = ReadNetwork(r, "morp_il", mission.policy, weights,
+                                    [&](const nav::Mlp& net) { nav::CheckMorpIlNetwork(net, navigator.il); });
+  }
+  fs::path direction_weights;
+  r.Section("takiguchi", [&](ConfigReader& t) {
+    ReadPath(t, "weights", direction_weights, base);
+    t.Read("speed_mps", navigator.takiguchi.max_linear_mps, 0.01, 3.0);
+  });
+  if (mission.policy == Policy::kTakiguchi) {
+    navigator.direction = ReadNetwork(r, "takiguchi", mission.policy, direction_weights, [&](const nav::Mlp& net) {
+      nav::CheckTakiguchiNetwork(net, navigator.takiguchi);
+    });
   }
 }
 
@@ -1024,6 +1047,7 @@ void ApplyDerivedOptions(Config& config) {
   navigator.memory.robot_radius_m = config.safety.front_offset_m;
   navigator.evade.robot_radius_m = config.safety.front_offset_m;
   navigator.evade.max_linear_mps = navigator.follower.max_linear_mps;
+  navigator.safe.robot_radius_m = config.safety.front_offset_m;
   navigator.corridor_half_width_m = config.safety.corridor_half_width_m;
   nav::ReactiveOptions& reactive = config.mission.reactive;
   reactive.max_linear_mps = navigator.follower.max_linear_mps;

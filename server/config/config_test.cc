@@ -124,7 +124,28 @@ TEST_F(ConfigTest, MorpIlDrivesWithTheNetworkItNamesAndOnlyOneThatFits) {
                                  << (SourceDir() / "config/policies/morp_il.weights").string() << "}}\n";
   EXPECT_EQ(LoadConfig(dir_ / "c.yaml").mission.navigator.learned->inputs(), 48);
   e = ErrorOf("sim: {world: w.yaml}\nmission: {policy: sarl}\n");
-  EXPECT_NE(e.find("mission.policy: must be morp-rb, voxel-reactive or morp-il, got 'sarl'"), std::string::npos) << e;
+  EXPECT_NE(e.find("mission.policy: must be morp-rb, voxel-reactive, morp-il or takiguchi, got 'sarl'"),
+            std::string::npos)
+      << e;
+}
+
+TEST_F(ConfigTest, TakiguchisPolicyNeedsANetworkOfItsShape) {
+  std::string e = ErrorOf("sim: {world: w.yaml}\nmission: {policy: takiguchi}\n");
+  EXPECT_NE(e.find("mission.takiguchi.weights: required with policy takiguchi"), std::string::npos) << e;
+  using nav::Activation;
+  nav::Mlp::Random(std::array{274, 16, 2}, std::array{Activation::kRelu, Activation::kIdentity}, 1)
+      .Save(dir_ / "two.weights");
+  e = ErrorOf("sim: {world: w.yaml}\nmission: {policy: takiguchi, takiguchi: {weights: two.weights}}\n");
+  EXPECT_NE(e.find("mission.takiguchi.weights: takiguchi: the network has 274 inputs and 2 outputs"), std::string::npos)
+      << e;
+  nav::Mlp::Random(std::array{274, 16, 20}, std::array{Activation::kRelu, Activation::kSoftmax}, 1)
+      .Save(dir_ / "twenty.weights");
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\nmission: {policy: takiguchi, takiguchi: {weights: "
+                                    "twenty.weights, speed_mps: 0.3}}\n";
+  const Config c = LoadConfig(dir_ / "c.yaml");
+  EXPECT_EQ(c.mission.policy, nav::LocalPolicyKind::kTakiguchi);
+  ASSERT_NE(c.mission.navigator.direction, nullptr);
+  EXPECT_EQ(c.mission.navigator.takiguchi.max_linear_mps, 0.3);
 }
 
 TEST_F(ConfigTest, TheVdaBrokerIsOffByDefaultAndTheFlagSetsIt) {

@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -36,8 +37,10 @@ Runs the DPoom evaluation protocol: a DPoom-like robot (0.26 m/s, camera 85.2 x 
                       and stands, as in DPoom's evaluation) or pacing (harder: routes anywhere, walked back and
                       forth at 0.8 m/s for the whole run)
   --static N          static obstacles, 0 to 9, default 0
-  --policy NAME       morp-rb, voxel-reactive or morp-il; repeat for several; default the first two
+  --policy NAME       morp-rb, voxel-reactive, morp-il or takiguchi; repeat for several; default the first two
   --weights FILE      morp-il's network, default config/policies/morp_il.weights
+  --takiguchi-weights FILE
+                      takiguchi's network, default config/policies/takiguchi.weights
   --laser             give the robot corridor's optional 2D laser: morp-rb tracks moving objects and evades them
   --no-camera-tracking
                       without the laser, morp-rb does not track people in the depth camera's view (DPoom's robot as
@@ -78,6 +81,18 @@ nlohmann::json ToJson(const corridor::scenario::PolicySummary& s) {
 
 }  // namespace
 
+// A policy's network from `file`, checked by `check`; MlpFormatError naming the flag and file when it cannot drive.
+std::shared_ptr<const corridor::nav::Mlp> LoadNetwork(const std::string& flag, const std::filesystem::path& file,
+                                                      const std::function<void(const corridor::nav::Mlp&)>& check) {
+  try {
+    auto net = std::make_shared<corridor::nav::Mlp>(corridor::nav::Mlp::Load(file));
+    check(*net);
+    return net;
+  } catch (const std::exception& e) {
+    throw corridor::nav::MlpFormatError(flag + " " + file.string() + ": " + e.what());
+  }
+}
+
 int main(int argc, char** argv) {
   // The graph of each run logs as corridord does; only what goes wrong matters here.
   spdlog::set_level(spdlog::level::warn);
@@ -85,6 +100,7 @@ int main(int argc, char** argv) {
   bool json = false;
   bool quiet = false;
   std::filesystem::path weights = "config/policies/morp_il.weights";
+  std::filesystem::path direction_weights = "config/policies/takiguchi.weights";
   try {
     std::vector<Policy> policies;
     for (corridor::tools::Arguments args(argc, argv, 1); args.Next();) {
@@ -119,11 +135,14 @@ int main(int argc, char** argv) {
         const std::string name = value();
         const auto policy = corridor::scenario::ParsePolicy(name);
         if (!policy) {
-          throw std::invalid_argument("--policy: unknown policy '" + name + "' (morp-rb, voxel-reactive, morp-il)");
+          throw std::invalid_argument("--policy: unknown policy '" + name +
+                                      "' (morp-rb, voxel-reactive, morp-il, takiguchi)");
         }
         policies.push_back(*policy);
       } else if (flag == "--weights") {
         weights = value();
+      } else if (flag == "--takiguchi-weights") {
+        direction_weights = value();
       } else if (flag == "--timeout") {
         options.timeout_s = ParseInt(flag, value(), 1, 100000);
       } else if (flag == "--laser") {
@@ -143,12 +162,21 @@ int main(int argc, char** argv) {
       }
     }
     if (!policies.empty()) options.policies = policies;
-    if (std::find(options.policies.begin(), options.policies.end(), Policy::kMorpIl) != options.policies.end()) {
-      options.morp_il = std::make_shared<corridor::nav::Mlp>(corridor::nav::Mlp::Load(weights));
-      corridor::nav::CheckMorpIlNetwork(*options.morp_il, corridor::nav::MorpIlOptions{});
+    const auto uses = [&](Policy p) {
+      return std::find(options.policies.begin(), options.policies.end(), p) != options.policies.end();
+    };
+    if (uses(Policy::kMorpIl)) {
+      options.morp_il = LoadNetwork("--weights", weights, [](const corridor::nav::Mlp& net) {
+        corridor::nav::CheckMorpIlNetwork(net, corridor::nav::MorpIlOptions{});
+      });
+    }
+    if (uses(Policy::kTakiguchi)) {
+      options.takiguchi = LoadNetwork("--takiguchi-weights", direction_weights, [](const corridor::nav::Mlp& net) {
+        corridor::nav::CheckTakiguchiNetwork(net, corridor::nav::TakiguchiOptions{});
+      });
     }
   } catch (const corridor::nav::MlpFormatError& e) {
-    std::cerr << "corridor-scenario: --weights: " << e.what() << '\n';
+    std::cerr << "corridor-scenario: " << e.what() << '\n';
     return 2;
   } catch (const std::invalid_argument& e) {
     std::cerr << "corridor-scenario: " << e.what() << "\n\n" << kUsage;

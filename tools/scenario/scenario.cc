@@ -165,6 +165,8 @@ server::Config GraphConfig(const drivers::sim::SimOptions& sim, Policy policy, c
   // Backing away is the laser's to allow: the graph takes it away without one (a forward camera cannot see behind).
   navigator.evade.max_reverse_mps = options.max_speed_mps;
   navigator.learned = options.morp_il;
+  navigator.direction = options.takiguchi;
+  navigator.takiguchi.max_linear_mps = options.max_speed_mps;
   navigator.teach = options.teach;
   config.tracking.enabled = policy != Policy::kVoxelReactive && (sim.laser.enabled || options.camera_tracking);
   config.tracking.camera = options.camera_tracking;

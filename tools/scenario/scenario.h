@@ -12,7 +12,8 @@
 //   - morp-rb: MORP lanes and corridor's local navigator;
 //   - voxel-reactive: the comparison pipeline, a point cloud downsampled in a voxel grid with obstacle extraction,
 //     feeding a simple reactive controller;
-//   - morp-il: morp-rb with MORP-IL's network in MORP-RB's place (nav/policy/morp_il.h).
+//   - morp-il: morp-rb with MORP-IL's network in MORP-RB's place (nav/policy/morp_il.h);
+//   - takiguchi: morp-rb with Takiguchi's direction network in MORP-RB's place (nav/policy/takiguchi.h).
 // A run succeeds when the robot is within goal_tolerance_m of the goal, fails with a collision when its footprint
 // touches anything (wall, obstacle, person), and times out otherwise. People do not see the robot, so many contacts
 // are a person walking into it from its side or back; each collision also says whether the robot drove into it (it
@@ -40,6 +41,7 @@
 #include "nav/map/occupancy_grid.h"
 #include "nav/policy/local_policy.h"
 #include "nav/policy/morp_il.h"
+#include "nav/policy/takiguchi.h"
 
 namespace corridor::scenario {
 
@@ -86,8 +88,10 @@ struct ScenarioOptions {
   bool trace = false;  // every morp-rb decision and every collision's surroundings on stderr
   // Only this world and run (indices from 0), to look into one with `trace`; the same layout as in the full set.
   std::optional<std::pair<int, int>> only;
-  // morp-il's network (required with that policy).
+  // morp-il's and takiguchi's networks (each required with its policy; takiguchi's not while it teaches: its
+  // expert drives).
   std::shared_ptr<const nav::Mlp> morp_il;
+  std::shared_ptr<const nav::Mlp> takiguchi;
   // Training only (corridor-train): every run of morp-rb or morp-il records its steps' inputs and the rules' commands
   // here, and mixes who drives (nav::Demonstrations).
   std::shared_ptr<nav::Demonstrations> teach;

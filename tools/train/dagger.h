@@ -1,8 +1,11 @@
-// MORP-IL's training (DPoom, Kim et al., IEEE Access 2022, Section III.E, Algorithm 2): behaviour cloning from the
-// rules (MORP-RB in the local navigator) driving scenario runs, then DAgger: runs driven by a mix of the rules and the
-// network (the rules at a share beta^i of the steps in iteration i), every step labelled with the rules' command,
-// aggregated, trained on again; the network that succeeds most on validation runs (other seeds, the network alone)
-// is kept. Every run goes through the daemon's own graph in lockstep (tools/scenario).
+// The learned local policies' training (DPoom, Kim et al., IEEE Access 2022, Section III.E, Algorithm 2): behaviour
+// cloning from an expert driving scenario runs, then DAgger: runs driven by a mix of the expert and the network (the
+// expert at a share beta^i of the steps in iteration i), every step labelled by the expert, aggregated, trained on
+// again; the network that succeeds most on validation runs (other seeds, the network alone) is kept. Every run goes
+// through the daemon's own graph in lockstep (tools/scenario).
+//   - MORP-IL: the expert is the rules (MORP-RB in the local navigator); DPoom's layers; squared error.
+//   - Takiguchi's direction network: the expert is the safe-direction expert (nav/policy/takiguchi.h) on what the
+//     tracker shows; `hidden` layers of `width` ReLU units and a softmax over the 20 classes; cross-entropy.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +18,9 @@
 namespace corridor::tools {
 
 struct DaggerOptions {
+  scenario::Policy learner = scenario::Policy::kMorpIl;  // or kTakiguchi
+  int hidden = 3;                                        // Takiguchi's network: the paper's 3 layers...
+  int width = 256;                                       // ...of 2048; 256 meets the step budget
   // The protocol of every run (world, crowd, obstacles, speeds); the seeds, worlds and runs below replace its own.
   scenario::ScenarioOptions protocol;
   std::uint32_t train_seed = 1000;  // iteration i's runs use train_seed + 1000 i
@@ -35,7 +41,9 @@ struct DaggerIteration {
   int iteration = 0;                   // 0: the cloning
   double beta = 1.0;                   // the share of steps the rules drove
   Eigen::Index examples = 0;           // aggregated so far
-  double train_rmse = 0.0;             // of the last epoch
+  double train_loss = 0.0;             // of the last epoch: RMSE (MORP-IL) or cross-entropy (Takiguchi)
+  double train_accuracy = 0.0;         // Takiguchi: the share of training steps labelled as the expert did
+  scenario::PolicySummary driven;      // the training runs, the expert and the network mixed
   scenario::PolicySummary validation;  // the network alone on the validation runs
 };
 
@@ -46,7 +54,7 @@ struct DaggerResult {
 };
 
 // Throws std::invalid_argument for options that cannot train. `progress` (optional) hears of each iteration.
-DaggerResult TrainMorpIl(const DaggerOptions& options,
+DaggerResult TrainPolicy(const DaggerOptions& options,
                          const std::function<void(const DaggerIteration&)>& progress = nullptr);
 
 }  // namespace corridor::tools

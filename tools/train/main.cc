@@ -1,6 +1,8 @@
 // corridor-train: trains the learned local policies' networks from seeded commands (docs/policies.md).
 //   corridor-train morp-il  MORP-IL cloned from MORP-RB in the scenario runner (the daemon's graph in lockstep), then
 //                           improved with DAgger (the paper's Algorithm 2); writes the shipped weights.
+//   corridor-train takiguchi
+//                           Takiguchi's direction network cloned from the safe-direction expert the same way.
 //   corridor-train dpoom    behaviour cloning on DPoom's own demonstrations with the paper's split (d3_s3 held out),
 //                           as DPoom's script does it: a check of the trainer against someone else's data and result.
 #include <cmath>
@@ -23,10 +25,12 @@ namespace {
 using namespace corridor;
 using tools::ParseNumber;
 
-constexpr const char* kMorpIlUsage = R"(usage: corridor-train morp-il [options]
-Clones MORP-IL from MORP-RB driving scenario runs (the daemon's graph in lockstep), then runs DAgger: runs driven by
-the rules at a share beta^i of the steps and by the network at the rest, labelled by the rules, aggregated, trained
-on again. Keeps the network that succeeds most on validation runs (the network alone, seeds no training used).
+constexpr const char* kDaggerUsage = R"(usage: corridor-train morp-il|takiguchi [options]
+morp-il: clones MORP-IL from MORP-RB; takiguchi: Takiguchi's direction network from the safe-direction expert
+(nav/policy/takiguchi.h). Each from the expert driving scenario runs (the daemon's graph in lockstep), then DAgger:
+runs driven by the expert at a share beta^i of the steps and by the network at the rest, labelled by the expert,
+aggregated, trained on again. Keeps the network that succeeds most on validation runs (the network alone, seeds no
+training used).
   --crowd KIND        paper or pacing (default), as corridor-scenario
   --pedestrians N     default 5
   --static N          static obstacles, default 0
@@ -42,6 +46,8 @@ on again. Keeps the network that succeeds most on validation runs (the network a
   --epochs N          per iteration, default 30
   --learning-rate R   Adam's, default 1e-3
   --seed N            the network's initial weights, the order of the examples, the mixing; default 1
+  --hidden N          takiguchi: hidden layers, default 3 (the paper's)
+  --width N           takiguchi: units per hidden layer, default 256 (the paper's 2048 is over the step budget)
   --out FILE          the best network's weights (mlp.h's format)
   --json              the result as JSON on stdout
   --help
@@ -194,15 +200,16 @@ int Run(const Options& o) {
   return 0;
 }
 
-struct MorpIlOptions {
+struct DaggerCommand {
   tools::DaggerOptions dagger;
   std::filesystem::path out;
   bool json = false;
 };
 
-MorpIlOptions ParseMorpIlOptions(int argc, char** argv) {
-  MorpIlOptions o;
+DaggerCommand ParseDaggerCommand(int argc, char** argv, scenario::Policy learner) {
+  DaggerCommand o;
   tools::DaggerOptions& d = o.dagger;
+  d.learner = learner;
   d.protocol.crowd = scenario::CrowdKind::kPacing;
   d.protocol.pedestrians = 5;
   for (tools::Arguments args(argc, argv, 2); args.Next();) {
@@ -211,7 +218,7 @@ MorpIlOptions ParseMorpIlOptions(int argc, char** argv) {
     const auto count = [&](double lo, double hi) { return static_cast<int>(ParseNumber(arg, value(), lo, hi)); };
     const auto seed = [&] { return static_cast<std::uint32_t>(ParseNumber(arg, value(), 0, 1 << 30)); };
     if (arg == "--help") {
-      std::cout << kMorpIlUsage;
+      std::cout << kDaggerUsage;
       std::exit(0);
     } else if (arg == "--crowd") {
       const std::string name = value();
@@ -246,6 +253,10 @@ MorpIlOptions ParseMorpIlOptions(int argc, char** argv) {
       d.learning_rate = static_cast<float>(ParseNumber(arg, value(), 1e-9, 1));
     } else if (arg == "--seed") {
       d.seed = static_cast<std::uint64_t>(ParseNumber(arg, value(), 0, 1e15));
+    } else if (arg == "--hidden") {
+      d.hidden = count(1, 10);
+    } else if (arg == "--width") {
+      d.width = count(1, 4096);
     } else if (arg == "--out") {
       o.out = value();
     } else if (arg == "--json") {
@@ -258,26 +269,31 @@ MorpIlOptions ParseMorpIlOptions(int argc, char** argv) {
 }
 
 nlohmann::json ToJson(const tools::DaggerIteration& it) {
-  return {{"iteration", it.iteration},
-          {"beta", it.beta},
-          {"examples", it.examples},
-          {"train_rmse", it.train_rmse},
-          {"validation",
-           {{"runs", it.validation.runs},
-            {"success", it.validation.success},
-            {"collision", it.validation.collision},
-            {"timeout", it.validation.timeout},
-            {"mean_time_to_goal_s", it.validation.mean_time_to_goal_s}}}};
+  return {
+      {"iteration", it.iteration},
+      {"beta", it.beta},
+      {"examples", it.examples},
+      {"train_loss", it.train_loss},
+      {"train_accuracy", it.train_accuracy},
+      {"training_runs", {{"runs", it.driven.runs}, {"success", it.driven.success}, {"collision", it.driven.collision}}},
+      {"validation",
+       {{"runs", it.validation.runs},
+        {"success", it.validation.success},
+        {"collision", it.validation.collision},
+        {"timeout", it.validation.timeout},
+        {"mean_time_to_goal_s", it.validation.mean_time_to_goal_s}}}};
 }
 
-int RunMorpIl(const MorpIlOptions& o) {
-  const tools::DaggerResult result = tools::TrainMorpIl(o.dagger, [&](const tools::DaggerIteration& it) {
+int RunDagger(const DaggerCommand& o) {
+  const bool classes = o.dagger.learner == scenario::Policy::kTakiguchi;
+  const tools::DaggerResult result = tools::TrainPolicy(o.dagger, [&](const tools::DaggerIteration& it) {
     if (o.json) return;
-    std::printf(
-        "iteration %d (beta %.3f): %lld examples, train RMSE %.4f; validation (%d runs) success %.2f, "
-        "collisions %.2f, timeouts %.2f\n",
-        it.iteration, it.beta, static_cast<long long>(it.examples), it.train_rmse, it.validation.runs,
-        it.validation.success, it.validation.collision, it.validation.timeout);
+    std::printf("iteration %d (beta %.3f): %lld examples, train %s %.4f", it.iteration, it.beta,
+                static_cast<long long>(it.examples), classes ? "cross-entropy" : "RMSE", it.train_loss);
+    if (classes) std::printf(", accuracy %.3f", it.train_accuracy);
+    std::printf("; training runs success %.2f, collisions %.2f", it.driven.success, it.driven.collision);
+    std::printf("; validation (%d runs) success %.2f, collisions %.2f, timeouts %.2f\n", it.validation.runs,
+                it.validation.success, it.validation.collision, it.validation.timeout);
     std::fflush(stdout);
   });
   if (!o.out.empty()) result.best.Save(o.out);
@@ -296,13 +312,14 @@ int RunMorpIl(const MorpIlOptions& o) {
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
   if (mode.empty() || mode == "--help") {
-    std::cout << "usage: corridor-train morp-il|dpoom [options]   (corridor-train MODE --help)\n";
+    std::cout << "usage: corridor-train morp-il|takiguchi|dpoom [options]   (corridor-train MODE --help)\n";
     return mode.empty() ? 2 : 0;
   }
   spdlog::set_level(spdlog::level::warn);  // the graph's own logs: only what goes wrong
   try {
-    if (mode == "morp-il") return RunMorpIl(ParseMorpIlOptions(argc, argv));
-    if (mode != "dpoom") throw std::invalid_argument("unknown mode '" + mode + "' (morp-il, dpoom)");
+    if (mode == "morp-il") return RunDagger(ParseDaggerCommand(argc, argv, scenario::Policy::kMorpIl));
+    if (mode == "takiguchi") return RunDagger(ParseDaggerCommand(argc, argv, scenario::Policy::kTakiguchi));
+    if (mode != "dpoom") throw std::invalid_argument("unknown mode '" + mode + "' (morp-il, takiguchi, dpoom)");
     return Run(ParseOptions(argc, argv));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "corridor-train: %s\n", e.what());
