@@ -1,8 +1,8 @@
 // What the learned policies' networks cost on one core (issue 40's targets: a MORP-IL step <= 0.1 ms, the direction
 // network's <= 1 ms): one forward pass of MORP-IL's layers (48-48-96-144-48-2, DPoom's code) and of Takiguchi's
 // direction network (274 inputs, 20 classes) at the paper's width (3 x 2048) and narrower ones, each beside the same
-// layers in OpenCV's dnn module (built from the same weights); and one training step (a batch of 32, Adam) of
-// MORP-IL, which sets how long corridor-train takes.
+// layers in OpenCV's dnn module (built from the same weights); the direction network's inputs made from what a laser
+// shows; and one training step (a batch of 32, Adam) of MORP-IL, which sets how long corridor-train takes.
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -13,6 +13,7 @@
 
 #include "nav/learning/dpoom_demonstrations.h"
 #include "nav/learning/mlp_training.h"
+#include "nav/policy/takiguchi.h"
 #include "testing/opencv_mlp.h"
 
 namespace corridor::nav {
@@ -56,6 +57,25 @@ void BM_DirectionForwardOpenCv(benchmark::State& state) {
   TimeOpenCv(state, Direction(static_cast<int>(state.range(0))));
 }
 
+// Takiguchi's 274 inputs from what a laser shows round a robot in a corridor: two walls' 360 points and five people.
+void BM_DirectionInputs(benchmark::State& state) {
+  Surroundings around;
+  for (int i = 0; i < 180; ++i) {
+    around.static_points.emplace_back(-4.0 + 0.05 * i, 1.2);
+    around.static_points.emplace_back(-4.0 + 0.05 * i, -1.2);
+  }
+  for (int i = 0; i < 5; ++i) {
+    TrackedObject person;
+    person.position = {0.8 * i - 0.5, 0.3 * (i % 3) - 0.3};
+    person.velocity = {-0.8, 0.1 * i};
+    person.radius_m = 0.25;
+    person.moving = true;
+    around.objects.push_back(person);
+  }
+  const TakiguchiOptions options;
+  for (auto _ : state) benchmark::DoNotOptimize(TakiguchiInput(Pose2{0.0, 0.0, 0.3}, around, 0.2, options));
+}
+
 void BM_MorpIlTrainingStep(benchmark::State& state) {
   Mlp net = MorpIl();
   MlpTrainer trainer(net, TrainingOptions{});
@@ -72,6 +92,7 @@ BENCHMARK(BM_MorpIlForward);
 BENCHMARK(BM_MorpIlForwardOpenCv);
 BENCHMARK(BM_DirectionForward)->Arg(2048)->Arg(512)->Arg(256)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_DirectionForwardOpenCv)->Arg(2048)->Arg(512)->Arg(256)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_DirectionInputs)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MorpIlTrainingStep)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -14,9 +14,10 @@ const root = join(dirname(fileURLToPath(import.meta.url)), '..');
 const scenario = join(root, 'build/tools/scenario/corridor-scenario');
 
 // name, flags, seeds. The paper's crowd (5 people placed in the robot's way, walked once, then standing) is the
-// protocol of Table 4; the pacing crowd is our harder one. MORP-IL drives with the shipped network, on seeds its
-// training never used (config/policies/README.md).
+// protocol of Table 4; the pacing crowd is our harder one. MORP-IL and Takiguchi's policy drive with the shipped
+// networks, on seeds their training never used (config/policies/README.md).
 const il = ['--policy', 'morp-il', '--weights', join(root, 'config/policies/morp_il.weights')];
+const tk = ['--policy', 'takiguchi', '--takiguchi-weights', join(root, 'config/policies/takiguchi.weights')];
 const SETTINGS = [
   ['paper', ['--policy', 'morp-rb'], [1, 2, 3, 4, 5]],
   ['paper-static', ['--policy', 'morp-rb', '--static', '9'], [1, 2]],
@@ -29,6 +30,8 @@ const SETTINGS = [
   ['paper-il', il, [1, 2]],
   ['paper-static-il', [...il, '--static', '9'], [1, 2]],
   ['pacing-il', [...il, '--crowd', 'pacing'], [1, 2]],
+  ['paper-takiguchi', tk, [1, 2]],
+  ['pacing-takiguchi', [...tk, '--crowd', 'pacing'], [1, 2]],
 ];
 
 function option(name, fallback) {

@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <random>
 #include <vector>
@@ -27,6 +28,7 @@
 #include "nav/geometry/pose2.h"
 #include "nav/ground/morp.h"
 #include "nav/learning/mlp_training.h"
+#include "nav/tracking/moving_objects.h"
 
 namespace corridor::nav {
 
@@ -78,6 +80,10 @@ struct Demonstrations {
   std::mt19937_64 random{1};
   std::vector<float> inputs;   // each step's input, one after the other
   std::vector<float> targets;  // the expert's answers, as the network's outputs (the same number each step)
+  // Takiguchi's expert only: where the people really are (world frame), when the trainer knows it (the simulator's
+  // crowd). The expert then labels with what the robot cannot see as well, the tracker's people replaced by these
+  // ("learning by cheating", Chen et al., CoRL 2019). Empty: the tracker's view.
+  std::function<std::vector<TrackedObject>()> people;
 
   // What was recorded since the last Take, as examples (one per column).
   Examples Take(int input_size);

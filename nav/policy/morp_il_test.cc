@@ -8,24 +8,13 @@
 #include <gtest/gtest.h>
 
 #include "nav/policy/local_navigator.h"
+#include "testing/navigator_steps.h"
 
 namespace corridor::nav {
 namespace {
 
-// Ten lanes from left to right (corridor's MORP over 1 m), all free but `blocked` (index: distance).
-std::vector<LaneResult> TenLanes(const std::vector<std::pair<int, double>>& blocked = {}) {
-  std::vector<LaneResult> lanes(10);
-  for (std::size_t i = 0; i < lanes.size(); ++i) {
-    lanes[i].offset_m = 0.45 - 0.1 * static_cast<double>(i);
-    lanes[i].free_distance_m = 4.0;
-  }
-  for (const auto& [i, d] : blocked) {
-    lanes[static_cast<std::size_t>(i)].dead_end = true;
-    lanes[static_cast<std::size_t>(i)].free_distance_m = d;
-    lanes[static_cast<std::size_t>(i)].point = {d, lanes[static_cast<std::size_t>(i)].offset_m, 0.0};
-  }
-  return lanes;
-}
+using testing::FiveMetresEast;
+using testing::TenLanes;
 
 // A network that answers `linear` and `angular` (scaled outputs) whatever it is shown.
 std::shared_ptr<const Mlp> ConstantNetwork(float linear, float angular) {
@@ -77,13 +66,6 @@ TEST(MorpIlTest, TheNetworksOutputIsScaledAndKeptWithinTheLimits) {
   EXPECT_NO_THROW(CheckMorpIlNetwork(*ConstantNetwork(0.0F, 0.0F), options));
   options.history = 3;
   EXPECT_THROW(CheckMorpIlNetwork(*ConstantNetwork(0.0F, 0.0F), options), std::invalid_argument);
-}
-
-// A straight path 5 m east from the origin.
-std::vector<Waypoint> FiveMetresEast() {
-  std::vector<Waypoint> path;
-  for (int i = 0; i <= 50; ++i) path.push_back(Waypoint{Pose2{0.1 * i, 0.0, 0.0}});
-  return path;
 }
 
 TEST(MorpIlTest, TheNavigatorDrivesWithTheNetworkButNoFasterThanItCanStop) {

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "nav/policy/local_navigator.h"
+#include "testing/navigator_steps.h"
 
 namespace corridor::nav {
 namespace {
@@ -167,30 +168,15 @@ std::shared_ptr<const Mlp> Always(int klass) {
       std::vector<DenseLayer>{{Eigen::MatrixXf::Zero(20, 274), bias, Activation::kSoftmax}});
 }
 
-std::vector<LaneResult> OpenLanes() {
-  std::vector<LaneResult> lanes(10);
-  for (std::size_t i = 0; i < lanes.size(); ++i) {
-    lanes[i].offset_m = 0.45 - 0.1 * static_cast<double>(i);
-    lanes[i].free_distance_m = 4.0;
-  }
-  return lanes;
-}
-
-std::vector<Waypoint> EastFiveMetres() {
-  std::vector<Waypoint> path;
-  for (int i = 0; i <= 50; ++i) path.push_back(Waypoint{Pose2{0.1 * i, 0.0, 0.0}});
-  return path;
-}
-
 TEST(TakiguchiPolicyTest, TheNavigatorDrivesTheNetworksHeadingAndTheExpertTeachesWithoutOne) {
   LocalNavigatorOptions options;
   options.direction_policy = true;
   EXPECT_THROW(LocalNavigator{options}, std::invalid_argument);  // neither a network nor training
   options.direction = Always(13);                                // 40 degrees to the left
   LocalNavigator driven(options);
-  driven.SetPath(EastFiveMetres());
+  driven.SetPath(testing::FiveMetresEast());
   Surroundings around;
-  const LocalStep step = driven.Update(Pose2{}, OpenLanes(), 1.0, 0.05, &around);
+  const LocalStep step = driven.Update(Pose2{}, testing::TenLanes(), 1.0, 0.05, &around);
   EXPECT_TRUE(step.learned);
   const Twist2 want = TakiguchiCommand(13, options.takiguchi);
   EXPECT_NEAR(step.twist.linear_mps, want.linear_mps, 1e-9);
@@ -205,9 +191,9 @@ TEST(TakiguchiPolicyTest, TheNavigatorDrivesTheNetworksHeadingAndTheExpertTeache
   teaching.direction_policy = true;
   teaching.teach = std::make_shared<Demonstrations>();
   LocalNavigator expert(teaching);
-  expert.SetPath(EastFiveMetres());
+  expert.SetPath(testing::FiveMetresEast());
   around.objects.push_back(RayObject({2.5, 0.0}, {-0.8, 0.0}, 0.25));
-  const LocalStep aside = expert.Update(Pose2{}, OpenLanes(), 1.0, 0.05, &around);
+  const LocalStep aside = expert.Update(Pose2{}, testing::TenLanes(), 1.0, 0.05, &around);
   EXPECT_FALSE(aside.learned);
   EXPECT_FALSE(aside.evading);
   const Examples recorded = teaching.teach->Take(274);

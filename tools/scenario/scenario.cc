@@ -392,6 +392,27 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   const server::Devices devices{&robot, robot, sim.laser.enabled ? &robot : nullptr, &robot, &robot, nullptr};
   server::Graph graph(config, devices, server::NamedMap{"scenario", layout.map}, server::Schedule::kLockstep);
   graph.Start();
+  // The simulator's people for a privileged expert, for this run only.
+  struct Privilege {
+    nav::Demonstrations* teach;
+    ~Privilege() {
+      if (teach != nullptr) teach->people = nullptr;
+    }
+  } privilege{options.privileged ? options.teach.get() : nullptr};
+  if (privilege.teach != nullptr) {
+    privilege.teach->people = [&robot] {
+      std::vector<nav::TrackedObject> people;
+      for (const drivers::sim::Pedestrian& p : robot.pedestrians()) {
+        nav::TrackedObject o;
+        o.position = p.position;
+        o.velocity = p.velocity;
+        o.radius_m = kPersonRadiusM;
+        o.moving = p.velocity.norm() > 0.0;
+        people.push_back(o);
+      }
+      return people;
+    };
+  }
   FrameTimes times(graph);
   Bus& bus = graph.bus();
   if (options.trace) {

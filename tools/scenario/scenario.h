@@ -95,6 +95,8 @@ struct ScenarioOptions {
   // Training only (corridor-train): every run of morp-rb or morp-il records its steps' inputs and the rules' commands
   // here, and mixes who drives (nav::Demonstrations).
   std::shared_ptr<nav::Demonstrations> teach;
+  // With `teach`: Takiguchi's expert labels from the simulator's people rather than the tracker's (Demonstrations).
+  bool privileged = false;
 };
 
 // Everything one run needs, drawn from the seed.

@@ -91,6 +91,7 @@ DaggerResult TrainPolicy(const DaggerOptions& o, const std::function<void(const 
                                           o.train_runs, i == 0 ? learner.expert : o.learner);
     if (i > 0) SetNetwork(runs, o.learner, std::make_shared<const nav::Mlp>(*net));
     runs.teach = std::make_shared<nav::Demonstrations>();
+    runs.privileged = o.privileged;
     runs.teach->beta = it.beta;
     runs.teach->random.seed(o.seed * 7919U + static_cast<std::uint64_t>(i));
     it.driven = scenario::Summarise(scenario::RunAll(runs)).at(0);

@@ -21,6 +21,7 @@ struct DaggerOptions {
   scenario::Policy learner = scenario::Policy::kMorpIl;  // or kTakiguchi
   int hidden = 3;                                        // Takiguchi's network: the paper's 3 layers...
   int width = 256;                                       // ...of 2048; 256 meets the step budget
+  bool privileged = false;  // Takiguchi's expert sees the simulator's people (ScenarioOptions::privileged)
   // The protocol of every run (world, crowd, obstacles, speeds); the seeds, worlds and runs below replace its own.
   scenario::ScenarioOptions protocol;
   std::uint32_t train_seed = 1000;  // iteration i's runs use train_seed + 1000 i

@@ -46,6 +46,7 @@ training used).
   --epochs N          per iteration, default 30
   --learning-rate R   Adam's, default 1e-3
   --seed N            the network's initial weights, the order of the examples, the mixing; default 1
+  --privileged        takiguchi: the expert labels from the simulator's people, not the tracker's
   --hidden N          takiguchi: hidden layers, default 3 (the paper's)
   --width N           takiguchi: units per hidden layer, default 256 (the paper's 2048 is over the step budget)
   --out FILE          the best network's weights (mlp.h's format)
@@ -253,6 +254,8 @@ DaggerCommand ParseDaggerCommand(int argc, char** argv, scenario::Policy learner
       d.learning_rate = static_cast<float>(ParseNumber(arg, value(), 1e-9, 1));
     } else if (arg == "--seed") {
       d.seed = static_cast<std::uint64_t>(ParseNumber(arg, value(), 0, 1e15));
+    } else if (arg == "--privileged") {
+      d.privileged = true;
     } else if (arg == "--hidden") {
       d.hidden = count(1, 10);
     } else if (arg == "--width") {
