@@ -115,12 +115,15 @@ int NearestTakiguchiClass(double heading_rad, const TakiguchiOptions& options) {
   return static_cast<int>(std::lround((clamped + kPi / 2) / (kPi / (options.headings - 1))));
 }
 
+Twist2 HeadingControl(double error_rad, const TakiguchiOptions& options) {
+  const double w = std::clamp(options.k_heading * error_rad, -options.max_angular_rps, options.max_angular_rps);
+  const double v = std::abs(error_rad) > options.turn_in_place_rad ? 0.0 : options.max_linear_mps * std::cos(error_rad);
+  return {v, w};
+}
+
 Twist2 TakiguchiCommand(int klass, const TakiguchiOptions& options) {
   const std::optional<double> heading = TakiguchiHeading(klass, options);
-  if (!heading) return {};
-  const double w = std::clamp(options.k_heading * *heading, -options.max_angular_rps, options.max_angular_rps);
-  const double v = std::abs(*heading) > options.turn_in_place_rad ? 0.0 : options.max_linear_mps * std::cos(*heading);
-  return {v, w};
+  return heading ? HeadingControl(*heading, options) : Twist2{};
 }
 
 void CheckTakiguchiNetwork(const Mlp& net, const TakiguchiOptions& options) {
@@ -133,39 +136,48 @@ void CheckTakiguchiNetwork(const Mlp& net, const TakiguchiOptions& options) {
   }
 }
 
-double TimeToMeet(const Eigen::Vector2d& robot, const Eigen::Vector2d& velocity, const DiscMover& mover,
+std::vector<Eigen::Vector2d> DriveClass(const Pose2& robot, int klass, const TakiguchiOptions& options,
+                                        const SafeDirectionOptions& safe) {
+  const std::optional<double> heading = TakiguchiHeading(klass, options);
+  const int steps = std::max(1, static_cast<int>(std::lround(safe.horizon_s / safe.step_s)));
+  std::vector<Eigen::Vector2d> drive;
+  drive.reserve(static_cast<std::size_t>(steps));
+  Pose2 at = robot;
+  for (int i = 0; i < steps; ++i) {
+    if (heading)
+      at = DriveArc(at, HeadingControl(WrapAngle(robot.yaw_rad + *heading - at.yaw_rad), options), safe.step_s);
+    drive.push_back(at.translation());
+  }
+  return drive;
+}
+
+double TimeToMeet(const Eigen::Vector2d& start, const std::vector<Eigen::Vector2d>& drive, const DiscMover& mover,
                   const SafeDirectionOptions& options) {
-  const Eigen::Vector2d p = mover.position - robot;
-  const Eigen::Vector2d w = velocity - mover.velocity;  // the robot's, relative to the mover
-  const double r = options.robot_radius_m + mover.radius_m + options.margin_m;
-  const double closing = p.dot(w);
-  const double c = p.squaredNorm() - r * r;
-  if (c <= 0.0) return closing > 0.0 ? 0.0 : kInf;
-  const double a = w.squaredNorm();
-  const double discriminant = closing * closing - a * c;
-  if (closing <= 0.0 || discriminant < 0.0) return kInf;
-  return (closing - std::sqrt(discriminant)) / a;
+  const double reach = options.robot_radius_m + mover.radius_m + options.margin_m;
+  double before = (mover.position - start).norm();
+  for (std::size_t i = 0; i < drive.size(); ++i) {
+    const double t = options.step_s * static_cast<double>(i + 1);
+    const double gap = (mover.position + mover.velocity * t - drive[i]).norm();
+    if (gap < reach && gap < before) return t;
+    before = gap;
+  }
+  return kInf;
 }
 
 int SafeDirectionLabel(const Pose2& robot, const std::vector<DiscMover>& movers, double goal_bearing_rad,
                        const TakiguchiOptions& options, const SafeDirectionOptions& safe) {
-  const Eigen::Vector2d at = robot.translation();
   const double goal = std::clamp(WrapAngle(goal_bearing_rad), -kPi / 2, kPi / 2);
   int best = options.headings;
   double best_meet = -1.0;
   double best_cost = kInf;
   for (int k = 0; k < TakiguchiClasses(options); ++k) {
     const std::optional<double> heading = TakiguchiHeading(k, options);
-    Eigen::Vector2d velocity = Eigen::Vector2d::Zero();
-    if (heading) {
-      velocity = options.max_linear_mps *
-                 Eigen::Vector2d(std::cos(robot.yaw_rad + *heading), std::sin(robot.yaw_rad + *heading));
-    }
+    const std::vector<Eigen::Vector2d> drive = DriveClass(robot, k, options, safe);
     double meet = kInf;
-    for (const DiscMover& m : movers) meet = std::min(meet, TimeToMeet(at, velocity, m, safe));
+    for (const DiscMover& m : movers) meet = std::min(meet, TimeToMeet(robot.translation(), drive, m, safe));
     // Safe choices all count the same; among them (or, with none, among the latest to meet) the cheapest wins, the
     // first of equals (the robot's right).
-    const double meet_score = std::min(meet, safe.horizon_s);
+    const double meet_score = std::min(meet, safe.horizon_s + 1.0);
     const double cost = heading ? std::abs(*heading - goal) : safe.stop_cost_rad;
     if (meet_score > best_meet || (meet_score == best_meet && cost < best_cost - kTie)) {
       best = k;

@@ -14,13 +14,15 @@
 // The direction is measured from "coming at the robot" so that the cut at +-pi falls on what matters least.
 //
 // The labels come from an expert written here after ORCA's velocity obstacles (van den Berg et al., 2011; RVO2 is
-// not in Debian): of the 20 choices, each a velocity (the robot's top speed along the heading, or zero), those that
-// meet nobody within the horizon are safe, and the safe one nearest the goal is the label; when none is safe, the
-// one that meets someone latest. People who do not see the robot do not take half the avoidance, so the cones are
-// velocity obstacles, not ORCA's reciprocal half-planes. "Nearest the goal" is ORCA's nearest to the preferred
-// velocity made to work for a robot that cannot go sideways or back: a heading costs its angle from the goal's
-// bearing (a goal behind counts at the nearer side, so the robot turns toward it) and stopping costs as much as a
-// detour of stop_cost_rad (for a goal ahead, 60 degrees is where a velocity at full speed is as far from the
+// not in Debian): of the 20 choices, those that meet nobody within the horizon are safe, and the safe one nearest the
+// goal is the label; when none is safe, the one that meets someone latest. ORCA's choices are velocities a
+// holonomic robot takes at once; a differential base turns first, so each choice here is driven as the heading
+// controller drives it (the heading held in the world from the start), people predicted at their velocity, and meets
+// someone when it comes within reach while closing in. People who do not see the robot do not take half the
+// avoidance, so none is shared out as in ORCA's reciprocal half-planes. "Nearest the goal" is ORCA's nearest to the
+// preferred velocity made to work for a robot that cannot go sideways or back: a heading costs its angle from the
+// goal's bearing (a goal behind counts at the nearer side, so the robot turns toward it) and stopping costs as much as
+// a detour of stop_cost_rad (for a goal ahead, 60 degrees is where a velocity at full speed is as far from the
 // preferred one as standing still).
 #pragma once
 
@@ -69,7 +71,9 @@ Eigen::VectorXf TakiguchiInput(const Pose2& robot, const Surroundings& around, d
 std::optional<double> TakiguchiHeading(int klass, const TakiguchiOptions& options);
 // The class whose heading is nearest `heading_rad` (robot frame; beyond +-90 degrees: the edge).
 int NearestTakiguchiClass(double heading_rad, const TakiguchiOptions& options);
-// The heading controller's command for a class.
+// The heading controller's command for a heading error (robot frame; positive: the heading is to the left).
+Twist2 HeadingControl(double error_rad, const TakiguchiOptions& options);
+// Its command for a class.
 Twist2 TakiguchiCommand(int klass, const TakiguchiOptions& options);
 // A network the policy can drive with: TakiguchiInputs inputs, TakiguchiClasses outputs. Throws
 // std::invalid_argument otherwise.
@@ -86,12 +90,17 @@ struct SafeDirectionOptions {
   double robot_radius_m = 0.2;
   double margin_m = 0.1;   // kept beyond both radii
   double horizon_s = 3.0;  // ORCA's tau: a choice meeting nobody within it is safe
+  double step_s = 0.1;     // of the prediction
   double stop_cost_rad = std::numbers::pi / 3;
 };
 
-// The time until the robot at `robot` driving `velocity` (world frame) meets `mover` (their discs, with the margin,
-// touch): 0 when they overlap already and close in, infinity when they never meet.
-double TimeToMeet(const Eigen::Vector2d& robot, const Eigen::Vector2d& velocity, const DiscMover& mover,
+// Where the robot at `robot` (world frame) goes following class `klass` with the heading controller, the heading held
+// in the world from the start: its positions every step_s to the horizon (step_s first).
+std::vector<Eigen::Vector2d> DriveClass(const Pose2& robot, int klass, const TakiguchiOptions& options,
+                                        const SafeDirectionOptions& safe);
+// When the robot driving `drive` (positions every step_s, from `start`) first comes within reach of `mover` (their
+// discs and the margin touch) while closing in; infinity when it does not.
+double TimeToMeet(const Eigen::Vector2d& start, const std::vector<Eigen::Vector2d>& drive, const DiscMover& mover,
                   const SafeDirectionOptions& options);
 
 // The expert's label for the robot at `robot` (world frame) among `movers` (people and static points alike) with

@@ -105,19 +105,38 @@ TEST(TakiguchiCommandTest, ClassesAreHeadingsFromRightToLeftThenStop) {
   EXPECT_NO_THROW(CheckTakiguchiOptions(options));
 }
 
-TEST(SafeDirectionTest, TimeToMeetIsWhenTheDiscsTouch) {
+TEST(SafeDirectionTest, EachChoiceIsDrivenAsTheHeadingControllerDrivesIt) {
+  const TakiguchiOptions options;
+  const SafeDirectionOptions safe;
+  const Pose2 robot{1.0, 2.0, 0.0};
+  const std::vector<Eigen::Vector2d> straight = DriveClass(robot, 9, options, safe);
+  ASSERT_EQ(straight.size(), 30U);
+  EXPECT_NEAR(straight.back().x(), 1.0 + 0.26 * 3.0, 1e-9);
+  EXPECT_NEAR(straight.back().y(), 2.0, 1e-9);
+  // A quarter turn to the left: on the spot first, then along it.
+  const std::vector<Eigen::Vector2d> left = DriveClass(robot, 18, options, safe);
+  EXPECT_EQ(left.front(), robot.translation());
+  EXPECT_GT(left.back().y(), 2.4);
+  EXPECT_LT(std::abs(left.back().x() - 1.0), 0.2);
+  for (const Eigen::Vector2d& p : DriveClass(robot, 19, options, safe)) EXPECT_EQ(p, robot.translation());
+}
+
+TEST(SafeDirectionTest, TimeToMeetIsWhenTheRobotComesWithinReachClosingIn) {
+  const TakiguchiOptions options;
   const SafeDirectionOptions safe;  // 0.2 + 0.25 + 0.1 = 0.55 m apart at contact
-  const DiscMover oncoming{{3.0, 0.0}, {-0.8, 0.0}, 0.25};
-  EXPECT_NEAR(TimeToMeet({0.0, 0.0}, {0.26, 0.0}, oncoming, safe), (3.0 - 0.55) / 1.06, 1e-12);
-  EXPECT_EQ(TimeToMeet({0.0, 0.0}, {0.26, 0.0}, DiscMover{{3.0, 0.0}, {0.8, 0.0}, 0.25}, safe),
-            std::numeric_limits<double>::infinity());
-  // Overlapping already: 0 while closing in, never while getting out.
+  const Pose2 robot;
+  const std::vector<Eigen::Vector2d> straight = DriveClass(robot, 9, options, safe);
+  const double inf = std::numeric_limits<double>::infinity();
+  // Head on, closing at 1.06 m/s from 3 m: within reach at 2.31 s, the first step after it.
+  EXPECT_NEAR(TimeToMeet({0.0, 0.0}, straight, DiscMover{{3.0, 0.0}, {-0.8, 0.0}, 0.25}, safe), 2.4, 1e-9);
+  EXPECT_EQ(TimeToMeet({0.0, 0.0}, straight, DiscMover{{3.0, 0.0}, {0.8, 0.0}, 0.25}, safe), inf);
+  EXPECT_EQ(TimeToMeet({0.0, 0.0}, straight, DiscMover{{3.0, 1.0}, {0.0, 0.0}, 0.25}, safe), inf);
+  // Within reach already: meeting when closing in, not when standing or getting away.
   const DiscMover touching{{0.4, 0.0}, {0.0, 0.0}, 0.25};
-  EXPECT_EQ(TimeToMeet({0.0, 0.0}, {0.26, 0.0}, touching, safe), 0.0);
-  EXPECT_EQ(TimeToMeet({0.0, 0.0}, {-0.26, 0.0}, touching, safe), std::numeric_limits<double>::infinity());
-  // Passing wide of it: never.
-  EXPECT_EQ(TimeToMeet({0.0, 0.0}, {0.26, 0.0}, DiscMover{{3.0, 1.0}, {0.0, 0.0}, 0.25}, safe),
-            std::numeric_limits<double>::infinity());
+  EXPECT_NEAR(TimeToMeet({0.0, 0.0}, straight, touching, safe), 0.1, 1e-9);
+  EXPECT_EQ(TimeToMeet({0.0, 0.0}, DriveClass(robot, 19, options, safe), touching, safe), inf);
+  // Turning away on the spot does not close in; the arc after the turn still sweeps toward it, later.
+  EXPECT_GT(TimeToMeet({0.0, 0.0}, DriveClass(robot, 0, options, safe), touching, safe), 0.3);
 }
 
 TEST(SafeDirectionTest, TheExpertHeadsForTheGoalAndStepsAsideOrWaitsForPeople) {
@@ -130,10 +149,10 @@ TEST(SafeDirectionTest, TheExpertHeadsForTheGoalAndStepsAsideOrWaitsForPeople) {
   EXPECT_EQ(SafeDirectionLabel(robot, {}, 3.0, options, safe), 18);
   EXPECT_EQ(SafeDirectionLabel(robot, {}, -3.0, options, safe), 0);
   // Someone walking straight at the robot 2.5 m ahead: straight on and standing still both meet them within the
-  // horizon; the robot steps aside at 60 degrees (the least that keeps clear), to its right of equals.
+  // horizon; the robot steps aside at 80 degrees (the least that keeps clear once it has turned), to its right of
+  // equals.
   const std::vector<DiscMover> oncoming{{robot.Transform({2.5, 0.0}), Eigen::Vector2d(0.8, 0.0), 0.25}};
-  const int aside = SafeDirectionLabel(robot, oncoming, 0.0, options, safe);
-  EXPECT_EQ(aside, 3);
+  EXPECT_EQ(SafeDirectionLabel(robot, oncoming, 0.0, options, safe), 1);
   // Someone crossing from the left 0.6 m ahead: waiting lets them pass (keeping clear of them otherwise takes a
   // detour of 80 degrees or more).
   const std::vector<DiscMover> crossing{{robot.Transform({0.6, 1.0}), Eigen::Vector2d(0.0, 0.8), 0.25}};
