@@ -17,6 +17,7 @@ sed -e 's|^  port: 8080 .*|  port: 8443                 # HTTPS (server.tls); 0 
     "$src" > "$out"
 for want in '^  port: 8443 ' '^  state_dir: "/var/lib/corridor"' '^  world: "/usr/share/corridor/worlds/' \
             '^    weights: /usr/share/corridor/policies/morp_il.weights' \
+            '^    weights: /usr/share/corridor/policies/takiguchi.weights' \
             '^    enabled: true ' '^    redirect_port: 8080 ' '^  enabled: true  *# ROS 2'; do
   grep -q "$want" "$out" || { echo "installed-config.sh: no line matches '$want' in $out" >&2; exit 1; }
 done
