@@ -65,7 +65,7 @@ enum class PolicyMode {
   kOvertake,
   kEvade,            // stepping out of a tracked person's way
   kReactive,         // voxel-reactive
-  kLearned,          // morp-il's network
+  kLearned,          // morp-il's or takiguchi's network
   kWaitingForDepth,  // no depth frames: holding still
   kWaitingForDoor,   // short of a door that is not open yet
 };
