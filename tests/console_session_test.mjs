@@ -64,10 +64,23 @@ async function nextCommand(sent, count, predicate, what) {
 
 const isStop = (c) => c.linear_mps === 0 && c.angular_rps === 0;
 
+// The element's box once it stays where it is from one frame to the next: a column scrolled to show it may still be
+// moving it (smooth scrolling), and a drag from a stale centre would point somewhere else.
+async function settledBox(locator) {
+  let box = await locator.boundingBox();
+  const end = Date.now() + 3000;
+  for (;;) {
+    await locator.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => resolve())));
+    const now = await locator.boundingBox();
+    if ((now.x === box.x && now.y === box.y) || Date.now() > end) return now;
+    box = now;
+  }
+}
+
 // Presses the joystick's centre, drags (dx, dy) pixels, reads the command that drag sends, and releases: with the
 // mouse, or with a finger through the DevTools protocol (Playwright's touchscreen only taps).
 async function drag(page, touch, dx, dy) {
-  const box = await page.getByTestId('joystick').boundingBox();
+  const box = await settledBox(page.getByTestId('joystick'));
   const x = box.x + box.width / 2;
   const y = box.y + box.height / 2;
   if (!touch) {
