@@ -192,9 +192,10 @@ Twist2 LocalNavigator::Direct(const Pose2& robot, const Surroundings* around, co
                                                                              0.0, 1.0)(teach->random) < teach->beta);
   int klass = 0;
   if (teach != nullptr || expert_drives) {
-    Surroundings truth;
-    if (teach != nullptr && teach->people) truth = {teach->people(), seen.static_points};
-    const Surroundings& expert_sees = teach != nullptr && teach->people ? truth : seen;
+    // A privileged expert sees the simulator's people where the tracker's would be (Demonstrations::people).
+    const bool privileged = teach != nullptr && teach->people;
+    const Surroundings truth = privileged ? Surroundings{teach->people(), seen.static_points} : Surroundings{};
+    const Surroundings& expert_sees = privileged ? truth : seen;
     const int label = SafeDirectionLabel(
         robot, MoversAround(robot.translation(), expert_sees, options_.takiguchi.range_m, options_.takiguchi), bearing,
         options_.takiguchi, options_.safe);

@@ -31,6 +31,7 @@
 
 #include "nav/ground/morp.h"
 #include "nav/planner/costmap.h"
+#include "nav/policy/demonstrations.h"
 #include "nav/policy/evasion.h"
 #include "nav/policy/local_policy.h"
 #include "nav/policy/morp_il.h"

@@ -16,19 +16,14 @@
 // Outputs: the command, linear over max_linear_mps and angular over max_angular_rps.
 #pragma once
 
-#include <cstdint>
 #include <deque>
-#include <functional>
-#include <memory>
-#include <random>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "nav/geometry/pose2.h"
 #include "nav/ground/morp.h"
-#include "nav/learning/mlp_training.h"
-#include "nav/tracking/moving_objects.h"
+#include "nav/learning/mlp.h"
 
 namespace corridor::nav {
 
@@ -70,23 +65,5 @@ Twist2 MorpIlCommand(const Mlp& net, const Eigen::VectorXf& input, const MorpIlO
 
 // A network MORP-IL can drive with: `history` x 12 inputs, 2 outputs. Throws std::invalid_argument otherwise.
 void CheckMorpIlNetwork(const Mlp& net, const MorpIlOptions& options);
-
-// Training (DAgger, the paper's Algorithm 2): at every step the navigator records the input and the expert's command
-// (MORP-RB's, before the memory and evasion check it; for Takiguchi's network, the safe-direction expert's class,
-// one-hot), and the robot drives with the expert's command at a share `beta` of the steps, drawn from `seed`, and with
-// the learner's at the rest (always the expert's without a learner).
-struct Demonstrations {
-  double beta = 1.0;
-  std::mt19937_64 random{1};
-  std::vector<float> inputs;   // each step's input, one after the other
-  std::vector<float> targets;  // the expert's answers, as the network's outputs (the same number each step)
-  // Takiguchi's expert only: where the people really are (world frame), when the trainer knows it (the simulator's
-  // crowd). The expert then labels with what the robot cannot see as well, the tracker's people replaced by these
-  // ("learning by cheating", Chen et al., CoRL 2019). Empty: the tracker's view.
-  std::function<std::vector<TrackedObject>()> people;
-
-  // What was recorded since the last Take, as examples (one per column).
-  Examples Take(int input_size);
-};
 
 }  // namespace corridor::nav

@@ -110,11 +110,6 @@ std::optional<double> TakiguchiHeading(int klass, const TakiguchiOptions& option
   return -kPi / 2 + kPi * klass / (options.headings - 1);
 }
 
-int NearestTakiguchiClass(double heading_rad, const TakiguchiOptions& options) {
-  const double clamped = std::clamp(WrapAngle(heading_rad), -kPi / 2, kPi / 2);
-  return static_cast<int>(std::lround((clamped + kPi / 2) / (kPi / (options.headings - 1))));
-}
-
 Twist2 HeadingControl(double error_rad, const TakiguchiOptions& options) {
   const double w = std::clamp(options.k_heading * error_rad, -options.max_angular_rps, options.max_angular_rps);
   const double v = std::abs(error_rad) > options.turn_in_place_rad ? 0.0 : options.max_linear_mps * std::cos(error_rad);

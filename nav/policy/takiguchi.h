@@ -69,8 +69,6 @@ Eigen::VectorXf TakiguchiInput(const Pose2& robot, const Surroundings& around, d
 // A class's heading in the robot frame (radians, positive to the left); none for stop. Throws std::out_of_range
 // for a class that is not one.
 std::optional<double> TakiguchiHeading(int klass, const TakiguchiOptions& options);
-// The class whose heading is nearest `heading_rad` (robot frame; beyond +-90 degrees: the edge).
-int NearestTakiguchiClass(double heading_rad, const TakiguchiOptions& options);
 // The heading controller's command for a heading error (robot frame; positive: the heading is to the left).
 Twist2 HeadingControl(double error_rad, const TakiguchiOptions& options);
 // Its command for a class.

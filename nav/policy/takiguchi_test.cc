@@ -86,9 +86,6 @@ TEST(TakiguchiCommandTest, ClassesAreHeadingsFromRightToLeftThenStop) {
   EXPECT_FALSE(TakiguchiHeading(19, options));
   EXPECT_THROW(TakiguchiHeading(20, options), std::out_of_range);
   EXPECT_THROW(TakiguchiHeading(-1, options), std::out_of_range);
-  EXPECT_EQ(NearestTakiguchiClass(0.05, options), 9);
-  EXPECT_EQ(NearestTakiguchiClass(3.0, options), 18);
-  EXPECT_EQ(NearestTakiguchiClass(-2.0, options), 0);
   // Straight on at full speed; a heading to the side turns on the spot; stop stops.
   EXPECT_DOUBLE_EQ(TakiguchiCommand(9, options).linear_mps, options.max_linear_mps);
   EXPECT_DOUBLE_EQ(TakiguchiCommand(9, options).angular_rps, 0.0);

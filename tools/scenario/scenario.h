@@ -39,6 +39,7 @@
 #include "drivers/sim/world.h"
 #include "nav/geometry/pose2.h"
 #include "nav/map/occupancy_grid.h"
+#include "nav/policy/demonstrations.h"
 #include "nav/policy/local_policy.h"
 #include "nav/policy/morp_il.h"
 #include "nav/policy/takiguchi.h"

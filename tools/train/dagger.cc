@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "nav/learning/dpoom_demonstrations.h"
+#include "nav/policy/demonstrations.h"
 #include "nav/policy/morp_il.h"
 #include "nav/policy/takiguchi.h"
 
