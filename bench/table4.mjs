@@ -1,7 +1,7 @@
 // DPoom's Tables 3 and 4 through the daemon's graph: every setting docs/benchmarks.md reports, each seed one run of
 // tools/scenario (10 worlds x 3 runs), then one Markdown row per setting (success per seed and over all seeds,
 // collisions, those the robot drove into, timeouts, mean time to goal, milliseconds per depth frame).
-//   node bench/table4.mjs [--jobs N] [--only NAME[,NAME...]] [--out DIR]
+//   node bench/table4.mjs [--jobs N] [--only NAME[,NAME...]] [--seeds A-B|A,B,...] [--out DIR]
 // --jobs: scenario processes at once (default 1: the per-frame times are then measured on an otherwise idle core).
 // --only: settings by name (see SETTINGS); default all. --out: where each run's JSON goes (default build/table4).
 // Needs ./dev build (build/tools/scenario/corridor-scenario).
@@ -32,6 +32,10 @@ const SETTINGS = [
   ['pacing-il', [...il, '--crowd', 'pacing'], [1, 2]],
   ['paper-takiguchi', tk, [1, 2]],
   ['pacing-takiguchi', [...tk, '--crowd', 'pacing'], [1, 2]],
+  // People who see the robot and keep clear of it (the others walk as if it were not there).
+  ['pacing-seeing', ['--policy', 'morp-rb', '--crowd', 'pacing', '--people-see-robot'], [1, 2]],
+  ['pacing-seeing-il', [...il, '--crowd', 'pacing', '--people-see-robot'], [1, 2]],
+  ['pacing-seeing-takiguchi', [...tk, '--crowd', 'pacing', '--people-see-robot'], [1, 2]],
 ];
 
 function option(name, fallback) {
@@ -41,9 +45,22 @@ function option(name, fallback) {
 const jobs = Number(option('--jobs', '1'));
 const only = option('--only', null)?.split(',');
 const out = option('--out', join(root, 'build/table4'));
+// --seeds A-B or A,B,...: every chosen setting on these seeds instead of its own (30 runs a seed: 1-10 makes 300).
+const seedList = option('--seeds', null);
+function parseSeeds(text) {
+  const range = /^(\d+)-(\d+)$/.exec(text);
+  const seeds = range ? Array.from({ length: Number(range[2]) - Number(range[1]) + 1 }, (_, i) => Number(range[1]) + i)
+                      : text.split(',').map(Number);
+  if (!seeds.length || seeds.some((n) => !Number.isInteger(n) || n < 0)) {
+    throw new Error(`--seeds: expected A-B or A,B,..., got '${text}'`);
+  }
+  return seeds;
+}
+const seedOverride = seedList ? parseSeeds(seedList) : null;
 if (!Number.isInteger(jobs) || jobs < 1) throw new Error('--jobs: expected a positive integer');
 if (!existsSync(scenario)) throw new Error(`${scenario} is not built: ./dev build`);
-const settings = SETTINGS.filter(([name]) => !only || only.includes(name));
+const settings = SETTINGS.filter(([name]) => !only || only.includes(name))
+  .map(([name, flags, seeds]) => [name, flags, seedOverride ?? seeds]);
 if (only && settings.length !== only.length) throw new Error(`--only: known settings are ${SETTINGS.map((s) => s[0])}`);
 mkdirSync(out, { recursive: true });
 
@@ -68,14 +85,19 @@ await Promise.all(Array.from({ length: jobs }, worker));
 
 const f = (x, digits = 2) => x.toFixed(digits);
 console.log('| setting | seeds | success per seed | success | collision | robot-caused | timeout | time to goal | ' +
-            'depth ms | policy ms | total ms | p99 ms |');
-console.log('|---|---|---|---|---|---|---|---|---|---|---|---|');
+            'path | closest person | depth ms | policy ms | total ms | p99 ms |');
+console.log('|---|---|---|---|---|---|---|---|---|---|---|---|---|---|');
 for (const [name, , seeds] of settings) {
   const runs = seeds.flatMap((seed) => results.get(`${name} ${seed}`).runs);
   const summaries = seeds.map((seed) => results.get(`${name} ${seed}`).summary[0]);
   const count = (pred) => runs.filter(pred).length;
   const successes = runs.filter((r) => r.outcome === 'success');
   const time = successes.reduce((a, r) => a + r.time_s, 0) / Math.max(successes.length, 1);
+  const path = successes.reduce((a, r) => a + r.path_length_m, 0) / Math.max(successes.length, 1);
+  // The closest a person came: the mean over runs of each run's closest gap (footprint to footprint), and the least.
+  const gaps = runs.map((r) => r.closest_person_m).filter((g) => g !== null && g !== undefined);
+  const closest = gaps.length ? `${f(gaps.reduce((a, g) => a + g, 0) / gaps.length)} (least ${f(Math.min(...gaps))}) m`
+                              : '-';
   // Per-frame times: means weighted by frames; the p99 is the worst seed's.
   const frames = summaries.reduce((a, s) => a + s.frames, 0);
   const mean = (key) => summaries.reduce((a, s) => a + s[key] * s.frames, 0) / Math.max(frames, 1);
@@ -84,7 +106,8 @@ for (const [name, , seeds] of settings) {
               `${f(count((r) => r.outcome === 'collision') / runs.length, 3)} | ` +
               `${f(count((r) => r.outcome === 'collision' && r.robot_drove_into_it) / runs.length, 3)} | ` +
               `${f(count((r) => r.outcome === 'timeout' || r.outcome === 'no_path') / runs.length, 3)} | ` +
-              `${successes.length ? f(time, 1) + ' s' : '-'} | ${f(mean('depth_ms'), 3)} | ${f(mean('policy_ms'), 3)} | ` +
+              `${successes.length ? f(time, 1) + ' s' : '-'} | ${successes.length ? f(path, 1) + ' m' : '-'} | ` +
+              `${closest} | ${f(mean('depth_ms'), 3)} | ${f(mean('policy_ms'), 3)} | ` +
               `${f(mean('total_ms'), 3)} | ${f(Math.max(...summaries.map((s) => s.total_p99_ms)), 2)} |`);
 }
 // Which runs failed, to look into with corridor-scenario --only W/R --trace.

@@ -191,7 +191,7 @@ bool Crowd::Free(const Eigen::Vector2d& p) const {
   return true;
 }
 
-void Crowd::Step(double dt_s) {
+void Crowd::Step(double dt_s, const std::optional<OrcaNeighbour>& robot) {
   const CrowdOptions& o = options_;
   std::vector<Eigen::Vector2d> next(pedestrians_.size(), Eigen::Vector2d::Zero());
   std::vector<OrcaNeighbour> neighbours;
@@ -222,6 +222,9 @@ void Crowd::Step(double dt_s) {
     for (const StaticObstacle& s : obstacles_) {
       if ((s.center - p.position).norm() > o.neighbour_distance_m) continue;
       neighbours.push_back({s.center, Eigen::Vector2d::Zero(), s.bounding_radius_m(), false});
+    }
+    if (o.see_robot && robot && (robot->position - p.position).norm() <= o.neighbour_distance_m) {
+      neighbours.push_back(*robot);
     }
     next[i] = OrcaVelocity(p.position, p.velocity, o.radius_m, preferred, o.max_speed_mps, o.time_horizon_s, dt_s,
                            neighbours);

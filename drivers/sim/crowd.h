@@ -15,6 +15,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -44,6 +45,9 @@ struct CrowdOptions {
   // People aim this much to the right of their goal, as people keep right: it breaks the symmetric standoffs in
   // which ORCA agents walking straight at each other would slow to a stop face to face.
   double keep_right_rad = 0.1;
+  // People see the robot and keep clear of it as of each other, but taking all of the avoidance (a robot is not
+  // counted on to give way). False: they walk as if it were not there, as in the DPoom evaluation.
+  bool see_robot = false;
 };
 
 struct Pedestrian {
@@ -54,13 +58,23 @@ struct Pedestrian {
   bool arrived = false;    // standing at the goal for good (CrowdOptions::turn_back false)
 };
 
+// A disc a person keeps clear of: another person, an obstacle or the robot; `reciprocal` when it takes half of the
+// avoidance (another person walking).
+struct OrcaNeighbour {
+  Eigen::Vector2d position;
+  Eigen::Vector2d velocity;
+  double radius_m;
+  bool reciprocal;
+};
+
 class Crowd {
  public:
   // `world` must outlive the crowd; its obstacles are avoided, its collision grid's walls kept. Each pedestrian
   // starts at its route's start.
   Crowd(const World& world, std::vector<PedestrianRoute> routes, const CrowdOptions& options);
 
-  void Step(double dt_s);
+  // `robot`: the robot's disc and velocity (world frame), kept clear of when CrowdOptions::see_robot.
+  void Step(double dt_s, const std::optional<OrcaNeighbour>& robot = std::nullopt);
   const std::vector<Pedestrian>& pedestrians() const { return pedestrians_; }
   const CrowdOptions& options() const { return options_; }
   bool empty() const { return pedestrians_.empty(); }
@@ -79,12 +93,6 @@ class Crowd {
 
 // The velocity nearest `preferred` within speed `max_speed` that keeps `self` (at `position`, moving at `velocity`)
 // clear of every other disc for `time_horizon_s`. Others with `reciprocal` share the avoidance; static ones do not.
-struct OrcaNeighbour {
-  Eigen::Vector2d position;
-  Eigen::Vector2d velocity;
-  double radius_m;
-  bool reciprocal;
-};
 Eigen::Vector2d OrcaVelocity(const Eigen::Vector2d& position, const Eigen::Vector2d& velocity, double radius_m,
                              const Eigen::Vector2d& preferred, double max_speed, double time_horizon_s, double dt_s,
                              const std::vector<OrcaNeighbour>& neighbours);

@@ -174,5 +174,31 @@ TEST(CrowdTest, TheRobotSeesPeopleAndUnmappedObstaclesAndBumpsIntoThem) {
   EXPECT_LT((robot.pedestrians()[0].position - robot.true_pose().translation()).norm(), 0.45 + 0.01);
 }
 
+TEST(CrowdTest, PeopleWhoSeeTheRobotWalkRoundItAndTheOthersWalkIntoIt) {
+  auto world = std::make_shared<World>(Room(10, 6));
+  SimOptions o;
+  o.start = {2.0, 3.0, 0.0};
+  o.pedestrians = {{{6.0, 3.0}, {1.0, 3.0}}};  // straight at the standing robot from 4 m ahead
+  for (const bool see : {false, true}) {
+    o.crowd.see_robot = see;
+    SimRobot robot(world, o);
+    bool bumped = false;
+    double closest = std::numeric_limits<double>::infinity();
+    bool passed = false;
+    for (int i = 0; i < 1000 && !bumped && !passed; ++i) {
+      robot.Step();
+      bumped = robot.bumper_pressed();
+      const Eigen::Vector2d person = robot.pedestrians()[0].position;
+      closest = std::min(closest, (person - robot.true_pose().translation()).norm());
+      passed = person.x() < 1.5;
+    }
+    EXPECT_EQ(bumped, !see) << "sees the robot: " << see;
+    if (see) {
+      EXPECT_TRUE(passed);
+      EXPECT_GE(closest, 0.45 - 0.02);  // the robot's radius and theirs
+    }
+  }
+}
+
 }  // namespace
 }  // namespace corridor::drivers::sim

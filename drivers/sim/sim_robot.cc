@@ -154,7 +154,11 @@ void SimRobot::Step() {
     if (has_pending_command_) base_.Command(pending_command_, now_s);
     has_pending_command_ = false;
     if (!crowd_.empty()) {
-      crowd_.Step(step_s());
+      // The robot as people see it: they take all of the avoidance.
+      const nav::Pose2 at = base_.pose();
+      const Eigen::Vector2d velocity =
+          base_.velocity().linear_mps * Eigen::Vector2d(std::cos(at.yaw_rad), std::sin(at.yaw_rad));
+      crowd_.Step(step_s(), OrcaNeighbour{at.translation(), velocity, options_.base.limits.footprint_radius_m, false});
       std::vector<Disc> people;
       for (const Pedestrian& p : crowd_.pedestrians()) people.push_back({p.position, options_.crowd.radius_m});
       base_.SetMovers(std::move(people));

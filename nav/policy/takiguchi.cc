@@ -15,6 +15,11 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kTie = 1e-9;  // costs this close are equal (mirror-image headings' angles differ in the last bit)
 
+bool AllRound(const TakiguchiOptions& o) { return o.field_rad >= 2.0 * kPi - 1e-9; }
+// The first ray's bearing (robot frame) and the angle between neighbours.
+double FirstRay(const TakiguchiOptions& o) { return -o.field_rad / 2.0; }
+double RayStep(const TakiguchiOptions& o) { return o.field_rad / (AllRound(o) ? o.rays : o.rays - 1); }
+
 // Every ray's nearest hit: how far, and the moving object's velocity there (robot frame; zero for a standing thing).
 struct Hits {
   std::vector<double> distance_m;
@@ -27,7 +32,7 @@ void Cast(const Eigen::Vector2d& centre, double radius_m, const Eigen::Vector2d&
   const double d = centre.norm();
   if (d - radius_m >= options.range_m) return;
   const int last = options.rays - 1;
-  const double step = kPi / last;
+  const double step = RayStep(options);
   const double bearing = std::atan2(centre.y(), centre.x());
   // Inside the disc: every ray toward its side of the robot meets it at once.
   const double half = d <= radius_m ? kPi / 2 : std::asin(radius_m / d);
@@ -35,10 +40,10 @@ void Cast(const Eigen::Vector2d& centre, double radius_m, const Eigen::Vector2d&
   for (const double shift : {-2.0 * kPi, 0.0, 2.0 * kPi}) {
     const double low = bearing + shift - half;
     const double high = bearing + shift + half;
-    const int first = std::max(0, static_cast<int>(std::ceil((low + kPi / 2) / step)));
-    const int end = std::min(last, static_cast<int>(std::floor((high + kPi / 2) / step)));
+    const int first = std::max(0, static_cast<int>(std::ceil((low - FirstRay(options)) / step)));
+    const int end = std::min(last, static_cast<int>(std::floor((high - FirstRay(options)) / step)));
     for (int i = first; i <= end; ++i) {
-      const double angle = -kPi / 2 + step * i;
+      const double angle = FirstRay(options) + step * i;
       const Eigen::Vector2d u(std::cos(angle), std::sin(angle));
       const double along = u.dot(centre);
       const double across2 = d * d - along * along;
@@ -62,6 +67,7 @@ void CheckTakiguchiOptions(const TakiguchiOptions& options) {
     if (!ok) throw std::invalid_argument(std::string("takiguchi: ") + what);
   };
   require(options.rays >= 3, "rays: at least 3");
+  require(options.field_rad > 0.0 && options.field_rad <= 2.0 * kPi + 1e-9, "field: in (0, 360] degrees");
   require(options.headings >= 2, "headings: at least 2");
   require(options.range_m > 0.0, "range_m: positive");
   require(options.max_object_speed_mps > 0.0, "max_object_speed_mps: positive");
@@ -84,7 +90,7 @@ Eigen::VectorXf TakiguchiInput(const Pose2& robot, const Surroundings& around, d
     Cast(to_robot.Transform(o.position), std::max(o.radius_m, options.min_object_radius_m), velocity, options, hits);
   }
   Eigen::VectorXf input(TakiguchiInputs(options));
-  const double step = kPi / (options.rays - 1);
+  const double step = RayStep(options);
   for (int i = 0; i < options.rays; ++i) {
     const auto k = static_cast<std::size_t>(i);
     input(i) = static_cast<float>(std::min(1.0, hits.distance_m[k] / options.range_m));
@@ -92,7 +98,7 @@ Eigen::VectorXf TakiguchiInput(const Pose2& robot, const Surroundings& around, d
     input(options.rays + i) = static_cast<float>(std::min(1.0, speed / options.max_object_speed_mps));
     double direction = 0.0;
     if (speed > 0.0) {
-      const double coming_at_robot = -kPi / 2 + step * i + kPi;
+      const double coming_at_robot = FirstRay(options) + step * i + kPi;
       direction = WrapAngle(std::atan2(hits.velocity[k].y(), hits.velocity[k].x()) - coming_at_robot) / kPi;
     }
     input(2 * options.rays + i) = static_cast<float>(direction);
@@ -127,7 +133,8 @@ void CheckTakiguchiNetwork(const Mlp& net, const TakiguchiOptions& options) {
                                 std::to_string(net.outputs()) + " outputs, the policy " +
                                 std::to_string(TakiguchiInputs(options)) + " and " +
                                 std::to_string(TakiguchiClasses(options)) + " (rays " + std::to_string(options.rays) +
-                                ", headings " + std::to_string(options.headings) + ")");
+                                " over " + std::to_string(std::lround(options.field_rad * 180.0 / kPi)) +
+                                " degrees, headings " + std::to_string(options.headings) + ")");
   }
 }
 

@@ -4,7 +4,9 @@
 // degrees from the robot's right to its left, or stopping. A heading becomes a command through a heading
 // controller (turn toward it in proportion to the error, drive on as the robot faces it).
 //
-// Inputs (274 for 91 rays), rays from the robot's right (-90 degrees) to its left (+90) every 2 degrees:
+// Inputs (274 for 91 rays), rays from the robot's right (-90 degrees) to its left (+90) every 2 degrees (the paper's;
+// field_rad 2 pi spreads them evenly all round instead, from straight behind, so that what the tracker keeps of people
+// who left a forward camera's view reaches the network too):
 //   - distances: the nearest thing along each ray over range_m, capped at 1 (1: nothing that near);
 //   - speeds: the speed of the moving object a ray meets over max_object_speed_mps, capped at 1 (0: a standing
 //     thing, or nothing);
@@ -39,9 +41,10 @@
 namespace corridor::nav {
 
 struct TakiguchiOptions {
-  int rays = 91;                      // over the front 180 degrees (both edges included)
-  double range_m = 5.0;               // farther than this along a ray is nothing
-  double max_object_speed_mps = 1.5;  // speeds on this scale
+  int rays = 91;                        // over the field (both edges included, but once all round)
+  double field_rad = std::numbers::pi;  // centred ahead; (0, 2 pi]
+  double range_m = 5.0;                 // farther than this along a ray is nothing
+  double max_object_speed_mps = 1.5;    // speeds on this scale
   // A tracked object counts at least this large (a laser sees a person's near side only); a static point is a disc
   // of point_radius_m.
   double min_object_radius_m = 0.25;

@@ -78,6 +78,34 @@ TEST(TakiguchiInputTest, RaysShowDistanceSpeedAndWayOfWhatIsAroundAndTheGoalCome
   EXPECT_FLOAT_EQ(TakiguchiInput(robot, inside, 0.0, options)(kAhead), 0.0F);
 }
 
+TEST(TakiguchiInputTest, AllRoundRaysStartStraightBehindAndSeeWhatIsThere) {
+  TakiguchiOptions options;
+  options.rays = 180;  // every 2 degrees from straight behind, round by the right
+  options.field_rad = 2.0 * kPi;
+  ASSERT_NO_THROW(CheckTakiguchiOptions(options));
+  EXPECT_EQ(TakiguchiInputs(options), 541);
+  const Pose2 robot{1.0, 1.0, kPi / 2};
+  // Someone 2 m behind, walking at the robot: straddles the cut at +-pi, so the first ray and the last both meet it.
+  Surroundings behind;
+  behind.objects.push_back(RayObject(robot.Transform({-2.0, 0.0}), Eigen::Vector2d(0.0, 0.75)));
+  const Eigen::VectorXf at = TakiguchiInput(robot, behind, 0.0, options);
+  EXPECT_NEAR(at(0), (2.0 - 0.3) / 5.0, 1e-6);
+  EXPECT_LT(at(179), 0.4F);
+  EXPECT_NEAR(at(180), 0.5, 1e-6);  // its speed
+  EXPECT_NEAR(at(360), 0.0, 1e-6);  // coming straight down the ray
+  EXPECT_FLOAT_EQ(at(90), 1.0F);    // nothing ahead
+  // Ahead (ray 90) and to the left (ray 135) as the front-half rays see them.
+  Surroundings ahead;
+  ahead.objects.push_back(RayObject(robot.Transform({2.0, 0.0}), Eigen::Vector2d::Zero()));
+  ahead.static_points.push_back(robot.Transform({0.0, 1.5}));
+  const Eigen::VectorXf front = TakiguchiInput(robot, ahead, 0.0, options);
+  EXPECT_NEAR(front(90), (2.0 - 0.3) / 5.0, 1e-6);
+  EXPECT_NEAR(front(135), (1.5 - options.point_radius_m) / 5.0, 1e-6);
+  EXPECT_FLOAT_EQ(front(0), 1.0F);
+  options.field_rad = 2.0 * kPi + 0.1;
+  EXPECT_THROW(CheckTakiguchiOptions(options), std::invalid_argument);
+}
+
 TEST(TakiguchiCommandTest, ClassesAreHeadingsFromRightToLeftThenStop) {
   const TakiguchiOptions options;
   EXPECT_NEAR(*TakiguchiHeading(0, options), -kPi / 2, 1e-12);

@@ -852,6 +852,10 @@ void ReadMission(ConfigReader& r, nav::MissionRunnerOptions& mission, const fs::
   r.Section("takiguchi", [&](ConfigReader& t) {
     ReadPath(t, "weights", direction_weights, base);
     t.Read("speed_mps", navigator.takiguchi.max_linear_mps, 0.01, 3.0);
+    t.Read("rays", navigator.takiguchi.rays, 3, 10000);
+    double field_deg = navigator.takiguchi.field_rad * 180.0 / std::numbers::pi;
+    t.Read("field_deg", field_deg, 1.0, 360.0);
+    navigator.takiguchi.field_rad = field_deg * std::numbers::pi / 180.0;
   });
   if (mission.policy == Policy::kTakiguchi) {
     navigator.direction = ReadNetwork(r, "takiguchi", mission.policy, direction_weights, [&](const nav::Mlp& net) {
@@ -928,6 +932,7 @@ void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
     c.Read("preferred_speed_mps", s.crowd.preferred_speed_mps, 0.0, 3.0);
     c.Read("max_speed_mps", s.crowd.max_speed_mps, 0.0, 5.0);
     c.Read("time_horizon_s", s.crowd.time_horizon_s, 0.1, 20.0);
+    c.Read("see_robot", s.crowd.see_robot);
   });
   r.Section("battery", [&](ConfigReader& b) {
     drivers::sim::SimBatteryOptions& battery = s.battery;

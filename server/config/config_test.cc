@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdlib>
 #include <fstream>
+#include <numbers>
 
 namespace corridor::server {
 namespace {
@@ -146,6 +147,18 @@ TEST_F(ConfigTest, TakiguchisPolicyNeedsANetworkOfItsShape) {
   EXPECT_EQ(c.mission.policy, nav::LocalPolicyKind::kTakiguchi);
   ASSERT_NE(c.mission.navigator.direction, nullptr);
   EXPECT_EQ(c.mission.navigator.takiguchi.max_linear_mps, 0.3);
+  // Rays all round take a network with as many inputs; the message names the rays and the field.
+  e = ErrorOf(
+      "sim: {world: w.yaml}\nmission: {policy: takiguchi, takiguchi: {weights: twenty.weights, rays: 180, "
+      "field_deg: 360}}\n");
+  EXPECT_NE(e.find("the policy 541 and 20 (rays 180 over 360 degrees"), std::string::npos) << e;
+  nav::Mlp::Random(std::array{541, 16, 20}, std::array{Activation::kRelu, Activation::kSoftmax}, 1)
+      .Save(dir_ / "round.weights");
+  std::ofstream(dir_ / "r.yaml") << "sim: {world: w.yaml}\nmission: {policy: takiguchi, takiguchi: {weights: "
+                                    "round.weights, rays: 180, field_deg: 360}}\n";
+  EXPECT_NEAR(LoadConfig(dir_ / "r.yaml").mission.navigator.takiguchi.field_rad, 2.0 * std::numbers::pi, 1e-12);
+  e = ErrorOf("sim: {world: w.yaml}\nmission: {takiguchi: {field_deg: 400}}\n");
+  EXPECT_NE(e.find("mission.takiguchi.field_deg"), std::string::npos) << e;
 }
 
 TEST_F(ConfigTest, TheVdaBrokerIsOffByDefaultAndTheFlagSetsIt) {

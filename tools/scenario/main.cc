@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -41,10 +42,15 @@ Runs the DPoom evaluation protocol: a DPoom-like robot (0.26 m/s, camera 85.2 x 
   --weights FILE      morp-il's network, default config/policies/morp_il.weights
   --takiguchi-weights FILE
                       takiguchi's network, default config/policies/takiguchi.weights
+  --takiguchi-rays N  its rays, default 91 (the paper's)
+  --takiguchi-field DEG
+                      over how wide a field, centred ahead, default 180 (the paper's); 360: all round
   --laser             give the robot corridor's optional 2D laser: morp-rb tracks moving objects and evades them
   --no-camera-tracking
                       without the laser, morp-rb does not track people in the depth camera's view (DPoom's robot as
                       published); by default it tracks and evades them, as the daemon does
+  --people-see-robot  the people keep clear of the robot too (default: they walk as if it were not there, as in
+                      DPoom's evaluation)
   --timeout S         per run, default 3 x straight-line time + 20 s
   --json              machine-readable results (every run and the summaries) on stdout
   --trace             every morp-rb decision (pose, mode, lanes) and each collision's surroundings on stderr
@@ -70,6 +76,9 @@ nlohmann::json ToJson(const corridor::scenario::PolicySummary& s) {
           {"robot_collision", s.robot_collision},
           {"timeout", s.timeout},
           {"mean_time_to_goal_s", s.mean_time_to_goal_s},
+          {"mean_path_length_m", s.mean_path_length_m},
+          {"mean_closest_person_m", s.mean_closest_person_m},
+          {"min_closest_person_m", s.min_closest_person_m},
           {"depth_ms", s.depth_ms},
           {"policy_ms", s.policy_ms},
           {"total_ms", s.total_ms},
@@ -143,6 +152,10 @@ int main(int argc, char** argv) {
         weights = value();
       } else if (flag == "--takiguchi-weights") {
         direction_weights = value();
+      } else if (flag == "--takiguchi-rays") {
+        options.takiguchi_rays = ParseInt(flag, value(), 3, 10000);
+      } else if (flag == "--takiguchi-field") {
+        options.takiguchi_field_deg = ParseInt(flag, value(), 1, 360);
       } else if (flag == "--timeout") {
         options.timeout_s = ParseInt(flag, value(), 1, 100000);
       } else if (flag == "--laser") {
@@ -151,6 +164,8 @@ int main(int argc, char** argv) {
         options.camera_tracking = true;  // the default; kept for older commands
       } else if (flag == "--no-camera-tracking") {
         options.camera_tracking = false;
+      } else if (flag == "--people-see-robot") {
+        options.people_see_robot = true;
       } else if (flag == "--json") {
         json = true;
       } else if (flag == "--trace") {
@@ -171,8 +186,8 @@ int main(int argc, char** argv) {
       });
     }
     if (uses(Policy::kTakiguchi)) {
-      options.takiguchi = LoadNetwork("--takiguchi-weights", direction_weights, [](const corridor::nav::Mlp& net) {
-        corridor::nav::CheckTakiguchiNetwork(net, corridor::nav::TakiguchiOptions{});
+      options.takiguchi = LoadNetwork("--takiguchi-weights", direction_weights, [&](const corridor::nav::Mlp& net) {
+        corridor::nav::CheckTakiguchiNetwork(net, corridor::scenario::DirectionOptions(options));
       });
     }
   } catch (const corridor::nav::MlpFormatError& e) {
@@ -210,6 +225,7 @@ int main(int argc, char** argv) {
                       {"static", options.static_obstacles},
                       {"laser", options.laser},
                       {"camera_tracking", options.camera_tracking},
+                      {"people_see_robot", options.people_see_robot},
                       {"max_speed_mps", options.max_speed_mps},
                       {"camera_rate_hz", options.camera_rate_hz}};
     for (const auto& r : results) {
@@ -220,6 +236,8 @@ int main(int argc, char** argv) {
                              {"outcome", ToString(r.outcome)},
                              {"time_s", r.time_s},
                              {"path_length_m", r.path_length_m},
+                             {"closest_person_m", std::isfinite(r.closest_person_m) ? nlohmann::json(r.closest_person_m)
+                                                                                    : nlohmann::json(nullptr)},
                              {"collided_with", r.collided_with},
                              {"robot_drove_into_it", r.robot_drove_into_it}});
     }
@@ -235,11 +253,13 @@ int main(int argc, char** argv) {
                                         : "camera only, no tracking");
   std::printf(
       "Table 4: outcomes (robot-caused: collisions the robot drove into, not people walking into it)\n"
-      "%-16s %5s %8s %10s %14s %8s %18s\n",
-      "policy", "runs", "success", "collision", "robot-caused", "timeout", "time to goal (s)");
+      "%-16s %5s %8s %10s %14s %8s %18s %10s %18s\n",
+      "policy", "runs", "success", "collision", "robot-caused", "timeout", "time to goal (s)", "path (m)",
+      "closest person (m)");
   for (const auto& s : summaries) {
-    std::printf("%-16s %5d %8.2f %10.2f %14.2f %8.2f %18.1f\n", ToString(s.policy), s.runs, s.success, s.collision,
-                s.robot_collision, s.timeout, s.mean_time_to_goal_s);
+    std::printf("%-16s %5d %8.2f %10.2f %14.2f %8.2f %18.1f %10.2f %18.2f\n", ToString(s.policy), s.runs, s.success,
+                s.collision, s.robot_collision, s.timeout, s.mean_time_to_goal_s, s.mean_path_length_m,
+                s.mean_closest_person_m);
   }
   std::printf("\nTable 3: milliseconds per depth frame (this machine, one core)\n%-16s %17s %10s %10s %10s %8s\n",
               "policy", "depth processing", "policy", "total", "total p99", "frames");

@@ -147,6 +147,18 @@ class StateDir {
   fs::path path_;
 };
 
+}  // namespace
+
+nav::TakiguchiOptions DirectionOptions(const ScenarioOptions& options) {
+  nav::TakiguchiOptions direction;
+  direction.rays = options.takiguchi_rays;
+  direction.field_rad = options.takiguchi_field_deg * std::numbers::pi / 180.0;
+  direction.max_linear_mps = options.max_speed_mps;
+  return direction;
+}
+
+namespace {
+
 // The daemon's configuration for a DPoom-like robot: 0.26 m/s, 0.2 m radius, the simulator's truth for its pose (the
 // scenarios measure local navigation), the policy under test, tracking as the options say.
 server::Config GraphConfig(const drivers::sim::SimOptions& sim, Policy policy, const ScenarioOptions& options,
@@ -166,7 +178,7 @@ server::Config GraphConfig(const drivers::sim::SimOptions& sim, Policy policy, c
   navigator.evade.max_reverse_mps = options.max_speed_mps;
   navigator.learned = options.morp_il;
   navigator.direction = options.takiguchi;
-  navigator.takiguchi.max_linear_mps = options.max_speed_mps;
+  navigator.takiguchi = DirectionOptions(options);
   navigator.teach = options.teach;
   config.tracking.enabled = policy != Policy::kVoxelReactive && (sim.laser.enabled || options.camera_tracking);
   config.tracking.camera = options.camera_tracking;
@@ -339,6 +351,7 @@ Layout MakeLayout(const ScenarioOptions& options, int world_index, int run_index
   drivers::sim::AddObstacles(layout.world, obstacles);
 
   layout.crowd.radius_m = kPersonRadiusM;
+  layout.crowd.see_robot = options.people_see_robot;
   drivers::sim::RouteArea area;
   if (options.crowd == CrowdKind::kPaper) {
     // In the area the robot must cross, 3 to 7 m before its goal (and at least 1.5 m ahead of the robot), within
@@ -436,6 +449,10 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
     const Eigen::Vector2d robot_velocity = (pose.translation() - last.translation()) / robot.step_s();
     result.path_length_m += (pose.translation() - last.translation()).norm();
     last = pose;
+    for (const drivers::sim::Pedestrian& p : robot.pedestrians()) {
+      result.closest_person_m =
+          std::min(result.closest_person_m, (p.position - pose.translation()).norm() - kRobotRadiusM - kPersonRadiusM);
+    }
     result.time_s = now_s;
     if (const auto mission = bus.Get(server::topics::kMission).latest();
         mission && mission->status == nav::MissionStatus::kFailed) {
@@ -509,6 +526,10 @@ std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results) {
     s.runs = static_cast<int>(runs.size());
     int successes = 0;
     double time = 0.0;
+    double path = 0.0;
+    int with_people = 0;
+    double closest = 0.0;
+    s.min_closest_person_m = std::numeric_limits<double>::infinity();
     std::vector<double> totals;
     double tracking = 0.0;
     double depth = 0.0;
@@ -517,6 +538,12 @@ std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results) {
       if (r->outcome == Outcome::kSuccess) {
         ++successes;
         time += r->time_s;
+        path += r->path_length_m;
+      }
+      if (std::isfinite(r->closest_person_m)) {
+        ++with_people;
+        closest += r->closest_person_m;
+        s.min_closest_person_m = std::min(s.min_closest_person_m, r->closest_person_m);
       }
       s.collision += r->outcome == Outcome::kCollision ? 1.0 : 0.0;
       s.robot_collision += r->outcome == Outcome::kCollision && r->robot_drove_into_it ? 1.0 : 0.0;
@@ -534,6 +561,9 @@ std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results) {
     s.robot_collision /= s.runs;
     s.timeout /= s.runs;
     s.mean_time_to_goal_s = successes > 0 ? time / successes : 0.0;
+    s.mean_path_length_m = successes > 0 ? path / successes : 0.0;
+    s.mean_closest_person_m = with_people > 0 ? closest / with_people : 0.0;
+    if (with_people == 0) s.min_closest_person_m = 0.0;
     s.frames = totals.size();
     if (s.scans > 0) s.tracking_ms = tracking / static_cast<double>(s.scans);
     if (!totals.empty()) {

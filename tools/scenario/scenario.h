@@ -27,6 +27,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -86,6 +87,9 @@ struct ScenarioOptions {
   // Without the laser, morp-rb tracks people in the depth camera's view instead (nav/ground/depth_scan.h) and
   // evades them, never backing, as the daemon does by default (tracking.camera). Off: DPoom's robot as published.
   bool camera_tracking = true;
+  // People see the robot and keep clear of it (drivers::sim::CrowdOptions::see_robot); off: they ignore it, as in the
+  // DPoom evaluation.
+  bool people_see_robot = false;
   bool trace = false;  // every morp-rb decision and every collision's surroundings on stderr
   // Only this world and run (indices from 0), to look into one with `trace`; the same layout as in the full set.
   std::optional<std::pair<int, int>> only;
@@ -93,12 +97,18 @@ struct ScenarioOptions {
   // expert drives).
   std::shared_ptr<const nav::Mlp> morp_il;
   std::shared_ptr<const nav::Mlp> takiguchi;
+  // Takiguchi's rays (the network's inputs): how many, over how wide a field centred ahead (360: all round).
+  int takiguchi_rays = 91;
+  double takiguchi_field_deg = 180.0;
   // Training only (corridor-train): every run of morp-rb or morp-il records its steps' inputs and the rules' commands
   // here, and mixes who drives (nav::Demonstrations).
   std::shared_ptr<nav::Demonstrations> teach;
   // With `teach`: Takiguchi's expert labels from the simulator's people rather than the tracker's (Demonstrations).
   bool privileged = false;
 };
+
+// Takiguchi's options as the runs configure the navigator (rays, field, the robot's speed).
+nav::TakiguchiOptions DirectionOptions(const ScenarioOptions& options);
 
 // Everything one run needs, drawn from the seed.
 struct Layout {
@@ -125,8 +135,11 @@ struct RunResult {
   int run_index = 0;
   std::uint32_t seed = 0;
   Outcome outcome = Outcome::kTimeout;
-  double time_s = 0.0;               // simulated, to the end of the run
-  double path_length_m = 0.0;        // driven
+  double time_s = 0.0;         // simulated, to the end of the run
+  double path_length_m = 0.0;  // driven
+  // The smallest gap between the robot's footprint and a person's over the run (negative: they overlapped); infinity
+  // without people.
+  double closest_person_m = std::numeric_limits<double>::infinity();
   std::string collided_with;         // "wall or obstacle", "person"
   bool robot_drove_into_it = false;  // a collision the robot closed in on (always, for walls and obstacles)
   // Wall time per depth frame from the nodes' loop counters: the ground node's front end (MORP and the depth scan, or
@@ -147,7 +160,11 @@ struct PolicySummary {
   double robot_collision = 0.0;  // collisions the robot drove into
   double timeout = 0.0;
   double mean_time_to_goal_s = 0.0;  // over successful runs
-  double depth_ms = 0.0;             // means over every frame of every run
+  double mean_path_length_m = 0.0;   // over successful runs
+  // The closest a person came over the runs with people: the mean of each run's closest gap, and the smallest.
+  double mean_closest_person_m = 0.0;
+  double min_closest_person_m = 0.0;
+  double depth_ms = 0.0;  // means over every frame of every run
   double policy_ms = 0.0;
   double total_ms = 0.0;
   double total_p99_ms = 0.0;

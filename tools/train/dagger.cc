@@ -49,7 +49,8 @@ Learner MakeLearner(const DaggerOptions& o) {
   }
   if (o.learner == scenario::Policy::kTakiguchi) {
     if (o.hidden < 1 || o.width < 1) throw std::invalid_argument("Takiguchi's network: hidden and width >= 1");
-    const nav::TakiguchiOptions t;
+    const nav::TakiguchiOptions t = scenario::DirectionOptions(o.protocol);
+    nav::CheckTakiguchiOptions(t);
     std::vector<int> sizes{nav::TakiguchiInputs(t)};
     for (int i = 0; i < o.hidden; ++i) sizes.push_back(o.width);
     sizes.push_back(nav::TakiguchiClasses(t));
@@ -102,10 +103,21 @@ DaggerResult TrainPolicy(const DaggerOptions& o, const std::function<void(const 
     for (int epoch = 0; epoch < o.epochs; ++epoch) loss = trainer.Epoch(data.inputs, data.targets);
     it.train_loss = learner.loss == nav::Loss::kMeanSquared ? std::sqrt(loss) : loss;
     if (learner.loss == nav::Loss::kCrossEntropy) it.train_accuracy = nav::Accuracy(*net, data.inputs, data.targets);
-    // The network alone, on runs no training saw.
+    // The network alone, on runs no training saw; the expert labels its steps without driving any (beta 0).
     scenario::ScenarioOptions validate = Runs(o, o.validate_seed, o.validate_worlds, o.validate_runs, o.learner);
     SetNetwork(validate, o.learner, std::make_shared<const nav::Mlp>(*net));
+    validate.teach = std::make_shared<nav::Demonstrations>();
+    validate.teach->beta = 0.0;
+    validate.privileged = o.privileged;
     it.validation = scenario::Summarise(scenario::RunAll(validate)).at(0);
+    const nav::Examples held_out = validate.teach->Take(learner.inputs);
+    if (held_out.size() > 0) {
+      const double held_out_loss = nav::Evaluate(*net, learner.loss, held_out.inputs, held_out.targets);
+      it.validation_loss = learner.loss == nav::Loss::kMeanSquared ? std::sqrt(held_out_loss) : held_out_loss;
+      if (learner.loss == nav::Loss::kCrossEntropy) {
+        it.validation_accuracy = nav::Accuracy(*net, held_out.inputs, held_out.targets);
+      }
+    }
     if (result.iterations.empty() || Better(it.validation, result.iterations[result.best_iteration].validation)) {
       result.best = *net;
       result.best_iteration = i;

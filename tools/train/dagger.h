@@ -46,6 +46,9 @@ struct DaggerIteration {
   double train_accuracy = 0.0;         // Takiguchi: the share of training steps labelled as the expert did
   scenario::PolicySummary driven;      // the training runs, the expert and the network mixed
   scenario::PolicySummary validation;  // the network alone on the validation runs
+  // Its steps there against the expert's labels (held out: no training saw them), as train_loss and train_accuracy.
+  double validation_loss = 0.0;
+  double validation_accuracy = 0.0;
 };
 
 struct DaggerResult {

@@ -49,6 +49,8 @@ training used).
   --privileged        takiguchi: the expert labels from the simulator's people, not the tracker's
   --hidden N          takiguchi: hidden layers, default 3 (the paper's)
   --width N           takiguchi: units per hidden layer, default 256 (the paper's 2048 is over the step budget)
+  --rays N            takiguchi: its rays, default 91 (the paper's)
+  --field DEG         takiguchi: over how wide a field centred ahead, default 180 (the paper's); 360: all round
   --out FILE          the best network's weights (mlp.h's format)
   --json              the result as JSON on stdout
   --help
@@ -260,6 +262,10 @@ DaggerCommand ParseDaggerCommand(int argc, char** argv, scenario::Policy learner
       d.hidden = count(1, 10);
     } else if (arg == "--width") {
       d.width = count(1, 4096);
+    } else if (arg == "--rays") {
+      d.protocol.takiguchi_rays = count(3, 10000);
+    } else if (arg == "--field") {
+      d.protocol.takiguchi_field_deg = count(1, 360);
     } else if (arg == "--out") {
       o.out = value();
     } else if (arg == "--json") {
@@ -278,6 +284,8 @@ nlohmann::json ToJson(const tools::DaggerIteration& it) {
       {"examples", it.examples},
       {"train_loss", it.train_loss},
       {"train_accuracy", it.train_accuracy},
+      {"validation_loss", it.validation_loss},
+      {"validation_accuracy", it.validation_accuracy},
       {"training_runs", {{"runs", it.driven.runs}, {"success", it.driven.success}, {"collision", it.driven.collision}}},
       {"validation",
        {{"runs", it.validation.runs},
@@ -295,8 +303,11 @@ int RunDagger(const DaggerCommand& o) {
                 static_cast<long long>(it.examples), classes ? "cross-entropy" : "RMSE", it.train_loss);
     if (classes) std::printf(", accuracy %.3f", it.train_accuracy);
     std::printf("; training runs success %.2f, collisions %.2f", it.driven.success, it.driven.collision);
-    std::printf("; validation (%d runs) success %.2f, collisions %.2f, timeouts %.2f\n", it.validation.runs,
-                it.validation.success, it.validation.collision, it.validation.timeout);
+    std::printf("; validation (%d runs) success %.2f, collisions %.2f, timeouts %.2f, %s %.4f", it.validation.runs,
+                it.validation.success, it.validation.collision, it.validation.timeout,
+                classes ? "cross-entropy" : "RMSE", it.validation_loss);
+    if (classes) std::printf(", accuracy %.3f", it.validation_accuracy);
+    std::printf("\n");
     std::fflush(stdout);
   });
   if (!o.out.empty()) result.best.Save(o.out);
