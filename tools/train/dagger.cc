@@ -4,6 +4,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -67,6 +68,14 @@ void SetNetwork(scenario::ScenarioOptions& runs, scenario::Policy policy, std::s
   (policy == scenario::Policy::kMorpIl ? runs.morp_il : runs.takiguchi) = std::move(net);
 }
 
+// The network's loss on examples (RMSE for the squared error, the cross-entropy itself) and, for classes, the share
+// it labels as the targets do.
+std::pair<double, double> Score(const nav::Mlp& net, nav::Loss loss, const nav::Examples& examples) {
+  const double mean = nav::Evaluate(net, loss, examples.inputs, examples.targets);
+  if (loss == nav::Loss::kMeanSquared) return {std::sqrt(mean), 0.0};
+  return {mean, nav::Accuracy(net, examples.inputs, examples.targets)};
+}
+
 }  // namespace
 
 DaggerResult TrainPolicy(const DaggerOptions& o, const std::function<void(const DaggerIteration&)>& progress) {
@@ -111,13 +120,7 @@ DaggerResult TrainPolicy(const DaggerOptions& o, const std::function<void(const 
     validate.privileged = o.privileged;
     it.validation = scenario::Summarise(scenario::RunAll(validate)).at(0);
     const nav::Examples held_out = validate.teach->Take(learner.inputs);
-    if (held_out.size() > 0) {
-      const double held_out_loss = nav::Evaluate(*net, learner.loss, held_out.inputs, held_out.targets);
-      it.validation_loss = learner.loss == nav::Loss::kMeanSquared ? std::sqrt(held_out_loss) : held_out_loss;
-      if (learner.loss == nav::Loss::kCrossEntropy) {
-        it.validation_accuracy = nav::Accuracy(*net, held_out.inputs, held_out.targets);
-      }
-    }
+    if (held_out.size() > 0) std::tie(it.validation_loss, it.validation_accuracy) = Score(*net, learner.loss, held_out);
     if (result.iterations.empty() || Better(it.validation, result.iterations[result.best_iteration].validation)) {
       result.best = *net;
       result.best_iteration = i;
