@@ -1,10 +1,11 @@
 // VDA 5050's order logic through the daemon's graph in simulated time (testing/lockstep_robot.h), with a real
 // mosquitto broker between the robot and a master control (this test, on the project's MQTT client): an order with a
 // horizon driven to its decision point at the edge's speed, extended, paused and resumed; cancelOrder; an order to a
-// node in a wall refused on arrival; startCharging and stopCharging. Each message the master sends is delivered before
-// simulated time moves on (the robot's node counts what it received), so the machine's load cannot decide a run. What
-// needs the daemon's own transport and real time (going online, bad JSON, the broker restarting, the last will, the
-// console's view of an order, every message against the standard's schemas) is tests/vda5050_test.mjs.
+// node in a wall refused on arrival; startCharging and stopCharging. Each message either side sends is delivered before
+// simulated time moves on (the robot's node counts what it received and what it sent), so the machine's load cannot
+// decide a run. What needs the daemon's own transport and real time (going online, bad JSON, the broker restarting,
+// the last will, the console's view of an order, every message against the standard's schemas) is
+// tests/vda5050_test.mjs.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -33,6 +34,7 @@ using testing::LockstepRobot;
 
 const std::string kPrefix = "uagv/v2/corridor/r1/";
 const std::string kMap = "room";
+const std::string kProbe = "corridor-test/probe";  // the master's own topic, to learn that its subscriptions stand
 
 // The master control: what the robot publishes on its four topics, in order of arrival; what it sends, with the
 // standard's header.
@@ -47,6 +49,7 @@ class Master {
               for (const char* topic : {"state", "connection", "visualization", "factsheet"}) {
                 o.subscriptions.push_back(kPrefix + topic);
               }
+              o.subscriptions.push_back(kProbe);
               o.subscription_qos = 1;
               return o;
             }(),
@@ -94,13 +97,29 @@ class Master {
     arrived_.wait_for(lock, std::chrono::milliseconds(ms), [&] { return messages_.size() > seen; });
   }
   bool connected() const { return link_.connected(); }
+  // Publishes on the probe topic until one comes back (at most 10 s): from then on nothing the robot sends is missed.
+  bool AwaitSubscribed() {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    std::unique_lock lock(mutex_);
+    while (!probed_ && std::chrono::steady_clock::now() < end) {
+      lock.unlock();
+      link_.Publish({kProbe, "{}", 1, false});
+      lock.lock();
+      arrived_.wait_for(lock, std::chrono::milliseconds(100), [&] { return probed_; });
+    }
+    return probed_;
+  }
 
  private:
   void Arrived(std::string topic, const std::string& payload) {
     json body = json::parse(payload, nullptr, false);
     {
       std::lock_guard lock(mutex_);
-      messages_.push_back({topic.substr(kPrefix.size()), std::move(body)});
+      if (topic == kProbe) {
+        probed_ = true;
+      } else {
+        messages_.push_back({topic.substr(kPrefix.size()), std::move(body)});
+      }
     }
     arrived_.notify_all();
   }
@@ -108,6 +127,7 @@ class Master {
   std::mutex mutex_;
   std::condition_variable arrived_;
   std::vector<Message> messages_;
+  bool probed_ = false;
   int header_id_ = 0;
   server::MqttLink link_;  // last: its callbacks use the members above
 };
@@ -166,9 +186,13 @@ class Vda5050Lockstep : public ::testing::Test {
 
   void SetUp() override {
     ASSERT_TRUE(Pump([&] { return master_.connected(); })) << "the master did not connect";
+    ASSERT_TRUE(master_.AwaitSubscribed()) << "the master's subscriptions were not taken";
     robot_ = std::make_unique<LockstepRobot>(room_.config());
     for (const auto& node : robot_->graph().lifecycle().nodes()) {
-      if (node->name() == "vda5050") received_ = &node->Loop("message");
+      if (node->name() == "vda5050") {
+        received_ = &node->Loop("message");
+        sent_ = &node->Loop("send");
+      }
     }
     ASSERT_NE(received_, nullptr);
     ASSERT_TRUE(Pump([&] {
@@ -201,19 +225,27 @@ class Vda5050Lockstep : public ::testing::Test {
          {{"actions",
            {{{"actionType", type}, {"actionId", id}, {"blockingType", "HARD"}, {"actionParameters", json::array()}}}}});
   }
+  // Waits (real time, at most 10 s) until the master has everything the robot sent.
+  void Delivered() {
+    Pump([&] { return master_.count() >= sent_->snapshot().loops; });
+  }
+  // How many messages the master has, once all the robot sent has arrived: a `since` for what comes next.
+  std::size_t Seen() {
+    Delivered();
+    return master_.count();
+  }
   // The first `topic` message from index `since` on for which `holds` does, stepping simulated time (at most max_s)
-  // until it arrives; null when none did.
+  // until it arrives; null when none did. After each step, what the robot sent reaches the master before the next.
   json WaitFor(const std::string& topic, const std::function<bool(const json&)>& holds, double max_s,
                std::size_t since = 0) {
     std::optional<json> found;
     robot_->StepUntil(
         [&] {
+          Delivered();
           found = master_.Find(topic, holds, since);
           return found.has_value();
         },
         max_s);
-    // What the last steps sent may still be on its way.
-    if (!found) Pump([&] { return (found = master_.Find(topic, holds, since)).has_value(); });
     return found.value_or(json());
   }
 
@@ -222,6 +254,7 @@ class Vda5050Lockstep : public ::testing::Test {
   Master master_;
   std::unique_ptr<LockstepRobot> robot_;
   server::LoopStats* received_ = nullptr;
+  server::LoopStats* sent_ = nullptr;
 };
 
 TEST_F(Vda5050Lockstep, AnOrderWithAHorizonIsDrivenToItsDecisionPointAtTheEdgesSpeedExtendedPausedAndResumed) {
@@ -233,7 +266,7 @@ TEST_F(Vda5050Lockstep, AnOrderWithAHorizonIsDrivenToItsDecisionPointAtTheEdgesS
       "order",
       Order("o1", 0, {Node("a", 0, true, 1.0, 1.5), Node("b", 2, true, 2.5, 1.5, {say}), Node("c", 4, false, 4.0, 1.5)},
             {Edge("a", "b", 1, true, {{"maxSpeed", 0.3}}), Edge("b", "c", 3, false)}));
-  const std::size_t start = master_.count();
+  const std::size_t start = Seen();
   const json taken = WaitFor(
       "state", [](const json& s) { return s["orderId"] == "o1"; }, 5.0);
   ASSERT_FALSE(taken.is_null());
@@ -260,7 +293,7 @@ TEST_F(Vda5050Lockstep, AnOrderWithAHorizonIsDrivenToItsDecisionPointAtTheEdgesS
                    .is_null());
   robot_->StepFor(2.0);
   EXPECT_TRUE(Near(WaitFor(
-                       "state", [](const json&) { return true; }, 5.0, master_.count()),
+                       "state", [](const json&) { return true; }, 5.0, Seen()),
                    2.5, 1.5, 0.3))
       << "waits at the decision point";
   // The API's state shows the order: c is the horizon.
@@ -315,7 +348,7 @@ TEST_F(Vda5050Lockstep, CancelOrderStopsAndDropsTheOrderAndWithNoneIsNoOrderToCa
   EXPECT_TRUE(NodeIds(cancelled).empty());
   EXPECT_EQ(cancelled["orderId"], "o1");  // kept, as the standard says
   ASSERT_FALSE(WaitFor(
-                   "state", [](const json& s) { return s["driving"] == false; }, 5.0)
+                   "state", [](const json& s) { return s["driving"] == false; }, 5.0, Seen())
                    .is_null());
   const json stood = robot_->State()["sim_true_pose"];
   robot_->StepFor(1.0);
@@ -332,7 +365,7 @@ TEST_F(Vda5050Lockstep, CancelOrderStopsAndDropsTheOrderAndWithNoneIsNoOrderToCa
 
 TEST_F(Vda5050Lockstep, AnOrderToANodeTheConsoleWouldRefuseIsRefusedOnArrivalNamingTheNodeAndNothingMoves) {
   const json here = robot_->State()["sim_true_pose"];
-  const std::size_t since = master_.count();
+  const std::size_t since = Seen();
   Send("order",
        Order("o7", 0,
              {Node("s", 0, true, here["x"].get<double>(), here["y"].get<double>()), Node("wall", 2, true, 3.0, 0.02)},

@@ -61,7 +61,8 @@ Vda5050Node::Vda5050Node(Executor& io, Bus& bus, const Config& config, const Rob
       config_(config),
       identity_(IdentityOf(options_, TopicLevel(std::move(robot_name)))),
       core_(core),
-      agent_({0.5, config.mission.docking.dock}, [&core](const nav::Pose2& near) { return core.NearestDock(near); }) {
+      agent_({0.5, config.mission.docking.dock}, [&core](const nav::Pose2& near) { return core.NearestDock(near); }),
+      sent_(Loop("send")) {
   vehicle_.max_speed_mps = config.mission.navigator.follower.max_linear_mps;
   vehicle_.max_deceleration_mps2 = config.safety.stopping.max_decel_mps2;
   vehicle_.radius_m = config.planner.robot_radius_m;
@@ -105,7 +106,10 @@ void Vda5050Node::Send(VdaMessage kind, json message, bool retained) {
     return;
   }
   const int qos = kind == VdaMessage::kConnection ? 1 : options_.qos;
-  link_->Publish({VdaTopic(identity_, ToString(kind)), message.dump(), qos, retained});
+  const auto start = std::chrono::steady_clock::now();
+  if (link_->Publish({VdaTopic(identity_, ToString(kind)), message.dump(), qos, retained})) {
+    sent_.Record(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  }
 }
 
 void Vda5050Node::Connected() {

@@ -66,6 +66,7 @@ class Vda5050Node final : public PeriodicNode {
   VdaSchemas schemas_;
   VdaAgent agent_;
   VdaVehicle vehicle_;
+  LoopStats& sent_;  // one loop per message handed to the broker (the publish call's own time)
   std::unique_ptr<MqttLink> link_;
   std::map<VdaMessage, std::uint32_t> header_ids_;
   double last_state_s_ = -1e300;
