@@ -1,12 +1,14 @@
 // DPoom's Tables 3 and 4 through the daemon's graph: every setting docs/benchmarks.md reports, each seed one run of
 // tools/scenario (10 worlds x 3 runs), then one Markdown row per setting (success per seed and over all seeds,
 // collisions, those the robot drove into, timeouts, mean time to goal, milliseconds per depth frame).
-//   node bench/table4.mjs [--jobs N] [--only NAME[,NAME...]] [--seeds A-B|A,B,...] [--out DIR]
+//   node bench/table4.mjs [--jobs N] [--only NAME[,NAME...]] [--seeds A-B|A,B,...] [--out DIR] [--reuse]
 // --jobs: scenario processes at once (default 1: the per-frame times are then measured on an otherwise idle core).
 // --only: settings by name (see SETTINGS); default all. --out: where each run's JSON goes (default build/table4).
+// --reuse: a seed whose JSON is already in --out is read, not run again (to finish or merge long evaluations; the
+// JSON must come from the same build).
 // Needs ./dev build (build/tools/scenario/corridor-scenario).
 import { execFile } from 'node:child_process';
-import { existsSync, mkdirSync, writeFileSync } from 'node:fs';
+import { existsSync, mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
@@ -18,6 +20,9 @@ const scenario = join(root, 'build/tools/scenario/corridor-scenario');
 // networks, on seeds their training never used (config/policies/README.md).
 const il = ['--policy', 'morp-il', '--weights', join(root, 'config/policies/morp_il.weights')];
 const tk = ['--policy', 'takiguchi', '--takiguchi-weights', join(root, 'config/policies/takiguchi.weights')];
+// With the laser, Takiguchi's network sees all round: its own network, 180 rays over 360 degrees.
+const tkLaser = ['--policy', 'takiguchi', '--takiguchi-weights', join(root, 'config/policies/takiguchi_laser.weights'),
+                 '--takiguchi-rays', '180', '--takiguchi-field', '360', '--laser'];
 const SETTINGS = [
   ['paper', ['--policy', 'morp-rb'], [1, 2, 3, 4, 5]],
   ['paper-static', ['--policy', 'morp-rb', '--static', '9'], [1, 2]],
@@ -31,7 +36,10 @@ const SETTINGS = [
   ['paper-static-il', [...il, '--static', '9'], [1, 2]],
   ['pacing-il', [...il, '--crowd', 'pacing'], [1, 2]],
   ['paper-takiguchi', tk, [1, 2]],
+  ['paper-static-takiguchi', [...tk, '--static', '9'], [1, 2]],
   ['pacing-takiguchi', [...tk, '--crowd', 'pacing'], [1, 2]],
+  ['pacing-laser-il', [...il, '--crowd', 'pacing', '--laser'], [1, 2]],
+  ['pacing-laser-takiguchi', [...tkLaser, '--crowd', 'pacing'], [1, 2]],
   // People who see the robot and keep clear of it (the others walk as if it were not there).
   ['pacing-seeing', ['--policy', 'morp-rb', '--crowd', 'pacing', '--people-see-robot'], [1, 2]],
   ['pacing-seeing-il', [...il, '--crowd', 'pacing', '--people-see-robot'], [1, 2]],
@@ -45,6 +53,7 @@ function option(name, fallback) {
 const jobs = Number(option('--jobs', '1'));
 const only = option('--only', null)?.split(',');
 const out = option('--out', join(root, 'build/table4'));
+const reuse = process.argv.includes('--reuse');
 // --seeds A-B or A,B,...: every chosen setting on these seeds instead of its own (30 runs a seed: 1-10 makes 300).
 const seedList = option('--seeds', null);
 function parseSeeds(text) {
@@ -68,6 +77,11 @@ const queue = settings.flatMap(([name, flags, seeds]) => seeds.map((seed) => ({ 
 const results = new Map();  // "name seed" -> the scenario's JSON
 async function worker() {
   for (let job = queue.shift(); job; job = queue.shift()) {
+    const file = join(out, `${job.name}-seed${job.seed}.json`);
+    if (reuse && existsSync(file)) {
+      results.set(`${job.name} ${job.seed}`, JSON.parse(readFileSync(file, 'utf8')));
+      continue;
+    }
     const args = ['--pedestrians', '5', ...job.flags, '--seed', String(job.seed), '--json', '--quiet'];
     const json = await new Promise((resolve, reject) => {
       execFile(scenario, args, { maxBuffer: 1 << 26 }, (error, stdout, stderr) => {
@@ -75,7 +89,7 @@ async function worker() {
         else resolve(JSON.parse(stdout));
       });
     });
-    writeFileSync(join(out, `${job.name}-seed${job.seed}.json`), JSON.stringify(json, null, 1));
+    writeFileSync(file, JSON.stringify(json, null, 1));
     results.set(`${job.name} ${job.seed}`, json);
     const s = json.summary[0];
     console.error(`${job.name} seed ${job.seed}: success ${s.success.toFixed(2)}, collision ${s.collision.toFixed(2)}`);
@@ -96,8 +110,9 @@ for (const [name, , seeds] of settings) {
   const path = successes.reduce((a, r) => a + r.path_length_m, 0) / Math.max(successes.length, 1);
   // The closest a person came: the mean over runs of each run's closest gap (footprint to footprint), and the least.
   const gaps = runs.map((r) => r.closest_person_m).filter((g) => g !== null && g !== undefined);
-  const closest = gaps.length ? `${f(gaps.reduce((a, g) => a + g, 0) / gaps.length)} (least ${f(Math.min(...gaps))}) m`
-                              : '-';
+  // (A collision's gap is 0 or a little under: shown as 0.)
+  const least = Math.max(0, Math.min(...gaps));
+  const closest = gaps.length ? `${f(gaps.reduce((a, g) => a + g, 0) / gaps.length)} (least ${f(least)}) m` : '-';
   // Per-frame times: means weighted by frames; the p99 is the worst seed's.
   const frames = summaries.reduce((a, s) => a + s.frames, 0);
   const mean = (key) => summaries.reduce((a, s) => a + s[key] * s.frames, 0) / Math.max(frames, 1);
@@ -114,9 +129,9 @@ for (const [name, , seeds] of settings) {
 for (const [name, , seeds] of settings) {
   for (const seed of seeds) {
     for (const r of results.get(`${name} ${seed}`).runs.filter((r) => r.outcome !== 'success')) {
-      console.log(`${name} seed ${seed} world ${r.world} run ${r.run}: ${r.outcome}` +
-                  `${r.collided_with ? ` with ${r.collided_with}${r.robot_drove_into_it ? ', robot-caused' : ''}` : ''}` +
-                  ` at ${f(r.time_s, 1)} s`);
+      const caused = r.robot_drove_into_it ? ', robot-caused' : '';
+      const what = r.collided_with ? ` with ${r.collided_with}${caused}` : '';
+      console.log(`${name} seed ${seed} world ${r.world} run ${r.run}: ${r.outcome}${what} at ${f(r.time_s, 1)} s`);
     }
   }
 }
