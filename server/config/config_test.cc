@@ -157,6 +157,14 @@ TEST_F(ConfigTest, TakiguchisPolicyNeedsANetworkOfItsShape) {
   std::ofstream(dir_ / "r.yaml") << "sim: {world: w.yaml}\nmission: {policy: takiguchi, takiguchi: {weights: "
                                     "round.weights, rays: 180, field_deg: 360}}\n";
   EXPECT_NEAR(LoadConfig(dir_ / "r.yaml").mission.navigator.takiguchi.field_rad, 2.0 * std::numbers::pi, 1e-12);
+  // The shipped networks drive: the camera's with the paper's rays, the laser's with 180 all round.
+  const std::string shipped = (SourceDir() / "config/policies").string();
+  std::ofstream(dir_ / "s.yaml") << "sim: {world: w.yaml}\nmission: {policy: takiguchi, takiguchi: {weights: "
+                                 << shipped << "/takiguchi.weights}}\n";
+  EXPECT_EQ(LoadConfig(dir_ / "s.yaml").mission.navigator.direction->inputs(), 274);
+  std::ofstream(dir_ / "s.yaml") << "sim: {world: w.yaml}\nmission: {policy: takiguchi, takiguchi: {weights: "
+                                 << shipped << "/takiguchi_laser.weights, rays: 180, field_deg: 360}}\n";
+  EXPECT_EQ(LoadConfig(dir_ / "s.yaml").mission.navigator.direction->inputs(), 541);
   e = ErrorOf("sim: {world: w.yaml}\nmission: {takiguchi: {field_deg: 400}}\n");
   EXPECT_NE(e.find("mission.takiguchi.field_deg"), std::string::npos) << e;
 }
