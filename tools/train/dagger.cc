@@ -68,11 +68,13 @@ void SetNetwork(scenario::ScenarioOptions& runs, scenario::Policy policy, std::s
   (policy == scenario::Policy::kMorpIl ? runs.morp_il : runs.takiguchi) = std::move(net);
 }
 
-// The network's loss on examples (RMSE for the squared error, the cross-entropy itself) and, for classes, the share
-// it labels as the targets do.
+// A mean loss as reported: RMSE for the squared error, the cross-entropy itself.
+double Reported(nav::Loss loss, double mean) { return loss == nav::Loss::kMeanSquared ? std::sqrt(mean) : mean; }
+
+// The network's reported loss on examples and, for classes, the share it labels as the targets do.
 std::pair<double, double> Score(const nav::Mlp& net, nav::Loss loss, const nav::Examples& examples) {
-  const double mean = nav::Evaluate(net, loss, examples.inputs, examples.targets);
-  if (loss == nav::Loss::kMeanSquared) return {std::sqrt(mean), 0.0};
+  const double mean = Reported(loss, nav::Evaluate(net, loss, examples.inputs, examples.targets));
+  if (loss == nav::Loss::kMeanSquared) return {mean, 0.0};
   return {mean, nav::Accuracy(net, examples.inputs, examples.targets)};
 }
 
@@ -110,7 +112,7 @@ DaggerResult TrainPolicy(const DaggerOptions& o, const std::function<void(const 
     it.examples = data.size();
     double loss = 0.0;
     for (int epoch = 0; epoch < o.epochs; ++epoch) loss = trainer.Epoch(data.inputs, data.targets);
-    it.train_loss = learner.loss == nav::Loss::kMeanSquared ? std::sqrt(loss) : loss;
+    it.train_loss = Reported(learner.loss, loss);  // the last epoch's, as it trained
     if (learner.loss == nav::Loss::kCrossEntropy) it.train_accuracy = nav::Accuracy(*net, data.inputs, data.targets);
     // The network alone, on runs no training saw; the expert labels its steps without driving any (beta 0).
     scenario::ScenarioOptions validate = Runs(o, o.validate_seed, o.validate_worlds, o.validate_runs, o.learner);
