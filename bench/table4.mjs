@@ -98,9 +98,12 @@ async function worker() {
 await Promise.all(Array.from({ length: jobs }, worker));
 
 const f = (x, digits = 2) => x.toFixed(digits);
-console.log('| setting | seeds | success per seed | success | collision | robot-caused | timeout | time to goal | ' +
+// A collision with a person, by when that person was last in the camera's view (the simulator's truth): never since
+// the start, more than a second before, or within the last second.
+console.log('| setting | seeds | success per seed | success | collision | robot-caused | ' +
+            'person last in view never / > 1 s / <= 1 s before | timeout | time to goal | ' +
             'path | closest person | depth ms | policy ms | total ms | p99 ms |');
-console.log('|---|---|---|---|---|---|---|---|---|---|---|---|---|---|');
+console.log('|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|');
 for (const [name, , seeds] of settings) {
   const runs = seeds.flatMap((seed) => results.get(`${name} ${seed}`).runs);
   const summaries = seeds.map((seed) => results.get(`${name} ${seed}`).summary[0]);
@@ -112,6 +115,11 @@ for (const [name, , seeds] of settings) {
   const gaps = runs.map((r) => r.closest_person_m).filter((g) => g !== null && g !== undefined);
   // (A collision's gap is 0 or a little under: shown as 0.)
   const least = Math.max(0, Math.min(...gaps));
+  const people = runs.filter((r) => r.outcome === 'collision' && r.collided_with === 'person');
+  const inView = people.every((r) => 'person_in_view_s' in r)
+    ? [(s) => s === null, (s) => s !== null && s > 1, (s) => s !== null && s <= 1]
+        .map((when) => f(people.filter((r) => when(r.person_in_view_s)).length / runs.length, 3)).join(' / ')
+    : '-';  // runs from before the field
   const closest = gaps.length ? `${f(gaps.reduce((a, g) => a + g, 0) / gaps.length)} (least ${f(least)}) m` : '-';
   // Per-frame times: means weighted by frames; the p99 is the worst seed's.
   const frames = summaries.reduce((a, s) => a + s.frames, 0);
@@ -120,6 +128,7 @@ for (const [name, , seeds] of settings) {
               `${f(successes.length / runs.length, 3)} (${successes.length} of ${runs.length}) | ` +
               `${f(count((r) => r.outcome === 'collision') / runs.length, 3)} | ` +
               `${f(count((r) => r.outcome === 'collision' && r.robot_drove_into_it) / runs.length, 3)} | ` +
+              `${inView} | ` +
               `${f(count((r) => r.outcome === 'timeout' || r.outcome === 'no_path') / runs.length, 3)} | ` +
               `${successes.length ? f(time, 1) + ' s' : '-'} | ${successes.length ? f(path, 1) + ' m' : '-'} | ` +
               `${closest} | ${f(mean('depth_ms'), 3)} | ${f(mean('policy_ms'), 3)} | ` +
@@ -130,7 +139,9 @@ for (const [name, , seeds] of settings) {
   for (const seed of seeds) {
     for (const r of results.get(`${name} ${seed}`).runs.filter((r) => r.outcome !== 'success')) {
       const caused = r.robot_drove_into_it ? ', robot-caused' : '';
-      const what = r.collided_with ? ` with ${r.collided_with}${caused}` : '';
+      const seen = !('person_in_view_s' in r) ? ''
+        : r.person_in_view_s === null ? ', never in view' : `, in view ${f(r.person_in_view_s, 1)} s before`;
+      const what = r.collided_with ? ` with ${r.collided_with}${caused}${seen}` : '';
       console.log(`${name} seed ${seed} world ${r.world} run ${r.run}: ${r.outcome}${what} at ${f(r.time_s, 1)} s`);
     }
   }

@@ -202,11 +202,18 @@ int main(int argc, char** argv) {
   try {
     results = corridor::scenario::RunAll(options, [&](const corridor::scenario::RunResult& r) {
       if (quiet) return;
-      std::fprintf(stderr, "world %d run %d %-15s %-9s %6.1f s%s%s%s\n", r.world_index, r.run_index, ToString(r.policy),
-                   ToString(r.outcome), r.time_s, r.collided_with.empty() ? "" : " with ", r.collided_with.c_str(),
-                   r.outcome == corridor::scenario::Outcome::kCollision && !r.robot_drove_into_it
-                       ? " (walked into the robot)"
-                       : "");
+      char seen[64] = "";
+      if (r.collided_with == "person" && r.person_in_view_s) {
+        std::snprintf(seen, sizeof seen, ", last in the camera's view %.1f s before", *r.person_in_view_s);
+      } else if (r.collided_with == "person") {
+        std::snprintf(seen, sizeof seen, ", never in the camera's view");
+      }
+      std::fprintf(
+          stderr, "world %d run %d %-15s %-9s %6.1f s%s%s%s%s\n", r.world_index, r.run_index, ToString(r.policy),
+          ToString(r.outcome), r.time_s, r.collided_with.empty() ? "" : " with ", r.collided_with.c_str(),
+          r.outcome == corridor::scenario::Outcome::kCollision && !r.robot_drove_into_it ? " (walked into the robot)"
+                                                                                         : "",
+          seen);
     });
   } catch (const std::exception& e) {
     std::cerr << "corridor-scenario: " << e.what() << "\n";
@@ -229,17 +236,22 @@ int main(int argc, char** argv) {
                       {"max_speed_mps", options.max_speed_mps},
                       {"camera_rate_hz", options.camera_rate_hz}};
     for (const auto& r : results) {
-      doc["runs"].push_back({{"policy", ToString(r.policy)},
-                             {"world", r.world_index},
-                             {"run", r.run_index},
-                             {"seed", r.seed},
-                             {"outcome", ToString(r.outcome)},
-                             {"time_s", r.time_s},
-                             {"path_length_m", r.path_length_m},
-                             {"closest_person_m", std::isfinite(r.closest_person_m) ? nlohmann::json(r.closest_person_m)
-                                                                                    : nlohmann::json(nullptr)},
-                             {"collided_with", r.collided_with},
-                             {"robot_drove_into_it", r.robot_drove_into_it}});
+      nlohmann::json run = {{"policy", ToString(r.policy)},
+                            {"world", r.world_index},
+                            {"run", r.run_index},
+                            {"seed", r.seed},
+                            {"outcome", ToString(r.outcome)},
+                            {"time_s", r.time_s},
+                            {"path_length_m", r.path_length_m},
+                            {"closest_person_m", std::isfinite(r.closest_person_m) ? nlohmann::json(r.closest_person_m)
+                                                                                   : nlohmann::json(nullptr)},
+                            {"collided_with", r.collided_with},
+                            {"robot_drove_into_it", r.robot_drove_into_it}};
+      // A person's collision: seconds since they were last in the camera's view, null for never.
+      if (r.collided_with == "person") {
+        run["person_in_view_s"] = r.person_in_view_s ? nlohmann::json(*r.person_in_view_s) : nlohmann::json(nullptr);
+      }
+      doc["runs"].push_back(std::move(run));
     }
     for (const auto& s : summaries) doc["summary"].push_back(ToJson(s));
     std::cout << doc.dump(2) << "\n";

@@ -277,6 +277,22 @@ const char* ToString(Outcome outcome) {
   return "unknown";
 }
 
+bool InCameraView(const nav::OccupancyGrid& grid, const drivers::sim::SimCameraOptions& camera, const nav::Pose2& pose,
+                  const Eigen::Vector2d& p) {
+  const Eigen::Vector2d from = pose.Transform(Eigen::Vector2d(camera.mount_x_m, 0.0));
+  const Eigen::Vector2d ray = p - from;
+  const double range = ray.norm();
+  if (range > camera.max_range_m) return false;
+  const double bearing = nav::WrapAngle(std::atan2(ray.y(), ray.x()) - pose.yaw_rad);
+  if (std::abs(bearing) > 0.5 * camera.horizontal_fov_deg * std::numbers::pi / 180.0) return false;
+  const int samples = static_cast<int>(std::ceil(range / (0.5 * grid.resolution_m())));
+  for (int i = 1; i < samples; ++i) {
+    const auto cell = grid.WorldToCell(from + ray * (static_cast<double>(i) / samples));
+    if (cell && grid.at(*cell) >= nav::kOccupiedCell) return false;
+  }
+  return true;
+}
+
 Layout MakeLayout(const ScenarioOptions& options, int world_index, int run_index) {
   Layout layout;
   layout.world_index = world_index;
@@ -442,6 +458,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   const double straight = (layout.goal - layout.start.translation()).norm();
   const double timeout_s = options.timeout_s > 0.0 ? options.timeout_s : 3.0 * straight / options.max_speed_mps + 20.0;
   nav::Pose2 last = layout.start;
+  std::vector<double> last_in_view;  // per person: the simulated time they were last in the camera's view, -1 never
   while (true) {
     graph.Step();
     const double now_s = drivers::ToSeconds(robot.now_ns());
@@ -449,9 +466,12 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
     const Eigen::Vector2d robot_velocity = (pose.translation() - last.translation()) / robot.step_s();
     result.path_length_m += (pose.translation() - last.translation()).norm();
     last = pose;
-    for (const drivers::sim::Pedestrian& p : robot.pedestrians()) {
-      result.closest_person_m =
-          std::min(result.closest_person_m, (p.position - pose.translation()).norm() - kRobotRadiusM - kPersonRadiusM);
+    const auto people = robot.pedestrians();
+    last_in_view.resize(people.size(), -1.0);
+    for (std::size_t i = 0; i < people.size(); ++i) {
+      result.closest_person_m = std::min(
+          result.closest_person_m, (people[i].position - pose.translation()).norm() - kRobotRadiusM - kPersonRadiusM);
+      if (InCameraView(layout.world.collision, sim.camera, pose, people[i].position)) last_in_view[i] = now_s;
     }
     result.time_s = now_s;
     if (const auto mission = bus.Get(server::topics::kMission).latest();
@@ -461,7 +481,6 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
     }
     if (robot.bumper_pressed()) {
       result.outcome = Outcome::kCollision;
-      const auto people = robot.pedestrians();
       const auto person = std::find_if(people.begin(), people.end(), [&](const drivers::sim::Pedestrian& p) {
         return (p.position - pose.translation()).norm() <= kRobotRadiusM + kPersonRadiusM + 0.02;
       });
@@ -472,6 +491,8 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
         const Eigen::Vector2d toward = (person->position - pose.translation()).normalized();
         const double robot_closing = robot_velocity.dot(toward);
         result.robot_drove_into_it = robot_closing > 0.02 && robot_closing >= -person->velocity.dot(toward);
+        const double seen = last_in_view[static_cast<std::size_t>(person - people.begin())];
+        result.person_in_view_s = seen >= 0.0 ? std::optional<double>(now_s - seen) : std::nullopt;
       }
       if (options.trace) {
         const auto step = bus.Get(server::topics::kLocalStep).latest();

@@ -37,6 +37,7 @@
 #include <Eigen/Core>
 
 #include "drivers/sim/crowd.h"
+#include "drivers/sim/sensors.h"
 #include "drivers/sim/world.h"
 #include "nav/geometry/pose2.h"
 #include "nav/map/occupancy_grid.h"
@@ -110,6 +111,12 @@ struct ScenarioOptions {
 // Takiguchi's options as the runs configure the navigator (rays, field, the robot's speed).
 nav::TakiguchiOptions DirectionOptions(const ScenarioOptions& options);
 
+// Whether the point p is in the view of `camera` on the robot at `pose`, by the simulator's truth: within its
+// horizontal field and range, no wall of `grid` in between (sampled every half cell). People do not hide one another
+// here, so this errs towards seen.
+bool InCameraView(const nav::OccupancyGrid& grid, const drivers::sim::SimCameraOptions& camera, const nav::Pose2& pose,
+                  const Eigen::Vector2d& p);
+
 // Everything one run needs, drawn from the seed.
 struct Layout {
   int world_index = 0;
@@ -142,6 +149,10 @@ struct RunResult {
   double closest_person_m = std::numeric_limits<double>::infinity();
   std::string collided_with;         // "wall or obstacle", "person"
   bool robot_drove_into_it = false;  // a collision the robot closed in on (always, for walls and obstacles)
+  // A collision with a person: how long before it they were last in the camera's view (its field and range, no wall
+  // between, by the simulator's truth; 0: in view then), nullopt when never since the start: no camera could have
+  // shown them to the robot.
+  std::optional<double> person_in_view_s;
   // Wall time per depth frame from the nodes' loop counters: the ground node's front end (MORP and the depth scan, or
   // cloud + voxel grid + extraction) and the mission node's frame (the local policy, and publishing its step).
   std::vector<double> depth_ms;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <string>
 
 namespace corridor::scenario {
@@ -40,6 +41,31 @@ TEST(ScenarioTest, WithTheLaserTheRobotStepsOutOfTheWayOfSomeoneItCannotSee) {
   const RunResult with_laser = RunOnce(layout, Policy::kMorpRb, options);
   EXPECT_EQ(ToString(with_laser.outcome), std::string("success")) << with_laser.collided_with;
   EXPECT_GT(with_laser.tracking_ms.size(), 100u);  // it tracked on laser scans
+
+  // Camera only, that person walks into it, never having been in the camera's view: the run says so.
+  options.laser = false;
+  const RunResult camera_only = RunOnce(layout, Policy::kMorpRb, options);
+  EXPECT_EQ(ToString(camera_only.outcome), std::string("collision"));
+  EXPECT_EQ(camera_only.collided_with, "person");
+  EXPECT_FALSE(camera_only.person_in_view_s.has_value()) << *camera_only.person_in_view_s;
+}
+
+// The camera's view by the simulator's truth: its field and range from where it is mounted, walls hiding what is
+// behind them.
+TEST(ScenarioTest, TheCamerasViewIsItsFieldAndRangeWithNoWallBetween) {
+  nav::OccupancyGrid grid(200, 200, 0.05, nav::Pose2{-5.0, -5.0, 0.0}, nav::kFreeCell);
+  for (int y = 0; y < 200; ++y) grid.at(nav::CellIndex{140, y}) = nav::kOccupiedCell;  // a wall at x = 2.0 m
+  const drivers::sim::SimCameraOptions camera;                                         // 85.2 degrees, 6 m
+  const nav::Pose2 robot{-3.0, 0.0, 0.0};
+  EXPECT_TRUE(InCameraView(grid, camera, robot, {1.0, 0.0}));    // ahead
+  EXPECT_TRUE(InCameraView(grid, camera, robot, {1.0, 3.0}));    // 37 degrees left of the camera
+  EXPECT_FALSE(InCameraView(grid, camera, robot, {-1.0, 3.0}));  // 56 degrees left: outside the field
+  EXPECT_FALSE(InCameraView(grid, camera, robot, {-4.0, 0.0}));  // behind
+  EXPECT_FALSE(InCameraView(grid, camera, robot, {3.0, 0.0}));   // beyond the wall
+  const nav::Pose2 turned{-3.0, 0.0, std::numbers::pi / 2.0};
+  EXPECT_TRUE(InCameraView(grid, camera, turned, {-3.0, 4.0}));            // ahead once turned left
+  EXPECT_FALSE(InCameraView(grid, camera, turned, {1.0, 0.0}));            // now to its right
+  EXPECT_FALSE(InCameraView(grid, camera, {-4.5, 0.0, 0.0}, {1.9, 0.0}));  // 6.3 m: beyond its range
 }
 
 // The same layout and seed give the same run, step for step: the graph runs in lockstep on the simulator's clock.
