@@ -68,6 +68,8 @@ int ParseInt(const std::string& flag, const std::string& text, int lo, int hi) {
   return value;
 }
 
+nlohmann::json OrNull(const std::optional<double>& value) { return value ? nlohmann::json(*value) : nullptr; }
+
 nlohmann::json ToJson(const corridor::scenario::PolicySummary& s) {
   return {{"policy", ToString(s.policy)},
           {"runs", s.runs},
@@ -77,8 +79,8 @@ nlohmann::json ToJson(const corridor::scenario::PolicySummary& s) {
           {"timeout", s.timeout},
           {"mean_time_to_goal_s", s.mean_time_to_goal_s},
           {"mean_path_length_m", s.mean_path_length_m},
-          {"mean_closest_person_m", s.mean_closest_person_m},
-          {"min_closest_person_m", s.min_closest_person_m},
+          {"mean_closest_person_m", OrNull(s.mean_closest_person_m)},
+          {"min_closest_person_m", OrNull(s.min_closest_person_m)},
           {"depth_ms", s.depth_ms},
           {"policy_ms", s.policy_ms},
           {"total_ms", s.total_ms},
@@ -249,7 +251,7 @@ int main(int argc, char** argv) {
                             {"robot_drove_into_it", r.robot_drove_into_it}};
       // A person's collision: seconds since they were last in the camera's view, null for never.
       if (r.collided_with == "person") {
-        run["person_in_view_s"] = r.person_in_view_s ? nlohmann::json(*r.person_in_view_s) : nlohmann::json(nullptr);
+        run["person_in_view_s"] = OrNull(r.person_in_view_s);
       }
       doc["runs"].push_back(std::move(run));
     }
@@ -269,9 +271,10 @@ int main(int argc, char** argv) {
       "policy", "runs", "success", "collision", "robot-caused", "timeout", "time to goal (s)", "path (m)",
       "closest person (m)");
   for (const auto& s : summaries) {
-    std::printf("%-16s %5d %8.2f %10.2f %14.2f %8.2f %18.1f %10.2f %18.2f\n", ToString(s.policy), s.runs, s.success,
-                s.collision, s.robot_collision, s.timeout, s.mean_time_to_goal_s, s.mean_path_length_m,
-                s.mean_closest_person_m);
+    char closest[32] = "-";  // no people
+    if (s.mean_closest_person_m) std::snprintf(closest, sizeof closest, "%.2f", *s.mean_closest_person_m);
+    std::printf("%-16s %5d %8.2f %10.2f %14.2f %8.2f %18.1f %10.2f %18s\n", ToString(s.policy), s.runs, s.success,
+                s.collision, s.robot_collision, s.timeout, s.mean_time_to_goal_s, s.mean_path_length_m, closest);
   }
   std::printf("\nTable 3: milliseconds per depth frame (this machine, one core)\n%-16s %17s %10s %10s %10s %8s\n",
               "policy", "depth processing", "policy", "total", "total p99", "frames");

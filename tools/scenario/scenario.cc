@@ -550,7 +550,7 @@ std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results) {
     double path = 0.0;
     int with_people = 0;
     double closest = 0.0;
-    s.min_closest_person_m = std::numeric_limits<double>::infinity();
+    double least = std::numeric_limits<double>::infinity();
     std::vector<double> totals;
     double tracking = 0.0;
     double depth = 0.0;
@@ -564,7 +564,7 @@ std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results) {
       if (std::isfinite(r->closest_person_m)) {
         ++with_people;
         closest += r->closest_person_m;
-        s.min_closest_person_m = std::min(s.min_closest_person_m, r->closest_person_m);
+        least = std::min(least, r->closest_person_m);
       }
       s.collision += r->outcome == Outcome::kCollision ? 1.0 : 0.0;
       s.robot_collision += r->outcome == Outcome::kCollision && r->robot_drove_into_it ? 1.0 : 0.0;
@@ -583,8 +583,10 @@ std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results) {
     s.timeout /= s.runs;
     s.mean_time_to_goal_s = successes > 0 ? time / successes : 0.0;
     s.mean_path_length_m = successes > 0 ? path / successes : 0.0;
-    s.mean_closest_person_m = with_people > 0 ? closest / with_people : 0.0;
-    if (with_people == 0) s.min_closest_person_m = 0.0;
+    if (with_people > 0) {
+      s.mean_closest_person_m = closest / with_people;
+      s.min_closest_person_m = least;
+    }
     s.frames = totals.size();
     if (s.scans > 0) s.tracking_ms = tracking / static_cast<double>(s.scans);
     if (!totals.empty()) {

@@ -172,9 +172,10 @@ struct PolicySummary {
   double timeout = 0.0;
   double mean_time_to_goal_s = 0.0;  // over successful runs
   double mean_path_length_m = 0.0;   // over successful runs
-  // The closest a person came over the runs with people: the mean of each run's closest gap, and the smallest.
-  double mean_closest_person_m = 0.0;
-  double min_closest_person_m = 0.0;
+  // The closest a person came over the runs with people: the mean of each run's closest gap, and the smallest
+  // (nullopt without people).
+  std::optional<double> mean_closest_person_m;
+  std::optional<double> min_closest_person_m;
   double depth_ms = 0.0;  // means over every frame of every run
   double policy_ms = 0.0;
   double total_ms = 0.0;
