@@ -81,7 +81,8 @@ World BaseWorld(const ScenarioOptions& options, int world_index, nav::OccupancyG
 // --trace output: one line per morp-rb decision, and what surrounded a collision.
 void TraceDecision(double now_s, const nav::Pose2& pose, const nav::LocalStep& step,
                    const std::vector<nav::LaneResult>& lanes, const nav::Surroundings* around,
-                   const std::vector<drivers::sim::Pedestrian>& people) {
+                   const std::vector<drivers::sim::Pedestrian>& people,
+                   const std::vector<Eigen::Vector2d>& remembered) {
   std::fprintf(stderr, "t %.2f pose %.2f %.2f %.2f mode %s%s%s nearest %.2f twist %.2f %.2f lanes", now_s, pose.x_m,
                pose.y_m, pose.yaw_rad, nav::ToString(step.mode), step.guarded ? " guarded" : "",
                step.evading ? " evading" : "", step.nearest_m, step.twist.linear_mps, step.twist.angular_rps);
@@ -103,6 +104,11 @@ void TraceDecision(double now_s, const nav::Pose2& pose, const nav::LocalStep& s
   for (const auto& p : people) {
     std::fprintf(stderr, " (%.2f %.2f v %.2f %.2f)", p.position.x(), p.position.y(), p.velocity.x(), p.velocity.y());
   }
+  std::fprintf(stderr, " remembered within 0.6 m (robot frame)");  // what the obstacle memory guards against
+  for (const Eigen::Vector2d& p : remembered) {
+    const Eigen::Vector2d local = pose.Inverse().Transform(p);
+    if (local.norm() <= 0.6) std::fprintf(stderr, " (%.2f %.2f)", local.x(), local.y());
+  }
   std::fprintf(stderr, "\n");
 }
 
@@ -119,7 +125,25 @@ void TraceCollision(const Layout& layout, const nav::Pose2& pose, const std::vec
     std::fprintf(stderr, "  obstacle %s at %.2f %.2f size %.2f, distance %.2f\n", ShapeName(o.shape), o.center.x(),
                  o.center.y(), o.size_m, (o.center - pose.translation()).norm());
   }
-  std::fprintf(stderr, "  remembered within 1 m (robot frame):");
+  // What the footprint touches of the world's walls and obstacles, and whether the robot's map has it.
+  std::fprintf(stderr, "  touching (robot frame; M: on the robot's map):");
+  const nav::OccupancyGrid& world = layout.world.collision;
+  const double res = world.resolution_m();
+  const auto centre = world.WorldToCell(pose.translation());
+  const int reach = static_cast<int>(std::ceil((kRobotRadiusM + res) / res));
+  for (int dy = -reach; centre && dy <= reach; ++dy) {
+    for (int dx = -reach; dx <= reach; ++dx) {
+      const nav::CellIndex c{centre->x + dx, centre->y + dy};
+      if (!world.Contains(c) || world.at(c) < nav::kOccupiedCell) continue;
+      const Eigen::Vector2d at = world.CellCenter(c);
+      if ((at - pose.translation()).norm() > kRobotRadiusM + res) continue;
+      const auto known = layout.map.WorldToCell(at);
+      const bool mapped = known && layout.map.at(*known) >= nav::kOccupiedCell;
+      const Eigen::Vector2d local = pose.Inverse().Transform(at);
+      std::fprintf(stderr, " (%.2f %.2f%s)", local.x(), local.y(), mapped ? " M" : "");
+    }
+  }
+  std::fprintf(stderr, "\n  remembered within 1 m (robot frame):");
   for (const Eigen::Vector2d& p : remembered) {
     const Eigen::Vector2d local = pose.Inverse().Transform(p);
     if (local.norm() <= 1.0) std::fprintf(stderr, " (%.2f %.2f)", local.x(), local.y());
@@ -514,7 +538,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       const auto tracked = bus.Get(server::topics::kTrackedObjects).latest();
       if (step && ground && step->stamp_ns == robot.now_ns()) {
         TraceDecision(now_s, pose, step->step, ground->lanes, tracked ? &tracked->surroundings : nullptr,
-                      robot.pedestrians());
+                      robot.pedestrians(), step->remembered);
       }
     }
   }
