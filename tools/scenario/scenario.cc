@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "drivers/sim/sim_robot.h"
+#include "nav/geometry/sensor_view.h"
 #include "nav/planner/planner.h"
 #include "server/app/graph.h"
 #include "server/runtime/topics.h"
@@ -303,12 +304,12 @@ const char* ToString(Outcome outcome) {
 
 bool InCameraView(const nav::OccupancyGrid& grid, const drivers::sim::SimCameraOptions& camera, const nav::Pose2& pose,
                   const Eigen::Vector2d& p) {
-  const Eigen::Vector2d from = pose.Transform(Eigen::Vector2d(camera.mount_x_m, 0.0));
+  const nav::SensorView view{pose * nav::Pose2{camera.mount_x_m, 0.0, 0.0},
+                             0.5 * camera.horizontal_fov_deg * std::numbers::pi / 180.0, camera.max_range_m};
+  if (!view.Covers(p, 0.0)) return false;
+  const Eigen::Vector2d from = view.world_T_sensor.translation();
   const Eigen::Vector2d ray = p - from;
   const double range = ray.norm();
-  if (range > camera.max_range_m) return false;
-  const double bearing = nav::WrapAngle(std::atan2(ray.y(), ray.x()) - pose.yaw_rad);
-  if (std::abs(bearing) > 0.5 * camera.horizontal_fov_deg * std::numbers::pi / 180.0) return false;
   const int samples = static_cast<int>(std::ceil(range / (0.5 * grid.resolution_m())));
   for (int i = 1; i < samples; ++i) {
     const auto cell = grid.WorldToCell(from + ray * (static_cast<double>(i) / samples));
@@ -537,8 +538,8 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       const auto ground = bus.Get(server::topics::kGroundLanes).latest();
       const auto tracked = bus.Get(server::topics::kTrackedObjects).latest();
       if (step && ground && step->stamp_ns == robot.now_ns()) {
-        TraceDecision(now_s, pose, step->step, ground->lanes, tracked ? &tracked->surroundings : nullptr,
-                      robot.pedestrians(), step->remembered);
+        TraceDecision(now_s, pose, step->step, ground->lanes, tracked ? &tracked->surroundings : nullptr, people,
+                      step->remembered);
       }
     }
   }
