@@ -49,14 +49,19 @@ async function openAt(size) {
   return { context, page, errors, sent };
 }
 
-// The first teleop command sent after `count` commands that satisfies `predicate`, waiting for it up to 3 s.
-async function nextCommand(sent, count, predicate, what) {
-  const end = Date.now() + 3000;
+// The first teleop command sent after `count` commands that satisfies `predicate`, waiting for it up to 10 s (the
+// console sends ten a second while something is held; a loaded machine can hold the browser up for seconds). A failure
+// says what the page showed: its stream's state and whether the joystick had the pointer.
+async function nextCommand(page, sent, count, predicate, what) {
+  const end = Date.now() + 10000;
   for (;;) {
     const found = sent.slice(count).find(predicate);
     if (found) return found;
     if (Date.now() > end) {
-      throw new Error(`no teleop command ${what}; sent after: ${JSON.stringify(sent.slice(count).slice(-5))}`);
+      const connection = await page.getByTestId('connection').textContent();
+      const knob = await page.locator('.joystick-knob').first().evaluate((e) => e.style.transform);
+      throw new Error(`no teleop command ${what}; sent after: ${JSON.stringify(sent.slice(count).slice(-5))}; ` +
+        `stream ${connection}, joystick knob '${knob}'`);
     }
     await new Promise((r) => setTimeout(r, 20));
   }
@@ -114,10 +119,10 @@ async function dragFourWays(page, sent, touch, where) {
     const count = sent.length;
     const release = await drag(page, touch, way.dx, way.dy);
     // Where the finger stops is what the robot is told while it stays there: full speed that way.
-    await nextCommand(sent, count, way.want, `dragging ${way.name} (${where})`);
+    await nextCommand(page, sent, count, way.want, `dragging ${way.name} (${where})`);
     const before = sent.length;
     await release();
-    await nextCommand(sent, before, isStop, `stop after releasing ${way.name} (${where})`);
+    await nextCommand(page, sent, before, isStop, `stop after releasing ${way.name} (${where})`);
   }
 }
 
@@ -153,14 +158,14 @@ for (const size of kSizes) {
       await page.getByTestId('map').click({ position: { x: 30, y: 200 } });
       let count = sent.length;
       await page.keyboard.down('ArrowUp');
-      const up = await nextCommand(sent, count, (c) => !isStop(c), 'for the up arrow after clicking the map');
+      const up = await nextCommand(page, sent, count, (c) => !isStop(c), 'for the up arrow after clicking the map');
       assert.deepEqual([up.linear_mps, up.angular_rps], [0.4, 0]);
       count = sent.length;
       await page.keyboard.up('ArrowUp');
-      await nextCommand(sent, count, isStop, 'stop on releasing the up arrow');
+      await nextCommand(page, sent, count, isStop, 'stop on releasing the up arrow');
       count = sent.length;
       await page.keyboard.down('ArrowLeft');
-      const left = await nextCommand(sent, count, (c) => !isStop(c), 'for the left arrow');
+      const left = await nextCommand(page, sent, count, (c) => !isStop(c), 'for the left arrow');
       assert.deepEqual([left.linear_mps, left.angular_rps], [0, 1]);
       await page.keyboard.up('ArrowLeft');
       // In a text field the keys type and do not drive.
@@ -388,12 +393,12 @@ for (const size of kSizes) {
       // Drive: a key, then the joystick.
       await page.getByTestId('map').click({ position: { x: 30, y: 200 } });
       await page.keyboard.down('ArrowLeft');
-      await nextCommand(sent, 0, (c) => c.angular_rps > 0, 'for the left arrow');
+      await nextCommand(page, sent, 0, (c) => c.angular_rps > 0, 'for the left arrow');
       await page.keyboard.up('ArrowLeft');
       await reachJoystick(page);
       const count = sent.length;
       const release = await drag(page, size.touch, 0, -40);
-      await nextCommand(sent, count, (c) => c.linear_mps > 0, 'for the joystick pushed up');
+      await nextCommand(page, sent, count, (c) => c.linear_mps > 0, 'for the joystick pushed up');
       await release();
       await page.getByTestId('mode').filter({ hasText: 'idle' }).waitFor({ timeout: 5000 });
 
