@@ -519,6 +519,28 @@ TEST(ObstacleMemoryTest, ScanPointsOnTheMapsWallsAreTheMapsNotRemembered) {
   EXPECT_GT(memory.size(), 0u);
 }
 
+TEST(ObstacleMemoryTest, BesideAPointTheRobotMayDrivePastItButNotCurveAroundIt) {
+  // A point seen 0.27 m to the left (7 cm from the footprint): a round obstacle's sample, its surface perhaps nearer.
+  ObstacleMemory memory(ObstacleMemoryOptions{});
+  memory.See(Pose2{-1.0, 0.0, 0.0}, {{1.0, 0.27}}, kScanView);
+  const Pose2 beside{0.0, 0.0, 0.0};
+  memory.Update(beside, {}, 0.5);
+  ASSERT_EQ(memory.size(), 1u);
+  // An arc around it at the same distance never closes in, and is refused; the guard's arc ends farther from it.
+  const Twist2 around{0.26, 0.26 / 0.27};
+  EXPECT_TRUE(memory.Blocks(beside, around));
+  const Twist2 guarded = memory.Guard(beside, around);
+  EXPECT_NEAR(guarded.linear_mps, 0.26, 1e-9);
+  EXPECT_LT(guarded.angular_rps, around.angular_rps);
+  EXPECT_FALSE(memory.Blocks(beside, {0.26, 0.0}));  // straight on: past it
+  EXPECT_FALSE(memory.Blocks(beside, {0.0, 1.0}));   // turning on the spot
+  EXPECT_FALSE(memory.Blocks(beside, {0.0, 0.0}));   // standing
+  EXPECT_FALSE(memory.Blocks(beside, around, /*approach=*/true));
+  // 0.35 m away the arc is left alone: beside_m is the nearness where the unsampled surface may touch.
+  const Pose2 farther{0.0, -0.08, 0.0};
+  EXPECT_FALSE(memory.Blocks(farther, {0.26, 0.26 / 0.35}));
+}
+
 TEST(ObstacleMemoryTest, WhenEveryArcIsBlockedItTurnsInPlaceAwayFromTheNearestPoint) {
   ObstacleMemory memory(ObstacleMemoryOptions{});
   // A wall of points just ahead, nearer on the left.

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <utility>
+#include <vector>
 
 namespace corridor::nav {
 namespace {
@@ -122,13 +124,27 @@ ObstacleMemory::Blocker ObstacleMemory::BlockedBy(const Pose2& robot, const Twis
   const double map_now = MapClearance(robot.translation());
   // Crossing the band (at a crawl: the planner caps the speed there), what the camera saw is kept at the final
   // approach's margin: the way out of a ring of specks passes closer than margin_m to some of them.
+  // Near the crossing, and near enough the band to come into it within the margin: farther from the band the robot
+  // is among what the camera saw alone, and keeps the full margin from it.
   const bool in_band =
-      map_now < map_clearance || (band_from_ && (robot.translation() - *band_from_).norm() <= kEscapeReachM);
+      map_now < map_clearance || (band_from_ && (robot.translation() - *band_from_).norm() <= kEscapeReachM &&
+                                  map_now < map_clearance + o.margin_m);
   const double clearance = o.robot_radius_m + (approach || in_band ? o.approach_margin_m : o.margin_m);
   // The footprint touches a wall cell (a square) up to half its diagonal nearer than the cell's centre.
   const double wall_contact_m = map_ ? o.robot_radius_m + 0.75 * map_->grid().resolution_m() : 0.0;
   double now = std::numeric_limits<double>::infinity();
   for (const Point& p : points_) now = std::min(now, (p.world - robot.translation()).norm());
+  // The points within beside_m of touching (not on a final approach; in the band too, where the margin is the final
+  // approach's), each with its distance now: none may come nearer than it is, and moving (more than creeping over the
+  // horizon) must end farther from each.
+  std::vector<std::pair<Eigen::Vector2d, double>> beside;
+  if (!approach && now < o.robot_radius_m + o.beside_m) {
+    for (const Point& p : points_) {
+      const double from = (p.world - robot.translation()).norm();
+      if (from < o.robot_radius_m + o.beside_m) beside.emplace_back(p.world, from);
+    }
+  }
+  const bool moving = std::abs(command.linear_mps) * o.horizon_s > 2.0 * kCreepM;
   Blocker blocker = Blocker::kNone;
   for (double t = o.sweep_step_s; t <= o.horizon_s + 1e-9; t += o.sweep_step_s) {
     const Eigen::Vector2d at = DriveArc(robot, command, t).translation();
@@ -144,6 +160,11 @@ ObstacleMemory::Blocker ObstacleMemory::BlockedBy(const Pose2& robot, const Twis
       const double d = (p.world - at).norm();
       // Inside the clearance and closing in: blocked. Already inside and moving away is how the robot gets out.
       if (d < clearance && d < now - kCreepM) return Blocker::kSeen;
+    }
+    const bool last = t + o.sweep_step_s > o.horizon_s + 1e-9;
+    for (const auto& [point, from] : beside) {
+      const double d = (point - at).norm();
+      if (d < from - kCreepM || (last && moving && d <= from + kCreepM)) return Blocker::kSeen;
     }
   }
   return blocker;

@@ -57,6 +57,13 @@ struct ObstacleMemoryOptions {
   // Kept from remembered points on a goal's final approach, at a crawl: the goal itself may lie within margin_m of
   // what the camera saw around it (the planner let it be that close to the map's obstacles).
   double approach_margin_m = 0.05;
+  // Within this of touching a remembered point (not on a final approach), a command may not bring
+  // the robot nearer to that point at all (elsewhere within the margin, closing in is judged against the nearest
+  // point only, so that a robot too near a row of points may drive along it), and a moving one must leave the robot
+  // farther from it at the end of the horizon. Driving straight past it does; sliding along a row of points that near,
+  // or an arc that keeps the distance (curving around an obstacle, as a learned policy swinging its heading does),
+  // is refused: the samples of a round obstacle lie a few centimetres off its surface, the arcs between them nearer.
+  double beside_m = 0.1;
   double horizon_s = 1.2;  // how far ahead a command is swept
   double sweep_step_s = 0.1;
   double max_turn_rps = 1.0;  // the sharpest arc the guard may substitute
@@ -93,9 +100,9 @@ class ObstacleMemory {
   Twist2 Guard(const Pose2& robot, const Twist2& command, bool approach = false, Blocker* refused_by = nullptr) const;
 
   // What driving `command` from `robot` for the horizon brings the footprint within the margin of, nearer than it is
-  // now (by more than a few millimetres: creeping while turning on the spot is not driving into anything): a
-  // remembered point (kSeen, also when the map's obstacles are too), the map's obstacles alone (kMap), or nothing
-  // (kNone).
+  // now (by more than a few millimetres: creeping while turning on the spot is not driving into anything), or leaves
+  // it no farther from a point within beside_m of touching: a remembered point (kSeen, also when the map's obstacles
+  // are too), the map's obstacles alone (kMap), or nothing (kNone).
   Blocker BlockedBy(const Pose2& robot, const Twist2& command, bool approach = false) const;
   bool Blocks(const Pose2& robot, const Twist2& command, bool approach = false) const {
     return BlockedBy(robot, command, approach) != Blocker::kNone;
@@ -104,8 +111,8 @@ class ObstacleMemory {
   // The costmap of the map the robot drives in (null: none).
   void SetMap(std::shared_ptr<const Costmap> map) { map_ = std::move(map); }
   // The robot's path crosses the map's inflated band near `from` (its way out of it, as the planner gives it to a robot
-  // on an island of free space or in the band: nav/planner/astar.h): within kEscapeReachM of `from`, the band's rules
-  // above hold even before the robot is in the band. nullopt: the path does not.
+  // on an island of free space or in the band: nav/planner/astar.h): within kEscapeReachM of `from` and within
+  // margin_m of the band, the band's rules above hold even before the robot is in the band. nullopt: the path does not.
   void SetBandCrossing(std::optional<Eigen::Vector2d> from) { band_from_ = from; }
   const Costmap* map() const { return map_.get(); }
 
