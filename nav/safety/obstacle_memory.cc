@@ -212,12 +212,8 @@ ObstacleMemory::Blocker ObstacleMemory::Sweep(const Pose2& robot, const Twist2& 
 }
 
 Twist2 ObstacleMemory::Guard(const Pose2& robot, const Twist2& command, bool approach, Blocker* refused_by) const {
-  if (points_.empty() && !map_) {
-    if (refused_by != nullptr) *refused_by = Blocker::kNone;
-    return command;
-  }
   const std::vector<Eigen::Vector2d> obstacles = Obstacles(robot.translation());
-  const Blocker blocker = Sweep(robot, command, approach, obstacles);
+  const Blocker blocker = obstacles.empty() && !map_ ? Blocker::kNone : Sweep(robot, command, approach, obstacles);
   if (refused_by != nullptr) *refused_by = blocker;
   if (blocker == Blocker::kNone) return command;
   // Keeping the speed matters more than keeping the turn: a robot that bends away keeps going.

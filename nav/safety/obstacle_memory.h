@@ -62,12 +62,12 @@ struct ObstacleMemoryOptions {
   // Kept from remembered points on a goal's final approach, at a crawl: the goal itself may lie within margin_m of
   // what the camera saw around it (the planner let it be that close to the map's obstacles).
   double approach_margin_m = 0.05;
-  // Within this of touching a remembered point (not on a final approach), a command may not bring
-  // the robot nearer to that point at all (elsewhere within the margin, closing in is judged against the nearest
-  // point only, so that a robot too near a row of points may drive along it), and a moving one must leave the robot
-  // farther from it at the end of the horizon. Driving straight past it does; sliding along a row of points that near,
-  // or an arc that keeps the distance (curving around an obstacle, as a learned policy swinging its heading does),
-  // is refused: the samples of a round obstacle lie a few centimetres off its surface, the arcs between them nearer.
+  // Within this of touching a remembered point (not on a final approach), a command may not bring the robot nearer
+  // to that point at all (elsewhere within the margin, closing in is judged against the nearest point only, so that a
+  // robot too near a row of points may drive along it), and a moving one must leave the robot farther from it at the
+  // end of the horizon. Driving straight past it does; sliding along a row of points that near, or an arc that keeps
+  // the distance (curving around an obstacle, as a learned policy swinging its heading does), is refused: the samples
+  // of a round obstacle lie a few centimetres off its surface, the arcs between them nearer.
   double beside_m = 0.1;
   // A face of remembered points near the robot (within margin_m + face_extend_m of its footprint) is assumed to go on
   // this far past its last sample, in the direction of its last face_span_m: the part of an obstacle beside the
