@@ -24,9 +24,13 @@ void ObstacleMemory::Update(const Pose2& robot, const std::vector<LaneResult>& l
   std::erase_if(points_, [&](const Point& p) {
     return p.age_s > o.keep_s || (p.world - robot.translation()).norm() > o.keep_radius_m;
   });
-  // Free floor seen past a remembered point clears it.
+  // Free floor seen past a remembered point clears it: the lanes clear what the lanes (or the bumper) put there, and
+  // leave the depth scan's points to later scans (See). A lane looks down a line a centimetre or two wide, not its
+  // whole width: a scan point on the slanted face of an obstacle, or on a cylinder's side beside the line, lies
+  // within the lane's width and nearer than where the line meets the obstacle, and was never in what the lane saw.
   const Pose2 robot_inverse = robot.Inverse();
   std::erase_if(points_, [&](const Point& p) {
+    if (p.scanned) return false;
     const Eigen::Vector2d local = robot_inverse.Transform(p.world);
     if (local.x() < o.clear_from_m) return false;
     return std::any_of(lanes.begin(), lanes.end(), [&](const LaneResult& lane) {

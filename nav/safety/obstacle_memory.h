@@ -41,8 +41,9 @@
 namespace corridor::nav {
 
 struct ObstacleMemoryOptions {
-  // A dead-end is forgotten when a lane later sees free floor past it (a person walked away), when the robot is
-  // farther from it than keep_radius_m, and at the latest keep_s after it was seen.
+  // A dead-end is forgotten when a lane later sees free floor past it (a person walked away), a scan point when a
+  // later scan sees past it (See), either when the robot is farther from it than keep_radius_m, and at the latest
+  // keep_s after it was seen.
   double keep_s = 30.0;
   double keep_radius_m = 1.5;
   double clear_from_m = 0.6;  // lanes see the floor from this forward distance: only beyond it can they clear
