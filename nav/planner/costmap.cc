@@ -10,6 +10,16 @@ namespace {
 // obstacle cell's nearest point can be up to half a diagonal (0.71 cells) closer than its centre.
 constexpr double kCellExtent = 0.71;
 
+OccupancyGrid WithObstacleLayer(const OccupancyGrid& grid, std::span<const std::int8_t> layer) {
+  OccupancyGrid merged = grid;
+  std::vector<std::int8_t>& cells = merged.mutable_cells();
+  const std::size_t n = std::min(cells.size(), layer.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (layer[i] == kOccupiedCell) cells[i] = kOccupiedCell;
+  }
+  return merged;
+}
+
 }  // namespace
 
 Costmap::Costmap(const OccupancyGrid& grid, std::span<const Zone> zones, const CostmapOptions& options)
@@ -53,12 +63,22 @@ Costmap::Costmap(const OccupancyGrid& grid, std::span<const Zone> zones, const C
   }
 }
 
+Costmap::Costmap(const OccupancyGrid& grid, std::span<const std::int8_t> layer, std::span<const Zone> zones,
+                 const CostmapOptions& options)
+    : Costmap(WithObstacleLayer(grid, layer), zones, options) {
+  const std::size_t n = std::min(grid.cells().size(), layer.size());
+  layered_.assign(grid.cells().size(), 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    layered_[i] = layer[i] == kOccupiedCell && grid.cells()[i] < options.occupied_threshold;
+  }
+}
+
 double Costmap::ClearanceAt(const Eigen::Vector2d& p) const {
   const auto cell = grid_.WorldToCell(p);
   return cell ? clearance_m(Index(*cell)) : std::numeric_limits<double>::infinity();
 }
 
-bool Costmap::WallWithin(const Eigen::Vector2d& p, double radius_m) const {
+bool Costmap::WallWithin(const Eigen::Vector2d& p, double radius_m, bool mapped_only) const {
   const double res = grid_.resolution_m();
   const Eigen::Vector2d local = grid_.origin().Inverse().Transform(p) / res;
   const int reach = static_cast<int>(std::ceil(radius_m / res)) + 1;
@@ -68,6 +88,7 @@ bool Costmap::WallWithin(const Eigen::Vector2d& p, double radius_m) const {
     for (int x = cx - reach; x <= cx + reach; ++x) {
       const CellIndex c{x, y};
       if (!grid_.Contains(c) || grid_.at(c) < options_.occupied_threshold) continue;
+      if (mapped_only && !layered_.empty() && layered_[Index(c)]) continue;
       if ((grid_.CellCenter(c) - p).squaredNorm() <= radius_m * radius_m) return true;
     }
   }
@@ -93,16 +114,6 @@ std::optional<Eigen::Vector2d> MostOpenCell(const Costmap& costmap, const Eigen:
     }
   }
   return best;
-}
-
-OccupancyGrid WithObstacleLayer(const OccupancyGrid& grid, std::span<const std::int8_t> layer) {
-  OccupancyGrid merged = grid;
-  std::vector<std::int8_t>& cells = merged.mutable_cells();
-  const std::size_t n = std::min(cells.size(), layer.size());
-  for (std::size_t i = 0; i < n; ++i) {
-    if (layer[i] == kOccupiedCell) cells[i] = kOccupiedCell;
-  }
-  return merged;
 }
 
 }  // namespace corridor::nav

@@ -34,6 +34,11 @@ class Costmap {
 
   // Builds the costmap. Invalid zones must have been rejected before (see Validate).
   Costmap(const OccupancyGrid& grid, std::span<const Zone> zones, const CostmapOptions& options);
+  // The same with every cell an obstacle layer marks occupied (kOccupiedCell; one value per cell of `grid`) made an
+  // obstacle: what the map does not show (the 3D map's table tops, and whatever else the depth camera saw). The map's
+  // own walls stay told apart from them (WallWithin).
+  Costmap(const OccupancyGrid& grid, std::span<const std::int8_t> layer, std::span<const Zone> zones,
+          const CostmapOptions& options);
 
   const OccupancyGrid& grid() const { return grid_; }
   const CostmapOptions& options() const { return options_; }
@@ -48,9 +53,10 @@ class Costmap {
   float clearance_m(std::size_t i) const { return field_.distance_m[i]; }
   // The same at a map-frame point: +infinity outside the map (nothing known there to keep clear of).
   double ClearanceAt(const Eigen::Vector2d& p) const;
-  // Whether a wall the map knows (a cell at or above occupied_threshold: not unknown space, nor a keep-out zone) lies
-  // within radius_m of the map-frame point `p` (cell centres).
-  bool WallWithin(const Eigen::Vector2d& p, double radius_m) const;
+  // Whether a wall (a cell at or above occupied_threshold: not unknown space, nor a keep-out zone) lies within
+  // radius_m of the map-frame point `p` (cell centres); `mapped_only`: a wall of the map itself, not one the obstacle
+  // layer added.
+  bool WallWithin(const Eigen::Vector2d& p, double radius_m, bool mapped_only = false) const;
   // The multiplier on step length: 1 + d(n).
   float step_factor(std::size_t i) const { return step_factor_[i]; }
   float speed_limit_mps(std::size_t i) const { return speed_limit_[i]; }
@@ -64,11 +70,8 @@ class Costmap {
   DistanceField field_;
   std::vector<float> step_factor_;
   std::vector<float> speed_limit_;
+  std::vector<std::uint8_t> layered_;  // per cell: a wall only through the obstacle layer (empty without a layer)
 };
-
-// The grid with every cell the layer marks occupied (kOccupiedCell) made occupied: obstacles the map does not show
-// (the 3D map's table tops). `layer` has one value per cell of `grid`.
-OccupancyGrid WithObstacleLayer(const OccupancyGrid& grid, std::span<const std::int8_t> layer);
 
 // The traversable cell with the most clearance within radius_m of `near` (a place to park or send the robot),
 // or nullopt when none is traversable.

@@ -191,6 +191,23 @@ TEST(PlannerTest, KeepOutZoneAcrossTheOnlyCorridorMeansNoPath) {
   EXPECT_NE(PlanPath(blocked, west, {5.0, 2.5}).detail.find("keep-out"), std::string::npos);
 }
 
+TEST(PlannerTest, AnObstacleLayersCellsBlockPlansButAreNotTheMapsWalls) {
+  // A free room with a wall along y = 0 and, from the obstacle layer, a post at (2.0, 1.0).
+  OccupancyGrid g(80, 40, 0.05, {}, kFreeCell);
+  for (int x = 0; x < 80; ++x) g.at({x, 0}) = kOccupiedCell;
+  std::vector<std::int8_t> layer(g.cells().size(), kFreeCell);
+  layer[static_cast<std::size_t>(20) * 80 + 40] = kOccupiedCell;
+  const Costmap c(g, layer, {}, CostmapOptions{});
+  const Eigen::Vector2d post = g.CellCenter({40, 20});
+  EXPECT_FALSE(c.Traversable(c.Index({40, 20})));
+  EXPECT_TRUE(c.WallWithin(post, 0.05));
+  EXPECT_FALSE(c.WallWithin(post, 0.05, /*mapped_only=*/true));
+  EXPECT_TRUE(c.WallWithin(g.CellCenter({40, 0}), 0.05, /*mapped_only=*/true));
+  // The same layer cell over a wall of the map is still the map's.
+  layer[40] = kOccupiedCell;
+  EXPECT_TRUE(Costmap(g, layer, {}, CostmapOptions{}).WallWithin(g.CellCenter({40, 0}), 0.05, true));
+}
+
 TEST(PlannerTest, SpeedZonesAreCarriedOntoTheWaypoints) {
   OccupancyGrid g(200, 60, 0.05, {}, kFreeCell);
   const std::vector<Zone> zones = {

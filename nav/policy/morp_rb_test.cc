@@ -536,6 +536,18 @@ TEST(ObstacleMemoryTest, ALaneSeeingFloorBesideAScanPointLeavesItToTheScans) {
   EXPECT_EQ(memory.size(), 0u);
 }
 
+TEST(ObstacleMemoryTest, WhatTheObstacleLayerPutOnTheCostmapIsStillRemembered) {
+  // The same wall, once in the map and once only in the obstacle layer (the 3D map's cells of what the camera saw):
+  // the map's wall is known without the memory, the layer's is remembered and kept clear of as seen.
+  OccupancyGrid grid(120, 60, 0.05, Pose2{-1.0, -1.5, 0.0}, kFreeCell);
+  std::vector<std::int8_t> layer(grid.cells().size(), kFreeCell);
+  for (int x = 0; x < 120; ++x) layer[static_cast<std::size_t>(40) * 120 + x] = kOccupiedCell;  // y = 0.50-0.55
+  ObstacleMemory memory(ObstacleMemoryOptions{});
+  memory.SetMap(std::make_shared<const Costmap>(grid, layer, std::span<const Zone>{}, CostmapOptions{}));
+  memory.See(Pose2{0, 0, 0}, ScanAlong(0.5, 0.5, 1.0), kScanView);
+  EXPECT_GT(memory.size(), 0u);
+}
+
 TEST(ObstacleMemoryTest, BesideAPointTheRobotMayDrivePastItButNotCurveAroundIt) {
   // A point seen 0.27 m to the left (7 cm from the footprint): a round obstacle's sample, its surface perhaps nearer.
   ObstacleMemory memory(ObstacleMemoryOptions{});

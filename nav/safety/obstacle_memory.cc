@@ -104,7 +104,7 @@ void ObstacleMemory::Touched(const Pose2& robot, bool backing) {
 }
 
 bool ObstacleMemory::OnMapWall(const Eigen::Vector2d& at) const {
-  return map_ && map_->WallWithin(at, options_.scan_map_tolerance_m);
+  return map_ && map_->WallWithin(at, options_.scan_map_tolerance_m, /*mapped_only=*/true);
 }
 
 double ObstacleMemory::MapClearance(const Eigen::Vector2d& at) const {

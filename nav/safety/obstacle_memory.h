@@ -85,7 +85,8 @@ struct ObstacleMemoryOptions {
   double scan_bearing_rad = 0.0175;
   double scan_clear_m = 0.1;
   // Scan points and dead-ends this near a wall the map knows are the map's: not remembered (what is seen over its
-  // unknown space is).
+  // unknown space is, and what the 3D map's obstacle layer put on the costmap: the camera saw that too, and its cells
+  // are no more exact than the memory's points, nor hold the sides never seen).
   double scan_map_tolerance_m = 0.1;
 };
 
@@ -156,7 +157,8 @@ class ObstacleMemory {
                 const std::vector<Eigen::Vector2d>& points) const;
   // The map's clearance at `at` (+infinity without a map or outside it).
   double MapClearance(const Eigen::Vector2d& at) const;
-  // Whether `at` lies within scan_map_tolerance_m of a wall the map knows (false without a map).
+  // Whether `at` lies within scan_map_tolerance_m of a wall of the map itself (false without a map; the obstacle
+  // layer's walls are not the map's).
   bool OnMapWall(const Eigen::Vector2d& at) const;
   void Remember(const Eigen::Vector2d& world, bool scanned = false);
 

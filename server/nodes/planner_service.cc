@@ -91,7 +91,7 @@ std::shared_ptr<const nav::Costmap> PlannerService::Current(double* build_ms) {
     nav::ClearDoors(*map, doors, kDoorHalfWidthM, *cleared);
     layer = std::move(cleared);
   }
-  costmap_ = layer ? std::make_shared<const nav::Costmap>(nav::WithObstacleLayer(*map, *layer), zones, options_)
+  costmap_ = layer ? std::make_shared<const nav::Costmap>(*map, *layer, zones, options_)
                    : std::make_shared<const nav::Costmap>(*map, zones, options_);
   costmap_version_ = version;
   *build_ms = MsSince(start);
