@@ -570,29 +570,6 @@ TEST(ObstacleMemoryTest, BesideAPointTheRobotMayDrivePastItButNotCurveAroundIt) 
   EXPECT_FALSE(memory.Blocks(farther, {0.26, 0.26 / 0.35}));
 }
 
-TEST(ObstacleMemoryTest, AFaceBesideTheRobotIsAssumedToGoOnPastItsLastSample) {
-  // The face of something along y = 0.32, sampled from 0.5 m behind the robot to 5 cm behind it: where it goes on,
-  // beside the robot and out of the camera's view, nothing was sampled.
-  const auto seen = [](ObstacleMemoryOptions options) {
-    ObstacleMemory memory(options);
-    memory.See(Pose2{-1.0, 0.0, 0.0}, ScanAlong(0.32, 0.5, 0.95), kScanView);
-    memory.Update(Pose2{0.0, 0.0, 0.0}, {}, 0.5);
-    return memory;
-  };
-  ObstacleMemoryOptions extended;
-  extended.face_extend_m = 0.25;
-  const ObstacleMemory memory = seen(extended);
-  const ObstacleMemoryOptions samples_only;  // the default: off
-  const Pose2 robot{0.0, 0.0, 0.0};
-  // A tight turn toward it, round the end of what was sampled, runs into where the face would go on.
-  const Twist2 round_the_end{0.26, 0.9};
-  EXPECT_TRUE(memory.Blocks(robot, round_the_end));
-  EXPECT_FALSE(seen(samples_only).Blocks(robot, round_the_end));
-  // Driving on along it, or away from it, is left alone.
-  EXPECT_FALSE(memory.Blocks(robot, {0.26, 0.0}));
-  EXPECT_FALSE(memory.Blocks(robot, {0.26, -0.5}));
-}
-
 TEST(ObstacleMemoryTest, WhenEveryArcIsBlockedItTurnsInPlaceAwayFromTheNearestPoint) {
   ObstacleMemory memory(ObstacleMemoryOptions{});
   // A wall of points just ahead, nearer on the left.

@@ -122,48 +122,7 @@ void ObstacleMemory::Forget(const Eigen::Vector2d& centre, double radius_m) {
   std::erase_if(points_, [&](const Point& p) { return (p.world - centre).norm() <= radius_m; });
 }
 
-std::vector<Eigen::Vector2d> ObstacleMemory::FaceExtensions(const Eigen::Vector2d& robot) const {
-  const ObstacleMemoryOptions& o = options_;
-  std::vector<Eigen::Vector2d> out;
-  if (o.face_extend_m <= 0.0) return out;
-  const double near = o.robot_radius_m + o.margin_m + o.face_extend_m;
-  for (const Point& p : points_) {
-    if ((p.world - robot).norm() > near) continue;
-    // The face's direction at p: from the farthest point within face_span_m (a short base would follow the noise).
-    const Point* from = nullptr;
-    double farthest = 2.0 * o.cell_m;
-    for (const Point& q : points_) {
-      const double d = (q.world - p.world).norm();
-      if (d >= farthest && d <= o.face_span_m) {
-        farthest = d;
-        from = &q;
-      }
-    }
-    if (from == nullptr) continue;
-    const Eigen::Vector2d dir = (p.world - from->world) / farthest;
-    // An end: nothing remembered just past it.
-    const bool end = std::none_of(points_.begin(), points_.end(), [&](const Point& r) {
-      const Eigen::Vector2d to = r.world - p.world;
-      return to.norm() <= o.face_span_m && to.dot(dir) > 0.5 * o.cell_m;
-    });
-    if (!end) continue;
-    for (double s = o.cell_m; s <= o.face_extend_m + 1e-9; s += o.cell_m) out.push_back(p.world + s * dir);
-  }
-  return out;
-}
-
-std::vector<Eigen::Vector2d> ObstacleMemory::Obstacles(const Eigen::Vector2d& robot) const {
-  std::vector<Eigen::Vector2d> out = FaceExtensions(robot);
-  for (const Point& p : points_) out.push_back(p.world);
-  return out;
-}
-
 ObstacleMemory::Blocker ObstacleMemory::BlockedBy(const Pose2& robot, const Twist2& command, bool approach) const {
-  return Sweep(robot, command, approach, Obstacles(robot.translation()));
-}
-
-ObstacleMemory::Blocker ObstacleMemory::Sweep(const Pose2& robot, const Twist2& command, bool approach,
-                                              const std::vector<Eigen::Vector2d>& points) const {
   const ObstacleMemoryOptions& o = options_;
   const double map_clearance = o.robot_radius_m + o.map_margin_m;
   const double map_now = MapClearance(robot.translation());
@@ -178,15 +137,15 @@ ObstacleMemory::Blocker ObstacleMemory::Sweep(const Pose2& robot, const Twist2& 
   // The footprint touches a wall cell (a square) up to half its diagonal nearer than the cell's centre.
   const double wall_contact_m = map_ ? o.robot_radius_m + 0.75 * map_->grid().resolution_m() : 0.0;
   double now = std::numeric_limits<double>::infinity();
-  for (const Eigen::Vector2d& p : points) now = std::min(now, (p - robot.translation()).norm());
+  for (const Point& p : points_) now = std::min(now, (p.world - robot.translation()).norm());
   // The points within beside_m of touching (not on a final approach; in the band too, where the margin is the final
   // approach's), each with its distance now: none may come nearer than it is, and moving (more than creeping over the
   // horizon) must end farther from each.
   std::vector<std::pair<Eigen::Vector2d, double>> beside;
   if (!approach && now < o.robot_radius_m + o.beside_m) {
-    for (const Eigen::Vector2d& p : points) {
-      const double from = (p - robot.translation()).norm();
-      if (from < o.robot_radius_m + o.beside_m) beside.emplace_back(p, from);
+    for (const Point& p : points_) {
+      const double from = (p.world - robot.translation()).norm();
+      if (from < o.robot_radius_m + o.beside_m) beside.emplace_back(p.world, from);
     }
   }
   const bool moving = std::abs(command.linear_mps) * o.horizon_s > 2.0 * kCreepM;
@@ -201,8 +160,8 @@ ObstacleMemory::Blocker ObstacleMemory::Sweep(const Pose2& robot, const Twist2& 
     } else if (map_->WallWithin(at, wall_contact_m) && !map_->WallWithin(robot.translation(), wall_contact_m)) {
       blocker = Blocker::kMap;
     }
-    for (const Eigen::Vector2d& p : points) {
-      const double d = (p - at).norm();
+    for (const Point& p : points_) {
+      const double d = (p.world - at).norm();
       // Inside the clearance and closing in: blocked. Already inside and moving away is how the robot gets out.
       if (d < clearance && d < now - kCreepM) return Blocker::kSeen;
     }
@@ -216,8 +175,7 @@ ObstacleMemory::Blocker ObstacleMemory::Sweep(const Pose2& robot, const Twist2& 
 }
 
 Twist2 ObstacleMemory::Guard(const Pose2& robot, const Twist2& command, bool approach, Blocker* refused_by) const {
-  const std::vector<Eigen::Vector2d> obstacles = Obstacles(robot.translation());
-  const Blocker blocker = obstacles.empty() && !map_ ? Blocker::kNone : Sweep(robot, command, approach, obstacles);
+  const Blocker blocker = points_.empty() && !map_ ? Blocker::kNone : BlockedBy(robot, command, approach);
   if (refused_by != nullptr) *refused_by = blocker;
   if (blocker == Blocker::kNone) return command;
   // Keeping the speed matters more than keeping the turn: a robot that bends away keeps going.
@@ -230,9 +188,7 @@ Twist2 ObstacleMemory::Guard(const Pose2& robot, const Twist2& command, bool app
     if (v == 0.0) continue;
     for (const double dw : {0.0, 0.25, -0.25, 0.5, -0.5, 0.75, -0.75, 1.0, -1.0, 1.5, -1.5, 2.0, -2.0}) {
       const Twist2 candidate{v, std::clamp(command.angular_rps + dw, -w_max, w_max)};
-      if ((!best || cost(candidate) < cost(*best)) && Sweep(robot, candidate, approach, obstacles) == Blocker::kNone) {
-        best = candidate;
-      }
+      if ((!best || cost(candidate) < cost(*best)) && !Blocks(robot, candidate, approach)) best = candidate;
     }
   }
   if (best) return *best;

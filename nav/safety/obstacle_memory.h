@@ -22,8 +22,7 @@
 //
 // Even so, the part of an obstacle that comes beside the robot as it turns round it may never have been in view
 // (traced in docs/benchmarks.md: a learned policy curving round a 1 m cylinder touched its unseen side 3 cm from where
-// the samples' line went on). Within beside_m of touching what it remembers the robot must draw away; a face of
-// remembered points near the robot can be assumed to go on a little past its last sample (face_extend_m, off).
+// the samples' line went on). Within beside_m of touching what it remembers the robot must draw away.
 #pragma once
 
 #include <memory>
@@ -70,13 +69,6 @@ struct ObstacleMemoryOptions {
   // the distance (curving around an obstacle, as a learned policy swinging its heading does), is refused: the samples
   // of a round obstacle lie a few centimetres off its surface, the arcs between them nearer.
   double beside_m = 0.1;
-  // A face of remembered points near the robot (within margin_m + face_extend_m of its footprint) is assumed to go on
-  // this far past its last sample, in the direction of its last face_span_m: the part of an obstacle beside the
-  // robot, out of the camera's view, was often never sampled. 0: off, the default: at 0.25 m MORP-IL touched no
-  // unmapped obstacle in 300 runs among static obstacles, but MORP-RB failed more often (boxed into corners, and one
-  // collision; docs/benchmarks.md).
-  double face_extend_m = 0.0;
-  double face_span_m = 0.15;
   double horizon_s = 1.2;  // how far ahead a command is swept
   double sweep_step_s = 0.1;
   double max_turn_rps = 1.0;  // the sharpest arc the guard may substitute
@@ -148,13 +140,6 @@ class ObstacleMemory {
     double age_s;
     bool scanned;  // from a depth scan: a later scan may clear it
   };
-  // Where the faces of the remembered points near `robot` go on past their ends (face_extend_m).
-  std::vector<Eigen::Vector2d> FaceExtensions(const Eigen::Vector2d& robot) const;
-  // The remembered points and their faces' extensions near `robot`: what a sweep keeps clear of.
-  std::vector<Eigen::Vector2d> Obstacles(const Eigen::Vector2d& robot) const;
-  // BlockedBy against `points` (Obstacles), made once for all of a Guard's candidates.
-  Blocker Sweep(const Pose2& robot, const Twist2& command, bool approach,
-                const std::vector<Eigen::Vector2d>& points) const;
   // The map's clearance at `at` (+infinity without a map or outside it).
   double MapClearance(const Eigen::Vector2d& at) const;
   // Whether `at` lies within scan_map_tolerance_m of a wall of the map itself (false without a map; the obstacle
