@@ -10,6 +10,11 @@ namespace {
 // obstacle cell's nearest point can be up to half a diagonal (0.71 cells) closer than its centre.
 constexpr double kCellExtent = 0.71;
 
+// How far a traversable cell's centre is from every obstacle cell's centre.
+double InflationM(const CostmapOptions& options, double resolution_m) {
+  return options.robot_radius_m + kCellExtent * resolution_m;
+}
+
 OccupancyGrid WithObstacleLayer(const OccupancyGrid& grid, std::span<const std::int8_t> layer) {
   OccupancyGrid merged = grid;
   std::vector<std::int8_t>& cells = merged.mutable_cells();
@@ -36,7 +41,7 @@ Costmap::Costmap(const OccupancyGrid& grid, std::span<const Zone> zones, const C
     obstacle_[i] = keep_out_[i] || unknown_blocks || v >= options.occupied_threshold;
   }
 
-  const double inflation_m = options.robot_radius_m + kCellExtent * grid.resolution_m();
+  const double inflation_m = InflationM(options, grid.resolution_m());
   field_ = FastMarchingDistance(obstacle_, grid.width(), grid.height(), grid.resolution_m(),
                                 {.max_distance_m = inflation_m + options.saturation_m + grid.resolution_m()});
   traversable_.assign(n, 0);
@@ -70,6 +75,13 @@ Costmap::Costmap(const OccupancyGrid& grid, std::span<const std::int8_t> layer, 
   layered_.assign(grid.cells().size(), 0);
   for (std::size_t i = 0; i < n; ++i) {
     layered_[i] = layer[i] == kOccupiedCell && grid.cells()[i] < options.occupied_threshold;
+  }
+  if (options.layer_margin_m <= 0.0 || options.layer_cost <= 0.0) return;
+  const double kept_m = InflationM(options, grid.resolution_m()) + options.layer_margin_m;
+  const DistanceField from_layer = FastMarchingDistance(layered_, grid.width(), grid.height(), grid.resolution_m(),
+                                                        {.max_distance_m = kept_m + grid.resolution_m()});
+  for (std::size_t i = 0; i < layered_.size(); ++i) {
+    if (traversable_[i] && from_layer.distance_m[i] < kept_m) step_factor_[i] += static_cast<float>(options.layer_cost);
   }
 }
 

@@ -26,6 +26,12 @@ struct CostmapOptions {
   double saturation_m = 0.5;    // clearance beyond the inflation boundary at which d(n) reaches 0
   int occupied_threshold = 65;  // cells at or above this occupancy are obstacles
   UnknownPolicy unknown = UnknownPolicy::kObstacle;
+  // What only the obstacle layer shows (the camera saw it, the map does not) the local guard keeps its margin from
+  // (ObstacleMemoryOptions::margin_m), more than the map's walls: a path within robot_radius_m + layer_margin_m of it
+  // leads to a gap the robot will not drive through. Such cells add layer_cost to the step factor: a cost, not a wall,
+  // so that a goal beside such an obstacle, and a gap that is the only way, are still planned.
+  double layer_margin_m = 0.15;
+  double layer_cost = 20.0;
 };
 
 class Costmap {
@@ -35,8 +41,9 @@ class Costmap {
   // Builds the costmap. Invalid zones must have been rejected before (see Validate).
   Costmap(const OccupancyGrid& grid, std::span<const Zone> zones, const CostmapOptions& options);
   // The same with every cell an obstacle layer marks occupied (kOccupiedCell; one value per cell of `grid`) made an
-  // obstacle: what the map does not show (the 3D map's table tops, and whatever else the depth camera saw). The map's
-  // own walls stay told apart from them (WallWithin).
+  // obstacle: what the map does not show (the 3D map's table tops, and whatever else the depth camera saw), with
+  // layer_cost within layer_margin_m beyond the inflation around them. The map's own walls stay told apart from them
+  // (WallWithin).
   Costmap(const OccupancyGrid& grid, std::span<const std::int8_t> layer, std::span<const Zone> zones,
           const CostmapOptions& options);
 

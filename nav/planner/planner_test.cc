@@ -208,6 +208,31 @@ TEST(PlannerTest, AnObstacleLayersCellsBlockPlansButAreNotTheMapsWalls) {
   EXPECT_TRUE(Costmap(g, layer, {}, CostmapOptions{}).WallWithin(g.CellCenter({40, 0}), 0.05, true));
 }
 
+TEST(PlannerTest, PlansKeepTheGuardsMarginFromTheObstacleLayerWhereThereIsAnotherWay) {
+  // A 6 x 4 m room split at x = 3 m by a wall of the map up to y = 2.5 m; the camera saw a post at y = 3.05-3.1 m:
+  // a gap of 0.55 m below it (narrower than the robot with the map's margin and the guard's) and 0.85 m above it.
+  OccupancyGrid g(120, 80, 0.05, {}, kFreeCell);
+  for (int x = 0; x < 120; ++x) g.at({x, 79}) = kOccupiedCell;
+  for (int y = 0; y < 50; ++y) g.at({60, y}) = kOccupiedCell;
+  std::vector<std::int8_t> layer(g.cells().size(), kFreeCell);
+  layer[static_cast<std::size_t>(61) * 120 + 60] = kOccupiedCell;
+  const Eigen::Vector2d post = g.CellCenter({60, 61});
+  const auto crossing = [&](const Costmap& c) {
+    const PlanResult r = PlanPath(c, {1.0, 1.0}, {5.0, 1.0});
+    EXPECT_TRUE(r.ok()) << r.detail;
+    double y = 0.0;
+    for (const Eigen::Vector2d& p : r.plan.dense) {
+      if (std::abs(p.x() - post.x()) < 0.03) y = p.y();
+    }
+    return y;
+  };
+  EXPECT_GT(crossing(Costmap(g, layer, {}, CostmapOptions{})), post.y() + 0.35);  // above the post
+  EXPECT_LT(crossing(Costmap(g, layer, {}, CostmapOptions{.layer_cost = 0.0})), post.y());
+  // With the way above closed, the narrow gap is still planned.
+  for (int y = 62; y < 80; ++y) g.at({60, y}) = kOccupiedCell;
+  EXPECT_LT(crossing(Costmap(g, layer, {}, CostmapOptions{})), post.y());
+}
+
 TEST(PlannerTest, SpeedZonesAreCarriedOntoTheWaypoints) {
   OccupancyGrid g(200, 60, 0.05, {}, kFreeCell);
   const std::vector<Zone> zones = {

@@ -151,6 +151,7 @@ void ReadPlanner(ConfigReader& r, nav::CostmapOptions& o) {
   r.Read("distance_weight", o.distance_weight, 0.0, 100.0);
   r.Read("saturation_m", o.saturation_m, 0.01, 10.0);
   r.Read("occupied_threshold", o.occupied_threshold, 1, 100);
+  r.Read("layer_cost", o.layer_cost, 0.0, 1000.0);
   bool unknown_is_free = o.unknown == nav::UnknownPolicy::kFree;
   r.Read("unknown_is_free", unknown_is_free);
   o.unknown = unknown_is_free ? nav::UnknownPolicy::kFree : nav::UnknownPolicy::kObstacle;
@@ -1050,6 +1051,9 @@ void ApplyDerivedOptions(Config& config) {
   navigator.avoid.stopping = config.safety.stopping;
   navigator.avoid.front_offset_m = config.safety.front_offset_m;
   navigator.memory.robot_radius_m = config.safety.front_offset_m;
+  // The planner keeps the guard's margin from what the camera saw (at a cost), so that it does not plan gaps the
+  // guard refuses.
+  config.planner.layer_margin_m = navigator.memory.margin_m;
   navigator.evade.robot_radius_m = config.safety.front_offset_m;
   navigator.evade.max_linear_mps = navigator.follower.max_linear_mps;
   navigator.safe.robot_radius_m = config.safety.front_offset_m;

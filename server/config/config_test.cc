@@ -498,6 +498,14 @@ TEST_F(ConfigTest, TrackingAndEvasionKeysAreReadAndChecked) {
             std::string::npos);
 }
 
+TEST_F(ConfigTest, ThePlannerKeepsTheGuardsMarginFromWhatTheCameraSawAtTheCostSet) {
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\nplanner: {layer_cost: 5}\n";
+  const Config c = LoadConfig(dir_ / "c.yaml");
+  EXPECT_DOUBLE_EQ(c.planner.layer_cost, 5.0);
+  EXPECT_DOUBLE_EQ(c.planner.layer_margin_m, c.mission.navigator.memory.margin_m);
+  EXPECT_NE(ErrorOf("sim: {world: w.yaml}\nplanner: {layer_cost: -1}\n").find("planner.layer_cost"), std::string::npos);
+}
+
 TEST_F(ConfigTest, LocalizationKeysAreReadAndChecked) {
   std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\n"
                                     "localization: {source: mcl, initial_sigma_m: 0.3, initial_sigma_deg: 10,"
