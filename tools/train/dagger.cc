@@ -28,12 +28,6 @@ scenario::ScenarioOptions Runs(const DaggerOptions& o, std::uint32_t seed, int w
   return run;
 }
 
-// Better on validation: more successes, then fewer collisions.
-bool Better(const scenario::PolicySummary& a, const scenario::PolicySummary& b) {
-  if (a.success != b.success) return a.success > b.success;
-  return a.collision < b.collision;
-}
-
 // What differs between the policies trained: who teaches first, the network, the loss.
 struct Learner {
   scenario::Policy expert;  // the policy driving the cloning runs
@@ -123,7 +117,7 @@ DaggerResult TrainPolicy(const DaggerOptions& o, const std::function<void(const 
     it.validation = scenario::Summarise(scenario::RunAll(validate)).at(0);
     const nav::Examples held_out = validate.teach->Take(learner.inputs);
     if (held_out.size() > 0) std::tie(it.validation_loss, it.validation_accuracy) = Score(*net, learner.loss, held_out);
-    if (result.iterations.empty() || Better(it.validation, result.iterations[result.best_iteration].validation)) {
+    if (result.iterations.empty() || BetterOnValidation(it, result.iterations[result.best_iteration])) {
       result.best = *net;
       result.best_iteration = i;
     }
@@ -131,6 +125,12 @@ DaggerResult TrainPolicy(const DaggerOptions& o, const std::function<void(const 
     if (progress) progress(it);
   }
   return result;
+}
+
+bool BetterOnValidation(const DaggerIteration& a, const DaggerIteration& b) {
+  if (a.validation.success != b.validation.success) return a.validation.success > b.validation.success;
+  if (a.validation.collision != b.validation.collision) return a.validation.collision < b.validation.collision;
+  return a.validation_loss < b.validation_loss;
 }
 
 }  // namespace corridor::tools

@@ -57,6 +57,11 @@ struct DaggerResult {
   std::vector<DaggerIteration> iterations;
 };
 
+// Which of two iterations' networks is kept: more successes on the validation runs, then fewer collisions, then the
+// lower loss on their steps against the expert's labels (ten runs tie often; the loss tells networks that drive alike
+// apart by how near the expert they stay where they drive themselves).
+bool BetterOnValidation(const DaggerIteration& a, const DaggerIteration& b);
+
 // Throws std::invalid_argument for options that cannot train. `progress` (optional) hears of each iteration.
 DaggerResult TrainPolicy(const DaggerOptions& options,
                          const std::function<void(const DaggerIteration&)>& progress = nullptr);
