@@ -83,7 +83,7 @@ void BM_Costmap(benchmark::State& state) {
 BENCHMARK(BM_Costmap)->Unit(benchmark::kMillisecond);
 
 // The daemon's costmap: the same with the 3D map's obstacle layer, here posts of 15 x 15 cm every 2 m wherever the
-// map is free (the guard's margin around them costs extra: a second fast march, over the layer's cells).
+// map is free, without and with the guard's margin round them at a cost (discs stamped round the layer's edge cells).
 void BM_CostmapWithLayer(benchmark::State& state) {
   const OccupancyGrid& map = Willow();
   std::vector<std::int8_t> layer(map.cells().size(), kFreeCell);

@@ -25,6 +25,36 @@ OccupancyGrid WithObstacleLayer(const OccupancyGrid& grid, std::span<const std::
   return merged;
 }
 
+// Per cell of a width x height mask: whether its centre lies nearer than radius_cells to the centre of a marked cell.
+// A disc is stamped round each marked cell on the mask's edge only (the nearest marked cell to anything outside is
+// one), which costs a fraction of a fast march over the mask.
+std::vector<std::uint8_t> Within(const std::vector<std::uint8_t>& marked, int w, int h, double radius_cells) {
+  const int reach = static_cast<int>(std::ceil(radius_cells));
+  std::vector<std::pair<int, int>> disc;
+  for (int dy = -reach; dy <= reach; ++dy) {
+    for (int dx = -reach; dx <= reach; ++dx) {
+      if (dx * dx + dy * dy < radius_cells * radius_cells) disc.emplace_back(dx, dy);
+    }
+  }
+  const auto on_edge = [&](int x, int y, std::size_t i) {
+    return x == 0 || y == 0 || x == w - 1 || y == h - 1 || !marked[i - 1] || !marked[i + 1] || !marked[i - w] ||
+           !marked[i + w];
+  };
+  std::vector<std::uint8_t> within(marked.size(), 0);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * w + x;
+      if (!marked[i] || !on_edge(x, y, i)) continue;
+      for (const auto& [dx, dy] : disc) {
+        const int nx = x + dx;
+        const int ny = y + dy;
+        if (nx >= 0 && nx < w && ny >= 0 && ny < h) within[static_cast<std::size_t>(ny) * w + nx] = 1;
+      }
+    }
+  }
+  return within;
+}
+
 }  // namespace
 
 Costmap::Costmap(const OccupancyGrid& grid, std::span<const Zone> zones, const CostmapOptions& options)
@@ -77,34 +107,8 @@ Costmap::Costmap(const OccupancyGrid& grid, std::span<const std::int8_t> layer, 
     layered_[i] = layer[i] == kOccupiedCell && grid.cells()[i] < options.occupied_threshold;
   }
   if (options.layer_margin_m <= 0.0 || options.layer_cost <= 0.0) return;
-  // The cells whose centres lie nearer than the inflation and the margin to a layer cell's centre: a disc stamped
-  // round each layer cell on the layer's edge, whose nearest cell to anything outside is one (a fast march over the
-  // layer alone cost half as much as the whole costmap).
-  const double kept_cells = (InflationM(options, grid.resolution_m()) + options.layer_margin_m) / grid.resolution_m();
-  const int reach = static_cast<int>(std::ceil(kept_cells));
-  std::vector<std::pair<int, int>> disc;
-  for (int dy = -reach; dy <= reach; ++dy) {
-    for (int dx = -reach; dx <= reach; ++dx) {
-      if (dx * dx + dy * dy < kept_cells * kept_cells) disc.emplace_back(dx, dy);
-    }
-  }
-  std::vector<std::uint8_t> within(layered_.size(), 0);
-  const int w = grid.width();
-  const int h = grid.height();
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * w + x;
-      if (!layered_[i]) continue;
-      const bool edge = x == 0 || y == 0 || x == w - 1 || y == h - 1 || !layered_[i - 1] || !layered_[i + 1] ||
-                        !layered_[i - w] || !layered_[i + w];
-      if (!edge) continue;
-      for (const auto& [dx, dy] : disc) {
-        const int nx = x + dx;
-        const int ny = y + dy;
-        if (nx >= 0 && nx < w && ny >= 0 && ny < h) within[static_cast<std::size_t>(ny) * w + nx] = 1;
-      }
-    }
-  }
+  const double kept_m = InflationM(options, grid.resolution_m()) + options.layer_margin_m;
+  const std::vector<std::uint8_t> within = Within(layered_, grid.width(), grid.height(), kept_m / grid.resolution_m());
   for (std::size_t i = 0; i < within.size(); ++i) {
     if (within[i] && traversable_[i]) step_factor_[i] += static_cast<float>(options.layer_cost);
   }
