@@ -74,12 +74,15 @@ void SerialTextBase::AwaitBoard(SerialPort& port, LineSplitter& lines, std::stop
     lines.Push(std::span<const std::uint8_t>(buffer.data(), n), got);
     for (const std::string& line : got) {
       if (const std::optional<EncoderCounts> counts = ParseEncoders(line)) {
-        // Where counting starts; the stream is watched from here on.
+        // Where counting starts; the stream is watched from here on. The answer is to the last ask: those before it
+        // went to a board still booting.
         const TimeNs at = clock_.Now();
         last_counts_ = counts;
-        last_counts_asked_ns_ = Answered(at);
+        last_counts_asked_ns_ = asks_.empty() ? at : asks_.back();
+        asks_.clear();
         Reported(at);
-        odometry_.Update(at, static_cast<std::uint16_t>(counts->left), static_cast<std::uint16_t>(counts->right));
+        odometry_.Update(last_counts_asked_ns_, static_cast<std::uint16_t>(counts->left),
+                         static_cast<std::uint16_t>(counts->right));
         return;
       }
     }
@@ -138,8 +141,10 @@ void SerialTextBase::Take(SerialPort& port, const EncoderCounts& counts) {
   last_counts_ = counts;
   last_counts_asked_ns_ = asked;
   Reported(now);
+  // The counts are as the board had them when asked (it answers at once; a late control loop takes the answer
+  // later): stamped with the ask, so the velocity covers the time between the questions, not between the takings.
   // The low 16 bits: the odometry's wrap-around arithmetic holds for any count width.
-  odometry_.Update(now, static_cast<std::uint16_t>(counts.left), static_cast<std::uint16_t>(counts.right));
+  odometry_.Update(asked, static_cast<std::uint16_t>(counts.left), static_cast<std::uint16_t>(counts.right));
   nav::Twist2 target;
   OdometryHandler odometry;
   {
@@ -154,7 +159,7 @@ void SerialTextBase::Take(SerialPort& port, const EncoderCounts& counts) {
   const std::string command = EncodeMotorSpeeds(CountsPerFrame(driven.linear_mps - half_track * driven.angular_rps),
                                                 CountsPerFrame(driven.linear_mps + half_track * driven.angular_rps));
   port.Write(Bytes(command));
-  if (odometry) odometry(WheelOdometry{now, odometry_.pose(), odometry_.velocity(), false, false});
+  if (odometry) odometry(WheelOdometry{asked, odometry_.pose(), odometry_.velocity(), false, false});
 }
 
 double SerialTextBase::CountsPerMetre() const {
