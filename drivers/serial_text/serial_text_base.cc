@@ -18,7 +18,7 @@ constexpr double kPlausibleSlackCounts = 20.0;
 constexpr int kRestartAfter = 3;
 // While the board boots, the counts are asked for this often.
 constexpr double kBootPollS = 0.2;
-// Asks kept waiting for their answers: a second of them at the usual rate (replies lost to noise leave theirs behind).
+// Asks kept waiting for their answers at most (a board answering slower than stale_s still has some kept).
 constexpr std::size_t kAsksKept = 32;
 
 std::span<const std::uint8_t> Bytes(std::string_view text) {
@@ -105,8 +105,12 @@ void SerialTextBase::Handle(SerialPort& port, LineSplitter& lines, std::span<con
 }
 
 void SerialTextBase::Ask(SerialPort& port) {
+  const TimeNs now = clock_.Now();
+  // An ask still unanswered after stale_s lost its reply (garbled, or gone with noise): kept, it would pair every
+  // later reply with an ask before its own, and stamp the odometry that much late.
+  while (!asks_.empty() && ToSeconds(now - asks_.front()) > options_.stale_s) asks_.pop_front();
   port.Write(Bytes(kReadEncoders));
-  asks_.push_back(clock_.Now());
+  asks_.push_back(now);
   if (asks_.size() > kAsksKept) asks_.pop_front();
 }
 

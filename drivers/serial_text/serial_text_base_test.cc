@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <string>
 
 #include "testing/emulators/serial_text_emulator.h"
@@ -126,6 +127,28 @@ TEST(SerialTextBaseTest, NoiseAndALostDigitCostAReplyNotThePose) {
   EXPECT_NEAR(o.odom_T_base.y_m, 0.0, 1e-9);
   EXPECT_EQ(base.status().state, LinkState::kRunning);
   EXPECT_EQ(base.status().restarts, 0u);
+}
+
+// Replies lost on the line leave their asks unanswered: the replies after them are still stamped with their own asks,
+// not with the lost ones' (ten lost would make every later stamp 0.2 s late).
+TEST(SerialTextBaseTest, LostRepliesDoNotLeaveTheOdometryLate) {
+  const std::filesystem::path link = Link("lost");
+  SerialTextEmulator board(link);
+  SteadyClock clock;
+  SerialTextBase base(OptionsFor(link), clock);
+  std::mutex mutex;
+  double age_s = 0.0;  // of the last report's stamp when it came
+  base.SetOdometryHandler([&](const WheelOdometry& o) {
+    std::lock_guard lock(mutex);
+    age_s = ToSeconds(clock.Now() - o.stamp_ns);
+  });
+  ASSERT_TRUE(Eventually([&] { return base.status().replies >= 5; }, 3000ms)) << base.status().last_error;
+  board.LoseReplies(10);
+  const std::uint64_t replies = base.status().replies;
+  ASSERT_TRUE(Eventually([&] { return base.status().replies >= replies + 20; }, 3000ms));
+  std::lock_guard lock(mutex);
+  EXPECT_LT(age_s, 0.1);
+  EXPECT_EQ(base.status().state, LinkState::kRunning);
 }
 
 TEST(SerialTextBaseTest, ABoardThatRestartsWithThePortOpenIsTakenUpWithoutThePoseJumping) {

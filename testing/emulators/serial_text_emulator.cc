@@ -53,6 +53,10 @@ void SerialTextEmulator::DropAByte() {
   std::lock_guard lock(mutex_);
   drop_a_byte_ = true;
 }
+void SerialTextEmulator::LoseReplies(int n) {
+  std::lock_guard lock(mutex_);
+  replies_to_lose_ = n;
+}
 void SerialTextEmulator::Slow(double delay_s) {
   std::lock_guard lock(mutex_);
   delay_s_ = delay_s;
@@ -96,6 +100,10 @@ void SerialTextEmulator::Handle(const std::string& command, double now_s) {
   char letter = 0;
   in >> letter;
   if (letter == 'e' && in.peek() == std::char_traits<char>::eof()) {
+    if (replies_to_lose_ > 0) {
+      --replies_to_lose_;
+      return;
+    }
     std::string counts = std::to_string(Count(left_counts_)) + " " + std::to_string(Count(right_counts_));
     if (drop_a_byte_ && counts.size() > 3) {
       counts.erase(counts.size() / 2 - 1, 1);  // a digit of the left count lost on the line

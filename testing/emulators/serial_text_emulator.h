@@ -4,8 +4,8 @@
 // else "Invalid Command"; the wheels stopped 2 s after the last `m`), written from that document apart from the
 // driver's codec. The wheels turn at the speeds asked for at once (a perfect PID); the signed 32-bit counts start near
 // their wrap so that tests cross it. The board boots (deaf) for boot_s when it starts and when it is plugged back in,
-// and then counts from zero. Faults: noise, a reply that loses a byte, a slow board, silence, a restart without the
-// port closing (the counts back to zero), unplugging and plugging back in under the same path.
+// and then counts from zero. Faults: noise, a reply that loses a byte, replies lost, a slow board, silence, a restart
+// without the port closing (the counts back to zero), unplugging and plugging back in under the same path.
 #pragma once
 
 #include <cstdint>
@@ -38,11 +38,13 @@ class SerialTextEmulator {
   int motor_commands() const;                    // `m` commands taken
   int invalid_commands() const;                  // commands answered "Invalid Command"
 
-  // Faults: bytes of noise before the next answer; the next encoder answer with one byte lost; every answer this much
-  // later; no answers (and deaf) until Resume; a restart of the board with the port open (deaf for boot_s, then
-  // counting from zero, wheels stopped); the cable pulled, and plugged back in (the board restarts).
+  // Faults: bytes of noise before the next answer; the next encoder answer with one byte lost; the next `n` encoder
+  // answers never sent (lost on the line); every answer this much later; no answers (and deaf) until Resume; a restart
+  // of the board with the port open (deaf for boot_s, then counting from zero, wheels stopped); the cable pulled, and
+  // plugged back in (the board restarts).
   void Noise(std::string bytes);
   void DropAByte();
+  void LoseReplies(int n);
   void Slow(double delay_s);
   void Silence();
   void Resume();
@@ -73,6 +75,7 @@ class SerialTextEmulator {
   double booted_s_ = 0.0;  // deaf until then
   std::string noise_;
   bool drop_a_byte_ = false;
+  int replies_to_lose_ = 0;
   double delay_s_ = 0.0;
   bool silent_ = false;
   double last_s_ = 0.0;
