@@ -18,7 +18,7 @@ constexpr double kPlausibleSlackCounts = 20.0;
 constexpr int kRestartAfter = 3;
 // While the board boots, the counts are asked for this often.
 constexpr double kBootPollS = 0.2;
-// Asks kept waiting for their answers at most (a board answering slower than stale_s still has some kept).
+// Asks kept waiting for their answers: a second of them at the usual rate (replies lost to noise leave theirs behind).
 constexpr std::size_t kAsksKept = 32;
 
 std::span<const std::uint8_t> Bytes(std::string_view text) {
@@ -105,12 +105,8 @@ void SerialTextBase::Handle(SerialPort& port, LineSplitter& lines, std::span<con
 }
 
 void SerialTextBase::Ask(SerialPort& port) {
-  const TimeNs now = clock_.Now();
-  // An ask still unanswered after stale_s lost its reply (garbled, or gone with noise): kept, it would pair every
-  // later reply with an ask before its own, and stamp the odometry that much late.
-  while (!asks_.empty() && ToSeconds(now - asks_.front()) > options_.stale_s) asks_.pop_front();
   port.Write(Bytes(kReadEncoders));
-  asks_.push_back(now);
+  asks_.push_back(clock_.Now());
   if (asks_.size() > kAsksKept) asks_.pop_front();
 }
 
@@ -145,8 +141,10 @@ void SerialTextBase::Take(SerialPort& port, const EncoderCounts& counts) {
   last_counts_ = counts;
   last_counts_asked_ns_ = asked;
   Reported(now);
-  // The counts are as the board had them when asked (it answers at once; a late control loop takes the answer
-  // later): stamped with the ask, so the velocity covers the time between the questions, not between the takings.
+  // The velocity is over the time between the questions, not between the takings: the board answers when asked, and a
+  // late control loop takes two answers together. The report keeps the taking's time: a reply lost to noise leaves
+  // its ask behind, and every later reply is paired with an ask a poll before its own (which the velocity's
+  // differences do not see, and a report's stamp would).
   // The low 16 bits: the odometry's wrap-around arithmetic holds for any count width.
   odometry_.Update(asked, static_cast<std::uint16_t>(counts.left), static_cast<std::uint16_t>(counts.right));
   nav::Twist2 target;
@@ -163,7 +161,7 @@ void SerialTextBase::Take(SerialPort& port, const EncoderCounts& counts) {
   const std::string command = EncodeMotorSpeeds(CountsPerFrame(driven.linear_mps - half_track * driven.angular_rps),
                                                 CountsPerFrame(driven.linear_mps + half_track * driven.angular_rps));
   port.Write(Bytes(command));
-  if (odometry) odometry(WheelOdometry{asked, odometry_.pose(), odometry_.velocity(), false, false});
+  if (odometry) odometry(WheelOdometry{now, odometry_.pose(), odometry_.velocity(), false, false});
 }
 
 double SerialTextBase::CountsPerMetre() const {
