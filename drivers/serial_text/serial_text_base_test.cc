@@ -11,6 +11,7 @@
 #include <cmath>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "testing/emulators/serial_text_emulator.h"
 #include "testing/eventually.h"
@@ -80,18 +81,34 @@ TEST(SerialTextBaseTest, ItWaitsForTheBoardToBootDrivesTheWheelsAndItsOdometryFo
 TEST(SerialTextBaseTest, RepliesTakenLateAndThenAtOnceAreBelieved) {
   const std::filesystem::path link = Link("late");
   SerialTextEmulator board(link);
+  std::mutex mutex;
+  std::vector<WheelOdometry> reports;
   SteadyClock clock;
   SerialTextBase base(OptionsFor(link), clock);
-  LatestReports latest;
-  latest.Connect(base);
+  base.SetOdometryHandler([&](const WheelOdometry& o) {
+    std::lock_guard lock(mutex);
+    reports.push_back(o);
+  });
+  const auto count = [&] {
+    std::lock_guard lock(mutex);
+    return reports.size();
+  };
   ASSERT_TRUE(Eventually([&] { return base.status().state == LinkState::kRunning; }, 3000ms))
       << base.status().last_error;
-  Pumping pump(base, {100ms, 2ms});
+  // Every other reply is taken 100 ms after its question and the next 10 ms after: stamped when taken, every report's
+  // velocity would be off by the ratio of the two.
+  Pumping pump(base, {100ms, 10ms});
   base.SetVelocity({0.2, 0.0});
-  ASSERT_TRUE(Eventually([&] { return latest.Odometry().odom_T_base.x_m > 0.3; }, 5000ms));
+  ASSERT_TRUE(Eventually([&] { return Near(board.wheels_mps(), 0.2, 0.2); }, 2000ms));
+  // The velocity window (0.1 s) reaches back past the last change of speed two replies on.
+  const std::size_t steady = count() + 2;
+  ASSERT_TRUE(Eventually([&] { return count() >= steady + 12; }, 5000ms));
   EXPECT_EQ(base.status().implausible, 0u);
   EXPECT_EQ(base.status().restarts, 0u);
-  EXPECT_NEAR(latest.Odometry().velocity.linear_mps, 0.2, 0.05);
+  std::lock_guard lock(mutex);
+  for (std::size_t i = steady; i < reports.size(); ++i) {
+    EXPECT_NEAR(reports[i].velocity.linear_mps, 0.2, 0.05) << "report " << i - steady << " of the steady ones";
+  }
 }
 
 TEST(SerialTextBaseTest, WhenCommandsStopComingTheWheelsStop) {
