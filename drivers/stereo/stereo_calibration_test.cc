@@ -11,37 +11,17 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "testing/opencv_stereo_pairs.h"
+
 namespace corridor::drivers::stereo {
 namespace {
 
-// Debian's opencv-doc (./dev installs it): 13 pairs of 640 x 480 views of a 9 x 6 board of 25 mm squares taken by a
-// side-by-side stereo camera, and the intrinsics OpenCV's own stereo sample calibrated from them.
-const std::filesystem::path kData = "/usr/share/doc/opencv-doc/examples/data";
-const int kPairs[] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14};
-
-cv::Mat Read(const std::string& name) {
-  cv::Mat image = cv::imread((kData / name).string(), cv::IMREAD_GRAYSCALE);
-  EXPECT_FALSE(image.empty()) << name;
-  return image;
-}
-
-std::string Numbered(const char* side, int n) {
-  return std::string(side) + (n < 10 ? "0" : "") + std::to_string(n) + ".jpg";
-}
-
-struct Views {
-  std::vector<cv::Mat> left, right;
-};
+using testing::OpenCvStereoPairs;
+using Views = testing::StereoViews;
 
 const Views& RealViews() {
-  static const Views views = [] {
-    Views v;
-    for (int n : kPairs) {
-      v.left.push_back(Read(Numbered("left", n)));
-      v.right.push_back(Read(Numbered("right", n)));
-    }
-    return v;
-  }();
+  const Views& views = OpenCvStereoPairs();
+  for (const cv::Mat& image : views.left) EXPECT_FALSE(image.empty()) << "opencv-doc's stereo pairs";
   return views;
 }
 
@@ -53,7 +33,7 @@ const StereoCalibration& RealCalibration() {
 TEST(StereoCalibrationTest, RealPairsCalibrateAsOpenCvsOwnSampleDid) {
   std::vector<ViewReport> reports;
   const StereoCalibration c = CalibrateStereo(RealViews().left, RealViews().right, Chessboard{}, &reports);
-  ASSERT_EQ(reports.size(), std::size(kPairs));
+  ASSERT_EQ(reports.size(), 13u);
   for (const ViewReport& r : reports) EXPECT_TRUE(r.used) << r.why_not;
   EXPECT_EQ(c.views, 13);
   EXPECT_EQ(c.image_size, cv::Size(640, 480));
