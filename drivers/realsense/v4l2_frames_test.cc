@@ -12,6 +12,7 @@
 
 #include "drivers/realsense/realsense_options.h"
 #include "testing/source_dir.h"
+#include "testing/yuyv.h"
 
 namespace corridor::drivers::realsense {
 namespace {
@@ -74,26 +75,7 @@ TEST(V4l2FramesTest, Z16DepthBecomesMillimetresByTheDevicesUnit) {
 TEST(V4l2FramesTest, YuyvColourBecomesBgrOfTheDepthsSize) {
   const cv::Mat bgr = cv::imread((testing::SourceDir() / "tests/data/depth/1.png").string(), cv::IMREAD_COLOR);
   ASSERT_FALSE(bgr.empty());
-  // Written as YUYV (BT.601, video range), each pair of pixels sharing their mean chroma.
-  std::vector<std::uint8_t> yuyv(static_cast<std::size_t>(bgr.cols) * bgr.rows * 2);
-  const auto clamp = [](double v) { return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L)); };
-  for (int r = 0; r < bgr.rows; ++r) {
-    for (int c = 0; c < bgr.cols; c += 2) {
-      double y[2], u = 0, v = 0;
-      for (int k = 0; k < 2; ++k) {
-        const cv::Vec3b p = bgr.at<cv::Vec3b>(r, c + k);
-        const double R = p[2], G = p[1], B = p[0];
-        y[k] = 16 + 0.257 * R + 0.504 * G + 0.098 * B;
-        u += 0.5 * (128 - 0.148 * R - 0.291 * G + 0.439 * B);
-        v += 0.5 * (128 + 0.439 * R - 0.368 * G - 0.071 * B);
-      }
-      std::uint8_t* at = &yuyv[(static_cast<std::size_t>(r) * bgr.cols + c) * 2];
-      at[0] = clamp(y[0]);
-      at[1] = clamp(u);
-      at[2] = clamp(y[1]);
-      at[3] = clamp(v);
-    }
-  }
+  const std::vector<std::uint8_t> yuyv = testing::ToYuyv(bgr);
   const cv::Mat same = YuyvToBgr(yuyv, bgr.cols, bgr.rows, bgr.cols * 2, bgr.cols, bgr.rows);
   ASSERT_EQ(same.type(), CV_8UC3);
   cv::Mat difference;

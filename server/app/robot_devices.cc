@@ -97,6 +97,13 @@ RobotDevices::RobotDevices(const Config& config, const drivers::Clock& clock) {
           {nav::Device::kCamera, "realsense", o.depth_node.empty() ? o.name : o.depth_node, realsense_.get()});
       break;
     }
+    case DeviceDriver::kStereo: {
+      const drivers::stereo::StereoCameraOptions& o = d.camera.stereo;
+      stereo_ = std::make_unique<drivers::stereo::StereoCamera>(o, clock);
+      camera_ = stereo_.get();
+      slots_.push_back({nav::Device::kCamera, "stereo", drivers::stereo::Where(o), stereo_.get()});
+      break;
+    }
     case DeviceDriver::kOpenni2: {
       const drivers::openni2::OpenNi2Options& o = d.camera.openni2;
       openni2_ = std::make_unique<drivers::openni2::OpenNi2Camera>(o, clock);
@@ -128,6 +135,7 @@ void RobotDevices::Stop() {
   hokuyo_.reset();
   lds_.reset();
   realsense_.reset();
+  stereo_.reset();
   openni2_.reset();
   create2_.reset();
   kobuki_.reset();

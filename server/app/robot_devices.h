@@ -17,6 +17,7 @@
 #include "drivers/realsense/realsense_camera.h"
 #include "drivers/rplidar/rplidar_laser.h"
 #include "drivers/serial_text/serial_text_base.h"
+#include "drivers/stereo/stereo_camera.h"
 #include "drivers/turtlebot3/turtlebot3_base.h"
 #include "server/app/graph.h"
 #include "server/app/simulator.h"
@@ -56,6 +57,7 @@ class RobotDevices {
   std::unique_ptr<drivers::hokuyo::HokuyoLaser> hokuyo_;
   std::unique_ptr<drivers::lds::LdsLaser> lds_;
   std::unique_ptr<drivers::realsense::RealSenseCamera> realsense_;
+  std::unique_ptr<drivers::stereo::StereoCamera> stereo_;
   std::unique_ptr<drivers::openni2::OpenNi2Camera> openni2_;
   drivers::DepthCamera* camera_ = nullptr;
   drivers::DiffDriveBase* base_ = nullptr;

@@ -542,6 +542,62 @@ void ReadCameraMount(ConfigReader& r, drivers::CameraMountOptions& c) {
   if ((c.fx > 0.0) != (c.fy > 0.0)) throw ConfigError(r.PathOf("fx") + ", fy: both or neither (a calibration)");
 }
 
+// devices.camera with driver stereo: the device, its calibration (read and checked here) and the depth path's settings.
+void ReadStereoCamera(ConfigReader& s, drivers::stereo::StereoCameraOptions& c, const fs::path& base) {
+  using drivers::stereo::MatcherKind;
+  using drivers::stereo::StereoLayout;
+  using drivers::stereo::VideoFormat;
+  s.ReadChoice<StereoLayout>("layout", c.layout,
+                             {{"side-by-side", StereoLayout::kSideBySide}, {"two-cameras", StereoLayout::kTwoCameras}});
+  s.Read("name", c.name);
+  s.Read("node", c.node);
+  s.Read("left_node", c.left_node);
+  s.Read("right_node", c.right_node);
+  if (c.layout == StereoLayout::kTwoCameras && (c.left_node.empty() || c.right_node.empty())) {
+    throw ConfigError(s.PathOf("left_node") + ", right_node: required with two cameras (stable names, such as " +
+                      "/dev/v4l/by-path/...: two cameras of one model share their name)");
+  }
+  s.ReadChoice<VideoFormat>("format", c.format, {{"mjpeg", VideoFormat::kMjpeg}, {"yuyv", VideoFormat::kYuyv}});
+  s.Read("width", c.width, 16, 4096);
+  s.Read("height", c.height, 16, 4096);
+  s.Read("fps", c.fps, 1, 120);
+  ReadPath(s, "calibration", c.calibration_file, base);
+  if (c.calibration_file.empty()) {
+    throw ConfigError(s.PathOf("calibration") + ": required (a file from corridor-stereo calibrate)");
+  }
+  try {
+    c.calibration = drivers::stereo::LoadStereoCalibration(c.calibration_file);
+  } catch (const drivers::stereo::StereoCalibrationError& e) {
+    throw ConfigError(s.PathOf("calibration") + ": " + e.what());
+  }
+  if (c.calibration.image_size != cv::Size(c.width, c.height)) {
+    throw ConfigError(s.PathOf("calibration") + ": made for " + std::to_string(c.calibration.image_size.width) + " x " +
+                      std::to_string(c.calibration.image_size.height) + " px views, the camera's are " +
+                      std::to_string(c.width) + " x " + std::to_string(c.height) + " (width, height)");
+  }
+  s.Read("mount_x_m", c.mount_x_m, -2.0, 2.0);
+  s.Read("mount_height_m", c.mount_height_m, 0.0, 3.0);
+  s.Read("tilt_deg", c.tilt_deg, -90.0, 90.0);
+  drivers::stereo::StereoDepthOptions& d = c.depth;
+  s.Read("depth_width", d.width, 64, c.width);
+  s.ReadChoice<MatcherKind>("matcher", d.matcher.kind,
+                            {{"sgbm", MatcherKind::kSemiGlobal}, {"bm", MatcherKind::kBlock}});
+  s.Read("disparities", d.matcher.disparities, 16, 512);
+  s.Read("block_px", d.matcher.block_px, 1, 51);
+  s.Read("uniqueness_percent", d.matcher.uniqueness_percent, 0, 100);
+  s.Read("left_right_px", d.matcher.left_right_px, -1, 64);
+  s.Read("min_range_m", d.min_range_m, 0.05, 5.0);
+  s.Read("max_range_m", d.max_range_m, 0.5, 50.0);
+  try {
+    drivers::stereo::ValidateStereoDepthOptions(d);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(s.PathOf("depth_width") + "..max_range_m: " + e.what());
+  }
+  s.Read("pair_tolerance_s", c.pair_tolerance_s, 0.001, 0.5);
+  s.Read("stale_s", c.stale_s, 0.02, 1.0);
+  s.Read("silence_s", c.silence_s, c.stale_s, 10.0);
+}
+
 void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
   using D = DeviceDriver;
   const auto driver = [](ConfigReader& s, DeviceDriver& value, std::vector<std::pair<std::string, D>> choices) {
@@ -653,6 +709,7 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
             {"dds", D::kDds},
             {"realsense", D::kRealsense},
             {"openni2", D::kOpenni2},
+            {"stereo", D::kStereo},
             {"none", D::kNone}});
     if (o.driver == D::kRealsense) {
       drivers::realsense::RealSenseOptions& c = o.realsense;
@@ -663,6 +720,8 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
       s.Read("depth_scale_m", c.depth_scale_m, 1e-5, 0.01);
       s.Read("stale_s", c.stale_s, 0.02, 1.0);
       s.Read("silence_s", c.silence_s, c.stale_s, 10.0);
+    } else if (o.driver == D::kStereo) {
+      ReadStereoCamera(s, o.stereo, base);
     } else if (o.driver == D::kOpenni2) {
       drivers::openni2::OpenNi2Options& c = o.openni2;
       s.Read("uri", c.uri);
@@ -984,7 +1043,8 @@ void CheckDevices(const Config& config) {
   }
   // A native camera's frame period longer than the gate's patience would never let the robot drive forward.
   for (const auto& [driver, fps] : {std::pair{DeviceDriver::kRealsense, d.camera.realsense.camera.fps},
-                                    std::pair{DeviceDriver::kOpenni2, d.camera.openni2.camera.fps}}) {
+                                    std::pair{DeviceDriver::kOpenni2, d.camera.openni2.camera.fps},
+                                    std::pair{DeviceDriver::kStereo, d.camera.stereo.fps}}) {
     if (d.camera.driver == driver && 1.0 / fps >= config.safety.depth_timeout_s) {
       throw ConfigError("devices.camera.fps: frames every " + std::to_string(1.0 / fps) +
                         " s are always older than safety.depth_timeout_s: raise the rate or the timeout");
@@ -1037,6 +1097,7 @@ const char* ToString(DeviceDriver driver) {
     case DeviceDriver::kLds: return "lds";
     case DeviceDriver::kRealsense: return "realsense";
     case DeviceDriver::kOpenni2: return "openni2";
+    case DeviceDriver::kStereo: return "stereo";
     case DeviceDriver::kNone: return "none";
   }
   return "unknown";

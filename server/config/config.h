@@ -17,6 +17,7 @@
 #include "drivers/serial_text/serial_text_options.h"
 #include "drivers/sim/sim_robot.h"
 #include "drivers/sim/world.h"
+#include "drivers/stereo/stereo_options.h"
 #include "drivers/turtlebot3/turtlebot3_options.h"
 #include "face/detect/depth_people.h"
 #include "face/detect/dnn_detector.h"
@@ -286,7 +287,7 @@ std::string SimMapName(const Config& config);
 
 // devices.*: the driver serving each of the robot's devices (docs/hardware.md): the simulator's robot (sim), a ROS 2
 // driver over DDS (dds, drivers/dds/devices.h), a native driver (create2, kobuki, turtlebot3, serial-text; rplidar,
-// hokuyo, lds; realsense, openni2), or none (a robot without a laser,
+// hokuyo, lds; realsense, openni2, stereo), or none (a robot without a laser,
 // or without a camera: the laser's lanes are then its sight; not both). The simulator's robot is all of the devices or
 // none: a simulated base carries the simulated camera and the simulated laser (either may be none); the other drivers
 // mix freely.
@@ -302,7 +303,8 @@ enum class DeviceDriver {
   kHokuyo,
   kLds,  // lasers
   kRealsense,
-  kOpenni2,  // cameras
+  kOpenni2,
+  kStereo,  // cameras
 };
 const char* ToString(DeviceDriver driver);
 
@@ -329,6 +331,7 @@ struct CameraSlotOptions {
   double info_wait_s = 10.0;  // dds: how long corridord waits at start for the camera's CameraInfo
   drivers::realsense::RealSenseOptions realsense;
   drivers::openni2::OpenNi2Options openni2;
+  drivers::stereo::StereoCameraOptions stereo;
 };
 
 struct DevicesOptions {

@@ -216,6 +216,48 @@ TEST_F(ConfigTest, DdsIsOffByDefaultAndItsDomainComesFromTheEnvironmentUnlessSet
 }
 
 // devices.*: each slot's driver with its own options; the simulator's robot is all or nothing; DDS drivers need DDS.
+// A stereo camera: its calibration file is read with the configuration, and one that cannot serve stops start-up
+// with the key and the reason.
+TEST_F(ConfigTest, AStereoCameraReadsItsCalibrationAndChecksIt) {
+  drivers::stereo::StereoCalibration pair;
+  pair.image_size = {640, 480};
+  pair.left.matrix = pair.right.matrix = {500, 0, 320, 0, 500, 240, 0, 0, 1};
+  pair.translation_m = {-0.12, 0, 0};
+  drivers::stereo::SaveStereoCalibration(dir_ / "pair.yaml", pair);
+  const std::string robot =
+      "map: {file: x.yaml}\ndevices:\n  base: {driver: kobuki, port: /dev/kobuki}\n"
+      "  laser: {driver: none}\n";
+  std::ofstream(dir_ / "c.yaml") << robot
+                                 << "  camera: {driver: stereo, calibration: pair.yaml, format: yuyv, fps: 15, "
+                                    "depth_width: 320, matcher: bm, block_px: 15, tilt_deg: 5}\n";
+  const Config c = LoadConfig(dir_ / "c.yaml");
+  const drivers::stereo::StereoCameraOptions& stereo = c.devices.camera.stereo;
+  EXPECT_EQ(c.devices.camera.driver, DeviceDriver::kStereo);
+  EXPECT_EQ(stereo.layout, drivers::stereo::StereoLayout::kSideBySide);
+  EXPECT_EQ(stereo.format, drivers::stereo::VideoFormat::kYuyv);
+  EXPECT_DOUBLE_EQ(stereo.calibration.baseline_m(), 0.12);  // relative to the configuration's directory
+  EXPECT_EQ(stereo.depth.matcher.kind, drivers::stereo::MatcherKind::kBlock);
+  EXPECT_EQ(stereo.depth.matcher.block_px, 15);
+  EXPECT_DOUBLE_EQ(stereo.tilt_deg, 5.0);
+  const auto error = [&](const std::string& camera) { return ErrorOf(robot + "  camera: " + camera + "\n"); };
+  EXPECT_NE(error("{driver: stereo}").find("devices.camera.calibration: required (a file from corridor-stereo"),
+            std::string::npos);
+  EXPECT_NE(error("{driver: stereo, calibration: none.yaml}")
+                .find("devices.camera.calibration: " + (dir_ / "none.yaml").string() + ": no such file"),
+            std::string::npos);
+  EXPECT_NE(error("{driver: stereo, calibration: pair.yaml, width: 1280, height: 720}")
+                .find("devices.camera.calibration: made for 640 x 480 px views, the camera's are 1280 x 720"),
+            std::string::npos);
+  EXPECT_NE(error("{driver: stereo, calibration: pair.yaml, disparities: 60}")
+                .find("disparities: a multiple of 16 from 16 to 512, got 60"),
+            std::string::npos);
+  EXPECT_NE(error("{driver: stereo, calibration: pair.yaml, layout: two-cameras, left_node: /dev/video0}")
+                .find("devices.camera.left_node, right_node: required with two cameras"),
+            std::string::npos);
+  EXPECT_NE(error("{driver: stereo, calibration: pair.yaml, fps: 2}").find("devices.camera.fps: frames every"),
+            std::string::npos);
+}
+
 TEST_F(ConfigTest, DeviceSlotsTakeTheirDriversOptionsAndMixOnlyAsTheyCan) {
   const std::string dds = "dds: {enabled: true, peers: [127.0.0.1], interfaces: [lo]}\nmap: {file: x.yaml}\n";
   std::ofstream(dir_ / "c.yaml")
