@@ -11,7 +11,59 @@ double Radians(double deg) { return deg * std::numbers::pi / 180.0; }
 
 const Eigen::Vector3f kBackground(0.85f, 0.85f, 0.88f);
 
+// A lattice point's value in [0, 1) (a 32-bit integer hash of its coordinates).
+float LatticeValue(int x, int y, int z) {
+  std::uint32_t h = static_cast<std::uint32_t>(x) * 0x8da6b343u ^ static_cast<std::uint32_t>(y) * 0xd8163841u ^
+                    static_cast<std::uint32_t>(z) * 0xcb1ab31fu;
+  h ^= h >> 13;
+  h *= 0x5bd1e995u;
+  h ^= h >> 15;
+  return static_cast<float>(h & 0xFFFFFFu) / static_cast<float>(0x1000000u);
+}
+
+// Value noise: the lattice's values at `scale_m` spacing, blended smoothly (trilinear, smoothstep weights).
+float ValueNoise(const Eigen::Vector3f& p, float scale_m) {
+  const Eigen::Vector3f q = p / scale_m;
+  const Eigen::Vector3f floor = q.array().floor();
+  const Eigen::Vector3f f = q - floor;
+  const Eigen::Vector3f w = f.array() * f.array() * (3.0f - 2.0f * f.array());
+  const int x = static_cast<int>(floor.x());
+  const int y = static_cast<int>(floor.y());
+  const int z = static_cast<int>(floor.z());
+  float value = 0.0f;
+  for (int corner = 0; corner < 8; ++corner) {
+    const int dx = corner & 1;
+    const int dy = (corner >> 1) & 1;
+    const int dz = (corner >> 2) & 1;
+    const float weight = (dx ? w.x() : 1.0f - w.x()) * (dy ? w.y() : 1.0f - w.y()) * (dz ? w.z() : 1.0f - w.z());
+    value += weight * LatticeValue(x + dx, y + dy, z + dz);
+  }
+  return value;
+}
+
+// A hit's colour as the camera sees it: the surface's colour, textured, lit from the camera.
+Eigen::Vector3f Shade(const RayHit& hit, const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
+                      double texture) {
+  const float cos_incidence = std::abs(hit.normal.dot(direction.normalized()));
+  Eigen::Vector3f color = hit.color * (0.3f + 0.7f * cos_incidence);
+  if (texture > 0.0) {
+    const float t = SurfaceTexture(origin + hit.distance * direction);
+    color *= static_cast<float>(1.0 - texture + 2.0 * texture * t);
+  }
+  return color;
+}
+
+cv::Vec3b ToBgr(const Eigen::Vector3f& color) {
+  return cv::Vec3b(static_cast<std::uint8_t>(std::clamp(color.z(), 0.0f, 1.0f) * 255.0f),
+                   static_cast<std::uint8_t>(std::clamp(color.y(), 0.0f, 1.0f) * 255.0f),
+                   static_cast<std::uint8_t>(std::clamp(color.x(), 0.0f, 1.0f) * 255.0f));
+}
+
 }  // namespace
+
+float SurfaceTexture(const Eigen::Vector3f& point_m) {
+  return 0.65f * ValueNoise(point_m, 0.04f) + 0.35f * ValueNoise(point_m, 0.015f);
+}
 
 CameraInfo MakeCameraInfo(const SimCameraOptions& o) {
   CameraInfo info;
@@ -65,7 +117,7 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& world_T_camera, std::mt19937&
       std::uint16_t depth = 0;
       if (hit.hit()) {
         const float cos_incidence = std::abs(hit.normal.dot(directions[i].normalized()));
-        color = hit.color * (0.3f + 0.7f * cos_incidence);
+        color = Shade(hit, origin, directions[i], 0.0);
         const float z = hit.distance;  // rays have unit optical-axis component: t is depth
         const bool in_range = z >= options_.min_range_m && z <= options_.max_range_m;
         if (in_range && cos_incidence >= cos_cutoff && uniform(rng) >= options_.dropout_fraction) {
@@ -75,9 +127,29 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& world_T_camera, std::mt19937&
         }
       }
       depth_row[u] = depth;
-      color_row[u] = cv::Vec3b(static_cast<std::uint8_t>(std::clamp(color.z(), 0.0f, 1.0f) * 255.0f),
-                               static_cast<std::uint8_t>(std::clamp(color.y(), 0.0f, 1.0f) * 255.0f),
-                               static_cast<std::uint8_t>(std::clamp(color.x(), 0.0f, 1.0f) * 255.0f));
+      color_row[u] = ToBgr(color);
+    }
+  }
+}
+
+void RgbdRenderer::RenderColor(const Eigen::Isometry3d& world_T_camera, double texture, double noise_levels,
+                               std::mt19937& rng, cv::Mat& bgr) const {
+  const nav::PinholeCamera& k = info_.camera;
+  const Eigen::Matrix3f rotation = world_T_camera.linear().cast<float>();
+  const Eigen::Vector3f origin = world_T_camera.translation().cast<float>();
+  std::vector<Eigen::Vector3f> directions(rays_.size());
+  for (std::size_t i = 0; i < rays_.size(); ++i) directions[i] = rotation * rays_[i];
+  std::vector<RayHit> hits(rays_.size());
+  caster_.CastFan(origin, directions, 0.0f, 1e3f, hits);
+  bgr.create(k.height, k.width, CV_8UC3);
+  std::normal_distribution<float> noise(0.0f, static_cast<float>(noise_levels / 255.0));
+  for (int v = 0; v < k.height; ++v) {
+    auto* row = bgr.ptr<cv::Vec3b>(v);
+    for (int u = 0; u < k.width; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * k.width + u;
+      Eigen::Vector3f color = hits[i].hit() ? Shade(hits[i], origin, directions[i], texture) : kBackground;
+      if (noise_levels > 0.0) color.array() += noise(rng);
+      row[u] = ToBgr(color);
     }
   }
 }

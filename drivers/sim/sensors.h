@@ -54,6 +54,11 @@ class RgbdRenderer {
  public:
   RgbdRenderer(const RayCaster& caster, const SimCameraOptions& options);
   void Render(const Eigen::Isometry3d& world_T_camera, std::mt19937& rng, RgbdFrame& frame) const;
+  // The colour image alone (CV_8UC3), as a plain camera sees it: one view of a stereo pair. The surfaces' colours
+  // vary over a few centimetres by `texture` (SurfaceTexture; 0: flat colours, as Render draws them), and each pixel
+  // gets Gaussian sensor noise of `noise_levels` grey levels.
+  void RenderColor(const Eigen::Isometry3d& world_T_camera, double texture, double noise_levels, std::mt19937& rng,
+                   cv::Mat& bgr) const;
 
  private:
   const RayCaster& caster_;
@@ -61,6 +66,10 @@ class RgbdRenderer {
   CameraInfo info_;
   std::vector<Eigen::Vector3f> rays_;  // per pixel, optical frame, z = 1 so that t is the depth
 };
+
+// The surfaces' texture at a world point, in [0, 1]: value noise at 4 and 1.5 cm, the same from every viewpoint (as a
+// surface's own pattern is), smooth enough for a camera's pixels to sample.
+float SurfaceTexture(const Eigen::Vector3f& point_m);
 
 // Casts one laser sweep from the laser at world_T_laser (x forward, z up), ranges with Gaussian noise.
 void CastScan(const RayCaster& caster, const Eigen::Isometry3d& world_T_laser, const SimLaserOptions& options,

@@ -25,7 +25,9 @@ SimRobot::SimRobot(std::shared_ptr<const World> world, const SimOptions& options
       options_(options),
       caster_(world_->mesh),
       renderer_(caster_, options.camera),
-      camera_info_(MakeCameraInfo(options.camera)),
+      stereo_(options.stereo.enabled ? std::make_unique<SimStereoCamera>(renderer_, options.camera, options.stereo)
+                                     : nullptr),
+      camera_info_(stereo_ ? stereo_->info() : MakeCameraInfo(options.camera)),
       rng_(options.seed),
       base_(world_->collision, options.base, options.start),
       crowd_(*world_, options.pedestrians, options.crowd),
@@ -188,7 +190,11 @@ void SimRobot::Step() {
     auto frame = std::make_shared<RgbdFrame>();
     frame->stamp_ns = now;
     frame->sequence = frame_sequence_++;
-    renderer_.Render(pose.ToIsometry3() * camera_info_.camera.base_T_camera, rng_, *frame);
+    if (stereo_) {
+      stereo_->Render(pose.ToIsometry3(), rng_, *frame);
+    } else {
+      renderer_.Render(pose.ToIsometry3() * camera_info_.camera.base_T_camera, rng_, *frame);
+    }
     frame_handler_(std::move(frame));
   }
   if (sweeping) {

@@ -22,6 +22,7 @@
 #include "drivers/sim/lift.h"
 #include "drivers/sim/ray_caster.h"
 #include "drivers/sim/sensors.h"
+#include "drivers/sim/sim_stereo.h"
 #include "drivers/sim/world.h"
 
 namespace corridor::drivers::sim {
@@ -33,6 +34,7 @@ struct SimOptions {
   std::uint32_t seed = 1;  // all noise is drawn from one generator seeded with this
   SimBaseOptions base;
   SimCameraOptions camera;
+  SimStereoOptions stereo;  // the camera as a stereo pair (sim.camera.stereo)
   SimLaserOptions laser;
   std::vector<PedestrianRoute> pedestrians;  // people walking back and forth, not seeing the robot
   CrowdOptions crowd;
@@ -106,6 +108,7 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   ManualClock clock_;
   RayCaster caster_;
   RgbdRenderer renderer_;
+  std::unique_ptr<SimStereoCamera> stereo_;  // when the camera is a stereo pair
   CameraInfo camera_info_;
   std::mt19937 rng_;
 

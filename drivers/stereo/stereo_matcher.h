@@ -26,6 +26,10 @@ struct StereoMatcherOptions {
   int left_right_px = 1;        // a disparity the right image's match disagrees with by more is dropped; -1: no check
   int speckle_window_px = 100;  // regions of disparity this small are dropped as speckles (0: kept)
   int speckle_range_px = 2;     // ... where neighbours differ by at most this much
+  // Pixels whose block in the left image varies less than this (standard deviation, grey levels) get no disparity:
+  // on a plain surface a matcher matches the cameras' noise, and what it finds is wrong, not missing (OpenCV's block
+  // matcher has such a threshold, its semi-global one none). 0: every pixel is matched.
+  double min_texture = 2.5;
   // Match the left image's first `disparities` columns too, by padding both images on the left: otherwise a band as
   // wide as the search range has no disparity at all (on Middlebury's aloe at half size, 13 % of the pixels).
   bool pad_left = true;
@@ -50,6 +54,7 @@ class StereoMatcher {
   StereoMatcherOptions options_;
   cv::Ptr<cv::StereoMatcher> matcher_;
   cv::Mat padded_left_, padded_right_, fixed_point_;
+  cv::Mat mean_, mean_square_, texture_;
 };
 
 // Depth along the rectified left camera's axis, z = focal * baseline / d, in millimetres (CV_16UC1, 0 where there

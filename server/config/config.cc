@@ -100,6 +100,27 @@ void ReadBase(ConfigReader& r, drivers::sim::SimBaseOptions& o) {
   r.Read("track_error", o.track_error, 0.5, 2.0);
 }
 
+// A stereo camera's depth path (a device's or the simulator's): matched at depth_width (at most the views' width).
+void ReadStereoDepth(ConfigReader& s, drivers::stereo::StereoDepthOptions& d, int views_width) {
+  using drivers::stereo::MatcherKind;
+  d.width = std::min(d.width, views_width);
+  s.Read("depth_width", d.width, 64, views_width);
+  s.ReadChoice<MatcherKind>("matcher", d.matcher.kind,
+                            {{"sgbm", MatcherKind::kSemiGlobal}, {"bm", MatcherKind::kBlock}});
+  s.Read("disparities", d.matcher.disparities, 16, 512);
+  s.Read("block_px", d.matcher.block_px, 1, 51);
+  s.Read("uniqueness_percent", d.matcher.uniqueness_percent, 0, 100);
+  s.Read("left_right_px", d.matcher.left_right_px, -1, 64);
+  s.Read("min_texture", d.matcher.min_texture, 0.0, 128.0);
+  s.Read("min_range_m", d.min_range_m, 0.05, 5.0);
+  s.Read("max_range_m", d.max_range_m, 0.5, 50.0);
+  try {
+    drivers::stereo::ValidateStereoDepthOptions(d);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(s.PathOf("depth_width") + "..max_range_m: " + e.what());
+  }
+}
+
 void ReadCamera(ConfigReader& r, drivers::sim::SimCameraOptions& o) {
   r.Read("width", o.width, 16, 4096);
   r.Read("height", o.height, 16, 4096);
@@ -116,6 +137,15 @@ void ReadCamera(ConfigReader& r, drivers::sim::SimCameraOptions& o) {
   r.Read("dropout_fraction", o.dropout_fraction, 0.0, 1.0);
   r.Read("grazing_cutoff_deg", o.grazing_cutoff_deg, 0.0, 90.0);
   if (o.min_range_m >= o.max_range_m) throw ConfigError(r.PathOf("min_range_m") + ": must be below max_range_m");
+}
+
+// sim.camera.stereo: the simulated camera as a stereo pair (docs/asns.md).
+void ReadSimStereo(ConfigReader& r, drivers::sim::SimStereoOptions& o, int views_width) {
+  r.Read("enabled", o.enabled);
+  r.Read("baseline_m", o.baseline_m, 0.01, 1.0);
+  r.Read("image_noise", o.image_noise, 0.0, 50.0);
+  r.Read("texture", o.texture, 0.0, 1.0);
+  ReadStereoDepth(r, o.depth, views_width);
 }
 
 void ReadLaser(ConfigReader& r, drivers::sim::SimLaserOptions& o) {
@@ -544,7 +574,6 @@ void ReadCameraMount(ConfigReader& r, drivers::CameraMountOptions& c) {
 
 // devices.camera with driver stereo: the device, its calibration (read and checked here) and the depth path's settings.
 void ReadStereoCamera(ConfigReader& s, drivers::stereo::StereoCameraOptions& c, const fs::path& base) {
-  using drivers::stereo::MatcherKind;
   using drivers::stereo::StereoLayout;
   using drivers::stereo::VideoFormat;
   s.ReadChoice<StereoLayout>("layout", c.layout,
@@ -578,21 +607,7 @@ void ReadStereoCamera(ConfigReader& s, drivers::stereo::StereoCameraOptions& c, 
   s.Read("mount_x_m", c.mount_x_m, -2.0, 2.0);
   s.Read("mount_height_m", c.mount_height_m, 0.0, 3.0);
   s.Read("tilt_deg", c.tilt_deg, -90.0, 90.0);
-  drivers::stereo::StereoDepthOptions& d = c.depth;
-  s.Read("depth_width", d.width, 64, c.width);
-  s.ReadChoice<MatcherKind>("matcher", d.matcher.kind,
-                            {{"sgbm", MatcherKind::kSemiGlobal}, {"bm", MatcherKind::kBlock}});
-  s.Read("disparities", d.matcher.disparities, 16, 512);
-  s.Read("block_px", d.matcher.block_px, 1, 51);
-  s.Read("uniqueness_percent", d.matcher.uniqueness_percent, 0, 100);
-  s.Read("left_right_px", d.matcher.left_right_px, -1, 64);
-  s.Read("min_range_m", d.min_range_m, 0.05, 5.0);
-  s.Read("max_range_m", d.max_range_m, 0.5, 50.0);
-  try {
-    drivers::stereo::ValidateStereoDepthOptions(d);
-  } catch (const std::invalid_argument& e) {
-    throw ConfigError(s.PathOf("depth_width") + "..max_range_m: " + e.what());
-  }
+  ReadStereoDepth(s, c.depth, c.width);
   s.Read("pair_tolerance_s", c.pair_tolerance_s, 0.001, 0.5);
   s.Read("stale_s", c.stale_s, 0.02, 1.0);
   s.Read("silence_s", c.silence_s, c.stale_s, 10.0);
@@ -982,7 +997,10 @@ void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
   r.Read("odometry_rate_hz", s.odometry_rate_hz, 1.0, 1000.0);
   r.Read("seed", s.seed);
   r.Section("base", [&](ConfigReader& b) { ReadBase(b, s.base); });
-  r.Section("camera", [&](ConfigReader& c) { ReadCamera(c, s.camera); });
+  r.Section("camera", [&](ConfigReader& c) {
+    ReadCamera(c, s.camera);
+    c.Section("stereo", [&](ConfigReader& t) { ReadSimStereo(t, s.stereo, s.camera.width); });
+  });
   r.Section("laser", [&](ConfigReader& l) { ReadLaser(l, s.laser); });
   r.List("obstacles", [&](ConfigReader& item) { o.obstacles.push_back(ReadObstacle(item)); });
   r.Read("pedestrians", o.pedestrians, 0, 20);

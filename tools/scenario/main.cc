@@ -49,6 +49,8 @@ Runs the DPoom evaluation protocol: a DPoom-like robot (0.26 m/s, camera 85.2 x 
   --no-camera-tracking
                       without the laser, morp-rb does not track people in the depth camera's view (DPoom's robot as
                       published); by default it tracks and evades them, as the daemon does
+  --camera KIND       depth (default: a depth sensor, a RealSense's model) or stereo (two textured views 12 cm apart
+                      matched into depth, as a stereo camera's frames are)
   --people-see-robot  the people keep clear of the robot too (default: they walk as if it were not there, as in
                       DPoom's evaluation)
   --timeout S         per run, default 3 x straight-line time + 20 s
@@ -166,6 +168,12 @@ int main(int argc, char** argv) {
         options.camera_tracking = true;  // the default; kept for older commands
       } else if (flag == "--no-camera-tracking") {
         options.camera_tracking = false;
+      } else if (flag == "--camera") {
+        const std::string kind = value();
+        if (kind != "depth" && kind != "stereo") {
+          throw std::invalid_argument("--camera: depth or stereo, got '" + kind + "'");
+        }
+        options.stereo = kind == "stereo";
       } else if (flag == "--people-see-robot") {
         options.people_see_robot = true;
       } else if (flag == "--json") {
@@ -233,6 +241,7 @@ int main(int argc, char** argv) {
                       {"crowd", ToString(options.crowd)},
                       {"static", options.static_obstacles},
                       {"laser", options.laser},
+                      {"camera", options.stereo ? "stereo" : "depth"},
                       {"camera_tracking", options.camera_tracking},
                       {"people_see_robot", options.people_see_robot},
                       {"max_speed_mps", options.max_speed_mps},

@@ -435,6 +435,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   sim.seed = layout.seed;
   sim.camera.rate_hz = options.camera_rate_hz;
   sim.laser.enabled = options.laser && policy != Policy::kVoxelReactive;
+  sim.stereo.enabled = options.stereo;
   sim.pedestrians = layout.routes;
   sim.crowd = layout.crowd;
   sim.base.limits.footprint_radius_m = kRobotRadiusM;

@@ -88,6 +88,9 @@ struct ScenarioOptions {
   // Without the laser, morp-rb tracks people in the depth camera's view instead (nav/ground/depth_scan.h) and
   // evades them, never backing, as the daemon does by default (tracking.camera). Off: DPoom's robot as published.
   bool camera_tracking = true;
+  // The camera is a stereo pair (the simulator's, drivers/sim/sim_stereo.h: two textured views 12 cm apart, matched
+  // by the depth path a real stereo camera's frames take) instead of a depth sensor.
+  bool stereo = false;
   // People see the robot and keep clear of it (drivers::sim::CrowdOptions::see_robot); off: they ignore it, as in the
   // DPoom evaluation.
   bool people_see_robot = false;

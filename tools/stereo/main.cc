@@ -61,6 +61,7 @@ image's disparities (0 where unknown).
                      OpenCV's matchers with their documented defaults (StereoSGBM::create(0, N, block),
                      StereoBM::create(N, block)), to compare
   --disparities N    the search range, a multiple of 16 (default 128);  --block PX: the block (default 5, bm 21)
+  --min-texture G    (sgbm, bm) no disparity where the block varies less than G grey levels (default 3; 0: off)
   --bad-px PX        off by more than this is bad (default 1)
   --json             {"bad", "density", "scored", "ms", "size": [w, h], "matcher"}
 
@@ -222,6 +223,8 @@ int Score(int argc, char** argv) {
       options.disparities = static_cast<int>(tools::ParseNumber(arg, args.Value(), 16, 512));
     } else if (arg == "--block") {
       block = static_cast<int>(tools::ParseNumber(arg, args.Value(), 1, 51));
+    } else if (arg == "--min-texture") {
+      options.min_texture = tools::ParseNumber(arg, args.Value(), 0.0, 128.0);
     } else if (arg == "--bad-px") {
       bad_px = tools::ParseNumber(arg, args.Value(), 0.1, 100.0);
     } else if (arg == "--json") {

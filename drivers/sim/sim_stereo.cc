@@ -1,0 +1,42 @@
+#include "drivers/sim/sim_stereo.h"
+
+namespace corridor::drivers::sim {
+
+stereo::StereoCalibration IdealStereoCalibration(const SimCameraOptions& camera, double baseline_m) {
+  const nav::PinholeCamera k = MakeCameraInfo(camera).camera;
+  stereo::StereoCalibration c;
+  c.image_size = {k.width, k.height};
+  // The renderer's pixel centres are at u + 0.5 from the image's edge: OpenCV's principal point is in pixel indices.
+  c.left.matrix = cv::Matx33d(k.fx, 0.0, k.cx - 0.5, 0.0, k.fy, k.cy - 0.5, 0.0, 0.0, 1.0);
+  c.right = c.left;
+  c.translation_m = {-baseline_m, 0.0, 0.0};
+  return c;
+}
+
+namespace {
+
+stereo::StereoDepthOptions DepthOptions(const SimCameraOptions& camera, const SimStereoOptions& options) {
+  stereo::StereoDepthOptions depth = options.depth;
+  depth.width = std::min(depth.width, camera.width);
+  return depth;
+}
+
+}  // namespace
+
+SimStereoCamera::SimStereoCamera(const RgbdRenderer& renderer, const SimCameraOptions& camera,
+                                 const SimStereoOptions& options)
+    : renderer_(renderer),
+      options_(options),
+      base_T_left_(MakeCameraInfo(camera).camera.base_T_camera),
+      depth_(IdealStereoCalibration(camera, options.baseline_m), base_T_left_, DepthOptions(camera, options)) {}
+
+void SimStereoCamera::Render(const Eigen::Isometry3d& world_T_base, std::mt19937& rng, RgbdFrame& frame) {
+  const Eigen::Isometry3d world_T_left = world_T_base * base_T_left_;
+  renderer_.RenderColor(world_T_left, options_.texture, options_.image_noise, rng, left_);
+  // The right camera: the baseline along the left one's x axis (its right).
+  const Eigen::Isometry3d world_T_right = world_T_left * Eigen::Translation3d(options_.baseline_m, 0.0, 0.0);
+  renderer_.RenderColor(world_T_right, options_.texture, options_.image_noise, rng, right_);
+  depth_.Process(left_, right_, frame);
+}
+
+}  // namespace corridor::drivers::sim
