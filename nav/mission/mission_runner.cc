@@ -24,6 +24,7 @@ std::unique_ptr<LocalPolicy> MakePolicy(const MissionRunnerOptions& o) {
   }
   if (o.policy != LocalPolicyKind::kMorpIl) navigator.learned = nullptr;  // the rules drive (and teach, if asked)
   navigator.direction_policy = o.policy == LocalPolicyKind::kTakiguchi;
+  navigator.fuzzy_policy = o.policy == LocalPolicyKind::kFlmc;
   if (!navigator.direction_policy) navigator.direction = nullptr;
   return std::make_unique<LocalNavigator>(navigator);
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <random>
 #include <stdexcept>
 
@@ -16,7 +17,8 @@ LocalNavigator::LocalNavigator(const LocalNavigatorOptions& options)
       avoid_(options.avoid),
       memory_(options.memory),
       evade_(options.evade),
-      features_(options.il) {
+      features_(options.il),
+      flmc_(options.fuzzy_policy ? std::make_unique<Flmc>(options.flmc) : nullptr) {
   if (options.learned) CheckMorpIlNetwork(*options.learned, options.il);
   if (options.direction_policy) {
     CheckTakiguchiOptions(options.takiguchi);
@@ -161,6 +163,10 @@ LocalStep LocalNavigator::Update(const Pose2& robot, const std::vector<LaneResul
       out.twist = Direct(robot, around, follow, v_free, out);
       evade = false;
     }
+  } else if (flmc_) {
+    if (!follow.final_approach || follow.remaining_m > options_.flmc.stop_within_m) {
+      out.twist = Fuzzy(robot, lanes, follow, v_free, out);
+    }
   } else if (options_.learned || options_.teach) {
     out.twist = Imitate(robot, lanes, follow, out.twist, v_free, out);
   }
@@ -210,6 +216,36 @@ Twist2 LocalNavigator::Direct(const Pose2& robot, const Surroundings* around, co
     step.learned = true;
   }
   Twist2 command = TakiguchiCommand(klass, options_.takiguchi);
+  command.linear_mps = std::min({command.linear_mps, v_free, follow.speed_limit_mps});
+  return command;
+}
+
+Twist2 LocalNavigator::Fuzzy(const Pose2& robot, const std::vector<LaneResult>& lanes, const FollowStep& follow,
+                             double v_free, LocalStep& step) {
+  // The cones ahead, in the robot's frame: front within 15 degrees of its heading, left and right out to 60; the free
+  // distance in each to the nearest dead-end a lane saw or point the memory holds, from the footprint's edge.
+  constexpr double kFrontRad = 15.0 * std::numbers::pi / 180.0;
+  constexpr double kSideRad = 60.0 * std::numbers::pi / 180.0;
+  FlmcInput in;
+  in.left_m = in.front_m = in.right_m = std::numeric_limits<double>::infinity();
+  const auto add = [&](const Eigen::Vector2d& p) {
+    const double bearing = std::atan2(p.y(), p.x());
+    if (std::abs(bearing) > kSideRad) return;
+    const double distance = std::max(0.0, p.norm() - options_.memory.robot_radius_m);
+    double& cone = std::abs(bearing) <= kFrontRad ? in.front_m : bearing > 0.0 ? in.left_m : in.right_m;
+    cone = std::min(cone, distance);
+  };
+  for (const LaneResult& lane : lanes) {
+    if (lane.dead_end && !lane.blind && !OnMap(robot, lane)) add(lane.point.head<2>());
+  }
+  const Pose2 robot_from_world = robot.Inverse();
+  for (const Eigen::Vector2d& p : memory_.Points()) add(robot_from_world.Transform(p));
+  const Eigen::Vector2d to_target = follow.target - robot.translation();
+  in.bearing_rad = WrapAngle(std::atan2(to_target.y(), to_target.x()) - robot.yaw_rad);
+  in.distance_m = follow.remaining_m;
+  const FlmcOutput fuzzy = flmc_->Step(in);
+  step.avoiding = fuzzy.mode == FlmcMode::kAvoidance;
+  Twist2 command = fuzzy.twist;
   command.linear_mps = std::min({command.linear_mps, v_free, follow.speed_limit_mps});
   return command;
 }

@@ -33,6 +33,7 @@
 #include "nav/planner/costmap.h"
 #include "nav/policy/demonstrations.h"
 #include "nav/policy/evasion.h"
+#include "nav/policy/flmc.h"
 #include "nav/policy/local_policy.h"
 #include "nav/policy/morp_il.h"
 #include "nav/policy/morp_rb.h"
@@ -95,6 +96,13 @@ struct LocalNavigatorOptions {
   std::shared_ptr<const Mlp> direction;
   TakiguchiOptions takiguchi;
   SafeDirectionOptions safe;
+  // ASNS's fuzzy controllers (flmc.h) in MORP-RB's place instead: motion toward the path's lookahead point with the
+  // distance left to the goal, obstacle avoidance from the cones ahead (the lanes' dead-ends and the obstacle memory),
+  // rotation on the spot near a waypoint; to within flmc.stop_within_m of the goal, after which the pose controller
+  // turns the robot to the goal's heading. Capped like the others by the path's speed and what the robot can stop
+  // within, guarded by the memory; evasion of people stays.
+  bool fuzzy_policy = false;
+  FlmcOptions flmc;
 };
 
 class LocalNavigator final : public LocalPolicy {
@@ -140,6 +148,9 @@ class LocalNavigator final : public LocalPolicy {
   // training.
   Twist2 Direct(const Pose2& robot, const Surroundings* around, const FollowStep& follow, double v_free,
                 LocalStep& step);
+  // The fuzzy controllers' command (fuzzy_policy).
+  Twist2 Fuzzy(const Pose2& robot, const std::vector<LaneResult>& lanes, const FollowStep& follow, double v_free,
+               LocalStep& step);
   // Replaces the step's twist when a tracked moving object would meet the robot on it; `target`: where the robot
   // is heading (world frame).
   void Evade(const Pose2& robot, const Eigen::Vector2d& target, const Surroundings* around, LocalStep& step);
@@ -154,7 +165,8 @@ class LocalNavigator final : public LocalPolicy {
   std::vector<LaneResult> ahead_;  // this frame's lanes in the corridor
   std::vector<LaneResult> seen_;   // all of them, the map's own obstacles taken out (MORP-IL's)
   MorpIlFeatures features_;
-  Twist2 last_command_;  // the step before's
+  std::unique_ptr<Flmc> flmc_;  // fuzzy_policy
+  Twist2 last_command_;         // the step before's
   double detour_left_m_ = 0.0;
   double last_speed_mps_ = 0.0;
   std::optional<Eigen::Vector2d> headway_from_;  // where the robot was when it last made headway

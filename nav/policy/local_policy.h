@@ -25,7 +25,7 @@
 
 namespace corridor::nav {
 
-enum class LocalPolicyKind { kMorpRb, kVoxelReactive, kMorpIl, kTakiguchi };
+enum class LocalPolicyKind { kMorpRb, kVoxelReactive, kMorpIl, kTakiguchi, kFlmc };
 const char* ToString(LocalPolicyKind kind);
 std::optional<LocalPolicyKind> ParseLocalPolicy(const std::string& name);
 

@@ -11,13 +11,14 @@ const char* ToString(LocalPolicyKind kind) {
     case LocalPolicyKind::kVoxelReactive: return "voxel-reactive";
     case LocalPolicyKind::kMorpIl: return "morp-il";
     case LocalPolicyKind::kTakiguchi: return "takiguchi";
+    case LocalPolicyKind::kFlmc: return "flmc";
   }
   return "unknown";
 }
 
 std::optional<LocalPolicyKind> ParseLocalPolicy(const std::string& name) {
   for (LocalPolicyKind kind : {LocalPolicyKind::kMorpRb, LocalPolicyKind::kVoxelReactive, LocalPolicyKind::kMorpIl,
-                               LocalPolicyKind::kTakiguchi}) {
+                               LocalPolicyKind::kTakiguchi, LocalPolicyKind::kFlmc}) {
     if (name == ToString(kind)) return kind;
   }
   return std::nullopt;

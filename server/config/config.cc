@@ -2,14 +2,17 @@
 
 #include <charconv>
 #include <cstdlib>
+#include <fstream>
 #include <functional>
 
 #include <map>
 #include <numbers>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include "drivers/serial/byte_stream.h"
+#include "nav/policy/flmc.h"
 #include "server/config/config_reader.h"
 
 namespace corridor::server {
@@ -885,7 +888,8 @@ void ReadMission(ConfigReader& r, nav::MissionRunnerOptions& mission, const fs::
                        {{"morp-rb", Policy::kMorpRb},
                         {"voxel-reactive", Policy::kVoxelReactive},
                         {"morp-il", Policy::kMorpIl},
-                        {"takiguchi", Policy::kTakiguchi}});
+                        {"takiguchi", Policy::kTakiguchi},
+                        {"flmc", Policy::kFlmc}});
   nav::LocalNavigatorOptions& navigator = mission.navigator;
   nav::FollowerOptions& o = navigator.follower;
   r.Read("k_rho", o.gains.k_rho, -100.0, 100.0);
@@ -932,6 +936,38 @@ void ReadMission(ConfigReader& r, nav::MissionRunnerOptions& mission, const fs::
     t.Read("field_deg", field_deg, 1.0, 360.0);
     navigator.takiguchi.field_rad = field_deg * std::numbers::pi / 180.0;
   });
+  // ASNS's fuzzy controllers: their rule bases (FLL files; none: corridor's own) are read and built here, so that one
+  // that cannot run stops start-up naming its key.
+  r.Section("flmc", [&](ConfigReader& f) {
+    nav::FlmcOptions& fuzzy = navigator.flmc;
+    f.Read("stop_within_m", fuzzy.stop_within_m, 0.0, 1.0);
+    f.Read("rotate_within_m", fuzzy.rotate_within_m, 0.0, 5.0);
+    double rotate_above_deg = fuzzy.rotate_above_rad * 180.0 / std::numbers::pi;
+    f.Read("rotate_above_deg", rotate_above_deg, 0.0, 180.0);
+    fuzzy.rotate_above_rad = rotate_above_deg * std::numbers::pi / 180.0;
+    f.Read("avoid_within_m", fuzzy.avoid_within_m, 0.0, 5.0);
+    for (const auto& [key, text] :
+         {std::pair{"motion_rules", &fuzzy.motion_fll}, std::pair{"avoidance_rules", &fuzzy.avoidance_fll},
+          std::pair{"rotation_rules", &fuzzy.rotation_fll}}) {
+      fs::path file;
+      ReadPath(f, key, file, base);
+      if (file.empty()) continue;
+      std::ifstream in(file);
+      std::stringstream contents;
+      contents << in.rdbuf();
+      if (!in) throw ConfigError(f.PathOf(key) + ": " + file.string() + ": cannot be read");
+      *text = contents.str();
+    }
+  });
+  navigator.flmc.max_linear_mps = o.max_linear_mps;
+  navigator.flmc.max_angular_rps = o.max_angular_rps;
+  if (mission.policy == Policy::kFlmc) {
+    try {
+      nav::Flmc check(navigator.flmc);
+    } catch (const std::invalid_argument& e) {
+      throw ConfigError(r.PathOf("flmc") + ": " + e.what());
+    }
+  }
   if (mission.policy == Policy::kTakiguchi) {
     navigator.direction = ReadNetwork(r, "takiguchi", mission.policy, direction_weights, [&](const nav::Mlp& net) {
       nav::CheckTakiguchiNetwork(net, navigator.takiguchi);

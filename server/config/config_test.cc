@@ -125,9 +125,33 @@ TEST_F(ConfigTest, MorpIlDrivesWithTheNetworkItNamesAndOnlyOneThatFits) {
                                  << (SourceDir() / "config/policies/morp_il.weights").string() << "}}\n";
   EXPECT_EQ(LoadConfig(dir_ / "c.yaml").mission.navigator.learned->inputs(), 48);
   e = ErrorOf("sim: {world: w.yaml}\nmission: {policy: sarl}\n");
-  EXPECT_NE(e.find("mission.policy: must be morp-rb, voxel-reactive, morp-il or takiguchi, got 'sarl'"),
+  EXPECT_NE(e.find("mission.policy: must be morp-rb, voxel-reactive, morp-il, takiguchi or flmc, got 'sarl'"),
             std::string::npos)
       << e;
+}
+
+// ASNS's fuzzy controllers: corridor's rules unless files are named; a rule base that cannot run stops start-up.
+TEST_F(ConfigTest, TheFuzzyPolicyReadsItsRuleBasesAndRefusesOnesThatCannotRun) {
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\nmission: {policy: flmc, flmc: {rotate_above_deg: 45}}\n";
+  const Config c = LoadConfig(dir_ / "c.yaml");
+  EXPECT_EQ(c.mission.policy, nav::LocalPolicyKind::kFlmc);
+  EXPECT_NEAR(c.mission.navigator.flmc.rotate_above_rad, M_PI / 4, 1e-12);
+  EXPECT_TRUE(c.mission.navigator.flmc.motion_fll.empty());
+  EXPECT_DOUBLE_EQ(c.mission.navigator.flmc.max_linear_mps, c.mission.navigator.follower.max_linear_mps);
+  // A rule base of the user's own, relative to the configuration: corridor's, with the rotation slowed.
+  std::string rotation = nav::DefaultFlmcRules("rotation");
+  rotation.replace(rotation.find("bearing is PB then angular is PB"), 32, "bearing is PB then angular is PM");
+  std::ofstream(dir_ / "rotation.fll") << rotation;
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\nmission: {policy: flmc, flmc: {rotation_rules: "
+                                    "rotation.fll}}\n";
+  EXPECT_NE(LoadConfig(dir_ / "c.yaml").mission.navigator.flmc.rotation_fll.find("angular is PM"), std::string::npos);
+  std::string e = ErrorOf("sim: {world: w.yaml}\nmission: {policy: flmc, flmc: {motion_rules: none.fll}}\n");
+  EXPECT_NE(e.find("mission.flmc.motion_rules: " + (dir_ / "none.fll").string() + ": cannot be read"),
+            std::string::npos)
+      << e;
+  std::ofstream(dir_ / "avoid.fll") << nav::DefaultFlmcRules("rotation");
+  e = ErrorOf("sim: {world: w.yaml}\nmission: {policy: flmc, flmc: {avoidance_rules: avoid.fll}}\n");
+  EXPECT_NE(e.find("mission.flmc: flmc avoidance: no input variable 'left'"), std::string::npos) << e;
 }
 
 TEST_F(ConfigTest, TakiguchisPolicyNeedsANetworkOfItsShape) {

@@ -38,7 +38,8 @@ Runs the DPoom evaluation protocol: a DPoom-like robot (0.26 m/s, camera 85.2 x 
                       and stands, as in DPoom's evaluation) or pacing (harder: routes anywhere, walked back and
                       forth at 0.8 m/s for the whole run)
   --static N          static obstacles, 0 to 9, default 0
-  --policy NAME       morp-rb, voxel-reactive, morp-il or takiguchi; repeat for several; default the first two
+  --policy NAME       morp-rb, voxel-reactive, morp-il, takiguchi or flmc (ASNS's fuzzy controllers); repeat for
+                      several; default the first two
   --weights FILE      morp-il's network, default config/policies/morp_il.weights
   --takiguchi-weights FILE
                       takiguchi's network, default config/policies/takiguchi.weights
@@ -149,7 +150,7 @@ int main(int argc, char** argv) {
         const auto policy = corridor::scenario::ParsePolicy(name);
         if (!policy) {
           throw std::invalid_argument("--policy: unknown policy '" + name +
-                                      "' (morp-rb, voxel-reactive, morp-il, takiguchi)");
+                                      "' (morp-rb, voxel-reactive, morp-il, takiguchi, flmc)");
         }
         policies.push_back(*policy);
       } else if (flag == "--weights") {

@@ -28,6 +28,17 @@ TEST(ScenarioTest, ASeededRunAmongPeopleAndObstaclesReachesItsGoalWithoutCollisi
   EXPECT_GT(result.depth_ms.size(), 50u);  // it drove on depth frames
 }
 
+// ASNS's fuzzy controllers (mission.policy flmc) drive the same CI scenario through the daemon's graph to the goal.
+TEST(ScenarioTest, TheFuzzyControllersReachTheGoalAmongPeopleAndObstacles) {
+  ScenarioOptions options;
+  options.seed = 7;
+  options.pedestrians = 3;
+  options.static_obstacles = 4;
+  const RunResult result = RunOnce(MakeLayout(options, 0, 0), Policy::kFlmc, options);
+  EXPECT_EQ(ToString(result.outcome), std::string("success")) << result.collided_with;
+  EXPECT_GT(result.depth_ms.size(), 50u);
+}
+
 // Five people pacing, who do not see the robot, no obstacles: in this seeded layout a person walks toward the robot
 // from outside the camera's view within seconds. With the laser the robot tracks them, steps out of the way and
 // reaches its goal. (A regression check on one layout; the rates over many runs are in docs/benchmarks.md.)
