@@ -41,10 +41,14 @@ float ValueNoise(const Eigen::Vector3f& p, float scale_m) {
   return value;
 }
 
+// How squarely a ray meets the surface it hits: |cos| of the angle between them.
+float CosIncidence(const RayHit& hit, const Eigen::Vector3f& direction) {
+  return std::abs(hit.normal.dot(direction.normalized()));
+}
+
 // A hit's colour as the camera sees it: the surface's colour, textured, lit from the camera.
-Eigen::Vector3f Shade(const RayHit& hit, const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
-                      double texture) {
-  const float cos_incidence = std::abs(hit.normal.dot(direction.normalized()));
+Eigen::Vector3f Shade(const RayHit& hit, float cos_incidence, const Eigen::Vector3f& origin,
+                      const Eigen::Vector3f& direction, double texture) {
   Eigen::Vector3f color = hit.color * (0.3f + 0.7f * cos_incidence);
   if (texture > 0.0) {
     const float t = SurfaceTexture(origin + hit.distance * direction);
@@ -92,15 +96,22 @@ RgbdRenderer::RgbdRenderer(const RayCaster& caster, const SimCameraOptions& opti
   }
 }
 
+void RgbdRenderer::CastPixels(const Eigen::Isometry3d& world_T_camera, std::vector<Eigen::Vector3f>& directions,
+                              std::vector<RayHit>& hits) const {
+  const Eigen::Matrix3f rotation = world_T_camera.linear().cast<float>();
+  directions.resize(rays_.size());
+  for (std::size_t i = 0; i < rays_.size(); ++i) directions[i] = rotation * rays_[i];
+  hits.resize(rays_.size());
+  // Cast past max range so that colour still sees far walls; depth drops them below.
+  caster_.CastFan(world_T_camera.translation().cast<float>(), directions, 0.0f, 1e3f, hits);
+}
+
 void RgbdRenderer::Render(const Eigen::Isometry3d& world_T_camera, std::mt19937& rng, RgbdFrame& frame) const {
   const nav::PinholeCamera& k = info_.camera;
-  const Eigen::Matrix3f rotation = world_T_camera.linear().cast<float>();
   const Eigen::Vector3f origin = world_T_camera.translation().cast<float>();
-  std::vector<Eigen::Vector3f> directions(rays_.size());
-  for (std::size_t i = 0; i < rays_.size(); ++i) directions[i] = rotation * rays_[i];
-  std::vector<RayHit> hits(rays_.size());
-  // Cast past max range so that colour still sees far walls; depth drops them below.
-  caster_.CastFan(origin, directions, 0.0f, 1e3f, hits);
+  std::vector<Eigen::Vector3f> directions;
+  std::vector<RayHit> hits;
+  CastPixels(world_T_camera, directions, hits);
 
   frame.depth_mm.create(k.height, k.width, CV_16UC1);
   frame.color_bgr.create(k.height, k.width, CV_8UC3);
@@ -116,8 +127,8 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& world_T_camera, std::mt19937&
       Eigen::Vector3f color = kBackground;
       std::uint16_t depth = 0;
       if (hit.hit()) {
-        const float cos_incidence = std::abs(hit.normal.dot(directions[i].normalized()));
-        color = Shade(hit, origin, directions[i], 0.0);
+        const float cos_incidence = CosIncidence(hit, directions[i]);
+        color = Shade(hit, cos_incidence, origin, directions[i], 0.0);
         const float z = hit.distance;  // rays have unit optical-axis component: t is depth
         const bool in_range = z >= options_.min_range_m && z <= options_.max_range_m;
         if (in_range && cos_incidence >= cos_cutoff && uniform(rng) >= options_.dropout_fraction) {
@@ -135,19 +146,19 @@ void RgbdRenderer::Render(const Eigen::Isometry3d& world_T_camera, std::mt19937&
 void RgbdRenderer::RenderColor(const Eigen::Isometry3d& world_T_camera, double texture, double noise_levels,
                                std::mt19937& rng, cv::Mat& bgr) const {
   const nav::PinholeCamera& k = info_.camera;
-  const Eigen::Matrix3f rotation = world_T_camera.linear().cast<float>();
   const Eigen::Vector3f origin = world_T_camera.translation().cast<float>();
-  std::vector<Eigen::Vector3f> directions(rays_.size());
-  for (std::size_t i = 0; i < rays_.size(); ++i) directions[i] = rotation * rays_[i];
-  std::vector<RayHit> hits(rays_.size());
-  caster_.CastFan(origin, directions, 0.0f, 1e3f, hits);
+  std::vector<Eigen::Vector3f> directions;
+  std::vector<RayHit> hits;
+  CastPixels(world_T_camera, directions, hits);
   bgr.create(k.height, k.width, CV_8UC3);
   std::normal_distribution<float> noise(0.0f, static_cast<float>(noise_levels / 255.0));
   for (int v = 0; v < k.height; ++v) {
     auto* row = bgr.ptr<cv::Vec3b>(v);
     for (int u = 0; u < k.width; ++u) {
       const std::size_t i = static_cast<std::size_t>(v) * k.width + u;
-      Eigen::Vector3f color = hits[i].hit() ? Shade(hits[i], origin, directions[i], texture) : kBackground;
+      const RayHit& hit = hits[i];
+      Eigen::Vector3f color =
+          hit.hit() ? Shade(hit, CosIncidence(hit, directions[i]), origin, directions[i], texture) : kBackground;
       if (noise_levels > 0.0) color.array() += noise(rng);
       row[u] = ToBgr(color);
     }

@@ -61,6 +61,10 @@ class RgbdRenderer {
                    cv::Mat& bgr) const;
 
  private:
+  // Every pixel's ray from the camera at world_T_camera (world frame, z = 1 in the optical frame) and what it hits.
+  void CastPixels(const Eigen::Isometry3d& world_T_camera, std::vector<Eigen::Vector3f>& directions,
+                  std::vector<RayHit>& hits) const;
+
   const RayCaster& caster_;
   SimCameraOptions options_;
   CameraInfo info_;

@@ -12,7 +12,7 @@ namespace {
 // Outputs are shares of the robot's top speeds. Their ranges reach past [0, 1] and [-1, 1] so that a term at an end
 // (stop, full speed) is a whole triangle whose centroid is its peak: a stop defuzzifies to 0 exactly, not to the
 // centroid of half a triangle. The result is clamped after.
-constexpr const char* kOutputs = R"(
+constexpr const char* kLinear = R"(
 OutputVariable: linear
   enabled: true
   range: -0.250 1.250
@@ -27,6 +27,8 @@ OutputVariable: linear
   term: ME Triangle 0.300 0.500 0.750
   term: FA Triangle 0.500 0.750 1.000
   term: VF Triangle 0.750 1.000 1.250
+)";
+constexpr const char* kAngular = R"(
 OutputVariable: angular
   enabled: true
   range: -1.250 1.250
@@ -43,6 +45,7 @@ OutputVariable: angular
   term: PM Triangle 0.300 0.600 1.000
   term: PB Triangle 0.600 1.000 1.250
 )";
+const std::string kOutputs = std::string(kLinear) + kAngular;
 
 // The waypoint's bearing in seven sets, finer near zero where the robot drives.
 constexpr const char* kBearing = R"(
@@ -133,23 +136,7 @@ const std::string kAvoidance =
 )";
 
 // On the spot: the turn rate from the bearing alone, no forward speed.
-const std::string kRotation = std::string("Engine: rotation\n") + kBearing + R"(
-OutputVariable: angular
-  enabled: true
-  range: -1.250 1.250
-  lock-range: false
-  aggregation: Maximum
-  defuzzifier: Centroid 200
-  default: 0.000
-  lock-previous: false
-  term: NB Triangle -1.250 -1.000 -0.600
-  term: NM Triangle -1.000 -0.600 -0.300
-  term: NS Triangle -0.600 -0.300 0.000
-  term: ZE Triangle -0.300 0.000 0.300
-  term: PS Triangle 0.000 0.300 0.600
-  term: PM Triangle 0.300 0.600 1.000
-  term: PB Triangle 0.600 1.000 1.250
-)" + kBlock + R"(
+const std::string kRotation = std::string("Engine: rotation\n") + kBearing + kAngular + kBlock + R"(
   rule: if bearing is NB then angular is NB
   rule: if bearing is NM then angular is NM
   rule: if bearing is NS then angular is NS
