@@ -10,6 +10,7 @@
 
 #include "drivers/sim/sensors.h"
 #include "drivers/sim/sim_robot.h"
+#include "drivers/sim/sim_stereo.h"
 #include "nav/ground/depth_scan.h"
 #include "nav/ground/floor_fit.h"
 #include "nav/ground/morp.h"
@@ -236,10 +237,32 @@ TEST(MorpTest, TooCloseToSeeMeansBlindAndStop) {
   EXPECT_THROW(morp.Process(cv::Mat(10, 10, CV_16UC1, cv::Scalar(0))), std::invalid_argument);
 }
 
+// A stereo pair sees nothing close by on its left (the right camera does not): its lanes there start where both
+// cameras see the floor, so open floor gives no dead-end; read as a depth sensor's, the same frame blinds them.
+TEST(MorpTest, AStereoPairsLeftLanesStartWhereBothCamerasSeeTheFloor) {
+  const drivers::sim::SimCameraOptions o;  // 320 x 240, as the simulated pair matches
+  drivers::sim::SimStereoOptions stereo;
+  stereo.enabled = true;
+  const TriangleMesh mesh = Floor();
+  const drivers::sim::RayCaster caster(mesh);
+  drivers::sim::SimStereoCamera pair(caster, o, stereo);
+  std::mt19937 rng(1);
+  drivers::RgbdFrame frame;
+  pair.Render(Eigen::Isometry3d::Identity(), rng, frame);
+  nav::Morp morp(pair.info().camera, nav::MorpOptions{});  // 1 m of lanes: 0.3 m past the robot's sides
+  for (const nav::LaneResult& lane : morp.Process(frame.depth_mm)) {
+    EXPECT_FALSE(lane.dead_end) << "lane " << lane.offset_m << " at " << lane.free_distance_m;
+  }
+  nav::PinholeCamera without_shadow = pair.info().camera;
+  without_shadow.stereo = {};
+  nav::Morp plain(without_shadow, nav::MorpOptions{});
+  EXPECT_TRUE(plain.Process(frame.depth_mm).front().dead_end) << "the leftmost lane, 0.45 m left";
+}
+
 TEST(MorpTest, RealKinectFramesGiveSaneOutput) {
   // TUM RGB-D desk frames (freiburg2 Kinect): depth / 5000 = metres, a third of pixels are holes.
   nav::PinholeCamera camera{
-      640, 480, 520.9, 521.0, 325.1, 249.7, drivers::sim::MakeCameraInfo(Camera()).camera.base_T_camera};
+      640, 480, 520.9, 521.0, 325.1, 249.7, drivers::sim::MakeCameraInfo(Camera()).camera.base_T_camera, {}};
   nav::Morp morp(camera, nav::MorpOptions{});
   for (const char* name : {"tests/data/depth/1_depth.png", "tests/data/depth/2_depth.png"}) {
     cv::Mat raw = cv::imread((SourceDir() / name).string(), cv::IMREAD_UNCHANGED);

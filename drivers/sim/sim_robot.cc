@@ -25,7 +25,7 @@ SimRobot::SimRobot(std::shared_ptr<const World> world, const SimOptions& options
       options_(options),
       caster_(world_->mesh),
       renderer_(caster_, options.camera),
-      stereo_(options.stereo.enabled ? std::make_unique<SimStereoCamera>(renderer_, options.camera, options.stereo)
+      stereo_(options.stereo.enabled ? std::make_unique<SimStereoCamera>(caster_, options.camera, options.stereo)
                                      : nullptr),
       camera_info_(stereo_ ? stereo_->info() : MakeCameraInfo(options.camera)),
       rng_(options.seed),

@@ -1,9 +1,19 @@
 #include "drivers/sim/sim_stereo.h"
 
+#include <cmath>
+#include <numbers>
+
 namespace corridor::drivers::sim {
 
+SimCameraOptions StereoViewOptions(const SimCameraOptions& camera) {
+  SimCameraOptions views = camera;
+  const double fx = MakeCameraInfo(camera).camera.fx;
+  views.vertical_fov_deg = 2.0 * std::atan(camera.height / (2.0 * fx)) * 180.0 / std::numbers::pi;
+  return views;
+}
+
 stereo::StereoCalibration IdealStereoCalibration(const SimCameraOptions& camera, double baseline_m) {
-  const nav::PinholeCamera k = MakeCameraInfo(camera).camera;
+  const nav::PinholeCamera k = MakeCameraInfo(StereoViewOptions(camera)).camera;
   stereo::StereoCalibration c;
   c.image_size = {k.width, k.height};
   // The renderer's pixel centres are at u + 0.5 from the image's edge: OpenCV's principal point is in pixel indices.
@@ -23,9 +33,9 @@ stereo::StereoDepthOptions DepthOptions(const SimCameraOptions& camera, const Si
 
 }  // namespace
 
-SimStereoCamera::SimStereoCamera(const RgbdRenderer& renderer, const SimCameraOptions& camera,
+SimStereoCamera::SimStereoCamera(const RayCaster& caster, const SimCameraOptions& camera,
                                  const SimStereoOptions& options)
-    : renderer_(renderer),
+    : renderer_(caster, StereoViewOptions(camera)),
       options_(options),
       base_T_left_(MakeCameraInfo(camera).camera.base_T_camera),
       depth_(IdealStereoCalibration(camera, options.baseline_m), base_T_left_, DepthOptions(camera, options)) {}

@@ -20,23 +20,30 @@ struct SimStereoOptions {
   double texture = 0.5;
   // The depth path as on a robot: matched and given at the views' size unless depth.width is smaller. 80 disparities:
   // the simulated camera's 320 px across 85 degrees (a focal length of 174 px) with 12 cm between the views see from
-  // 0.26 m on.
+  // 0.26 m on. A texture threshold of twice the views' noise: blocks of pure noise (the plain background above the
+  // walls) vary by about 2 grey levels, and at 2.5 a few were matched each frame into obstacles half a metre away.
   stereo::StereoDepthOptions depth = [] {
     stereo::StereoDepthOptions d;
     d.matcher.disparities = 80;
+    d.matcher.min_texture = 4.0;
     return d;
   }();
 };
 
-// An ideal pair of the simulated camera's intrinsics, no distortion, the right camera `baseline_m` to the left one's
-// right: what calibrating the simulated pair would give.
+// The views' camera: the configured one with square pixels, as a stereo pair's cameras have (the depth sensor's
+// default, 85 by 58 degrees on 320 x 240, has not): the horizontal field kept, the vertical one from it. Rectifying
+// non-square pixels would crop the width to the height's focal length, 73 degrees across instead of 85.
+SimCameraOptions StereoViewOptions(const SimCameraOptions& camera);
+
+// An ideal pair of the views' camera (StereoViewOptions), no distortion, the right camera `baseline_m` to the left
+// one's right: what calibrating the simulated pair would give.
 stereo::StereoCalibration IdealStereoCalibration(const SimCameraOptions& camera, double baseline_m);
 
 class SimStereoCamera {
  public:
-  // `renderer` renders one view (the camera's options, its texture) and must outlive this. Throws
+  // Renders the views of `camera` (StereoViewOptions) with `caster`, which must outlive this. Throws
   // std::invalid_argument for depth options that cannot work.
-  SimStereoCamera(const RgbdRenderer& renderer, const SimCameraOptions& camera, const SimStereoOptions& options);
+  SimStereoCamera(const RayCaster& caster, const SimCameraOptions& camera, const SimStereoOptions& options);
 
   // The rectified left camera the frames are in (the configured camera's mounting and intrinsics).
   const CameraInfo& info() const { return depth_.info(); }
@@ -45,7 +52,7 @@ class SimStereoCamera {
   void Render(const Eigen::Isometry3d& world_T_base, std::mt19937& rng, RgbdFrame& frame);
 
  private:
-  const RgbdRenderer& renderer_;
+  RgbdRenderer renderer_;
   SimStereoOptions options_;
   Eigen::Isometry3d base_T_left_;  // the configured mounting of the left camera
   stereo::StereoDepth depth_;

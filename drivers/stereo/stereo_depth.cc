@@ -49,6 +49,7 @@ StereoDepth::StereoDepth(const StereoCalibration& calibration, const Eigen::Isom
   }
   k.base_T_camera = base_T_left;
   k.base_T_camera.linear() = base_T_left.linear() * left_R_rectified;
+  k.stereo = {k.fx * rectification_.baseline_m, static_cast<double>(options.matcher.edge_px)};
   info_.min_range_m = options.min_range_m;
   info_.max_range_m = options.max_range_m;
 }

@@ -26,6 +26,7 @@ void ValidateMatcherOptions(const StereoMatcherOptions& o) {
     throw std::invalid_argument("uniqueness_percent: from 0 to 100");
   }
   if (o.left_right_px < -1 || o.left_right_px > 64) throw std::invalid_argument("left_right_px: from -1 to 64");
+  if (o.edge_px < 0 || o.edge_px > 64) throw std::invalid_argument("edge_px: from 0 to 64");
   if (!(o.min_texture >= 0.0 && o.min_texture <= 128.0)) throw std::invalid_argument("min_texture: from 0 to 128");
   if (o.speckle_window_px < 0 || o.speckle_range_px < 0) {
     throw std::invalid_argument("speckle_window_px, speckle_range_px: not negative");
@@ -69,12 +70,13 @@ void StereoMatcher::Compute(const cv::Mat& left, const cv::Mat& right, cv::Mat& 
   const cv::Mat fixed = fixed_point_.colRange(pad, fixed_point_.cols);
   fixed.convertTo(disparity_px, CV_32F, 1.0 / 16.0);
   disparity_px.setTo(std::numeric_limits<float>::quiet_NaN(), fixed < options_.min_disparity_px * 16);
-  // A pixel whose match would lie left of the right image's edge was not seen by the right camera: what the padding
-  // gave it is a guess.
+  // A pixel whose match would lie left of the right image's edge (or within edge_px of it) was not seen by the right
+  // camera: what the padding gave it is a guess.
+  const int edge = options_.edge_px;
   for (int v = 0; v < disparity_px.rows; ++v) {
     float* d = disparity_px.ptr<float>(v);
-    for (int u = 0; u < std::min(pad, disparity_px.cols); ++u) {
-      if (d[u] > static_cast<float>(u)) d[u] = std::numeric_limits<float>::quiet_NaN();
+    for (int u = 0; u < std::min(pad + edge, disparity_px.cols); ++u) {
+      if (d[u] > static_cast<float>(u - edge)) d[u] = std::numeric_limits<float>::quiet_NaN();
     }
   }
   if (options_.min_texture > 0.0) {

@@ -33,6 +33,9 @@ struct StereoMatcherOptions {
   // Match the left image's first `disparities` columns too, by padding both images on the left: otherwise a band as
   // wide as the search range has no disparity at all (on Middlebury's aloe at half size, 13 % of the pixels).
   bool pad_left = true;
+  // A pixel whose match lies left of the right image's edge was not seen by the right camera, and one within
+  // edge_px of it was matched partly against the padding: both get no disparity (nav::StereoShadow).
+  int edge_px = 0;
 };
 
 // Throws std::invalid_argument naming the option when `options` cannot build a matcher.

@@ -8,6 +8,21 @@
 
 namespace corridor::nav {
 
+// Where a stereo pair measures depth, its left image being the camera's: a point at depth z seen in column u is in
+// the right image at u - focal * baseline / z, and has a depth only when that lies at least edge_px inside the right
+// image (nearer its edge the matcher's window reaches past it). So the pair is blind close by on its left side: with
+// 12 cm between 174 px cameras, a lane 0.45 m to the left is first seen 0.7 m ahead. A depth sensor has no such
+// shadow (focal_baseline_px_m 0).
+struct StereoShadow {
+  double focal_baseline_px_m = 0.0;  // the rectified focal length times the baseline
+  double edge_px = 0.0;
+
+  // Whether a point at `depth_m` in column `u` can have a depth.
+  bool Sees(double u, double depth_m) const {
+    return focal_baseline_px_m <= 0.0 || (depth_m > 0.0 && u - focal_baseline_px_m / depth_m >= edge_px);
+  }
+};
+
 struct PinholeCamera {
   int width = 0;
   int height = 0;
@@ -16,6 +31,7 @@ struct PinholeCamera {
   double cx = 0.0;
   double cy = 0.0;
   Eigen::Isometry3d base_T_camera = Eigen::Isometry3d::Identity();
+  StereoShadow stereo;  // a stereo pair's (else none)
 
   // A size and focal lengths a projection can use (positive).
   bool Valid() const { return width > 0 && height > 0 && fx > 0.0 && fy > 0.0; }

@@ -37,20 +37,35 @@ Morp::Morp(const PinholeCamera& camera, const MorpOptions& options) : camera_(ca
   }
   const Eigen::Vector3f origin = camera.base_T_camera.translation().cast<float>();
   const Eigen::Matrix3d rotation = camera.base_T_camera.linear();
+  const Eigen::Isometry3d camera_T_base = camera.base_T_camera.inverse();
   for (const double offset : LaneOffsets(options)) {
     Lane lane;
     lane.offset_m = offset;
     int last_row = camera.height;
+    double first_in_view_m = -1.0;  // where the lane's floor enters the image
+    double first_seen_m = -1.0;     // ... and where it can first have depth (later in a stereo pair's shadow)
     for (double x = kLaneStepM; x <= options.max_range_m; x += kLaneStepM) {
       Eigen::Vector2d pixel;
-      if (!camera.Project({x, lane.offset_m, 0.0}, pixel)) continue;
+      const Eigen::Vector3d floor(x, lane.offset_m, 0.0);
+      if (!camera.Project(floor, pixel)) continue;
       const int u = static_cast<int>(std::lround(pixel.x()));
       const int v = static_cast<int>(std::floor(pixel.y()));
       if (u < 0 || u >= camera.width || v < 0 || v >= camera.height) continue;
+      if (first_in_view_m < 0.0) first_in_view_m = x;
+      // In a stereo pair's shadow the floor has no true depth, and nothing nearer has one either: a depth found
+      // there is a mismatch (farther than the floor, so it would read as a drop). The lane starts past it.
+      if (first_seen_m < 0.0) {
+        if (!camera.stereo.Sees(pixel.x(), (camera_T_base * floor).z())) continue;
+        first_seen_m = x;
+      }
       if (v >= last_row) continue;  // one sample per row, rising as the floor line recedes
       last_row = v;
       lane.samples.push_back({u, v, origin, (rotation * camera.Ray(u + 0.5, v + 0.5)).cast<float>()});
     }
+    // A lane is blind when its first depth comes later than blind_range_m, or, where a stereo pair's shadow keeps
+    // its floor from being measured at first, that much later than the shadow allows.
+    lane.blind_range_m = options.blind_range_m;
+    if (first_seen_m > first_in_view_m && first_in_view_m >= 0.0) lane.blind_range_m += first_seen_m - first_in_view_m;
     if (lane.samples.size() >= 2) {
       // Continue up the image along the lane line's direction.
       const Sample& a = lane.samples[lane.samples.size() - 2];
@@ -145,7 +160,7 @@ const std::vector<LaneResult>& Morp::Process(const cv::Mat& depth) {
       last_floor_r = r;
     }
     if (!out.dead_end) {
-      if (!started || r_first > options_.blind_range_m) {
+      if (!started || r_first > lane.blind_range_m) {
         // Nothing seen near the robot: too close to something to measure, or a blinded camera. Stop.
         out.blind = true;
         out.dead_end = true;

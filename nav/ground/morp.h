@@ -44,8 +44,10 @@ struct MorpOptions {
   double max_drop_m = 0.05;      // anything this far below the floor is a drop, whatever its slope
   double min_range_m = 0.2;      // the camera's minimum range
   double max_range_m = 4.0;      // lanes are scanned out to this forward distance
-  double blind_range_m = 0.6;    // no valid depth before this forward distance: the lane is blind
-  int half_window_px = 2;        // each lane sample takes the nearest valid depth across 2k+1 columns
+  // No valid depth before this forward distance: the lane is blind. A stereo pair's lanes on its left side get the
+  // distance its shadow adds (PinholeCamera::stereo).
+  double blind_range_m = 0.6;
+  int half_window_px = 2;  // each lane sample takes the nearest valid depth across 2k+1 columns
 };
 
 struct LaneResult {
@@ -90,6 +92,7 @@ class Morp {
   };
   struct Lane {
     double offset_m;
+    double blind_range_m;
     std::vector<Sample> samples;  // bottom-up
   };
 

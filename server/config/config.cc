@@ -115,6 +115,7 @@ void ReadStereoDepth(ConfigReader& s, drivers::stereo::StereoDepthOptions& d, in
   s.Read("uniqueness_percent", d.matcher.uniqueness_percent, 0, 100);
   s.Read("left_right_px", d.matcher.left_right_px, -1, 64);
   s.Read("min_texture", d.matcher.min_texture, 0.0, 128.0);
+  s.Read("edge_px", d.matcher.edge_px, 0, 64);
   s.Read("min_range_m", d.min_range_m, 0.05, 5.0);
   s.Read("max_range_m", d.max_range_m, 0.5, 50.0);
   try {

@@ -9,7 +9,7 @@ namespace {
 
 // A 160 x 120 camera 0.3 m above the floor looking straight ahead.
 nav::PinholeCamera ForwardCamera() {
-  nav::PinholeCamera camera{160, 120, 80.0, 80.0, 80.0, 60.0, Eigen::Isometry3d::Identity()};
+  nav::PinholeCamera camera{160, 120, 80.0, 80.0, 80.0, 60.0, Eigen::Isometry3d::Identity(), {}};
   Eigen::Matrix3d base_R_optical;
   base_R_optical.col(0) = Eigen::Vector3d(0.0, -1.0, 0.0);  // optical x: right
   base_R_optical.col(1) = Eigen::Vector3d(0.0, 0.0, -1.0);  // optical y: down
