@@ -39,6 +39,19 @@ TEST(ScenarioTest, TheFuzzyControllersReachTheGoalAmongPeopleAndObstacles) {
   EXPECT_GT(result.depth_ms.size(), 50u);
 }
 
+// ASNS's robot: a stereo camera (two textured views matched into depth) and the fuzzy controllers, through the same
+// graph, reach the goal of the same scenario.
+TEST(ScenarioTest, AStereoCameraAndTheFuzzyControllersReachTheGoalAmongPeopleAndObstacles) {
+  ScenarioOptions options;
+  options.seed = 7;
+  options.pedestrians = 3;
+  options.static_obstacles = 4;
+  options.stereo = true;
+  const RunResult result = RunOnce(MakeLayout(options, 0, 0), Policy::kFlmc, options);
+  EXPECT_EQ(ToString(result.outcome), std::string("success")) << result.collided_with;
+  EXPECT_GT(result.depth_ms.size(), 50u);
+}
+
 // Five people pacing, who do not see the robot, no obstacles: in this seeded layout a person walks toward the robot
 // from outside the camera's view within seconds. With the laser the robot tracks them, steps out of the way and
 // reaches its goal. (A regression check on one layout; the rates over many runs are in docs/benchmarks.md.)
