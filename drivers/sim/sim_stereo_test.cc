@@ -1,5 +1,7 @@
 #include "drivers/sim/sim_stereo.h"
 
+#include "testing/stereo_room.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -119,16 +121,7 @@ TEST(SimStereoTest, TheIdealCalibrationIsTheCamerasOwn) {
 // pixel, and where the right camera cannot see it (the pair's shadow, PinholeCamera::stereo) there is almost none
 // (a mismatch the checks cannot rule out, which MORP does not read: nav/ground/morp.h).
 TEST(SimStereoTest, InARoomTheDepthIsTrueWhereBothCamerasSeeAndAbsentElsewhere) {
-  TriangleMesh mesh;
-  mesh.AddBox({-2.0f, -6.0f, -0.1f}, {12.0f, 6.0f, 0.0f}, {0.55f, 0.5f, 0.45f});
-  mesh.AddBox({6.0f, -6.0f, 0.0f}, {6.2f, 6.0f, 2.5f}, {0.7f, 0.7f, 0.7f});
-  mesh.AddBox({-2.0f, 2.0f, 0.0f}, {6.0f, 2.2f, 2.5f}, {0.6f, 0.65f, 0.7f});
-  mesh.AddBox({-2.0f, -2.2f, 0.0f}, {6.0f, -2.0f, 2.5f}, {0.6f, 0.65f, 0.7f});
-  for (int i = 0; i < 8; ++i) {
-    const float x = 0.8f + 0.6f * i;
-    const float y = -1.5f + 0.4f * static_cast<float>((i * 5) % 8);
-    mesh.AddBox({x, y, 0.0f}, {x + 0.3f, y + 0.3f, 0.3f + 0.1f * (i % 4)}, {0.3f + 0.05f * i, 0.4f, 0.5f});
-  }
+  const TriangleMesh mesh = testing::StereoRoom();
   const RayCaster caster(mesh);
   const SimCameraOptions camera;  // 0.3 m up, tilted 10 degrees down
   SimCameraOptions exact = StereoViewOptions(camera);
@@ -142,8 +135,7 @@ TEST(SimStereoTest, InARoomTheDepthIsTrueWhereBothCamerasSeeAndAbsentElsewhere) 
   int near = 0, near_good = 0, shadow = 0, shadow_found = 0;
   std::mt19937 rng(5);
   for (int n = 0; n < 10; ++n) {
-    Eigen::Isometry3d pose(Eigen::AngleAxisd(-0.6 + 0.12 * n, Eigen::Vector3d::UnitZ()));
-    pose.translation() = Eigen::Vector3d(-1.0 + 0.2 * n, -0.8 + 0.16 * n, 0.0);
+    const Eigen::Isometry3d pose = testing::StereoRoomPose(n, 10);
     RgbdFrame stereo, exact_frame;
     pair.Render(pose, rng, stereo);
     truth.Render(pose * k.base_T_camera, rng, exact_frame);
