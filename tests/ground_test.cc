@@ -152,6 +152,25 @@ TEST(DepthScanTest, ItsViewIsTheImagesWidthOnTheFloorOutToItsRange) {
   EXPECT_FALSE(view.Covers(at(0.0, 0.2), 0.3)) << "around the camera itself";
 }
 
+// A stereo pair's view leaves out its shadow: close by on the left, what the right camera cannot see; farther out
+// at the same bearing, or close by on the right, it covers.
+TEST(DepthScanTest, AStereoPairsViewLeavesOutWhatOnlyOneCameraSees) {
+  nav::PinholeCamera camera = drivers::sim::MakeCameraInfo(drivers::sim::SimCameraOptions{}).camera;
+  const nav::DepthScan depth_sensor(camera, nav::DepthScanOptions{});
+  camera.stereo = {camera.fx * 0.12, 0.0};  // 12 cm between 174 px cameras
+  const nav::DepthScan pair(camera, nav::DepthScanOptions{});
+  const auto at = [](double bearing_deg, double range) {
+    const double a = bearing_deg * std::numbers::pi / 180.0;
+    return Eigen::Vector2d(0.1 + range * std::cos(a), range * std::sin(a));  // from the camera, 0.1 m ahead
+  };
+  const nav::SensorView sensor_view = depth_sensor.View({});
+  const nav::SensorView pair_view = pair.View({});
+  EXPECT_TRUE(sensor_view.Covers(at(33.0, 0.6), 0.05));
+  EXPECT_FALSE(pair_view.Covers(at(33.0, 0.6), 0.05)) << "33 degrees left, 0.6 m away: 30 px into the shadow";
+  EXPECT_TRUE(pair_view.Covers(at(33.0, 2.5), 0.05));
+  EXPECT_TRUE(pair_view.Covers(at(-33.0, 0.6), 0.05));
+}
+
 TEST(MorpTest, OpenFloorHasNoDeadEnds) {
   const auto o = Camera();
   nav::Morp morp = MakeMorp(o);

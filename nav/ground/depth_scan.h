@@ -56,9 +56,10 @@ class DepthScan {
   // laser's beam without a return does). Localization and mapping read them as free space.
   const std::vector<Eigen::Vector2d>& misses() const { return misses_; }
 
-  // The floor the scans cover (the image's width on the floor, out to max_range_m) with the robot at world_T_base.
+  // The floor the scans cover (the image's width on the floor, out to max_range_m, less a stereo pair's shadow) with
+  // the robot at world_T_base.
   SensorView View(const Pose2& world_T_base) const {
-    return {world_T_base * base_T_view_, half_angle_rad_, options_.max_range_m};
+    return {world_T_base * base_T_view_, half_angle_rad_, options_.max_range_m, camera_.stereo, camera_.fx, camera_.cx};
   }
 
  private:
