@@ -1,5 +1,5 @@
-// MORP and the floor fit on depth images the simulator renders from known geometry (so the answer is known), and on
-// real Kinect frames from the TUM RGB-D benchmark (holes and noise: the output must stay sane).
+// MORP, AFDS and the floor fit on depth images the simulator renders from known geometry (so the answer is known), and
+// on real Kinect frames from the TUM RGB-D benchmark (holes and noise: the output must stay sane).
 #include <gtest/gtest.h>
 
 #include "testing/source_dir.h"
@@ -11,6 +11,7 @@
 #include "drivers/sim/sensors.h"
 #include "drivers/sim/sim_robot.h"
 #include "drivers/sim/sim_stereo.h"
+#include "nav/ground/afds.h"
 #include "nav/ground/depth_scan.h"
 #include "nav/ground/floor_fit.h"
 #include "nav/ground/morp.h"
@@ -328,6 +329,127 @@ TEST(FloorFitTest, NoFloorInViewGivesNoFit) {
   mesh.AddBox({0.5f, -3.0f, -3.0f}, {0.7f, 3.0f, 3.0f}, kGrey);  // a wall filling the view
   std::mt19937 rng(1);
   EXPECT_FALSE(nav::FitFloor(Render(mesh, o), drivers::sim::MakeCameraInfo(o).camera, nav::FloorFitOptions{}, rng));
+}
+
+// AFDS (ASNS's floor detection): the floor, each region's floor and what stands in it, and MORP's lanes from them.
+nav::Afds MakeAfds(const drivers::sim::SimCameraOptions& o, nav::AfdsOptions options = {}) {
+  return nav::Afds(drivers::sim::MakeCameraInfo(o).camera, options, RobotWidthLanes());
+}
+
+// The highest obstacle any region holds (what a box alone on the floor measures).
+double TallestObstacle(const nav::AfdsFrame& frame) {
+  double tallest = 0.0;
+  for (const nav::AfdsCell& cell : frame.cells) tallest = std::max(tallest, cell.obstacle_height_m);
+  return tallest;
+}
+
+TEST(AfdsTest, OpenFloorIsFloorInEveryRegionAndNoLaneEnds) {
+  const auto o = Camera();
+  nav::Afds afds = MakeAfds(o);
+  const nav::AfdsFrame& frame = afds.Process(Render(Floor(), o));
+  ASSERT_TRUE(frame.floor_found);
+  EXPECT_GT(frame.floor.normal.z(), 0.9999);
+  EXPECT_NEAR(frame.floor.offset, 0.0, 0.005);
+  EXPECT_TRUE(frame.obstacles.empty()) << frame.obstacles.size() << " obstacle points";
+  EXPECT_EQ(TallestObstacle(frame), 0.0);
+  ASSERT_EQ(frame.cells.size(), 24u);  // 6 x 4
+  for (const nav::AfdsCell& cell : frame.cells) {
+    if (cell.row < 2) continue;  // the image's lower half is floor
+    EXPECT_TRUE(cell.own_floor) << cell.column << ", " << cell.row;
+  }
+  for (const nav::LaneResult& lane : frame.lanes) {
+    EXPECT_FALSE(lane.dead_end) << "lane " << lane.offset_m << " at " << lane.free_distance_m;
+    EXPECT_GT(lane.free_distance_m, 3.5);
+  }
+}
+
+TEST(AfdsTest, ABoxsHeightIsMeasuredFromItsTopAndAFacesFromItsEdge) {
+  const auto o = Camera();
+  for (const int columns : {3, 6, 12}) {
+    nav::AfdsOptions options;
+    options.grid_columns = columns;
+    options.grid_rows = columns * 3 / 4;
+    nav::Afds afds = MakeAfds(o, options);
+    for (const auto& [x, height] : {std::pair{1.5f, 0.15f}, {2.5f, 0.2f}, {2.0f, 0.6f}}) {
+      TriangleMesh mesh = Floor();
+      mesh.AddBox({x, -0.5f, 0.0f}, {x + 0.5f, 0.5f, height}, kGrey);
+      const nav::AfdsFrame& frame = afds.Process(Render(mesh, o));
+      const std::string what =
+          std::to_string(columns) + " columns, " + std::to_string(height) + " m at " + std::to_string(x) + " m";
+      // A top seen from above (lower than the 0.3 m camera) is a plane: within millimetres; a face's edge lies
+      // between two sampled rows (1.7 cm apart at 2 m).
+      EXPECT_NEAR(TallestObstacle(frame), height, height < 0.3f ? 0.005 : 0.012) << what;
+      for (const nav::LaneResult& lane : frame.lanes) {
+        EXPECT_TRUE(lane.dead_end) << what;
+        EXPECT_NEAR(lane.free_distance_m, x, 0.04) << what;
+      }
+    }
+  }
+}
+
+TEST(AfdsTest, ACameraMountedLowerThanConfiguredStillFindsTheFloorAndTheStep) {
+  auto o = Camera();
+  const nav::PinholeCamera configured = drivers::sim::MakeCameraInfo(o).camera;
+  o.mount_height_m += 0.04;  // the camera is 4 cm higher than its configuration says: MORP's floor is below ...
+  TriangleMesh mesh = Floor();
+  mesh.AddBox({1.2f, -1.0f, 0.0f}, {1.6f, 1.0f, 0.045f}, kGrey);  // ... a 4.5 cm step
+  nav::Afds afds(configured, nav::AfdsOptions{}, RobotWidthLanes());
+  const nav::AfdsFrame& frame = afds.Process(Render(mesh, o));
+  ASSERT_TRUE(frame.floor_found);
+  EXPECT_NEAR(frame.floor.offset, 0.04, 0.005);  // the floor 4 cm below the configured one
+  EXPECT_NEAR(TallestObstacle(frame), 0.045, 0.005);
+  for (const nav::LaneResult& lane : frame.lanes) {
+    EXPECT_TRUE(lane.dead_end);
+    EXPECT_NEAR(lane.free_distance_m, 1.2, 0.04);
+  }
+}
+
+TEST(AfdsTest, ADropIsADeadEndAtItsEdgeAndTooCloseIsBlind) {
+  const auto o = Camera();
+  nav::Afds afds = MakeAfds(o);
+  for (const nav::LaneResult& lane : afds.Process(Render(Floor(1.5f), o)).lanes) {
+    EXPECT_TRUE(lane.dead_end);
+    EXPECT_NEAR(lane.free_distance_m, 1.5, 0.05);
+    EXPECT_LT(lane.point.z(), -0.2);
+  }
+  TriangleMesh mesh = Floor();
+  mesh.AddBox({0.25f, -3.0f, 0.0f}, {0.4f, 3.0f, 1.5f}, kGrey);  // under the camera's 0.2 m range
+  for (const nav::LaneResult& lane : afds.Process(Render(mesh, o)).lanes) {
+    EXPECT_TRUE(lane.blind);
+    EXPECT_TRUE(lane.dead_end);
+  }
+  EXPECT_THROW(afds.Process(cv::Mat(10, 10, CV_16UC1, cv::Scalar(0))), std::invalid_argument);
+  nav::AfdsOptions too_fine;
+  too_fine.grid_columns = 40;
+  EXPECT_THROW(MakeAfds(o, too_fine), std::invalid_argument);
+}
+
+TEST(AfdsTest, AStereoPairsShadowIsNoObstacleAndItsBoxStandsWhereItIs) {
+  const drivers::sim::SimCameraOptions o;
+  drivers::sim::SimStereoOptions stereo;
+  stereo.enabled = true;
+  TriangleMesh mesh = Floor();
+  mesh.AddBox({2.0f, -0.25f, 0.0f}, {2.5f, 0.25f, 0.2f}, kGrey);
+  const drivers::sim::RayCaster caster(mesh);
+  drivers::sim::SimStereoCamera pair(caster, o, stereo);
+  std::mt19937 rng(1);
+  drivers::RgbdFrame frame;
+  pair.Render(Eigen::Isometry3d::Identity(), rng, frame);
+  nav::Afds afds(pair.info().camera, nav::AfdsOptions{}, nav::MorpOptions{});
+  const nav::AfdsFrame& out = afds.Process(frame.depth_mm);
+  ASSERT_TRUE(out.floor_found);
+  // The matcher's window lends the box's depth to the background's pixels just past its edges: a few centimetres
+  // higher (and wider: the lanes at its sides, 0.25 m, may meet it or not).
+  EXPECT_NEAR(TallestObstacle(out), 0.2, 0.05);
+  for (const nav::LaneResult& lane : out.lanes) {
+    EXPECT_FALSE(lane.blind) << "lane " << lane.offset_m;
+    if (std::abs(std::abs(lane.offset_m) - 0.25) < 0.01) continue;
+    if (std::abs(lane.offset_m) < 0.25) {
+      EXPECT_NEAR(lane.free_distance_m, 2.0, 0.08) << "lane " << lane.offset_m;
+    } else {
+      EXPECT_FALSE(lane.dead_end) << "lane " << lane.offset_m << " at " << lane.free_distance_m;  // beside it
+    }
+  }
 }
 
 }  // namespace

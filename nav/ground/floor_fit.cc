@@ -1,9 +1,9 @@
 #include "nav/ground/floor_fit.h"
 
-#include <Eigen/SVD>
-
 #include <cmath>
 #include <numbers>
+
+#include "nav/geometry/plane_fit.h"
 
 namespace corridor::nav {
 
@@ -21,55 +21,27 @@ std::optional<FloorFit> FitFloor(const cv::Mat& depth, const PinholeCamera& came
 
   const double cos_max = std::cos(options.max_normal_angle_deg * std::numbers::pi / 180.0);
   const Eigen::Vector3d up(0.0, -1.0, 0.0);  // optical frame: y points down
-  std::uniform_int_distribution<std::size_t> pick(0, points.size() - 1);
-  Eigen::Vector3d best_normal = up;
-  double best_offset = 0.0;
-  int best_count = 0;
-  for (int it = 0; it < options.iterations; ++it) {
-    const Eigen::Vector3d& a = points[pick(rng)];
-    const Eigen::Vector3d& b = points[pick(rng)];
-    const Eigen::Vector3d& c = points[pick(rng)];
-    Eigen::Vector3d n = (b - a).cross(c - a);
-    if (n.norm() < 1e-9) continue;
-    n.normalize();
-    if (n.dot(up) < 0.0) n = -n;
-    if (n.dot(up) < cos_max) continue;  // a wall or a table edge, not a floor
-    const double offset = -n.dot(a);
-    if (offset <= 0.0) continue;  // the camera must be above the plane
-    int count = 0;
-    for (const Eigen::Vector3d& p : points) count += std::abs(n.dot(p) + offset) < options.inlier_threshold_m;
-    if (count > best_count) {
-      best_count = count;
-      best_normal = n;
-      best_offset = offset;
-    }
-  }
-  if (best_count < options.min_inlier_fraction * static_cast<double>(points.size())) return std::nullopt;
-
-  // Least squares on the inliers: the plane through their centroid normal to their least-spread direction.
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  std::vector<Eigen::Vector3d> inliers;
-  for (const Eigen::Vector3d& p : points) {
-    if (std::abs(best_normal.dot(p) + best_offset) < options.inlier_threshold_m) inliers.push_back(p);
-  }
-  for (const Eigen::Vector3d& p : inliers) centroid += p;
-  centroid /= static_cast<double>(inliers.size());
-  Eigen::MatrixXd centred(inliers.size(), 3);
-  for (std::size_t i = 0; i < inliers.size(); ++i)
-    centred.row(static_cast<Eigen::Index>(i)) = (inliers[i] - centroid).transpose();
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred, Eigen::ComputeThinV);
-  Eigen::Vector3d n = svd.matrixV().col(2).normalized();
-  if (n.dot(up) < 0.0) n = -n;
+  const auto floor_like = [&](Plane& plane) {
+    if (plane.normal.dot(up) < 0.0) plane = {-plane.normal, -plane.offset};
+    // Not a wall or a table edge, and the camera above it.
+    return plane.normal.dot(up) >= cos_max && plane.offset > 0.0;
+  };
+  const auto best = RansacPlane(points, {options.iterations, options.inlier_threshold_m}, rng, floor_like);
+  if (!best || best->second < options.min_inlier_fraction * static_cast<double>(points.size())) return std::nullopt;
+  const std::optional<Plane> refined = RefinePlane(points, best->first, options.inlier_threshold_m);
+  if (!refined) return std::nullopt;
+  const Eigen::Vector3d& n = refined->normal;
+  const int inliers = best->second;
 
   FloorFit fit;
   fit.normal = n;
-  fit.offset = -n.dot(centroid);
+  fit.offset = refined->offset;
   fit.camera_height_m = fit.offset;  // distance from the optical centre to the plane
   // The optical axis (0, 0, 1) makes angle asin(n . z) with the floor; pitched down, it points into the floor.
   fit.tilt_rad = -std::asin(std::clamp(n.z(), -1.0, 1.0));
   fit.roll_rad = std::atan2(n.x(), -n.y());
-  fit.inliers = static_cast<int>(inliers.size());
-  fit.inlier_fraction = static_cast<double>(inliers.size()) / static_cast<double>(points.size());
+  fit.inliers = inliers;
+  fit.inlier_fraction = static_cast<double>(inliers) / static_cast<double>(points.size());
   return fit;
 }
 

@@ -1,9 +1,8 @@
 // The lanes of a robot without a depth camera (a TurtleBot 3 Burger: a base and a 2D laser), from its laser's scan:
-// the same lanes as MORP's (nav/ground/morp.h, LaneOffsets), each free up to the nearest point the laser hit
-// on its line ahead of the robot (within a quarter of the lanes' spacing of its centre, as MORP samples a line along
-// each lane), so that the local policy and the command gate read a laser robot as they read a camera robot. What
-// passes between two lines (a table leg of a few centimetres) is missed by both, as by MORP: the obstacle memory,
-// fed with every hit, keeps the robot off it.
+// the same lanes as MORP's (nav/ground/morp.h, LaneOffsets), each free up to the nearest point the laser hit on its
+// line ahead of the robot (LaneOnLine), so that the local policy and the command gate read a laser robot as they read
+// a camera robot. What passes between two lines (a table leg of a few centimetres) is missed by both, as by MORP: the
+// obstacle memory, fed with every hit, keeps the robot off it.
 //
 // A laser sees one plane at its height: what stands lower (a step, a cable, a dog) or higher (a table top) is not
 // seen, and a lane with no hit in it is free out to max_range_m. What is nearer than the laser's minimum range gives
@@ -33,7 +32,6 @@ class LaserLanes {
  private:
   MorpOptions options_;
   double height_m_;
-  double lane_m_;                // the lanes' spacing
   std::vector<double> offsets_;  // left to right
   std::vector<LaneResult> results_;
 };

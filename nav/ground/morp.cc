@@ -30,6 +30,25 @@ std::vector<double> LaneOffsets(const MorpOptions& options) {
   return offsets;
 }
 
+double LaneBlindRange(const PinholeCamera& camera, const MorpOptions& options, double offset_m) {
+  const Eigen::Isometry3d camera_T_base = camera.base_T_camera.inverse();
+  double first_in_view_m = -1.0;  // where the lane's floor enters the image
+  for (double x = kLaneStepM; x <= options.max_range_m; x += kLaneStepM) {
+    Eigen::Vector2d pixel;
+    const Eigen::Vector3d floor(x, offset_m, 0.0);
+    if (!camera.Project(floor, pixel)) continue;
+    const long u = std::lround(pixel.x());
+    const double v = std::floor(pixel.y());
+    if (u < 0 || u >= camera.width || v < 0.0 || v >= camera.height) continue;
+    if (first_in_view_m < 0.0) first_in_view_m = x;
+    // ... and where it can first have a depth.
+    if (camera.stereo.Sees(pixel.x(), (camera_T_base * floor).z())) {
+      return options.blind_range_m + (x - first_in_view_m);
+    }
+  }
+  return options.blind_range_m;
+}
+
 Morp::Morp(const PinholeCamera& camera, const MorpOptions& options) : camera_(camera), options_(options) {
   if (!camera.Valid()) throw std::invalid_argument("Morp: the camera needs a positive size and focal length");
   if (!(options.span_m > 0.0) || !(options.lane_width_m > 0.0) || !(options.max_range_m > options.min_range_m)) {
@@ -42,8 +61,7 @@ Morp::Morp(const PinholeCamera& camera, const MorpOptions& options) : camera_(ca
     Lane lane;
     lane.offset_m = offset;
     int last_row = camera.height;
-    double first_in_view_m = -1.0;  // where the lane's floor enters the image
-    double first_seen_m = -1.0;     // ... and where it can first have depth (later in a stereo pair's shadow)
+    bool seen = false;
     for (double x = kLaneStepM; x <= options.max_range_m; x += kLaneStepM) {
       Eigen::Vector2d pixel;
       const Eigen::Vector3d floor(x, lane.offset_m, 0.0);
@@ -51,21 +69,17 @@ Morp::Morp(const PinholeCamera& camera, const MorpOptions& options) : camera_(ca
       const int u = static_cast<int>(std::lround(pixel.x()));
       const int v = static_cast<int>(std::floor(pixel.y()));
       if (u < 0 || u >= camera.width || v < 0 || v >= camera.height) continue;
-      if (first_in_view_m < 0.0) first_in_view_m = x;
       // In a stereo pair's shadow the floor has no true depth, and nothing nearer has one either: a depth found
       // there is a mismatch (farther than the floor, so it would read as a drop). The lane starts past it.
-      if (first_seen_m < 0.0) {
+      if (!seen) {
         if (!camera.stereo.Sees(pixel.x(), (camera_T_base * floor).z())) continue;
-        first_seen_m = x;
+        seen = true;
       }
       if (v >= last_row) continue;  // one sample per row, rising as the floor line recedes
       last_row = v;
       lane.samples.push_back({u, v, origin, (rotation * camera.Ray(u + 0.5, v + 0.5)).cast<float>()});
     }
-    // A lane is blind when its first depth comes later than blind_range_m, or, where a stereo pair's shadow keeps
-    // its floor from being measured at first, that much later than the shadow allows.
-    lane.blind_range_m = options.blind_range_m;
-    if (first_seen_m > first_in_view_m && first_in_view_m >= 0.0) lane.blind_range_m += first_seen_m - first_in_view_m;
+    lane.blind_range_m = LaneBlindRange(camera, options, lane.offset_m);
     if (lane.samples.size() >= 2) {
       // Continue up the image along the lane line's direction.
       const Sample& a = lane.samples[lane.samples.size() - 2];
@@ -172,6 +186,15 @@ const std::vector<LaneResult>& Morp::Process(const cv::Mat& depth) {
     }
   }
   return results_;
+}
+
+int LaneOnLine(const MorpOptions& options, int lanes, double y_m) {
+  const double spacing = options.span_m / lanes;
+  // Lanes run left (+y) to right, `spacing` apart from the first at span_m / 2 - spacing / 2.
+  const double from_first = (options.span_m / 2.0 - spacing / 2.0 - y_m) / spacing;
+  const long j = std::lround(from_first);
+  if (j < 0 || j >= lanes || std::abs(from_first - static_cast<double>(j)) > 0.25) return -1;
+  return static_cast<int>(j);
 }
 
 double NearestDeadEnd(const std::vector<LaneResult>& lanes, double half_width_m) {

@@ -63,6 +63,15 @@ struct LaneResult {
 // MORP and of the laser's lanes, nav/ground/laser_lanes.h).
 std::vector<double> LaneOffsets(const MorpOptions& options);
 
+// The lane (an index into LaneOffsets(options), `lanes` of them) whose centre line a point `y_m` left of the robot's
+// centre lies on: within a quarter of the lanes' spacing of it, as MORP samples a line along each lane, not a band
+// (a wall running beside the robot at the edge of the lanes it steers on is no dead-end ahead); -1 for none.
+int LaneOnLine(const MorpOptions& options, int lanes, double y_m);
+
+// How far ahead a lane `offset_m` left of the robot's centre is blind when it has no depth: blind_range_m, and as
+// much farther as a stereo pair's shadow keeps the lane's floor from being measured where it enters the image.
+double LaneBlindRange(const PinholeCamera& camera, const MorpOptions& options, double offset_m);
+
 // The nearest dead-end among the lanes whose centre lies within half_width_m of the robot's centre line (the lanes
 // in front of its footprint); +infinity when there is none.
 double NearestDeadEnd(const std::vector<LaneResult>& lanes, double half_width_m);
