@@ -7,26 +7,22 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <map>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "drivers/sim/sim_stereo.h"
 #include "testing/stereo_room.h"
+#include "tools/common/command_line.h"
 
 namespace {
 
 using corridor::drivers::RgbdFrame;
+using corridor::tools::Arguments;
+using corridor::tools::ParseNumber;
 using namespace corridor::drivers::sim;
-
-double Option(int argc, char** argv, const std::string& name, double fallback) {
-  for (int i = 1; i + 1 < argc; ++i) {
-    if (name == argv[i]) return std::atof(argv[i + 1]);
-  }
-  return fallback;
-}
 
 double Median(std::vector<double>& values) {
   if (values.empty()) return 0.0;
@@ -37,27 +33,42 @@ double Median(std::vector<double>& values) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const double baseline_m = Option(argc, argv, "--baseline-m", 0.12);
-  const int poses = static_cast<int>(Option(argc, argv, "--poses", 40));
+  double baseline_m = 0.12;
+  int poses = 40;
   SimCameraOptions camera;
-  camera.width = static_cast<int>(Option(argc, argv, "--width", 320));
-  camera.height = camera.width * 3 / 4;
   SimStereoOptions stereo;
-  stereo.depth.matcher.disparities = static_cast<int>(Option(argc, argv, "--disparities", 80));
+  try {
+    Arguments args(argc, argv);
+    while (args.Next()) {
+      const std::string& flag = args.current();
+      const auto number = [&](double lo, double hi) { return ParseNumber(flag, args.Value(), lo, hi); };
+      if (flag == "--baseline-m") {
+        baseline_m = number(0.01, 1.0);
+      } else if (flag == "--poses") {
+        poses = static_cast<int>(number(1, 10000));
+      } else if (flag == "--width") {
+        camera.width = static_cast<int>(number(64, 4096));
+      } else if (flag == "--disparities") {
+        stereo.depth.matcher.disparities = static_cast<int>(number(16, 1024));
+      } else {
+        throw std::invalid_argument("unknown option " + flag);
+      }
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "stereo_depth: %s\n", e.what());
+    return 2;
+  }
+  camera.height = camera.width * 3 / 4;
+  stereo.baseline_m = baseline_m;
+  stereo.depth.width = camera.width;  // matched at the views' size
   SimCameraOptions exact = StereoViewOptions(camera);
   exact.noise_a_m = exact.noise_b_per_m = exact.dropout_fraction = 0.0;
 
   const TriangleMesh mesh = corridor::testing::StereoRoom();
   const RayCaster caster(mesh);
   const RgbdRenderer truth(caster, exact);
-  // The pair as SimStereoCamera renders it, its depth path timed on its own.
-  const RgbdRenderer views(caster, StereoViewOptions(camera));
-  const Eigen::Isometry3d base_T_left = MakeCameraInfo(camera).camera.base_T_camera;
-  corridor::drivers::stereo::StereoDepthOptions depth_options = stereo.depth;
-  depth_options.width = camera.width;
-  corridor::drivers::stereo::StereoDepth depth(IdealStereoCalibration(camera, baseline_m), base_T_left, depth_options);
-  const corridor::nav::PinholeCamera& k = depth.info().camera;
-  cv::Mat left, right;
+  SimStereoCamera pair(caster, camera, stereo);
+  const corridor::nav::PinholeCamera& k = pair.info().camera;
 
   struct Band {
     long pixels = 0;
@@ -71,12 +82,9 @@ int main(int argc, char** argv) {
   for (int n = 0; n < poses; ++n) {
     const Eigen::Isometry3d pose = corridor::testing::StereoRoomPose(n, poses);
     RgbdFrame measured, exact_frame;
-    const Eigen::Isometry3d world_T_left = pose * base_T_left;
-    views.RenderColor(world_T_left, stereo.texture, stereo.image_noise, rng, left);
-    views.RenderColor(world_T_left * Eigen::Translation3d(baseline_m, 0.0, 0.0), stereo.texture, stereo.image_noise,
-                      rng, right);
+    pair.RenderViews(pose, rng);
     const auto start = std::chrono::steady_clock::now();
-    depth.Process(left, right, measured);
+    pair.Match(measured);
     process_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     truth.Render(pose * k.base_T_camera, rng, exact_frame);
     for (int v = 0; v < k.height; ++v) {

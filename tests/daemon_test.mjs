@@ -242,7 +242,8 @@ describe('corridord in the Willow Garage building', () => {
     assert.equal(face.expression, 'happy');
     assert.equal(face.said, 'Welcome to the lab');
     assert.equal(face.said_kind, 'request');
-    assert.equal((await state(daemon.url)).face, 'happy');
+    // The state takes the expression from the face's topic, published on the face node's next tick.
+    await waitFor(() => state(daemon.url), (s) => s.face === 'happy', 2000, "the state's face happy");
     // The phrase was said aloud: its audio, a WAV the face page plays.
     const speech = await apiFetch(`${daemon.url}/api/v1/face/speech/${face.said_sequence}`);
     assert.equal(speech.status, 200);

@@ -41,12 +41,16 @@ SimStereoCamera::SimStereoCamera(const RayCaster& caster, const SimCameraOptions
       depth_(IdealStereoCalibration(camera, options.baseline_m), base_T_left_, DepthOptions(camera, options)) {}
 
 void SimStereoCamera::Render(const Eigen::Isometry3d& world_T_base, std::mt19937& rng, RgbdFrame& frame) {
+  RenderViews(world_T_base, rng);
+  Match(frame);
+}
+
+void SimStereoCamera::RenderViews(const Eigen::Isometry3d& world_T_base, std::mt19937& rng) {
   const Eigen::Isometry3d world_T_left = world_T_base * base_T_left_;
   renderer_.RenderColor(world_T_left, options_.texture, options_.image_noise, rng, left_);
   // The right camera: the baseline along the left one's x axis (its right).
   const Eigen::Isometry3d world_T_right = world_T_left * Eigen::Translation3d(options_.baseline_m, 0.0, 0.0);
   renderer_.RenderColor(world_T_right, options_.texture, options_.image_noise, rng, right_);
-  depth_.Process(left_, right_, frame);
 }
 
 }  // namespace corridor::drivers::sim

@@ -48,8 +48,11 @@ class SimStereoCamera {
   // The rectified left camera the frames are in (the configured camera's mounting and intrinsics).
   const CameraInfo& info() const { return depth_.info(); }
 
-  // Renders both views from the robot's base at world_T_base and matches them into `frame`.
+  // Renders both views from the robot's base at world_T_base and matches them into `frame`: RenderViews, then Match.
   void Render(const Eigen::Isometry3d& world_T_base, std::mt19937& rng, RgbdFrame& frame);
+  // The two steps on their own (the depth path's time is Match's).
+  void RenderViews(const Eigen::Isometry3d& world_T_base, std::mt19937& rng);
+  void Match(RgbdFrame& frame) { depth_.Process(left_, right_, frame); }
 
  private:
   RgbdRenderer renderer_;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -69,12 +71,13 @@ const AfdsFrame& Afds::Process(const cv::Mat& depth) {
       const double d = millimetres ? depth.ptr<std::uint16_t>(v)[u] * 0.001 : depth.ptr<float>(v)[u];
       if (!(d > 0.0) || !std::isfinite(d)) continue;
       const std::size_t pixel = static_cast<std::size_t>(v) * static_cast<std::size_t>(depth.cols) + u;
-      if (region_of_pixel_[pixel] < 0) continue;
+      const int region = region_of_pixel_[pixel];
+      if (region < 0) continue;
       const Eigen::Vector3d p = origin + rays_[pixel].cast<double>() * d;
       if (p.x() < options_.min_range_m || p.x() > options_.max_range_m) continue;
-      points_.push_back({p, region_of_pixel_[pixel]});
+      regions_[static_cast<std::size_t>(region)].push_back(static_cast<int>(points_.size()));
+      points_.push_back({p, region, u, v});
       cloud_.push_back(p);
-      regions_[static_cast<std::size_t>(region_of_pixel_[pixel])].push_back(p);
     }
   }
 
@@ -100,7 +103,7 @@ const AfdsFrame& Afds::Process(const cv::Mat& depth) {
     cell = AfdsCell{};
     cell.column = static_cast<int>(r) % options_.grid_columns;
     cell.row = static_cast<int>(r) / options_.grid_columns;
-    region_floor_[r] = FitRegion(regions_[r], cell);
+    region_floor_[r] = FitRegion(regions_[r], cell, depth);
   }
 
   // 4. Every point's height above its region's floor, and the obstacles among them.
@@ -117,68 +120,139 @@ const AfdsFrame& Afds::Process(const cv::Mat& depth) {
   return frame_;
 }
 
-Plane Afds::FitRegion(std::vector<Eigen::Vector3d>& points, AfdsCell& cell) {
-  cell.points = static_cast<int>(points.size());
+Plane Afds::FitRegion(std::vector<int>& members, AfdsCell& cell, const cv::Mat& depth) {
+  cell.points = static_cast<int>(members.size());
   Plane region_floor = frame_.floor;
-  if (points.size() < static_cast<std::size_t>(options_.min_plane_points)) return region_floor;
-  // The inlier distance at the region's median range: depth noise grows with its square.
-  std::vector<double> ranges;
-  ranges.reserve(points.size());
-  for (const Eigen::Vector3d& p : points) ranges.push_back(p.x());
-  std::nth_element(ranges.begin(), ranges.begin() + static_cast<std::ptrdiff_t>(ranges.size() / 2), ranges.end());
-  const double range = ranges[ranges.size() / 2];
-  const double inlier = options_.inlier_m + options_.noise_b_per_m * range * range;
-  const double cos_floor = std::cos(Radians(options_.max_floor_angle_deg));
-
-  int floor_support = 0;
-  std::vector<Eigen::Vector3d> on_plane;
-  for (int k = 0; k < options_.max_planes && points.size() >= static_cast<std::size_t>(options_.min_plane_points);
-       ++k) {
-    const auto found = RansacPlane(points, {options_.iterations, inlier}, rng_);
-    if (!found || found->second < options_.min_plane_points) break;
-    const std::optional<Plane> plane = RefinePlane(points, found->first, inlier);
-    if (!plane) break;
-    // Its points out of the region's, their heights above the frame's floor.
-    on_plane.clear();
-    std::erase_if(points, [&](const Eigen::Vector3d& p) {
-      if (std::abs(plane->Distance(p)) >= inlier) return false;
-      on_plane.push_back(p);
+  const auto enough = [&] { return members.size() >= static_cast<std::size_t>(options_.min_plane_points); };
+  if (!enough()) return region_floor;
+  const auto positions = [&] {
+    positions_.clear();
+    for (const int i : members) positions_.push_back(points_[static_cast<std::size_t>(i)].p);
+    return std::span<const Eigen::Vector3d>(positions_);
+  };
+  // Takes the members within `inlier` of `plane` out into on_plane_; their mean height above the frame's floor.
+  const auto take = [&](const Plane& plane, double inlier) {
+    on_plane_.clear();
+    double sum = 0.0;
+    std::erase_if(members, [&](int i) {
+      const Eigen::Vector3d& p = points_[static_cast<std::size_t>(i)].p;
+      if (std::abs(plane.Distance(p)) >= inlier) return false;
+      on_plane_.push_back(i);
+      sum += frame_.floor.Distance(p);
       return true;
     });
-    if (on_plane.size() < static_cast<std::size_t>(options_.min_plane_points)) break;
-    ++cell.planes;
-    double sum = 0.0;
-    double top = -std::numeric_limits<double>::infinity();
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const Eigen::Vector3d& p : on_plane) {
-      const double h = frame_.floor.Distance(p);
-      sum += h;
-      top = std::max(top, h);
-      nearest = std::min(nearest, p.x());
-    }
-    const double mean = sum / static_cast<double>(on_plane.size());
-    const bool horizontal = std::abs(plane->normal.dot(frame_.floor.normal)) >= cos_floor;
-    if (horizontal && std::abs(mean) <= options_.floor_tolerance_m) {
-      if (static_cast<int>(on_plane.size()) > floor_support) {  // the region's floor: its best-supported one
-        floor_support = static_cast<int>(on_plane.size());
+    return on_plane_.empty() ? 0.0 : sum / static_cast<double>(on_plane_.size());
+  };
+  const double cos_floor = std::cos(Radians(options_.max_floor_angle_deg));
+  const auto horizontal = [&](const Plane& plane) {
+    return std::abs(plane.normal.dot(frame_.floor.normal)) >= cos_floor;
+  };
+
+  // 2a. The region's own floor first, at the floor's own inlier distance: a low camera sees the floor at a grazing
+  // angle, so the depth noise (along the rays) moves its points little up or down.
+  std::span<const Eigen::Vector3d> points = positions();
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points) centroid += p;
+  centroid /= static_cast<double>(points.size());
+  const auto floor_like = [&](Plane& plane) {
+    if (plane.normal.dot(frame_.floor.normal) < 0.0) plane = {-plane.normal, -plane.offset};
+    const Eigen::Vector3d on = centroid - plane.normal * plane.Distance(centroid);  // the plane under the centroid
+    return horizontal(plane) && std::abs(frame_.floor.Distance(on)) <= options_.floor_tolerance_m;
+  };
+  if (const auto found = RansacPlane(points, {options_.iterations, options_.inlier_m}, rng_, floor_like);
+      found && found->second >= options_.min_plane_points) {
+    if (const std::optional<Plane> plane = RefinePlane(points, found->first, options_.inlier_m)) {
+      const double mean = take(*plane, options_.inlier_m);
+      if (on_plane_.size() >= static_cast<std::size_t>(options_.min_plane_points)) {
         region_floor = *plane;
         if (region_floor.normal.dot(frame_.floor.normal) < 0.0) region_floor = {-plane->normal, -plane->offset};
         cell.own_floor = true;
         cell.floor_height_m = mean;
+        ++cell.planes;
       }
-      continue;
     }
-    // An obstacle: a top at its mean height, a face at its highest point and half a sampled row (the edge lies
-    // between that row and the next one up, which missed it).
-    const double height = horizontal ? mean : top + 0.5 * nearest * options_.stride_px / camera_.fy;
+  }
+
+  // 2b. The planes on it, in turn, at an inlier distance that grows with the region's range as depth noise does (a
+  // face seen head-on has its noise across it).
+  if (!enough()) return region_floor;
+  std::vector<double> ranges;
+  for (const int i : members) ranges.push_back(points_[static_cast<std::size_t>(i)].p.x());
+  std::nth_element(ranges.begin(), ranges.begin() + static_cast<std::ptrdiff_t>(ranges.size() / 2), ranges.end());
+  const double range = ranges[ranges.size() / 2];
+  const double inlier = options_.inlier_m + options_.noise_b_per_m * range * range;
+  for (int k = 0; k < options_.max_planes && enough(); ++k) {
+    points = positions();
+    const auto found = RansacPlane(points, {options_.iterations, inlier}, rng_);
+    if (!found || found->second < options_.min_plane_points) break;
+    const std::optional<Plane> plane = RefinePlane(points, found->first, inlier);
+    if (!plane) break;
+    const double mean = take(*plane, inlier);
+    if (on_plane_.size() < static_cast<std::size_t>(options_.min_plane_points)) break;
+    ++cell.planes;
+    if (horizontal(*plane) && std::abs(mean) <= options_.floor_tolerance_m) continue;  // more floor
+    // An obstacle: a top at its mean height, a face at its highest point.
+    const double height = horizontal(*plane) ? mean : FaceTop(on_plane_, *plane, depth);
     if (height > options_.max_step_m && height > cell.obstacle_height_m) {
       cell.obstacle_height_m = height;
-      cell.obstacle_range_m = nearest;
+      cell.obstacle_range_m = std::numeric_limits<double>::infinity();
+      for (const int i : on_plane_) {
+        cell.obstacle_range_m = std::min(cell.obstacle_range_m, points_[static_cast<std::size_t>(i)].p.x());
+      }
     }
   }
   // Heights in the cell are above its own floor.
   if (cell.own_floor && cell.obstacle_height_m > 0.0) cell.obstacle_height_m -= cell.floor_height_m;
   return region_floor;
+}
+
+double Afds::FaceTop(const std::vector<int>& face, const Plane& plane, const cv::Mat& depth) const {
+  const Point* top = nullptr;
+  double top_height = -std::numeric_limits<double>::infinity();
+  for (const int i : face) {
+    const Point& point = points_[static_cast<std::size_t>(i)];
+    const double h = frame_.floor.Distance(point.p);
+    if (h > top_height) {
+      top_height = h;
+      top = &point;
+    }
+  }
+  // Up the image from the highest point, pixel by pixel (not every stride-th), while the face goes on.
+  const Eigen::Vector3d origin = camera_.base_T_camera.translation();
+  const bool millimetres = depth.type() == CV_16UC1;
+  const auto at = [&](int v) -> std::optional<Eigen::Vector3d> {
+    if (v < 0) return std::nullopt;
+    const double d = millimetres ? depth.ptr<std::uint16_t>(v)[top->u] * 0.001 : depth.ptr<float>(v)[top->u];
+    if (!(d > 0.0) || !std::isfinite(d)) return std::nullopt;
+    return origin + rays_[static_cast<std::size_t>(v * camera_.width + top->u)].cast<double>() * d;
+  };
+  const double inlier = options_.inlier_m + options_.noise_b_per_m * top->p.x() * top->p.x();
+  Eigen::Vector3d edge = top->p;
+  int v = top->v - 1;
+  for (; v >= top->v - 4 * options_.stride_px; --v) {
+    const std::optional<Eigen::Vector3d> p = at(v);
+    if (!p || std::abs(plane.Distance(*p)) >= inlier) break;
+    edge = *p;
+  }
+  top_height = frame_.floor.Distance(edge);
+  // The pixel above it at the same height (within a quarter of a pixel row's height on an upright face): a level top
+  // the camera sees (a box lower than it), and the face's top is the obstacle's height. Else the face hides what lies
+  // behind it, and its edge lies between that pixel row and the next one up, which missed it: half a row up on
+  // average, in height along the plane (a row's whole height on an upright face, none on a level one).
+  if (const std::optional<Eigen::Vector3d> above = at(v)) {
+    if (std::abs(frame_.floor.Distance(*above) - top_height) <= 0.25 * edge.x() / camera_.fy) return top_height;
+  }
+  // The ray to the edge turned up by an angle a moves its meeting with the plane up by t (up . (r' - r (n . r') /
+  // (n . r))) a, with r the ray's direction, r' its turn (r turned up a right angle) and t the distance.
+  const Eigen::Vector3d ray = edge - origin;
+  const double t = ray.norm();
+  const Eigen::Vector3d r = ray / t;
+  const Eigen::Vector3d& up = frame_.floor.normal;
+  const Eigen::Vector3d across = r - up * r.dot(up);
+  if (across.norm() < 1e-6 || std::abs(plane.normal.dot(r)) < 1e-3) return top_height;
+  const Eigen::Vector3d turned = up * across.norm() - across.normalized() * r.dot(up);
+  const double rise_per_rad = t * (up.dot(turned) - up.dot(r) * plane.normal.dot(turned) / plane.normal.dot(r));
+  return top_height + std::clamp(rise_per_rad, 0.0, t) * 0.5 / camera_.fy;
 }
 
 void Afds::FillLanes(const std::vector<float>& heights) {

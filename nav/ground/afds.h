@@ -8,13 +8,16 @@
 //   1. The frame's floor: RANSAC over all the points for the plane with the most support whose normal is within
 //      max_floor_angle_deg of the base's up and which passes within floor_search_m of the floor the camera's mounting
 //      gives (a table top is a horizontal plane too), refined by least squares. None found: the mounting's floor.
-//   2. Per region, recursively: the plane with the most support among the region's points left, refined, its points
-//      taken out, until max_planes or too few points are left. The inlier distance grows with the region's range as a
-//      depth sensor's noise does (inlier_m + noise_b_per_m r^2).
-//   3. A region's own floor is its horizontal plane within floor_tolerance_m of the frame's floor (a ramp, a floor
-//      not quite flat); its obstacles are its other planes higher than max_step_m: a horizontal one (a box's top)
-//      stands at its mean height above the floor, any other (a face) at its highest point, half a sampled row up
-//      (the edge lies between that row and the next, which missed).
+//   2. Per region, its own floor first: the best-supported horizontal plane within floor_tolerance_m of the frame's
+//      floor (a ramp, a floor not quite flat), at inlier_m (a low camera sees the floor at a grazing angle: depth
+//      noise, along the rays, moves its points little up or down). Then recursively the plane with the most support
+//      among the region's points left, refined, its points taken out, until max_planes or too few points are left, at
+//      an inlier distance that grows with the region's range as depth noise does (inlier_m + noise_b_per_m r^2: a face
+//      seen head-on has its noise across it).
+//   3. A region's obstacles are its planes higher than max_step_m above its floor: a horizontal one (a box's top)
+//      stands at its mean height, any other (a face) at its highest pixel (followed up the image pixel by pixel);
+//      where the pixel above is no level top at that height, half a pixel row higher (the face's edge lies between
+//      that row and the next one up, which missed it).
 //   4. A point higher than max_step_m above its region's floor, or lower than max_drop_m below it, is an obstacle; a
 //      lane is a dead-end at the nearest obstacle point on its line with another within obstacle_run_m beyond it
 //      (one point alone is a stereo pair's mismatch as often as a thing), blind as MORP's lanes are.
@@ -90,9 +93,15 @@ class Afds {
   struct Point {
     Eigen::Vector3d p;  // base frame
     int region;
+    int u;  // its pixel
+    int v;
   };
-  // Steps 2 and 3 for one region's points (which it takes out as it fits them): its cell, and its floor.
-  Plane FitRegion(std::vector<Eigen::Vector3d>& points, AfdsCell& cell);
+  // Steps 2 and 3 for one region's points (indices into points_, which it takes out as it fits them): its cell, and
+  // its floor.
+  Plane FitRegion(std::vector<int>& members, AfdsCell& cell, const cv::Mat& depth);
+  // The height of the top edge of a face (its points' indices, its plane; `depth` the frame's) above the frame's
+  // floor.
+  double FaceTop(const std::vector<int>& face, const Plane& plane, const cv::Mat& depth) const;
   // Step 4's lanes, from the points' heights above their regions' floors.
   void FillLanes(const std::vector<float>& heights);
 
@@ -106,7 +115,9 @@ class Afds {
   std::mt19937 rng_;
   std::vector<Point> points_;
   std::vector<Eigen::Vector3d> cloud_;                             // points_' positions, for the frame's floor
-  std::vector<std::vector<Eigen::Vector3d>> regions_;              // per region, its points left to fit
+  std::vector<std::vector<int>> regions_;                          // per region, its points left to fit
+  std::vector<Eigen::Vector3d> positions_;                         // a region's, for RANSAC
+  std::vector<int> on_plane_;                                      // the points a plane took
   std::vector<Plane> region_floor_;                                // per region, its floor
   std::vector<float> heights_;                                     // per point, above its region's floor
   std::vector<std::vector<std::pair<float, float>>> lane_points_;  // per lane, its points' (x, height)

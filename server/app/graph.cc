@@ -194,7 +194,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
                                                 config_.mission.policy));
   } else {
     lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.laser->base_T_laser(),
-                                                devices_.laser->height_m(), config_.ground));
+                                                devices_.laser->height_m(), config_.ground.morp));
   }
   if (tracking_node) lifecycle_.Add(std::move(tracking_node));
   auto explore_node = std::make_unique<ExploreNode>(executors_.mapping, bus_, *core_);

@@ -164,7 +164,9 @@ void ReadLaser(ConfigReader& r, drivers::sim::SimLaserOptions& o) {
   r.Read("sweep", o.sweep);
 }
 
-void ReadGround(ConfigReader& r, nav::MorpOptions& o) {
+void ReadGround(ConfigReader& r, GroundOptions& ground) {
+  r.ReadChoice<GroundTest>("test", ground.test, {{"morp", GroundTest::kMorp}, {"afds", GroundTest::kAfds}});
+  nav::MorpOptions& o = ground.morp;
   r.Read("lanes", o.lanes, 0, 64);
   r.Read("span_m", o.span_m, 0.05, 3.0);
   r.Read("lane_width_m", o.lane_width_m, 0.01, 1.0);
@@ -178,6 +180,25 @@ void ReadGround(ConfigReader& r, nav::MorpOptions& o) {
   r.Read("blind_range_m", o.blind_range_m, 0.05, 10.0);
   r.Read("half_window_px", o.half_window_px, 0, 20);
   if (o.min_range_m >= o.max_range_m) throw ConfigError(r.PathOf("min_range_m") + ": must be below max_range_m");
+  nav::AfdsOptions& a = ground.afds;
+  r.Section("afds", [&](ConfigReader& s) {
+    s.Read("grid_columns", a.grid_columns, 1, 32);
+    s.Read("grid_rows", a.grid_rows, 1, 32);
+    s.Read("stride_px", a.stride_px, 1, 16);
+    s.Read("max_range_m", a.max_range_m, 0.5, 20.0);
+    s.Read("iterations", a.iterations, 1, 10000);
+    s.Read("inlier_m", a.inlier_m, 0.001, 0.5);
+    s.Read("noise_b_per_m", a.noise_b_per_m, 0.0, 0.1);
+    s.Read("max_planes", a.max_planes, 1, 16);
+    s.Read("min_plane_points", a.min_plane_points, 3, 100000);
+    s.Read("max_floor_angle_deg", a.max_floor_angle_deg, 0.0, 45.0);
+    s.Read("floor_search_m", a.floor_search_m, 0.0, 1.0);
+    s.Read("floor_tolerance_m", a.floor_tolerance_m, 0.0, 0.5);
+    s.Read("obstacle_run_m", a.obstacle_run_m, 0.0, 2.0);
+  });
+  a.min_range_m = o.min_range_m;
+  a.max_step_m = o.max_step_m;
+  a.max_drop_m = o.max_drop_m;
 }
 
 void ReadPlanner(ConfigReader& r, nav::CostmapOptions& o) {

@@ -29,6 +29,7 @@
 #include "face/events.h"
 #include "face/expression.h"
 #include "face/speech.h"
+#include "nav/ground/afds.h"
 #include "nav/ground/depth_scan.h"
 #include "nav/ground/morp.h"
 #include "nav/localization/monte_carlo.h"
@@ -93,7 +94,7 @@ struct TrackingOptions {
   nav::TrafficOptions traffic;  // where people walk, for the planner (weight 0: not used)
 };
 
-// ground: nav::MorpOptions; planner: nav::CostmapOptions; mission: nav::MissionRunnerOptions (the local policy, the
+// planner: nav::CostmapOptions; mission: nav::MissionRunnerOptions (the local policy, the
 // navigator's and the follower's fields at the top, MORP-RB's under avoid, evasion's under evade; their fields are the
 // keys, with units).
 
@@ -361,6 +362,17 @@ struct LogOptions {
   std::string level = "info";  // trace, debug, info, warn, error
 };
 
+// The depth path's ground test: MORP (nav/ground/morp.h) or ASNS's AFDS (nav/ground/afds.h), giving the same lanes.
+enum class GroundTest { kMorp, kAfds };
+
+// ground: the test, the lanes and MORP's settings (nav::MorpOptions, its fields the keys), and AFDS's under afds
+// (its step and drop heights are the lanes' max_step_m and max_drop_m).
+struct GroundOptions {
+  GroundTest test = GroundTest::kMorp;
+  nav::MorpOptions morp;
+  nav::AfdsOptions afds;
+};
+
 struct Config {
   ServerOptions server;
   StoreOptions store;
@@ -368,7 +380,7 @@ struct Config {
   SafetyOptions safety;
   DevicesOptions devices;
   SimulatorOptions sim;
-  nav::MorpOptions ground;
+  GroundOptions ground;
   nav::CostmapOptions planner;
   nav::MissionRunnerOptions mission;  // its docking options come from the docking section
   nav::ChargingOptions charging;      // docking.charge_below_percent, docking.retry_s

@@ -130,6 +130,23 @@ TEST_F(ConfigTest, MorpIlDrivesWithTheNetworkItNamesAndOnlyOneThatFits) {
       << e;
 }
 
+// The ground test: MORP unless afds is chosen; AFDS takes the lanes' step and drop heights and its own grid.
+TEST_F(ConfigTest, TheGroundTestIsMorpOrAfdsWithItsGrid) {
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\n";
+  EXPECT_EQ(LoadConfig(dir_ / "c.yaml").ground.test, GroundTest::kMorp);
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\nground: {test: afds, max_step_m: 0.05, "
+                                    "afds: {grid_columns: 12, grid_rows: 9}}\n";
+  const Config c = LoadConfig(dir_ / "c.yaml");
+  EXPECT_EQ(c.ground.test, GroundTest::kAfds);
+  EXPECT_EQ(c.ground.afds.grid_columns, 12);
+  EXPECT_EQ(c.ground.afds.grid_rows, 9);
+  EXPECT_DOUBLE_EQ(c.ground.afds.max_step_m, 0.05);
+  std::string e = ErrorOf("sim: {world: w.yaml}\nground: {test: ransac}\n");
+  EXPECT_NE(e.find("ground.test: must be morp or afds, got 'ransac'"), std::string::npos) << e;
+  e = ErrorOf("sim: {world: w.yaml}\nground: {afds: {grid_columns: 40}}\n");
+  EXPECT_NE(e.find("ground.afds.grid_columns"), std::string::npos) << e;
+}
+
 // ASNS's fuzzy controllers: corridor's rules unless files are named; a rule base that cannot run stops start-up.
 TEST_F(ConfigTest, TheFuzzyPolicyReadsItsRuleBasesAndRefusesOnesThatCannotRun) {
   std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\nmission: {policy: flmc, flmc: {rotate_above_deg: 45}}\n";

@@ -9,15 +9,19 @@
 
 namespace corridor::server {
 
-GroundNode::GroundNode(Executor& control, Bus& bus, const drivers::CameraInfo& camera, const nav::MorpOptions& options,
+GroundNode::GroundNode(Executor& control, Bus& bus, const drivers::CameraInfo& camera, const GroundOptions& options,
                        nav::LocalPolicyKind policy)
     : Node("ground", control, bus) {
   if (policy == nav::LocalPolicyKind::kVoxelReactive) {
     voxels_.emplace(camera.camera, nav::VoxelObstacleOptions{});
-  } else {
-    morp_.emplace(camera.camera, options);
-    scan_.emplace(camera.camera, nav::ForObstacleMemory(nav::DepthScanOptions{}));
+    return;
   }
+  if (options.test == GroundTest::kAfds) {
+    afds_.emplace(camera.camera, options.afds, options.morp);
+  } else {
+    morp_.emplace(camera.camera, options.morp);
+  }
+  scan_.emplace(camera.camera, nav::ForObstacleMemory(nav::DepthScanOptions{}));
 }
 
 GroundNode::GroundNode(Executor& control, Bus& bus, const nav::Pose2& base_T_laser, double height_m,
@@ -31,7 +35,7 @@ GroundLanes GroundNode::Process(const drivers::RgbdFrame& frame) {
   if (voxels_) {
     out.obstacles = voxels_->Process(frame.depth_mm);
   } else {
-    out.lanes = morp_->Process(frame.depth_mm);
+    out.lanes = afds_ ? afds_->Process(frame.depth_mm).lanes : morp_->Process(frame.depth_mm);
     out.scan = scan_->Process(frame.depth_mm);
     out.scan_view = scan_->View(nav::Pose2{});
   }
@@ -79,7 +83,9 @@ void GroundNode::Activate() {
     const auto start = std::chrono::steady_clock::now();
     publish(Process(*frame), start);
   });
-  SetHealth(Health::kOk, voxels_ ? "voxel grid front end" : std::to_string(morp_->lane_count()) + " lanes");
+  SetHealth(Health::kOk, voxels_ ? "voxel grid front end"
+                         : afds_ ? std::to_string(afds_->lane_count()) + " lanes (AFDS)"
+                                 : std::to_string(morp_->lane_count()) + " lanes");
 }
 
 }  // namespace corridor::server

@@ -1,8 +1,9 @@
 // The front end of the control path, on the control executor, published on ground/lanes with its own time; the local
-// policy and the command gate read them. On every depth frame: MORP ground segmentation (nav/ground/morp.h) and the
-// frame's depth scan for the obstacle memory, or, for the voxel-reactive comparison policy, the voxel grid's obstacle
-// points (nav/ground/voxel_obstacles.h). On a robot without a camera, on every laser scan: the same lanes from the
-// scan's hits (nav/ground/laser_lanes.h), and the hits for the obstacle memory.
+// policy and the command gate read them. On every depth frame: MORP ground segmentation (nav/ground/morp.h), or
+// ASNS's floor detection (nav/ground/afds.h) in its place, and the frame's depth scan for the obstacle memory, or, for
+// the voxel-reactive comparison policy, the voxel grid's obstacle points (nav/ground/voxel_obstacles.h). On a robot
+// without a camera, on every laser scan: the same lanes from the scan's hits (nav/ground/laser_lanes.h), and the hits
+// for the obstacle memory.
 #pragma once
 
 #include <cstdint>
@@ -10,11 +11,13 @@
 
 #include "drivers/depth_camera.h"
 #include "drivers/laser2d.h"
+#include "nav/ground/afds.h"
 #include "nav/ground/depth_scan.h"
 #include "nav/ground/laser_lanes.h"
 #include "nav/ground/morp.h"
 #include "nav/ground/voxel_obstacles.h"
 #include "nav/policy/local_policy.h"
+#include "server/config/config.h"
 #include "server/runtime/bus.h"
 #include "server/runtime/node.h"
 #include "server/runtime/topics.h"
@@ -23,8 +26,8 @@ namespace corridor::server {
 
 class GroundNode final : public Node {
  public:
-  // From the depth camera's frames.
-  GroundNode(Executor& control, Bus& bus, const drivers::CameraInfo& camera, const nav::MorpOptions& options,
+  // From the depth camera's frames, with the ground test `options` choose.
+  GroundNode(Executor& control, Bus& bus, const drivers::CameraInfo& camera, const GroundOptions& options,
              nav::LocalPolicyKind policy = nav::LocalPolicyKind::kMorpRb);
   // From the laser's scans (no camera): the laser at `base_T_laser`, `height_m` above the floor.
   GroundNode(Executor& control, Bus& bus, const nav::Pose2& base_T_laser, double height_m,
@@ -37,6 +40,7 @@ class GroundNode final : public Node {
 
   // From the camera:
   std::optional<nav::Morp> morp_;
+  std::optional<nav::Afds> afds_;              // AFDS in MORP's place (ground.test: afds)
   std::optional<nav::DepthScan> scan_;         // for the obstacle memory (nav::ForObstacleMemory)
   std::optional<nav::VoxelObstacles> voxels_;  // voxel-reactive's front end instead of MORP
   // From the laser:

@@ -52,6 +52,7 @@ Runs the DPoom evaluation protocol: a DPoom-like robot (0.26 m/s, camera 85.2 x 
                       published); by default it tracks and evades them, as the daemon does
   --camera KIND       depth (default: a depth sensor, a RealSense's model) or stereo (two textured views 12 cm apart
                       matched into depth, as a stereo camera's frames are)
+  --ground TEST       morp (default: MORP's ground segmentation) or afds (ASNS's floor detection) gives the lanes
   --people-see-robot  the people keep clear of the robot too (default: they walk as if it were not there, as in
                       DPoom's evaluation)
   --timeout S         per run, default 3 x straight-line time + 20 s
@@ -175,6 +176,10 @@ int main(int argc, char** argv) {
           throw std::invalid_argument("--camera: depth or stereo, got '" + kind + "'");
         }
         options.stereo = kind == "stereo";
+      } else if (flag == "--ground") {
+        const std::string test = value();
+        if (test != "morp" && test != "afds") throw std::invalid_argument("--ground: morp or afds, got '" + test + "'");
+        options.afds = test == "afds";
       } else if (flag == "--people-see-robot") {
         options.people_see_robot = true;
       } else if (flag == "--json") {
@@ -243,6 +248,7 @@ int main(int argc, char** argv) {
                       {"static", options.static_obstacles},
                       {"laser", options.laser},
                       {"camera", options.stereo ? "stereo" : "depth"},
+                      {"ground", options.afds ? "afds" : "morp"},
                       {"camera_tracking", options.camera_tracking},
                       {"people_see_robot", options.people_see_robot},
                       {"max_speed_mps", options.max_speed_mps},

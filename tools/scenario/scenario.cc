@@ -196,6 +196,7 @@ server::Config GraphConfig(const drivers::sim::SimOptions& sim, Policy policy, c
   config.planner.robot_radius_m = kRobotRadiusM;
   config.safety.front_offset_m = kRobotRadiusM;
   config.mission.policy = policy;
+  config.ground.test = options.afds ? server::GroundTest::kAfds : server::GroundTest::kMorp;
   nav::LocalNavigatorOptions& navigator = config.mission.navigator;
   navigator.follower.max_linear_mps = options.max_speed_mps;
   navigator.avoid.max_linear_mps = options.max_speed_mps;
