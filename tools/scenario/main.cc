@@ -52,6 +52,8 @@ Runs the DPoom evaluation protocol: a DPoom-like robot (0.26 m/s, camera 85.2 x 
                       published); by default it tracks and evades them, as the daemon does
   --camera KIND       depth (default: a depth sensor, a RealSense's model) or stereo (two textured views 12 cm apart
                       matched into depth, as a stereo camera's frames are)
+  --until-arrived     a run succeeds when its mission says it arrived (not within 0.25 m), and the final error is
+                      measured (ASNS's Table 8)
   --ground TEST       morp (default: MORP's ground segmentation) or afds (ASNS's floor detection) gives the lanes
   --people-see-robot  the people keep clear of the robot too (default: they walk as if it were not there, as in
                       DPoom's evaluation)
@@ -176,6 +178,8 @@ int main(int argc, char** argv) {
           throw std::invalid_argument("--camera: depth or stereo, got '" + kind + "'");
         }
         options.stereo = kind == "stereo";
+      } else if (flag == "--until-arrived") {
+        options.until_arrived = true;
       } else if (flag == "--ground") {
         const std::string test = value();
         if (test != "morp" && test != "afds") throw std::invalid_argument("--ground: morp or afds, got '" + test + "'");
@@ -249,6 +253,7 @@ int main(int argc, char** argv) {
                       {"laser", options.laser},
                       {"camera", options.stereo ? "stereo" : "depth"},
                       {"ground", options.afds ? "afds" : "morp"},
+                      {"until_arrived", options.until_arrived},
                       {"camera_tracking", options.camera_tracking},
                       {"people_see_robot", options.people_see_robot},
                       {"max_speed_mps", options.max_speed_mps},
@@ -265,6 +270,7 @@ int main(int argc, char** argv) {
                                                                                    : nlohmann::json(nullptr)},
                             {"collided_with", r.collided_with},
                             {"robot_drove_into_it", r.robot_drove_into_it}};
+      if (r.final_error_m) run["final_error_m"] = *r.final_error_m;
       // A person's collision: seconds since they were last in the camera's view, null for never.
       if (r.collided_with == "person") {
         run["person_in_view_s"] = OrNull(r.person_in_view_s);
@@ -297,6 +303,11 @@ int main(int argc, char** argv) {
   for (const auto& s : summaries) {
     std::printf("%-16s %17.3f %10.4f %10.3f %10.3f %8llu\n", ToString(s.policy), s.depth_ms, s.policy_ms, s.total_ms,
                 s.total_p99_ms, static_cast<unsigned long long>(s.frames));
+  }
+  for (const auto& s : summaries) {
+    if (!s.mean_final_error_m) continue;
+    std::printf("\n%s: final error when its mission arrived (Table 8): mean %.1f cm, largest %.1f cm\n",
+                ToString(s.policy), 100.0 * *s.mean_final_error_m, 100.0 * *s.max_final_error_m);
   }
   for (const auto& s : summaries) {
     if (s.scans == 0) continue;

@@ -527,7 +527,15 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
       }
       break;
     }
-    if ((pose.translation() - layout.goal).norm() <= options.goal_tolerance_m) {
+    const double to_goal_m = (pose.translation() - layout.goal).norm();
+    if (options.until_arrived) {
+      if (const auto mission = bus.Get(server::topics::kMission).latest();
+          mission && mission->status == nav::MissionStatus::kSucceeded) {
+        result.outcome = Outcome::kSuccess;
+        result.final_error_m = to_goal_m;
+        break;
+      }
+    } else if (to_goal_m <= options.goal_tolerance_m) {
       result.outcome = Outcome::kSuccess;
       break;
     }
@@ -579,6 +587,8 @@ std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results) {
     double closest = 0.0;
     double least = std::numeric_limits<double>::infinity();
     std::vector<double> totals;
+    double final_errors = 0.0;
+    int arrived = 0;
     double tracking = 0.0;
     double depth = 0.0;
     double decide = 0.0;
@@ -587,6 +597,11 @@ std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results) {
         ++successes;
         time += r->time_s;
         path += r->path_length_m;
+      }
+      if (r->final_error_m) {
+        ++arrived;
+        final_errors += *r->final_error_m;
+        s.max_final_error_m = std::max(s.max_final_error_m.value_or(0.0), *r->final_error_m);
       }
       if (std::isfinite(r->closest_person_m)) {
         ++with_people;
@@ -614,6 +629,7 @@ std::vector<PolicySummary> Summarise(const std::vector<RunResult>& results) {
       s.mean_closest_person_m = closest / with_people;
       s.min_closest_person_m = least;
     }
+    if (arrived > 0) s.mean_final_error_m = final_errors / arrived;
     s.frames = totals.size();
     if (s.scans > 0) s.tracking_ms = tracking / static_cast<double>(s.scans);
     if (!totals.empty()) {
