@@ -38,6 +38,10 @@ Runs the DPoom evaluation protocol: a DPoom-like robot (0.26 m/s, camera 85.2 x 
                       and stands, as in DPoom's evaluation) or pacing (harder: routes anywhere, walked back and
                       forth at 0.8 m/s for the whole run)
   --static N          static obstacles, 0 to 9, default 0
+  --obstacle-size S   dpoom (default: 1 m across and high), or ASNS's low (0.3 m across, 0.15 m high), medium (0.5,
+                      0.5) or large (1.2, 1.2)
+  --setting KIND      room (default: rooms of 12-15 m), or ASNS's corridor (2.4-3 m wide, 16-20 m long) or open (a
+                      hall of 25-30 m)
   --policy NAME       morp-rb, voxel-reactive, morp-il, takiguchi or flmc (ASNS's fuzzy controllers); repeat for
                       several; default the first two
   --weights FILE      morp-il's network, default config/policies/morp_il.weights
@@ -146,6 +150,18 @@ int main(int argc, char** argv) {
         const auto kind = corridor::scenario::ParseCrowdKind(name);
         if (!kind) throw std::invalid_argument("--crowd: unknown kind '" + name + "' (paper, pacing)");
         options.crowd = *kind;
+      } else if (flag == "--setting") {
+        const std::string name = value();
+        const auto kind = corridor::scenario::ParseSettingKind(name);
+        if (!kind) throw std::invalid_argument("--setting: unknown setting '" + name + "' (room, corridor, open)");
+        options.setting = *kind;
+      } else if (flag == "--obstacle-size") {
+        const std::string name = value();
+        const auto size = corridor::scenario::ParseObstacleSize(name);
+        if (!size) {
+          throw std::invalid_argument("--obstacle-size: unknown size '" + name + "' (dpoom, low, medium, large)");
+        }
+        options.obstacle_size = *size;
       } else if (flag == "--static") {
         options.static_obstacles = ParseInt(flag, value(), 0, 30);
       } else if (flag == "--policy") {
@@ -250,6 +266,8 @@ int main(int argc, char** argv) {
                       {"pedestrians", options.pedestrians},
                       {"crowd", ToString(options.crowd)},
                       {"static", options.static_obstacles},
+                      {"setting", ToString(options.setting)},
+                      {"obstacle_size", ToString(options.obstacle_size)},
                       {"laser", options.laser},
                       {"camera", options.stereo ? "stereo" : "depth"},
                       {"ground", options.afds ? "afds" : "morp"},
@@ -281,12 +299,15 @@ int main(int argc, char** argv) {
     std::cout << doc.dump(2) << "\n";
     return 0;
   }
-  std::printf("%d worlds x %d runs, %d pedestrians (%s), %d static obstacles, seed %u, %s, %s\n\n", options.worlds,
-              options.runs, options.pedestrians, ToString(options.crowd), options.static_obstacles, options.seed,
-              options.world.empty() ? "generated rooms" : options.world.c_str(),
+  const std::string where =
+      options.world.empty() ? std::string("generated ") + ToString(options.setting) + "s" : options.world.string();
+  std::printf("%d worlds x %d runs, %d pedestrians (%s), %d static obstacles (%s), seed %u, %s, %s, %s camera%s\n\n",
+              options.worlds, options.runs, options.pedestrians, ToString(options.crowd), options.static_obstacles,
+              ToString(options.obstacle_size), options.seed, where.c_str(),
               options.laser             ? "camera and laser"
               : options.camera_tracking ? "camera only, tracking people in its view"
-                                        : "camera only, no tracking");
+                                        : "camera only, no tracking",
+              options.stereo ? "stereo" : "depth", options.afds ? ", AFDS" : "");
   std::printf(
       "Table 4: outcomes (robot-caused: collisions the robot drove into, not people walking into it)\n"
       "%-16s %5s %8s %10s %14s %8s %18s %10s %18s\n",

@@ -72,9 +72,14 @@ World BaseWorld(const ScenarioOptions& options, int world_index, nav::OccupancyG
     return world;
   }
   std::mt19937 rng = Rng(options.seed, world_index, -1);
-  std::uniform_real_distribution<double> size(12.0, 15.0);
-  const double width = size(rng);
-  const double height = size(rng);
+  const auto [lo, hi] = options.setting == SettingKind::kOpen ? std::pair{25.0, 30.0} : std::pair{12.0, 15.0};
+  std::uniform_real_distribution<double> size(lo, hi);
+  double width = size(rng);
+  double height = size(rng);
+  if (options.setting == SettingKind::kCorridor) {
+    width = std::uniform_real_distribution<double>(16.0, 20.0)(rng);
+    height = std::uniform_real_distribution<double>(2.4, 3.0)(rng);
+  }
   map = drivers::sim::RoomMap(width, height, kRoomResolutionM);
   return drivers::sim::WorldFromMap(map, drivers::sim::WorldOptions{});
 }
@@ -293,6 +298,39 @@ std::optional<CrowdKind> ParseCrowdKind(const std::string& name) {
   return std::nullopt;
 }
 
+const char* ToString(SettingKind kind) {
+  switch (kind) {
+    case SettingKind::kRoom: return "room";
+    case SettingKind::kCorridor: return "corridor";
+    case SettingKind::kOpen: return "open";
+  }
+  return "unknown";
+}
+
+std::optional<SettingKind> ParseSettingKind(const std::string& name) {
+  for (SettingKind k : {SettingKind::kRoom, SettingKind::kCorridor, SettingKind::kOpen}) {
+    if (name == ToString(k)) return k;
+  }
+  return std::nullopt;
+}
+
+const char* ToString(ObstacleSize size) {
+  switch (size) {
+    case ObstacleSize::kDpoom: return "dpoom";
+    case ObstacleSize::kLow: return "low";
+    case ObstacleSize::kMedium: return "medium";
+    case ObstacleSize::kLarge: return "large";
+  }
+  return "unknown";
+}
+
+std::optional<ObstacleSize> ParseObstacleSize(const std::string& name) {
+  for (ObstacleSize k : {ObstacleSize::kDpoom, ObstacleSize::kLow, ObstacleSize::kMedium, ObstacleSize::kLarge}) {
+    if (name == ToString(k)) return k;
+  }
+  return std::nullopt;
+}
+
 const char* ToString(Outcome outcome) {
   switch (outcome) {
     case Outcome::kSuccess: return "success";
@@ -367,8 +405,18 @@ Layout MakeLayout(const ScenarioOptions& options, int world_index, int run_index
         [&]() -> std::optional<StaticObstacle> {
           StaticObstacle o;
           o.shape = unit(rng) < 0.5 ? StaticObstacle::Shape::kCylinder : StaticObstacle::Shape::kBox;
-          o.size_m = 0.5;
-          o.height_m = 1.0;
+          // Radius or half side, and height.
+          const auto [half, height] = [&] {
+            switch (options.obstacle_size) {
+              case ObstacleSize::kLow: return std::pair{0.15, 0.15};
+              case ObstacleSize::kMedium: return std::pair{0.25, 0.5};
+              case ObstacleSize::kLarge: return std::pair{0.6, 1.2};
+              case ObstacleSize::kDpoom: break;
+            }
+            return std::pair{0.5, 1.0};
+          }();
+          o.size_m = half;
+          o.height_m = height;
           o.yaw_rad = angle(rng);
           o.center = start + (0.15 + 0.7 * unit(rng)) * way + (unit(rng) - 0.5) * 3.0 * across;
           const double r = o.bounding_radius_m();

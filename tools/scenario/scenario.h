@@ -67,6 +67,25 @@ enum class CrowdKind {
 const char* ToString(CrowdKind kind);
 std::optional<CrowdKind> ParseCrowdKind(const std::string& name);
 
+// Where the runs are: ASNS's three settings (the paper's dimensions are not in the tree; these are corridor's).
+enum class SettingKind {
+  kRoom,      // rooms of 12 to 15 m a side (DPoom's evaluation, and the default)
+  kCorridor,  // a corridor 2.4 to 3 m wide and 16 to 20 m long
+  kOpen,      // an open hall of 25 to 30 m a side
+};
+const char* ToString(SettingKind kind);
+std::optional<SettingKind> ParseSettingKind(const std::string& name);
+
+// The static obstacles' size: DPoom's, or ASNS's low, medium and large ones (cylinders and boxes alike).
+enum class ObstacleSize {
+  kDpoom,   // 1 m across, 1 m high (the default)
+  kLow,     // 0.3 m across, 0.15 m high: under a laser, over what the robot drives over
+  kMedium,  // 0.5 m across, 0.5 m high
+  kLarge,   // 1.2 m across, 1.2 m high
+};
+const char* ToString(ObstacleSize size);
+std::optional<ObstacleSize> ParseObstacleSize(const std::string& name);
+
 struct ScenarioOptions {
   std::filesystem::path world;  // a .yaml map or a mesh world; empty: generated rooms of 12 to 15 m
   int worlds = 10;
@@ -74,7 +93,9 @@ struct ScenarioOptions {
   std::uint32_t seed = 1;
   int pedestrians = 0;  // 0 to 5 in the paper's protocol
   CrowdKind crowd = CrowdKind::kPaper;
-  int static_obstacles = 0;  // 0 to 9: unit cubes and cylinders of 0.5 m radius
+  int static_obstacles = 0;  // 0 to 9: cubes and cylinders of obstacle_size
+  SettingKind setting = SettingKind::kRoom;
+  ObstacleSize obstacle_size = ObstacleSize::kDpoom;
   double min_goal_m = 7.0;
   double max_goal_m = 11.0;
   double goal_tolerance_m = 0.25;

@@ -43,6 +43,40 @@ TEST(ScenarioTest, TheFuzzyControllersArriveWithin5CentimetresAmongPeopleAndObst
   EXPECT_GT(result.depth_ms.size(), 50u);
 }
 
+// ASNS's three settings and obstacle sizes: a corridor, an open hall, rooms; low, medium and large obstacles.
+TEST(ScenarioTest, ASNSsSettingsAreACorridorAHallAndRoomsWithObstaclesOfTheirSize) {
+  ScenarioOptions options;
+  options.seed = 3;
+  options.static_obstacles = 3;
+  const auto extent = [](const Layout& layout) {
+    const nav::OccupancyGrid& map = layout.map;
+    return std::pair{std::min(map.width(), map.height()) * map.resolution_m(),
+                     std::max(map.width(), map.height()) * map.resolution_m()};
+  };
+  options.setting = SettingKind::kCorridor;
+  options.obstacle_size = ObstacleSize::kLow;
+  Layout layout = MakeLayout(options, 0, 0);
+  EXPECT_LE(extent(layout).first, 3.1);
+  EXPECT_GE(extent(layout).second, 16.0);
+  EXPECT_GE((layout.goal - layout.start.translation()).norm(), 7.0);
+  ASSERT_FALSE(layout.world.obstacles.empty());
+  for (const auto& o : layout.world.obstacles) {
+    EXPECT_DOUBLE_EQ(o.height_m, 0.15);
+    EXPECT_DOUBLE_EQ(o.size_m, 0.15);
+  }
+  options.setting = SettingKind::kOpen;
+  options.obstacle_size = ObstacleSize::kLarge;
+  layout = MakeLayout(options, 0, 0);
+  EXPECT_GE(extent(layout).first, 25.0);
+  for (const auto& o : layout.world.obstacles) EXPECT_DOUBLE_EQ(o.height_m, 1.2);
+  options.setting = SettingKind::kRoom;
+  layout = MakeLayout(options, 0, 0);
+  EXPECT_GE(extent(layout).first, 12.0);
+  EXPECT_LE(extent(layout).second, 15.1);
+  EXPECT_EQ(ParseSettingKind("hall"), std::nullopt);
+  EXPECT_EQ(ParseObstacleSize("medium"), ObstacleSize::kMedium);
+}
+
 // ASNS's robot: a stereo camera (two textured views matched into depth) and the fuzzy controllers, through the same
 // graph, reach the goal of the same scenario.
 TEST(ScenarioTest, AStereoCameraAndTheFuzzyControllersReachTheGoalAmongPeopleAndObstacles) {
