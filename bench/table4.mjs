@@ -1,6 +1,7 @@
-// DPoom's Tables 3 and 4 through the daemon's graph: every setting docs/benchmarks.md reports, each seed one run of
-// tools/scenario (10 worlds x 3 runs), then one Markdown row per setting (success per seed and over all seeds,
-// collisions, those the robot drove into, timeouts, mean time to goal, milliseconds per depth frame).
+// DPoom's Tables 3 and 4 (and ASNS's scenario tables) through the daemon's graph: every setting docs/benchmarks.md
+// reports, each seed one run of tools/scenario (10 worlds x 3 runs unless the setting says), then one Markdown row
+// per setting (success per seed and over all seeds, collisions, those the robot drove into, timeouts, mean time to
+// goal, milliseconds per depth frame).
 //   node bench/table4.mjs [--jobs N] [--only NAME[,NAME...]] [--seeds A-B|A,B,...] [--out DIR] [--reuse]
 // --jobs: scenario processes at once (default 1: the per-frame times are then measured on an otherwise idle core).
 // --only: settings by name (see SETTINGS); default all. --out: where each run's JSON goes (default build/table4).
@@ -44,6 +45,14 @@ const SETTINGS = [
   ['pacing-seeing', ['--policy', 'morp-rb', '--crowd', 'pacing', '--people-see-robot'], [1, 2]],
   ['pacing-seeing-il', [...il, '--crowd', 'pacing', '--people-see-robot'], [1, 2]],
   ['pacing-seeing-takiguchi', [...tk, '--crowd', 'pacing', '--people-see-robot'], [1, 2]],
+  // ASNS's scenario tables (issue 41): its three settings with low, medium and large obstacles, FLMC against MORP-RB,
+  // the depth sensor and the stereo pair; no people, 3 obstacles, 20 runs a seed (asns-corridor-low-flmc-depth, ...).
+  ...['corridor', 'room', 'open'].flatMap((setting) => ['low', 'medium', 'large'].flatMap((size) =>
+    ['flmc', 'morp-rb'].flatMap((policy) => ['depth', 'stereo'].map((camera) => [
+      `asns-${setting}-${size}-${policy}-${camera}`,
+      ['--policy', policy, '--setting', setting, '--obstacle-size', size, '--static', '3', '--pedestrians', '0',
+       '--camera', camera, '--worlds', '10', '--runs', '2'],
+      [1]])))),
 ];
 
 function option(name, fallback) {
