@@ -40,7 +40,8 @@ Afds::Afds(const PinholeCamera& camera, const AfdsOptions& options, const MorpOp
   const Eigen::Vector3d origin = camera.base_T_camera.translation();
   for (int v = 0; v < camera.height; ++v) {
     for (int u = 0; u < camera.width; ++u) {
-      const Eigen::Vector3f& ray = rays_[static_cast<std::size_t>(v * camera.width + u)];
+      const Eigen::Vector3f& ray =
+          rays_[static_cast<std::size_t>(v) * static_cast<std::size_t>(camera.width) + static_cast<std::size_t>(u)];
       const double floor_depth = ray.z() < 0.0f ? origin.z() / -ray.z() : options.max_range_m;
       region_of_pixel_.push_back(!camera.stereo.Sees(u + 0.5, floor_depth)
                                      ? -1
@@ -48,7 +49,7 @@ Afds::Afds(const PinholeCamera& camera, const AfdsOptions& options, const MorpOp
                                            u * options.grid_columns / camera.width);
     }
   }
-  regions_.resize(static_cast<std::size_t>(options.grid_columns * options.grid_rows));
+  regions_.resize(static_cast<std::size_t>(options.grid_columns) * static_cast<std::size_t>(options.grid_rows));
   region_floor_.resize(regions_.size());
   frame_.cells.resize(regions_.size());
   frame_.lanes.resize(lane_offsets_.size());
@@ -224,7 +225,10 @@ double Afds::FaceTop(const std::vector<int>& face, const Plane& plane, const cv:
     if (v < 0) return std::nullopt;
     const double d = millimetres ? depth.ptr<std::uint16_t>(v)[top->u] * 0.001 : depth.ptr<float>(v)[top->u];
     if (!(d > 0.0) || !std::isfinite(d)) return std::nullopt;
-    return origin + rays_[static_cast<std::size_t>(v * camera_.width + top->u)].cast<double>() * d;
+    return origin + rays_[static_cast<std::size_t>(v) * static_cast<std::size_t>(camera_.width) +
+                          static_cast<std::size_t>(top->u)]
+                            .cast<double>() *
+                        d;
   };
   const double inlier = options_.inlier_m + options_.noise_b_per_m * top->p.x() * top->p.x();
   Eigen::Vector3d edge = top->p;
