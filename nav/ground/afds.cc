@@ -113,11 +113,9 @@ const AfdsFrame& Afds::Process(const cv::Mat& depth) {
   for (std::size_t i = 0; i < points_.size(); ++i) {
     const Point& point = points_[i];
     heights_[i] = static_cast<float>(region_floor_[static_cast<std::size_t>(point.region)].Distance(point.p));
-    if (heights_[i] > options_.max_step_m || heights_[i] < -options_.max_drop_m) {
-      frame_.obstacles.emplace_back(point.p.x(), point.p.y(), heights_[i]);
-    }
+    if (Obstacle(heights_[i])) frame_.obstacles.emplace_back(point.p.x(), point.p.y(), heights_[i]);
   }
-  FillLanes(heights_);
+  FillLanes();
   return frame_;
 }
 
@@ -259,16 +257,15 @@ double Afds::FaceTop(const std::vector<int>& face, const Plane& plane, const cv:
   return top_height + std::clamp(rise_per_rad, 0.0, t) * 0.5 / camera_.fy;
 }
 
-void Afds::FillLanes(const std::vector<float>& heights) {
+void Afds::FillLanes() {
   // Per lane, its points' forward distances and heights, nearest first.
   for (auto& lane : lane_points_) lane.clear();
   for (std::size_t i = 0; i < points_.size(); ++i) {
     const Eigen::Vector3d& p = points_[i].p;
     if (p.x() > lane_options_.max_range_m) continue;
     const int j = LaneOnLine(lane_options_, lane_count(), p.y());
-    if (j >= 0) lane_points_[static_cast<std::size_t>(j)].emplace_back(static_cast<float>(p.x()), heights[i]);
+    if (j >= 0) lane_points_[static_cast<std::size_t>(j)].emplace_back(static_cast<float>(p.x()), heights_[i]);
   }
-  const auto obstacle = [&](float height) { return height > options_.max_step_m || height < -options_.max_drop_m; };
   for (std::size_t j = 0; j < frame_.lanes.size(); ++j) {
     LaneResult& out = frame_.lanes[j];
     out = LaneResult{};
@@ -284,12 +281,12 @@ void Afds::FillLanes(const std::vector<float>& heights) {
     float last_floor = 0.0f;
     for (std::size_t k = 0; k < points.size() && !out.dead_end; ++k) {
       const auto [x, height] = points[k];
-      if (!obstacle(height)) {
+      if (!Obstacle(height)) {
         last_floor = x;
         continue;
       }
       for (std::size_t n = k + 1; n < points.size() && points[n].first - x <= options_.obstacle_run_m; ++n) {
-        if (!obstacle(points[n].second)) continue;
+        if (!Obstacle(points[n].second)) continue;
         // A rise stands where it starts; beyond a drop's edge the lower floor is first seen much farther out, so
         // the lane is free up to the last floor point, the edge.
         out.dead_end = true;

@@ -102,8 +102,10 @@ class Afds {
   // The height of the top edge of a face (its points' indices, its plane; `depth` the frame's) above the frame's
   // floor.
   double FaceTop(const std::vector<int>& face, const Plane& plane, const cv::Mat& depth) const;
-  // Step 4's lanes, from the points' heights above their regions' floors.
-  void FillLanes(const std::vector<float>& heights);
+  // Above the step the robot drives over, or below the drop it must not: an obstacle.
+  bool Obstacle(float height) const { return height > options_.max_step_m || height < -options_.max_drop_m; }
+  // Step 4's lanes, from the points' heights above their regions' floors (heights_).
+  void FillLanes();
 
   PinholeCamera camera_;
   AfdsOptions options_;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -283,6 +284,19 @@ auto Sample(Fn&& fn, int attempts) -> decltype(fn()) {
 
 }  // namespace
 
+namespace {
+
+// The one of `values` whose ToString is `name`.
+template <typename Enum>
+std::optional<Enum> FromName(const std::string& name, std::initializer_list<Enum> values) {
+  for (const Enum value : values) {
+    if (name == ToString(value)) return value;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 const char* ToString(CrowdKind kind) {
   switch (kind) {
     case CrowdKind::kPaper: return "paper";
@@ -292,10 +306,7 @@ const char* ToString(CrowdKind kind) {
 }
 
 std::optional<CrowdKind> ParseCrowdKind(const std::string& name) {
-  for (CrowdKind k : {CrowdKind::kPaper, CrowdKind::kPacing}) {
-    if (name == ToString(k)) return k;
-  }
-  return std::nullopt;
+  return FromName(name, {CrowdKind::kPaper, CrowdKind::kPacing});
 }
 
 const char* ToString(SettingKind kind) {
@@ -308,10 +319,7 @@ const char* ToString(SettingKind kind) {
 }
 
 std::optional<SettingKind> ParseSettingKind(const std::string& name) {
-  for (SettingKind k : {SettingKind::kRoom, SettingKind::kCorridor, SettingKind::kOpen}) {
-    if (name == ToString(k)) return k;
-  }
-  return std::nullopt;
+  return FromName(name, {SettingKind::kRoom, SettingKind::kCorridor, SettingKind::kOpen});
 }
 
 const char* ToString(ObstacleSize size) {
@@ -325,10 +333,7 @@ const char* ToString(ObstacleSize size) {
 }
 
 std::optional<ObstacleSize> ParseObstacleSize(const std::string& name) {
-  for (ObstacleSize k : {ObstacleSize::kDpoom, ObstacleSize::kLow, ObstacleSize::kMedium, ObstacleSize::kLarge}) {
-    if (name == ToString(k)) return k;
-  }
-  return std::nullopt;
+  return FromName(name, {ObstacleSize::kDpoom, ObstacleSize::kLow, ObstacleSize::kMedium, ObstacleSize::kLarge});
 }
 
 const char* ToString(Outcome outcome) {
