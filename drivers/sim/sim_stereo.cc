@@ -38,7 +38,11 @@ SimStereoCamera::SimStereoCamera(const RayCaster& caster, const SimCameraOptions
     : renderer_(caster, StereoViewOptions(camera)),
       options_(options),
       base_T_left_(MakeCameraInfo(camera).camera.base_T_camera),
-      depth_(IdealStereoCalibration(camera, options.baseline_m), base_T_left_, DepthOptions(camera, options)) {}
+      depth_(IdealStereoCalibration(camera, options.baseline_m),
+             options.wide_baseline_m > 0.0
+                 ? std::optional<stereo::StereoCalibration>(IdealStereoCalibration(camera, options.wide_baseline_m))
+                 : std::nullopt,
+             base_T_left_, DepthOptions(camera, options), options.wide_disparities, options.fusion) {}
 
 void SimStereoCamera::Render(const Eigen::Isometry3d& world_T_base, std::mt19937& rng, RgbdFrame& frame) {
   RenderViews(world_T_base, rng);
@@ -51,6 +55,10 @@ void SimStereoCamera::RenderViews(const Eigen::Isometry3d& world_T_base, std::mt
   // The right camera: the baseline along the left one's x axis (its right).
   const Eigen::Isometry3d world_T_right = world_T_left * Eigen::Translation3d(options_.baseline_m, 0.0, 0.0);
   renderer_.RenderColor(world_T_right, options_.texture, options_.image_noise, rng, right_);
+  if (options_.wide_baseline_m > 0.0) {
+    const Eigen::Isometry3d world_T_third = world_T_left * Eigen::Translation3d(options_.wide_baseline_m, 0.0, 0.0);
+    renderer_.RenderColor(world_T_third, options_.texture, options_.image_noise, rng, third_);
+  }
 }
 
 }  // namespace corridor::drivers::sim

@@ -7,13 +7,20 @@
 #include <random>
 
 #include "drivers/sim/sensors.h"
+#include "drivers/stereo/multi_baseline.h"
 #include "drivers/stereo/stereo_depth.h"
 
 namespace corridor::drivers::sim {
 
 struct SimStereoOptions {
   bool enabled = false;      // the simulated camera is a stereo pair (else a depth sensor: SimCameraOptions' model)
-  double baseline_m = 0.12;  // ASNS's narrow pair; its wide one is 0.24
+  double baseline_m = 0.12;  // ASNS's narrow pair
+  // A third view this far to the left one's right makes the wide pair (ASNS's: 0.24 m), fused with the narrow one
+  // (stereo::MultiBaselineDepth); 0: the narrow pair alone. The wide pair is matched over wide_disparities: 64 at the
+  // views' 174 px focal length reach from 0.65 m, nearer than the wide pair's band begins.
+  double wide_baseline_m = 0.0;
+  int wide_disparities = 64;
+  stereo::BaselineFusionOptions fusion;
   double image_noise = 2.0;  // each view's sensor noise, grey levels (sigma)
   // The surfaces' texture (RgbdRenderer::RenderColor): what matching finds; 0 leaves flat colours, on which a stereo
   // camera finds nothing, as a real one would not on a plain wall.
@@ -36,7 +43,7 @@ struct SimStereoOptions {
 SimCameraOptions StereoViewOptions(const SimCameraOptions& camera);
 
 // An ideal pair of the views' camera (StereoViewOptions), no distortion, the right camera `baseline_m` to the left
-// one's right: what calibrating the simulated pair would give.
+// one's right: what calibrating the simulated pair (or the left camera with the third) would give.
 stereo::StereoCalibration IdealStereoCalibration(const SimCameraOptions& camera, double baseline_m);
 
 class SimStereoCamera {
@@ -48,18 +55,18 @@ class SimStereoCamera {
   // The rectified left camera the frames are in (the configured camera's mounting and intrinsics).
   const CameraInfo& info() const { return depth_.info(); }
 
-  // Renders both views from the robot's base at world_T_base and matches them into `frame`: RenderViews, then Match.
+  // Renders the views from the robot's base at world_T_base and matches them into `frame`: RenderViews, then Match.
   void Render(const Eigen::Isometry3d& world_T_base, std::mt19937& rng, RgbdFrame& frame);
   // The two steps on their own (the depth path's time is Match's).
   void RenderViews(const Eigen::Isometry3d& world_T_base, std::mt19937& rng);
-  void Match(RgbdFrame& frame) { depth_.Process(left_, right_, frame); }
+  void Match(RgbdFrame& frame) { depth_.Process(left_, right_, third_, frame); }
 
  private:
   RgbdRenderer renderer_;
   SimStereoOptions options_;
   Eigen::Isometry3d base_T_left_;  // the configured mounting of the left camera
-  stereo::StereoDepth depth_;
-  cv::Mat left_, right_;
+  stereo::MultiBaselineDepth depth_;
+  cv::Mat left_, right_, third_;  // third_: the wide pair's right view, when there is one
 };
 
 }  // namespace corridor::drivers::sim

@@ -38,6 +38,7 @@ class StereoDepth {
 
   // The rectified left camera at the frames' size, where it sits on the base, and the range of depths given.
   const CameraInfo& info() const { return info_; }
+  double baseline_m() const { return rectification_.baseline_m; }
 
   // Depth and colour (the rectified left image) of a pair taken at one instant, grey or BGR at the calibration's size;
   // std::invalid_argument for images of another size. Not for concurrent use.
