@@ -194,8 +194,8 @@ TEST(SimStereoTest, TheWidePairMakesFarDepthTrueAndKeepsTheNearDepth) {
         const bool near = z >= 0.5 && z <= 1.5;
         const bool far = z >= 2.5 && z <= 3.5;
         if (!near && !far) continue;
-        for (const auto& [frame, count] : {std::pair{&a, near ? &near_narrow : &far_narrow},
-                                           std::pair{&b, near ? &near_wide : &far_wide}}) {
+        for (const auto& [frame, count] :
+             {std::pair{&a, near ? &near_narrow : &far_narrow}, std::pair{&b, near ? &near_wide : &far_wide}}) {
           const double measured = frame->depth_mm.at<std::uint16_t>(v, u) * 1e-3;
           if (measured <= 0.0) continue;
           ++count->given;
@@ -227,8 +227,9 @@ TEST(SimStereoTest, AThirdCameraTurnedFromTheRowStillGivesTrueDepth) {
   const stereo::StereoCalibration narrow = IdealStereoCalibration(camera, 0.12);
   stereo::StereoCalibration wide = IdealStereoCalibration(camera, 0.24);
   // The third camera in the left one's frame, q and t; the calibration's R and T take the left frame into its own.
-  const Eigen::Matrix3d q = (Eigen::AngleAxisd(0.06, Eigen::Vector3d::UnitY()) *
-                             Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  const Eigen::Matrix3d q =
+      (Eigen::AngleAxisd(0.06, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
   const Eigen::Vector3d t(0.24, 0.0, 0.0);
   const Eigen::Vector3d translation = -(q.transpose() * t);
   for (int r = 0; r < 3; ++r) {
@@ -271,8 +272,8 @@ TEST(SimStereoTest, AThirdCameraTurnedFromTheRowStillGivesTrueDepth) {
   EXPECT_GT(kept, 0.97 * box);
   EXPECT_NEAR(Median(box_depths), 1600.0, 20.0);
   double density = 0.0;
-  // The wall beside it (on the right: the third camera, turned right, does not see the left edge far off): within 4 cm (the semi-global matcher's sub-pixel estimate is drawn to whole pixels by up to a
-  // sixth of one, some 3 cm here).
+  // The wall beside it (on the right: the third camera, turned right, does not see the left edge far off): within 4 cm
+  // (the semi-global matcher's sub-pixel estimate is drawn to whole pixels by up to a sixth of one, some 3 cm here).
   const std::vector<double> wall = Depths(frame, cv::Rect(240, 30, 40, 40), &density);
   EXPECT_GT(density, 0.8);
   EXPECT_NEAR(Median(wall), 3000.0, 40.0);

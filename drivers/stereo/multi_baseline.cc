@@ -42,7 +42,8 @@ void ValidateBaselineFusionOptions(const BaselineFusionOptions& o) {
   if (!(o.disparity_sigma_px > 0.0 && o.disparity_sigma_px <= 10.0)) {
     throw std::invalid_argument("disparity_sigma_px: above 0, at most 10 px");
   }
-  if (!(o.agree_sigmas > 0.0 && o.agree_sigmas <= 100.0)) throw std::invalid_argument("agree_sigmas: above 0, at most 100");
+  if (!(o.agree_sigmas > 0.0 && o.agree_sigmas <= 100.0))
+    throw std::invalid_argument("agree_sigmas: above 0, at most 100");
 }
 
 void FuseBaselines(const cv::Mat& narrow_mm, const cv::Mat& wide_mm, double focal_px, double narrow_baseline_m,

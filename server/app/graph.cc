@@ -25,6 +25,7 @@
 #include "server/nodes/ground_node.h"
 #include "server/nodes/lift_node.h"
 #include "server/nodes/localization_node.h"
+#include "server/nodes/multi_view_node.h"
 #include "server/nodes/octree_node.h"
 #include "server/nodes/perception_node.h"
 #include "server/nodes/tracking_node.h"
@@ -140,7 +141,9 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
     spdlog::info("map '{}': {} x {} cells at {} m", active->name, active->grid.width(), active->grid.height(),
                  active->grid.resolution_m());
   }
-  ConnectDrivers(bus_, clock_, devices_.camera, devices_.base, devices_.laser, devices_.battery, devices_.slots);
+  const bool multi_view = config_.multi_view.enabled && devices_.camera != nullptr;
+  ConnectDrivers(bus_, clock_, devices_.camera, devices_.base, devices_.laser, devices_.battery, devices_.slots,
+                 multi_view);
 
   // The simulator's dock is a place on the map it stands in (as an installer would add a real one). A dock no mission
   // can reach (its staging pose against a wall) is a configuration error: it is refused here, before anything runs.
@@ -188,6 +191,9 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   lifecycle_.Add(std::make_unique<EventNode>(executors_.io, bus_, *events_, store_, *webhooks_));
   if (!config_.building.floors.empty()) {
     lifecycle_.Add(std::make_unique<FloorNode>(executors_.io, bus_, *maps_, config_.building));
+  }
+  if (multi_view) {
+    lifecycle_.Add(std::make_unique<MultiViewNode>(executors_.control, bus_, camera, config_.multi_view));
   }
   if (devices_.camera != nullptr) {
     lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.camera->info(), config_.ground,

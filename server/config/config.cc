@@ -143,10 +143,28 @@ void ReadCamera(ConfigReader& r, drivers::sim::SimCameraOptions& o) {
   if (o.min_range_m >= o.max_range_m) throw ConfigError(r.PathOf("min_range_m") + ": must be below max_range_m");
 }
 
+// The wide pair's search and its fusion with the narrow one (drivers/stereo/multi_baseline.h).
+void ReadBaselineFusion(ConfigReader& r, int& wide_disparities, drivers::stereo::BaselineFusionOptions& f) {
+  r.Read("wide_disparities", wide_disparities, 16, 512);
+  if (wide_disparities % 16 != 0) throw ConfigError(r.PathOf("wide_disparities") + ": a multiple of 16");
+  r.Read("near_max_m", f.near_max_m, 0.1, 50.0);
+  r.Read("far_min_m", f.far_min_m, 0.1, 50.0);
+  r.Read("disparity_sigma_px", f.disparity_sigma_px, 0.01, 10.0);
+  r.Read("agree_sigmas", f.agree_sigmas, 0.1, 100.0);
+  if (f.far_min_m > f.near_max_m) {
+    throw ConfigError(r.PathOf("far_min_m") + ": at most near_max_m (the overlap of the pairs' bands)");
+  }
+}
+
 // sim.camera.stereo: the simulated camera as a stereo pair (docs/asns.md).
 void ReadSimStereo(ConfigReader& r, drivers::sim::SimStereoOptions& o, int views_width) {
   r.Read("enabled", o.enabled);
   r.Read("baseline_m", o.baseline_m, 0.01, 1.0);
+  r.Read("wide_baseline_m", o.wide_baseline_m, 0.0, 2.0);
+  if (o.wide_baseline_m > 0.0 && o.wide_baseline_m <= o.baseline_m) {
+    throw ConfigError(r.PathOf("wide_baseline_m") + ": 0 (none) or longer than baseline_m");
+  }
+  ReadBaselineFusion(r, o.wide_disparities, o.fusion);
   r.Read("image_noise", o.image_noise, 0.0, 50.0);
   r.Read("texture", o.texture, 0.0, 1.0);
   ReadStereoDepth(r, o.depth, views_width);
@@ -162,6 +180,15 @@ void ReadLaser(ConfigReader& r, drivers::sim::SimLaserOptions& o) {
   r.Read("noise_m", o.noise_m, 0.0, 1.0);
   r.Read("mount_yaw_deg", o.mount_yaw_deg, -180.0, 180.0);
   r.Read("sweep", o.sweep);
+}
+
+// multi_view: step 5 of the stereo camera's filter (nav/ground/multi_view.h).
+void ReadMultiView(ConfigReader& r, nav::MultiViewOptions& o) {
+  r.Read("enabled", o.enabled);
+  r.Read("cell_m", o.cell_m, 0.01, 1.0);
+  r.Read("window", o.window, 1, 32);
+  r.Read("views", o.views, 1, o.window);
+  r.Read("from_m", o.from_m, 0.0, 50.0);
 }
 
 void ReadGround(ConfigReader& r, GroundOptions& ground) {
@@ -1263,6 +1290,7 @@ Config ConfigFromYaml(const YAML::Node& root, const fs::path& file, ConfigSchema
     r.Section("devices", [&](ConfigReader& s) { ReadDevices(s, config.devices, base); });
     r.Section("sim", [&](ConfigReader& s) { ReadSim(s, config.sim, base); });
     r.Section("ground", [&](ConfigReader& s) { ReadGround(s, config.ground); });
+    r.Section("multi_view", [&](ConfigReader& s) { ReadMultiView(s, config.multi_view); });
     r.Section("planner", [&](ConfigReader& s) { ReadPlanner(s, config.planner); });
     r.Section("mission", [&](ConfigReader& s) { ReadMission(s, config.mission, base); });
     r.Section("docking", [&](ConfigReader& s) { ReadDocking(s, config.mission.docking, config.charging); });

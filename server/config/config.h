@@ -32,6 +32,7 @@
 #include "nav/ground/afds.h"
 #include "nav/ground/depth_scan.h"
 #include "nav/ground/morp.h"
+#include "nav/ground/multi_view.h"
 #include "nav/localization/monte_carlo.h"
 #include "nav/mapping/occupancy_octree.h"
 #include "nav/mission/mission_runner.h"
@@ -381,6 +382,7 @@ struct Config {
   DevicesOptions devices;
   SimulatorOptions sim;
   GroundOptions ground;
+  nav::MultiViewOptions multi_view;  // a stereo camera's frames filtered over posed frames (MMSVF's step 5)
   nav::CostmapOptions planner;
   nav::MissionRunnerOptions mission;  // its docking options come from the docking section
   nav::ChargingOptions charging;      // docking.charge_below_percent, docking.retry_s

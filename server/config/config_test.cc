@@ -147,6 +147,28 @@ TEST_F(ConfigTest, TheGroundTestIsMorpOrAfdsWithItsGrid) {
   EXPECT_NE(e.find("ground.afds.grid_columns"), std::string::npos) << e;
 }
 
+// ASNS's camera: the simulated stereo camera's third view, the pairs' bands, and the multi-view filter.
+TEST_F(ConfigTest, TheStereoCamerasWidePairAndMultiViewFilterAreReadAndChecked) {
+  std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml, camera: {stereo: {enabled: true, wide_baseline_m: 0.24, "
+                                    "near_max_m: 1.8, far_min_m: 1.5}}}\n"
+                                    "multi_view: {enabled: true, views: 3, window: 4, cell_m: 0.08}\n";
+  const Config c = LoadConfig(dir_ / "c.yaml");
+  EXPECT_DOUBLE_EQ(c.sim.robot.stereo.wide_baseline_m, 0.24);
+  EXPECT_EQ(c.sim.robot.stereo.wide_disparities, 64);
+  EXPECT_DOUBLE_EQ(c.sim.robot.stereo.fusion.near_max_m, 1.8);
+  EXPECT_DOUBLE_EQ(c.sim.robot.stereo.fusion.far_min_m, 1.5);
+  EXPECT_TRUE(c.multi_view.enabled);
+  EXPECT_EQ(c.multi_view.views, 3);
+  EXPECT_EQ(c.multi_view.window, 4);
+  EXPECT_DOUBLE_EQ(c.multi_view.cell_m, 0.08);
+  std::string e = ErrorOf("sim: {world: w.yaml, camera: {stereo: {wide_baseline_m: 0.1}}}\n");
+  EXPECT_NE(e.find("sim.camera.stereo.wide_baseline_m: 0 (none) or longer than baseline_m"), std::string::npos) << e;
+  e = ErrorOf("sim: {world: w.yaml, camera: {stereo: {near_max_m: 1.0, far_min_m: 1.5}}}\n");
+  EXPECT_NE(e.find("sim.camera.stereo.far_min_m: at most near_max_m"), std::string::npos) << e;
+  e = ErrorOf("sim: {world: w.yaml}\nmulti_view: {views: 4}\n");
+  EXPECT_NE(e.find("multi_view.views"), std::string::npos) << e;
+}
+
 // ASNS's fuzzy controllers: corridor's rules unless files are named; a rule base that cannot run stops start-up.
 TEST_F(ConfigTest, TheFuzzyPolicyReadsItsRuleBasesAndRefusesOnesThatCannotRun) {
   std::ofstream(dir_ / "c.yaml") << "sim: {world: w.yaml}\nmission: {policy: flmc, flmc: {rotate_above_deg: 45}}\n";

@@ -49,9 +49,10 @@ std::string Describe(const DeviceSlot& slot) {
 }
 
 void ConnectDrivers(Bus& bus, const drivers::Clock& clock, drivers::DepthCamera* camera, drivers::DiffDriveBase& base,
-                    drivers::Laser2D* laser, drivers::Battery* battery, const std::vector<DeviceSlot>& slots) {
+                    drivers::Laser2D* laser, drivers::Battery* battery, const std::vector<DeviceSlot>& slots,
+                    bool camera_filtered) {
   if (camera != nullptr) {
-    auto& rgbd = bus.Get(topics::kRgbd);
+    auto& rgbd = bus.Get(camera_filtered ? topics::kRgbdRaw : topics::kRgbd);
     camera->SetFrameHandler(
         [&rgbd, &clock, handoff = HandoffOf(slots, nav::Device::kCamera)](std::shared_ptr<drivers::RgbdFrame> frame) {
           frame->arrival_ns = clock.Now();

@@ -42,9 +42,11 @@ struct DeviceSlot {
 // `camera`, `laser` and `battery` may be null (no camera or laser fitted, nothing reports the battery). The drivers
 // must outlive the bus subscriptions' use of them. Frames are stamped with their arrival on `clock` (the host's), from
 // which the control loop's latency is measured. Each slot's link, when it has one, reports its changes on
-// devices/links; each delivery is counted to its device's slot's Handoff (the battery's to the base's).
+// devices/links; each delivery is counted to its device's slot's Handoff (the battery's to the base's). The camera's
+// frames go to camera/rgbd, or to camera/rgbd_raw when `camera_filtered` (the multi-view filter passes them on).
 void ConnectDrivers(Bus& bus, const drivers::Clock& clock, drivers::DepthCamera* camera, drivers::DiffDriveBase& base,
-                    drivers::Laser2D* laser, drivers::Battery* battery, const std::vector<DeviceSlot>& slots);
+                    drivers::Laser2D* laser, drivers::Battery* battery, const std::vector<DeviceSlot>& slots,
+                    bool camera_filtered = false);
 
 // "laser (rplidar on /dev/ttyUSB0)": a slot as messages name it.
 std::string Describe(const DeviceSlot& slot);

@@ -8,6 +8,8 @@ namespace corridor::server::topics {
 
 inline constexpr TopicName<drivers::WheelOdometry> kOdometry{"odom"};
 inline constexpr TopicName<drivers::RgbdFrame> kRgbd{"camera/rgbd"};
+// A stereo camera's frames before the multi-view filter (server/nodes/multi_view_node.h), when it is on.
+inline constexpr TopicName<drivers::RgbdFrame> kRgbdRaw{"camera/rgbd_raw"};
 inline constexpr TopicName<drivers::LaserScan> kScan{"scan"};
 inline constexpr TopicName<drivers::BatteryState> kBattery{"battery"};
 inline constexpr TopicName<StampedPose> kPose{"pose"};  // the robot in the map frame

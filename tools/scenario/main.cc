@@ -54,8 +54,9 @@ Runs the DPoom evaluation protocol: a DPoom-like robot (0.26 m/s, camera 85.2 x 
   --no-camera-tracking
                       without the laser, morp-rb does not track people in the depth camera's view (DPoom's robot as
                       published); by default it tracks and evades them, as the daemon does
-  --camera KIND       depth (default: a depth sensor, a RealSense's model) or stereo (two textured views 12 cm apart
-                      matched into depth, as a stereo camera's frames are)
+  --camera KIND       depth (default: a depth sensor, a RealSense's model), stereo (two textured views 12 cm apart
+                      matched into depth, as a stereo camera's frames are) or mmsvf (ASNS's: three views, 12 and
+                      24 cm, fused, and filtered over posed frames)
   --until-arrived     a run succeeds when its mission says it arrived (not within 0.25 m), and the final error is
                       measured (ASNS's Table 8)
   --ground TEST       morp (default: MORP's ground segmentation) or afds (ASNS's floor detection) gives the lanes
@@ -98,6 +99,12 @@ nlohmann::json ToJson(const corridor::scenario::PolicySummary& s) {
           {"frames", s.frames},
           {"tracking_ms", s.tracking_ms},
           {"scans", s.scans}};
+}
+
+// The --camera a run used, as the flag names it.
+const char* CameraName(const ScenarioOptions& options) {
+  if (!options.stereo) return "depth";
+  return options.mmsvf ? "mmsvf" : "stereo";
 }
 
 }  // namespace
@@ -190,10 +197,11 @@ int main(int argc, char** argv) {
         options.camera_tracking = false;
       } else if (flag == "--camera") {
         const std::string kind = value();
-        if (kind != "depth" && kind != "stereo") {
-          throw std::invalid_argument("--camera: depth or stereo, got '" + kind + "'");
+        if (kind != "depth" && kind != "stereo" && kind != "mmsvf") {
+          throw std::invalid_argument("--camera: depth, stereo or mmsvf, got '" + kind + "'");
         }
-        options.stereo = kind == "stereo";
+        options.stereo = kind != "depth";
+        options.mmsvf = kind == "mmsvf";
       } else if (flag == "--until-arrived") {
         options.until_arrived = true;
       } else if (flag == "--ground") {
@@ -269,7 +277,7 @@ int main(int argc, char** argv) {
                       {"setting", ToString(options.setting)},
                       {"obstacle_size", ToString(options.obstacle_size)},
                       {"laser", options.laser},
-                      {"camera", options.stereo ? "stereo" : "depth"},
+                      {"camera", CameraName(options)},
                       {"ground", options.afds ? "afds" : "morp"},
                       {"until_arrived", options.until_arrived},
                       {"camera_tracking", options.camera_tracking},
@@ -307,7 +315,7 @@ int main(int argc, char** argv) {
               options.laser             ? "camera and laser"
               : options.camera_tracking ? "camera only, tracking people in its view"
                                         : "camera only, no tracking",
-              options.stereo ? "stereo" : "depth", options.afds ? ", AFDS" : "");
+              CameraName(options), options.afds ? ", AFDS" : "");
   std::printf(
       "Table 4: outcomes (robot-caused: collisions the robot drove into, not people walking into it)\n"
       "%-16s %5s %8s %10s %14s %8s %18s %10s %18s\n",

@@ -203,6 +203,7 @@ server::Config GraphConfig(const drivers::sim::SimOptions& sim, Policy policy, c
   config.safety.front_offset_m = kRobotRadiusM;
   config.mission.policy = policy;
   config.ground.test = options.afds ? server::GroundTest::kAfds : server::GroundTest::kMorp;
+  config.multi_view.enabled = options.stereo && options.mmsvf;
   nav::LocalNavigatorOptions& navigator = config.mission.navigator;
   navigator.follower.max_linear_mps = options.max_speed_mps;
   navigator.avoid.max_linear_mps = options.max_speed_mps;
@@ -490,6 +491,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   sim.camera.rate_hz = options.camera_rate_hz;
   sim.laser.enabled = options.laser && policy != Policy::kVoxelReactive;
   sim.stereo.enabled = options.stereo;
+  if (options.stereo && options.mmsvf) sim.stereo.wide_baseline_m = 0.24;
   sim.pedestrians = layout.routes;
   sim.crowd = layout.crowd;
   sim.base.limits.footprint_radius_m = kRobotRadiusM;

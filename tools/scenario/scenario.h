@@ -115,6 +115,9 @@ struct ScenarioOptions {
   // The camera is a stereo pair (the simulator's, drivers/sim/sim_stereo.h: two textured views 12 cm apart, matched
   // by the depth path a real stereo camera's frames take) instead of a depth sensor.
   bool stereo = false;
+  // With stereo: ASNS's camera of three views (12 and 24 cm: drivers/stereo/multi_baseline.h) and the multi-view
+  // filter over posed frames (nav/ground/multi_view.h), its MMSVF.
+  bool mmsvf = false;
   // The depth path's ground test is ASNS's floor detection (nav/ground/afds.h) instead of MORP's.
   bool afds = false;
   // People see the robot and keep clear of it (drivers::sim::CrowdOptions::see_robot); off: they ignore it, as in the
