@@ -77,14 +77,16 @@ TEST(ScenarioTest, ASNSsSettingsAreACorridorAHallAndRoomsWithObstaclesOfTheirSiz
   EXPECT_EQ(ParseObstacleSize("medium"), ObstacleSize::kMedium);
 }
 
-// ASNS's robot: a stereo camera (two textured views matched into depth) and the fuzzy controllers, through the same
-// graph, reach the goal of the same scenario.
+// ASNS's robot: its stereo camera (three textured views matched as two pairs, fused and filtered over posed frames:
+// MMSVF, the multi-view node in the graph) and the fuzzy controllers, through the same graph, reach the goal of the
+// same scenario.
 TEST(ScenarioTest, AStereoCameraAndTheFuzzyControllersReachTheGoalAmongPeopleAndObstacles) {
   ScenarioOptions options;
   options.seed = 7;
   options.pedestrians = 3;
   options.static_obstacles = 4;
   options.stereo = true;
+  options.mmsvf = true;
   const RunResult result = RunOnce(MakeLayout(options, 0, 0), Policy::kFlmc, options);
   EXPECT_EQ(ToString(result.outcome), std::string("success")) << result.collided_with;
   EXPECT_GT(result.depth_ms.size(), 50u);
