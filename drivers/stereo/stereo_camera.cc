@@ -1,5 +1,6 @@
 #include "drivers/stereo/stereo_camera.h"
 
+#include <algorithm>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
@@ -33,8 +34,13 @@ StereoCamera::StereoCamera(const StereoCameraOptions& options, const Clock& cloc
   if (o.layout == StereoLayout::kTwoCameras && (o.left_node.empty() || o.right_node.empty())) {
     throw std::invalid_argument("stereo: two cameras need left_node and right_node");
   }
-  depth_ = std::make_unique<StereoDepth>(
-      o.calibration, nav::CameraMount(o.mount_x_m, o.mount_height_m, o.tilt_deg * std::numbers::pi / 180.0), o.depth);
+  if (o.third_node.empty() != !o.wide_calibration) {
+    throw std::invalid_argument("stereo: a third camera needs both its node and the wide pair's calibration");
+  }
+  depth_ = std::make_unique<MultiBaselineDepth>(
+      o.calibration, o.wide_calibration,
+      nav::CameraMount(o.mount_x_m, o.mount_height_m, o.tilt_deg * std::numbers::pi / 180.0), o.depth,
+      o.wide_disparities, o.fusion);
   thread_ = std::jthread([this](std::stop_token stop) { Run(stop); });
 }
 
@@ -52,11 +58,11 @@ void StereoCamera::Run(std::stop_token stop) {
   RunSessions(stop, options_.reconnect_s, [&] { Session(stop); });
 }
 
-void StereoCamera::Deliver(TimeNs stamp_ns, const cv::Mat& left, const cv::Mat& right) {
+void StereoCamera::Deliver(TimeNs stamp_ns, const cv::Mat& left, const cv::Mat& right, const cv::Mat& third) {
   auto frame = std::make_shared<RgbdFrame>();
   frame->stamp_ns = stamp_ns;
   frame->sequence = sequence_++;
-  depth_->Process(left, right, *frame);
+  depth_->Process(left, right, third, *frame);
   FrameHandler handler;
   {
     std::lock_guard lock(mutex_);
@@ -83,25 +89,39 @@ void StereoCamera::Session(std::stop_token stop) {
   } else {
     nodes = {o.left_node, o.right_node};
   }
-  const int frame_width = side_by_side ? 2 * o.width : o.width;
+  if (!o.third_node.empty()) nodes.push_back(o.third_node);
   std::vector<std::unique_ptr<V4l2Capture>> captures;
-  for (const std::string& node : nodes) {
-    captures.push_back(std::make_unique<V4l2Capture>(node, FourCcOf(o.format), frame_width, o.height, o.fps));
-    if (captures.back()->width() != frame_width || captures.back()->height() != o.height) {
-      throw std::runtime_error(fmt::format("{} streams {}x{}, not the configured {}x{}", node, captures.back()->width(),
-                                           captures.back()->height(), frame_width, o.height));
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const int width = side_by_side && i == 0 ? 2 * o.width : o.width;  // a side-by-side frame holds both views
+    captures.push_back(std::make_unique<V4l2Capture>(nodes[i], FourCcOf(o.format), width, o.height, o.fps));
+    if (captures.back()->width() != width || captures.back()->height() != o.height) {
+      throw std::runtime_error(fmt::format("{} streams {}x{}, not the configured {}x{}", nodes[i],
+                                           captures.back()->width(), captures.back()->height(), width, o.height));
     }
   }
   {
     std::lock_guard lock(mutex_);
-    status_.nodes = side_by_side ? nodes[0] : nodes[0] + " + " + nodes[1];
+    status_.nodes = nodes[0];
+    for (std::size_t i = 1; i < nodes.size(); ++i) status_.nodes += " + " + nodes[i];
   }
-  FramePairer pairer(static_cast<TimeNs>(o.pair_tolerance_s * kNsPerSecond));
+  // One node alone (a side-by-side camera without a third) delivers each frame; several are joined by time stamps.
+  const bool one_node = nodes.size() == 1;
+  FrameSet set(std::max(2, static_cast<int>(nodes.size())), static_cast<TimeNs>(o.pair_tolerance_s * kNsPerSecond));
+  const auto deliver = [&](TimeNs now, std::vector<cv::Mat>& images) {
+    cv::Mat left, right;
+    if (side_by_side) {
+      SplitSideBySide(images[0], left, right);
+    } else {
+      left = images[0];
+      right = images[1];
+    }
+    Deliver(now, left, right, o.third_node.empty() ? cv::Mat() : images.back());
+  };
   TimeNs last_buffer_ns = clock_.Now();
   TimeNs last_pair_ns = last_buffer_ns;
   while (!stop.stop_requested()) {
-    // One camera: wait for its frame. Two: take each one's newest in turn, waiting a little on each.
-    const double wait_s = side_by_side ? o.stale_s / 2.0 : std::min(0.005, o.stale_s / 4.0);
+    // One node: wait for its frame. Several: take each one's newest in turn, waiting a little on each.
+    const double wait_s = one_node ? o.stale_s / 2.0 : std::min(0.005, o.stale_s / 4.0);
     for (std::size_t i = 0; i < captures.size(); ++i) {
       const std::optional<V4l2Capture::Buffer> b = captures[i]->Next(wait_s);
       if (!b) continue;
@@ -109,29 +129,23 @@ void StereoCamera::Session(std::stop_token stop) {
       last_buffer_ns = now;
       cv::Mat image;
       try {
-        image = DecodeBuffer(b->bytes, o.format, frame_width, o.height, captures[i]->stride());
+        image = DecodeBuffer(b->bytes, o.format, captures[i]->width(), o.height, captures[i]->stride());
       } catch (const std::invalid_argument&) {
         std::lock_guard lock(mutex_);
         ++status_.bad_frames;
         continue;
       }
-      if (side_by_side) {
-        cv::Mat left;
-        cv::Mat right;
-        SplitSideBySide(image, left, right);
-        Deliver(now, left, right);
+      if (one_node) {
+        std::vector<cv::Mat> images{std::move(image)};
+        deliver(now, images);
         last_pair_ns = now;
-      } else {
-        // The driver's time stamps (one clock for both cameras) pair the frames; the host's clock stamps the pair.
-        if (i == 0) {
-          pairer.PushLeft(b->stamp_ns, std::move(image));
-        } else {
-          pairer.PushRight(b->stamp_ns, std::move(image));
-        }
-        if (std::optional<FramePairer::Pair> pair = pairer.Take()) {
-          Deliver(now, pair->left, pair->right);
-          last_pair_ns = now;
-        }
+        continue;
+      }
+      // The driver's time stamps (one clock for every camera) join the frames; the host's clock stamps the set.
+      set.Push(static_cast<int>(i), b->stamp_ns, std::move(image));
+      if (std::optional<FrameSet::Set> taken = set.Take()) {
+        deliver(now, taken->images);
+        last_pair_ns = now;
       }
     }
     const TimeNs now = clock_.Now();

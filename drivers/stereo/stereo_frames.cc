@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -61,12 +62,30 @@ void SplitSideBySide(const cv::Mat& frame, cv::Mat& left, cv::Mat& right) {
   right = frame.colRange(frame.cols / 2, frame.cols);
 }
 
-std::optional<FramePairer::Pair> FramePairer::Take() {
-  if (!left_ || !right_ || std::llabs(left_->stamp_ns - right_->stamp_ns) > tolerance_ns_) return std::nullopt;
-  Pair pair{std::min(left_->stamp_ns, right_->stamp_ns), std::move(left_->image), std::move(right_->image)};
-  left_.reset();
-  right_.reset();
-  return pair;
+FrameSet::FrameSet(int cameras, TimeNs tolerance_ns) : tolerance_ns_(tolerance_ns) {
+  if (cameras < 2) throw std::invalid_argument("a frame set needs two cameras or more");
+  newest_.resize(static_cast<std::size_t>(cameras));
+}
+
+void FrameSet::Push(int camera, TimeNs stamp_ns, cv::Mat image) {
+  newest_.at(static_cast<std::size_t>(camera)) = Frame{stamp_ns, std::move(image)};
+}
+
+std::optional<FrameSet::Set> FrameSet::Take() {
+  TimeNs oldest = std::numeric_limits<TimeNs>::max();
+  TimeNs newest = std::numeric_limits<TimeNs>::min();
+  for (const std::optional<Frame>& f : newest_) {
+    if (!f) return std::nullopt;
+    oldest = std::min(oldest, f->stamp_ns);
+    newest = std::max(newest, f->stamp_ns);
+  }
+  if (newest - oldest > tolerance_ns_) return std::nullopt;
+  Set set{oldest, {}};
+  for (std::optional<Frame>& f : newest_) {
+    set.images.push_back(std::move(f->image));
+    f.reset();
+  }
+  return set;
 }
 
 }  // namespace corridor::drivers::stereo

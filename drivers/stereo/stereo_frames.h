@@ -35,21 +35,22 @@ std::optional<std::string> PickStereoNode(const std::vector<realsense::VideoNode
 // std::invalid_argument for an odd width.
 void SplitSideBySide(const cv::Mat& frame, cv::Mat& left, cv::Mat& right);
 
-// Two cameras that are not synchronised: each side's newest frame, and a pair whenever the two are at most
-// `tolerance_ns` apart. A frame is used in one pair only.
-class FramePairer {
+// Cameras that are not synchronised (two of a pair, a pair and a third): each camera's newest frame, and a set of
+// them whenever all are at most `tolerance_ns` apart. A frame is used in one set only.
+class FrameSet {
  public:
-  explicit FramePairer(TimeNs tolerance_ns) : tolerance_ns_(tolerance_ns) {}
+  // `cameras`: 2 or more (std::invalid_argument otherwise).
+  FrameSet(int cameras, TimeNs tolerance_ns);
 
-  void PushLeft(TimeNs stamp_ns, cv::Mat image) { left_ = Frame{stamp_ns, std::move(image)}; }
-  void PushRight(TimeNs stamp_ns, cv::Mat image) { right_ = Frame{stamp_ns, std::move(image)}; }
+  // Camera `camera`'s (from 0) newest frame.
+  void Push(int camera, TimeNs stamp_ns, cv::Mat image);
 
-  struct Pair {
-    TimeNs stamp_ns = 0;  // the older of the two
-    cv::Mat left, right;
+  struct Set {
+    TimeNs stamp_ns = 0;          // the oldest of them
+    std::vector<cv::Mat> images;  // one a camera, in the cameras' order
   };
-  // The pair of the newest frames when they are close enough in time; none otherwise.
-  std::optional<Pair> Take();
+  // The set of the newest frames when they are close enough in time; none otherwise.
+  std::optional<Set> Take();
 
  private:
   struct Frame {
@@ -57,7 +58,7 @@ class FramePairer {
     cv::Mat image;
   };
   TimeNs tolerance_ns_;
-  std::optional<Frame> left_, right_;
+  std::vector<std::optional<Frame>> newest_;
 };
 
 }  // namespace corridor::drivers::stereo

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <stdexcept>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
@@ -143,23 +144,44 @@ TEST(StereoFramesTest, TheSideBySideNodeIsFoundByNameAndFormat) {
 
 TEST(StereoFramesTest, TwoCamerasFramesPairOnlyWhenCloseInTime) {
   const TimeNs ms = 1'000'000;
-  FramePairer pairer(20 * ms);
+  FrameSet pairer(2, 20 * ms);
   const cv::Mat a(2, 2, CV_8UC3, cv::Scalar::all(1));
   const cv::Mat b(2, 2, CV_8UC3, cv::Scalar::all(2));
   EXPECT_FALSE(pairer.Take());
-  pairer.PushLeft(100 * ms, a);
+  pairer.Push(0, 100 * ms, a);
   EXPECT_FALSE(pairer.Take());  // no right frame yet
-  pairer.PushRight(130 * ms, b);
-  EXPECT_FALSE(pairer.Take());   // 30 ms apart
-  pairer.PushLeft(133 * ms, a);  // the left's newer frame
+  pairer.Push(1, 130 * ms, b);
+  EXPECT_FALSE(pairer.Take());  // 30 ms apart
+  pairer.Push(0, 133 * ms, a);  // the left's newer frame
   const auto pair = pairer.Take();
   ASSERT_TRUE(pair);
   EXPECT_EQ(pair->stamp_ns, 130 * ms);
-  EXPECT_EQ(pair->left.at<cv::Vec3b>(0, 0)[0], 1);
-  EXPECT_EQ(pair->right.at<cv::Vec3b>(0, 0)[0], 2);
+  ASSERT_EQ(pair->images.size(), 2u);
+  EXPECT_EQ(pair->images[0].at<cv::Vec3b>(0, 0)[0], 1);
+  EXPECT_EQ(pair->images[1].at<cv::Vec3b>(0, 0)[0], 2);
   EXPECT_FALSE(pairer.Take());  // each frame in one pair only
-  pairer.PushRight(166 * ms, b);
+  pairer.Push(1, 166 * ms, b);
   EXPECT_FALSE(pairer.Take());
+}
+
+// A pair and a third camera (ASNS's wide baseline): a set only when all three are close in time.
+TEST(StereoFramesTest, AThirdCamerasFrameJoinsOnlyWhenAllThreeAreClose) {
+  const TimeNs ms = 1'000'000;
+  FrameSet set(3, 20 * ms);
+  const cv::Mat a(2, 2, CV_8UC3, cv::Scalar::all(1));
+  set.Push(0, 100 * ms, a);
+  set.Push(1, 105 * ms, a);
+  EXPECT_FALSE(set.Take());  // the third has none
+  set.Push(2, 125 * ms, a);
+  EXPECT_FALSE(set.Take());  // 25 ms from the first
+  set.Push(0, 118 * ms, a);
+  set.Push(1, 119 * ms, a);
+  const auto taken = set.Take();
+  ASSERT_TRUE(taken);
+  EXPECT_EQ(taken->stamp_ns, 118 * ms);
+  EXPECT_EQ(taken->images.size(), 3u);
+  EXPECT_FALSE(set.Take());
+  EXPECT_THROW(FrameSet(1, ms), std::invalid_argument);
 }
 
 }  // namespace

@@ -624,6 +624,15 @@ void ReadCameraMount(ConfigReader& r, drivers::CameraMountOptions& c) {
   if ((c.fx > 0.0) != (c.fy > 0.0)) throw ConfigError(r.PathOf("fx") + ", fy: both or neither (a calibration)");
 }
 
+// A stereo calibration `key` made for the camera's views (c.width x c.height), or a ConfigError saying what it is for.
+void CheckCalibrationSize(ConfigReader& s, const char* key, const drivers::stereo::StereoCalibration& calibration,
+                          const drivers::stereo::StereoCameraOptions& c) {
+  if (calibration.image_size == cv::Size(c.width, c.height)) return;
+  throw ConfigError(s.PathOf(key) + ": made for " + std::to_string(calibration.image_size.width) + " x " +
+                    std::to_string(calibration.image_size.height) + " px views, the camera's are " +
+                    std::to_string(c.width) + " x " + std::to_string(c.height) + " (width, height)");
+}
+
 // devices.camera with driver stereo: the device, its calibration (read and checked here) and the depth path's settings.
 void ReadStereoCamera(ConfigReader& s, drivers::stereo::StereoCameraOptions& c, const fs::path& base) {
   using drivers::stereo::StereoLayout;
@@ -651,11 +660,26 @@ void ReadStereoCamera(ConfigReader& s, drivers::stereo::StereoCameraOptions& c, 
   } catch (const drivers::stereo::StereoCalibrationError& e) {
     throw ConfigError(s.PathOf("calibration") + ": " + e.what());
   }
-  if (c.calibration.image_size != cv::Size(c.width, c.height)) {
-    throw ConfigError(s.PathOf("calibration") + ": made for " + std::to_string(c.calibration.image_size.width) + " x " +
-                      std::to_string(c.calibration.image_size.height) + " px views, the camera's are " +
-                      std::to_string(c.width) + " x " + std::to_string(c.height) + " (width, height)");
+  CheckCalibrationSize(s, "calibration", c.calibration, c);
+  // ASNS's wide baseline: a third camera and the left camera's calibration with it.
+  s.Read("third_node", c.third_node);
+  ReadPath(s, "wide_calibration", c.wide_calibration_file, base);
+  if (c.third_node.empty() != c.wide_calibration_file.empty()) {
+    throw ConfigError(s.PathOf("third_node") + ", wide_calibration: both or neither (a third camera and the " +
+                      "calibration of the left camera with it)");
   }
+  if (!c.wide_calibration_file.empty()) {
+    try {
+      c.wide_calibration = drivers::stereo::LoadStereoCalibration(c.wide_calibration_file);
+    } catch (const drivers::stereo::StereoCalibrationError& e) {
+      throw ConfigError(s.PathOf("wide_calibration") + ": " + e.what());
+    }
+    CheckCalibrationSize(s, "wide_calibration", *c.wide_calibration, c);
+    if (c.wide_calibration->baseline_m() <= c.calibration.baseline_m()) {
+      throw ConfigError(s.PathOf("wide_calibration") + ": its baseline must be longer than the pair's");
+    }
+  }
+  ReadBaselineFusion(s, c.wide_disparities, c.fusion);
   s.Read("mount_x_m", c.mount_x_m, -2.0, 2.0);
   s.Read("mount_height_m", c.mount_height_m, 0.0, 3.0);
   s.Read("tilt_deg", c.tilt_deg, -90.0, 90.0);

@@ -305,6 +305,24 @@ TEST_F(ConfigTest, AStereoCameraReadsItsCalibrationAndChecksIt) {
   const auto error = [&](const std::string& camera) { return ErrorOf(robot + "  camera: " + camera + "\n"); };
   EXPECT_NE(error("{driver: stereo}").find("devices.camera.calibration: required (a file from corridor-stereo"),
             std::string::npos);
+  // ASNS's wide baseline: a third camera with the left camera's calibration with it, both or neither.
+  drivers::stereo::StereoCalibration wide = pair;
+  wide.translation_m = {-0.24, 0.0, 0.0};
+  drivers::stereo::SaveStereoCalibration(dir_ / "wide.yaml", wide);
+  std::ofstream(dir_ / "c.yaml") << robot
+                                 << "  camera: {driver: stereo, calibration: pair.yaml, third_node: /dev/video4, "
+                                    "wide_calibration: wide.yaml, far_min_m: 1.5}\n";
+  const Config three = LoadConfig(dir_ / "c.yaml");
+  ASSERT_TRUE(three.devices.camera.stereo.wide_calibration);
+  EXPECT_DOUBLE_EQ(three.devices.camera.stereo.wide_calibration->baseline_m(), 0.24);
+  EXPECT_EQ(three.devices.camera.stereo.third_node, "/dev/video4");
+  EXPECT_DOUBLE_EQ(three.devices.camera.stereo.fusion.far_min_m, 1.5);
+  EXPECT_NE(error("{driver: stereo, calibration: pair.yaml, third_node: /dev/video4}")
+                .find("devices.camera.third_node, wide_calibration: both or neither"),
+            std::string::npos);
+  EXPECT_NE(error("{driver: stereo, calibration: pair.yaml, third_node: /dev/video4, wide_calibration: pair.yaml}")
+                .find("devices.camera.wide_calibration: its baseline must be longer"),
+            std::string::npos);
   EXPECT_NE(error("{driver: stereo, calibration: none.yaml}")
                 .find("devices.camera.calibration: " + (dir_ / "none.yaml").string() + ": no such file"),
             std::string::npos);
