@@ -46,9 +46,10 @@ const SETTINGS = [
   ['pacing-seeing-il', [...il, '--crowd', 'pacing', '--people-see-robot'], [1, 2]],
   ['pacing-seeing-takiguchi', [...tk, '--crowd', 'pacing', '--people-see-robot'], [1, 2]],
   // ASNS's scenario tables (issue 41): its three settings with low, medium and large obstacles, FLMC against MORP-RB,
-  // the depth sensor and the stereo pair; no people, 3 obstacles, 20 runs a seed (asns-corridor-low-flmc-depth, ...).
+  // the depth sensor, the stereo pair and ASNS's camera (MMSVF); no people, 3 obstacles, 20 runs a seed
+  // (asns-corridor-low-flmc-depth, ...).
   ...['corridor', 'room', 'open'].flatMap((setting) => ['low', 'medium', 'large'].flatMap((size) =>
-    ['flmc', 'morp-rb'].flatMap((policy) => ['depth', 'stereo'].map((camera) => [
+    ['flmc', 'morp-rb'].flatMap((policy) => ['depth', 'stereo', 'mmsvf'].map((camera) => [
       `asns-${setting}-${size}-${policy}-${camera}`,
       ['--policy', policy, '--setting', setting, '--obstacle-size', size, '--static', '3', '--pedestrians', '0',
        '--camera', camera, '--worlds', '10', '--runs', '2'],
