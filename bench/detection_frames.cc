@@ -30,14 +30,6 @@ using namespace corridor::drivers::sim;
 constexpr float kHalfWidthM = 0.2f;
 constexpr float kHeightM = 0.5f;
 
-TriangleMesh Scene(float distance_m) {
-  TriangleMesh mesh;
-  mesh.AddBox({-5.0f, -10.0f, -0.01f}, {50.0f, 10.0f, 0.0f}, {0.6f, 0.6f, 0.6f});
-  // The camera is 0.1 m ahead of the robot's centre: the box's face is distance_m from it.
-  mesh.AddBox({distance_m + 0.1f, -kHalfWidthM, 0.0f}, {distance_m + 0.5f, kHalfWidthM, kHeightM}, {0.45f, 0.3f, 0.2f});
-  return mesh;
-}
-
 struct Result {
   std::vector<int> frames;  // per trial: the frame (1-based) it was first detected in; 0: never
   long phantoms = 0;        // scan points off the box, over the frames from the third on
@@ -48,7 +40,7 @@ struct Result {
 };
 
 Result Measure(float distance_m, bool textured, bool mmsvf, int trials, int frames) {
-  const TriangleMesh mesh = Scene(distance_m);
+  const TriangleMesh mesh = corridor::testing::BoxAhead(distance_m, kHalfWidthM, kHeightM);
   const RayCaster caster(mesh);
   const SimCameraOptions camera;  // the simulator's: 320 x 240, 0.3 m up, tilted 10 degrees
   SimStereoOptions stereo;

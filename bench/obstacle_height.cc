@@ -17,6 +17,7 @@
 #include "drivers/sim/sim_stereo.h"
 #include "nav/ground/afds.h"
 #include "nav/ground/multi_view.h"
+#include "testing/stereo_room.h"
 #include "tools/common/command_line.h"
 
 namespace {
@@ -44,16 +45,6 @@ struct Band {
   int measured = 0;
   int missed = 0;
 };
-
-TriangleMesh Scene(float distance_m, float height_m) {
-  const Eigen::Vector3f grey(0.6f, 0.6f, 0.6f);
-  const Eigen::Vector3f brown(0.5f, 0.35f, 0.2f);
-  TriangleMesh mesh;
-  mesh.AddBox({-5.0f, -10.0f, -0.01f}, {50.0f, 10.0f, 0.0f}, grey);
-  // The robot's camera is 0.1 m ahead of its centre: the box's face is distance_m from the camera.
-  mesh.AddBox({distance_m + 0.1f, -0.3f, 0.0f}, {distance_m + 0.5f, 0.3f, height_m}, brown);
-  return mesh;
-}
 
 }  // namespace
 
@@ -94,7 +85,7 @@ int main(int argc, char** argv) {
     std::vector<Band> near(grids.size()), far(grids.size());
     for (const float height : heights) {
       for (const float distance : distances) {
-        const TriangleMesh mesh = Scene(distance, height);
+        const TriangleMesh mesh = corridor::testing::BoxAhead(distance, 0.3f, height);
         const RayCaster caster(mesh);
         const RgbdRenderer depth_sensor(caster, camera);
         SimStereoCamera pair(caster, camera, sensor == Sensor::kMmsvf ? mmsvf : stereo);

@@ -1,5 +1,6 @@
-// For the stereo camera's tests and bench: a room of textured walls with boxes of several heights on its floor, and
-// poses across it from which the simulated camera sees floor, walls and boxes from 0.3 to 5 m.
+// For the stereo camera's tests and benches: a room of textured walls with boxes of several heights on its floor, and
+// poses across it from which the simulated camera sees floor, walls and boxes from 0.3 to 5 m; and one box alone on a
+// large floor.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -30,6 +31,16 @@ inline Eigen::Isometry3d StereoRoomPose(int n, int count) {
   Eigen::Isometry3d pose(Eigen::AngleAxisd(-0.6 + 1.08 * s, Eigen::Vector3d::UnitZ()));
   pose.translation() = Eigen::Vector3d(-1.0 + 1.8 * s, -0.8 + 1.44 * s, 0.0);
   return pose;
+}
+
+// A box 40 cm deep, `half_width_m` either side of the x axis and `height_m` high, alone on a floor 55 x 20 m, its face
+// `distance_m` from the simulator's default camera on a robot at the origin (the camera is 0.1 m ahead of its centre).
+inline drivers::sim::TriangleMesh BoxAhead(float distance_m, float half_width_m, float height_m) {
+  drivers::sim::TriangleMesh mesh;
+  mesh.AddBox({-5.0f, -10.0f, -0.01f}, {50.0f, 10.0f, 0.0f}, {0.6f, 0.6f, 0.6f});
+  mesh.AddBox({distance_m + 0.1f, -half_width_m, 0.0f}, {distance_m + 0.5f, half_width_m, height_m},
+              {0.5f, 0.35f, 0.2f});
+  return mesh;
 }
 
 }  // namespace corridor::testing

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+#include <utility>
 
 #include <opencv2/imgproc.hpp>
 
@@ -110,15 +111,15 @@ void MultiBaselineDepth::Process(const cv::Mat& left, const cv::Mat& right, cons
   const cv::Mat* wide_mm = &wide_frame_.depth_mm;
   if (!align_x_.empty()) {
     cv::remap(wide_frame_.depth_mm, aligned_mm_, align_x_, align_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT);
-    cv::Mat scaled;
-    aligned_mm_.convertTo(scaled, CV_32FC1);
-    cv::multiply(scaled, align_scale_, scaled);
-    scaled.convertTo(aligned_mm_, CV_16UC1);
+    aligned_mm_.convertTo(scaled_, CV_32FC1);
+    cv::multiply(scaled_, align_scale_, scaled_);
+    scaled_.convertTo(aligned_mm_, CV_16UC1);
     wide_mm = &aligned_mm_;
   }
   FuseBaselines(narrow_frame_.depth_mm, *wide_mm, narrow_.info().camera.fx, narrow_.baseline_m(),
                 wide_->baseline_m() * wide_->info().camera.fx / narrow_.info().camera.fx, fusion_, frame.depth_mm);
-  frame.color_bgr = narrow_frame_.color_bgr;
+  // Moved, not shared: the next pair's colour must not be written into a frame already handed on.
+  frame.color_bgr = std::move(narrow_frame_.color_bgr);
 }
 
 }  // namespace corridor::drivers::stereo

@@ -65,7 +65,7 @@ class MultiBaselineDepth {
   BaselineFusionOptions fusion_;
   cv::Mat align_x_, align_y_, align_scale_;
   RgbdFrame narrow_frame_, wide_frame_;
-  cv::Mat aligned_mm_;
+  cv::Mat aligned_mm_, scaled_;
 };
 
 }  // namespace corridor::drivers::stereo

@@ -3,13 +3,10 @@
 #include <array>
 #include <bit>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 namespace corridor::nav {
 namespace {
-
-constexpr std::uint64_t kNone = std::numeric_limits<std::uint64_t>::max();
 
 // A cell's three indices, each in 21 bits (offset so that negative ones fit): +-105 km at 10 cm.
 constexpr int kAxisBits = 21;
@@ -51,7 +48,7 @@ MultiViewFilter::MultiViewFilter(const PinholeCamera& camera, const MultiViewOpt
   for (int v = 0; v < camera.height; ++v) {
     for (int u = 0; u < camera.width; ++u) rays_.push_back(camera.Ray(u, v).cast<float>());
   }
-  keys_.resize(rays_.size());
+  pixel_cells_.resize(rays_.size());
 }
 
 int MultiViewFilter::Apply(cv::Mat& depth_mm, const Pose2& odom_T_base) {
@@ -66,12 +63,14 @@ int MultiViewFilter::Apply(cv::Mat& depth_mm, const Pose2& odom_T_base) {
     const auto* row = depth_mm.ptr<std::uint16_t>(v);
     for (int u = 0; u < depth_mm.cols; ++u, ++i) {
       if (row[u] == 0 || row[u] < from_mm) {
-        keys_[i] = kNone;
+        pixel_cells_[i] = nullptr;
         continue;
       }
       const Eigen::Vector3f point = odom_T_camera * (rays_[i] * (1e-3f * static_cast<float>(row[u])));
-      keys_[i] = CellKey(point, inverse_cell);
-      Cell& cell = cells_[keys_[i]];
+      const std::uint64_t key = CellKey(point, inverse_cell);
+      Cell& cell = cells_[key];
+      cell.key = key;
+      pixel_cells_[i] = &cell;
       if (cell.frame == frame_) continue;
       const std::int64_t age = frame_ - cell.frame;
       cell.seen = (age >= 32 ? 0u : cell.seen << age) | 1u;
@@ -84,8 +83,8 @@ int MultiViewFilter::Apply(cv::Mat& depth_mm, const Pose2& odom_T_base) {
   for (int v = 0; v < depth_mm.rows; ++v) {
     auto* row = depth_mm.ptr<std::uint16_t>(v);
     for (int u = 0; u < depth_mm.cols; ++u, ++i) {
-      if (keys_[i] == kNone) continue;
-      if (!Keep(keys_[i])) {
+      if (pixel_cells_[i] == nullptr) continue;
+      if (!Keep(*pixel_cells_[i])) {
         row[u] = 0;
         ++zeroed;
       }
@@ -98,11 +97,10 @@ int MultiViewFilter::Apply(cv::Mat& depth_mm, const Pose2& odom_T_base) {
   return zeroed;
 }
 
-bool MultiViewFilter::Keep(std::uint64_t key) {
-  Cell& cell = cells_.find(key)->second;
+bool MultiViewFilter::Keep(Cell& cell) {
   if (cell.judged == frame_) return cell.keep;
   std::uint32_t seen = cell.seen;
-  for (const std::uint64_t beside : Beside(key)) {
+  for (const std::uint64_t beside : Beside(cell.key)) {
     const auto it = cells_.find(beside);
     if (it == cells_.end() || frame_ - it->second.frame >= 32) continue;
     seen |= it->second.seen << (frame_ - it->second.frame);

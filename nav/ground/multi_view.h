@@ -43,19 +43,22 @@ class MultiViewFilter {
 
  private:
   struct Cell {
+    std::uint64_t key = 0;
     std::uint32_t seen = 0;  // bit i: seen i frames before `frame`
     std::int64_t frame = 0;
     std::int64_t judged = 0;  // the frame `keep` was found in
     bool keep = false;
   };
-  // The views of the cell `key` and those beside it, within the window (the cell itself seen in this frame).
-  bool Keep(std::uint64_t key);
+  // The views of `cell` and the cells beside it, within the window (the cell itself seen in this frame).
+  bool Keep(Cell& cell);
 
   PinholeCamera camera_;
   MultiViewOptions options_;
   std::uint32_t window_mask_;
   std::vector<Eigen::Vector3f> rays_;  // each pixel's ray in the camera frame, z = 1
-  std::vector<std::uint64_t> keys_;    // this frame's cell of each pixel (kNone: no reading or not filtered)
+  // This frame's cell of each pixel (null: no reading, or not filtered). An unordered_map's elements stay where they
+  // are when it grows, so the pointers hold until cells are erased after the frame.
+  std::vector<Cell*> pixel_cells_;
   std::unordered_map<std::uint64_t, Cell> cells_;
   std::int64_t frame_ = 0;
 };
