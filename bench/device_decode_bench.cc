@@ -18,7 +18,7 @@
 #include "drivers/lds/lds_protocol.h"
 #include "drivers/rplidar/rplidar_protocol.h"
 #include "drivers/serial_text/serial_text_protocol.h"
-#include "drivers/turtlebot3/dynamixel_protocol.h"
+#include "drivers/dynamixel/dynamixel_protocol.h"
 #include "drivers/turtlebot3/opencr_table.h"
 
 namespace corridor::drivers {

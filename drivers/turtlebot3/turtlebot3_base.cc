@@ -4,8 +4,10 @@
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
+#include "drivers/dynamixel/dynamixel_link.h"
 #include "drivers/turtlebot3/opencr_table.h"
 
 namespace corridor::drivers::turtlebot3 {
@@ -90,25 +92,12 @@ void TurtleBot3Base::Session(SerialPort& port, std::stop_token stop) {
 std::optional<StatusPacket> TurtleBot3Base::Transact(SerialPort& port, StatusParser& parser,
                                                      const std::vector<std::uint8_t>& request, std::size_t parameters,
                                                      double timeout_s) {
-  port.Write(request);
-  std::vector<StatusPacket> got;
-  std::array<std::uint8_t, 256> buffer{};
-  const TimeNs give_up = clock_.Now() + FromSeconds(timeout_s);
-  for (TimeNs now = clock_.Now(); now < give_up; now = clock_.Now()) {
-    const std::size_t n = port.Read(buffer, ToSeconds(give_up - now));
-    got.clear();
-    parser.Push(std::span<const std::uint8_t>(buffer.data(), n), got);
-    for (const StatusPacket& status : got) {
-      if (status.id != kOpenCrId || status.parameters.size() != parameters) continue;  // a write's answer, late
-      if ((status.error & ~dynamixel::kAlertBit) != 0) {
-        std::lock_guard lock(mutex_);
-        ++status_.device_errors;
-        return std::nullopt;
-      }
-      return status;
-    }
+  dynamixel::Answer answer = dynamixel::Transact(port, parser, clock_, kOpenCrId, request, parameters, timeout_s);
+  if (answer.refused) {
+    std::lock_guard lock(mutex_);
+    ++status_.device_errors;
   }
-  return std::nullopt;
+  return std::move(answer.status);
 }
 
 void TurtleBot3Base::Take(SerialPort& port, std::span<const std::uint8_t> state) {

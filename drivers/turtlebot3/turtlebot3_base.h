@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <optional>
 
-#include "drivers/turtlebot3/dynamixel_protocol.h"
+#include "drivers/dynamixel/dynamixel_protocol.h"
 #include "drivers/turtlebot3/turtlebot3_options.h"
 #include "drivers/wheels/serial_base.h"
 

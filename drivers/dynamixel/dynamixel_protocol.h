@@ -1,5 +1,6 @@
-// DYNAMIXEL Protocol 2.0, as ROBOTIS's e-Manual documents it: the packets a host and a device (a DYNAMIXEL servo, or
-// the OpenCR board of a TurtleBot 3, which answers as device 200) exchange over a serial line.
+// DYNAMIXEL Protocol 2.0, as ROBOTIS's e-Manual documents it: the packets a host and a device (a DYNAMIXEL servo such
+// as a camera's pan servo, or the OpenCR board of a TurtleBot 3, which answers as device 200) exchange over a serial
+// line.
 //   instruction: FF FF FD 00 | id | length (LE16) | instruction | parameters | CRC (LE16)
 //   status:      FF FF FD 00 | id | length (LE16) | 0x55 | error | parameters | CRC (LE16)
 // The length counts what follows it (instruction, error, parameters, CRC). Inside the packet, FF FF FD is followed by
@@ -13,7 +14,7 @@
 
 namespace corridor::drivers::dynamixel {
 
-enum class Instruction : std::uint8_t { kPing = 0x01, kRead = 0x02, kWrite = 0x03, kStatus = 0x55 };
+enum class Instruction : std::uint8_t { kPing = 0x01, kRead = 0x02, kWrite = 0x03, kReboot = 0x08, kStatus = 0x55 };
 
 // The error byte of a status packet: its low 7 bits a number (0 none), its top bit the device's hardware alert.
 inline constexpr std::uint8_t kAlertBit = 0x80;
@@ -26,6 +27,8 @@ std::vector<std::uint8_t> EncodeInstruction(std::uint8_t id, Instruction instruc
 std::vector<std::uint8_t> EncodePing(std::uint8_t id);
 std::vector<std::uint8_t> EncodeRead(std::uint8_t id, std::uint16_t address, std::uint16_t length);
 std::vector<std::uint8_t> EncodeWrite(std::uint8_t id, std::uint16_t address, std::span<const std::uint8_t> data);
+// A restart of the device: what clears a servo's hardware error (its torque off after).
+std::vector<std::uint8_t> EncodeReboot(std::uint8_t id);
 
 struct StatusPacket {
   std::uint8_t id = 0;

@@ -1,4 +1,4 @@
-#include "drivers/turtlebot3/dynamixel_protocol.h"
+#include "drivers/dynamixel/dynamixel_protocol.h"
 
 #include <algorithm>
 #include <array>
@@ -93,6 +93,8 @@ std::vector<std::uint8_t> EncodeWrite(std::uint8_t id, std::uint16_t address, st
   parameters.insert(parameters.end(), data.begin(), data.end());
   return EncodeInstruction(id, Instruction::kWrite, parameters);
 }
+
+std::vector<std::uint8_t> EncodeReboot(std::uint8_t id) { return EncodeInstruction(id, Instruction::kReboot, {}); }
 
 void StatusParser::Push(std::span<const std::uint8_t> bytes, std::vector<StatusPacket>& out) {
   buffer_.insert(buffer_.end(), bytes.begin(), bytes.end());

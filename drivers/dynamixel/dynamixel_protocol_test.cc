@@ -1,4 +1,4 @@
-#include "drivers/turtlebot3/dynamixel_protocol.h"
+#include "drivers/dynamixel/dynamixel_protocol.h"
 
 #include <gtest/gtest.h>
 
@@ -24,6 +24,7 @@ TEST(DynamixelProtocolTest, InstructionsAreFramedAsTheManualsExamples) {
   const Bytes goal{0x00, 0x02, 0x00, 0x00};
   EXPECT_EQ(EncodeWrite(1, 116, goal),
             (Bytes{0xFF, 0xFF, 0xFD, 0x00, 0x01, 0x09, 0x00, 0x03, 0x74, 0x00, 0x00, 0x02, 0x00, 0x00, 0xCA, 0x89}));
+  EXPECT_EQ(EncodeReboot(1), (Bytes{0xFF, 0xFF, 0xFD, 0x00, 0x01, 0x03, 0x00, 0x08, 0x2F, 0x4E}));
 }
 
 TEST(DynamixelProtocolTest, AHeaderInsideAPacketIsStuffedAndUnstuffed) {
