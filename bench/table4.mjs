@@ -46,14 +46,14 @@ const SETTINGS = [
   ['pacing-seeing-il', [...il, '--crowd', 'pacing', '--people-see-robot'], [1, 2]],
   ['pacing-seeing-takiguchi', [...tk, '--crowd', 'pacing', '--people-see-robot'], [1, 2]],
   // ASNS's scenario tables (issue 41): its three settings with low, medium and large obstacles, FLMC against MORP-RB,
-  // the depth sensor, the stereo pair and ASNS's camera (MMSVF); no people, 3 obstacles, 20 runs a seed
-  // (asns-corridor-low-flmc-depth, ...).
+  // the depth sensor, the stereo pair and ASNS's camera (MMSVF), each also on the pan servo with the gaze (-pan);
+  // no people, 3 obstacles, 20 runs a seed (asns-corridor-low-flmc-depth, asns-room-medium-morp-rb-mmsvf-pan, ...).
   ...['corridor', 'room', 'open'].flatMap((setting) => ['low', 'medium', 'large'].flatMap((size) =>
-    ['flmc', 'morp-rb'].flatMap((policy) => ['depth', 'stereo', 'mmsvf'].map((camera) => [
-      `asns-${setting}-${size}-${policy}-${camera}`,
+    ['flmc', 'morp-rb'].flatMap((policy) => ['depth', 'stereo', 'mmsvf'].flatMap((camera) => ['', '-pan'].map((pan) => [
+      `asns-${setting}-${size}-${policy}-${camera}${pan}`,
       ['--policy', policy, '--setting', setting, '--obstacle-size', size, '--static', '3', '--pedestrians', '0',
-       '--camera', camera, '--worlds', '10', '--runs', '2'],
-      [1]])))),
+       '--camera', camera, ...(pan ? ['--pan'] : []), '--worlds', '10', '--runs', '2'],
+      [1]]))))),
 ];
 
 function option(name, fallback) {

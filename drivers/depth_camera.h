@@ -3,6 +3,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
@@ -28,7 +29,18 @@ struct RgbdFrame {
   std::uint64_t sequence = 0;
   cv::Mat depth_mm;
   cv::Mat color_bgr;
+  // Where the camera was in the base frame when it took the frame, when it moves on the robot (a pan servo: set as
+  // the frame is handed to the graph, server/nodes/driver_bridge.h); none: where CameraInfo says it is mounted.
+  std::optional<Eigen::Isometry3d> base_T_camera;
 };
+
+// The pose of the camera that took `frame` (CameraPose(frame, info.camera)), and the camera itself at that pose.
+inline const Eigen::Isometry3d& CameraPose(const RgbdFrame& frame, const nav::PinholeCamera& camera) {
+  return frame.base_T_camera ? *frame.base_T_camera : camera.base_T_camera;
+}
+inline nav::PinholeCamera CameraAt(const RgbdFrame& frame, const nav::PinholeCamera& camera) {
+  return nav::AtPose(camera, CameraPose(frame, camera));
+}
 
 class DepthCamera {
  public:

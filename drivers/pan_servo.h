@@ -8,6 +8,8 @@
 
 #include <functional>
 
+#include <Eigen/Core>
+
 #include "drivers/clock.h"
 
 namespace corridor::drivers {
@@ -36,7 +38,10 @@ class PanServo {
   PanServo& operator=(const PanServo&) = delete;
   virtual ~PanServo() = default;
 
-  virtual PanLimits limits() const = 0;
+  virtual PanLimits pan_limits() const = 0;
+  // Where its vertical axis stands in the base frame (x forward, y left): the camera turns about it
+  // (nav::PanTurn).
+  virtual Eigen::Vector2d axis_xy() const = 0;
   // Where to turn to; clamped to the limits. Thread-safe.
   virtual void SetTarget(double pan_rad) = 0;
   // Called on the driver's thread (or the simulator's step) with every reading; must return quickly.

@@ -27,8 +27,8 @@ const PanServoOptions& Checked(const PanServoOptions& o) {
   if (o.center_position < 0 || o.center_position > 4095) {
     throw std::invalid_argument("dynamixel pan servo: center_position must be 0-4095");
   }
-  if (!(o.min_pan_deg <= 0.0 && o.max_pan_deg >= 0.0 && o.max_pan_deg - o.min_pan_deg <= 360.0)) {
-    throw std::invalid_argument("dynamixel pan servo: need min_pan_deg <= 0 <= max_pan_deg, at most a turn apart");
+  if (!(o.min_deg <= 0.0 && o.max_deg >= 0.0 && o.max_deg - o.min_deg <= 360.0)) {
+    throw std::invalid_argument("dynamixel pan servo: need min_deg <= 0 <= max_deg, at most a turn apart");
   }
   if (!(o.max_speed_dps > 0.0) || !(o.max_accel_dps2 > 0.0) || !(o.poll_period_s > 0.0) || !(o.goal_refresh_s > 0.0) ||
       !(o.connect_s > 0.0) || !(o.stale_s > 0.0) || !(o.silence_s > o.stale_s) || !(o.reconnect_s > 0.0)) {
@@ -64,12 +64,12 @@ DynamixelPanServo::~DynamixelPanServo() {
   if (thread_.joinable()) thread_.join();
 }
 
-PanLimits DynamixelPanServo::limits() const {
-  return {options_.min_pan_deg * kToRad, options_.max_pan_deg * kToRad, options_.max_speed_dps * kToRad};
+PanLimits DynamixelPanServo::pan_limits() const {
+  return {options_.min_deg * kToRad, options_.max_deg * kToRad, options_.max_speed_dps * kToRad};
 }
 
 void DynamixelPanServo::SetTarget(double pan_rad) {
-  const PanLimits l = limits();
+  const PanLimits l = pan_limits();
   std::lock_guard lock(mutex_);
   if (std::isfinite(pan_rad)) target_rad_ = std::clamp(pan_rad, l.min_rad, l.max_rad);
 }

@@ -40,7 +40,8 @@ class DynamixelPanServo final : public PanServo, public LinkedDevice<PanServoSta
   DynamixelPanServo(const PanServoOptions& options, const Clock& clock);
   ~DynamixelPanServo() override;
 
-  PanLimits limits() const override;
+  PanLimits pan_limits() const override;
+  Eigen::Vector2d axis_xy() const override { return {options_.axis_x_m, options_.axis_y_m}; }
   void SetTarget(double pan_rad) override;
   void SetReadingHandler(ReadingHandler handler) override;
 

@@ -10,9 +10,11 @@ struct PanServoOptions {
   int baud_rate = 57600;       // the X-series' factory setting
   int id = 1;                  // the factory setting
   int center_position = 2048;  // the count at which the camera looks straight ahead
-  bool reversed = false;  // true: counting up turns the camera clockwise seen from above (a servo hung upside down)
-  double min_pan_deg = -150.0;  // where the cable lets it turn
-  double max_pan_deg = 150.0;
+  double axis_x_m = 0.1;       // its axis in the base frame: under the camera's optical centre, or behind it
+  double axis_y_m = 0.0;
+  bool reversed = false;    // true: counting up turns the camera clockwise seen from above (a servo hung upside down)
+  double min_deg = -150.0;  // where the cable lets it turn
+  double max_deg = 150.0;
   double max_speed_dps = 90.0;    // the profile velocity the servo is given
   double max_accel_dps2 = 360.0;  // and its profile acceleration
   double poll_period_s = 0.02;    // the position read this often

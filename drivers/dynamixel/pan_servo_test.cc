@@ -97,8 +97,8 @@ TEST(DynamixelPanServoTest, AServoHungUpsideDownWithItsCentreElsewhereIsTurnedTh
   PanServoOptions options = OptionsFor(link);
   options.reversed = true;
   options.center_position = 1024;
-  options.min_pan_deg = -60.0;
-  options.max_pan_deg = 60.0;
+  options.min_deg = -60.0;
+  options.max_deg = 60.0;
   DynamixelPanServo pan(options, clock);
   EXPECT_EQ(pan.ToPosition(0.0), 1024);
   EXPECT_EQ(pan.ToPosition(90.0 * kDeg), 0);
@@ -183,7 +183,7 @@ TEST(DynamixelPanServoTest, BadOptionsAreRefused) {
   options.id = 253;
   EXPECT_THROW(DynamixelPanServo(options, clock), std::invalid_argument);
   options = OptionsFor("/dev/null");
-  options.min_pan_deg = 10.0;
+  options.min_deg = 10.0;
   EXPECT_THROW(DynamixelPanServo(options, clock), std::invalid_argument);
   options = OptionsFor("/dev/null");
   options.silence_s = options.stale_s;

@@ -28,6 +28,18 @@ struct SimCameraOptions {
                                      // about 5.7 m for a camera 0.3 m up)
 };
 
+// The camera on a pan servo (sim.camera.pan): turned toward its target at max_speed_dps about a vertical axis,
+// reporting its angle rate_hz times a second as a servo's driver does.
+struct SimPanOptions {
+  bool enabled = false;
+  double axis_x_m = 0.1;  // the axis in the base frame (under the camera's optical centre: its mount_x_m)
+  double axis_y_m = 0.0;
+  double min_deg = -150.0;
+  double max_deg = 150.0;
+  double max_speed_dps = 90.0;
+  double rate_hz = 50.0;
+};
+
 struct SimLaserOptions {
   bool enabled = true;
   int beams = 360;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace corridor::drivers::sim {
 namespace {
@@ -130,6 +131,29 @@ void SimRobot::Teleport(const nav::Pose2& pose) {
   base_.Teleport(pose);
 }
 
+PanLimits SimRobot::pan_limits() const {
+  constexpr double kToRad = std::numbers::pi / 180.0;
+  return {options_.pan.min_deg * kToRad, options_.pan.max_deg * kToRad, options_.pan.max_speed_dps * kToRad};
+}
+
+void SimRobot::SetTarget(double pan_rad) {
+  const PanLimits l = pan_limits();
+  if (std::isfinite(pan_rad)) pan_target_rad_ = std::clamp(pan_rad, l.min_rad, l.max_rad);
+}
+
+void SimRobot::StepPan(TimeNs now) {
+  if (!options_.pan.enabled) return;
+  const double pan = pan_rad_.load();
+  const double step = std::clamp(pan_target_rad_.load() - pan, -pan_limits().max_speed_rps * step_s(),
+                                 pan_limits().max_speed_rps * step_s());
+  pan_rad_ = pan + step;
+  pan_velocity_rps_ = step / step_s();
+  // While it turns, a reading every step: a frame rendered at this step has its camera's angle at its stamp.
+  if ((Due(now, options_.pan.rate_hz, next_pan_ns_) || step != 0.0) && pan_handler_ && !pan_stopped_) {
+    pan_handler_(PanReading{now, pan_rad_.load(), pan_velocity_rps_});
+  }
+}
+
 void SimRobot::SetVelocity(const nav::Twist2& command) {
   std::lock_guard lock(mutex_);
   pending_command_ = command;
@@ -172,6 +196,7 @@ void SimRobot::Step() {
     odometry = {now, base_.odom_pose(), base_.velocity(), base_.bumper_pressed()};
   }
 
+  StepPan(now);
   if (Due(now, options_.odometry_rate_hz, next_odometry_ns_)) {
     if (odometry_handler_) odometry_handler_(odometry);
   }
@@ -190,10 +215,13 @@ void SimRobot::Step() {
     auto frame = std::make_shared<RgbdFrame>();
     frame->stamp_ns = now;
     frame->sequence = frame_sequence_++;
+    // The camera turned by the pan servo is the camera at rest on a base turned about the servo's axis.
+    Eigen::Isometry3d world_T_base = pose.ToIsometry3();
+    if (options_.pan.enabled) world_T_base = world_T_base * nav::PanTurn(axis_xy(), pan_rad_.load());
     if (stereo_) {
-      stereo_->Render(pose.ToIsometry3(), rng_, *frame);
+      stereo_->Render(world_T_base, rng_, *frame);
     } else {
-      renderer_.Render(pose.ToIsometry3() * camera_info_.camera.base_T_camera, rng_, *frame);
+      renderer_.Render(world_T_base * camera_info_.camera.base_T_camera, rng_, *frame);
     }
     frame_handler_(std::move(frame));
   }

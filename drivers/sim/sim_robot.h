@@ -14,6 +14,7 @@
 #include "drivers/depth_camera.h"
 #include "drivers/diff_drive_base.h"
 #include "drivers/laser2d.h"
+#include "drivers/pan_servo.h"
 #include "drivers/sim/battery_sim.h"
 #include "drivers/sim/crowd.h"
 #include "drivers/sim/diff_drive_sim.h"
@@ -35,6 +36,7 @@ struct SimOptions {
   SimBaseOptions base;
   SimCameraOptions camera;
   SimStereoOptions stereo;  // the camera as a stereo pair (sim.camera.stereo)
+  SimPanOptions pan;        // the camera on a pan servo (sim.camera.pan)
   SimLaserOptions laser;
   std::vector<PedestrianRoute> pedestrians;  // people walking back and forth, not seeing the robot
   CrowdOptions crowd;
@@ -44,7 +46,7 @@ struct SimOptions {
   std::vector<SimLiftOptions> lifts;   // lifts between floors standing side by side, called through CallLift
 };
 
-class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D, public Battery {
+class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D, public Battery, public PanServo {
  public:
   // `world` must outlive the robot.
   SimRobot(std::shared_ptr<const World> world, const SimOptions& options);
@@ -69,6 +71,9 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   // A simulated fault: the camera stops delivering frames (true) or resumes (false). Thread-safe.
   void SetCameraStopped(bool stopped) { camera_stopped_ = stopped; }
   bool camera_stopped() const { return camera_stopped_; }
+  // A simulated fault: the pan servo's readings stop (true: it still turns, nobody hears where) or resume.
+  // Thread-safe.
+  void SetPanStopped(bool stopped) { pan_stopped_ = stopped; }
   double pedestrian_radius_m() const { return options_.crowd.radius_m; }
   bool bumper_pressed() const;
   void Teleport(const nav::Pose2& pose);
@@ -101,6 +106,12 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   void SetScanHandler(ScanHandler handler) override { scan_handler_ = std::move(handler); }
   // Battery
   void SetBatteryHandler(BatteryHandler handler) override { battery_handler_ = std::move(handler); }
+  // PanServo (the camera's, when sim.camera.pan is enabled)
+  PanLimits pan_limits() const override;
+  Eigen::Vector2d axis_xy() const override { return {options_.pan.axis_x_m, options_.pan.axis_y_m}; }
+  void SetTarget(double pan_rad) override;
+  void SetReadingHandler(ReadingHandler handler) override { pan_handler_ = std::move(handler); }
+  double pan_rad() const { return pan_rad_.load(); }  // where the camera truly looks. Thread-safe.
 
  private:
   std::shared_ptr<const World> world_;
@@ -122,6 +133,8 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   TriangleMesh MoversMesh() const;  // people, closed doors and the lifts' cars; lock held
   // The rotating laser's beams due by `now` cast from the robot at `pose`; a sweep completed goes to the handler.
   void SweepLaser(TimeNs now, const nav::Pose2& pose);
+  // The pan servo turned toward its target by one step, its reading handed on when due.
+  void StepPan(TimeNs now);
   DiffDriveSim base_;
   Crowd crowd_;
   BatterySim battery_;
@@ -129,6 +142,13 @@ class SimRobot final : public DepthCamera, public DiffDriveBase, public Laser2D,
   bool has_pending_command_ = false;
 
   std::atomic<bool> camera_stopped_{false};
+  // The pan servo: its target (any thread), its angle (the stepping thread writes it).
+  std::atomic<double> pan_target_rad_{0.0};
+  std::atomic<double> pan_rad_{0.0};
+  std::atomic<bool> pan_stopped_{false};
+  double pan_velocity_rps_ = 0.0;
+  ReadingHandler pan_handler_;
+  TimeNs next_pan_ns_ = 0;
   std::int64_t step_count_ = 0;
   TimeNs next_odometry_ns_ = 0;
   TimeNs next_frame_ns_ = 0;

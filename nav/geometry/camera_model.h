@@ -59,6 +59,28 @@ inline Eigen::Isometry3d CameraMount(double x_m, double height_m, double tilt_ra
   return base_T_camera;
 }
 
+// A pan servo's turn: pan_rad counter-clockwise (seen from above) about a vertical axis through `axis_xy` of the base
+// frame. It carries a camera's pose at rest to its pose turned (PanTurn(axis, pan) * base_T_camera), and a base's pose
+// in the world to the "turned base" the camera at rest is mounted on (world_T_base * PanTurn(axis, pan)).
+inline Eigen::Isometry3d PanTurn(const Eigen::Vector2d& axis_xy, double pan_rad) {
+  const Eigen::Vector3d axis(axis_xy.x(), axis_xy.y(), 0.0);
+  Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
+  turn.linear() = Eigen::AngleAxisd(pan_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  turn.translation() = axis - turn.linear() * axis;
+  return turn;
+}
+
+// The same camera at another pose (a panned one).
+inline PinholeCamera AtPose(PinholeCamera camera, const Eigen::Isometry3d& base_T_camera) {
+  camera.base_T_camera = base_T_camera;
+  return camera;
+}
+
+// Whether two poses of a camera differ by more than a reader's precomputed rays tolerate (0.1 mm, 0.1 mrad).
+inline bool Moved(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return (a.translation() - b.translation()).norm() > 1e-4 || !a.linear().isApprox(b.linear(), 1e-4);
+}
+
 // The rays through the pixels of every row_step-th row (row-major), turned into the base frame and scaled like Ray:
 // the camera's position plus depth times a ray is the pixel's point in the base frame. Precomputed once by those
 // that read every frame's pixels.

@@ -51,10 +51,12 @@ MultiViewFilter::MultiViewFilter(const PinholeCamera& camera, const MultiViewOpt
   pixel_cells_.resize(rays_.size());
 }
 
-int MultiViewFilter::Apply(cv::Mat& depth_mm, const Pose2& odom_T_base) {
+int MultiViewFilter::Apply(cv::Mat& depth_mm, const Pose2& odom_T_base,
+                           const std::optional<Eigen::Isometry3d>& base_T_camera) {
   CV_Assert(depth_mm.type() == CV_16UC1 && depth_mm.cols == camera_.width && depth_mm.rows == camera_.height);
   ++frame_;
-  const Eigen::Isometry3f odom_T_camera = (odom_T_base.ToIsometry3() * camera_.base_T_camera).cast<float>();
+  const Eigen::Isometry3f odom_T_camera =
+      (odom_T_base.ToIsometry3() * base_T_camera.value_or(camera_.base_T_camera)).cast<float>();
   const float inverse_cell = static_cast<float>(1.0 / options_.cell_m);
   const auto from_mm = static_cast<std::uint16_t>(std::lround(std::min(1e3 * options_.from_m, 65535.0)));
   // Each reading marks its cell seen in this frame.

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -36,8 +37,10 @@ class MultiViewFilter {
   MultiViewFilter(const PinholeCamera& camera, const MultiViewOptions& options);
 
   // Zeroes the readings of `depth_mm` (CV_16UC1 millimetres, the camera's size) whose cells were not seen often enough,
-  // the frame taken with the robot at `odom_T_base`; returns how many were zeroed. Frames in the order taken.
-  int Apply(cv::Mat& depth_mm, const Pose2& odom_T_base);
+  // the frame taken with the robot at `odom_T_base` and the camera at `base_T_camera` (none: as mounted; a pan servo
+  // turns it); returns how many were zeroed. Frames in the order taken.
+  int Apply(cv::Mat& depth_mm, const Pose2& odom_T_base,
+            const std::optional<Eigen::Isometry3d>& base_T_camera = std::nullopt);
 
   std::size_t cells() const { return cells_.size(); }
 

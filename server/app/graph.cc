@@ -22,6 +22,7 @@
 #include "server/nodes/explore_node.h"
 #include "server/nodes/face_node.h"
 #include "server/nodes/floor_node.h"
+#include "server/nodes/gaze_node.h"
 #include "server/nodes/ground_node.h"
 #include "server/nodes/lift_node.h"
 #include "server/nodes/localization_node.h"
@@ -143,7 +144,7 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   }
   const bool multi_view = config_.multi_view.enabled && devices_.camera != nullptr;
   ConnectDrivers(bus_, clock_, devices_.camera, devices_.base, devices_.laser, devices_.battery, devices_.slots,
-                 multi_view);
+                 multi_view, devices_.pan);
 
   // The simulator's dock is a place on the map it stands in (as an installer would add a real one). A dock no mission
   // can reach (its staging pose against a wall) is a configuration error: it is refused here, before anything runs.
@@ -194,6 +195,13 @@ Graph::Graph(const Config& config, Devices devices, NamedMap map, Schedule sched
   }
   if (multi_view) {
     lifecycle_.Add(std::make_unique<MultiViewNode>(executors_.control, bus_, camera, config_.multi_view));
+  }
+  if (devices_.pan != nullptr && devices_.camera != nullptr && config_.gaze.enabled) {
+    nav::GazeOptions gaze = config_.gaze.policy;
+    const drivers::PanLimits limits = devices_.pan->pan_limits();
+    gaze.min_pan_rad = limits.min_rad;
+    gaze.max_pan_rad = limits.max_rad;
+    lifecycle_.Add(std::make_unique<GazeNode>(executors_.perception, bus_, config_.gaze.rate_hz, gaze));
   }
   if (devices_.camera != nullptr) {
     lifecycle_.Add(std::make_unique<GroundNode>(executors_.control, bus_, devices_.camera->info(), config_.ground,

@@ -50,6 +50,7 @@ struct Devices {
   drivers::dds::Participant* dds = nullptr;
   // The devices present, for their health (GET /api/v1/devices) and, with links, the gate's stop when one goes down.
   std::vector<DeviceSlot> slots{};
+  drivers::PanServo* pan = nullptr;  // the camera's pan servo; null: the camera is fixed on the robot
 };
 
 // The map to start in: the map library's first map.

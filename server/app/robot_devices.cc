@@ -15,6 +15,7 @@ RobotDevices::RobotDevices(const Config& config, const drivers::Clock& clock) {
     base_ = &simulated.base;
     laser_ = simulated.laser;
     battery_ = simulated.battery;
+    pan_ = simulated.pan;
     slots_ = simulated.slots;
     return;
   }
@@ -114,6 +115,12 @@ RobotDevices::RobotDevices(const Config& config, const drivers::Clock& clock) {
     case DeviceDriver::kNone: spdlog::info("device: no camera (the laser's lanes are the robot's sight)"); break;
     default: throw ConfigError(std::string("devices.camera.driver: ") + ToString(d.camera.driver) + " is not a camera");
   }
+  if (d.camera.pan_driver == DeviceDriver::kDynamixel) {
+    // The camera's pan servo: its link is the camera's too (a camera whose pose is unknown is no camera).
+    dynamixel_pan_ = std::make_unique<drivers::dynamixel::DynamixelPanServo>(d.camera.pan, clock);
+    pan_ = dynamixel_pan_.get();
+    slots_.push_back({nav::Device::kCamera, "dynamixel pan servo", d.camera.pan.port.string(), dynamixel_pan_.get()});
+  }
   for (const DeviceSlot& slot : slots_) spdlog::info("device: {}", Describe(slot));
 }
 
@@ -124,6 +131,7 @@ Devices RobotDevices::devices() const {
       camera_,           *base_, laser_, sim_ ? sim_->robot.get() : nullptr, battery_, sim_ ? sim_->floors : nullptr,
       participant_.get()};
   out.slots = slots_;
+  out.pan = pan_;
   return out;
 }
 
@@ -137,6 +145,7 @@ void RobotDevices::Stop() {
   realsense_.reset();
   stereo_.reset();
   openni2_.reset();
+  dynamixel_pan_.reset();
   create2_.reset();
   kobuki_.reset();
   turtlebot3_.reset();

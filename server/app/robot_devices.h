@@ -10,6 +10,7 @@
 #include "drivers/create2/create2_base.h"
 #include "drivers/dds/devices.h"
 #include "drivers/dds/participant.h"
+#include "drivers/dynamixel/pan_servo.h"
 #include "drivers/hokuyo/hokuyo_laser.h"
 #include "drivers/kobuki/kobuki_base.h"
 #include "drivers/lds/lds_laser.h"
@@ -59,10 +60,12 @@ class RobotDevices {
   std::unique_ptr<drivers::realsense::RealSenseCamera> realsense_;
   std::unique_ptr<drivers::stereo::StereoCamera> stereo_;
   std::unique_ptr<drivers::openni2::OpenNi2Camera> openni2_;
+  std::unique_ptr<drivers::dynamixel::DynamixelPanServo> dynamixel_pan_;
   drivers::DepthCamera* camera_ = nullptr;
   drivers::DiffDriveBase* base_ = nullptr;
   drivers::Laser2D* laser_ = nullptr;
   drivers::Battery* battery_ = nullptr;
+  drivers::PanServo* pan_ = nullptr;
   std::vector<DeviceSlot> slots_;
 };
 

@@ -19,6 +19,7 @@ Devices Simulator::devices(const Config& config) const {
   out.slots.push_back({nav::Device::kBase, "sim", "", nullptr});
   if (laser) out.slots.push_back({nav::Device::kLaser, "sim", "", nullptr});
   if (camera) out.slots.push_back({nav::Device::kCamera, "sim", "", nullptr});
+  if (camera && config.devices.camera.pan_driver == DeviceDriver::kSim) out.pan = robot.get();
   return out;
 }
 

@@ -156,6 +156,22 @@ void ReadBaselineFusion(ConfigReader& r, int& wide_disparities, drivers::stereo:
   }
 }
 
+// Where a pan servo stands and how it may turn (the simulator's and a real one's).
+void ReadPanMount(ConfigReader& r, double& axis_x_m, double& axis_y_m, double& min_deg, double& max_deg,
+                  double& max_speed_dps) {
+  r.Read("axis_x_m", axis_x_m, -2.0, 2.0);
+  r.Read("axis_y_m", axis_y_m, -2.0, 2.0);
+  r.Read("min_deg", min_deg, -180.0, 0.0);
+  r.Read("max_deg", max_deg, 0.0, 180.0);
+  r.Read("max_speed_dps", max_speed_dps, 1.0, 1000.0);
+}
+
+// sim.camera.pan: the simulated camera's pan servo, fitted when devices.camera.pan.driver is sim.
+void ReadSimPan(ConfigReader& r, drivers::sim::SimPanOptions& o) {
+  ReadPanMount(r, o.axis_x_m, o.axis_y_m, o.min_deg, o.max_deg, o.max_speed_dps);
+  r.Read("rate_hz", o.rate_hz, 1.0, 1000.0);
+}
+
 // sim.camera.stereo: the simulated camera as a stereo pair (docs/asns.md).
 void ReadSimStereo(ConfigReader& r, drivers::sim::SimStereoOptions& o, int views_width) {
   r.Read("enabled", o.enabled);
@@ -189,6 +205,20 @@ void ReadMultiView(ConfigReader& r, nav::MultiViewOptions& o) {
   r.Read("window", o.window, 1, 32);
   r.Read("views", o.views, 1, o.window);
   r.Read("from_m", o.from_m, 0.0, 50.0);
+}
+
+// gaze: where a camera on a pan servo looks (nav/policy/gaze.h, docs/asns.md).
+void ReadGaze(ConfigReader& r, CameraGazeOptions& o) {
+  r.Read("enabled", o.enabled);
+  r.Read("rate_hz", o.rate_hz, 1.0, 100.0);
+  nav::GazeOptions& g = o.policy;
+  r.Read("lookahead_m", g.lookahead_m, 0.1, 10.0);
+  r.Read("obstacle_min_m", g.obstacle_min_m, 0.0, 10.0);
+  r.Read("obstacle_max_m", g.obstacle_max_m, g.obstacle_min_m + 0.1, 20.0);
+  r.Read("path_margin_m", g.path_margin_m, 0.05, 5.0);
+  r.Read("goal_near_m", g.goal_near_m, 0.0, 10.0);
+  r.Read("keep_ahead_deg", g.keep_ahead_deg, 0.0, 180.0);
+  r.Read("moving_mps", g.moving_mps, 0.0, 1.0);
 }
 
 void ReadGround(ConfigReader& r, GroundOptions& ground) {
@@ -633,6 +663,19 @@ void CheckCalibrationSize(ConfigReader& s, const char* key, const drivers::stere
                     std::to_string(c.width) + " x " + std::to_string(c.height) + " (width, height)");
 }
 
+// devices.camera.pan with driver dynamixel (drivers/dynamixel/pan_servo.h, docs/hardware.md).
+void ReadPanServo(ConfigReader& r, drivers::dynamixel::PanServoOptions& o, const fs::path& base) {
+  ReadSerial(r, o.port, o.baud_rate, base);
+  r.Read("id", o.id, 0, 252);
+  r.Read("center_position", o.center_position, 0, 4095);
+  r.Read("reversed", o.reversed);
+  ReadPanMount(r, o.axis_x_m, o.axis_y_m, o.min_deg, o.max_deg, o.max_speed_dps);
+  r.Read("max_accel_dps2", o.max_accel_dps2, 1.0, 100000.0);
+  r.Read("poll_period_s", o.poll_period_s, 0.005, 0.5);
+  r.Read("stale_s", o.stale_s, 0.02, 1.0);
+  r.Read("silence_s", o.silence_s, o.stale_s + 0.01, 10.0);
+}
+
 // devices.camera with driver stereo: the device, its calibration (read and checked here) and the depth path's settings.
 void ReadStereoCamera(ConfigReader& s, drivers::stereo::StereoCameraOptions& c, const fs::path& base) {
   using drivers::stereo::StereoLayout;
@@ -834,6 +877,17 @@ void ReadDevices(ConfigReader& r, DevicesOptions& d, const fs::path& base) {
       s.Read("min_range_m", c.min_range_m, 0.0, 5.0);
       s.Read("max_range_m", c.max_range_m, 0.5, 50.0);
       s.Read("info_wait_s", o.info_wait_s, 0.5, 600.0);
+    }
+    s.Section("pan", [&](ConfigReader& p) {
+      p.ReadChoice("driver", o.pan_driver, {{"none", D::kNone}, {"sim", D::kSim}, {"dynamixel", D::kDynamixel}});
+      if (o.pan_driver == D::kDynamixel) ReadPanServo(p, o.pan, base);
+    });
+    if (o.pan_driver != D::kNone && o.driver == D::kNone) {
+      throw ConfigError(s.PathOf("pan.driver") + ": a pan servo with no camera on it");
+    }
+    if ((o.pan_driver == D::kSim) != (o.driver == D::kSim) && o.pan_driver != D::kNone) {
+      throw ConfigError(s.PathOf("pan.driver") + ": " + ToString(o.pan_driver) + " with a " + ToString(o.driver) +
+                        " camera: the simulator's pan servo turns only the simulator's camera");
     }
   });
   // The simulator's robot is all of the devices or none of them (less a camera or a laser it is built without).
@@ -1109,6 +1163,7 @@ void ReadSim(ConfigReader& r, SimulatorOptions& o, const fs::path& base) {
   r.Section("camera", [&](ConfigReader& c) {
     ReadCamera(c, s.camera);
     c.Section("stereo", [&](ConfigReader& t) { ReadSimStereo(t, s.stereo, s.camera.width); });
+    c.Section("pan", [&](ConfigReader& t) { ReadSimPan(t, s.pan); });
   });
   r.Section("laser", [&](ConfigReader& l) { ReadLaser(l, s.laser); });
   r.List("obstacles", [&](ConfigReader& item) { o.obstacles.push_back(ReadObstacle(item)); });
@@ -1225,6 +1280,7 @@ const char* ToString(DeviceDriver driver) {
     case DeviceDriver::kRealsense: return "realsense";
     case DeviceDriver::kOpenni2: return "openni2";
     case DeviceDriver::kStereo: return "stereo";
+    case DeviceDriver::kDynamixel: return "dynamixel";
     case DeviceDriver::kNone: return "none";
   }
   return "unknown";
@@ -1233,6 +1289,7 @@ const char* ToString(DeviceDriver driver) {
 void ApplyDerivedOptions(Config& config) {
   // The simulator's laser is fitted when the laser's slot takes it; the gate wants fresh scans from any laser.
   config.sim.robot.laser.enabled = config.devices.laser.driver == DeviceDriver::kSim;
+  config.sim.robot.pan.enabled = config.devices.camera.pan_driver == DeviceDriver::kSim;
   config.safety.require_laser = config.devices.laser.driver != DeviceDriver::kNone;
   // MORP-RB and the comparison policy brake by the control loop's model.
   nav::LocalNavigatorOptions& navigator = config.mission.navigator;
@@ -1315,6 +1372,7 @@ Config ConfigFromYaml(const YAML::Node& root, const fs::path& file, ConfigSchema
     r.Section("sim", [&](ConfigReader& s) { ReadSim(s, config.sim, base); });
     r.Section("ground", [&](ConfigReader& s) { ReadGround(s, config.ground); });
     r.Section("multi_view", [&](ConfigReader& s) { ReadMultiView(s, config.multi_view); });
+    r.Section("gaze", [&](ConfigReader& s) { ReadGaze(s, config.gaze); });
     r.Section("planner", [&](ConfigReader& s) { ReadPlanner(s, config.planner); });
     r.Section("mission", [&](ConfigReader& s) { ReadMission(s, config.mission, base); });
     r.Section("docking", [&](ConfigReader& s) { ReadDocking(s, config.mission.docking, config.charging); });

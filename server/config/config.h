@@ -8,6 +8,7 @@
 
 #include "drivers/create2/create2_options.h"
 #include "drivers/dds/device_options.h"
+#include "drivers/dynamixel/pan_servo_options.h"
 #include "drivers/hokuyo/hokuyo_options.h"
 #include "drivers/kobuki/kobuki_options.h"
 #include "drivers/lds/lds_options.h"
@@ -37,6 +38,7 @@
 #include "nav/mapping/occupancy_octree.h"
 #include "nav/mission/mission_runner.h"
 #include "nav/planner/costmap.h"
+#include "nav/policy/gaze.h"
 #include "nav/policy/local_navigator.h"
 #include "nav/safety/command_gate.h"
 #include "nav/tracking/moving_objects.h"
@@ -306,7 +308,8 @@ enum class DeviceDriver {
   kLds,  // lasers
   kRealsense,
   kOpenni2,
-  kStereo,  // cameras
+  kStereo,     // cameras
+  kDynamixel,  // the camera's pan servo
 };
 const char* ToString(DeviceDriver driver);
 
@@ -334,6 +337,16 @@ struct CameraSlotOptions {
   drivers::realsense::RealSenseOptions realsense;
   drivers::openni2::OpenNi2Options openni2;
   drivers::stereo::StereoCameraOptions stereo;
+  // The camera on a pan servo (devices.camera.pan): none (fixed on the robot), sim (sim.camera.pan), dynamixel.
+  DeviceDriver pan_driver = DeviceDriver::kNone;
+  drivers::dynamixel::PanServoOptions pan;
+};
+
+// gaze: the camera's gaze when it is on a pan servo (nav/policy/gaze.h; its pan range is the servo's).
+struct CameraGazeOptions {
+  bool enabled = true;  // false: the camera is held straight ahead
+  double rate_hz = 10.0;
+  nav::GazeOptions policy;
 };
 
 struct DevicesOptions {
@@ -382,6 +395,7 @@ struct Config {
   DevicesOptions devices;
   SimulatorOptions sim;
   GroundOptions ground;
+  CameraGazeOptions gaze;            // where a camera on a pan servo looks (ASNS's IGM)
   nav::MultiViewOptions multi_view;  // a stereo camera's frames filtered over posed frames (MMSVF's step 5)
   nav::CostmapOptions planner;
   nav::MissionRunnerOptions mission;  // its docking options come from the docking section

@@ -1,8 +1,12 @@
 #include "server/nodes/driver_bridge.h"
 
+#include "nav/geometry/pan_history.h"
 #include "server/runtime/topics.h"
 
 #include <time.h>
+
+#include <mutex>
+#include <optional>
 
 namespace corridor::server {
 namespace {
@@ -50,14 +54,42 @@ std::string Describe(const DeviceSlot& slot) {
 
 void ConnectDrivers(Bus& bus, const drivers::Clock& clock, drivers::DepthCamera* camera, drivers::DiffDriveBase& base,
                     drivers::Laser2D* laser, drivers::Battery* battery, const std::vector<DeviceSlot>& slots,
-                    bool camera_filtered) {
+                    bool camera_filtered, drivers::PanServo* pan) {
+  // The pan servo's readings, shared by its thread (adding) and the camera's (looking up).
+  struct PanTrack {
+    std::mutex mutex;
+    nav::PanHistory history;
+  };
+  std::shared_ptr<PanTrack> track;
+  if (pan != nullptr && camera != nullptr) {
+    track = std::make_shared<PanTrack>();
+    auto& readings = bus.Get(topics::kCameraPan);
+    pan->SetReadingHandler([track, &readings](const drivers::PanReading& r) {
+      {
+        std::lock_guard lock(track->mutex);
+        track->history.Add(drivers::ToSeconds(r.stamp_ns), r.pan_rad, r.velocity_rps);
+      }
+      readings.Publish(r);
+    });
+    bus.Get(topics::kCameraPanTarget).Tap([pan](const double& target) { pan->SetTarget(target); });
+  }
   if (camera != nullptr) {
     auto& rgbd = bus.Get(camera_filtered ? topics::kRgbdRaw : topics::kRgbd);
-    camera->SetFrameHandler(
-        [&rgbd, &clock, handoff = HandoffOf(slots, nav::Device::kCamera)](std::shared_ptr<drivers::RgbdFrame> frame) {
-          frame->arrival_ns = clock.Now();
-          HandOff(handoff, [&] { rgbd.Publish(std::move(frame)); });
-        });
+    camera->SetFrameHandler([&rgbd, &clock, handoff = HandoffOf(slots, nav::Device::kCamera), track,
+                             axis = pan != nullptr ? pan->axis_xy() : Eigen::Vector2d::Zero().eval(),
+                             mount = camera->info().camera.base_T_camera](std::shared_ptr<drivers::RgbdFrame> frame) {
+      frame->arrival_ns = clock.Now();
+      if (track) {
+        std::optional<double> pan_rad;
+        {
+          std::lock_guard lock(track->mutex);
+          pan_rad = track->history.At(drivers::ToSeconds(frame->stamp_ns));
+        }
+        if (!pan_rad) return;  // where the camera looked is not known
+        frame->base_T_camera = nav::PanTurn(axis, *pan_rad) * mount;
+      }
+      HandOff(handoff, [&] { rgbd.Publish(std::move(frame)); });
+    });
   }
   Handoff* base_handoff = HandoffOf(slots, nav::Device::kBase);
   auto& odometry = bus.Get(topics::kOdometry);

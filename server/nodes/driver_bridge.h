@@ -11,6 +11,7 @@
 #include "drivers/depth_camera.h"
 #include "drivers/diff_drive_base.h"
 #include "drivers/laser2d.h"
+#include "drivers/pan_servo.h"
 #include "drivers/serial/link_state.h"
 #include "nav/safety/command_gate.h"
 #include "server/runtime/bus.h"
@@ -44,9 +45,14 @@ struct DeviceSlot {
 // which the control loop's latency is measured. Each slot's link, when it has one, reports its changes on
 // devices/links; each delivery is counted to its device's slot's Handoff (the battery's to the base's). The camera's
 // frames go to camera/rgbd, or to camera/rgbd_raw when `camera_filtered` (the multi-view filter passes them on).
+//
+// With a pan servo (`pan`, may be null) the camera turns on the robot: its readings go to camera/pan, the gaze's
+// targets on camera/pan_target go to it, and each frame is stamped with the camera's pose at its stamp (RgbdFrame's
+// base_T_camera, from the readings about it: nav::PanHistory). A frame taken while the servo's angle is not known
+// (its readings stopped) is not handed on, so that the camera's data goes stale and the robot stops.
 void ConnectDrivers(Bus& bus, const drivers::Clock& clock, drivers::DepthCamera* camera, drivers::DiffDriveBase& base,
                     drivers::Laser2D* laser, drivers::Battery* battery, const std::vector<DeviceSlot>& slots,
-                    bool camera_filtered = false);
+                    bool camera_filtered = false, drivers::PanServo* pan = nullptr);
 
 // "laser (rplidar on /dev/ttyUSB0)": a slot as messages name it.
 std::string Describe(const DeviceSlot& slot);

@@ -13,15 +13,23 @@ GroundNode::GroundNode(Executor& control, Bus& bus, const drivers::CameraInfo& c
                        nav::LocalPolicyKind policy)
     : Node("ground", control, bus) {
   if (policy == nav::LocalPolicyKind::kVoxelReactive) {
-    voxels_.emplace(camera.camera, nav::VoxelObstacleOptions{});
+    voxels_.Reset(camera.camera, [](std::optional<nav::VoxelObstacles>& reader, const nav::PinholeCamera& c) {
+      reader.emplace(c, nav::VoxelObstacleOptions{});
+    });
     return;
   }
   if (options.test == GroundTest::kAfds) {
-    afds_.emplace(camera.camera, options.afds, options.morp);
+    afds_.Reset(camera.camera, [options](std::optional<nav::Afds>& reader, const nav::PinholeCamera& c) {
+      reader.emplace(c, options.afds, options.morp);
+    });
   } else {
-    morp_.emplace(camera.camera, options.morp);
+    morp_.Reset(camera.camera, [options](std::optional<nav::Morp>& reader, const nav::PinholeCamera& c) {
+      reader.emplace(c, options.morp);
+    });
   }
-  scan_.emplace(camera.camera, nav::ForObstacleMemory(nav::DepthScanOptions{}));
+  scan_.Reset(camera.camera, [](std::optional<nav::DepthScan>& reader, const nav::PinholeCamera& c) {
+    reader.emplace(c, nav::ForObstacleMemory(nav::DepthScanOptions{}));
+  });
 }
 
 GroundNode::GroundNode(Executor& control, Bus& bus, const nav::Pose2& base_T_laser, double height_m,
@@ -32,11 +40,12 @@ GroundNode::GroundNode(Executor& control, Bus& bus, const nav::Pose2& base_T_las
 
 GroundLanes GroundNode::Process(const drivers::RgbdFrame& frame) {
   GroundLanes out{frame.stamp_ns, frame.arrival_ns, frame.sequence, 0.0, {}, {}, {}, {}};
+  const std::optional<Eigen::Isometry3d>& pose = frame.base_T_camera;
   if (voxels_) {
-    out.obstacles = voxels_->Process(frame.depth_mm);
+    out.obstacles = voxels_.At(pose).Process(frame.depth_mm);
   } else {
-    out.lanes = afds_ ? afds_->Process(frame.depth_mm).lanes : morp_->Process(frame.depth_mm);
-    out.scan = scan_->Process(frame.depth_mm);
+    out.lanes = afds_ ? afds_.At(pose).Process(frame.depth_mm).lanes : morp_.At(pose).Process(frame.depth_mm);
+    out.scan = scan_.At(pose).Process(frame.depth_mm);
     out.scan_view = scan_->View(nav::Pose2{});
   }
   return out;

@@ -3,7 +3,8 @@
 // ASNS's floor detection (nav/ground/afds.h) in its place, and the frame's depth scan for the obstacle memory, or, for
 // the voxel-reactive comparison policy, the voxel grid's obstacle points (nav/ground/voxel_obstacles.h). On a robot
 // without a camera, on every laser scan: the same lanes from the scan's hits (nav/ground/laser_lanes.h), and the hits
-// for the obstacle memory.
+// for the obstacle memory. A frame from a camera turned on a pan servo is read with the camera's pose at the frame
+// (the lanes are the robot's, straight ahead; those the camera does not see have no evidence).
 #pragma once
 
 #include <cstdint>
@@ -11,6 +12,7 @@
 
 #include "drivers/depth_camera.h"
 #include "drivers/laser2d.h"
+#include "nav/geometry/posed.h"
 #include "nav/ground/afds.h"
 #include "nav/ground/depth_scan.h"
 #include "nav/ground/laser_lanes.h"
@@ -38,11 +40,11 @@ class GroundNode final : public Node {
   GroundLanes Process(const drivers::RgbdFrame& frame);
   GroundLanes Process(const drivers::LaserScan& scan);
 
-  // From the camera:
-  std::optional<nav::Morp> morp_;
-  std::optional<nav::Afds> afds_;              // AFDS in MORP's place (ground.test: afds)
-  std::optional<nav::DepthScan> scan_;         // for the obstacle memory (nav::ForObstacleMemory)
-  std::optional<nav::VoxelObstacles> voxels_;  // voxel-reactive's front end instead of MORP
+  // From the camera (each following its pose, for a camera on a pan servo):
+  nav::Posed<nav::Morp> morp_;
+  nav::Posed<nav::Afds> afds_;              // AFDS in MORP's place (ground.test: afds)
+  nav::Posed<nav::DepthScan> scan_;         // for the obstacle memory (nav::ForObstacleMemory)
+  nav::Posed<nav::VoxelObstacles> voxels_;  // voxel-reactive's front end instead of MORP
   // From the laser:
   std::optional<nav::LaserLanes> laser_lanes_;
   nav::Pose2 base_T_laser_;

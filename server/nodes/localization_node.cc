@@ -45,7 +45,9 @@ LocalizationNode::LocalizationNode(Executor& executor, Bus& bus, const Localizat
       restored_(std::move(restored)),
       on_map_built_(std::move(on_map_built)) {
   if (!base_T_laser_) {
-    depth_scan_.emplace(camera, options_.depth);  // throws for a camera without size: a configuration error
+    // Throws for a camera without size: a configuration error.
+    depth_scan_.Reset(camera, [depth = options_.depth](std::optional<nav::DepthScan>& scan,
+                                                       const nav::PinholeCamera& c) { scan.emplace(c, depth); });
     // The likelihood field's random-measurement floor spreads over what the sensor can see.
     options_.mcl.max_range_m = options_.depth.max_range_m;
     options_.mcl.doubtful_after = options_.depth_doubtful_scans;
@@ -167,7 +169,9 @@ void LocalizationNode::OnScan(const drivers::LaserScan& scan) {
 void LocalizationNode::OnFrame(const drivers::RgbdFrame& frame) {
   nav::RangeScan range;
   try {
-    for (const Eigen::Vector2d& p : depth_scan_->Process(frame.depth_mm)) range.hits.push_back(p.cast<float>());
+    for (const Eigen::Vector2d& p : depth_scan_.At(frame.base_T_camera).Process(frame.depth_mm)) {
+      range.hits.push_back(p.cast<float>());
+    }
   } catch (const std::invalid_argument& e) {
     SetHealth(Health::kDegraded, e.what());
     return;

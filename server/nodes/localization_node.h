@@ -20,6 +20,7 @@
 #include <memory>
 #include <optional>
 
+#include "nav/geometry/posed.h"
 #include "nav/ground/depth_scan.h"
 #include "nav/localization/graph_slam.h"
 #include "nav/localization/monte_carlo.h"
@@ -88,9 +89,9 @@ class LocalizationNode final : public Node {
 
   LocalizationOptions options_;
   std::optional<nav::Pose2> base_T_laser_;
-  std::optional<nav::DepthScan> depth_scan_;  // without a laser
-  nav::ScanHistory history_;                  // what the camera saw lately, for a search (no laser)
-  double look_around_rps_ = 0.0;              // lost with the camera's narrow view: turn on the spot to see more
+  nav::Posed<nav::DepthScan> depth_scan_;  // without a laser (following the camera's pose)
+  nav::ScanHistory history_;               // what the camera saw lately, for a search (no laser)
+  double look_around_rps_ = 0.0;           // lost with the camera's narrow view: turn on the spot to see more
   // The odometry's last second and map_T_odom, shared with the odometry's tap.
   std::shared_ptr<OdometryFrame> frame_;
   bool tapped_ = false;  // the odometry's tap is in place (a topic keeps its taps)

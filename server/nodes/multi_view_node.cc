@@ -26,7 +26,7 @@ void MultiViewNode::OnFrame(const drivers::RgbdFrame& raw) {
   }
   auto frame = std::make_shared<drivers::RgbdFrame>(raw);
   frame->depth_mm = raw.depth_mm.clone();  // the raw frame is published, and so immutable
-  filter_.Apply(frame->depth_mm, *pose);
+  filter_.Apply(frame->depth_mm, *pose, frame->base_T_camera);
   SetHealth(Health::kOk, "");
   rgbd_topic_.Publish(std::move(frame));
 }

@@ -127,7 +127,7 @@ void OctreeNode::OnFrame(const drivers::RgbdFrame& frame) {
   if (name_.empty()) return;  // no map yet
   if (frame.stamp_ns - last_insert_ns_ >= Ns(options_.insert_every_s) && PoseTrusted()) {
     if (const auto pose = PoseAt(frame.stamp_ns)) {
-      octree_.InsertDepth(frame.depth_mm, camera_, *pose);
+      octree_.InsertDepth(frame.depth_mm, drivers::CameraAt(frame, camera_), *pose);
       last_insert_ns_ = frame.stamp_ns;
       unsaved_ = true;
       ++revision_;

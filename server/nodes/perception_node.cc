@@ -46,13 +46,14 @@ std::vector<face::Detection> PerceptionNode::DetectInFrame() {
   seen_frame_ = true;
   last_sequence_ = frame->sequence;
   std::vector<face::Detection> found;
+  const nav::PinholeCamera camera = drivers::CameraAt(*frame, camera_);  // where it looked (a pan servo turns it)
   if (simulated_) {
     const auto people = sim_pedestrians_topic_.latest();
     const auto truth = sim_true_pose_topic_.latest();
     if (people && truth) {
       std::vector<Eigen::Vector2d> where;
       for (const SimPedestrians::Person& p : people->people) where.push_back(p.position);
-      found = simulated_->Detect(where, truth->pose, frame->depth_mm, camera_);
+      found = simulated_->Detect(where, truth->pose, frame->depth_mm, camera);
     }
   } else if (!frame->color_bgr.empty()) {
     found = detector_->Detect(frame->color_bgr, frame->depth_mm);
@@ -64,7 +65,7 @@ std::vector<face::Detection> PerceptionNode::DetectInFrame() {
   // Registered depth only: the colour image must be the depth's size for the boxes to fall on the right pixels.
   const bool registered = frame->depth_mm.cols == camera_.width && frame->depth_mm.rows == camera_.height &&
                           (frame->color_bgr.empty() || frame->color_bgr.size() == frame->depth_mm.size());
-  face::LocateDetections(found, registered ? frame->depth_mm : cv::Mat(), camera_);
+  face::LocateDetections(found, registered ? frame->depth_mm : cv::Mat(), camera);
   if (!simulated_ && options_.depth_people) {
     std::vector<face::Detection> depth = face::NotAlreadyFound(DepthPeople(*frame), found);
     found.insert(found.end(), depth.begin(), depth.end());
@@ -84,7 +85,7 @@ std::vector<face::Detection> PerceptionNode::DepthPeople(const drivers::RgbdFram
     if (!o.seen) continue;
     candidates.push_back({base_T_map.Transform(o.position), o.radius_m});
   }
-  return face::DepthPeople(frame.depth_mm, camera_, candidates, options_.depth);
+  return face::DepthPeople(frame.depth_mm, drivers::CameraAt(frame, camera_), candidates, options_.depth);
 }
 
 void PerceptionNode::Tick() {

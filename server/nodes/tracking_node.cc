@@ -20,7 +20,12 @@ TrackingNode::TrackingNode(Executor& mapping, Bus& bus, const TrackingSource& so
       source_(source),
       tracker_(source.base_T_laser ? options : nav::ForDepthCamera(options)),
       traffic_options_(traffic) {
-  if (!source.base_T_laser) depth_scan_.emplace(source.camera, source.depth);
+  if (!source.base_T_laser) {
+    depth_scan_.Reset(source.camera,
+                      [depth = source.depth](std::optional<nav::DepthScan>& scan, const nav::PinholeCamera& camera) {
+                        scan.emplace(camera, depth);
+                      });
+  }
 }
 
 void TrackingNode::Activate() {
@@ -66,7 +71,9 @@ void TrackingNode::OnFrame(const drivers::RgbdFrame& frame) {
   if (!robot) return;
   std::vector<Eigen::Vector2d> points;
   try {
-    for (const Eigen::Vector2d& p : depth_scan_->Process(frame.depth_mm)) points.push_back(robot->Transform(p));
+    for (const Eigen::Vector2d& p : depth_scan_.At(frame.base_T_camera).Process(frame.depth_mm)) {
+      points.push_back(robot->Transform(p));
+    }
   } catch (const std::invalid_argument& e) {
     SetHealth(Health::kDegraded, e.what());
     return;

@@ -17,6 +17,7 @@
 #include "drivers/laser2d.h"
 #include "nav/geometry/camera_model.h"
 #include "nav/geometry/pose2.h"
+#include "nav/geometry/posed.h"
 #include "nav/ground/depth_scan.h"
 #include "nav/map/occupancy_grid.h"
 #include "nav/tracking/moving_objects.h"
@@ -54,7 +55,7 @@ class TrackingNode final : public Node {
              const std::optional<nav::SensorView>& view);
 
   TrackingSource source_;
-  std::optional<nav::DepthScan> depth_scan_;  // without a laser
+  nav::Posed<nav::DepthScan> depth_scan_;  // without a laser (following the camera's pose)
   nav::MovingObjectTracker tracker_;
   nav::TrafficOptions traffic_options_;
   std::optional<nav::TrafficMap> traffic_;                            // over the current map

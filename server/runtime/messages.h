@@ -12,6 +12,7 @@
 #include "drivers/depth_camera.h"
 #include "drivers/diff_drive_base.h"
 #include "drivers/laser2d.h"
+#include "drivers/pan_servo.h"
 #include "face/detect/detection.h"
 #include "face/expression.h"
 #include "nav/geometry/pose2.h"

@@ -10,6 +10,9 @@ inline constexpr TopicName<drivers::WheelOdometry> kOdometry{"odom"};
 inline constexpr TopicName<drivers::RgbdFrame> kRgbd{"camera/rgbd"};
 // A stereo camera's frames before the multi-view filter (server/nodes/multi_view_node.h), when it is on.
 inline constexpr TopicName<drivers::RgbdFrame> kRgbdRaw{"camera/rgbd_raw"};
+// The camera's pan servo's readings (drivers/pan_servo.h), when one is fitted; and where the gaze sends it.
+inline constexpr TopicName<drivers::PanReading> kCameraPan{"camera/pan"};
+inline constexpr TopicName<double> kCameraPanTarget{"camera/pan_target"};
 inline constexpr TopicName<drivers::LaserScan> kScan{"scan"};
 inline constexpr TopicName<drivers::BatteryState> kBattery{"battery"};
 inline constexpr TopicName<StampedPose> kPose{"pose"};  // the robot in the map frame

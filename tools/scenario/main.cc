@@ -57,6 +57,7 @@ Runs the DPoom evaluation protocol: a DPoom-like robot (0.26 m/s, camera 85.2 x 
   --camera KIND       depth (default: a depth sensor, a RealSense's model), stereo (two textured views 12 cm apart
                       matched into depth, as a stereo camera's frames are) or mmsvf (ASNS's: three views, 12 and
                       24 cm, fused, and filtered over posed frames)
+  --pan               the camera rides a pan servo (the simulator's) and the gaze turns it (ASNS's IGM)
   --until-arrived     a run succeeds when its mission says it arrived (not within 0.25 m), and the final error is
                       measured (ASNS's Table 8)
   --ground TEST       morp (default: MORP's ground segmentation) or afds (ASNS's floor detection) gives the lanes
@@ -202,6 +203,8 @@ int main(int argc, char** argv) {
         }
         options.stereo = kind != "depth";
         options.mmsvf = kind == "mmsvf";
+      } else if (flag == "--pan") {
+        options.pan = true;
       } else if (flag == "--until-arrived") {
         options.until_arrived = true;
       } else if (flag == "--ground") {
@@ -278,6 +281,7 @@ int main(int argc, char** argv) {
                       {"obstacle_size", ToString(options.obstacle_size)},
                       {"laser", options.laser},
                       {"camera", CameraName(options)},
+                      {"pan", options.pan},
                       {"ground", options.afds ? "afds" : "morp"},
                       {"until_arrived", options.until_arrived},
                       {"camera_tracking", options.camera_tracking},
@@ -309,13 +313,13 @@ int main(int argc, char** argv) {
   }
   const std::string where =
       options.world.empty() ? std::string("generated ") + ToString(options.setting) + "s" : options.world.string();
-  std::printf("%d worlds x %d runs, %d pedestrians (%s), %d static obstacles (%s), seed %u, %s, %s, %s camera%s\n\n",
+  std::printf("%d worlds x %d runs, %d pedestrians (%s), %d static obstacles (%s), seed %u, %s, %s, %s camera%s%s\n\n",
               options.worlds, options.runs, options.pedestrians, ToString(options.crowd), options.static_obstacles,
               ToString(options.obstacle_size), options.seed, where.c_str(),
               options.laser             ? "camera and laser"
               : options.camera_tracking ? "camera only, tracking people in its view"
                                         : "camera only, no tracking",
-              CameraName(options), options.afds ? ", AFDS" : "");
+              CameraName(options), options.pan ? " on a pan servo (gaze)" : "", options.afds ? ", AFDS" : "");
   std::printf(
       "Table 4: outcomes (robot-caused: collisions the robot drove into, not people walking into it)\n"
       "%-16s %5s %8s %10s %14s %8s %18s %10s %18s\n",

@@ -204,6 +204,7 @@ server::Config GraphConfig(const drivers::sim::SimOptions& sim, Policy policy, c
   config.mission.policy = policy;
   config.ground.test = options.afds ? server::GroundTest::kAfds : server::GroundTest::kMorp;
   config.multi_view.enabled = options.stereo && options.mmsvf;
+  config.devices.camera.pan_driver = options.pan ? server::DeviceDriver::kSim : server::DeviceDriver::kNone;
   nav::LocalNavigatorOptions& navigator = config.mission.navigator;
   navigator.follower.max_linear_mps = options.max_speed_mps;
   navigator.avoid.max_linear_mps = options.max_speed_mps;
@@ -492,6 +493,7 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   sim.laser.enabled = options.laser && policy != Policy::kVoxelReactive;
   sim.stereo.enabled = options.stereo;
   if (options.stereo && options.mmsvf) sim.stereo.wide_baseline_m = 0.24;
+  sim.pan.enabled = options.pan;
   sim.pedestrians = layout.routes;
   sim.crowd = layout.crowd;
   sim.base.limits.footprint_radius_m = kRobotRadiusM;
@@ -500,7 +502,8 @@ RunResult RunOnce(const Layout& layout, Policy policy, const ScenarioOptions& op
   // The daemon's own graph, in lockstep with the simulator, in a state directory of its own.
   const StateDir state_dir;
   const server::Config config = GraphConfig(sim, policy, options, state_dir.path());
-  const server::Devices devices{&robot, robot, sim.laser.enabled ? &robot : nullptr, &robot, &robot, nullptr};
+  server::Devices devices{&robot, robot, sim.laser.enabled ? &robot : nullptr, &robot, &robot, nullptr};
+  if (options.pan) devices.pan = &robot;
   server::Graph graph(config, devices, server::NamedMap{"scenario", layout.map}, server::Schedule::kLockstep);
   graph.Start();
   // The simulator's people for a privileged expert, for this run only.

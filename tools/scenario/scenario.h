@@ -118,6 +118,8 @@ struct ScenarioOptions {
   // With stereo: ASNS's camera of three views (12 and 24 cm: drivers/stereo/multi_baseline.h) and the multi-view
   // filter over posed frames (nav/ground/multi_view.h), its MMSVF.
   bool mmsvf = false;
+  // The camera rides the simulator's pan servo and the gaze turns it (ASNS's IGM, nav/policy/gaze.h).
+  bool pan = false;
   // The depth path's ground test is ASNS's floor detection (nav/ground/afds.h) instead of MORP's.
   bool afds = false;
   // People see the robot and keep clear of it (drivers::sim::CrowdOptions::see_robot); off: they ignore it, as in the
