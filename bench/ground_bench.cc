@@ -5,6 +5,8 @@
 #include <benchmark/benchmark.h>
 
 #include "drivers/sim/sensors.h"
+#include "nav/geometry/posed.h"
+#include "nav/ground/depth_scan.h"
 #include "nav/ground/morp.h"
 #include "nav/ground/voxel_obstacles.h"
 
@@ -74,6 +76,36 @@ void BM_VoxelObstacles(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(voxels.Process(scene.depth).data());
 }
 BENCHMARK(BM_VoxelObstacles)->Args({640, 480})->Args({1280, 720})->Unit(benchmark::kMicrosecond);
+
+// A camera on a pan servo (nav/geometry/posed.h): the control path's two readers of a frame, MORP and the obstacle
+// memory's depth scan, each frame from a pose of its own (the camera turning: both rebuilt every frame) against the
+// same frames from one pose (range(2) 0: the camera still). The frame is the same: this is the rebuilding's cost.
+void BM_PannedFrame(benchmark::State& state) {
+  const Scene& scene = SceneAt(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  const bool turning = state.range(2) != 0;
+  const nav::PinholeCamera camera = drivers::sim::MakeCameraInfo(scene.options).camera;
+  nav::Posed<nav::Morp> morp;
+  morp.Reset(camera,
+             [](std::optional<nav::Morp>& r, const nav::PinholeCamera& c) { r.emplace(c, nav::MorpOptions{}); });
+  nav::Posed<nav::DepthScan> scan;
+  scan.Reset(camera, [](std::optional<nav::DepthScan>& r, const nav::PinholeCamera& c) {
+    r.emplace(c, nav::ForObstacleMemory(nav::DepthScanOptions{}));
+  });
+  int frame = 0;
+  for (auto _ : state) {
+    // Each frame 0.01 rad from the last (any turn of more than 0.1 mrad rebuilds).
+    const double pan = turning ? 0.01 * (frame++ % 20) : 0.0;
+    const Eigen::Isometry3d pose = nav::PanTurn({0.1, 0.0}, pan) * camera.base_T_camera;
+    benchmark::DoNotOptimize(morp.At(pose).Process(scene.depth).data());
+    benchmark::DoNotOptimize(scan.At(pose).Process(scene.depth).data());
+  }
+}
+BENCHMARK(BM_PannedFrame)
+    ->Args({320, 240, 0})
+    ->Args({320, 240, 1})
+    ->Args({640, 480, 0})
+    ->Args({640, 480, 1})
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace corridor

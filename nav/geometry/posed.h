@@ -1,8 +1,9 @@
 // A reader of a camera's depth frames (DepthScan, Morp, Afds, VoxelObstacles) whose precomputed geometry - its rays
 // in the base frame, its lanes projected into the image - holds for one pose of the camera: built anew when a frame
-// comes from another pose (a camera on a pan servo, nav::PanTurn), kept while the camera stays where it is. Building
-// costs about what reading one frame does (the rays of the pixels read), so a camera that turns costs about twice
-// its reading while it turns and nothing more once it stops.
+// comes from another pose (a camera on a pan servo, nav::PanTurn), kept while the camera stays where it is. While
+// the camera turns, MORP and the obstacle memory's depth scan cost 3-4 times their reading of a still camera's frame
+// (bench/ground_bench BM_PannedFrame: 0.25 ms a frame against 0.08 at 320 x 240, 0.75 against 0.21 at 640 x 480, one
+// core), and nothing more once it stops.
 #pragma once
 
 #include <functional>

@@ -20,6 +20,16 @@ constexpr float kMinBaselineM = 0.05f;
 // an obstacle standing near max_range_m still shows more than a step's worth of rise.
 constexpr double kExtraHeightM = 0.2;
 
+// Projects a base-frame point with the camera's inverse mount taken once (PinholeCamera::Project inverts it per call,
+// which dominated building the lanes: 20,000 projections); false behind the camera.
+bool ProjectWith(const PinholeCamera& camera, const Eigen::Isometry3d& camera_T_base, const Eigen::Vector3d& point_base,
+                 Eigen::Vector2d& pixel) {
+  const Eigen::Vector3d p = camera_T_base * point_base;
+  if (p.z() <= 1e-9) return false;
+  pixel = {camera.fx * p.x() / p.z() + camera.cx, camera.fy * p.y() / p.z() + camera.cy};
+  return true;
+}
+
 }  // namespace
 
 std::vector<double> LaneOffsets(const MorpOptions& options) {
@@ -36,7 +46,7 @@ double LaneBlindRange(const PinholeCamera& camera, const MorpOptions& options, d
   for (double x = kLaneStepM; x <= options.max_range_m; x += kLaneStepM) {
     Eigen::Vector2d pixel;
     const Eigen::Vector3d floor(x, offset_m, 0.0);
-    if (!camera.Project(floor, pixel)) continue;
+    if (!ProjectWith(camera, camera_T_base, floor, pixel)) continue;
     const long u = std::lround(pixel.x());
     const double v = std::floor(pixel.y());
     if (u < 0 || u >= camera.width || v < 0.0 || v >= camera.height) continue;
@@ -65,7 +75,7 @@ Morp::Morp(const PinholeCamera& camera, const MorpOptions& options) : camera_(ca
     for (double x = kLaneStepM; x <= options.max_range_m; x += kLaneStepM) {
       Eigen::Vector2d pixel;
       const Eigen::Vector3d floor(x, lane.offset_m, 0.0);
-      if (!camera.Project(floor, pixel)) continue;
+      if (!ProjectWith(camera, camera_T_base, floor, pixel)) continue;
       const int u = static_cast<int>(std::lround(pixel.x()));
       const int v = static_cast<int>(std::floor(pixel.y()));
       if (u < 0 || u >= camera.width || v < 0 || v >= camera.height) continue;
