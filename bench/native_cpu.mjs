@@ -30,9 +30,11 @@ const emulate = join(sourceDir, 'build/tools/emulate/corridor-emulate');
 // as the robot's map), its relative paths made absolute.
 function configWith(devices, mapFile) {
   let config = readFileSync(join(sourceDir, 'config/corridor.yaml'), 'utf8');
-  const slots = '\ndevices:\n  base:\n    driver: sim\n  laser:\n    driver: sim\n  camera:\n    driver: sim\n';
-  check(config.includes(slots), 'the shipped devices block moved');
-  config = config.replace(slots, `\ndevices:\n${devices}`);
+  // The devices section, whatever it holds, up to the simulator's that follows it.
+  const slots = config.indexOf('\ndevices:\n');
+  const after = config.indexOf('\nsim:\n', slots);
+  check(slots >= 0 && after > slots, 'the shipped devices section moved');
+  config = `${config.slice(0, slots)}\ndevices:\n${devices}\n${config.slice(after)}`;
   if (mapFile) config = config.replace('\nmap:\n  file: ""', `\nmap:\n  file: "${mapFile}"`);
   return config.replaceAll('"worlds/', `"${join(sourceDir, 'config/worlds')}/`);
 }

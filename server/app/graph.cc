@@ -292,6 +292,7 @@ void Graph::DisconnectDrivers() {
   devices_.base.SetOdometryHandler({});
   if (devices_.laser != nullptr) devices_.laser->SetScanHandler({});
   if (devices_.battery != nullptr) devices_.battery->SetBatteryHandler({});
+  if (devices_.pan != nullptr) devices_.pan->SetReadingHandler({});
   for (const DeviceSlot& slot : devices_.slots) {
     if (slot.link != nullptr) slot.link->SetLinkHandler({});
   }

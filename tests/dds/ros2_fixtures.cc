@@ -45,11 +45,14 @@ std::string DdsConfig(const fs::path& source, int domain, bool allow_writes, con
   dds += extra;
   config.replace(begin, end - begin, dds);
   if (!devices.empty()) {
-    const std::string slots =
-        "\ndevices:\n  base:\n    driver: sim\n  laser:\n    driver: sim\n  camera:\n    driver: sim\n";
+    // The devices section, whatever it holds, up to the simulator's that follows it.
+    const std::size_t slots = config.find("\ndevices:\n");
+    const std::size_t after = config.find("\nsim:\n", slots);
+    if (slots == std::string::npos || after == std::string::npos) return "";
+    config.replace(slots, after - slots, "\ndevices:\n" + devices + "\n");
     for (const auto& [from, to] :
-         {std::pair<std::string, std::string>{slots, "\ndevices:\n" + devices},
-          {"\n  source: mcl ", laser_localization ? "\n  source: mcl " : "\n  source: odometry "},
+         {std::pair<std::string, std::string>{"\n  source: mcl ",
+                                              laser_localization ? "\n  source: mcl " : "\n  source: odometry "},
           {"\nmap:\n  file: \"\"", "\nmap:\n  file: \"worlds/willow_garage/willow-full-0.05.yaml\""}}) {
       const std::size_t at = config.find(from);
       if (at == std::string::npos) return "";
