@@ -12,12 +12,12 @@
 #include <vector>
 
 #include "drivers/create2/open_interface.h"
+#include "drivers/dynamixel/dynamixel_protocol.h"
 #include "drivers/hokuyo/scip_protocol.h"
 #include "drivers/kobuki/kobuki_protocol.h"
 #include "drivers/lds/lds_protocol.h"
 #include "drivers/rplidar/rplidar_protocol.h"
 #include "drivers/serial_text/serial_text_protocol.h"
-#include "drivers/dynamixel/dynamixel_protocol.h"
 
 namespace {
 
