@@ -34,12 +34,9 @@ struct RgbdFrame {
   std::optional<Eigen::Isometry3d> base_T_camera;
 };
 
-// The pose of the camera that took `frame` (CameraPose(frame, info.camera)), and the camera itself at that pose.
-inline const Eigen::Isometry3d& CameraPose(const RgbdFrame& frame, const nav::PinholeCamera& camera) {
-  return frame.base_T_camera ? *frame.base_T_camera : camera.base_T_camera;
-}
+// The camera that took `frame` (`camera` as mounted), at the pose it had then.
 inline nav::PinholeCamera CameraAt(const RgbdFrame& frame, const nav::PinholeCamera& camera) {
-  return nav::AtPose(camera, CameraPose(frame, camera));
+  return frame.base_T_camera ? nav::AtPose(camera, *frame.base_T_camera) : camera;
 }
 
 class DepthCamera {

@@ -190,11 +190,7 @@ void DynamixelPanServo::Session(SerialPort& port, std::stop_token stop) {
           SetState(LinkState::kStale, fmt::format("no position for {:.0f} ms", options_.stale_s * 1e3));
         }
         if (const auto goal = GoalDue(now)) port.Write(*goal);
-        const TimeNs period = FromSeconds(options_.poll_period_s);
-        if (now >= next_read_ns - period / 2) {
-          next_read_ns = std::max(next_read_ns + period, now + period / 2);
-          port.Write(read_state);
-        }
+        if (Due(next_read_ns, now, options_.poll_period_s)) port.Write(read_state);
         return true;
       });
 }

@@ -11,6 +11,7 @@
 // back: the driver's own watches (the wheels' command timeout, a stale device) hold whoever pumps.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -25,11 +26,22 @@
 #include <string>
 #include <utility>
 
+#include "drivers/clock.h"
 #include "drivers/serial/byte_stream.h"
 #include "drivers/serial/link_state.h"
 #include "drivers/serial/reconnect.h"
 
 namespace corridor::drivers {
+
+// Whether a request asked every period_s is due at `now`, `next_ns` moved on if so. A stream's passes come at their
+// own pace (a pump's every control tick), so one within half a period of the due time takes it; on average no more
+// often than every period_s.
+inline bool Due(TimeNs& next_ns, TimeNs now, double period_s) {
+  const TimeNs period = FromSeconds(period_s);
+  if (now < next_ns - period / 2) return false;
+  next_ns = std::max(next_ns + period, now + period / 2);
+  return true;
+}
 
 template <typename Status>
 class LinkedDevice : public DeviceLink {

@@ -98,15 +98,6 @@ class SerialBase : public DiffDriveBase, public Battery, public LinkedDevice<Sta
   void Reported(TimeNs now) { last_report_ns_ = now; }
   // Whether the last report is at most stale_s old.
   bool Fresh(TimeNs now) const { return ToSeconds(now - last_report_ns_) <= options_.stale_s; }
-  // Whether a request asked every period_s is due at `now`, `next_ns` moved on if so. Passes come at their own pace
-  // (a pump's every control tick), so one within half a period of the due time takes it; on average no more often
-  // than every period_s.
-  static bool Due(TimeNs& next_ns, TimeNs now, double period_s) {
-    const TimeNs period = FromSeconds(period_s);
-    if (now < next_ns - period / 2) return false;
-    next_ns = std::max(next_ns + period, now + period / 2);
-    return true;
-  }
   // With mutex_ held: the velocity asked for, zero once commands stopped coming for command_timeout_s.
   nav::Twist2 CommandAt(TimeNs now) const {
     return ToSeconds(now - command_ns_) <= options_.command_timeout_s ? command_ : nav::Twist2{};
